@@ -1,0 +1,130 @@
+#pragma once
+// One control step of the paper's loop: build the input vector
+// (Algorithm 1), solve for U by Newton-Raphson, apply u(k) = U_0, predict
+// y_hat(k+1) for the next step's y-queue. All state is inside the object; its
+// size is fixed by the capacity, nothing is allocated.
+#include "shared/cost.hpp"
+#include "shared/horizon.hpp"
+#include "shared/input_vector.hpp"
+#include "shared/newton.hpp"
+#include "shared/params.hpp"
+
+namespace nlsoft {
+
+template <class Cap>
+struct StepResult {
+  float u[Cap::m];                // applied input u(k), finite and inside limits
+  float y_hat[Cap::N * Cap::n];   // predicted path y_hat(k+1 .. k+N) for the applied U
+  float cost;                     // J at the applied U
+  uint8_t iterations;
+  uint8_t flags;                  // StepFlag bits
+};
+
+template <class Cap>
+class Controller {
+ public:
+  static constexpr int K = Derived<Cap>::K;
+  static constexpr int P = Derived<Cap>::p;
+
+  // The model must already be finalized; params are validated here so a
+  // controller can never run with a set the table would refuse.
+  Status configure(const Model<Cap>* model, const Params<Cap>& params) {
+    if (model == nullptr || model->layer_count == 0) return Status::BadFormat;
+    const ParamResult ok = check_consistent(params, model->m);
+    if (ok.status != Status::Ok) return ok.status;
+    model_ = model;
+    params_ = params;
+    return Status::Ok;
+  }
+
+  // Fills every history slot with a steady state: input u0, output y0, sensors l0.
+  void reset(const float* u0, const float* y0, const float* l0) {
+    const InputLayout L = layout();
+    for (int j = 0; j < L.nd; ++j) push_input(x_, L, u0);
+    for (int j = 0; j < L.dd; ++j) push_output(x_, L, y0);
+    for (int i = 0; i < L.w; ++i) x_[L.l_begin() + i] = l0 ? l0[i] : 0.0f;
+    for (int j = 0; j < L.n; ++j) y_next_[j] = y0[j];
+    for (int a = 0; a < K; ++a) U_[a] = u0[a % L.m];
+  }
+
+  // y_ref: the reference for y(k+1) ... y(k+N), N x n rows. sensors: l(k).
+  // y_measured: y(k) when an observer exists (used if feedback = Measured).
+  StepResult<Cap> step(const float* y_ref, const float* sensors, const float* y_measured) {
+    const InputLayout L = layout();
+    const Params<Cap>& Pm = params_;
+    StepResult<Cap> out{};
+
+    // Algorithm 1, lines 3-5: newest output and sensor signals into x.
+    const float* y_now = y_next_;
+    if (Pm.feedback == Feedback::Measured && y_measured && all_finite(y_measured, L.n)) y_now = y_measured;
+    push_output(x_, L, y_now);
+    for (int i = 0; i < L.w; ++i) {
+      if (sensors && finite(sensors[i]))
+        x_[L.l_begin() + i] = sensors[i];
+      else
+        out.flags |= kBadSensor;
+    }
+    // A non-finite reference point is held at the current output.
+    for (int t = 0; t < Pm.N; ++t)
+      for (int j = 0; j < L.n; ++j) {
+        const float v = y_ref[t * L.n + j];
+        if (finite(v)) {
+          ref_[t * L.n + j] = v;
+        } else {
+          ref_[t * L.n + j] = y_now[j];
+          out.flags |= kBadReference;
+        }
+      }
+
+    const NewtonResult nr = newton_solve(*model_, Pm, x_, ref_, U_, scratch_);
+    out.iterations = nr.iterations;
+    out.flags |= nr.flags;
+
+    // Predicted path and cost at the U actually applied.
+    predict_horizon(*model_, x_, U_, Pm.N, Pm.Nc, out.y_hat, scratch_.fd.h);
+    out.cost = cost_value(Pm, L.m, L.n, ref_, U_, x_, out.y_hat);
+
+    // Algorithm 1, lines 1-2: u(k) = U_0 into the u-queue.
+    for (int i = 0; i < L.m; ++i) out.u[i] = clamp_to(U_[i], Pm.u_min[i], Pm.u_max[i]);
+    push_input(x_, L, out.u);
+    for (int j = 0; j < L.n; ++j) y_next_[j] = finite(out.y_hat[j]) ? out.y_hat[j] : y_now[j];
+
+    // Warm start: shift U one step, repeat the last row.
+    for (int j = 0; j + 1 < Pm.Nc; ++j)
+      for (int i = 0; i < L.m; ++i) U_[j * L.m + i] = U_[(j + 1) * L.m + i];
+    return out;
+  }
+
+  const Params<Cap>& params() const { return params_; }
+  // Parameter writes go through the table (atomic, validated).
+  ParamResult set_param(ParamId id, const float* v, int count) {
+    const int n_old_nc = params_.Nc;
+    const ParamResult r = nlsoft::set_param(params_, id, v, count, model_->m, model_->n);
+    if (r.status == Status::Ok && params_.Nc > n_old_nc) {
+      // new control rows start from the last planned input
+      for (int j = n_old_nc; j < params_.Nc; ++j)
+        for (int i = 0; i < model_->m; ++i) U_[j * model_->m + i] = U_[(n_old_nc - 1) * model_->m + i];
+    }
+    return r;
+  }
+  const float* input_vector() const { return x_; }
+  const Model<Cap>& model() const { return *model_; }
+
+ private:
+  InputLayout layout() const { return layout_of(*model_); }
+  static bool all_finite(const float* v, int c) {
+    for (int i = 0; i < c; ++i)
+      if (!finite(v[i])) return false;
+    return true;
+  }
+
+  const Model<Cap>* model_ = nullptr;
+  Params<Cap> params_{};
+  float x_[P] = {};
+  float U_[K] = {};
+  float y_next_[Cap::n] = {};
+  float ref_[Cap::N * Cap::n] = {};
+  NewtonScratch<Cap> scratch_{};
+};
+
+}  // namespace nlsoft

@@ -1,0 +1,87 @@
+#pragma once
+// dY_hat/dU and the per-direction curvature d2Y_hat/dU_a^2 over the whole
+// horizon, in the two modes of the product:
+//   fd     the paper's central stencil (eqs. first_derivative1 and
+//          second_derivative1), applied to U directly: 2K+1 horizon rollouts.
+//   exact  forward-mode chain rule through the layers (jet.hpp): one rollout.
+// Both differentiate the recursion itself; the paper's X_j = X shortcut is not
+// taken, so both modes see the same function and tests hold one to the other.
+#include "shared/horizon.hpp"
+#include "shared/jet.hpp"
+
+namespace nlsoft {
+
+enum class DerivMode : uint8_t { Exact = 0, Fd = 1 };
+
+template <class Cap>
+struct HorizonDerivatives {
+  static constexpr int K = Derived<Cap>::K;
+  float Y[Cap::N * Cap::n];        // Y[j*n + i] = y_hat_i(k+1+j)
+  float G[Cap::N * Cap::n * K];    // G[(j*n + i)*K + a] = dY[j][i] / dU_a
+  float D2[Cap::N * Cap::n * K];   // D2[(j*n + i)*K + a] = d2Y[j][i] / dU_a^2
+};
+
+template <class Cap>
+struct ExactScratch {
+  static constexpr int K = Derived<Cap>::K;
+  Jet<K> U[K];
+  Jet<K> Y[Cap::N * Cap::n];
+  HorizonScratch<Cap, Jet<K>> h;
+};
+
+template <class Cap>
+struct FdScratch {
+  float U[Derived<Cap>::K];
+  float Yp[Cap::N * Cap::n];
+  float Ym[Cap::N * Cap::n];
+  HorizonScratch<Cap, float> h;
+};
+
+template <class Cap>
+void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc,
+                       HorizonDerivatives<Cap>& D, ExactScratch<Cap>& s) {
+  constexpr int K = Derived<Cap>::K;
+  const int k = Nc * M.m;
+  for (int a = 0; a < K; ++a) {
+    Jet<K>& u = s.U[a];
+    set_constant(u, a < k ? U[a] : 0.0f);
+    if (a < k) {
+      u.active = true;
+      for (int b = 0; b < K; ++b) u.d[b] = u.dd[b] = 0.0f;
+      u.d[a] = 1.0f;
+    }
+  }
+  predict_horizon(M, x0, s.U, N, Nc, s.Y, s.h);
+  for (int r = 0; r < N * M.n; ++r) {
+    const Jet<K>& y = s.Y[r];
+    D.Y[r] = y.v;
+    for (int a = 0; a < k; ++a) {
+      D.G[r * K + a] = y.active ? y.d[a] : 0.0f;
+      D.D2[r * K + a] = y.active ? y.dd[a] : 0.0f;
+    }
+  }
+}
+
+template <class Cap>
+void derivatives_fd(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc, float eps,
+                    HorizonDerivatives<Cap>& D, FdScratch<Cap>& s) {
+  constexpr int K = Derived<Cap>::K;
+  const int k = Nc * M.m;
+  const int rows = N * M.n;
+  predict_horizon(M, x0, U, N, Nc, D.Y, s.h);
+  for (int a = 0; a < k; ++a) s.U[a] = U[a];
+  const float inv2e = 0.5f / eps, inve2 = 1.0f / (eps * eps);
+  for (int a = 0; a < k; ++a) {
+    s.U[a] = U[a] + eps;
+    predict_horizon(M, x0, s.U, N, Nc, s.Yp, s.h);
+    s.U[a] = U[a] - eps;
+    predict_horizon(M, x0, s.U, N, Nc, s.Ym, s.h);
+    s.U[a] = U[a];
+    for (int r = 0; r < rows; ++r) {
+      D.G[r * K + a] = (s.Yp[r] - s.Ym[r]) * inv2e;
+      D.D2[r * K + a] = (s.Yp[r] - 2.0f * D.Y[r] + s.Ym[r]) * inve2;
+    }
+  }
+}
+
+}  // namespace nlsoft

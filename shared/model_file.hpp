@@ -1,0 +1,144 @@
+#pragma once
+// The model file: one binary format for the console, firmware upload and
+// codegen (docs/model-format.md has the byte layout). Little-endian.
+//
+//   off  size  field
+//   0    4     magic "NLSM"
+//   4    1     format version (1)
+//   5    1     flags: bit 0 residual output
+//   6    1     m      7  1  n      8  1  w      9  1  nd     10 1  dd
+//   11   1     layer count L
+//   12   4     parameter count P (float32 values)
+//   16   1     platform id (0 msd, 1 hasel, 2 tendon, 255 none)
+//   17   7     reserved, zero
+//   24   8 L   layers: kind u8, act u8, rec_act u8, reset_after u8, in u16, out u16
+//   ..   4 P   parameters (model.hpp: normalisation, then weights)
+//   ..   4     CRC-32 of every byte before it; also the model hash
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "shared/crc32.hpp"
+#include "shared/model.hpp"
+
+namespace nlsoft {
+
+constexpr uint8_t kModelFormatVersion = 1;
+constexpr size_t kModelHeaderSize = 24;
+constexpr size_t kModelLayerSize = 8;
+
+inline size_t model_file_size(int layers, uint32_t params) {
+  return kModelHeaderSize + kModelLayerSize * size_t(layers) + 4 * size_t(params) + 4;
+}
+
+namespace detail {
+inline uint16_t rd16(const uint8_t* p) { return uint16_t(p[0] | (p[1] << 8)); }
+inline uint32_t rd32(const uint8_t* p) {
+  return uint32_t(p[0]) | (uint32_t(p[1]) << 8) | (uint32_t(p[2]) << 16) | (uint32_t(p[3]) << 24);
+}
+inline void wr16(uint8_t* p, uint16_t v) {
+  p[0] = uint8_t(v);
+  p[1] = uint8_t(v >> 8);
+}
+inline void wr32(uint8_t* p, uint32_t v) {
+  for (int i = 0; i < 4; ++i) p[i] = uint8_t(v >> (8 * i));
+}
+}  // namespace detail
+
+// Parses and validates a model file. The parameters are copied into the
+// caller's storage (capacity in floats); M points at it afterwards. On any
+// error M is left untouched.
+template <class Cap>
+Status parse_model(const uint8_t* buf, size_t len, Model<Cap>& M, float* storage, uint32_t storage_cap,
+                   uint8_t* platform = nullptr) {
+  using namespace detail;
+  if (buf == nullptr || len < kModelHeaderSize + 4) return Status::BadFormat;
+  if (std::memcmp(buf, "NLSM", 4) != 0 || buf[4] != kModelFormatVersion) return Status::BadFormat;
+  const int L = buf[11];
+  const uint32_t P = rd32(buf + 12);
+  if (L > Cap::layers) return Status::TooLarge;
+  if (P > storage_cap) return Status::TooLarge;
+  if (len != model_file_size(L, P)) return Status::WrongSize;
+  const uint32_t crc = rd32(buf + len - 4);
+  if (crc32(buf, len - 4) != crc) return Status::BadChecksum;
+
+  Model<Cap> c;
+  c.residual = (buf[5] & 1u) != 0;
+  c.m = buf[6];
+  c.n = buf[7];
+  c.w = buf[8];
+  c.nd = buf[9];
+  c.dd = buf[10];
+  c.layer_count = uint8_t(L);
+  const uint8_t* lp = buf + kModelHeaderSize;
+  for (int i = 0; i < L; ++i, lp += kModelLayerSize) {
+    Layer& l = c.layer[i];
+    l.kind = LayerKind(lp[0]);
+    l.act = Activation(lp[1]);
+    l.rec_act = Activation(lp[2]);
+    l.reset_after = lp[3] != 0;
+    l.in = rd16(lp + 4);
+    l.out = rd16(lp + 6);
+  }
+  // Everything is checked against the file's own bytes before the storage
+  // is written, so a bad file never clobbers a model still in use.
+  c.param_count = P;
+  const Status shape = check_model_shape(c);
+  if (shape != Status::Ok) return shape;
+  const uint8_t* pp = lp;
+  for (uint32_t i = 0; i < P; ++i) {
+    const uint32_t bits = rd32(pp + 4 * i);
+    float v;
+    std::memcpy(&v, &bits, 4);
+    if (!(v - v == 0.0f)) return Status::NotFinite;
+  }
+  for (uint32_t i = 0; i < P; ++i) {
+    const uint32_t bits = rd32(pp + 4 * i);
+    std::memcpy(&storage[i], &bits, 4);
+  }
+  c.params = storage;
+  c.hash = crc;
+  M = c;
+  if (platform) *platform = buf[16];
+  return Status::Ok;
+}
+
+// Writes M as a model file into out (capacity cap). Returns the size, or 0
+// if it does not fit.
+template <class Cap>
+size_t write_model(const Model<Cap>& M, uint8_t platform, uint8_t* out, size_t cap) {
+  using namespace detail;
+  const size_t size = model_file_size(M.layer_count, M.param_count);
+  if (out == nullptr || size > cap) return 0;
+  std::memset(out, 0, kModelHeaderSize);
+  std::memcpy(out, "NLSM", 4);
+  out[4] = kModelFormatVersion;
+  out[5] = M.residual ? 1 : 0;
+  out[6] = M.m;
+  out[7] = M.n;
+  out[8] = M.w;
+  out[9] = M.nd;
+  out[10] = M.dd;
+  out[11] = M.layer_count;
+  wr32(out + 12, M.param_count);
+  out[16] = platform;
+  uint8_t* lp = out + kModelHeaderSize;
+  for (int i = 0; i < M.layer_count; ++i, lp += kModelLayerSize) {
+    const Layer& l = M.layer[i];
+    lp[0] = uint8_t(l.kind);
+    lp[1] = uint8_t(l.act);
+    lp[2] = uint8_t(l.rec_act);
+    lp[3] = l.reset_after ? 1 : 0;
+    wr16(lp + 4, l.in);
+    wr16(lp + 6, l.out);
+  }
+  for (uint32_t i = 0; i < M.param_count; ++i) {
+    uint32_t bits;
+    std::memcpy(&bits, &M.params[i], 4);
+    wr32(lp + 4 * i, bits);
+  }
+  wr32(out + size - 4, crc32(out, size - 4));
+  return size;
+}
+
+}  // namespace nlsoft

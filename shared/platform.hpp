@@ -1,0 +1,62 @@
+#pragma once
+// Platform presets: dimensions, loop rate and the tunings of the paper
+// (PRODUCT.md, "Platforms"; paper, "Results").
+#include "shared/params.hpp"
+#include "shared/platform_id.hpp"
+
+namespace nlsoft {
+
+struct Preset {
+  PlatformId id;
+  uint8_t m, n, w, nd, dd;
+  float rate_hz;
+  // tuning, paper values
+  float Q[3];
+  float Lambda[8];
+  float s, b, r, eps;
+  uint8_t N, Nc;
+  float u_min, u_max;  // same limit for every actuator
+  Feedback feedback;
+};
+
+// msd has w = 0: no sensor carries the state back, so the simulated position
+// is fed to the y-queue (feedback = measured); the soft rigs run on their own
+// predictions plus proprioception, as in the paper.
+inline constexpr Preset kPresets[] = {
+    {PlatformId::Msd, 1, 1, 0, 2, 2, 1000.0f, {1.0f, 0, 0}, {1.0f}, 1e-20f, 1e-5f, 4e2f, 1e-3f, 1, 1,
+     -2000.0f, 2000.0f, Feedback::Measured},
+    {PlatformId::Hasel, 6, 3, 18, 2, 2, 130.0f, {1e6f, 2e6f, 1e6f}, {1, 1, 1, 1, 1, 1}, 1e-25f, 1e-5f, 4e2f,
+     1.0f / 130.0f, 3, 1, 0.0f, 1.0f, Feedback::Predicted},
+    {PlatformId::Tendon, 2, 3, 11, 2, 2, 120.0f, {1e-3f, 5e3f, 2e3f}, {1, 1}, 1e-20f, 1e-10f, 4e5f,
+     1.0f / 120.0f, 3, 3, -1.2f, 1.2f, Feedback::Predicted},
+};
+
+inline const Preset& preset(PlatformId id) { return kPresets[uint8_t(id)]; }
+
+// The preset as a parameter set. Fails (TooLarge) if the capacity cannot hold it.
+template <class Cap>
+Status preset_params(const Preset& p, Params<Cap>& out) {
+  if (p.m > Cap::m || p.n > Cap::n || p.N > Cap::N || p.Nc > Cap::Nc) return Status::TooLarge;
+  Params<Cap> P;
+  for (int i = 0; i < p.n; ++i) P.Q[i] = p.Q[i];
+  for (int i = 0; i < p.m; ++i) {
+    P.Lambda[i] = p.Lambda[i];
+    P.u_min[i] = p.u_min;
+    P.u_max[i] = p.u_max;
+  }
+  P.s = p.s;
+  P.b = p.b;
+  P.r = p.r;
+  P.eps = p.eps;
+  P.N = p.N;
+  P.N1 = 1;
+  P.Nc = p.Nc;
+  P.nr_tol = 1e-4f;
+  P.nr_max_iter = 3;
+  P.mode = DerivMode::Exact;
+  P.feedback = p.feedback;
+  out = P;
+  return Status::Ok;
+}
+
+}  // namespace nlsoft

@@ -1,0 +1,139 @@
+// Newton-Raphson on problems whose optimum is known.
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "shared/newton.hpp"
+#include "support/random_model.hpp"
+
+using namespace nlsoft;
+using Cap = HostCapacity;
+
+namespace {
+
+template <class C>
+Params<C> base_params(int m, int n, int N, int Nc) {
+  Params<C> P;
+  for (int i = 0; i < n; ++i) P.Q[i] = 1.0f + float(i);
+  for (int i = 0; i < m; ++i) P.Lambda[i] = 0.0f, P.u_min[i] = -5.0f, P.u_max[i] = 5.0f;
+  P.s = 0.0f, P.b = 0.0f, P.r = 100.0f;
+  P.N = uint8_t(N), P.N1 = 1, P.Nc = uint8_t(Nc);
+  P.nr_tol = 1e-4f, P.nr_max_iter = 3;
+  return P;
+}
+
+}  // namespace
+
+TEST(Newton, AffineModelQuadraticCostSolvedExactly) {
+  // y = A u + c: the cost is quadratic, U* = (A'QA + Lambda)^-1 (A'Q(r - c) + Lambda u_prev)
+  const int m = 2, n = 2;
+  auto o = test::random_model<Cap>(m, n, 1, 2, {{LayerKind::Dense, n, Activation::Linear}}, 4, 0.8f);
+  ASSERT_EQ(finalize_model(o.model), Status::Ok);
+  std::vector<float> x0 = {0.3f, -0.2f, 0.1f, 0.0f, 0.5f, 0.4f, -0.3f, 0.2f, 0.7f};
+  ASSERT_EQ(int(x0.size()), o.model.p());
+  static HorizonScratch<Cap, float> hs;
+  auto y_of = [&](Eigen::Vector2d u) {
+    float U[2] = {float(u(0)), float(u(1))}, Y[2];
+    predict_horizon(o.model, x0.data(), U, 1, 1, Y, hs);
+    return Eigen::Vector2d(Y[0], Y[1]);
+  };
+  const Eigen::Vector2d c = y_of({0, 0});
+  Eigen::Matrix2d A;
+  A.col(0) = y_of({1, 0}) - c;
+  A.col(1) = y_of({0, 1}) - c;
+  auto P = base_params<Cap>(m, n, 1, 1);
+  P.Lambda[0] = 0.3f, P.Lambda[1] = 0.7f;
+  const Eigen::Vector2d r(0.4, -0.6), uprev(x0[0], x0[1]);
+  const Eigen::Matrix2d Q = Eigen::Vector2d(P.Q[0], P.Q[1]).asDiagonal();
+  const Eigen::Matrix2d L = Eigen::Vector2d(P.Lambda[0], P.Lambda[1]).asDiagonal();
+  const Eigen::Vector2d Ustar = (A.transpose() * Q * A + L).lu().solve(A.transpose() * Q * (r - c) + L * uprev);
+
+  P.eps = 1e-2f;  // exact for an affine model; smaller steps only add rounding
+  for (DerivMode mode : {DerivMode::Exact, DerivMode::Fd}) {
+    P.mode = mode;
+    float U[2] = {0.0f, 0.0f};
+    const float ref[2] = {float(r(0)), float(r(1))};
+    static NewtonScratch<Cap> s;
+    const NewtonResult res = newton_solve(o.model, P, x0.data(), ref, U, s);
+    EXPECT_TRUE(res.flags & kConverged);
+    // exact: one step to the optimum, one to see it stays; fd: its rounding
+    // noise (eps = 1e-2 in float) costs one more
+    EXPECT_LE(res.iterations, mode == DerivMode::Exact ? 2 : 3);
+    EXPECT_NEAR(U[0], Ustar(0), 1e-4);
+    EXPECT_NEAR(U[1], Ustar(1), 1e-4);
+    EXPECT_FALSE(res.flags & (kGradientStep | kNonFinite));
+  }
+}
+
+// From a warm start (the loop's situation: the previous step's U), Newton is
+// quadratic: errors of 1e-2 shrink to 1e-4 and below within three iterations.
+TEST(Newton, NonlinearReachableTargetConvergesInThreeIterations) {
+  const int m = 3, n = 3;
+  for (unsigned seed = 1; seed <= 10; ++seed) {
+    auto o = test::random_model<Cap>(m, n, 2, 2,
+                                     {{LayerKind::Dense, 6, Activation::Tanh}, {LayerKind::Dense, n, Activation::Tanh}},
+                                     seed, 0.7f);
+    ASSERT_EQ(finalize_model(o.model), Status::Ok);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> d(-0.5f, 0.5f), small(-0.01f, 0.01f);
+    std::vector<float> x0(o.model.p());
+    for (float& v : x0) v = d(rng);
+    float ustar[3] = {d(rng), d(rng), d(rng)}, ref[3];
+    static HorizonScratch<Cap, float> hs;
+    predict_horizon(o.model, x0.data(), ustar, 1, 1, ref, hs);
+    auto P = base_params<Cap>(m, n, 1, 1);
+    for (DerivMode mode : {DerivMode::Exact, DerivMode::Fd}) {
+      P.mode = mode;
+      P.eps = 1e-2f;
+      float U[3] = {ustar[0] + small(rng), ustar[1] + small(rng), ustar[2] + small(rng)};
+      static NewtonScratch<Cap> s;
+      const NewtonResult res = newton_solve(o.model, P, x0.data(), ref, U, s);
+      EXPECT_TRUE(res.flags & kConverged) << "seed " << seed << " mode " << int(mode) << " step " << res.step;
+      EXPECT_LE(res.iterations, 3);
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(U[i], ustar[i], 1e-4) << "seed " << seed;
+    }
+  }
+}
+
+TEST(Newton, RecursiveHorizonWarmStartMatchesLongSolve) {
+  // N = 4, Nc = 2 with smoothing: the optimum is found by a long solve; a
+  // warm start near it reaches it to 1e-4 within three iterations.
+  const int m = 2, n = 3;
+  auto o = test::random_model<Cap>(m, n, 3, 2,
+                                   {{LayerKind::Gru, 5, Activation::Tanh}, {LayerKind::Dense, n, Activation::Tanh}}, 9,
+                                   0.6f);
+  ASSERT_EQ(finalize_model(o.model), Status::Ok);
+  std::vector<float> x0(o.model.p(), 0.1f);
+  std::vector<float> ref(4 * n);
+  for (int i = 0; i < 4 * n; ++i) ref[i] = 0.2f * float(i % 3) - 0.1f;
+  auto P = base_params<Cap>(m, n, 4, 2);
+  P.Lambda[0] = P.Lambda[1] = 0.05f;
+  P.nr_max_iter = 20;
+  P.nr_tol = 1e-7f;
+  static NewtonScratch<Cap> s;
+  float Ulong[4] = {0, 0, 0, 0};
+  newton_solve(o.model, P, x0.data(), ref.data(), Ulong, s);
+  float U[4] = {Ulong[0] + 0.02f, Ulong[1] - 0.02f, Ulong[2] + 0.01f, Ulong[3]};
+  P.nr_max_iter = 3;
+  P.nr_tol = 1e-4f;
+  const NewtonResult res = newton_solve(o.model, P, x0.data(), ref.data(), U, s);
+  EXPECT_LE(res.iterations, 3);
+  for (int a = 0; a < 4; ++a) EXPECT_NEAR(U[a], Ulong[a], 1e-4);
+}
+
+TEST(Newton, SingularHessianFallsBackAndSaysSo) {
+  // A model whose output ignores u entirely and no smoothing: H = 0.
+  auto o = test::random_model<Cap>(1, 1, 0, 2, {{LayerKind::Dense, 1, Activation::Linear}}, 2);
+  ASSERT_EQ(finalize_model(o.model), Status::Ok);
+  const uint32_t w0 = o.model.layer[0].offset;
+  o.params[w0 + 0] = 0.0f;  // weight of u(k)
+  o.params[w0 + 1] = 0.0f;  // weight of u(k-1)
+  auto P = base_params<Cap>(1, 1, 1, 1);
+  float x0[4] = {0.1f, 0.1f, 0.2f, 0.2f}, ref[1] = {3.0f}, U[1] = {0.4f};
+  static NewtonScratch<Cap> s;
+  const NewtonResult res = newton_solve(o.model, P, x0, ref, U, s);
+  EXPECT_TRUE(res.flags & kGradientStep);
+  EXPECT_TRUE(std::isfinite(U[0]));
+  EXPECT_FLOAT_EQ(U[0], 0.4f);  // zero gradient: nothing to do
+}
