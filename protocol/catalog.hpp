@@ -1,0 +1,194 @@
+#pragma once
+// The message catalogue: type ids, names, payload length rules and the
+// per-type CRC seed (PROTOCOL.md, "Message catalogue").
+//
+// The seed is derived from a layout signature string, like MAVLink's
+// CRC_EXTRA: a peer built against a different layout of the same type id
+// computes a different CRC and drops the frame as bad_crc instead of
+// misreading its fields. Changing a layout therefore means changing its
+// signature here and in PROTOCOL.md together.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "protocol/crc.hpp"
+#include "protocol/frame.hpp"
+
+namespace nlsoft::protocol {
+
+enum class MsgType : uint8_t {
+  // Requests, console -> firmware. Each gets exactly one reply.
+  Ping = 0x01,
+  InfoGet = 0x02,
+  ParamList = 0x03,
+  ParamGet = 0x04,
+  ParamSet = 0x05,
+  RefSelect = 0x06,
+  XferBegin = 0x07,
+  XferChunk = 0x08,
+  XferCommit = 0x09,
+  XferAbort = 0x0A,
+  RunStart = 0x0B,
+  RunStop = 0x0C,
+  RunHold = 0x0D,
+  TelemetryConfig = 0x0E,
+  StatusGet = 0x0F,
+  // Replies and unsolicited messages, firmware -> console.
+  Ack = 0x40,
+  Nack = 0x41,
+  Pong = 0x42,
+  Info = 0x43,
+  ParamDesc = 0x44,
+  ParamValue = 0x45,
+  XferAck = 0x46,
+  Status = 0x47,
+  Telemetry = 0x48,
+  Log = 0x49,
+};
+
+// Telemetry field mask bits; fields appear in the payload in bit order.
+namespace telemetry_field {
+constexpr uint8_t kStep = 0x01;    // u32 control step index
+constexpr uint8_t kTime = 0x02;    // u32 timestamp, microseconds, wraps
+constexpr uint8_t kYRef = 0x04;    // f32[n]
+constexpr uint8_t kYHat = 0x08;    // f32[n]
+constexpr uint8_t kYTrue = 0x10;   // f32[n]
+constexpr uint8_t kU = 0x20;       // f32[m]
+constexpr uint8_t kCost = 0x40;    // f32
+constexpr uint8_t kSolver = 0x80;  // u8 NR iterations, u32 compute ticks
+constexpr uint8_t kAll = 0xFF;
+}  // namespace telemetry_field
+
+constexpr size_t kTelemetryFixedSize = 4;  // tseq u16, mask u8, dims u8
+
+constexpr size_t telemetry_payload_size(uint8_t mask, unsigned n, unsigned m) {
+  size_t size = kTelemetryFixedSize;
+  if (mask & telemetry_field::kStep) size += 4;
+  if (mask & telemetry_field::kTime) size += 4;
+  if (mask & telemetry_field::kYRef) size += 4u * n;
+  if (mask & telemetry_field::kYHat) size += 4u * n;
+  if (mask & telemetry_field::kYTrue) size += 4u * n;
+  if (mask & telemetry_field::kU) size += 4u * m;
+  if (mask & telemetry_field::kCost) size += 4;
+  if (mask & telemetry_field::kSolver) size += 5;
+  return size;
+}
+
+// Length rule: min_len <= len <= max_len and (len - min_len) % step == 0.
+// step 0 marks a rule that depends on the payload itself (TELEMETRY).
+struct MsgInfo {
+  MsgType type;
+  const char* name;
+  const char* signature;
+  uint8_t min_len;
+  uint8_t max_len;
+  uint8_t step;
+  bool is_request;
+};
+
+constexpr uint8_t crc_extra_of(const char* signature) {
+  const uint16_t c = crc16_str(signature);
+  return static_cast<uint8_t>((c & 0xFFu) ^ (c >> 8));
+}
+
+inline constexpr MsgInfo kMessages[] = {
+    {MsgType::Ping, "PING", "PING:u32 nonce", 4, 4, 1, true},
+    {MsgType::InfoGet, "INFO_GET", "INFO_GET:", 0, 0, 1, true},
+    {MsgType::ParamList, "PARAM_LIST", "PARAM_LIST:u16 index", 2, 2, 1, true},
+    {MsgType::ParamGet, "PARAM_GET", "PARAM_GET:u16 id", 2, 2, 1, true},
+    {MsgType::ParamSet, "PARAM_SET", "PARAM_SET:u16 id,u32[] values", 6, 66, 4, true},
+    {MsgType::RefSelect, "REF_SELECT", "REF_SELECT:u8 ref_id,f32[] params", 1, 49, 4, true},
+    {MsgType::XferBegin, "XFER_BEGIN", "XFER_BEGIN:u8 kind,u8 options,u32 total_size,u32 crc32",
+     10, 10, 1, true},
+    {MsgType::XferChunk, "XFER_CHUNK", "XFER_CHUNK:u8 kind,u32 offset,u8[] data", 6, 246, 1,
+     true},
+    {MsgType::XferCommit, "XFER_COMMIT", "XFER_COMMIT:u8 kind", 1, 1, 1, true},
+    {MsgType::XferAbort, "XFER_ABORT", "XFER_ABORT:u8 kind", 1, 1, 1, true},
+    {MsgType::RunStart, "RUN_START", "RUN_START:u32 run_id", 4, 4, 1, true},
+    {MsgType::RunStop, "RUN_STOP", "RUN_STOP:", 0, 0, 1, true},
+    {MsgType::RunHold, "RUN_HOLD", "RUN_HOLD:u8 mode", 1, 1, 1, true},
+    {MsgType::TelemetryConfig, "TELEMETRY_CONFIG", "TELEMETRY_CONFIG:u8 mask,u16 decimation", 3,
+     3, 1, true},
+    {MsgType::StatusGet, "STATUS_GET", "STATUS_GET:", 0, 0, 1, true},
+    {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false},
+    {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false},
+    {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false},
+    {MsgType::Info, "INFO",
+     "INFO:u8 protocol_version,u8 platform,u8 m,u8 n,u8 w,u8 nd,u8 dd,u8 max_n,u8 max_nc,"
+     "u8 fw_major,u8 fw_minor,u8 fw_patch,u32 loop_rate_hz,u32 model_hash,u32 param_hash,"
+     "u32 capabilities,char[] firmware",
+     28, 60, 1, false},
+    {MsgType::ParamDesc, "PARAM_DESC",
+     "PARAM_DESC:u16 index,u16 count,u16 id,u8 type,u8 size,u8 access,f32 min,f32 max,"
+     "char[8] unit,char[] name",
+     26, 57, 1, false},
+    {MsgType::ParamValue, "PARAM_VALUE", "PARAM_VALUE:u16 id,u8 type,u32[] values", 7, 67, 4,
+     false},
+    {MsgType::XferAck, "XFER_ACK", "XFER_ACK:u8 kind,u32 next_offset,u32 total_size", 9, 9, 1,
+     false},
+    {MsgType::Status, "STATUS",
+     "STATUS:u32 uptime_ms,u32 run_id,u32 step,u8 run_state,u8 watchdog,u8 telemetry_mask,"
+     "u8 ref_id,u32 frames_in,u32 crc_errors,u32 frame_errors,u32 tx_dropped,"
+     "u32 loop_overruns,u32 compute_min,u32 compute_mean,u32 compute_max,u32 tick_rate_hz",
+     52, 52, 1, false},
+    {MsgType::Telemetry, "TELEMETRY",
+     "TELEMETRY:u16 tseq,u8 mask,u4 n,u4 m,?u32 step,?u32 time_us,?f32[n] y_ref,"
+     "?f32[n] y_hat,?f32[n] y_true,?f32[m] u,?f32 cost,?u8 iterations,?u32 compute_ticks",
+     4, static_cast<uint8_t>(kMaxPayload), 0, false},
+    {MsgType::Log, "LOG", "LOG:u8 level,char[] text", 1, 246, 1, false},
+};
+
+constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);
+
+namespace detail {
+
+constexpr uint8_t kNoMessage = 0xFF;
+
+struct TypeIndex {
+  uint8_t index[256];
+  uint8_t extra[256];
+};
+
+// Dense lookup by type byte: the decoder asks once per frame and a 512-byte
+// table is cheaper than a search on the MCU.
+constexpr TypeIndex make_type_index() {
+  TypeIndex t{};
+  for (unsigned i = 0; i < 256; ++i) t.index[i] = kNoMessage;
+  for (size_t i = 0; i < kMessageCount; ++i) {
+    const auto type = static_cast<uint8_t>(kMessages[i].type);
+    t.index[type] = static_cast<uint8_t>(i);
+    t.extra[type] = crc_extra_of(kMessages[i].signature);
+  }
+  return t;
+}
+
+inline constexpr TypeIndex kTypeIndex = make_type_index();
+
+}  // namespace detail
+
+constexpr const MsgInfo* find_message(uint8_t type) {
+  const uint8_t i = detail::kTypeIndex.index[type];
+  return i == detail::kNoMessage ? nullptr : &kMessages[i];
+}
+
+// Only meaningful for types find_message() knows.
+constexpr uint8_t crc_extra(uint8_t type) { return detail::kTypeIndex.extra[type]; }
+
+constexpr const char* message_name(uint8_t type) {
+  const MsgInfo* info = find_message(type);
+  return info ? info->name : "UNKNOWN";
+}
+
+constexpr bool payload_length_ok(const MsgInfo& info, const uint8_t* payload, size_t len) {
+  if (len < info.min_len || len > info.max_len) return false;
+  if (info.step == 0) {
+    // TELEMETRY: tseq(2) mask(1) dims(1), dims = n << 4 | m.
+    const uint8_t mask = payload[2];
+    const unsigned n = payload[3] >> 4;
+    const unsigned m = payload[3] & 0x0Fu;
+    return len == telemetry_payload_size(mask, n, m);
+  }
+  return (len - info.min_len) % info.step == 0;
+}
+
+}  // namespace nlsoft::protocol

@@ -1,0 +1,598 @@
+#pragma once
+// Typed messages and their pack/unpack (PROTOCOL.md, "Messages").
+//
+// Each struct lists its wire fields once, in wire order, in a static
+// `fields(self, visitor)` function. Packing, unpacking, the golden-vector
+// text form and the signature check in the tests are all visitors over that
+// one list, so a layout cannot drift between them.
+//
+// Only the last field of a message may vary in length (a "tail"); its
+// element count follows from the payload length, so no count byte is spent
+// on the wire. TELEMETRY is the exception: its optional fields follow from
+// the mask and dims bytes, which come first.
+
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "protocol/byte_io.hpp"
+#include "protocol/catalog.hpp"
+#include "protocol/frame.hpp"
+#include "protocol/status.hpp"
+
+namespace nlsoft::protocol {
+
+constexpr uint8_t kMaxParamValues = 16;
+constexpr uint8_t kMaxRefParams = 12;
+constexpr uint8_t kMaxChunkData = static_cast<uint8_t>(kMaxPayload - 5);  // 241
+constexpr uint8_t kMaxNameLen = 32;
+constexpr uint8_t kUnitLen = 8;
+constexpr uint8_t kMaxLogText = static_cast<uint8_t>(kMaxPayload - 1);  // 245
+constexpr uint8_t kMaxTelemetryDim = 15;  // n and m share one byte
+constexpr uint8_t kNoField = 0xFF;        // NACK field/element "not attributable"
+
+enum class ParamType : uint8_t { F32 = 1, U8 = 2, U16 = 3, U32 = 4, Enum = 5 };
+
+namespace param_access {
+constexpr uint8_t kReadOnly = 0x01;
+constexpr uint8_t kStoppedOnly = 0x02;  // may only change while no run is active
+}  // namespace param_access
+
+enum class XferKind : uint8_t { RefTable = 1, Model = 2 };
+
+namespace xfer_options {
+constexpr uint8_t kRestart = 0x01;  // discard a matching partial transfer instead of resuming
+}
+
+enum class RunState : uint8_t { Idle = 0, Running = 1, Hold = 2, Neutral = 3, Fault = 4 };
+enum class HoldMode : uint8_t { Hold = 0, Neutral = 1, Resume = 2 };
+enum class LogLevel : uint8_t { Debug = 0, Info = 1, Warn = 2, Error = 3 };
+enum class Platform : uint8_t { Custom = 0, Msd = 1, Hasel = 2, Tendon = 3 };
+enum class RefId : uint8_t { Table = 0, Step = 1, Infinity = 2, Pringle = 3, Diagonal = 4, Swirl = 5 };
+
+namespace capability {
+constexpr uint32_t kParams = 1u << 0;
+constexpr uint32_t kRefBuiltin = 1u << 1;
+constexpr uint32_t kXferRefTable = 1u << 2;
+constexpr uint32_t kXferModel = 1u << 3;
+constexpr uint32_t kTelemetry = 1u << 4;
+constexpr uint32_t kYTrue = 1u << 5;  // telemetry can carry the true plant output
+constexpr uint32_t kRunHold = 1u << 6;
+constexpr uint32_t kLog = 1u << 7;
+}  // namespace capability
+
+namespace watchdog_flags {
+constexpr uint8_t kArmed = 0x01;
+constexpr uint8_t kResetByWatchdog = 0x02;  // the last reset was a watchdog reset
+}  // namespace watchdog_flags
+
+// ---------------------------------------------------------------- requests
+
+struct Ping {
+  static constexpr MsgType kType = MsgType::Ping;
+  uint32_t nonce = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u32("nonce", s.nonce); }
+};
+
+struct InfoGet {
+  static constexpr MsgType kType = MsgType::InfoGet;
+  template <class S, class V> static void fields(S&, V&) {}
+};
+
+struct ParamList {
+  static constexpr MsgType kType = MsgType::ParamList;
+  uint16_t index = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u16("index", s.index); }
+};
+
+struct ParamGet {
+  static constexpr MsgType kType = MsgType::ParamGet;
+  uint16_t id = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u16("id", s.id); }
+};
+
+// Values travel as 32-bit words whose meaning comes from the parameter's
+// type (PARAM_DESC): f32 bit patterns or unsigned integers. The setter does
+// not repeat the type; the firmware knows it.
+struct ParamSet {
+  static constexpr MsgType kType = MsgType::ParamSet;
+  uint16_t id = 0;
+  uint8_t count = 0;
+  uint32_t values[kMaxParamValues] = {};
+  // Only for the text form: how the words print. Not on the wire.
+  ParamType type_hint = ParamType::F32;
+
+  void set_f32(uint8_t i, float x) { std::memcpy(&values[i], &x, 4); }
+  float f32(uint8_t i) const {
+    float x;
+    std::memcpy(&x, &values[i], 4);
+    return x;
+  }
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u16("id", s.id);
+    v.word_tail("values", s.values, s.count, kMaxParamValues, s.type_hint);
+  }
+};
+
+struct RefSelect {
+  static constexpr MsgType kType = MsgType::RefSelect;
+  uint8_t ref_id = 0;
+  uint8_t count = 0;
+  float params[kMaxRefParams] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("ref_id", s.ref_id);
+    v.f32_tail("params", s.params, s.count, kMaxRefParams);
+  }
+};
+
+struct XferBegin {
+  static constexpr MsgType kType = MsgType::XferBegin;
+  uint8_t kind = 0;
+  uint8_t options = 0;  // xfer_options bits
+  uint32_t total_size = 0;
+  uint32_t crc32 = 0;
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("kind", s.kind);
+    v.u8("options", s.options);
+    v.u32("total_size", s.total_size);
+    v.u32("crc32", s.crc32);
+  }
+};
+
+struct XferChunk {
+  static constexpr MsgType kType = MsgType::XferChunk;
+  uint8_t kind = 0;
+  uint32_t offset = 0;
+  uint8_t size = 0;
+  uint8_t data[kMaxChunkData] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("kind", s.kind);
+    v.u32("offset", s.offset);
+    v.bytes_tail("data", s.data, s.size, kMaxChunkData);
+  }
+};
+
+struct XferCommit {
+  static constexpr MsgType kType = MsgType::XferCommit;
+  uint8_t kind = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u8("kind", s.kind); }
+};
+
+struct XferAbort {
+  static constexpr MsgType kType = MsgType::XferAbort;
+  uint8_t kind = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u8("kind", s.kind); }
+};
+
+struct RunStart {
+  static constexpr MsgType kType = MsgType::RunStart;
+  uint32_t run_id = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u32("run_id", s.run_id); }
+};
+
+struct RunStop {
+  static constexpr MsgType kType = MsgType::RunStop;
+  template <class S, class V> static void fields(S&, V&) {}
+};
+
+struct RunHold {
+  static constexpr MsgType kType = MsgType::RunHold;
+  uint8_t mode = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u8("mode", s.mode); }
+};
+
+struct TelemetryConfig {
+  static constexpr MsgType kType = MsgType::TelemetryConfig;
+  uint8_t mask = 0;
+  uint16_t decimation = 0;  // 0 = telemetry off, k = every k-th control step
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("mask", s.mask);
+    v.u16("decimation", s.decimation);
+  }
+};
+
+struct StatusGet {
+  static constexpr MsgType kType = MsgType::StatusGet;
+  template <class S, class V> static void fields(S&, V&) {}
+};
+
+// ------------------------------------------------- replies and unsolicited
+
+struct Ack {
+  static constexpr MsgType kType = MsgType::Ack;
+  uint8_t request_type = 0;
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("request_type", s.request_type);
+  }
+};
+
+struct Nack {
+  static constexpr MsgType kType = MsgType::Nack;
+  uint8_t request_type = 0;
+  uint8_t status = 0;
+  uint8_t field = kNoField;    // index in the request's field table
+  uint8_t element = kNoField;  // index inside an array field
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("request_type", s.request_type);
+    v.u8("status", s.status);
+    v.u8("field", s.field);
+    v.u8("element", s.element);
+  }
+};
+
+struct Pong {
+  static constexpr MsgType kType = MsgType::Pong;
+  uint32_t nonce = 0;
+  uint32_t uptime_ms = 0;
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u32("nonce", s.nonce);
+    v.u32("uptime_ms", s.uptime_ms);
+  }
+};
+
+struct Info {
+  static constexpr MsgType kType = MsgType::Info;
+  uint8_t protocol_version = kProtocolVersion;
+  uint8_t platform = 0;
+  uint8_t m = 0;
+  uint8_t n = 0;
+  uint8_t w = 0;
+  uint8_t nd = 0;
+  uint8_t dd = 0;
+  uint8_t max_n = 0;
+  uint8_t max_nc = 0;
+  uint8_t fw_major = 0;
+  uint8_t fw_minor = 0;
+  uint8_t fw_patch = 0;
+  uint32_t loop_rate_hz = 0;
+  uint32_t model_hash = 0;
+  uint32_t param_hash = 0;
+  uint32_t capabilities = 0;
+  char firmware[kMaxNameLen + 1] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("protocol_version", s.protocol_version);
+    v.u8("platform", s.platform);
+    v.u8("m", s.m);
+    v.u8("n", s.n);
+    v.u8("w", s.w);
+    v.u8("nd", s.nd);
+    v.u8("dd", s.dd);
+    v.u8("max_n", s.max_n);
+    v.u8("max_nc", s.max_nc);
+    v.u8("fw_major", s.fw_major);
+    v.u8("fw_minor", s.fw_minor);
+    v.u8("fw_patch", s.fw_patch);
+    v.u32("loop_rate_hz", s.loop_rate_hz);
+    v.u32("model_hash", s.model_hash);
+    v.u32("param_hash", s.param_hash);
+    v.u32("capabilities", s.capabilities);
+    v.text_tail("firmware", s.firmware, kMaxNameLen);
+  }
+};
+
+struct ParamDesc {
+  static constexpr MsgType kType = MsgType::ParamDesc;
+  uint16_t index = 0;
+  uint16_t count = 0;
+  uint16_t id = 0;
+  uint8_t type = 0;
+  uint8_t size = 0;    // element count
+  uint8_t access = 0;  // param_access bits
+  float min = 0.0f;
+  float max = 0.0f;
+  char unit[kUnitLen + 1] = {};
+  char name[kMaxNameLen + 1] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u16("index", s.index);
+    v.u16("count", s.count);
+    v.u16("id", s.id);
+    v.u8("type", s.type);
+    v.u8("size", s.size);
+    v.u8("access", s.access);
+    v.f32("min", s.min);
+    v.f32("max", s.max);
+    v.text_fixed("unit", s.unit, kUnitLen);
+    v.text_tail("name", s.name, kMaxNameLen);
+  }
+};
+
+struct ParamValue {
+  static constexpr MsgType kType = MsgType::ParamValue;
+  uint16_t id = 0;
+  uint8_t type = 0;
+  uint8_t count = 0;
+  uint32_t values[kMaxParamValues] = {};
+
+  void set_f32(uint8_t i, float x) { std::memcpy(&values[i], &x, 4); }
+  float f32(uint8_t i) const {
+    float x;
+    std::memcpy(&x, &values[i], 4);
+    return x;
+  }
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u16("id", s.id);
+    v.u8("type", s.type);
+    v.word_tail("values", s.values, s.count, kMaxParamValues, static_cast<ParamType>(s.type));
+  }
+};
+
+struct XferAck {
+  static constexpr MsgType kType = MsgType::XferAck;
+  uint8_t kind = 0;
+  uint32_t next_offset = 0;
+  uint32_t total_size = 0;
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("kind", s.kind);
+    v.u32("next_offset", s.next_offset);
+    v.u32("total_size", s.total_size);
+  }
+};
+
+struct Status {
+  static constexpr MsgType kType = MsgType::Status;
+  uint32_t uptime_ms = 0;
+  uint32_t run_id = 0;
+  uint32_t step = 0;
+  uint8_t run_state = 0;
+  uint8_t watchdog = 0;
+  uint8_t telemetry_mask = 0;
+  uint8_t ref_id = 0;
+  uint32_t frames_in = 0;
+  uint32_t crc_errors = 0;
+  uint32_t frame_errors = 0;  // every other decode error
+  uint32_t tx_dropped = 0;
+  uint32_t loop_overruns = 0;
+  uint32_t compute_min = 0;  // ticks
+  uint32_t compute_mean = 0;
+  uint32_t compute_max = 0;
+  uint32_t tick_rate_hz = 0;
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u32("uptime_ms", s.uptime_ms);
+    v.u32("run_id", s.run_id);
+    v.u32("step", s.step);
+    v.u8("run_state", s.run_state);
+    v.u8("watchdog", s.watchdog);
+    v.u8("telemetry_mask", s.telemetry_mask);
+    v.u8("ref_id", s.ref_id);
+    v.u32("frames_in", s.frames_in);
+    v.u32("crc_errors", s.crc_errors);
+    v.u32("frame_errors", s.frame_errors);
+    v.u32("tx_dropped", s.tx_dropped);
+    v.u32("loop_overruns", s.loop_overruns);
+    v.u32("compute_min", s.compute_min);
+    v.u32("compute_mean", s.compute_mean);
+    v.u32("compute_max", s.compute_max);
+    v.u32("tick_rate_hz", s.tick_rate_hz);
+  }
+};
+
+struct Telemetry {
+  static constexpr MsgType kType = MsgType::Telemetry;
+  uint16_t tseq = 0;
+  uint8_t mask = 0;
+  uint8_t n = 0;
+  uint8_t m = 0;
+  uint32_t step = 0;
+  uint32_t time_us = 0;
+  float y_ref[kMaxTelemetryDim] = {};
+  float y_hat[kMaxTelemetryDim] = {};
+  float y_true[kMaxTelemetryDim] = {};
+  float u[kMaxTelemetryDim] = {};
+  float cost = 0.0f;
+  uint8_t iterations = 0;
+  uint32_t compute_ticks = 0;
+  template <class S, class V> static void fields(S& s, V& v) {
+    namespace tf = telemetry_field;
+    v.u16("tseq", s.tseq);
+    v.u8("mask", s.mask);
+    v.nibbles("n", s.n, "m", s.m);
+    if (s.mask & tf::kStep) v.u32("step", s.step);
+    if (s.mask & tf::kTime) v.u32("time_us", s.time_us);
+    if (s.mask & tf::kYRef) v.f32_array("y_ref", s.y_ref, s.n, kMaxTelemetryDim);
+    if (s.mask & tf::kYHat) v.f32_array("y_hat", s.y_hat, s.n, kMaxTelemetryDim);
+    if (s.mask & tf::kYTrue) v.f32_array("y_true", s.y_true, s.n, kMaxTelemetryDim);
+    if (s.mask & tf::kU) v.f32_array("u", s.u, s.m, kMaxTelemetryDim);
+    if (s.mask & tf::kCost) v.f32("cost", s.cost);
+    if (s.mask & tf::kSolver) {
+      v.u8("iterations", s.iterations);
+      v.u32("compute_ticks", s.compute_ticks);
+    }
+  }
+};
+
+struct Log {
+  static constexpr MsgType kType = MsgType::Log;
+  uint8_t level = 0;
+  char text[kMaxLogText + 1] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("level", s.level);
+    v.text_tail("text", s.text, kMaxLogText);
+  }
+};
+
+// ------------------------------------------------------------- pack/unpack
+
+namespace detail {
+
+class PackVisitor {
+ public:
+  explicit PackVisitor(ByteWriter& w) : w_(w) {}
+  void u8(const char*, uint8_t x) { w_.u8(x); }
+  void u16(const char*, uint16_t x) { w_.u16(x); }
+  void u32(const char*, uint32_t x) { w_.u32(x); }
+  void f32(const char*, float x) { w_.f32(x); }
+  void nibbles(const char*, uint8_t hi, const char*, uint8_t lo) {
+    if (hi > 0x0F || lo > 0x0F) w_.fail();
+    w_.u8(static_cast<uint8_t>((hi << 4) | lo));
+  }
+  void f32_array(const char*, const float* a, uint8_t count, uint8_t cap) {
+    if (count > cap) return w_.fail();
+    for (uint8_t i = 0; i < count; ++i) w_.f32(a[i]);
+  }
+  void f32_tail(const char* name, const float* a, uint8_t count, uint8_t cap) {
+    f32_array(name, a, count, cap);
+  }
+  void word_tail(const char*, const uint32_t* a, uint8_t count, uint8_t cap, ParamType) {
+    if (count > cap) return w_.fail();
+    for (uint8_t i = 0; i < count; ++i) w_.u32(a[i]);
+  }
+  void bytes_tail(const char*, const uint8_t* a, uint8_t size, uint8_t cap) {
+    if (size > cap) return w_.fail();
+    w_.bytes(a, size);
+  }
+  void text_tail(const char*, const char* s, uint8_t cap) {
+    const size_t len = strnlen(s, static_cast<size_t>(cap) + 1);
+    if (len > cap) return w_.fail();
+    w_.bytes(s, len);
+  }
+  void text_fixed(const char*, const char* s, uint8_t size) {
+    const size_t len = strnlen(s, static_cast<size_t>(size) + 1);
+    if (len > size) return w_.fail();
+    w_.bytes(s, len);
+    for (size_t i = len; i < size; ++i) w_.u8(0);
+  }
+
+ private:
+  static size_t strnlen(const char* s, size_t max) {
+    size_t n = 0;
+    while (n < max && s[n] != '\0') ++n;
+    return n;
+  }
+  ByteWriter& w_;
+};
+
+class UnpackVisitor {
+ public:
+  explicit UnpackVisitor(ByteReader& r) : r_(r) {}
+  void u8(const char*, uint8_t& x) { x = r_.u8(); }
+  void u16(const char*, uint16_t& x) { x = r_.u16(); }
+  void u32(const char*, uint32_t& x) { x = r_.u32(); }
+  void f32(const char*, float& x) { x = r_.f32(); }
+  void nibbles(const char*, uint8_t& hi, const char*, uint8_t& lo) {
+    const uint8_t b = r_.u8();
+    hi = static_cast<uint8_t>(b >> 4);
+    lo = static_cast<uint8_t>(b & 0x0F);
+  }
+  void f32_array(const char*, float* a, uint8_t count, uint8_t cap) {
+    if (count > cap) return r_.fail();
+    for (uint8_t i = 0; i < count; ++i) a[i] = r_.f32();
+  }
+  void f32_tail(const char*, float* a, uint8_t& count, uint8_t cap) {
+    if (!tail_count(4, cap, count)) return;
+    for (uint8_t i = 0; i < count; ++i) a[i] = r_.f32();
+  }
+  void word_tail(const char*, uint32_t* a, uint8_t& count, uint8_t cap, ParamType) {
+    if (!tail_count(4, cap, count)) return;
+    for (uint8_t i = 0; i < count; ++i) a[i] = r_.u32();
+  }
+  void bytes_tail(const char*, uint8_t* a, uint8_t& size, uint8_t cap) {
+    if (!tail_count(1, cap, size)) return;
+    r_.bytes(a, size);
+  }
+  // Text is not NUL-terminated on the wire; a NUL inside it would silently
+  // shorten the string for C callers, so it is shown as '?' instead.
+  void text_tail(const char*, char* s, uint8_t cap) {
+    uint8_t len = 0;
+    if (!tail_count(1, cap, len)) return;
+    read_text(s, len);
+    s[len] = '\0';
+  }
+  void text_fixed(const char*, char* s, uint8_t size) {
+    r_.bytes(s, size);
+    s[size] = '\0';  // NUL padding ends it earlier when shorter
+  }
+
+ private:
+  bool tail_count(size_t elem, uint8_t cap, uint8_t& count) {
+    const size_t rem = r_.remaining();
+    if (rem % elem != 0 || rem / elem > cap) {
+      r_.fail();
+      return false;
+    }
+    count = static_cast<uint8_t>(rem / elem);
+    return true;
+  }
+  void read_text(char* s, uint8_t len) {
+    r_.bytes(s, len);
+    for (uint8_t i = 0; i < len; ++i) {
+      if (s[i] == '\0') s[i] = '?';
+    }
+  }
+  ByteReader& r_;
+};
+
+}  // namespace detail
+
+// Writes M's payload into out. On success stores its length and returns Ok;
+// returns BadLength when a count exceeds its capacity, the payload would not
+// fit, or the result breaks the type's length rule (e.g. an empty PARAM_SET).
+template <class M>
+StatusCode pack(const M& msg, uint8_t* out, size_t capacity, size_t& length) {
+  ByteWriter w(out, capacity);
+  detail::PackVisitor v(w);
+  M::fields(msg, v);
+  const MsgInfo* info = find_message(static_cast<uint8_t>(M::kType));
+  if (!w.ok() || info == nullptr || !payload_length_ok(*info, out, w.size())) {
+    return StatusCode::BadLength;
+  }
+  length = w.size();
+  return StatusCode::Ok;
+}
+
+// Reads M from a payload. Everything must be consumed: a payload that is
+// longer or shorter than the fields say is BadLength, never half-read.
+template <class M>
+StatusCode unpack(const uint8_t* payload, size_t length, M& msg) {
+  const MsgInfo* info = find_message(static_cast<uint8_t>(M::kType));
+  if (info == nullptr || !payload_length_ok(*info, payload, length)) {
+    return StatusCode::BadLength;
+  }
+  ByteReader r(payload, length);
+  detail::UnpackVisitor v(r);
+  M::fields(msg, v);
+  if (!r.ok() || r.remaining() != 0) return StatusCode::BadLength;
+  return StatusCode::Ok;
+}
+
+template <class M>
+StatusCode unpack(const FrameView& frame, M& msg) {
+  if (frame.header.type != static_cast<uint8_t>(M::kType)) return StatusCode::Unsupported;
+  return unpack(frame.payload, frame.payload_size(), msg);
+}
+
+// Calls f(M{}) with a default-constructed message of the given type; returns
+// false for unknown types. For generic tooling (text form, tests), not for
+// the firmware's hot path.
+template <class F>
+bool with_message_type(uint8_t type, F&& f) {
+  switch (static_cast<MsgType>(type)) {
+    case MsgType::Ping: f(Ping{}); return true;
+    case MsgType::InfoGet: f(InfoGet{}); return true;
+    case MsgType::ParamList: f(ParamList{}); return true;
+    case MsgType::ParamGet: f(ParamGet{}); return true;
+    case MsgType::ParamSet: f(ParamSet{}); return true;
+    case MsgType::RefSelect: f(RefSelect{}); return true;
+    case MsgType::XferBegin: f(XferBegin{}); return true;
+    case MsgType::XferChunk: f(XferChunk{}); return true;
+    case MsgType::XferCommit: f(XferCommit{}); return true;
+    case MsgType::XferAbort: f(XferAbort{}); return true;
+    case MsgType::RunStart: f(RunStart{}); return true;
+    case MsgType::RunStop: f(RunStop{}); return true;
+    case MsgType::RunHold: f(RunHold{}); return true;
+    case MsgType::TelemetryConfig: f(TelemetryConfig{}); return true;
+    case MsgType::StatusGet: f(StatusGet{}); return true;
+    case MsgType::Ack: f(Ack{}); return true;
+    case MsgType::Nack: f(Nack{}); return true;
+    case MsgType::Pong: f(Pong{}); return true;
+    case MsgType::Info: f(Info{}); return true;
+    case MsgType::ParamDesc: f(ParamDesc{}); return true;
+    case MsgType::ParamValue: f(ParamValue{}); return true;
+    case MsgType::XferAck: f(XferAck{}); return true;
+    case MsgType::Status: f(Status{}); return true;
+    case MsgType::Telemetry: f(Telemetry{}); return true;
+    case MsgType::Log: f(Log{}); return true;
+  }
+  return false;
+}
+
+}  // namespace nlsoft::protocol

@@ -1,0 +1,470 @@
+// Regenerates protocol/vectors/golden.txt:
+//   nlsoft-gen-vectors > protocol/vectors/golden.txt
+// The expectations written next to each wire image are what the decoder
+// reports for it; review the diff of golden.txt by hand whenever it changes,
+// because once checked in it is the contract both peers are tested against.
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "protocol/cobs.hpp"
+#include "protocol/encoder.hpp"
+#include "protocol/messages.hpp"
+#include "protocol/vectors/golden_reader.hpp"
+
+namespace {
+
+using namespace nlsoft::protocol;
+using Bytes = std::vector<uint8_t>;
+
+struct Entry {
+  std::string name;
+  std::string note;
+  Bytes wire;
+};
+
+std::vector<Entry> g_entries;
+
+void add(const std::string& name, const std::string& note, const Bytes& wire) {
+  g_entries.push_back({name, note, wire});
+}
+
+template <class M>
+Bytes frame(const M& msg, uint8_t seq, uint8_t flags = 0) {
+  uint8_t buf[kWireBufferSize];
+  const size_t n = encode(msg, seq, flags, buf, sizeof buf);
+  if (n == 0) {
+    std::fprintf(stderr, "encode failed for %s\n", message_name(static_cast<uint8_t>(M::kType)));
+    std::exit(1);
+  }
+  return Bytes(buf, buf + n);
+}
+
+// A raw (pre-COBS) frame, for building damaged frames byte by byte.
+template <class M>
+Bytes raw_frame(const M& msg, uint8_t seq, uint8_t flags = 0) {
+  const Bytes wire = frame(msg, seq, flags);
+  Bytes raw(kMaxRawFrame + 8);
+  const CobsDecodeResult r = cobs_decode(wire.data(), wire.size() - 1, raw.data(), raw.size());
+  raw.resize(r.size);
+  return raw;
+}
+
+Bytes cobs_wire(const Bytes& raw) {
+  Bytes out(cobs_max_encoded_size(raw.size()) + 1);
+  const size_t n = cobs_encode(raw.data(), raw.size(), out.data(), out.size());
+  out.resize(n);
+  out.push_back(0);
+  return out;
+}
+
+// Re-seals a raw frame's CRC (with the seed of `seed_type`) after editing it.
+void reseal(Bytes& raw, uint8_t seed_type) {
+  const size_t body = raw.size() - 2;
+  uint16_t crc = crc16(raw.data(), body);
+  crc = crc16_update(crc, crc_extra(seed_type));
+  raw[body] = static_cast<uint8_t>(crc & 0xFF);
+  raw[body + 1] = static_cast<uint8_t>(crc >> 8);
+}
+
+Bytes cat(std::initializer_list<Bytes> parts) {
+  Bytes out;
+  for (const Bytes& p : parts) out.insert(out.end(), p.begin(), p.end());
+  return out;
+}
+
+void set_text(char* dst, const char* src) { std::strcpy(dst, src); }
+
+void build() {
+  // ------------------------------------------------------------ requests
+  Ping ping;
+  ping.nonce = 0x12345678u;
+  add("ping", "Handshake probe; the reply is PONG with the same nonce.", frame(ping, 1));
+
+  add("info_get", "", frame(InfoGet{}, 2));
+
+  ParamList plist;
+  plist.index = 0;
+  add("param_list_first", "Ask for the description of parameter #0.", frame(plist, 3));
+
+  ParamGet pget;
+  pget.id = 3;
+  add("param_get", "", frame(pget, 4));
+
+  ParamSet q;
+  q.id = 3;
+  q.count = 3;
+  q.set_f32(0, 1e6f);
+  q.set_f32(1, 2e6f);
+  q.set_f32(2, 1e6f);
+  add("param_set_vector", "Q diagonal of the hasel config in one message.", frame(q, 5));
+
+  ParamSet horizon;
+  horizon.id = 10;
+  horizon.count = 1;
+  horizon.values[0] = 3;
+  add("param_set_integer",
+      "An integer parameter (N = 3): integer words print as bit patterns in the text form.",
+      frame(horizon, 6));
+
+  ParamSet nan_set;
+  nan_set.id = 3;
+  nan_set.count = 3;
+  nan_set.set_f32(0, 1.0f);
+  nan_set.values[1] = 0x7FC00000u;
+  nan_set.set_f32(2, 1.0f);
+  add("param_set_non_finite",
+      "Well-formed frame carrying a NaN; the firmware must NACK it with not_finite, field 1, "
+      "element 1.",
+      frame(nan_set, 7));
+
+  RefSelect inf;
+  inf.ref_id = static_cast<uint8_t>(RefId::Infinity);
+  const float inf_params[] = {2.0f, 3.0f, 1.5f, 0.05f, 0.0f, 0.5f, -0.25f};
+  inf.count = 7;
+  for (uint8_t i = 0; i < inf.count; ++i) inf.params[i] = inf_params[i];
+  add("ref_select_infinity", "Infinity reference: A, B, C, omega, c0, c1, c2.", frame(inf, 8));
+
+  RefSelect table;
+  table.ref_id = static_cast<uint8_t>(RefId::Table);
+  add("ref_select_table", "Select the uploaded table; no parameters.", frame(table, 9));
+
+  XferBegin begin;
+  begin.kind = static_cast<uint8_t>(XferKind::RefTable);
+  begin.total_size = 1234;
+  begin.crc32 = 0xCBF43926u;
+  add("xfer_begin", "", frame(begin, 10));
+
+  XferChunk chunk;
+  chunk.kind = static_cast<uint8_t>(XferKind::RefTable);
+  chunk.offset = 240;
+  chunk.size = 16;
+  for (uint8_t i = 0; i < chunk.size; ++i) chunk.data[i] = static_cast<uint8_t>(i * 17);
+  add("xfer_chunk", "Data with zero bytes in it, which COBS must remove.", frame(chunk, 11));
+
+  XferChunk big;
+  big.kind = static_cast<uint8_t>(XferKind::Model);
+  big.offset = 0x00010203u;
+  big.size = kMaxChunkData;
+  for (unsigned i = 0; i < big.size; ++i) big.data[i] = static_cast<uint8_t>(1 + i % 255);
+  add("xfer_chunk_largest",
+      "Largest frame: 241 data bytes, 253 raw bytes, 255 bytes on the wire.", frame(big, 12));
+
+  XferCommit commit;
+  commit.kind = static_cast<uint8_t>(XferKind::RefTable);
+  add("xfer_commit", "", frame(commit, 13));
+
+  XferAbort abort_msg;
+  abort_msg.kind = static_cast<uint8_t>(XferKind::Model);
+  add("xfer_abort", "", frame(abort_msg, 14));
+
+  RunStart start;
+  start.run_id = 42;
+  add("run_start", "", frame(start, 15));
+  add("run_stop", "", frame(RunStop{}, 16));
+
+  RunHold hold;
+  hold.mode = static_cast<uint8_t>(HoldMode::Neutral);
+  add("run_hold_neutral", "", frame(hold, 17));
+
+  TelemetryConfig tcfg;
+  tcfg.mask = telemetry_field::kAll;
+  tcfg.decimation = 1;
+  add("telemetry_config_all", "", frame(tcfg, 18));
+
+  add("status_get", "Sequence number 255, the last before wrapping to 0.",
+      frame(StatusGet{}, 255));
+
+  // ------------------------------------------------- replies, unsolicited
+  Ack ack;
+  ack.request_type = static_cast<uint8_t>(MsgType::RunStart);
+  add("ack_run_start", "Reply to run_start: same seq, REPLY flag.",
+      frame(ack, 15, frame_flags::kReply));
+
+  Nack nack;
+  nack.request_type = static_cast<uint8_t>(MsgType::ParamSet);
+  nack.status = static_cast<uint8_t>(StatusCode::NotFinite);
+  nack.field = 1;
+  nack.element = 1;
+  add("nack_param_set_non_finite", "Reply to param_set_non_finite.",
+      frame(nack, 7, frame_flags::kReply));
+
+  Nack nack_plain;
+  nack_plain.request_type = static_cast<uint8_t>(MsgType::XferCommit);
+  nack_plain.status = static_cast<uint8_t>(StatusCode::XferCrc);
+  add("nack_xfer_commit_crc", "No single field to blame: field and element are 255.",
+      frame(nack_plain, 13, frame_flags::kReply));
+
+  Pong pong;
+  pong.nonce = 0x12345678u;
+  pong.uptime_ms = 987654;
+  add("pong", "", frame(pong, 1, frame_flags::kReply));
+
+  Info info;
+  info.platform = static_cast<uint8_t>(Platform::Hasel);
+  info.m = 6;
+  info.n = 3;
+  info.w = 18;
+  info.nd = 2;
+  info.dd = 2;
+  info.max_n = 8;
+  info.max_nc = 4;
+  info.fw_major = 0;
+  info.fw_minor = 1;
+  info.fw_patch = 0;
+  info.loop_rate_hz = 130;
+  info.model_hash = 0xDEADBEEFu;
+  info.param_hash = 0x0BADF00Du;
+  info.capabilities = capability::kParams | capability::kRefBuiltin |
+                      capability::kXferRefTable | capability::kXferModel |
+                      capability::kTelemetry | capability::kYTrue | capability::kRunHold |
+                      capability::kLog;
+  set_text(info.firmware, "nlsoft-fw posix");
+  add("info_hasel", "", frame(info, 2, frame_flags::kReply));
+
+  ParamDesc desc;
+  desc.index = 0;
+  desc.count = 14;
+  desc.id = 3;
+  desc.type = static_cast<uint8_t>(ParamType::F32);
+  desc.size = 3;
+  desc.min = 0.0f;
+  desc.max = 1e9f;
+  set_text(desc.unit, "");
+  set_text(desc.name, "Q");
+  add("param_desc_q", "", frame(desc, 3, frame_flags::kReply));
+
+  ParamDesc desc_n;
+  desc_n.index = 5;
+  desc_n.count = 14;
+  desc_n.id = 10;
+  desc_n.type = static_cast<uint8_t>(ParamType::U8);
+  desc_n.size = 1;
+  desc_n.access = param_access::kStoppedOnly;
+  desc_n.min = 1.0f;
+  desc_n.max = 8.0f;
+  set_text(desc_n.unit, "steps");
+  set_text(desc_n.name, "N");
+  add("param_desc_horizon", "", frame(desc_n, 20, frame_flags::kReply));
+
+  ParamValue pv;
+  pv.id = 3;
+  pv.type = static_cast<uint8_t>(ParamType::F32);
+  pv.count = 3;
+  pv.set_f32(0, 1e6f);
+  pv.set_f32(1, 2e6f);
+  pv.set_f32(2, 1e6f);
+  add("param_value_q", "Reply to param_set_vector: the value now in force.",
+      frame(pv, 5, frame_flags::kReply));
+
+  ParamValue pv_n;
+  pv_n.id = 10;
+  pv_n.type = static_cast<uint8_t>(ParamType::U8);
+  pv_n.count = 1;
+  pv_n.values[0] = 3;
+  add("param_value_integer", "", frame(pv_n, 6, frame_flags::kReply));
+
+  XferAck xack;
+  xack.kind = static_cast<uint8_t>(XferKind::RefTable);
+  xack.next_offset = 256;
+  xack.total_size = 1234;
+  add("xfer_ack", "Reply to xfer_chunk: the next offset the firmware expects.",
+      frame(xack, 11, frame_flags::kReply));
+
+  Status st;
+  st.uptime_ms = 60000;
+  st.run_id = 42;
+  st.step = 7800;
+  st.run_state = static_cast<uint8_t>(RunState::Running);
+  st.watchdog = watchdog_flags::kArmed;
+  st.telemetry_mask = telemetry_field::kAll;
+  st.ref_id = static_cast<uint8_t>(RefId::Swirl);
+  st.frames_in = 1200;
+  st.crc_errors = 2;
+  st.frame_errors = 1;
+  st.tx_dropped = 0;
+  st.loop_overruns = 3;
+  st.compute_min = 1800;
+  st.compute_mean = 2100;
+  st.compute_max = 5400;
+  st.tick_rate_hz = 180000000;
+  add("status_heartbeat", "Unsolicited heartbeat: REPLY flag clear, firmware's own seq.",
+      frame(st, 77));
+
+  Telemetry tel;
+  tel.tseq = 65535;
+  tel.mask = telemetry_field::kAll;
+  tel.n = 3;
+  tel.m = 6;
+  tel.step = 123456;
+  tel.time_us = 949996800u;
+  const float yref[] = {0.5f, -1.25f, 2.0f};
+  const float yhat[] = {0.49f, -1.2f, 1.98f};
+  const float ytrue[] = {0.48f, -1.21f, 1.97f};
+  for (int i = 0; i < 3; ++i) {
+    tel.y_ref[i] = yref[i];
+    tel.y_hat[i] = yhat[i];
+    tel.y_true[i] = ytrue[i];
+  }
+  for (int i = 0; i < 6; ++i) tel.u[i] = 0.1f * static_cast<float>(i) - 0.2f;
+  tel.cost = 1234.5f;
+  tel.iterations = 3;
+  tel.compute_ticks = 2100;
+  add("telemetry_hasel_all", "Every field, hasel dims (n=3, m=6): 81-byte payload, 90 on the wire.",
+      frame(tel, 78));
+
+  Telemetry tmin;
+  tmin.tseq = 1;
+  tmin.mask = telemetry_field::kStep | telemetry_field::kYHat | telemetry_field::kU;
+  tmin.n = 1;
+  tmin.m = 1;
+  tmin.step = 10;
+  tmin.y_hat[0] = 0.25f;
+  tmin.u[0] = -3.5f;
+  add("telemetry_msd_compact", "msd dims (n=1, m=1), step + y_hat + u: 16-byte payload.",
+      frame(tmin, 79));
+
+  Telemetry tnone;
+  tnone.tseq = 2;
+  tnone.n = 3;
+  tnone.m = 2;
+  add("telemetry_empty_mask", "Mask 0: only the telemetry sequence (keeps loss counting alive).",
+      frame(tnone, 80));
+
+  Log log;
+  log.level = static_cast<uint8_t>(LogLevel::Warn);
+  set_text(log.text, "loop overrun at step 12: \"compute\" took 1.2 ms");
+  add("log_warn", "", frame(log, 81));
+
+  // --------------------------------------------------------------- streams
+  add("two_frames_back_to_back", "One delimiter between frames is enough.",
+      cat({frame(ping, 1), frame(pong, 1, frame_flags::kReply)}));
+  add("leading_and_repeated_delimiters",
+      "Extra 0x00 bytes are idle: they produce no event and no error.",
+      cat({Bytes{0, 0}, frame(ping, 1), Bytes{0, 0, 0}}));
+
+  // ---------------------------------------------------------------- errors
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw[raw.size() - 1] ^= 0x01;
+    add("error_bad_crc", "ping with its CRC's high byte flipped.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw[6] ^= 0x80;
+    add("error_bad_crc_payload_bit", "ping with one payload bit flipped.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    reseal(raw, static_cast<uint8_t>(MsgType::RunStart));
+    add("error_bad_crc_layout_seed",
+        "ping body sealed with RUN_START's CRC seed: a peer with another layout for a type "
+        "rejects it.",
+        cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw.resize(4);
+    add("error_truncated_header", "Only 4 bytes: shorter than header + CRC.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw.resize(raw.size() - 2);
+    add("error_truncated_payload",
+        "Valid COBS, but 2 bytes fewer than the header's length declares.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw.push_back(0x42);
+    add("error_length_mismatch", "One byte more than the header declares.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw[0] = 2;
+    reseal(raw, static_cast<uint8_t>(MsgType::Ping));
+    add("error_wrong_version", "ping from a protocol version 2 peer.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(ping, 1);
+    raw[1] = 0x30;
+    reseal(raw, 0x30);
+    add("error_unknown_type", "Type 0x30 is not in the catalogue.", cobs_wire(raw));
+  }
+  {
+    Bytes raw = {kProtocolVersion, static_cast<uint8_t>(MsgType::Ping), 1, 0, 3, 1, 2, 3, 0, 0};
+    reseal(raw, static_cast<uint8_t>(MsgType::Ping));
+    add("error_bad_length_for_type", "ping with a 3-byte payload; PING needs exactly 4.",
+        cobs_wire(raw));
+  }
+  {
+    Bytes raw = raw_frame(tmin, 79);
+    raw[kHeaderSize + 3] = 0x21;  // dims n=2 m=1: the fields no longer add up
+    reseal(raw, static_cast<uint8_t>(MsgType::Telemetry));
+    add("error_bad_length_telemetry_dims", "telemetry whose dims byte does not match its length.",
+        cobs_wire(raw));
+  }
+  {
+    Bytes wire = frame(ping, 1);
+    wire.erase(wire.end() - 2);
+    add("error_cobs", "ping with its last byte lost: the delimiter arrives inside a COBS block.",
+        wire);
+  }
+  {
+    Bytes wire(300, 0x55);
+    wire.push_back(0);
+    add("error_oversize", "300 bytes without a delimiter.", cat({wire, frame(ping, 1)}));
+  }
+  add("garbage_between_frames",
+      "Terminated garbage between two good frames costs one error and no frame.",
+      cat({frame(ping, 1), Bytes{0xDE, 0xAD, 0xBE, 0xEF, 0x00}, frame(pong, 1, frame_flags::kReply)}));
+  add("garbage_glued_to_frame",
+      "Garbage with no delimiter before a frame spoils that frame only; the next one is fine.",
+      cat({Bytes{0x13, 0x37, 0x42}, frame(ping, 1), frame(ping, 2)}));
+  {
+    const Bytes info_wire = frame(info, 2, frame_flags::kReply);
+    add("frame_cut_by_reset",
+        "A frame cut short by a sender reset, then the next frame: one error, then resync.",
+        cat({Bytes(info_wire.begin(), info_wire.begin() + 20), Bytes{0x00}, frame(ping, 3)}));
+  }
+}
+
+void print_hex_lines(const Bytes& b) {
+  for (size_t i = 0; i < b.size(); i += 32) {
+    std::printf("wire:");
+    for (size_t j = i; j < b.size() && j < i + 32; ++j) std::printf(" %02x", b[j]);
+    std::printf("\n");
+  }
+}
+
+}  // namespace
+
+int main() {
+  build();
+  std::printf(
+      "# nlsoft wire protocol golden vectors (protocol version %u).\n"
+      "# Generated by protocol/tools/gen_vectors.cpp, checked in, reviewed by hand.\n"
+      "# Format (PROTOCOL.md, \"Golden vectors\"): blocks separated by blank lines;\n"
+      "#   vector: <name>\n"
+      "#   note:   <free text>                      (optional, may repeat)\n"
+      "#   wire:   <hex bytes, space separated>      (repeats; concatenate all)\n"
+      "#   expect: frame <TYPE> seq=<n> flags=<n> <field>=<value> ...\n"
+      "#   expect: error <reason>\n"
+      "# One expect line per decoder event, in order. Feeding the wire bytes to a\n"
+      "# fresh decoder must give exactly these events. When the wire is exactly one\n"
+      "# good frame (a single 0x00, at the end), encoding the expected message must\n"
+      "# give exactly the wire bytes.\n",
+      kProtocolVersion);
+  for (const Entry& e : g_entries) {
+    std::printf("\nvector: %s\n", e.name.c_str());
+    if (!e.note.empty()) std::printf("note: %s\n", e.note.c_str());
+    print_hex_lines(e.wire);
+    for (const std::string& ev : golden::decode_events(e.wire)) {
+      std::printf("expect: %s\n", ev.c_str());
+    }
+  }
+  return 0;
+}
