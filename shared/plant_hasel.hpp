@@ -128,13 +128,13 @@ class HaselPlant {
         b[2] += (3.0f * mr * rz * inv_r - nz) * inv_r3;
       }
       // Sensor axes turned by phi_j; scale G0^3 makes the own B_z 2 at e = 0
-      // (a dipole's on-axis field is 2 m / r^3; sign flipped to read positive).
+      // (a dipole's on-axis field is 2 m / r^3).
       const float s = kGap * kGap * kGap;
       const float bx = kCos[j] * b[0] + kSin[j] * b[1];
       const float by = -kSin[j] * b[0] + kCos[j] * b[1];
       l[3 * j + 0] = s * bx + kNoise * rng_.gaussian();
       l[3 * j + 1] = s * by + kNoise * rng_.gaussian();
-      l[3 * j + 2] = -s * b[2] + kNoise * rng_.gaussian();
+      l[3 * j + 2] = s * b[2] + kNoise * rng_.gaussian();
     }
   }
 

@@ -15,18 +15,18 @@
 //   y2 = rho2 sin(alpha_1) - g (1 - cos alpha_0)              up-down, sagging
 //                                                            when bent aside
 //   y0 = D (1 - cos alpha_0 cos alpha_1)                     depth
-// rho1 = 16, rho2 = 19.5, g = 2, D = 48 mm. With two inputs and three outputs
+// rho1 = 16, rho2 = 19, g = 2, D = 48 mm. With two inputs and three outputs
 // the tip lives on a surface: y0 is a bowl over (y1, y2), about
 //   y0 ~ (D/2) ((y1/rho1)^2 + (y2/rho2)^2),
 // so y0 is never commanded independently (the paper weights it 1e-3 in Q).
-// Reachable (|alpha| <= 1.067): y1 in [-14.0, 14.0], y2 in [-18.1, 17.1],
+// Reachable (|alpha| <= 1.067): y1 in [-14.0, 14.0], y2 in [-17.7, 16.6],
 // y0 in [0, 36.8] mm, inside the box y0 in [-1.7, 38.7], y1 in [-14.15, 14.15],
-// y2 in [-18.3, 16.7] (40.4 x 28.3 x 35.0). Neutral u = 0 gives (0, 0, 0).
+// y2 in [-17.95, 17.05] (40.4 x 28.3 x 35.0). Neutral u = 0 gives (0, 0, 0).
 //
-// Infinity fits the bowl when A = D C^2 / (2 rho2^2) = 0.063 C^2 and B is
-// moderate: kInfinity{A, B, C} = {9, 16, 12} mm with centre (0, 0, 0) keeps
+// Infinity fits the bowl when A ~ D C^2 / (2 rho2^2) = 0.066 C^2 and B is
+// moderate: kInfinity{A, B, C} = {10, 16, 12} mm with centre (0, 0, 0) keeps
 // |y1| <= 8 and |y2| <= 12 mm, well inside the reachable set; y0 then follows
-// the reference to within the y1 part of the bowl (<= 6.5 mm). Pringle and
+// the reference to within the y1 part of the bowl (<= 6.3 mm). Pringle and
 // Diagonal: B = 12, C = 12, A = 4, same centre.
 //
 // Sensors: eleven LightLace channels, fibre j running at angle
@@ -58,12 +58,12 @@ class TendonPlant {
   static constexpr float kBendMax = 1.3f;  // rad, a_max
   static constexpr float kBendSoft = 1.0f; // rad, q_s
   static constexpr float kRho1 = 16.0f;    // mm
-  static constexpr float kRho2 = 19.5f;    // mm
+  static constexpr float kRho2 = 19.0f;    // mm
   static constexpr float kSag = 2.0f;      // mm, g
   static constexpr float kDepth = 48.0f;   // mm, D
   static constexpr float kNoise = 0.01f;
 
-  static constexpr float kInfinity[3] = {9.0f, 16.0f, 12.0f};  // A, B, C
+  static constexpr float kInfinity[3] = {10.0f, 16.0f, 12.0f};  // A, B, C
   static constexpr float kPringle[3] = {4.0f, 12.0f, 12.0f};   // A, B, C
   static constexpr float kCentre[3] = {0.0f, 0.0f, 0.0f};
 
@@ -117,8 +117,8 @@ class TendonPlant {
     hi[0] = 38.7f;
     lo[1] = -14.15f;
     hi[1] = 14.15f;
-    lo[2] = -18.3f;
-    hi[2] = 16.7f;
+    lo[2] = -17.95f;
+    hi[2] = 17.05f;
   }
 
   // Bend angles alpha_i (state; for tests and plots).

@@ -96,7 +96,9 @@ TEST(Pid, DerivativeFilterSmoothsAndConverges) {
     const float y = 0.01f * static_cast<float>(k);  // ramp, slope 1 /s at dt 0.01
     raw.step(&r, &y, 0.01f, &ur);
     filtered.step(&r, &y, 0.01f, &uf);
-    if (k == 1) EXPECT_LT(std::fabs(uf), 0.5f * std::fabs(ur));
+    if (k == 1) {
+      EXPECT_LT(std::fabs(uf), 0.5f * std::fabs(ur));
+    }
   }
   EXPECT_NEAR(ur, -1.0f, 1e-3f);
   EXPECT_NEAR(uf, -1.0f, 1e-3f);
@@ -156,7 +158,9 @@ TEST(Pid, ClosesTheLoopOnMsdWithThePapersGains) {
     if (t >= 10000) {  // from 10 s into each step: within 3 % of the level
       ASSERT_NEAR(plant.position(), r, 0.03f * r) << "segment " << seg << " t " << t;
     }
-    if (t == ref.hold - 1) EXPECT_NEAR(plant.position(), r, 0.002f * r) << seg;
+    if (t + 1 == ref.hold) {
+      EXPECT_NEAR(plant.position(), r, 0.002f * r) << seg;
+    }
   }
   for (int s = 0; s < 3; ++s) EXPECT_LT(peak[s], 1.05f * ref.levels[s]) << s;
 }

@@ -18,6 +18,9 @@
 namespace nlsoft {
 namespace {
 
+// Test arithmetic runs in double; plant constants and outputs are float.
+double D(float v) { return static_cast<double>(v); }
+
 // ---------------------------------------------------------------- msd
 
 // x(t) from rest under constant u: underdamped step response of
@@ -83,7 +86,7 @@ TEST(MsdPlant, LongerControlPeriodGivesTheSameTrajectory) {
 
 TEST(MsdPlant, TrainingInputAndClamping) {
   for (float t : {0.0f, 0.3f, 1.0f, 17.5f}) {
-    EXPECT_NEAR(MsdPlant::training_input(t), 500.0 * std::sin(2.0 * t), 1e-3);
+    EXPECT_NEAR(MsdPlant::training_input(t), 500.0 * std::sin(2.0 * D(t)), 1e-3);
   }
   MsdPlant a, b;
   a.reset(0);
@@ -307,8 +310,9 @@ TEST(HaselPlant, FirstOrderLagWithItsTimeConstants) {
   for (float& v : u) v = 0.8f;  // common mode: pure z, no tilt
   p.output(y);
   const double z0 = y[2];
-  const double s = (0.8 - HaselPlant::kPlay - HaselPlant::kPlay) / (1.0 - 2.0 * HaselPlant::kPlay);
-  const double z_end = HaselPlant::kZ0 + HaselPlant::kStroke * HaselPlant::statics(static_cast<float>(s));
+  const double s = (0.8 - 2.0 * D(HaselPlant::kPlay)) / (1.0 - 2.0 * D(HaselPlant::kPlay));
+  const double z_end =
+      D(HaselPlant::kZ0) + D(HaselPlant::kStroke) * D(HaselPlant::statics(static_cast<float>(s)));
   double prev = z0;
   for (int k = 1; k <= 60; ++k) {
     p.step(u, HaselPlant::kDt);
@@ -371,13 +375,13 @@ TEST(HaselPlant, TiltMovesTheEndEffectorSideways) {
 // Drives the plant to a steady pose with extensions e (inverting the statics
 // and approaching each play state from the neutral side).
 void hold_extensions(HaselPlant& p, const double e[6]) {
-  const double h = HaselPlant::kPlay;
+  const double h = D(HaselPlant::kPlay);
   float u[6];
   for (int i = 0; i < 6; ++i) {
     double lo = 0.0, hi = 1.0;
     for (int it = 0; it < 60; ++it) {
       const double mid = 0.5 * (lo + hi);
-      (HaselPlant::statics(static_cast<float>(mid)) < e[i] ? lo : hi) = mid;
+      (D(HaselPlant::statics(static_cast<float>(mid))) < e[i] ? lo : hi) = mid;
     }
     const double play_state = h + lo * (1.0 - 2.0 * h);
     u[i] = static_cast<float>(play_state > 0.5 ? play_state + h : play_state - h);
@@ -392,7 +396,7 @@ TEST(HaselPlant, SwirlAtTheDocumentedScaleAndCentreIsReachable) {
   ref.hold = 1;
   ref.scale = HaselPlant::kSwirlScale;
   for (int i = 0; i < 3; ++i) ref.c[i] = HaselPlant::kSwirlCentre[i];
-  const double H = HaselPlant::kHeight, K = HaselPlant::kKappa;
+  const double H = D(HaselPlant::kHeight), K = D(HaselPlant::kKappa);
   const double c6[6] = {1, 0.5, -0.5, -1, -0.5, 0.5};
   const double s6[6] = {0, 0.8660254037844386, 0.8660254037844386, 0, -0.8660254037844386,
                         -0.8660254037844386};
@@ -401,11 +405,12 @@ TEST(HaselPlant, SwirlAtTheDocumentedScaleAndCentreIsReachable) {
     float target[3];
     reference_at(ref, nullptr, k, target, 3);
     // Invert the platform geometry to the plate's mean height and slopes...
-    const double ax = std::asin(target[0] / H);
-    const double ay = std::asin(target[1] / (H * std::cos(ax)));
+    const double ax = std::asin(D(target[0]) / H);
+    const double ay = std::asin(D(target[1]) / (H * std::cos(ax)));
     const double tx = ax / K, ty = ay / K;
     const double mean =
-        (target[2] - HaselPlant::kZ0 + H * (1.0 - std::cos(ax) * std::cos(ay))) / HaselPlant::kStroke;
+        (D(target[2]) - D(HaselPlant::kZ0) + H * (1.0 - std::cos(ax) * std::cos(ay))) /
+        D(HaselPlant::kStroke);
     // ...then find extensions inside [0.1, 0.9] with those three moments by
     // alternating projections (box, affine set).
     double e[6] = {0.5, 0.5, 0.5, 0.5, 0.5, 0.5};
@@ -443,13 +448,12 @@ TEST(TendonPlant, NeutralAndBox) {
   EXPECT_NEAR(hi[2] - lo[2], 35.0f, 1e-4f);
 }
 
-TEST(TendonPlant, ServoLagThenSlackThenMonotoneBend) {
+TEST(TendonPlant, ServoLagThenMonotoneBend) {
   TendonPlant p;
   p.reset(0);
   const float u[2] = {0.6f, 0.0f};
   const double dt = 1.0 / 120.0;
   float prev = 0.0f;
-  int dead_steps = 0;
   float y_final[3];
   for (int k = 1; k <= 120; ++k) {
     p.step(u, TendonPlant::kDt);
@@ -457,13 +461,11 @@ TEST(TendonPlant, ServoLagThenSlackThenMonotoneBend) {
     float y[3];
     p.output(y);
     ASSERT_GE(y[1], prev);  // no overshoot, no reversal
-    if (y[1] == 0.0f) ++dead_steps;
     prev = y[1];
     if (k == 120) std::memcpy(y_final, y, sizeof y);
   }
-  EXPECT_GE(dead_steps, 1);  // the slack is taken up before the body moves
   // 63 % of the final motion after roughly one servo time constant (6 steps),
-  // later by the slack and the dead band.
+  // a little later because of the slack and the stiffening.
   TendonPlant q;
   q.reset(0);
   int k63 = 0;
@@ -477,6 +479,20 @@ TEST(TendonPlant, ServoLagThenSlackThenMonotoneBend) {
   EXPECT_LE(k63, 12);
   // Depth follows the bowl: bending either way pulls the tip back.
   EXPECT_GT(y_final[0], 1.0f);
+}
+
+TEST(TendonPlant, SlackSwallowsSmallCommands) {
+  TendonPlant p;
+  p.reset(0);
+  float u[2] = {0.9f * TendonPlant::kSlack, -0.9f * TendonPlant::kSlack};
+  for (int k = 0; k < 200; ++k) p.step(u, TendonPlant::kDt);
+  float y[3];
+  p.output(y);
+  for (float v : y) EXPECT_EQ(v, 0.0f);  // tendons still slack
+  u[0] = 1.5f * TendonPlant::kSlack;
+  for (int k = 0; k < 200; ++k) p.step(u, TendonPlant::kDt);
+  p.output(y);
+  EXPECT_GT(y[1], 0.1f);
 }
 
 TEST(TendonPlant, SlackHysteresis) {
@@ -513,8 +529,8 @@ TEST(TendonPlant, InfinityIsApproximatelyReachable) {
     // Invert the kinematics for the bend angles (fixed point on the sag).
     double a0 = 0.0, a1 = 0.0;
     for (int it = 0; it < 100; ++it) {
-      a1 = std::asin((target[2] + TendonPlant::kSag * (1.0 - std::cos(a0))) / TendonPlant::kRho2);
-      a0 = std::asin(target[1] / (TendonPlant::kRho1 * std::cos(0.35 * a1)));
+      a1 = std::asin((D(target[2]) + D(TendonPlant::kSag) * (1.0 - std::cos(a0))) / D(TendonPlant::kRho2));
+      a0 = std::asin(D(target[1]) / (D(TendonPlant::kRho1) * std::cos(0.35 * a1)));
     }
     ASSERT_LT(std::fabs(a0), 0.9 * amax) << k;
     ASSERT_LT(std::fabs(a1), 0.9 * amax) << k;
@@ -522,8 +538,8 @@ TEST(TendonPlant, InfinityIsApproximatelyReachable) {
     float u[2];
     const double a[2] = {a0, a1};
     for (int i = 0; i < 2; ++i) {
-      const double q = TendonPlant::kBendSoft * std::atanh(a[i] / TendonPlant::kBendMax);
-      u[i] = static_cast<float>(q + (q >= 0.0 ? TendonPlant::kSlack : -TendonPlant::kSlack));
+      const double q = D(TendonPlant::kBendSoft) * std::atanh(a[i] / D(TendonPlant::kBendMax));
+      u[i] = static_cast<float>(q + (q >= 0.0 ? 1.0 : -1.0) * D(TendonPlant::kSlack));
     }
     TendonPlant p;
     p.reset(0);
@@ -532,7 +548,7 @@ TEST(TendonPlant, InfinityIsApproximatelyReachable) {
     p.output(y);
     EXPECT_NEAR(y[1], target[1], 2e-3) << k;
     EXPECT_NEAR(y[2], target[2], 2e-3) << k;
-    EXPECT_NEAR(y[0], target[0], 6.6) << k;  // depth lives on the bowl
+    EXPECT_NEAR(y[0], target[0], 6.5) << k;  // depth lives on the bowl
   }
 }
 
