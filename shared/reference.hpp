@@ -26,6 +26,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
 
 namespace nlsoft {
 
@@ -47,6 +48,8 @@ struct RefParams {
   float scale;          // Swirl: amplitude scale
   float levels[kRefMaxLevels];  // Step: levels relative to the centre
 };
+static_assert(std::is_trivially_copyable<RefParams>::value && sizeof(RefParams) == 4 + 12 * 4,
+              "RefParams is copied to and from the wire as is");
 
 // Read-only view of an uploaded table of points (the owner keeps the buffer
 // alive while the reference runs).

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <cstring>
 
 #include "shared/plant_hasel.hpp"
