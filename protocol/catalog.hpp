@@ -140,24 +140,34 @@ inline constexpr MsgInfo kMessages[] = {
 
 constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);
 
+// What the decoder and pack/unpack need at run time, kept apart from the
+// names and signatures so an MCU image carries ~360 bytes of catalogue
+// instead of ~2 KiB of strings it never prints.
+struct MsgRule {
+  uint8_t crc_extra;
+  uint8_t min_len;
+  uint8_t max_len;
+  uint8_t step;
+};
+
 namespace detail {
 
 constexpr uint8_t kNoMessage = 0xFF;
 
 struct TypeIndex {
   uint8_t index[256];
-  uint8_t extra[256];
+  MsgRule rule[kMessageCount];
 };
 
-// Dense lookup by type byte: the decoder asks once per frame and a 512-byte
-// table is cheaper than a search on the MCU.
+// Dense lookup by type byte: the decoder asks once per frame, and a table
+// lookup is cheaper than a search on the MCU.
 constexpr TypeIndex make_type_index() {
   TypeIndex t{};
   for (unsigned i = 0; i < 256; ++i) t.index[i] = kNoMessage;
   for (size_t i = 0; i < kMessageCount; ++i) {
-    const auto type = static_cast<uint8_t>(kMessages[i].type);
-    t.index[type] = static_cast<uint8_t>(i);
-    t.extra[type] = crc_extra_of(kMessages[i].signature);
+    const MsgInfo& m = kMessages[i];
+    t.index[static_cast<uint8_t>(m.type)] = static_cast<uint8_t>(i);
+    t.rule[i] = MsgRule{crc_extra_of(m.signature), m.min_len, m.max_len, m.step};
   }
   return t;
 }
@@ -166,29 +176,39 @@ inline constexpr TypeIndex kTypeIndex = make_type_index();
 
 }  // namespace detail
 
+// nullptr for a type outside the catalogue.
+constexpr const MsgRule* find_rule(uint8_t type) {
+  const uint8_t i = detail::kTypeIndex.index[type];
+  return i == detail::kNoMessage ? nullptr : &detail::kTypeIndex.rule[i];
+}
+
+// Only meaningful for types find_rule() knows.
+constexpr uint8_t crc_extra(uint8_t type) {
+  const MsgRule* r = find_rule(type);
+  return r ? r->crc_extra : 0;
+}
+
+// Names and signatures: for host tools, logs and tests.
 constexpr const MsgInfo* find_message(uint8_t type) {
   const uint8_t i = detail::kTypeIndex.index[type];
   return i == detail::kNoMessage ? nullptr : &kMessages[i];
 }
-
-// Only meaningful for types find_message() knows.
-constexpr uint8_t crc_extra(uint8_t type) { return detail::kTypeIndex.extra[type]; }
 
 constexpr const char* message_name(uint8_t type) {
   const MsgInfo* info = find_message(type);
   return info ? info->name : "UNKNOWN";
 }
 
-constexpr bool payload_length_ok(const MsgInfo& info, const uint8_t* payload, size_t len) {
-  if (len < info.min_len || len > info.max_len) return false;
-  if (info.step == 0) {
+constexpr bool payload_length_ok(const MsgRule& rule, const uint8_t* payload, size_t len) {
+  if (len < rule.min_len || len > rule.max_len) return false;
+  if (rule.step == 0) {
     // TELEMETRY: tseq(2) mask(1) dims(1), dims = n << 4 | m.
     const uint8_t mask = payload[2];
     const unsigned n = payload[3] >> 4;
     const unsigned m = payload[3] & 0x0Fu;
     return len == telemetry_payload_size(mask, n, m);
   }
-  return (len - info.min_len) % info.step == 0;
+  return (len - rule.min_len) % rule.step == 0;
 }
 
 }  // namespace nlsoft::protocol

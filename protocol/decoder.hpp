@@ -137,14 +137,14 @@ class Decoder {
     if (len_ < expected) return FrameError::Truncated;
     if (len_ > expected) return FrameError::LengthMismatch;
     const uint8_t type = buf_[header_offset::kType];
-    const MsgInfo* info = find_message(type);
-    if (info == nullptr) return FrameError::UnknownType;
+    const MsgRule* rule = find_rule(type);
+    if (rule == nullptr) return FrameError::UnknownType;
     uint16_t crc = crc16(buf_, kHeaderSize + payload_len);
-    crc = crc16_update(crc, crc_extra(type));
+    crc = crc16_update(crc, rule->crc_extra);
     const size_t c = kHeaderSize + payload_len;
     const auto wire_crc = static_cast<uint16_t>(buf_[c] | (buf_[c + 1] << 8));
     if (crc != wire_crc) return FrameError::BadCrc;
-    if (!payload_length_ok(*info, buf_ + kHeaderSize, payload_len)) return FrameError::BadLength;
+    if (!payload_length_ok(*rule, buf_ + kHeaderSize, payload_len)) return FrameError::BadLength;
     fill_header(view.header);
     view.payload = buf_ + kHeaderSize;
     return FrameError::None;

@@ -43,13 +43,13 @@ inline size_t encode_frame_raw(const Header& header, const uint8_t* payload, siz
 // returns 0 otherwise, so nothing the peer would reject leaves this side.
 inline size_t encode_frame(uint8_t type, uint8_t seq, uint8_t flags, const uint8_t* payload,
                            size_t length, uint8_t* out, size_t out_capacity) {
-  const MsgInfo* info = find_message(type);
-  if (info == nullptr || !payload_length_ok(*info, payload, length)) return 0;
+  const MsgRule* rule = find_rule(type);
+  if (rule == nullptr || !payload_length_ok(*rule, payload, length)) return 0;
   Header h;
   h.type = type;
   h.seq = seq;
   h.flags = flags;
-  return encode_frame_raw(h, payload, length, crc_extra(type), out, out_capacity);
+  return encode_frame_raw(h, payload, length, rule->crc_extra, out, out_capacity);
 }
 
 // Typed: packs msg and frames it. Returns wire bytes written or 0.

@@ -531,8 +531,8 @@ StatusCode pack(const M& msg, uint8_t* out, size_t capacity, size_t& length) {
   ByteWriter w(out, capacity);
   detail::PackVisitor v(w);
   M::fields(msg, v);
-  const MsgInfo* info = find_message(static_cast<uint8_t>(M::kType));
-  if (!w.ok() || info == nullptr || !payload_length_ok(*info, out, w.size())) {
+  const MsgRule* rule = find_rule(static_cast<uint8_t>(M::kType));
+  if (!w.ok() || rule == nullptr || !payload_length_ok(*rule, out, w.size())) {
     return StatusCode::BadLength;
   }
   length = w.size();
@@ -543,8 +543,8 @@ StatusCode pack(const M& msg, uint8_t* out, size_t capacity, size_t& length) {
 // longer or shorter than the fields say is BadLength, never half-read.
 template <class M>
 StatusCode unpack(const uint8_t* payload, size_t length, M& msg) {
-  const MsgInfo* info = find_message(static_cast<uint8_t>(M::kType));
-  if (info == nullptr || !payload_length_ok(*info, payload, length)) {
+  const MsgRule* rule = find_rule(static_cast<uint8_t>(M::kType));
+  if (rule == nullptr || !payload_length_ok(*rule, payload, length)) {
     return StatusCode::BadLength;
   }
   ByteReader r(payload, length);
