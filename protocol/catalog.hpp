@@ -97,7 +97,10 @@ inline constexpr MsgInfo kMessages[] = {
     {MsgType::ParamList, "PARAM_LIST", "PARAM_LIST:u16 index", 2, 2, 1, true},
     {MsgType::ParamGet, "PARAM_GET", "PARAM_GET:u16 id", 2, 2, 1, true},
     {MsgType::ParamSet, "PARAM_SET", "PARAM_SET:u16 id,u32[] values", 6, 66, 4, true},
-    {MsgType::RefSelect, "REF_SELECT", "REF_SELECT:u8 ref_id,f32[] params", 1, 49, 4, true},
+    {MsgType::RefSelect, "REF_SELECT",
+     "REF_SELECT:u8 ref_id,u8 level_count,u16 hold,f32 a,f32 b,f32 c,f32[3] center,f32 omega,"
+     "f32 lambda,f32 scale,f32[3] levels",
+     52, 52, 1, true},
     {MsgType::XferBegin, "XFER_BEGIN", "XFER_BEGIN:u8 kind,u8 options,u32 total_size,u32 crc32",
      10, 10, 1, true},
     {MsgType::XferChunk, "XFER_CHUNK", "XFER_CHUNK:u8 kind,u32 offset,u8[] data", 6, 246, 1,

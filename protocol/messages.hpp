@@ -23,7 +23,6 @@
 namespace nlsoft::protocol {
 
 constexpr uint8_t kMaxParamValues = 16;
-constexpr uint8_t kMaxRefParams = 12;
 constexpr uint8_t kMaxChunkData = static_cast<uint8_t>(kMaxPayload - 5);  // 241
 constexpr uint8_t kMaxNameLen = 32;
 constexpr uint8_t kUnitLen = 8;
@@ -31,7 +30,8 @@ constexpr uint8_t kMaxLogText = static_cast<uint8_t>(kMaxPayload - 1);  // 245
 constexpr uint8_t kMaxTelemetryDim = 15;  // n and m share one byte
 constexpr uint8_t kNoField = 0xFF;        // NACK field/element "not attributable"
 
-enum class ParamType : uint8_t { F32 = 1, U8 = 2, U16 = 3, U32 = 4, Enum = 5 };
+// Numbering shared with shared/params.hpp (F32, U8, Enum) and extended.
+enum class ParamType : uint8_t { F32 = 0, U8 = 1, Enum = 2, U16 = 3, U32 = 4 };
 
 namespace param_access {
 constexpr uint8_t kReadOnly = 0x01;
@@ -47,8 +47,18 @@ constexpr uint8_t kRestart = 0x01;  // discard a matching partial transfer inste
 enum class RunState : uint8_t { Idle = 0, Running = 1, Hold = 2, Neutral = 3, Fault = 4 };
 enum class HoldMode : uint8_t { Hold = 0, Neutral = 1, Resume = 2 };
 enum class LogLevel : uint8_t { Debug = 0, Info = 1, Warn = 2, Error = 3 };
-enum class Platform : uint8_t { Custom = 0, Msd = 1, Hasel = 2, Tendon = 3 };
-enum class RefId : uint8_t { Table = 0, Step = 1, Infinity = 2, Pringle = 3, Diagonal = 4, Swirl = 5 };
+// Numbering shared with shared/platform_id.hpp.
+enum class Platform : uint8_t { Msd = 0, Hasel = 1, Tendon = 2, Custom = 0xFF };
+// Numbering shared with shared/reference.hpp's RefKind.
+enum class RefId : uint8_t {
+  Infinity = 0,
+  Pringle = 1,
+  Diagonal = 2,
+  Swirl = 3,
+  Step = 4,
+  Table = 5,
+  Hold = 6,
+};
 
 namespace capability {
 constexpr uint32_t kParams = 1u << 0;
@@ -114,14 +124,34 @@ struct ParamSet {
   }
 };
 
+// Same byte layout as shared/reference.hpp's RefParams on a little-endian
+// machine, so the firmware may copy it as is; fields a reference does not
+// use are sent as 0 and ignored.
 struct RefSelect {
   static constexpr MsgType kType = MsgType::RefSelect;
   uint8_t ref_id = 0;
-  uint8_t count = 0;
-  float params[kMaxRefParams] = {};
+  uint8_t level_count = 0;  // Step: levels used (0..3)
+  uint16_t hold = 0;        // Swirl, Step, Table: control steps per point (0 acts as 1)
+  float a = 0.0f;           // amplitudes A, B, C
+  float b = 0.0f;
+  float c = 0.0f;
+  float center[3] = {};  // offsets c0, c1, c2
+  float omega = 0.0f;    // Infinity: rad per control step
+  float lambda = 0.0f;   // Pringle, Diagonal: period in control steps
+  float scale = 0.0f;    // Swirl: amplitude scale
+  float levels[3] = {};  // Step: levels relative to the centre
   template <class S, class V> static void fields(S& s, V& v) {
     v.u8("ref_id", s.ref_id);
-    v.f32_tail("params", s.params, s.count, kMaxRefParams);
+    v.u8("level_count", s.level_count);
+    v.u16("hold", s.hold);
+    v.f32("a", s.a);
+    v.f32("b", s.b);
+    v.f32("c", s.c);
+    v.f32_array("center", s.center, 3, 3);
+    v.f32("omega", s.omega);
+    v.f32("lambda", s.lambda);
+    v.f32("scale", s.scale);
+    v.f32_array("levels", s.levels, 3, 3);
   }
 };
 

@@ -9,42 +9,46 @@
 
 namespace nlsoft::protocol {
 
+// Values 0..8 are the same as shared/status.hpp's nlsoft::Status, so the
+// firmware forwards a controller or model-loader verdict with a cast.
 enum class StatusCode : uint8_t {
   Ok = 0,
-  Unsupported = 1,   // request type is known but this peer does not implement it
-  BadLength = 2,     // payload length breaks the type's rule
-  UnknownId = 3,     // parameter id, reference id, transfer kind, list index
-  OutOfRange = 4,    // value outside [min, max] or outside the object
-  WrongSize = 5,     // vector has the wrong element count
-  NotFinite = 6,     // NaN or infinity where a finite float is required
-  ReadOnly = 7,
-  WrongState = 8,    // not allowed in the current run state
-  Busy = 9,          // resource in use (e.g. another transfer is open)
-  XferNotOpen = 10,
-  XferTooLarge = 11,
-  XferIncomplete = 12,
-  XferCrc = 13,
-  XferInvalid = 14,  // object received intact but failed validation
-  Internal = 15,
+  OutOfRange = 1,     // value outside [min, max], or outside the object
+  NotFinite = 2,      // NaN or infinity where a finite float is required
+  WrongSize = 3,      // vector has the wrong element count
+  UnknownId = 4,      // parameter id, reference id, transfer kind, list index
+  Inconsistent = 5,   // valid alone, invalid with the rest (Nc > N, u_min >= u_max)
+  TooLarge = 6,       // exceeds a capacity (transfer size, horizon)
+  BadFormat = 7,      // transferred object arrived intact but failed validation
+  BadChecksum = 8,    // transferred object's CRC-32 does not match XFER_BEGIN
+  BadLength = 9,      // payload length breaks the type's rule
+  Unsupported = 10,   // request type or option known but not implemented here
+  ReadOnly = 11,
+  WrongState = 12,    // not allowed in the current run state
+  Busy = 13,          // resource in use (e.g. another transfer is open)
+  XferNotOpen = 14,
+  XferIncomplete = 15,
+  Internal = 16,
 };
 
 constexpr const char* to_string(StatusCode s) {
   switch (s) {
     case StatusCode::Ok: return "ok";
-    case StatusCode::Unsupported: return "unsupported";
-    case StatusCode::BadLength: return "bad_length";
-    case StatusCode::UnknownId: return "unknown_id";
     case StatusCode::OutOfRange: return "out_of_range";
-    case StatusCode::WrongSize: return "wrong_size";
     case StatusCode::NotFinite: return "not_finite";
+    case StatusCode::WrongSize: return "wrong_size";
+    case StatusCode::UnknownId: return "unknown_id";
+    case StatusCode::Inconsistent: return "inconsistent";
+    case StatusCode::TooLarge: return "too_large";
+    case StatusCode::BadFormat: return "bad_format";
+    case StatusCode::BadChecksum: return "bad_checksum";
+    case StatusCode::BadLength: return "bad_length";
+    case StatusCode::Unsupported: return "unsupported";
     case StatusCode::ReadOnly: return "read_only";
     case StatusCode::WrongState: return "wrong_state";
     case StatusCode::Busy: return "busy";
     case StatusCode::XferNotOpen: return "xfer_not_open";
-    case StatusCode::XferTooLarge: return "xfer_too_large";
     case StatusCode::XferIncomplete: return "xfer_incomplete";
-    case StatusCode::XferCrc: return "xfer_crc";
-    case StatusCode::XferInvalid: return "xfer_invalid";
     case StatusCode::Internal: return "internal";
   }
   return "unknown_status";

@@ -124,14 +124,22 @@ void build() {
 
   RefSelect inf;
   inf.ref_id = static_cast<uint8_t>(RefId::Infinity);
-  const float inf_params[] = {2.0f, 3.0f, 1.5f, 0.05f, 0.0f, 0.5f, -0.25f};
-  inf.count = 7;
-  for (uint8_t i = 0; i < inf.count; ++i) inf.params[i] = inf_params[i];
-  add("ref_select_infinity", "Infinity reference: A, B, C, omega, c0, c1, c2.", frame(inf, 8));
+  inf.a = 2.0f;
+  inf.b = 3.0f;
+  inf.c = 1.5f;
+  inf.center[1] = 0.5f;
+  inf.center[2] = -0.25f;
+  inf.omega = 0.05f;
+  add("ref_select_infinity", "Infinity reference; unused fields are 0.", frame(inf, 8));
 
-  RefSelect table;
-  table.ref_id = static_cast<uint8_t>(RefId::Table);
-  add("ref_select_table", "Select the uploaded table; no parameters.", frame(table, 9));
+  RefSelect steps;
+  steps.ref_id = static_cast<uint8_t>(RefId::Step);
+  steps.level_count = 3;
+  steps.hold = 2000;
+  steps.levels[0] = 0.5f;
+  steps.levels[1] = 1.0f;
+  steps.levels[2] = 2.0f;
+  add("ref_select_step", "The msd step task: 0.5, 1, 2 m, each held 2000 steps.", frame(steps, 9));
 
   XferBegin begin;
   begin.kind = static_cast<uint8_t>(XferKind::RefTable);
@@ -195,7 +203,7 @@ void build() {
 
   Nack nack_plain;
   nack_plain.request_type = static_cast<uint8_t>(MsgType::XferCommit);
-  nack_plain.status = static_cast<uint8_t>(StatusCode::XferCrc);
+  nack_plain.status = static_cast<uint8_t>(StatusCode::BadChecksum);
   add("nack_xfer_commit_crc", "No single field to blame: field and element are 255.",
       frame(nack_plain, 13, frame_flags::kReply));
 

@@ -181,7 +181,10 @@ struct ShapeVisitor {
     add(std::string("u4 ") + a + ",u4 " + b);
     fixed += 1;
   }
-  void f32_array(const char* k, const float*, uint8_t, uint8_t) { add(std::string("f32[?] ") + k); }
+  void f32_array(const char* k, const float*, uint8_t count, uint8_t) {
+    add("f32[" + std::to_string(count) + "] " + k);
+    fixed += 4u * count;
+  }
   void tail(const std::string& s, size_t elem, size_t cap) {
     add(s);
     tail_elem = elem;
