@@ -25,7 +25,7 @@ struct Derived {
 
 struct HostCapacity {
   static constexpr int m = 8, n = 3, w = 24, nd = 4;
-  static constexpr int N = 16, Nc = 4;
+  static constexpr int N = 128, Nc = 4;
   static constexpr int width = 48, layers = 8, weights = 8192;
 };
 

@@ -42,22 +42,20 @@ void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int
                        HorizonDerivatives<Cap>& D, ExactScratch<Cap>& s) {
   constexpr int K = Derived<Cap>::K;
   const int k = Nc * M.m;
-  for (int a = 0; a < K; ++a) {
+  for (int a = 0; a < k; ++a) {
     Jet<K>& u = s.U[a];
-    set_constant(u, a < k ? U[a] : 0.0f);
-    if (a < k) {
-      u.active = true;
-      for (int b = 0; b < K; ++b) u.d[b] = u.dd[b] = 0.0f;
-      u.d[a] = 1.0f;
-    }
+    u.v = U[a];
+    u.n = uint8_t(k);
+    for (int b = 0; b < k; ++b) u.d[b] = u.dd[b] = 0.0f;
+    u.d[a] = 1.0f;
   }
   predict_horizon(M, x0, s.U, N, Nc, s.Y, s.h);
   for (int r = 0; r < N * M.n; ++r) {
     const Jet<K>& y = s.Y[r];
     D.Y[r] = y.v;
     for (int a = 0; a < k; ++a) {
-      D.G[r * K + a] = y.active ? y.d[a] : 0.0f;
-      D.D2[r * K + a] = y.active ? y.dd[a] : 0.0f;
+      D.G[r * K + a] = a < y.n ? y.d[a] : 0.0f;
+      D.D2[r * K + a] = a < y.n ? y.dd[a] : 0.0f;
     }
   }
 }

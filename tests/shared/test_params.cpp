@@ -59,7 +59,7 @@ TEST_F(ParamTable, RefusesWithReasonAndIndexAndChangesNothing) {
   EXPECT_EQ(set_param(P, ParamId::Q, q_neg, 2, m, n).status, Status::WrongSize);
   const float frac[1] = {2.5f};
   EXPECT_EQ(set_param(P, ParamId::N, frac, 1, m, n).status, Status::OutOfRange);
-  const float big[1] = {20.0f};
+  const float big[1] = {200.0f};
   EXPECT_EQ(set_param(P, ParamId::N, big, 1, m, n).status, Status::TooLarge);  // > Cap::N
   const float one[1] = {1.0f};
   EXPECT_EQ(set_param(P, ParamId::N, one, 1, m, n).status, Status::Ok);  // N = 1 >= Nc = 1

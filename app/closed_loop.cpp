@@ -1,0 +1,99 @@
+#include "app/closed_loop.hpp"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <memory>
+
+#include "app/cli_error.hpp"
+#include "shared/controller.hpp"
+#include "shared/pid.hpp"
+#include "shared/platform.hpp"
+#include "shared/sim_plant.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+using Cap = HostCapacity;
+
+void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
+  if (!s.model) throw CliError("the MPC controller needs a model (--model FILE)");
+  const Model<Cap>& M = *s.model;
+  if (M.m != plant.m() || M.n != plant.n() || M.w != plant.w())
+    throw CliError(fmt::format("model dimensions m={} n={} w={} do not match platform '{}' (m={} n={} w={})", M.m,
+                               M.n, M.w, platform_name(s.platform), plant.m(), plant.n(), plant.w()));
+}
+
+}  // namespace
+
+Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
+  SimPlant plant;
+  plant.select(s.platform, s.seed);
+  const int m = plant.m(), n = plant.n();
+  const float dt = plant.dt();
+  if (s.controller == ControllerKind::Mpc) check_model_fits(s, plant);
+  if (s.controller == ControllerKind::Pid && (m != 1 || n != 1))
+    throw CliError(fmt::format("the PID baseline is defined for msd only (one input, one output); '{}' has m={} n={}",
+                               platform_name(s.platform), m, n));
+  if (const char* why = reference_check(s.reference)) throw CliError(fmt::format("reference refused: {}", why));
+
+  float u[Cap::m] = {}, y[Cap::n] = {}, l[Cap::w] = {};
+  plant.neutral_input(u);
+  for (long k = 0; k < s.settle_steps; ++k) plant.step(u, dt);
+  plant.output(y);
+  plant.sensors(l);
+
+  auto ctl = std::make_unique<Controller<Cap>>();  // large scratch: keep it off the stack
+  Pid pid;
+  if (s.controller == ControllerKind::Mpc) {
+    if (ctl->configure(s.model, s.params) != Status::Ok)
+      throw CliError("the parameter set is inconsistent with this model");
+    ctl->reset(u, y, l);
+  } else {
+    pid.configure(1, kMsdPidGains, s.params.u_min, s.params.u_max, kMsdPidOutputScale);
+  }
+
+  Trace t;
+  t.m = m, t.n = n, t.dt = dt;
+  const size_t rows = size_t(s.steps);
+  t.y_ref.reserve(rows * n), t.y_hat.reserve(rows * n), t.y_true.reserve(rows * n), t.u.reserve(rows * m);
+  t.cost.reserve(rows), t.iterations.reserve(rows), t.flags.reserve(rows), t.solve_us.reserve(rows);
+
+  const int N = s.controller == ControllerKind::Mpc ? s.params.N : 1;
+  std::vector<float> ref(size_t(N) * n);
+  const long report_every = s.steps / 200 + 1;
+  for (long k = 0; k < s.steps; ++k) {
+    for (int j = 0; j < N; ++j) reference_at(s.reference, nullptr, uint32_t(k + 1 + j), &ref[size_t(j) * n], n);
+    float y_hat[Cap::n] = {};
+    const auto t0 = std::chrono::steady_clock::now();
+    if (s.controller == ControllerKind::Mpc) {
+      const StepResult<Cap> r = ctl->step(ref.data(), l, y);
+      for (int i = 0; i < m; ++i) u[i] = r.u[i];
+      for (int i = 0; i < n; ++i) y_hat[i] = r.y_hat[i];
+      t.cost.push_back(r.cost);
+      t.iterations.push_back(r.iterations);
+      t.flags.push_back(r.flags);
+    } else {
+      pid.step(ref.data(), y, dt, u);
+      for (int i = 0; i < n; ++i) y_hat[i] = ref[i];
+      t.cost.push_back(0.0f);
+      t.iterations.push_back(0);
+      t.flags.push_back(0);
+    }
+    const auto t1 = std::chrono::steady_clock::now();
+    t.solve_us.push_back(std::chrono::duration<float, std::micro>(t1 - t0).count());
+
+    plant.step(u, dt);
+    plant.output(y);
+    plant.sensors(l);
+    t.y_ref.insert(t.y_ref.end(), ref.begin(), ref.begin() + n);
+    t.y_hat.insert(t.y_hat.end(), y_hat, y_hat + n);
+    t.y_true.insert(t.y_true.end(), y, y + n);
+    t.u.insert(t.u.end(), u, u + m);
+    if (progress && (k % report_every == 0 || k + 1 == s.steps)) progress(k + 1, s.steps);
+  }
+  return t;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,47 @@
+#pragma once
+// Offline closed loop on the host: simulated plant + controller (MPC or the
+// PID baseline) + reference, step by step as the firmware runs them, with a
+// trace of everything the metrics need.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "shared/model.hpp"
+#include "shared/params.hpp"
+#include "shared/platform_id.hpp"
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+enum class ControllerKind { Mpc, Pid };
+
+struct LoopSetup {
+  PlatformId platform = PlatformId::Hasel;
+  ControllerKind controller = ControllerKind::Mpc;
+  const Model<HostCapacity>* model = nullptr;  // required for Mpc
+  Params<HostCapacity> params{};
+  RefParams reference{};
+  long steps = 0;          // control steps to run
+  long settle_steps = 0;   // neutral input before the run, so the plant starts at rest
+  uint32_t seed = 1;       // plant noise
+};
+
+// Row k holds the state after input u(k) was applied: y_ref(k+1), the
+// prediction y_hat(k+1) made at k, and the plant's y_true(k+1).
+struct Trace {
+  int m = 0, n = 0;
+  float dt = 0.0f;
+  std::vector<float> y_ref, y_hat, y_true, u;  // rows of n (u: m)
+  std::vector<float> cost;
+  std::vector<uint8_t> iterations, flags;
+  std::vector<float> solve_us;  // wall time of each controller step (host)
+  long rows() const { return long(cost.size()); }
+};
+
+using Progress = std::function<void(long done, long total)>;
+
+// Throws CliError when the setup cannot run (no model for MPC, dimension
+// mismatch between model and platform, PID on a multi-axis platform).
+Trace run_closed_loop(const LoopSetup& setup, const Progress& progress = {});
+
+}  // namespace nlsoft::console

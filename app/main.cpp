@@ -1,0 +1,36 @@
+// nlsoft-console: tune a learned model-predictive controller on a
+// microcontroller, or run it offline against simulated rigs.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+
+#include "app/cli_error.hpp"
+#include "app/simulate.hpp"
+#ifdef NLSOFT_HAVE_MODEL_PIPELINE
+#include "app/model/commands.hpp"
+#endif
+
+int main(int argc, char** argv) {
+  using namespace nlsoft::console;
+  CLI::App app{
+      "nlsoft-console: tune a learned model-predictive controller running on a microcontroller,\n"
+      "or run it offline against a simulated rig."};
+  app.require_subcommand(1);
+  add_simulate_command(app);
+#ifdef NLSOFT_HAVE_MODEL_PIPELINE
+  add_model_commands(app);
+#endif
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const CliExit& e) {
+    return e.code;
+  } catch (const CliError& e) {
+    std::fprintf(stderr, "nlsoft-console: error: %s\n", e.what());
+    return e.exit_code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nlsoft-console: error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,38 @@
+#pragma once
+// Tracking metrics of a run: the figures the paper reports and the console
+// compares runs by.
+#include <vector>
+
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+struct TrackingMetrics {
+  std::vector<double> rmse;  // per axis, y_true vs y_ref
+  double nrmse = 0;          // max RMSE / max range of the reference over the axes
+  double max_error = 0;      // largest Euclidean distance y_true - y_ref
+  double mean_iterations = 0;
+  double solve_p50_us = 0, solve_p99_us = 0;
+};
+
+// Rows of n: y_ref, y (true or predicted). Axes with weight[i] == 0 are kept
+// in rmse but left out of nrmse and max_error (pass nullptr to use them all).
+TrackingMetrics tracking_metrics(const std::vector<float>& y_ref, const std::vector<float>& y, int n,
+                                 const float* weight = nullptr);
+
+// p in [0, 1] of a sample (copied, not modified).
+double percentile(std::vector<float> v, double p);
+
+// The paper's step-response figures for one level of a Step reference.
+struct StepResponse {
+  double from = 0, to = 0;        // reference levels
+  double rise_s = -1;             // 0 -> 90 % of the change; -1 if never reached
+  double overshoot_pct = 0;       // past `to`, in % of |to - from|
+  double steady_error = 0;        // |mean over 80-90 % of the segment - to|
+};
+
+// y: one axis of the trace (row k = after u(k)), dt: control period.
+std::vector<StepResponse> step_responses(const RefParams& ref, const std::vector<float>& y, int n, int axis,
+                                         float dt);
+
+}  // namespace nlsoft::console

@@ -1,0 +1,49 @@
+#include "app/model_store.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "app/cli_error.hpp"
+#include "shared/model_file.hpp"
+
+namespace nlsoft::console {
+
+void load_model(const std::string& path, LoadedModel& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CliError(fmt::format("cannot open model file '{}'", path));
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<float> storage(HostCapacity::weights + 2 * Derived<HostCapacity>::p + 2 * HostCapacity::n);
+  Model<HostCapacity> M;
+  uint8_t platform = 255;
+  const Status s = parse_model(bytes.data(), bytes.size(), M, storage.data(), uint32_t(storage.size()), &platform);
+  if (s != Status::Ok)
+    throw CliError(fmt::format("model file '{}' refused: {} (an nlsoft model file, written by `nlsoft-console "
+                               "train` or `model import`, is expected)",
+                               path, status_name(s)));
+  out.storage = std::move(storage);
+  M.params = out.storage.data();
+  out.model = M;
+  out.file = std::move(bytes);
+  out.path = path;
+  out.platform = platform;
+}
+
+std::string default_model_path(PlatformId id) {
+  namespace fs = std::filesystem;
+  const std::string name = std::string(platform_name(id)) + ".nlsm";
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("NLSOFT_MODELS")) dirs.emplace_back(env);
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) dirs.push_back(exe.parent_path() / ".." / "share" / "nlsoft" / "models");
+  dirs.emplace_back(NLSOFT_SOURCE_MODELS_DIR);
+  for (const fs::path& d : dirs)
+    if (fs::exists(d / name, ec)) return (d / name).string();
+  return {};
+}
+
+}  // namespace nlsoft::console

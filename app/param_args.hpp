@@ -1,0 +1,30 @@
+#pragma once
+// `--set NAME=V[,V...]` (and the script `set` command): text to a validated
+// parameter write, with messages that name the parameter, the element and
+// the allowed range.
+#include <string>
+#include <vector>
+
+#include "shared/params.hpp"
+
+namespace nlsoft::console {
+
+struct ParamWrite {
+  ParamId id;
+  std::vector<float> values;
+};
+
+// Parses "Q=1e6,2e6,1e6". Throws CliError naming what is wrong.
+ParamWrite parse_param_write(const std::string& text);
+
+// Explains a refused write in words ("Q[1] = -2 is out of range [0, 1e+12]").
+std::string describe_refusal(const ParamWrite& w, const ParamResult& r, int m, int n);
+
+// Applies every write in order; throws on the first refused one, leaving
+// P as it was before that write.
+void apply_param_writes(Params<HostCapacity>& P, const std::vector<ParamWrite>& writes, int m, int n);
+
+// "Q, Lambda, s, ..." for error messages.
+std::string known_param_names();
+
+}  // namespace nlsoft::console

@@ -1,0 +1,186 @@
+#include "app/simulate.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/cli_error.hpp"
+#include "app/closed_loop.hpp"
+#include "app/metrics.hpp"
+#include "app/model_store.hpp"
+#include "app/param_args.hpp"
+#include "app/progress_bar.hpp"
+#include "app/reference_presets.hpp"
+#include "shared/platform.hpp"
+#include "shared/sim_plant.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+struct SimulateOptions {
+  std::string platform = "hasel";
+  std::string reference;
+  std::string controller = "mpc";
+  std::string mode = "exact";
+  long steps = 0;
+  std::vector<std::string> sets;
+  std::string model;
+  std::string csv;
+  uint32_t seed = 1;
+  bool json = false;
+};
+
+void write_trace_csv(const std::string& path, const Trace& t) {
+  const std::string tmp = path + ".part";
+  {
+    std::ofstream f(tmp);
+    if (!f) throw CliError(fmt::format("cannot write '{}'", path));
+    f << "step,time_s";
+    for (const char* col : {"y_ref", "y_hat", "y_true"})
+      for (int i = 0; i < t.n; ++i) f << ',' << col << i;
+    for (int i = 0; i < t.m; ++i) f << ",u" << i;
+    f << ",cost,iterations,flags\n";
+    for (long k = 0; k < t.rows(); ++k) {
+      f << k << ',' << double(k + 1) * double(t.dt);
+      for (const auto* v : {&t.y_ref, &t.y_hat, &t.y_true})
+        for (int i = 0; i < t.n; ++i) f << ',' << (*v)[size_t(k * t.n + i)];
+      for (int i = 0; i < t.m; ++i) f << ',' << t.u[size_t(k * t.m + i)];
+      f << ',' << t.cost[size_t(k)] << ',' << int(t.iterations[size_t(k)]) << ',' << int(t.flags[size_t(k)]) << '\n';
+    }
+    if (!f.flush()) throw CliError(fmt::format("writing '{}' failed", path));
+  }
+  std::rename(tmp.c_str(), path.c_str());
+}
+
+int run_simulate(const SimulateOptions& o) {
+  PlatformId platform;
+  if (!platform_from_name(o.platform.c_str(), &platform))
+    throw CliError(fmt::format("unknown platform '{}'; known: msd, hasel, tendon", o.platform));
+  const std::string ref_name = o.reference.empty() ? default_reference(platform) : o.reference;
+
+  LoopSetup setup;
+  setup.platform = platform;
+  setup.reference = reference_preset(platform, ref_name);
+  setup.seed = o.seed;
+  if (o.controller == "pid")
+    setup.controller = ControllerKind::Pid;
+  else if (o.controller != "mpc")
+    throw CliError(fmt::format("unknown controller '{}'; use mpc or pid", o.controller));
+
+  const Preset& pr = preset(platform);
+  if (preset_params(pr, setup.params) != Status::Ok) throw CliError("preset does not fit this build");
+  SimPlant plant;
+  plant.select(platform);
+  plant.input_limits(setup.params.u_min, setup.params.u_max);
+  if (o.mode == "fd")
+    setup.params.mode = DerivMode::Fd;
+  else if (o.mode != "exact")
+    throw CliError(fmt::format("unknown derivative mode '{}'; use exact or fd", o.mode));
+  std::vector<ParamWrite> writes;
+  for (const std::string& s : o.sets) writes.push_back(parse_param_write(s));
+  apply_param_writes(setup.params, writes, pr.m, pr.n);
+
+  auto model = std::make_unique<LoadedModel>();
+  if (setup.controller == ControllerKind::Mpc) {
+    std::string path = o.model.empty() ? default_model_path(platform) : o.model;
+    if (path.empty())
+      throw CliError(fmt::format("no model for '{}': pass --model FILE (a model file from `nlsoft-console train`)",
+                                 o.platform));
+    load_model(path, *model);
+    setup.model = &model->model;
+  }
+
+  const uint32_t len = reference_length(setup.reference);
+  setup.steps = o.steps > 0 ? o.steps : (len > 0 ? long(len) : long(20.0f * pr.rate_hz));
+  setup.settle_steps = long(2.0f * pr.rate_hz);
+
+  Trace t;
+  {
+    ProgressBar bar(fmt::format("simulate {} {}", o.platform, ref_name));
+    t = run_closed_loop(setup, [&](long d, long n) { bar.update(d, n); });
+  }
+  if (!o.csv.empty()) write_trace_csv(o.csv, t);
+
+  const float* weight = setup.controller == ControllerKind::Mpc ? setup.params.Q : nullptr;
+  TrackingMetrics tm = tracking_metrics(t.y_ref, t.y_true, t.n, weight);
+  const TrackingMetrics pm = tracking_metrics(t.y_ref, t.y_hat, t.n, weight);
+  double iters = 0;
+  for (uint8_t i : t.iterations) iters += i;
+  tm.mean_iterations = t.rows() ? iters / double(t.rows()) : 0;
+  tm.solve_p50_us = percentile(t.solve_us, 0.5);
+  tm.solve_p99_us = percentile(t.solve_us, 0.99);
+  const auto steps = step_responses(setup.reference, t.y_true, t.n, 0, t.dt);
+
+  if (o.json) {
+    nlohmann::json j;
+    j["platform"] = o.platform;
+    j["reference"] = ref_name;
+    j["controller"] = o.controller;
+    j["mode"] = o.mode;
+    j["steps"] = t.rows();
+    j["model"] = setup.model ? model->path : "";
+    j["rmse"] = tm.rmse;
+    j["nrmse"] = tm.nrmse;
+    j["max_error"] = tm.max_error;
+    j["predicted_nrmse"] = pm.nrmse;
+    j["mean_iterations"] = tm.mean_iterations;
+    j["solve_us_p50"] = tm.solve_p50_us;
+    j["solve_us_p99"] = tm.solve_p99_us;
+    if (!steps.empty()) {
+      j["step_response"] = nlohmann::json::array();
+      for (const auto& s : steps)
+        j["step_response"].push_back({{"from", s.from}, {"to", s.to}, {"rise_s", s.rise_s},
+                                      {"overshoot_pct", s.overshoot_pct}, {"steady_error", s.steady_error}});
+    }
+    fmt::print("{}\n", j.dump());
+    return 0;
+  }
+  fmt::print("{} on {}, {} steps ({:.1f} s), controller {}{}\n", ref_name, o.platform, t.rows(),
+             double(t.rows()) * double(t.dt), o.controller, setup.controller == ControllerKind::Mpc ? ", mode " + o.mode : "");
+  if (setup.model) fmt::print("model       {}\n", model->path);
+  std::string rm;
+  for (double r : tm.rmse) rm += fmt::format("{:.4g} ", r);
+  fmt::print("RMSE        {}(true output vs reference, per axis)\n", rm);
+  fmt::print("nRMSE       {:.2f} %   (predicted path: {:.2f} %)\n", 100 * tm.nrmse, 100 * pm.nrmse);
+  fmt::print("max error   {:.4g}\n", tm.max_error);
+  if (setup.controller == ControllerKind::Mpc)
+    fmt::print("NR          {:.2f} iterations per step on average\n", tm.mean_iterations);
+  fmt::print("solve time  p50 {:.1f} us, p99 {:.1f} us (this host)\n", tm.solve_p50_us, tm.solve_p99_us);
+  for (const auto& s : steps)
+    fmt::print("step {:g} -> {:g}: rise 0-90 % {}, overshoot {:.2f} %, steady error {:.2f} mm\n", s.from, s.to,
+               s.rise_s < 0 ? std::string("not reached") : fmt::format("{:.3f} s", s.rise_s), s.overshoot_pct,
+               1000 * s.steady_error);
+  return 0;
+}
+
+}  // namespace
+
+void add_simulate_command(CLI::App& app) {
+  auto o = std::make_shared<SimulateOptions>();
+  CLI::App* sub = app.add_subcommand(
+      "simulate",
+      "Run plant + controller offline on this machine and print tracking metrics.\n"
+      "The plant is a simulated rig; the controller only sees the learned model.\n"
+      "Examples:\n"
+      "  nlsoft-console simulate --platform hasel                 (Swirl, default model)\n"
+      "  nlsoft-console simulate --platform msd --controller pid  (the paper's baseline)\n"
+      "  nlsoft-console simulate --platform tendon --set Q=0,5e3,2e3 --mode fd --json");
+  sub->add_option("--platform", o->platform, "msd, hasel or tendon")->capture_default_str();
+  sub->add_option("--reference", o->reference,
+                  "infinity, pringle, diagonal, swirl, steps or hold (default: the platform's paper task)");
+  sub->add_option("--controller", o->controller, "mpc or pid (pid: msd only)")->capture_default_str();
+  sub->add_option("--mode", o->mode, "derivatives: exact (chain rule) or fd (central differences)")
+      ->capture_default_str();
+  sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)");
+  sub->add_option("--set", o->sets, "override a parameter, NAME=V[,V...], e.g. --set Q=1e6,2e6,1e6 (repeatable)");
+  sub->add_option("--model", o->model, "model file (default: the shipped model of the platform)");
+  sub->add_option("--csv", o->csv, "also write the whole trace to this CSV file");
+  sub->add_option("--seed", o->seed, "plant noise seed")->capture_default_str();
+  sub->add_flag("--json", o->json, "print one JSON object instead of the table");
+  sub->callback([o]() { throw CliExit{run_simulate(*o)}; });
+}
+
+}  // namespace nlsoft::console
