@@ -1,0 +1,100 @@
+#include "app/model/csv.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <istream>
+#include <ostream>
+
+#include "app/model/error.hpp"
+
+namespace nlsoft::pipeline {
+namespace {
+
+std::string trim(const std::string& s) {
+  size_t b = 0, e = s.size();
+  while (b < e && (s[b] == ' ' || s[b] == '\t' || s[b] == '\r')) ++b;
+  while (e > b && (s[e - 1] == ' ' || s[e - 1] == '\t' || s[e - 1] == '\r')) --e;
+  return s.substr(b, e - b);
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> cells;
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = line.find(',', start);
+    cells.push_back(trim(line.substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return cells;
+}
+
+bool blank(const std::string& line) { return trim(line).empty(); }
+
+}  // namespace
+
+Table parse_csv(std::istream& in, const std::string& name, bool has_header) {
+  Table t;
+  std::string line;
+  long lineno = 0;
+  bool first = true;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (blank(line)) continue;
+    std::vector<std::string> cells = split(line);
+    if (first && has_header) {
+      for (const std::string& c : cells)
+        if (c.empty()) throw PipelineError(name + ":" + std::to_string(lineno) + ": empty column name in the header");
+      t.header = cells;
+      t.cols = static_cast<int>(cells.size());
+      first = false;
+      continue;
+    }
+    if (first) t.cols = static_cast<int>(cells.size());
+    first = false;
+    if (static_cast<int>(cells.size()) != t.cols)
+      throw PipelineError(name + ":" + std::to_string(lineno) + ": expected " + std::to_string(t.cols) +
+                          " values, found " + std::to_string(cells.size()));
+    for (size_t c = 0; c < cells.size(); ++c) {
+      const std::string& cell = cells[c];
+      char* end = nullptr;
+      errno = 0;
+      const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);
+      const std::string where = name + ":" + std::to_string(lineno) + ": column " + std::to_string(c + 1) +
+                                (t.header.empty() ? std::string() : " ('" + t.header[c] + "')");
+      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + cell + "'");
+      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + cell + "'");
+      t.data.push_back(v);
+    }
+    ++t.rows;
+  }
+  if (in.bad()) throw PipelineError("cannot read '" + name + "'");
+  if (t.rows == 0) throw PipelineError(name + ": no data rows");
+  return t;
+}
+
+Table read_csv(const std::string& path, bool has_header) {
+  std::ifstream in(path);
+  if (!in) throw PipelineError("cannot open '" + path + "': " + std::strerror(errno));
+  return parse_csv(in, path, has_header);
+}
+
+void write_csv(std::ostream& out, const Table& t) {
+  for (size_t c = 0; c < t.header.size(); ++c) out << (c ? "," : "") << t.header[c];
+  if (!t.header.empty()) out << '\n';
+  char buf[40];
+  for (long r = 0; r < t.rows; ++r) {
+    for (int c = 0; c < t.cols; ++c) {
+      std::snprintf(buf, sizeof buf, "%.9g", t.at(r, c));
+      if (c) out << ',';
+      out << buf;
+    }
+    out << '\n';
+  }
+}
+
+}  // namespace nlsoft::pipeline

@@ -1,0 +1,26 @@
+#pragma once
+// Plain numeric CSV: comma separated, one record a line, an optional header
+// line of column names. Every cell must be a finite number; the first bad
+// cell is reported with file, line and column so a user can fix it.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace nlsoft::pipeline {
+
+struct Table {
+  std::vector<std::string> header;  // empty when read without a header
+  int cols = 0;
+  long rows = 0;
+  std::vector<double> data;  // row-major, rows x cols
+  double at(long r, int c) const { return data[static_cast<size_t>(r) * static_cast<size_t>(cols) + static_cast<size_t>(c)]; }
+};
+
+// Throws PipelineError. `name` is used in messages (usually the path).
+Table parse_csv(std::istream& in, const std::string& name, bool has_header);
+Table read_csv(const std::string& path, bool has_header);
+
+// Writes with %.9g, enough to round-trip every float exactly.
+void write_csv(std::ostream& out, const Table& t);
+
+}  // namespace nlsoft::pipeline

@@ -1,0 +1,71 @@
+#include "app/model/model_store.hpp"
+
+#include "app/model/atomic_file.hpp"
+#include "app/model/error.hpp"
+#include "shared/model_file.hpp"
+
+namespace nlsoft::pipeline {
+
+void finalize(ModelFile& f) {
+  Model<HostCapacity> m = f.view();
+  const Status s = finalize_model(m);
+  if (s != Status::Ok) throw PipelineError(std::string("model rejected: ") + status_name(s));
+  const uint32_t hash = f.shape.hash;
+  f.shape = m;
+  f.shape.params = nullptr;
+  f.shape.hash = hash;
+}
+
+std::vector<uint8_t> encode_model(ModelFile& f) {
+  finalize(f);
+  const Model<HostCapacity> m = f.view();
+  std::vector<uint8_t> bytes(model_file_size(m.layer_count, m.param_count));
+  if (write_model(m, f.platform, bytes.data(), bytes.size()) != bytes.size())
+    throw PipelineError("model does not fit the file buffer");
+  f.shape.hash = detail::rd32(bytes.data() + bytes.size() - 4);
+  return bytes;
+}
+
+ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name) {
+  ModelFile f;
+  f.params.resize(HostCapacity::weights + 2 * Derived<HostCapacity>::p + 2 * HostCapacity::n);
+  Model<HostCapacity> m;
+  uint8_t platform = kNoPlatform;
+  const Status s = parse_model(bytes.data(), bytes.size(), m, f.params.data(),
+                               static_cast<uint32_t>(f.params.size()), &platform);
+  if (s != Status::Ok) throw PipelineError("'" + name + "' is not a valid model file: " + status_name(s));
+  f.params.resize(m.param_count);
+  f.shape = m;
+  f.shape.params = nullptr;
+  f.platform = platform;
+  return f;
+}
+
+ModelFile load_model_file(const std::string& path) { return decode_model(read_file_bytes(path), path); }
+
+void save_model_file(const std::string& path, ModelFile& f) { write_file_atomic(path, encode_model(f)); }
+
+const char* layer_kind_name(LayerKind k) { return k == LayerKind::Gru ? "GRU" : "Dense"; }
+
+const char* activation_name(Activation a) {
+  switch (a) {
+    case Activation::Relu: return "relu";
+    case Activation::Tanh: return "tanh";
+    case Activation::Sigmoid: return "sigmoid";
+    case Activation::HardSigmoid: return "hard_sigmoid";
+    case Activation::Linear: return "linear";
+  }
+  return "?";
+}
+
+bool activation_from_name(const std::string& name, Activation* out) {
+  for (uint8_t i = 0; activation_valid(i); ++i) {
+    if (name == activation_name(Activation(i))) {
+      *out = Activation(i);
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace nlsoft::pipeline

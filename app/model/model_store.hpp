@@ -1,0 +1,49 @@
+#pragma once
+// A model held by the console: the shape (a shared/model.hpp Model without
+// its pointer) plus the parameter vector it owns. Reading and writing go
+// through shared/model_file.hpp only, so the console, firmware upload and
+// codegen all see the same bytes.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shared/capacity.hpp"
+#include "shared/model.hpp"
+
+namespace nlsoft::pipeline {
+
+constexpr uint8_t kNoPlatform = 255;
+
+struct ModelFile {
+  Model<HostCapacity> shape;  // params pointer unused; see view()
+  std::vector<float> params;
+  uint8_t platform = kNoPlatform;
+
+  // The Model the controller and forward() take, pointing into params.
+  // Valid while this object lives and params is not resized.
+  Model<HostCapacity> view() const {
+    Model<HostCapacity> m = shape;
+    m.params = params.data();
+    m.param_count = static_cast<uint32_t>(params.size());
+    return m;
+  }
+};
+
+// Lays out offsets, checks capacity and finiteness (finalize_model). Throws
+// PipelineError with the reason.
+void finalize(ModelFile& f);
+
+// The file bytes (also sets f.shape.hash to the CRC the file carries).
+std::vector<uint8_t> encode_model(ModelFile& f);
+ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name);
+
+ModelFile load_model_file(const std::string& path);
+// Atomic: the old file survives any failure.
+void save_model_file(const std::string& path, ModelFile& f);
+
+const char* layer_kind_name(LayerKind k);
+const char* activation_name(Activation a);
+// Parses the Keras spelling ("relu", "hard_sigmoid", ...); false if unknown.
+bool activation_from_name(const std::string& name, Activation* out);
+
+}  // namespace nlsoft::pipeline

@@ -1,0 +1,173 @@
+#include "app/model/network.hpp"
+
+#include <cmath>
+
+#include "app/model/error.hpp"
+
+namespace nlsoft::pipeline {
+namespace {
+
+using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using ConstMap = Eigen::Map<const RowMat>;
+using Map = Eigen::Map<RowMat>;
+using ConstRow = Eigen::Map<const Eigen::RowVectorXd>;
+
+double act1(Activation a, double x) {
+  switch (a) {
+    case Activation::Relu: return x > 0.0 ? x : 0.0;
+    case Activation::Tanh: return std::tanh(x);
+    case Activation::Sigmoid: return 1.0 / (1.0 + std::exp(-x));
+    case Activation::HardSigmoid: return std::min(1.0, std::max(0.0, 0.2 * x + 0.5));
+    case Activation::Linear: break;
+  }
+  return x;
+}
+
+double dact1(Activation a, double x) {
+  switch (a) {
+    case Activation::Relu: return x > 0.0 ? 1.0 : 0.0;
+    case Activation::Tanh: {
+      const double t = std::tanh(x);
+      return 1.0 - t * t;
+    }
+    case Activation::Sigmoid: {
+      const double s = 1.0 / (1.0 + std::exp(-x));
+      return s * (1.0 - s);
+    }
+    case Activation::HardSigmoid: return (x > -2.5 && x < 2.5) ? 0.2 : 0.0;
+    case Activation::Linear: break;
+  }
+  return 1.0;
+}
+
+}  // namespace
+
+Eigen::MatrixXd activate(Activation a, const Eigen::MatrixXd& z) {
+  return z.unaryExpr([a](double x) { return act1(a, x); });
+}
+
+Eigen::MatrixXd activate_derivative(Activation a, const Eigen::MatrixXd& z) {
+  return z.unaryExpr([a](double x) { return dact1(a, x); });
+}
+
+Network::Network(int inputs, const std::vector<LayerSpec>& specs) : inputs_(inputs) {
+  if (specs.empty()) throw PipelineError("a network needs at least one layer");
+  uint32_t offset = 0;
+  int width = inputs;
+  for (const LayerSpec& s : specs) {
+    if (s.units < 1) throw PipelineError("every layer needs at least one unit");
+    Layer L;
+    L.kind = s.kind;
+    L.act = s.act;
+    L.rec_act = s.rec_act;
+    L.reset_after = s.reset_after;
+    L.in = static_cast<uint16_t>(width);
+    L.out = static_cast<uint16_t>(s.units);
+    L.offset = offset;
+    offset += layer_weight_count(L);
+    layers_.push_back(L);
+    width = s.units;
+  }
+  theta_.assign(offset, 0.0);
+}
+
+int Network::outputs() const { return layers_.empty() ? 0 : layers_.back().out; }
+
+void Network::initialise(Random& rng) {
+  for (double& t : theta_) t = 0.0;
+  for (const Layer& L : layers_) {
+    const int cols = L.kind == LayerKind::Gru ? 3 * L.out : L.out;
+    const double limit = std::sqrt(6.0 / (L.in + cols));
+    double* k = theta_.data() + L.offset;
+    for (int i = 0; i < L.in * cols; ++i) k[i] = rng.uniform(-limit, limit);
+  }
+}
+
+const Eigen::MatrixXd& Network::forward(const Eigen::MatrixXd& X, Cache& c) const {
+  const size_t n = layers_.size();
+  c.in.resize(n);
+  c.pre.resize(n);
+  c.post.resize(n);
+  Eigen::MatrixXd a = X;
+  for (size_t li = 0; li < n; ++li) {
+    const Layer& L = layers_[li];
+    const double* w = theta_.data() + L.offset;
+    c.in[li] = a;
+    if (L.kind == LayerKind::Dense) {
+      const ConstMap W(w, L.in, L.out);
+      const ConstRow b(w + L.in * L.out, L.out);
+      c.pre[li] = (a * W).rowwise() + b;
+      a = activate(L.act, c.pre[li]);
+    } else {
+      const int u = L.out, g3 = 3 * u;
+      const ConstMap K(w, L.in, g3);
+      const double* bias = w + (L.in + u) * g3;
+      Eigen::MatrixXd G = (a * K).rowwise() + ConstRow(bias, g3);
+      if (L.reset_after) {
+        G.leftCols(2 * u).rowwise() += ConstRow(bias + g3, 2 * u);
+      }
+      Eigen::MatrixXd post(G.rows(), g3);
+      post.leftCols(2 * u) = activate(L.rec_act, G.leftCols(2 * u));
+      if (L.reset_after)
+        G.rightCols(u) += (post.middleCols(u, u).array().rowwise() * ConstRow(bias + g3 + 2 * u, u).array()).matrix();
+      post.rightCols(u) = activate(L.act, G.rightCols(u));
+      c.pre[li] = G;
+      c.post[li] = post;
+      a = ((1.0 - post.leftCols(u).array()) * post.rightCols(u).array()).matrix();
+    }
+  }
+  c.out = a;
+  return c.out;
+}
+
+Eigen::MatrixXd Network::predict(const Eigen::MatrixXd& X) const {
+  Cache c;
+  return forward(X, c);
+}
+
+void Network::backward(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<double>& grad) const {
+  grad.assign(theta_.size(), 0.0);
+  Eigen::MatrixXd d = dOut;
+  for (size_t li = layers_.size(); li-- > 0;) {
+    const Layer& L = layers_[li];
+    const double* w = theta_.data() + L.offset;
+    double* g = grad.data() + L.offset;
+    const Eigen::MatrixXd& x = c.in[li];
+    if (L.kind == LayerKind::Dense) {
+      const Eigen::MatrixXd dz = (d.array() * activate_derivative(L.act, c.pre[li]).array()).matrix();
+      Map(g, L.in, L.out) = x.transpose() * dz;
+      Eigen::Map<Eigen::RowVectorXd>(g + L.in * L.out, L.out) = dz.colwise().sum();
+      if (li > 0) d = dz * ConstMap(w, L.in, L.out).transpose();
+    } else {
+      const int u = L.out, g3 = 3 * u;
+      const Eigen::MatrixXd& G = c.pre[li];
+      const Eigen::MatrixXd& P = c.post[li];
+      const auto z = P.leftCols(u).array();
+      const auto r = P.middleCols(u, u).array();
+      const auto hh = P.rightCols(u).array();
+      Eigen::MatrixXd dG(G.rows(), g3);
+      // h = (1 - z) h~
+      const Eigen::ArrayXXd dhh = d.array() * (1.0 - z);
+      const Eigen::ArrayXXd dz = -d.array() * hh;
+      dG.rightCols(u) = (dhh * activate_derivative(L.act, G.rightCols(u)).array()).matrix();
+      dG.leftCols(u) = (dz * activate_derivative(L.rec_act, G.leftCols(u)).array()).matrix();
+      const double* bias = w + (L.in + u) * g3;
+      double* gbias = g + (L.in + u) * g3;
+      if (L.reset_after) {
+        const ConstRow rbh(bias + g3 + 2 * u, u);
+        const Eigen::ArrayXXd dr = dG.rightCols(u).array().rowwise() * rbh.array();
+        dG.middleCols(u, u) = (dr * activate_derivative(L.rec_act, G.middleCols(u, u)).array()).matrix();
+        Eigen::Map<Eigen::RowVectorXd> grb(gbias + g3, g3);
+        grb.head(2 * u) = dG.leftCols(2 * u).colwise().sum();
+        grb.tail(u) = (dG.rightCols(u).array() * r).matrix().colwise().sum();
+      } else {
+        dG.middleCols(u, u).setZero();
+      }
+      Map(g, L.in, g3) = x.transpose() * dG;
+      Eigen::Map<Eigen::RowVectorXd>(gbias, g3) = dG.colwise().sum();
+      if (li > 0) d = dG * ConstMap(w, L.in, g3).transpose();
+    }
+  }
+}
+
+}  // namespace nlsoft::pipeline

@@ -1,0 +1,298 @@
+#include "app/model/train.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+#include <Eigen/QR>
+
+#include "app/model/error.hpp"
+#include "app/model/excitation.hpp"
+#include "shared/forward.hpp"
+#include "shared/sim_plant.hpp"
+
+namespace nlsoft::pipeline {
+namespace {
+
+struct LossValue {
+  double value;
+  Eigen::MatrixXd grad;
+};
+
+LossValue loss_of(Loss kind, double delta, const Eigen::MatrixXd& out, const Eigen::MatrixXd& target) {
+  const Eigen::ArrayXXd e = (out - target).array();
+  const double count = static_cast<double>(e.size());
+  if (kind == Loss::Mse) return {e.square().sum() / count, (2.0 / count) * e.matrix()};
+  const Eigen::ArrayXXd a = e.abs();
+  const Eigen::ArrayXXd h = (a <= delta).select(0.5 * e.square(), delta * (a - 0.5 * delta));
+  const Eigen::ArrayXXd g = (a <= delta).select(e, delta * e.sign());
+  return {h.sum() / count, (1.0 / count) * g.matrix()};
+}
+
+// Targets in network units for raw labels Y given the (possibly perturbed)
+// residual base.
+Eigen::MatrixXd targets(const Normalisation& nz, const Eigen::MatrixXd& Y, const Eigen::MatrixXd* base) {
+  Eigen::MatrixXd t = Y;
+  if (base) t -= *base;
+  return (t.rowwise() - nz.out_offset.transpose()).array().rowwise() / nz.out_scale.transpose().array();
+}
+
+bool is_single_linear(const std::vector<LayerSpec>& l) {
+  return l.size() == 1 && l[0].kind == LayerKind::Dense && l[0].act == Activation::Linear;
+}
+
+// A single linear layer under MSE is least squares: solve it exactly
+// (column-pivoting QR copes with the near-collinear y(k), y(k-1) columns
+// that would take Adam forever).
+void solve_linear(Network& net, const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& T) {
+  Eigen::MatrixXd A(Xn.rows(), Xn.cols() + 1);
+  A << Xn, Eigen::VectorXd::Ones(Xn.rows());
+  const Eigen::MatrixXd W = A.colPivHouseholderQr().solve(T);
+  const int in = static_cast<int>(Xn.cols()), out = static_cast<int>(T.cols());
+  double* th = net.theta().data();
+  for (int i = 0; i < in; ++i)
+    for (int j = 0; j < out; ++j) th[i * out + j] = W(i, j);
+  for (int j = 0; j < out; ++j) th[in * out + j] = W(in, j);
+}
+
+}  // namespace
+
+Eigen::MatrixXd TrainedNetwork::predict(const Eigen::MatrixXd& X_raw) const {
+  const Eigen::MatrixXd out = net.predict(normalise_inputs(nz, X_raw));
+  Eigen::MatrixXd y = (out.array().rowwise() * nz.out_scale.transpose().array()).matrix().rowwise() +
+                      nz.out_offset.transpose();
+  if (residual) y += X_raw.middleCols(layout.y_begin(), layout.n);
+  return y;
+}
+
+ModelFile TrainedNetwork::export_model(uint8_t platform) const {
+  ModelFile f;
+  Model<HostCapacity>& M = f.shape;
+  M.m = uint8_t(layout.m);
+  M.n = uint8_t(layout.n);
+  M.w = uint8_t(layout.w);
+  M.nd = uint8_t(layout.nd);
+  M.dd = uint8_t(layout.dd);
+  M.residual = residual;
+  if (net.layers().size() > size_t(HostCapacity::layers)) throw PipelineError("too many layers");
+  M.layer_count = uint8_t(net.layers().size());
+  for (size_t i = 0; i < net.layers().size(); ++i) M.layer[i] = net.layers()[i];
+  auto put = [&](const Eigen::VectorXd& v) {
+    for (Eigen::Index i = 0; i < v.size(); ++i) f.params.push_back(static_cast<float>(v(i)));
+  };
+  put(nz.in_offset);
+  put(nz.in_scale);
+  put(nz.out_offset);
+  put(nz.out_scale);
+  for (double t : net.theta()) f.params.push_back(static_cast<float>(t));
+  f.platform = platform;
+  finalize(f);
+  return f;
+}
+
+Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long end) {
+  const Model<HostCapacity> M = model.view();
+  const InputLayout& L = d.layout;
+  if (M.p() != L.p() || M.n != L.n || M.nd != L.nd || M.dd != L.dd)
+    throw PipelineError("the model's dimensions do not match the data");
+  Evaluation ev;
+  ev.mse.assign(size_t(L.n), 0.0);
+  ev.free_run_mse.assign(size_t(L.n), 0.0);
+  if (end <= begin) return ev;
+  ForwardScratch<HostCapacity, float> scratch;
+  float x[Derived<HostCapacity>::p], y[HostCapacity::n];
+  float yq[HostCapacity::nd * HostCapacity::n];  // own predictions, newest first
+  for (int i = 0; i < L.dd * L.n; ++i) yq[i] = static_cast<float>(d.X(begin, L.y_begin() + i));
+  for (long r = begin; r < end; ++r) {
+    for (int i = 0; i < L.p(); ++i) x[i] = static_cast<float>(d.X(r, i));
+    forward(M, x, y, scratch);
+    for (int j = 0; j < L.n; ++j) ev.mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
+    for (int i = 0; i < L.dd * L.n; ++i) x[L.y_begin() + i] = yq[i];
+    forward(M, x, y, scratch);
+    for (int j = 0; j < L.n; ++j) ev.free_run_mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
+    for (int i = L.dd * L.n - 1; i >= L.n; --i) yq[i] = yq[i - L.n];
+    for (int j = 0; j < L.n; ++j) yq[j] = y[j];
+  }
+  const double count = static_cast<double>(end - begin);
+  for (int j = 0; j < L.n; ++j) {
+    ev.mse[size_t(j)] /= count;
+    ev.free_run_mse[size_t(j)] /= count;
+  }
+  return ev;
+}
+
+TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt) {
+  using Clock = std::chrono::steady_clock;
+  const auto t0 = Clock::now();
+  SimPlant plant(platform);
+  if (s.m != plant.m() || s.n != plant.n() || s.w != plant.w())
+    throw PipelineError(std::string("the data has m=") + std::to_string(s.m) + " n=" + std::to_string(s.n) +
+                        " w=" + std::to_string(s.w) + " but platform '" + platform_name(platform) + "' has m=" +
+                        std::to_string(plant.m()) + " n=" + std::to_string(plant.n()) + " w=" + std::to_string(plant.w()));
+  if (opt.layers.empty() || opt.layers.back().units != s.n)
+    throw PipelineError("the last layer must have n = " + std::to_string(s.n) + " units");
+  if (opt.epochs < 1 || opt.batch < 1 || !(opt.lr > 0.0) || !(opt.y_noise >= 0.0) || !(opt.huber_delta > 0.0))
+    throw PipelineError("epochs, batch, lr and huber delta must be positive, y noise non-negative");
+
+  TrainResult res;
+  const Dataset d = build_dataset(s, opt.nd, opt.dd);
+  const InputLayout& L = d.layout;
+  res.split = partition(d.rows(), opt.folds);
+  const Partition& P = res.split;
+
+  NormalisationSpec spec;
+  std::vector<float> lo(size_t(s.m)), hi(size_t(s.m));
+  plant.input_limits(lo.data(), hi.data());
+  spec.u_lo.assign(lo.begin(), lo.end());
+  spec.u_hi.assign(hi.begin(), hi.end());
+  spec.y_neutral.resize(size_t(s.n));
+  neutral_output(platform, spec.y_neutral.data());
+  spec.residual = opt.residual;
+  const Activation out_act = opt.layers.back().act;
+  spec.out_margin = (out_act == Activation::Linear || out_act == Activation::Relu) ? 1.0 : 1.25;
+
+  TrainedNetwork& tn = res.trained;
+  tn.layout = L;
+  tn.residual = opt.residual;
+  tn.nz = fit_normalisation(d, P.train_end, spec);
+  tn.net = Network(L.p(), opt.layers);
+  Random rng(opt.seed);
+  tn.net.initialise(rng);
+
+  const Eigen::MatrixXd Xn = normalise_inputs(tn.nz, d.X);
+  const Eigen::MatrixXd base = d.X.middleCols(L.y_begin(), L.n);
+  const Eigen::MatrixXd T = targets(tn.nz, d.Y, opt.residual ? &base : nullptr);
+  const long ntrain = P.train_end;
+  const Eigen::MatrixXd Xval = Xn.middleRows(P.val_begin, P.val_end - P.val_begin);
+  const Eigen::MatrixXd Tval = T.middleRows(P.val_begin, P.val_end - P.val_begin);
+
+  auto val_loss = [&]() { return loss_of(Loss::Mse, 1.0, tn.net.predict(Xval), Tval).value; };
+
+  if (is_single_linear(opt.layers) && opt.loss == Loss::Mse && opt.y_noise == 0.0) {
+    solve_linear(tn.net, Xn.topRows(ntrain), T.topRows(ntrain));
+    res.best_val_loss = val_loss();
+    res.epochs_run = 0;
+    if (opt.progress) {
+      Progress p;
+      p.epochs = 0;
+      p.val_loss = p.best_val = res.best_val_loss;
+      opt.progress(p);
+    }
+  } else {
+    std::vector<double>& th = tn.net.theta();
+    std::vector<double> m1(th.size(), 0.0), m2(th.size(), 0.0), grad, best = th;
+    std::vector<long> order(static_cast<size_t>(ntrain));
+    std::iota(order.begin(), order.end(), 0L);
+    const double b1 = 0.9, b2 = 0.999, eps = 1e-8;
+    double lr = opt.lr, b1t = 1.0, b2t = 1.0;
+    double best_val = val_loss();
+    int since_best = 0, since_cut = 0;
+    const int cut_after = std::max(3, opt.patience / 3);
+    Network::Cache cache;
+    Eigen::MatrixXd Xb, Tb, Bb;
+    for (int epoch = 1; epoch <= opt.epochs; ++epoch) {
+      for (long i = ntrain - 1; i > 0; --i)  // Fisher-Yates, portable
+        std::swap(order[size_t(i)], order[size_t(rng.integer(0, i))]);
+      double sum = 0.0;
+      long batches = 0;
+      for (long start = 0; start < ntrain; start += opt.batch) {
+        const long bsz = std::min<long>(opt.batch, ntrain - start);
+        Xb.resize(bsz, L.p());
+        Tb.resize(bsz, L.n);
+        for (long b = 0; b < bsz; ++b) {
+          const long r = order[size_t(start + b)];
+          Xb.row(b) = Xn.row(r);
+          Tb.row(b) = T.row(r);
+        }
+        if (opt.y_noise > 0.0) {
+          // Independent errors per lag: a shared drift alone would leave
+          // y(k) - y(k-1) clean, and the network would learn to integrate
+          // that difference, which runs away once it is fed its own output.
+          for (long b = 0; b < bsz; ++b) {
+            for (int lag = 0; lag < L.dd; ++lag) {
+              for (int j = 0; j < L.n; ++j) {
+                const int col = L.y_begin() + lag * L.n + j;
+                const double dn = opt.y_noise * rng.gaussian();
+                Xb(b, col) += dn;
+                if (opt.residual && lag == 0) Tb(b, j) -= dn / tn.nz.in_scale(col) / tn.nz.out_scale(j);
+              }
+            }
+          }
+        }
+        const Eigen::MatrixXd& out = tn.net.forward(Xb, cache);
+        const LossValue lv = loss_of(opt.loss, opt.huber_delta, out, Tb);
+        tn.net.backward(cache, lv.grad, grad);
+        b1t *= b1;
+        b2t *= b2;
+        const double step = lr * std::sqrt(1.0 - b2t) / (1.0 - b1t);
+        for (size_t k = 0; k < th.size(); ++k) {
+          m1[k] = b1 * m1[k] + (1.0 - b1) * grad[k];
+          m2[k] = b2 * m2[k] + (1.0 - b2) * grad[k] * grad[k];
+          th[k] -= step * m1[k] / (std::sqrt(m2[k]) + eps);
+        }
+        sum += lv.value;
+        ++batches;
+      }
+      const double v = val_loss();
+      if (!std::isfinite(v)) throw PipelineError("training diverged (validation loss not finite); try a smaller --lr");
+      ++since_cut;
+      if (v < best_val) {
+        best_val = v;
+        best = th;
+        since_best = 0;
+      } else {
+        ++since_best;
+      }
+      // Halve the rate on a plateau: the last digits of accuracy need small steps.
+      if (since_best >= cut_after && since_cut >= cut_after) {
+        lr *= 0.5;
+        since_cut = 0;
+      }
+      res.epochs_run = epoch;
+      if (opt.progress) {
+        Progress p;
+        p.epoch = epoch;
+        p.epochs = opt.epochs;
+        p.train_loss = sum / static_cast<double>(std::max(1L, batches));
+        p.val_loss = v;
+        p.best_val = best_val;
+        p.lr = lr;
+        p.elapsed_s = std::chrono::duration<double>(Clock::now() - t0).count();
+        p.eta_s = p.elapsed_s / epoch * (opt.epochs - epoch);
+        opt.progress(p);
+      }
+      if (since_best >= opt.patience) break;
+    }
+    th = best;
+    res.best_val_loss = best_val;
+  }
+
+  res.model = tn.export_model(static_cast<uint8_t>(platform));
+  res.test = evaluate(res.model, d, P.test_begin, P.test_end);
+  res.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  return res;
+}
+
+TrainOptions default_options(PlatformId platform) {
+  TrainOptions o;
+  switch (platform) {
+    case PlatformId::Hasel:
+      o.layers = {{LayerKind::Dense, 5, Activation::Relu}, {LayerKind::Dense, 5, Activation::Relu},
+                  {LayerKind::Dense, 3, Activation::Tanh}};
+      o.y_noise = 0.02;
+      break;
+    case PlatformId::Tendon:
+      o.layers = {{LayerKind::Gru, 5, Activation::Tanh, Activation::Sigmoid, true},
+                  {LayerKind::Dense, 5, Activation::Relu}, {LayerKind::Dense, 3, Activation::Tanh}};
+      o.y_noise = 0.02;
+      break;
+    default:
+      o.layers = {{LayerKind::Dense, 1, Activation::Linear}};
+      o.residual = true;
+      break;
+  }
+  return o;
+}
+
+}  // namespace nlsoft::pipeline

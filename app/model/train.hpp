@@ -1,0 +1,86 @@
+#pragma once
+// Training of the forward model (paper, "Learning Forward Kinematics"):
+// Adam on mini-batches, MSE or Huber loss in normalised units, early
+// stopping on the validation chunk of the ten-fold time-series split, the
+// best weights kept. Everything is seeded: one seed, one model, bit for bit.
+//
+// Residual mode trains the network on y(k+1) - y(k) (the model file's
+// residual flag adds y(k) back), which suits plants whose output moves little
+// per step (msd at 1 kHz). `y_noise` perturbs the y-history inputs while
+// training (and the residual base with them), which teaches the network to
+// lean on the sensors: the soft rigs run with the y-queue fed by the model's
+// own predictions, whose errors must fade rather than accumulate.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "app/model/dataset.hpp"
+#include "app/model/model_store.hpp"
+#include "app/model/network.hpp"
+#include "shared/platform_id.hpp"
+
+namespace nlsoft::pipeline {
+
+enum class Loss { Mse, Huber };
+
+struct Progress {
+  int epoch = 0, epochs = 0;
+  double train_loss = 0, val_loss = 0, best_val = 0, lr = 0;
+  double elapsed_s = 0, eta_s = 0;
+};
+
+struct TrainOptions {
+  std::vector<LayerSpec> layers;
+  int nd = 2, dd = 2;
+  int epochs = 200;
+  int batch = 64;
+  double lr = 3e-3;
+  Loss loss = Loss::Mse;
+  double huber_delta = 0.1;  // normalised output units
+  uint64_t seed = 1;
+  bool residual = false;
+  int patience = 25;         // epochs without a better validation loss
+  double y_noise = 0.0;      // sigma of the y-history perturbation, normalised input units
+  int folds = 10;
+  std::function<void(const Progress&)> progress;
+};
+
+// The trainer's own view of the finished model: network, normalisation, and
+// the evaluation in double that the export must reproduce.
+struct TrainedNetwork {
+  Network net;
+  Normalisation nz;
+  InputLayout layout{};
+  bool residual = false;
+
+  Eigen::MatrixXd predict(const Eigen::MatrixXd& X_raw) const;  // rows x n, physical units
+  ModelFile export_model(uint8_t platform) const;
+};
+
+struct Evaluation {
+  std::vector<double> mse;           // one-step, per output, physical units squared
+  std::vector<double> free_run_mse;  // y-queue fed with the model's own predictions
+};
+
+// Runs the exported model exactly as the firmware does (shared/forward.hpp,
+// float) over dataset rows [begin, end).
+Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long end);
+
+struct TrainResult {
+  TrainedNetwork trained;
+  ModelFile model;
+  Evaluation test;
+  double best_val_loss = 0;
+  int epochs_run = 0;
+  double seconds = 0;
+  Partition split{};
+};
+
+// Throws PipelineError when the series does not match the platform, or the
+// options are unusable.
+TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt);
+
+// The architecture the paper uses on each platform (see app/models/README.md).
+TrainOptions default_options(PlatformId platform);
+
+}  // namespace nlsoft::pipeline
