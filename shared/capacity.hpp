@@ -32,7 +32,7 @@ struct HostCapacity {
 // Tight fits for the three platforms of the paper (PRODUCT.md, "Platforms").
 struct MsdCapacity {
   static constexpr int m = 1, n = 1, w = 0, nd = 2;
-  static constexpr int N = 8, Nc = 4;
+  static constexpr int N = 128, Nc = 2;
   static constexpr int width = 16, layers = 4, weights = 512;
 };
 struct HaselCapacity {
