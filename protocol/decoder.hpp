@@ -50,10 +50,13 @@ class Decoder {
   // Returns the number consumed; call again with the rest.
   size_t feed(const uint8_t* data, size_t len, DecodeResult& result) {
     result = DecodeResult{};
-    for (size_t i = 0; i < len; ++i) {
-      if (step(data[i], result)) {
-        stats_.bytes += static_cast<uint32_t>(i + 1);
-        return i + 1;
+    size_t i = 0;
+    while (i < len) {
+      if (remaining_ > 1 && !overflow_) i += copy_run(data + i, len - i);
+      if (i == len) break;
+      if (step(data[i++], result)) {
+        stats_.bytes += static_cast<uint32_t>(i);
+        return i;
       }
     }
     stats_.bytes += static_cast<uint32_t>(len);
@@ -89,6 +92,23 @@ class Decoder {
       --remaining_;
     }
     return false;
+  }
+
+  // Inside a COBS block every byte but the block's last is plain data: copy
+  // it without the per-byte state machine. Stops one short of the block end,
+  // at a delimiter or at buffer capacity, leaving those cases to step().
+  size_t copy_run(const uint8_t* data, size_t avail) {
+    size_t n = static_cast<size_t>(remaining_ - 1);
+    if (n > avail) n = avail;
+    if (n > kMaxRawFrame - len_) n = kMaxRawFrame - len_;
+    size_t k = 0;
+    while (k < n && data[k] != kDelimiter) {
+      buf_[len_ + k] = data[k];
+      ++k;
+    }
+    len_ += k;
+    remaining_ = static_cast<uint8_t>(remaining_ - k);
+    return k;
   }
 
   void append(uint8_t b) {
