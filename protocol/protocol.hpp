@@ -10,4 +10,6 @@
 #include "protocol/encoder.hpp"
 #include "protocol/frame.hpp"
 #include "protocol/messages.hpp"
+#include "protocol/reply_cache.hpp"
 #include "protocol/status.hpp"
+#include "protocol/transfer.hpp"
