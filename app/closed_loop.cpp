@@ -49,7 +49,13 @@ Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
   if (s.controller == ControllerKind::Mpc) {
     if (ctl->configure(s.model, s.params) != Status::Ok)
       throw CliError("the parameter set is inconsistent with this model");
-    ctl->reset(u, y, l);
+    // The controller sees the plant's output only when an observer exists
+    // (feedback = measured); otherwise it starts from its model's rest point,
+    // as the firmware does.
+    if (s.params.feedback == Feedback::Measured)
+      ctl->reset(u, y, l);
+    else
+      ctl->reset_at_rest(u, l);
   } else {
     pid.configure(1, kMsdPidGains, s.params.u_min, s.params.u_max, kMsdPidOutputScale);
   }

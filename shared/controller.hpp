@@ -47,6 +47,25 @@ class Controller {
     for (int a = 0; a < K; ++a) U_[a] = u0[a % L.m];
   }
 
+  // With no observer of y, start from the model's own rest: hold u0 and the
+  // sensors l0 and let the prediction settle (the paper's "neutral point",
+  // the Newton initial guess). Returns the settled y.
+  const float* reset_at_rest(const float* u0, const float* l0, int iterations = 64) {
+    const InputLayout L = layout();
+    float y[Cap::n];
+    for (int j = 0; j < L.n; ++j) y[j] = model_->out_offset()[j];
+    reset(u0, y, l0);
+    for (int it = 0; it < iterations; ++it) {
+      push_input(x_, L, u0);
+      forward(*model_, x_, y, scratch_.fd.h.fw);
+      for (int j = 0; j < L.n; ++j)
+        if (!finite(y[j])) y[j] = model_->out_offset()[j];
+      push_output(x_, L, y);
+    }
+    reset(u0, y, l0);
+    return y_next_;
+  }
+
   // y_ref: the reference for y(k+1) ... y(k+N), N x n rows. sensors: l(k).
   // y_measured: y(k) when an observer exists (used if feedback = Measured).
   StepResult<Cap> step(const float* y_ref, const float* sensors, const float* y_measured) {

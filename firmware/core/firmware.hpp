@@ -1,0 +1,518 @@
+#pragma once
+// The firmware core, the same on every port: the fixed-rate control step
+// (read sensors -> build the input vector -> Newton-Raphson -> clamp ->
+// actuate -> telemetry) and the protocol service between steps (requests,
+// transfers, heartbeat, watchdog). Static memory only: the port hands in
+// every buffer, sized for its target.
+#include <cstdio>
+#include <cstring>
+
+#include "firmware/core/clock.hpp"
+#include "firmware/core/compute_stats.hpp"
+#include "firmware/core/hal.hpp"
+#include "firmware/core/param_service.hpp"
+#include "firmware/core/reference_slot.hpp"
+#include "firmware/core/tx_queue.hpp"
+#include "protocol/decoder.hpp"
+#include "protocol/encoder.hpp"
+#include "protocol/messages.hpp"
+#include "protocol/reply_cache.hpp"
+#include "protocol/transfer.hpp"
+#include "shared/controller.hpp"
+#include "shared/model_file.hpp"
+#include "shared/platform.hpp"
+
+namespace nlsoft::fw {
+
+namespace proto = nlsoft::protocol;
+
+namespace watchdog_bits {
+constexpr uint8_t kArmed = proto::watchdog_flags::kArmed;  // a timeout is set
+constexpr uint8_t kTripped = 0x04;  // the link went silent during this run: safe state
+}  // namespace watchdog_bits
+
+struct Identity {
+  PlatformId platform;
+  const char* name;  // e.g. "nlsoft-posix"
+  uint8_t major, minor, patch;
+  uint32_t loop_rate_hz;
+  bool has_y_true;  // the port can read the true output (simulated plant)
+};
+
+// Caller-owned memory, sized by the port.
+struct Buffers {
+  uint8_t* model_staging;  // a whole model file in transit
+  size_t model_staging_cap;
+  float* model_params;     // the model in force
+  uint32_t model_params_cap;
+  uint8_t* table_staging;  // a whole reference table in transit
+  size_t table_staging_cap;
+  float* table_points;     // the table in force
+  uint32_t table_points_cap;
+};
+
+template <class Cap, size_t TxCapacity = 1024>
+class Firmware {
+ public:
+  Firmware(Hal& hal, const Identity& id, const Buffers& b)
+      : hal_(hal),
+        id_(id),
+        buf_(b),
+        preset_(preset(id.platform)),
+        params_svc_(params_, preset_.m, preset_.n, settings_),
+        ref_(b.table_points, b.table_points_cap),
+        model_rx_(uint8_t(proto::XferKind::Model), b.model_staging, b.model_staging_cap),
+        table_rx_(uint8_t(proto::XferKind::RefTable), b.table_staging, b.table_staging_cap) {
+    if (!id.has_y_true) mask_ &= uint8_t(~proto::telemetry_field::kYTrue);
+  }
+
+  // Loads the compiled-in model (may be null: the firmware then waits for an
+  // upload) and the platform's preset parameters.
+  Status begin(const uint8_t* model_file, size_t model_len) {
+    clock_.start(hal_.ticks(), hal_.tick_rate_hz());
+    last_heartbeat_ms_ = 0;
+    Status s = preset_params(preset_, params_);
+    if (s != Status::Ok) return s;
+    neutral(u_);
+    if (model_file) {
+      s = load_model(model_file, model_len);
+      if (s != Status::Ok) return s;
+    }
+    return Status::Ok;
+  }
+
+  // Serves the link; call as often as possible between control steps.
+  void poll() {
+    clock_.update(hal_.ticks());
+    uint8_t in[64];
+    size_t got;
+    while ((got = hal_.serial_read(in, sizeof in)) > 0) {
+      size_t used = 0;
+      while (used < got) {
+        proto::DecodeResult r;
+        used += decoder_.feed(in + used, got - used, r);
+        if (r.kind == proto::DecodeResult::Kind::Frame) handle(r.frame);
+      }
+    }
+    if (clock_.ms() - last_heartbeat_ms_ >= 1000) {
+      last_heartbeat_ms_ = clock_.ms();
+      send_status(0, false);
+    }
+    tx_.drain(hal_);
+  }
+
+  // One control period. The port calls it at loop_rate_hz (or back to back
+  // in fast mode) and reports late calls with count_overrun().
+  void step() {
+    const uint32_t t0 = hal_.ticks();
+    clock_.update(t0);
+    const int m = preset_.m, n = preset_.n;
+    float l[Cap::w + 1] = {};
+    hal_.read_sensors(l, preset_.w);
+    have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
+    watchdog_check();
+
+    StepResult<Cap> r{};
+    const bool running = state_ == proto::RunState::Running;
+    if (running) {
+      float ref[Cap::N * Cap::n];
+      ref_.rows(ref, params_.N, n);
+      r = ctl_.step(ref, l, have_y_true_ ? y_true_ : nullptr);
+      for (int i = 0; i < m; ++i) u_[i] = r.u[i];
+      for (int j = 0; j < n; ++j) y_ref_[j] = ref[j];
+      ref_.advance();
+    } else if (state_ != proto::RunState::Hold) {
+      neutral(u_);
+    }
+    hal_.actuate(u_, m);
+    const uint32_t compute = hal_.ticks() - t0;
+    if (running) {
+      stats_.add(compute);
+      if (decimation_ != 0 && step_ % decimation_ == 0) send_telemetry(r, compute);
+      ++step_;
+    }
+    tx_.drain(hal_);
+  }
+
+  void count_overrun() { ++overruns_; }
+  // Fast mode paces itself on this: a step would otherwise drop telemetry.
+  bool telemetry_has_room() const {
+    return tx_.free() >= TxQueue<TxCapacity>::kReserve + proto::kWireBufferSize;
+  }
+  proto::RunState state() const { return state_; }
+  uint32_t tx_dropped() const { return tx_dropped_; }
+
+ private:
+  // ---------------------------------------------------------------- model
+  Status load_model(const uint8_t* file, size_t len) {
+    Model<Cap> M;
+    const Status s = parse_model(file, len, M, buf_.model_params, buf_.model_params_cap);
+    if (s != Status::Ok) return s;
+    return adopt(M);
+  }
+  Status adopt(const Model<Cap>& M) {
+    if (M.m != preset_.m || M.n != preset_.n || M.w != preset_.w) return Status::Inconsistent;
+    model_ = M;
+    has_model_ = true;
+    return ctl_.configure(&model_, params_);
+  }
+  // Validates a staged model file against this build without touching the
+  // model in force; parse_model writes the parameter block only when valid.
+  proto::StatusCode commit_model() {
+    Model<Cap> probe;
+    const uint8_t* f = model_rx_.data();
+    const size_t len = model_rx_.size();
+    if (len < kModelHeaderSize || f[6] != preset_.m || f[7] != preset_.n || f[8] != preset_.w)
+      return proto::StatusCode::Inconsistent;
+    const Status s = parse_model(f, len, probe, buf_.model_params, buf_.model_params_cap);
+    if (s != Status::Ok) return proto::StatusCode(uint8_t(s));
+    return adopt(probe) == Status::Ok ? proto::StatusCode::Ok : proto::StatusCode::Inconsistent;
+  }
+
+  // ------------------------------------------------------------- requests
+  void handle(const proto::FrameView& f) {
+    last_rx_ms_ = clock_.ms();
+    if (watchdog_ & watchdog_bits::kTripped && !link_back_reported_) {
+      link_back_reported_ = true;
+      log(proto::LogLevel::Warn, "link back: it was silent during the run, actuators went to the safe state; RUN_HOLD resume continues");
+    }
+    if (f.is_reply()) return;  // not a request
+    const uint8_t* wire;
+    size_t size;
+    if (cache_.find(f.header, wire, size)) {
+      tx_.push(wire, size, false);
+      return;
+    }
+    reply_seq_ = f.header.seq;
+    reply_header_ = f.header;
+    replied_ = false;
+    dispatch(f);
+    if (!replied_) nack(f.header.type, proto::StatusCode::Unsupported, proto::kNoField, proto::kNoField);
+  }
+
+  template <class M>
+  bool unpack_or_nack(const proto::FrameView& f, M& m) {
+    if (proto::unpack(f, m) == proto::StatusCode::Ok) return true;
+    nack(f.header.type, proto::StatusCode::BadLength, proto::kNoField, proto::kNoField);
+    return false;
+  }
+
+  void dispatch(const proto::FrameView& f) {
+    using T = proto::MsgType;
+    switch (T(f.header.type)) {
+      case T::Ping: {
+        proto::Ping p;
+        if (!unpack_or_nack(f, p)) return;
+        proto::Pong r;
+        r.nonce = p.nonce;
+        r.uptime_ms = clock_.ms();
+        return reply(r);
+      }
+      case T::InfoGet: return reply(info());
+      case T::ParamList: {
+        proto::ParamList p;
+        if (!unpack_or_nack(f, p)) return;
+        proto::ParamDesc d;
+        if (!params_svc_.describe(p.index, d)) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        return reply(d);
+      }
+      case T::ParamGet: {
+        proto::ParamGet p;
+        if (!unpack_or_nack(f, p)) return;
+        return param_reply(f.header.type, params_svc_.get(p.id));
+      }
+      case T::ParamSet: {
+        proto::ParamSet p;
+        if (!unpack_or_nack(f, p)) return;
+        const ParamReply r = params_svc_.set(p);
+        if (r.status == proto::StatusCode::Ok && has_model_) ctl_.configure(&model_, params_);
+        return param_reply(f.header.type, r);
+      }
+      case T::RefSelect: {
+        proto::RefSelect p;
+        if (!unpack_or_nack(f, p)) return;
+        RefParams rp{};
+        static_assert(sizeof(RefParams) == 52, "REF_SELECT payload is RefParams");
+        std::memcpy(&rp, f.payload, sizeof rp);
+        if (p.ref_id >= kRefKindCount) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        const proto::StatusCode s = ref_.select(rp);
+        return s == proto::StatusCode::Ok ? ack(f.header.type) : nack(f.header.type, s, 0, proto::kNoField);
+      }
+      case T::XferBegin: {
+        proto::XferBegin p;
+        if (!unpack_or_nack(f, p)) return;
+        proto::TransferReceiver* rx = receiver(p.kind);
+        if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        return xfer_reply(f.header.type, rx->begin(p));
+      }
+      case T::XferChunk: {
+        proto::XferChunk p;
+        if (!unpack_or_nack(f, p)) return;
+        proto::TransferReceiver* rx = receiver(p.kind);
+        if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        return xfer_reply(f.header.type, rx->chunk(p));
+      }
+      case T::XferCommit: {
+        proto::XferCommit p;
+        if (!unpack_or_nack(f, p)) return;
+        return commit(f.header.type, p.kind);
+      }
+      case T::XferAbort: {
+        proto::XferAbort p;
+        if (!unpack_or_nack(f, p)) return;
+        if (proto::TransferReceiver* rx = receiver(p.kind)) rx->close();
+        return ack(f.header.type);
+      }
+      case T::RunStart: {
+        proto::RunStart p;
+        if (!unpack_or_nack(f, p)) return;
+        return run_start(f.header.type, p.run_id);
+      }
+      case T::RunStop:
+        state_ = proto::RunState::Idle;
+        watchdog_ = 0;
+        return ack(f.header.type);
+      case T::RunHold: {
+        proto::RunHold p;
+        if (!unpack_or_nack(f, p)) return;
+        return run_hold(f.header.type, p.mode);
+      }
+      case T::TelemetryConfig: {
+        proto::TelemetryConfig p;
+        if (!unpack_or_nack(f, p)) return;
+        if (p.mask & proto::telemetry_field::kYTrue && !id_.has_y_true)
+          return nack(f.header.type, proto::StatusCode::Unsupported, 0, proto::kNoField);
+        mask_ = p.mask;
+        decimation_ = p.decimation;
+        return ack(f.header.type);
+      }
+      case T::StatusGet: return send_status(f.header.seq, true);
+      default: return;  // handle() answers Unsupported
+    }
+  }
+
+  void run_start(uint8_t type, uint32_t run_id) {
+    const bool active = state_ != proto::RunState::Idle;
+    if (active && run_id == run_id_) return ack(type);  // a retry
+    if (active) return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
+    if (!has_model_) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+    run_id_ = run_id;
+    step_ = 0;
+    stats_.reset();
+    ref_.restart();
+    watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;
+    link_back_reported_ = false;
+    last_rx_ms_ = clock_.ms();
+    neutral(u_);
+    float l[Cap::w + 1] = {};
+    hal_.read_sensors(l, preset_.w);
+    if (params_.feedback == Feedback::Measured && id_.has_y_true && hal_.read_output(y_true_, preset_.n))
+      ctl_.reset(u_, y_true_, l);
+    else
+      ctl_.reset_at_rest(u_, l);
+    state_ = proto::RunState::Running;
+    ack(type);
+  }
+
+  void run_hold(uint8_t type, uint8_t mode) {
+    if (state_ == proto::RunState::Idle) return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
+    switch (proto::HoldMode(mode)) {
+      case proto::HoldMode::Hold: state_ = proto::RunState::Hold; break;
+      case proto::HoldMode::Neutral: state_ = proto::RunState::Neutral; break;
+      case proto::HoldMode::Resume: {
+        if (state_ != proto::RunState::Running) {
+          float l[Cap::w + 1] = {};
+          hal_.read_sensors(l, preset_.w);
+          ctl_.reset_at_rest(u_, l);  // histories restart from where the actuators are
+          watchdog_ &= uint8_t(~watchdog_bits::kTripped);
+          link_back_reported_ = false;
+        }
+        state_ = proto::RunState::Running;
+        break;
+      }
+      default: return nack(type, proto::StatusCode::OutOfRange, 0, proto::kNoField);
+    }
+    ack(type);
+  }
+
+  void commit(uint8_t type, uint8_t kind) {
+    proto::TransferReceiver* rx = receiver(kind);
+    if (!rx) return nack(type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+    const proto::XferReply c = rx->commit();
+    if (c.status != proto::StatusCode::Ok) return nack(type, c.status, c.field, proto::kNoField);
+    proto::StatusCode s;
+    if (kind == uint8_t(proto::XferKind::Model)) {
+      if (state_ != proto::RunState::Idle) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+      s = commit_model();
+    } else {
+      s = ref_.commit_table(rx->data(), rx->size(), preset_.n);
+    }
+    rx->close();
+    if (s != proto::StatusCode::Ok) {
+      log(proto::LogLevel::Warn, kind == uint8_t(proto::XferKind::Model) ? "model upload refused; the previous model stays" : "reference table refused; the previous table stays");
+      return nack(type, s, proto::kNoField, proto::kNoField);
+    }
+    ack(type);
+  }
+
+  proto::TransferReceiver* receiver(uint8_t kind) {
+    if (kind == uint8_t(proto::XferKind::Model)) return &model_rx_;
+    if (kind == uint8_t(proto::XferKind::RefTable)) return &table_rx_;
+    return nullptr;
+  }
+
+  // ----------------------------------------------------------- replies
+  template <class M>
+  void reply(const M& msg) {
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode_reply(msg, reply_seq_, wire, sizeof wire);
+    if (len == 0) return;
+    tx_.push(wire, len, false);
+    cache_.store(reply_header_, wire, len);
+    replied_ = true;
+  }
+  void ack(uint8_t type) {
+    proto::Ack a;
+    a.request_type = type;
+    reply(a);
+  }
+  void nack(uint8_t type, proto::StatusCode s, uint8_t field, uint8_t element) {
+    proto::Nack n;
+    n.request_type = type;
+    n.status = uint8_t(s);
+    n.field = field;
+    n.element = element;
+    reply(n);
+  }
+  void param_reply(uint8_t type, const ParamReply& r) {
+    if (r.status != proto::StatusCode::Ok) return nack(type, r.status, r.field, r.element);
+    reply(r.value);
+  }
+  void xfer_reply(uint8_t type, const proto::XferReply& r) {
+    if (r.status != proto::StatusCode::Ok) return nack(type, r.status, r.field, proto::kNoField);
+    reply(r.ack);
+  }
+
+  proto::Info info() const {
+    proto::Info i;
+    i.platform = uint8_t(id_.platform);
+    i.m = preset_.m, i.n = preset_.n, i.w = preset_.w, i.nd = preset_.nd, i.dd = preset_.dd;
+    i.max_n = uint8_t(Cap::N > 255 ? 255 : Cap::N);
+    i.max_nc = uint8_t(Cap::Nc);
+    i.fw_major = id_.major, i.fw_minor = id_.minor, i.fw_patch = id_.patch;
+    i.loop_rate_hz = id_.loop_rate_hz;
+    i.model_hash = has_model_ ? model_.hash : 0;
+    i.param_hash = param_table_hash();
+    namespace c = proto::capability;
+    i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
+                     c::kLog | (id_.has_y_true ? c::kYTrue : 0);
+    std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
+    return i;
+  }
+
+  void send_status(uint8_t seq, bool as_reply) {
+    proto::Status s;
+    s.uptime_ms = clock_.ms();
+    s.run_id = run_id_;
+    s.step = step_;
+    s.run_state = uint8_t(state_);
+    s.watchdog = watchdog_;
+    s.telemetry_mask = mask_;
+    s.ref_id = ref_.id();
+    const proto::DecoderStats& d = decoder_.stats();
+    s.frames_in = d.frames_ok;
+    s.crc_errors = d.error_count(proto::FrameError::BadCrc);
+    s.frame_errors = d.error_total() - s.crc_errors;
+    s.tx_dropped = tx_dropped_;
+    s.loop_overruns = overruns_;
+    s.compute_min = stats_.count ? stats_.min : 0;
+    s.compute_mean = stats_.mean();
+    s.compute_max = stats_.max;
+    s.tick_rate_hz = hal_.tick_rate_hz();
+    if (as_reply) return reply(s);
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode(s, unsolicited_seq_++, 0, wire, sizeof wire);
+    if (!tx_.push(wire, len, false)) ++tx_dropped_;
+    (void)seq;
+  }
+
+  void send_telemetry(const StepResult<Cap>& r, uint32_t compute) {
+    proto::Telemetry t;
+    t.tseq = tseq_++;
+    t.mask = mask_;
+    t.n = uint8_t(preset_.n);
+    t.m = uint8_t(preset_.m);
+    t.step = step_;
+    t.time_us = clock_.us();
+    for (int j = 0; j < preset_.n; ++j) {
+      t.y_ref[j] = y_ref_[j];
+      t.y_hat[j] = r.y_hat[j];
+      t.y_true[j] = y_true_[j];
+    }
+    for (int i = 0; i < preset_.m; ++i) t.u[i] = r.u[i];
+    t.cost = r.cost;
+    t.iterations = r.iterations;
+    t.compute_ticks = compute;
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
+    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+  }
+
+  void log(proto::LogLevel level, const char* text) {
+    proto::Log g;
+    g.level = uint8_t(level);
+    std::strncpy(g.text, text, proto::kMaxLogText);
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode(g, unsolicited_seq_++, 0, wire, sizeof wire);
+    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+  }
+
+  // ---------------------------------------------------------- watchdog
+  void watchdog_check() {
+    if (!(watchdog_ & watchdog_bits::kArmed) || state_ != proto::RunState::Running) return;
+    if (settings_.watchdog_ms == 0 || clock_.ms() - last_rx_ms_ <= settings_.watchdog_ms) return;
+    state_ = settings_.safe_state == 0 ? proto::RunState::Hold : proto::RunState::Neutral;
+    watchdog_ |= watchdog_bits::kTripped;
+    link_back_reported_ = false;
+  }
+
+  void neutral(float* u) const {
+    for (int i = 0; i < preset_.m; ++i) u[i] = 0.5f * (params_.u_min[i] + params_.u_max[i]);
+  }
+
+  Hal& hal_;
+  Identity id_;
+  Buffers buf_;
+  const Preset& preset_;
+  Params<Cap> params_{};
+  FwSettings settings_{};
+  ParamService<Cap> params_svc_;
+  ReferenceSlot ref_;
+  proto::TransferReceiver model_rx_, table_rx_;
+  Model<Cap> model_{};
+  bool has_model_ = false;
+  Controller<Cap> ctl_{};
+
+  proto::Decoder decoder_{};
+  TxQueue<TxCapacity> tx_{};
+  proto::ReplyCache cache_{};
+  proto::Header reply_header_{};
+  uint8_t reply_seq_ = 0;
+  bool replied_ = false;
+  uint8_t unsolicited_seq_ = 0;
+  uint16_t tseq_ = 0;
+
+  Clock clock_{};
+  uint32_t last_heartbeat_ms_ = 0, last_rx_ms_ = 0;
+  proto::RunState state_ = proto::RunState::Idle;
+  uint32_t run_id_ = 0, step_ = 0;
+  uint8_t mask_ = proto::telemetry_field::kAll, watchdog_ = 0;
+  bool link_back_reported_ = false;
+  uint16_t decimation_ = 1;
+  uint32_t overruns_ = 0, tx_dropped_ = 0;
+  ComputeStats stats_{};
+  float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
+  bool have_y_true_ = false;
+};
+
+}  // namespace nlsoft::fw

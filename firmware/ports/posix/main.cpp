@@ -1,0 +1,154 @@
+// nlsoft-firmware-sim: the firmware core on this machine, serving the
+// protocol on a pseudo-terminal with a simulated plant in the loop.
+//
+//   nlsoft-firmware-sim --platform hasel            prints /dev/pts/N, runs at 130 Hz
+//   nlsoft-console /dev/pts/N                       talks to it as to a board
+#include <poll.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <time.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <vector>
+
+#include "firmware/core/firmware.hpp"
+#include "firmware/ports/posix/pty.hpp"
+#include "firmware/ports/posix/sim_hal.hpp"
+
+namespace {
+
+using namespace nlsoft;
+using Cap = HostCapacity;
+using Fw = fw::Firmware<Cap, 16384>;
+
+volatile sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+// Port memory: generous on a host.
+uint8_t g_model_staging[64 * 1024];
+float g_model_params[Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n];
+uint8_t g_table_staging[8 + 4 * 3 * 20000];
+float g_table_points[3 * 20000];
+
+std::string find_default_model(PlatformId id) {
+  namespace fs = std::filesystem;
+  const std::string name = std::string(platform_name(id)) + ".nlsm";
+  std::vector<fs::path> dirs;
+  if (const char* env = std::getenv("NLSOFT_MODELS")) dirs.emplace_back(env);
+  dirs.emplace_back(NLSOFT_SOURCE_MODELS_DIR);
+  std::error_code ec;
+  for (const auto& d : dirs)
+    if (fs::exists(d / name, ec)) return (d / name).string();
+  return {};
+}
+
+uint64_t now_us() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return uint64_t(ts.tv_sec) * 1000000u + uint64_t(ts.tv_nsec) / 1000u;
+}
+
+void wait_fd(int fd, short events, int timeout_ms) {
+  pollfd p{fd, events, 0};
+  ::poll(&p, 1, timeout_ms);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "nlsoft-firmware-sim: the nlsoft firmware on this machine. It opens a pseudo-terminal, prints its\n"
+      "path on the first line of stdout, and serves the wire protocol there with a simulated plant\n"
+      "in the loop (telemetry carries the plant's true output as y_true).\n"
+      "Example:  nlsoft-firmware-sim --platform hasel   then   nlsoft-console /dev/pts/N"};
+  std::string platform_name_arg = "hasel", model_path;
+  double rate = 0;
+  bool fast = false;
+  uint32_t seed = 1;
+  app.add_option("--platform", platform_name_arg, "msd, hasel or tendon")->capture_default_str();
+  app.add_option("--rate", rate, "control loop rate in Hz (default: the platform's, e.g. 130 for hasel)")
+      ->check(CLI::Range(1.0, 100000.0));
+  app.add_flag("--fast", fast, "run steps back to back, as fast as the console reads telemetry (tests, throughput)");
+  app.add_option("--model", model_path, "model file (default: the shipped model of the platform)");
+  app.add_option("--seed", seed, "plant noise seed")->capture_default_str();
+  CLI11_PARSE(app, argc, argv);
+
+  PlatformId platform;
+  if (!platform_from_name(platform_name_arg.c_str(), &platform)) {
+    std::fprintf(stderr, "nlsoft-firmware-sim: error: unknown platform '%s'; known: msd, hasel, tendon\n",
+                 platform_name_arg.c_str());
+    return 2;
+  }
+  const Preset& pr = preset(platform);
+  if (rate <= 0) rate = pr.rate_hz;
+
+  std::vector<uint8_t> model;
+  if (model_path.empty()) model_path = find_default_model(platform);
+  if (!model_path.empty()) {
+    std::ifstream in(model_path, std::ios::binary);
+    if (!in) {
+      std::fprintf(stderr, "nlsoft-firmware-sim: error: cannot open model file '%s'\n", model_path.c_str());
+      return 2;
+    }
+    model.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+
+  fw::posix::Pty pty;
+  if (!fw::posix::open_pty(pty)) {
+    std::perror("nlsoft-firmware-sim: cannot open a pseudo-terminal");
+    return 2;
+  }
+  prctl(PR_SET_PDEATHSIG, SIGTERM);  // a console that started us takes us along when it dies
+  signal(SIGINT, on_signal);
+  signal(SIGTERM, on_signal);
+  signal(SIGPIPE, SIG_IGN);
+
+  static fw::posix::SimHal hal(pty.master, platform, seed);
+  hal.set_period(float(1.0 / rate));
+  const fw::Identity id{platform, "nlsoft-posix", 0, 1, 0, uint32_t(rate + 0.5), true};
+  const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_model_params,
+                         uint32_t(sizeof g_model_params / sizeof(float)), g_table_staging, sizeof g_table_staging,
+                         g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
+  static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
+  const Status s = firmware->begin(model.empty() ? nullptr : model.data(), model.size());
+  if (s != Status::Ok) {
+    std::fprintf(stderr, "nlsoft-firmware-sim: error: model '%s' refused: %s\n", model_path.c_str(), status_name(s));
+    return 2;
+  }
+  std::printf("%s\n", pty.path.c_str());
+  std::fflush(stdout);
+  if (model.empty())
+    std::fprintf(stderr, "nlsoft-firmware-sim: no model for %s: runs are refused until one is uploaded\n",
+                 platform_name_arg.c_str());
+
+  const uint64_t period = uint64_t(1e6 / rate);
+  uint64_t next = now_us();
+  while (!g_stop) {
+    firmware->poll();
+    if (fast) {
+      if (firmware->telemetry_has_room())
+        firmware->step();
+      else
+        wait_fd(pty.master, POLLOUT, 5);
+      continue;
+    }
+    const uint64_t now = now_us();
+    if (now >= next) {
+      firmware->step();
+      next += period;
+      if (now > next + period) {  // a whole period late: count it and re-anchor
+        firmware->count_overrun();
+        next = now + period;
+      }
+      continue;
+    }
+    const uint64_t wait = next - now;
+    if (wait > 1500) wait_fd(pty.master, POLLIN, int(wait / 1000) - 1);
+  }
+  return 0;
+}

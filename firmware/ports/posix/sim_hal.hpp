@@ -1,0 +1,53 @@
+#pragma once
+// The posix HAL: serial over a pty master, a 1 MHz tick from the monotonic
+// clock, and a simulated plant in the loop as the actuators and sensors.
+#include <errno.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "firmware/core/hal.hpp"
+#include "shared/sim_plant.hpp"
+
+namespace nlsoft::fw::posix {
+
+class SimHal final : public Hal {
+ public:
+  SimHal(int fd, PlatformId platform, uint32_t seed) : fd_(fd) {
+    plant_.select(platform, seed);
+    dt_ = plant_.dt();
+  }
+  void set_period(float dt) { dt_ = dt; }
+
+  size_t serial_read(uint8_t* buf, size_t cap) override {
+    const ssize_t r = ::read(fd_, buf, cap);
+    if (r > 0) bytes_in_ += size_t(r);
+    return r > 0 ? size_t(r) : 0;
+  }
+  size_t serial_write(const uint8_t* data, size_t len) override {
+    const ssize_t w = ::write(fd_, data, len);
+    if (w >= 0) return size_t(w);
+    // EAGAIN: the pty is full (the console is slow): keep the bytes queued.
+    // Anything else (no reader at all): drop them, as a UART would.
+    return errno == EAGAIN ? 0 : len;
+  }
+  uint32_t ticks() override {
+    timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return uint32_t(uint64_t(ts.tv_sec) * 1000000u + uint64_t(ts.tv_nsec) / 1000u);
+  }
+  uint32_t tick_rate_hz() const override { return 1000000u; }
+  void actuate(const float* u, int) override { plant_.step(u, dt_); }
+  void read_sensors(float* l, int) override { plant_.sensors(l); }
+  bool read_output(float* y, int) override {
+    plant_.output(y);
+    return true;
+  }
+
+ private:
+  int fd_;
+  SimPlant plant_;
+  float dt_;
+  size_t bytes_in_ = 0;
+};
+
+}  // namespace nlsoft::fw::posix
