@@ -280,12 +280,12 @@ TrainOptions default_options(PlatformId platform) {
     case PlatformId::Hasel:
       o.layers = {{LayerKind::Dense, 5, Activation::Relu}, {LayerKind::Dense, 5, Activation::Relu},
                   {LayerKind::Dense, 3, Activation::Tanh}};
-      o.y_noise = 0.02;
+      o.y_noise = 0.05;
       break;
     case PlatformId::Tendon:
       o.layers = {{LayerKind::Gru, 5, Activation::Tanh, Activation::Sigmoid, true},
                   {LayerKind::Dense, 5, Activation::Relu}, {LayerKind::Dense, 3, Activation::Tanh}};
-      o.y_noise = 0.02;
+      o.y_noise = 0.05;
       break;
     default:
       o.layers = {{LayerKind::Dense, 1, Activation::Linear}};

@@ -1,0 +1,389 @@
+#include "app/model/commands.hpp"
+
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/model/atomic_file.hpp"
+#include "app/model/codegen.hpp"
+#include "app/model/csv.hpp"
+#include "app/model/error.hpp"
+#include "app/model/excitation.hpp"
+#include "app/model/keras_import.hpp"
+#include "app/model/progress.hpp"
+#include "app/model/train.hpp"
+#include "shared/forward.hpp"
+#include "shared/platform.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+using namespace nlsoft::pipeline;
+
+// Numbers arrive as strings so every malformed value gets our message and
+// exit code 2 rather than a parser-specific code.
+long to_long(const std::string& opt, const std::string& s, long lo, long hi) {
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(s.c_str(), &end, 10);
+  if (s.empty() || *end != '\0' || errno == ERANGE || v < lo || v > hi)
+    throw PipelineError(opt + " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                        "], got '" + s + "'");
+  return v;
+}
+
+double to_double(const std::string& opt, const std::string& s, double lo, double hi) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi)
+    throw PipelineError(opt + " must be a number in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got '" +
+                        s + "'");
+  return v;
+}
+
+PlatformId to_platform(const std::string& s) {
+  PlatformId id;
+  if (!platform_from_name(s.c_str(), &id))
+    throw PipelineError("unknown platform '" + s + "' (choose msd, hasel or tendon)");
+  return id;
+}
+
+void need(const std::string& value, const std::string& opt) {
+  if (value.empty()) throw PipelineError(opt + " is required (see --help)");
+}
+
+std::vector<int> to_units(const std::string& s) {
+  std::vector<int> units;
+  if (s == "none" || s == "0") return units;
+  std::stringstream ss(s);
+  std::string part;
+  while (std::getline(ss, part, ',')) units.push_back(static_cast<int>(to_long("--hidden", part, 1, 48)));
+  if (units.empty()) throw PipelineError("--hidden needs a list like 5,5 (or 'none')");
+  return units;
+}
+
+// ---------------------------------------------------------------- dataset
+struct DatasetArgs {
+  std::string platform, out, steps, seed = "1";
+};
+
+void run_dataset(const DatasetArgs& a) {
+  need(a.platform, "--platform");
+  need(a.out, "--out");
+  const PlatformId id = to_platform(a.platform);
+  const long steps = a.steps.empty() ? default_steps(id) : to_long("--steps", a.steps, 100, 20000000);
+  const uint32_t seed = static_cast<uint32_t>(to_long("--seed", a.seed, 0, 0xffffffffL));
+  const Series s = generate_excitation(id, steps, seed);
+  write_series_csv(a.out, s);
+  std::printf("wrote %s: %ld samples of %s (m=%d n=%d w=%d, %.1f s at %.0f Hz), seed %u\n", a.out.c_str(), s.rows(),
+              platform_name(id), s.m, s.n, s.w, s.time(s.rows() - 1) + (s.time(1) - s.time(0)),
+              1.0 / (s.time(1) - s.time(0)), seed);
+}
+
+// ---------------------------------------------------------------- train
+struct TrainArgs {
+  std::string platform, data, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise;
+  bool residual = false, absolute = false;
+};
+
+void run_train(const TrainArgs& a) {
+  need(a.platform, "--platform");
+  need(a.data, "--data");
+  need(a.out, "--out");
+  const PlatformId id = to_platform(a.platform);
+  TrainOptions o = default_options(id);
+  if (!a.arch.empty() || !a.hidden.empty()) {
+    const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
+    if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
+    std::vector<int> units = to_units(a.hidden.empty() ? "5,5" : a.hidden);
+    if (arch == "gru" && units.empty()) throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
+    const int n = preset(id).n;
+    o.layers.clear();
+    for (size_t i = 0; i < units.size(); ++i) {
+      if (arch == "gru" && i == 0)
+        o.layers.push_back({LayerKind::Gru, units[i], Activation::Tanh, Activation::Sigmoid, true});
+      else
+        o.layers.push_back({LayerKind::Dense, units[i], Activation::Relu});
+    }
+    o.layers.push_back({LayerKind::Dense, n, units.empty() ? Activation::Linear : Activation::Tanh});
+  }
+  if (!a.epochs.empty()) o.epochs = static_cast<int>(to_long("--epochs", a.epochs, 1, 100000));
+  if (!a.batch.empty()) o.batch = static_cast<int>(to_long("--batch", a.batch, 1, 1 << 20));
+  if (!a.lr.empty()) o.lr = to_double("--lr", a.lr, 1e-9, 1.0);
+  if (!a.seed.empty()) o.seed = static_cast<uint64_t>(to_long("--seed", a.seed, 0, 0x7fffffffL));
+  if (!a.patience.empty()) o.patience = static_cast<int>(to_long("--patience", a.patience, 1, 100000));
+  if (!a.y_noise.empty()) o.y_noise = to_double("--y-noise", a.y_noise, 0.0, 10.0);
+  if (!a.loss.empty()) {
+    if (a.loss != "mse" && a.loss != "huber") throw PipelineError("--loss must be mse or huber, got '" + a.loss + "'");
+    o.loss = a.loss == "huber" ? Loss::Huber : Loss::Mse;
+  }
+  if (a.residual && a.absolute) throw PipelineError("--residual and --absolute exclude each other");
+  if (a.residual) o.residual = true;
+  if (a.absolute) o.residual = false;
+
+  const Series s = read_series_csv(a.data);
+  TrainProgress bar(stderr);
+  o.progress = [&bar](const Progress& p) { bar(p); };
+  const TrainResult r = train(s, id, o);
+  bar.finish();
+  ModelFile f = r.model;
+  save_model_file(a.out, f);
+  const char* unit = id == PlatformId::Msd ? "m^2" : "mm^2";
+  std::printf("trained %s model in %.1f s (%d epochs), %u parameters, rows train %ld / val %ld / test %ld\n",
+              platform_name(id), r.seconds, r.epochs_run, static_cast<unsigned>(f.params.size() - f.view().norm_count()),
+              r.split.train_end, r.split.val_end - r.split.val_begin, r.split.test_end - r.split.test_begin);
+  for (size_t j = 0; j < r.test.mse.size(); ++j)
+    std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit,
+                std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit);
+  std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
+}
+
+// ---------------------------------------------------------------- model import
+struct ImportArgs {
+  std::string file, out, platform, dims, norm;
+  bool residual = false;
+};
+
+std::vector<double> json_vector(const nlohmann::json& j, const char* key, size_t count, const std::string& name) {
+  if (!j.contains(key) || !j[key].is_array() || j[key].size() != count)
+    throw PipelineError(name + ": '" + key + "' must be an array of " + std::to_string(count) + " numbers");
+  std::vector<double> v;
+  for (const auto& e : j[key]) {
+    if (!e.is_number() || !std::isfinite(e.get<double>()))
+      throw PipelineError(name + ": '" + key + "' holds a value that is not a finite number");
+    v.push_back(e.get<double>());
+  }
+  return v;
+}
+
+void run_import(const ImportArgs& a) {
+  need(a.file, "FILE.h5");
+  need(a.out, "--out");
+  if (!a.platform.empty() && !a.dims.empty()) throw PipelineError("give --platform or --dims, not both");
+  const KerasNetwork k = read_keras_h5(a.file);
+  ModelFile f;
+  Model<HostCapacity>& M = f.shape;
+  if (!a.dims.empty()) {
+    std::vector<long> d;
+    std::stringstream ss(a.dims);
+    std::string part;
+    while (std::getline(ss, part, ',')) d.push_back(to_long("--dims", part, 0, 255));
+    if (d.size() != 5) throw PipelineError("--dims takes m,n,w,nd,dd (five integers)");
+    M.m = uint8_t(d[0]);
+    M.n = uint8_t(d[1]);
+    M.w = uint8_t(d[2]);
+    M.nd = uint8_t(d[3]);
+    M.dd = uint8_t(d[4]);
+  } else {
+    const Preset* p = nullptr;
+    if (!a.platform.empty()) {
+      p = &preset(to_platform(a.platform));
+    } else {
+      for (const Preset& c : kPresets)
+        if (c.nd * c.m + c.dd * c.n + c.w == k.inputs) p = &c;
+      if (p == nullptr)
+        throw PipelineError("the network has " + std::to_string(k.inputs) +
+                            " inputs, which matches no platform; give --dims m,n,w,nd,dd");
+    }
+    M.m = p->m;
+    M.n = p->n;
+    M.w = p->w;
+    M.nd = p->nd;
+    M.dd = p->dd;
+    f.platform = static_cast<uint8_t>(p->id);
+  }
+  if (M.p() != k.inputs)
+    throw PipelineError("the network takes " + std::to_string(k.inputs) + " inputs but the dimensions give p = " +
+                        std::to_string(M.p()));
+  if (k.layers.size() > size_t(HostCapacity::layers)) throw PipelineError("too many layers for the controller");
+  M.residual = a.residual;
+  M.layer_count = uint8_t(k.layers.size());
+  for (size_t i = 0; i < k.layers.size(); ++i) M.layer[i] = k.layers[i];
+  const size_t p = size_t(M.p()), n = size_t(M.n);
+  std::vector<double> in_off(p, 0.0), in_sc(p, 1.0), out_off(n, 0.0), out_sc(n, 1.0);
+  if (!a.norm.empty()) {
+    std::ifstream in(a.norm);
+    if (!in) throw PipelineError("cannot open '" + a.norm + "'");
+    nlohmann::json j;
+    try {
+      in >> j;
+    } catch (const std::exception& e) {
+      throw PipelineError(a.norm + ": not valid JSON: " + e.what());
+    }
+    in_off = json_vector(j, "in_offset", p, a.norm);
+    in_sc = json_vector(j, "in_scale", p, a.norm);
+    out_off = json_vector(j, "out_offset", n, a.norm);
+    out_sc = json_vector(j, "out_scale", n, a.norm);
+  }
+  for (double v : in_off) f.params.push_back(static_cast<float>(v));
+  for (double v : in_sc) f.params.push_back(static_cast<float>(v));
+  for (double v : out_off) f.params.push_back(static_cast<float>(v));
+  for (double v : out_sc) f.params.push_back(static_cast<float>(v));
+  f.params.insert(f.params.end(), k.weights.begin(), k.weights.end());
+  if (M.n != k.layers.back().out)
+    throw PipelineError("the last layer has " + std::to_string(k.layers.back().out) + " outputs but n = " +
+                        std::to_string(M.n));
+  save_model_file(a.out, f);
+  std::printf("imported %s: %zu layers, %zu weights -> %s, hash 0x%08x\n", a.file.c_str(), k.layers.size(),
+              k.weights.size(), a.out.c_str(), f.shape.hash);
+}
+
+// ---------------------------------------------------------------- model eval
+void run_eval(const std::string& model, const std::string& input, const std::string& output) {
+  need(model, "MODEL");
+  need(input, "--input");
+  need(output, "--output");
+  const ModelFile f = load_model_file(model);
+  const Model<HostCapacity> M = f.view();
+  const Table in = read_csv(input, false);
+  if (in.cols != M.p())
+    throw PipelineError(input + ": rows have " + std::to_string(in.cols) + " values, the model takes p = " +
+                        std::to_string(M.p()));
+  Table out;
+  out.cols = M.n;
+  out.rows = in.rows;
+  ForwardScratch<HostCapacity, float> scratch;
+  float x[Derived<HostCapacity>::p], y[HostCapacity::n];
+  for (long r = 0; r < in.rows; ++r) {
+    for (int i = 0; i < M.p(); ++i) x[i] = static_cast<float>(in.at(r, i));
+    forward(M, x, y, scratch);
+    for (int j = 0; j < M.n; ++j) out.data.push_back(static_cast<double>(y[j]));
+  }
+  write_file_atomic(output, [&](std::ostream& os) { write_csv(os, out); });
+  std::printf("evaluated %ld rows -> %s\n", in.rows, output.c_str());
+}
+
+// ---------------------------------------------------------------- model info
+void run_info(const std::string& path) {
+  need(path, "MODEL");
+  const ModelFile f = load_model_file(path);
+  const Model<HostCapacity> M = f.view();
+  const char* platform = f.platform < kPlatformCount ? platform_name(PlatformId(f.platform)) : "none";
+  std::printf("%s\n  platform %s, m=%d n=%d w=%d nd=%d dd=%d, p=%d inputs, %s output\n", path.c_str(), platform, M.m,
+              M.n, M.w, M.nd, M.dd, M.p(), M.residual ? "residual (y(k) + g(x))" : "absolute");
+  uint32_t weights = 0;
+  for (int i = 0; i < M.layer_count; ++i) {
+    const Layer& L = M.layer[i];
+    weights += layer_weight_count(L);
+    if (L.kind == LayerKind::Dense)
+      std::printf("  %d  Dense  %3d -> %-3d %-12s %5u weights\n", i, L.in, L.out, activation_name(L.act),
+                  layer_weight_count(L));
+    else
+      std::printf("  %d  GRU    %3d -> %-3d %-12s %5u weights (recurrent %s, reset_after %s)\n", i, L.in, L.out,
+                  activation_name(L.act), layer_weight_count(L), activation_name(L.rec_act),
+                  L.reset_after ? "true" : "false");
+  }
+  std::printf("  parameters: %u weights + %u normalisation = %u floats\n  hash 0x%08x\n", weights, M.norm_count(),
+              M.param_count, M.hash);
+}
+
+// ---------------------------------------------------------------- model codegen
+void run_codegen(const std::string& model, const std::string& out, const std::string& name) {
+  need(model, "MODEL");
+  need(out, "--out");
+  const ModelFile f = load_model_file(model);
+  const std::string text = generate_header(f, name, model);
+  write_file_atomic(out, [&](std::ostream& os) { os << text; });
+  std::printf("wrote %s (namespace %s, %zu floats)\n", out.c_str(), name.c_str(), f.params.size());
+}
+
+}  // namespace
+
+void add_model_commands(CLI::App& app) {
+  auto dataset_args = std::make_shared<DatasetArgs>();
+  CLI::App* ds = app.add_subcommand(
+      "dataset",
+      "Record identification data from a simulated plant into CSV (columns time,u0..,y0..,l0..).\n"
+      "Random steps, smoothed random walks and chirps inside the input limits (plus the paper's\n"
+      "u(t) = 1000 sin t cos t for msd), so the model sees the whole task space and how each input moves it.\n"
+      "Example: nlsoft-console dataset --platform hasel --out hasel.csv --seed 1");
+  ds->add_option("--platform", dataset_args->platform, "msd | hasel | tendon (required)");
+  ds->add_option("--out", dataset_args->out, "CSV file to write (required; replaced atomically)");
+  ds->add_option("--steps", dataset_args->steps, "number of samples (default 120000)");
+  ds->add_option("--seed", dataset_args->seed, "seed of the excitation and the sensor noise (default 1)");
+  ds->callback([dataset_args] { run_dataset(*dataset_args); });
+
+  auto train_args = std::make_shared<TrainArgs>();
+  CLI::App* tr = app.add_subcommand(
+      "train",
+      "Train the forward model y(k+1) = g(u(k),u(k-1),y(k),y(k-1),l(k)) on a dataset and write a model file.\n"
+      "Ten-fold time-series split: the last fold tests, the one before validates (early stopping).\n"
+      "Defaults per platform are the shipped models (app/models/README.md): msd linear residual,\n"
+      "hasel Dense 5 relu, 5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh.\n"
+      "Example: nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm");
+  tr->add_option("--platform", train_args->platform, "msd | hasel | tendon: dimensions, limits (required)");
+  tr->add_option("--data", train_args->data, "CSV from 'dataset' or a recorded run (required)");
+  tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)");
+  tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)");
+  tr->add_option("--hidden", train_args->hidden, "hidden sizes, e.g. 5,5; 'none' = one linear layer");
+  tr->add_option("--epochs", train_args->epochs, "maximum epochs (default 200)");
+  tr->add_option("--batch", train_args->batch, "mini-batch size (default 64)");
+  tr->add_option("--lr", train_args->lr, "Adam learning rate (default 3e-3, halved on plateaus)");
+  tr->add_option("--loss", train_args->loss, "mse | huber (default mse)");
+  tr->add_option("--seed", train_args->seed, "weight init and shuffling seed (default 1)");
+  tr->add_option("--patience", train_args->patience, "stop after this many epochs without a better validation loss");
+  tr->add_option("--y-noise", train_args->y_noise,
+                 "sigma of noise added to the y-history inputs while training (normalised units); makes the\n"
+                 "model robust to being fed its own predictions");
+  tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd)");
+  tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");
+  tr->callback([train_args] { run_train(*train_args); });
+
+  CLI::App* model = app.add_subcommand("model", "Inspect, evaluate, import and compile model files (.nlsm).");
+  model->require_subcommand(1);
+
+  auto import_args = std::make_shared<ImportArgs>();
+  CLI::App* im = model->add_subcommand(
+      "import",
+      "Convert a Keras HDF5 Sequential model (InputLayer, Flatten, Dense, GRU, Dropout) to a model file.\n"
+      "The dimensions come from --platform, --dims, or the preset whose p matches the input size.\n"
+      "Normalisation is the identity unless --norm gives a JSON file with in_offset[p], in_scale[p],\n"
+      "out_offset[n], out_scale[n].\n"
+      "Example: nlsoft-console model import hasel.h5 --out hasel.nlsm --platform hasel");
+  im->add_option("file", import_args->file, "Keras .h5 file (required)");
+  im->add_option("--out", import_args->out, "model file to write (required)");
+  im->add_option("--platform", import_args->platform, "msd | hasel | tendon");
+  im->add_option("--dims", import_args->dims, "m,n,w,nd,dd");
+  im->add_option("--norm", import_args->norm, "normalisation JSON");
+  im->add_flag("--residual", import_args->residual, "the network predicts y(k+1) - y(k)");
+  im->callback([import_args] { run_import(*import_args); });
+
+  auto eval_args = std::make_shared<std::array<std::string, 3>>();
+  CLI::App* ev = model->add_subcommand(
+      "eval",
+      "Run a model on input vectors: one row of p values per line (no header), one row of n outputs\n"
+      "written per input; each row independent (a GRU starts from a zero state).\n"
+      "Example: nlsoft-console model eval hasel.nlsm --input x.csv --output y.csv");
+  ev->add_option("model", (*eval_args)[0], "model file (required)");
+  ev->add_option("--input", (*eval_args)[1], "CSV of input vectors (required)");
+  ev->add_option("--output", (*eval_args)[2], "CSV to write (required)");
+  ev->callback([eval_args] { run_eval((*eval_args)[0], (*eval_args)[1], (*eval_args)[2]); });
+
+  auto info_path = std::make_shared<std::string>();
+  CLI::App* in = model->add_subcommand("info", "Print a model's layers, shapes, parameter count and hash.");
+  in->add_option("model", *info_path, "model file (required)");
+  in->callback([info_path] { run_info(*info_path); });
+
+  auto cg_args = std::make_shared<std::array<std::string, 3>>();
+  (*cg_args)[2] = "nlsoft_model";
+  CLI::App* cg = model->add_subcommand(
+      "codegen",
+      "Emit a C++ header with the model as const arrays (flash on an MCU) and a build function that\n"
+      "fills an nlsoft::Model view over them; no heap. Example:\n"
+      "  nlsoft-console model codegen hasel.nlsm --out hasel_model.hpp --name hasel_model\n"
+      "  then: nlsoft::Model<Cap> m; hasel_model::build(m);");
+  cg->add_option("model", (*cg_args)[0], "model file (required)");
+  cg->add_option("--out", (*cg_args)[1], "header to write (required)");
+  cg->add_option("--name", (*cg_args)[2], "namespace of the generated code (default nlsoft_model)");
+  cg->callback([cg_args] { run_codegen((*cg_args)[0], (*cg_args)[1], (*cg_args)[2]); });
+}
+
+}  // namespace nlsoft::console

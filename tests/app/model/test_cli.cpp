@@ -1,0 +1,107 @@
+// The subcommands as a user runs them: the happy path end to end, and every
+// bad input ends with a message, exit code 2 and no file written.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <fstream>
+
+#include "app/model/model_store.hpp"
+#include "cli_runner.hpp"
+
+using nlsoft::test::file_exists;
+using nlsoft::test::run_cli;
+
+namespace {
+
+std::string tmp(const std::string& name) { return ::testing::TempDir() + "/cli_" + name; }
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace
+
+TEST(Cli, DatasetTrainInfoEvalCodegen) {
+  const std::string csv = tmp("t.csv"), model = tmp("t.nlsm");
+  auto r = run_cli("dataset --platform tendon --out " + csv + " --steps 3000 --seed 4");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(slurp(csv).substr(0, 16), "time,u0,u1,y0,y1");
+  r = run_cli("train --platform tendon --data " + csv + " --out " + model + " --epochs 2 --seed 3");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("test y2: MSE"), std::string::npos) << r.output;
+
+  r = run_cli("model info " + model);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("GRU     21 -> 5"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("hash 0x"), std::string::npos);
+
+  const std::string in = tmp("x.csv"), out = tmp("y.csv");
+  std::ofstream(in) << std::string("0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n") +
+                          "0.5,0.5,0.4,0.4,1,2,3,1,2,3,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,1,0.5\n";
+  r = run_cli("model eval " + model + " --input " + in + " --output " + out);
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string y = slurp(out);
+  EXPECT_EQ(std::count(y.begin(), y.end(), '\n'), 2);
+  EXPECT_EQ(std::count(y.begin(), y.end(), ','), 4);
+
+  r = run_cli("model codegen " + model + " --out " + tmp("g.hpp") + " --name tendon_test");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(slurp(tmp("g.hpp")).find("namespace tendon_test"), std::string::npos);
+}
+
+TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
+  const std::string csv = tmp("ok.csv"), model = tmp("ok.nlsm");
+  ASSERT_EQ(run_cli("dataset --platform msd --out " + csv + " --steps 500").code, 0);
+  ASSERT_EQ(run_cli("train --platform msd --data " + csv + " --out " + model).code, 0);
+  const std::string good_model = slurp(model);
+
+  const std::string bad_csv = tmp("bad.csv");
+  std::ofstream(bad_csv) << "time,u0,y0\n0,1,2\n0.001,oops,3\n";
+  const std::string corrupt = tmp("corrupt.nlsm");
+  std::ofstream(corrupt) << good_model.substr(0, good_model.size() - 3) << "xyz";
+  const std::string short_rows = tmp("short.csv");
+  std::ofstream(short_rows) << "1,2,3\n";
+
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"dataset --platform mars --out " + tmp("n1.csv"), "unknown platform 'mars'"},
+      {"dataset --platform msd", "--out is required"},
+      {"dataset --platform msd --out " + tmp("n1.csv") + " --steps 12x", "--steps must be an integer"},
+      {"dataset --platform msd --out " + tmp("n1.csv") + " --steps 5", "--steps"},
+      {"train --platform msd --data " + tmp("missing.csv") + " --out " + tmp("n2.nlsm"), "cannot open"},
+      {"train --platform msd --data " + bad_csv + " --out " + tmp("n2.nlsm"), "not a number: 'oops'"},
+      {"train --platform hasel --data " + csv + " --out " + tmp("n2.nlsm"), "platform 'hasel' has m=6"},
+      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --epochs -3", "--epochs"},
+      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --lr abc", "--lr"},
+      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --loss l1", "--loss"},
+      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --arch lstm", "--arch"},
+      {"model info " + corrupt, "not a valid model file"},
+      {"model info " + tmp("missing.nlsm"), "cannot open"},
+      {"model eval " + model + " --input " + short_rows + " --output " + tmp("n3.csv"), "the model takes p = 4"},
+      {"model eval " + model + " --input " + bad_csv + " --output " + tmp("n3.csv"), "not a number"},
+      {"model codegen " + model + " --out " + tmp("n4.hpp") + " --name 9lives", "--name"},
+      {"model import " + csv + " --out " + tmp("n5.nlsm"), "not an HDF5 file"},
+  };
+  for (const Case& c : cases) {
+    const auto r = run_cli(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+  }
+  for (const char* f : {"n1.csv", "n2.nlsm", "n3.csv", "n4.hpp", "n5.nlsm"}) EXPECT_FALSE(file_exists(tmp(f))) << f;
+
+  // a failed run over an existing file leaves it as it was
+  EXPECT_EQ(run_cli("train --platform msd --data " + bad_csv + " --out " + model).code, 2);
+  EXPECT_EQ(slurp(model), good_model);
+}
+
+TEST(Cli, HelpTeaches) {
+  const auto r = run_cli("train --help");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_NE(r.output.find("Example: nlsoft-console train"), std::string::npos) << r.output;
+  EXPECT_NE(run_cli("model codegen --help").output.find("hasel_model::build"), std::string::npos);
+}

@@ -1,0 +1,171 @@
+// Backpropagation, training, repeatability, and the guarantee that the
+// exported model file computes what the trainer trained.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/model/error.hpp"
+#include "app/model/excitation.hpp"
+#include "app/model/network.hpp"
+#include "app/model/train.hpp"
+#include "shared/forward.hpp"
+
+using namespace nlsoft;
+using namespace nlsoft::pipeline;
+
+namespace {
+
+// Central-difference check of the analytic gradient of L = sum(out * R).
+void check_gradient(const std::vector<LayerSpec>& layers, int inputs, uint64_t seed) {
+  Network net(inputs, layers);
+  Random rng(seed);
+  net.initialise(rng);
+  for (double& t : net.theta()) t += 0.3 * rng.gaussian();  // biases non-zero too
+  Eigen::MatrixXd X(7, inputs), R(7, net.outputs());
+  for (Eigen::Index i = 0; i < X.size(); ++i) X.data()[i] = rng.uniform(-1.0, 1.0);
+  for (Eigen::Index i = 0; i < R.size(); ++i) R.data()[i] = rng.uniform(-1.0, 1.0);
+  Network::Cache c;
+  net.forward(X, c);
+  std::vector<double> grad;
+  net.backward(c, R, grad);
+  const double h = 1e-6;
+  for (size_t k = 0; k < net.param_count(); ++k) {
+    const double keep = net.theta()[k];
+    net.theta()[k] = keep + h;
+    const double up = (net.predict(X).array() * R.array()).sum();
+    net.theta()[k] = keep - h;
+    const double down = (net.predict(X).array() * R.array()).sum();
+    net.theta()[k] = keep;
+    EXPECT_NEAR(grad[k], (up - down) / (2 * h), 1e-6 * std::max(1.0, std::abs(grad[k]))) << "parameter " << k;
+  }
+}
+
+// A plant-shaped series whose next output is a known smooth function of
+// the input vector: y(k+1) = 0.4 tanh(u(k)/800) + 0.5 y(k) - 0.2 y(k-1).
+Series known_function(long q, uint64_t seed) {
+  Random rng(seed);
+  Series s;
+  s.resize(q, 1, 1, 0);
+  double u = 0.0;
+  for (long k = 0; k < q; ++k) {
+    s.time(k) = 1e-3 * double(k);
+    if (rng.uniform() < 0.1) u = rng.uniform(-2000.0, 2000.0);
+    s.u(k, 0) = u;
+    s.y(k, 0) = k < 2 ? 0.0 : 0.4 * std::tanh(s.u(k - 1, 0) / 800.0) + 0.5 * s.y(k - 1, 0) - 0.2 * s.y(k - 2, 0);
+  }
+  return s;
+}
+
+// Largest |trainer - firmware forward| over the test rows, relative to max(1, |y|).
+double export_mismatch(const TrainResult& r, const Series& s, int nd) {
+  const Dataset d = build_dataset(s, nd, nd);
+  const Eigen::MatrixXd ref = r.trained.predict(d.X);
+  const Model<HostCapacity> M = r.model.view();
+  ForwardScratch<HostCapacity, float> scratch;
+  float x[Derived<HostCapacity>::p], y[HostCapacity::n];
+  double worst = 0.0;
+  for (long row = 0; row < d.rows(); row += 7) {
+    for (int i = 0; i < M.p(); ++i) x[i] = float(d.X(row, i));
+    forward(M, x, y, scratch);
+    for (int j = 0; j < M.n; ++j)
+      worst = std::max(worst, std::abs(double(y[j]) - ref(row, j)) / std::max(1.0, std::abs(ref(row, j))));
+  }
+  return worst;
+}
+
+}  // namespace
+
+TEST(Network, DenseGradientMatchesFiniteDifferences) {
+  check_gradient({{LayerKind::Dense, 4, Activation::Tanh}, {LayerKind::Dense, 3, Activation::Sigmoid},
+                  {LayerKind::Dense, 2, Activation::Linear}},
+                 5, 1);
+}
+
+TEST(Network, GruGradientMatchesFiniteDifferences) {
+  check_gradient({{LayerKind::Gru, 3, Activation::Tanh, Activation::Sigmoid, true},
+                  {LayerKind::Dense, 2, Activation::Tanh}},
+                 4, 2);
+  check_gradient({{LayerKind::Gru, 3, Activation::Tanh, Activation::Sigmoid, false},
+                  {LayerKind::Dense, 2, Activation::Linear}},
+                 4, 3);
+}
+
+TEST(Train, LearnsAKnownFunctionRepeatably) {
+  const Series s = known_function(6000, 4);
+  TrainOptions o;
+  o.layers = {{LayerKind::Dense, 8, Activation::Tanh}, {LayerKind::Dense, 1, Activation::Linear}};
+  o.epochs = 150;
+  o.seed = 11;
+  const TrainResult a = train(s, PlatformId::Msd, o);
+  const double var = (s.y.array() - s.y.mean()).square().mean();
+  EXPECT_LT(a.test.mse[0], 1e-3 * var) << "variance " << var;
+  const TrainResult b = train(s, PlatformId::Msd, o);
+  EXPECT_EQ(a.model.params, b.model.params);  // bit for bit
+  o.seed = 12;
+  const TrainResult c = train(s, PlatformId::Msd, o);
+  EXPECT_NE(a.model.params, c.model.params);
+  o.loss = Loss::Huber;
+  o.seed = 11;
+  const TrainResult h = train(s, PlatformId::Msd, o);
+  EXPECT_LT(h.test.mse[0], 1e-2 * var);
+}
+
+TEST(Train, ExportedDenseModelEqualsTrainerForward) {
+  const Series s = generate_excitation(PlatformId::Hasel, 4000, 1);
+  TrainOptions o = default_options(PlatformId::Hasel);
+  o.epochs = 3;
+  const TrainResult r = train(s, PlatformId::Hasel, o);
+  EXPECT_LT(export_mismatch(r, s, 2), 1e-5);
+  o.residual = true;
+  o.layers[1].act = Activation::Sigmoid;
+  const TrainResult rr = train(s, PlatformId::Hasel, o);
+  EXPECT_TRUE(rr.model.shape.residual);
+  EXPECT_LT(export_mismatch(rr, s, 2), 1e-5);
+}
+
+TEST(Train, ExportedGruModelEqualsTrainerForward) {
+  const Series s = generate_excitation(PlatformId::Tendon, 4000, 1);
+  TrainOptions o = default_options(PlatformId::Tendon);
+  o.epochs = 3;
+  for (bool reset_after : {true, false}) {
+    o.layers[0].reset_after = reset_after;
+    o.layers[0].rec_act = reset_after ? Activation::Sigmoid : Activation::HardSigmoid;
+    const TrainResult r = train(s, PlatformId::Tendon, o);
+    EXPECT_EQ(r.model.shape.layer[0].kind, LayerKind::Gru);
+    EXPECT_LT(export_mismatch(r, s, 2), 1e-5) << "reset_after " << reset_after;
+  }
+}
+
+TEST(Train, LinearModelIsExactOnTheMassSpringDamper) {
+  // The msd is linear: its ZOH discretisation is exactly an ARX(2,2) model,
+  // so the least-squares fit must be near float precision.
+  const Series s = generate_excitation(PlatformId::Msd, 20000, 3);
+  const TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
+  EXPECT_EQ(r.epochs_run, 0);
+  EXPECT_LT(r.test.mse[0], 1e-10);
+  EXPECT_LT(export_mismatch(r, s, 2), 1e-5);
+}
+
+TEST(Train, RefusesMismatchedData) {
+  const Series s = generate_excitation(PlatformId::Tendon, 500, 1);
+  EXPECT_THROW(train(s, PlatformId::Hasel, default_options(PlatformId::Hasel)), PipelineError);
+  TrainOptions o = default_options(PlatformId::Tendon);
+  o.layers.back().units = 2;
+  EXPECT_THROW(train(s, PlatformId::Tendon, o), PipelineError);
+}
+
+TEST(ModelStore, SaveLoadRoundTripAndAtomicity) {
+  const Series s = generate_excitation(PlatformId::Msd, 2000, 1);
+  TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
+  const std::string path = ::testing::TempDir() + "/store_test.nlsm";
+  save_model_file(path, r.model);
+  const ModelFile back = load_model_file(path);
+  EXPECT_EQ(back.params, r.model.params);
+  EXPECT_EQ(back.platform, uint8_t(PlatformId::Msd));
+  EXPECT_EQ(back.shape.hash, r.model.shape.hash);
+  // a model that cannot be written leaves the old file alone
+  ModelFile bad = r.model;
+  bad.params[0] = NAN;
+  EXPECT_THROW(save_model_file(path, bad), PipelineError);
+  EXPECT_EQ(load_model_file(path).params, r.model.params);
+}
