@@ -1,0 +1,282 @@
+// The posix firmware over a real pty, driven as the console drives it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include "firmware/core/firmware.hpp"
+#include "peer.hpp"
+#include "shared/crc32.hpp"
+#include "shared/params.hpp"
+#include "sim_process.hpp"
+#include "support/msd_arx_model.hpp"
+
+using namespace nlsoft;
+using namespace nlsoft::test;
+namespace tf = proto::telemetry_field;
+
+namespace {
+
+std::string model_path() {
+  static std::string path;
+  if (path.empty()) {
+    path = ::testing::TempDir() + "msd_arx.nlsm";
+    const auto file = msd_arx_model_file();
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), long(file.size()));
+  }
+  return path;
+}
+
+template <class M>
+M as(const Received& r) {
+  M m;
+  EXPECT_EQ(proto::unpack(r.view(), m), proto::StatusCode::Ok);
+  return m;
+}
+
+proto::ParamSet param_set(ParamId id, std::initializer_list<float> v) {
+  proto::ParamSet p;
+  p.id = uint16_t(id);
+  for (float x : v) p.set_f32(p.count++, x);
+  return p;
+}
+
+class PosixFirmware : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    sim_ = std::make_unique<SimProcess>(
+        std::vector<std::string>{NLSOFT_FIRMWARE_SIM, "--platform", "msd", "--fast", "--model", model_path()});
+    ASSERT_FALSE(sim_->path().empty()) << "the simulator printed no pty path";
+    peer_ = std::make_unique<Peer>(sim_->path());
+    ASSERT_TRUE(peer_->ok());
+  }
+  Received must(std::optional<Received> r, const char* what) {
+    EXPECT_TRUE(r.has_value()) << "no reply to " << what;
+    return r.value_or(Received{});
+  }
+  std::unique_ptr<SimProcess> sim_;
+  std::unique_ptr<Peer> peer_;
+};
+
+}  // namespace
+
+TEST_F(PosixFirmware, HandshakeReportsPlatformModelAndTable) {
+  const Received r = must(peer_->request(proto::InfoGet{}), "INFO_GET");
+  ASSERT_EQ(r.header.type, uint8_t(proto::MsgType::Info));
+  const auto info = as<proto::Info>(r);
+  EXPECT_EQ(info.platform, uint8_t(PlatformId::Msd));
+  EXPECT_EQ(info.m, 1);
+  EXPECT_EQ(info.n, 1);
+  EXPECT_EQ(info.w, 0);
+  EXPECT_EQ(info.loop_rate_hz, 1000u);
+  const auto file = msd_arx_model_file();
+  EXPECT_EQ(info.model_hash, crc32(file.data(), file.size() - 4));
+  EXPECT_EQ(info.param_hash, param_table_hash());
+  EXPECT_TRUE(info.capabilities & proto::capability::kYTrue);
+}
+
+TEST_F(PosixFirmware, ParameterRoundTripAndRefusals) {
+  // the list describes every parameter, table first
+  const uint16_t count = fw::ParamService<HostCapacity>::count();
+  for (uint16_t i = 0; i < count; ++i) {
+    proto::ParamList l;
+    l.index = i;
+    const auto d = as<proto::ParamDesc>(must(peer_->request(l), "PARAM_LIST"));
+    EXPECT_EQ(d.count, count);
+    if (i < uint16_t(ParamId::Count)) EXPECT_STREQ(d.name, kParamTable[i].name);
+  }
+  proto::ParamList past;
+  past.index = count;
+  EXPECT_EQ(must(peer_->request(past), "PARAM_LIST past the end").header.type, uint8_t(proto::MsgType::Nack));
+
+  auto v = as<proto::ParamValue>(must(peer_->request(param_set(ParamId::Lambda, {0.05f})), "PARAM_SET"));
+  EXPECT_FLOAT_EQ(v.f32(0), 0.05f);
+
+  const Received nan = must(peer_->request(param_set(ParamId::Q, {std::nanf("")})), "PARAM_SET NaN");
+  ASSERT_EQ(nan.header.type, uint8_t(proto::MsgType::Nack));
+  const auto n = as<proto::Nack>(nan);
+  EXPECT_EQ(n.status, uint8_t(proto::StatusCode::NotFinite));
+  EXPECT_EQ(n.field, 1);
+  EXPECT_EQ(n.element, 0);
+  const auto wrong = as<proto::Nack>(must(peer_->request(param_set(ParamId::Q, {1.0f, 2.0f})), "PARAM_SET 2 values"));
+  EXPECT_EQ(wrong.status, uint8_t(proto::StatusCode::WrongSize));
+
+  proto::ParamGet g;
+  g.id = uint16_t(ParamId::Q);
+  v = as<proto::ParamValue>(must(peer_->request(g), "PARAM_GET"));
+  EXPECT_FLOAT_EQ(v.f32(0), 1.0f);  // the preset's Q, untouched by the refusals
+}
+
+TEST_F(PosixFirmware, RunTracksAStepAndLosesNoTelemetry) {
+  proto::RefSelect ref;
+  ref.ref_id = uint8_t(proto::RefId::Step);
+  ref.level_count = 1;
+  ref.hold = 60000;
+  ref.levels[0] = 0.5f;
+  ASSERT_EQ(must(peer_->request(ref), "REF_SELECT").header.type, uint8_t(proto::MsgType::Ack));
+  proto::TelemetryConfig tc;
+  tc.mask = tf::kAll;
+  tc.decimation = 1;
+  ASSERT_EQ(must(peer_->request(tc), "TELEMETRY_CONFIG").header.type, uint8_t(proto::MsgType::Ack));
+  proto::RunStart start;
+  start.run_id = 7;
+  ASSERT_EQ(must(peer_->request(start), "RUN_START").header.type, uint8_t(proto::MsgType::Ack));
+
+  // 2 simulated seconds of telemetry (fast mode: as fast as we read)
+  std::vector<proto::Telemetry> t;
+  while (t.size() < 2000) {
+    auto r = peer_->wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::Telemetry); },
+                             2000);
+    ASSERT_TRUE(r.has_value()) << "telemetry stopped after " << t.size() << " frames";
+    for (auto& u : peer_->unsolicited)
+      if (u.header.type == uint8_t(proto::MsgType::Telemetry)) t.push_back(as<proto::Telemetry>(u));
+    peer_->unsolicited.clear();
+    t.push_back(as<proto::Telemetry>(*r));
+  }
+  ASSERT_EQ(must(peer_->request(proto::RunStop{}), "RUN_STOP").header.type, uint8_t(proto::MsgType::Ack));
+
+  long lost = 0;
+  for (size_t i = 1; i < t.size(); ++i) lost += uint16_t(t[i].tseq - t[i - 1].tseq - 1);
+  EXPECT_EQ(lost, 0);
+  EXPECT_EQ(t.front().step, 0u);
+  for (size_t i = 1; i < t.size(); ++i) ASSERT_EQ(t[i].step, t[i - 1].step + 1);
+  const proto::Telemetry& last = t.back();
+  EXPECT_FLOAT_EQ(last.y_ref[0], 0.5f);
+  EXPECT_NEAR(last.y_true[0], 0.5f, 0.025f) << "y_true does not follow the reference";
+  EXPECT_TRUE(std::isfinite(last.u[0]));
+  EXPECT_GE(last.iterations, 1);
+}
+
+TEST_F(PosixFirmware, GarbageAndFloodsNeverStallTheLoop) {
+  proto::RunStart start;
+  start.run_id = 1;
+  ASSERT_TRUE(peer_->request(start).has_value());
+  std::mt19937 rng(3);
+  std::vector<uint8_t> junk(20000);
+  for (auto& b : junk) b = uint8_t(rng());
+  peer_->send_raw(junk.data(), junk.size());
+  const uint8_t zero = 0;
+  peer_->send_raw(&zero, 1);
+  // a flood of valid requests faster than any loop period
+  for (int i = 0; i < 200; ++i) peer_->send(proto::StatusGet{});
+  proto::Ping ping;
+  ping.nonce = 0xC0FFEE;
+  const auto pong = peer_->request(ping, 3000);
+  ASSERT_TRUE(pong.has_value()) << "the firmware stopped answering after garbage";
+  EXPECT_EQ(as<proto::Pong>(*pong).nonce, 0xC0FFEEu);
+  const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
+  EXPECT_GT(st.crc_errors + st.frame_errors, 0u);
+  EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Running));
+  EXPECT_GT(st.step, 0u);
+  EXPECT_GT(st.compute_max, 0u);
+  EXPECT_EQ(st.tick_rate_hz, 1000000u);
+}
+
+TEST_F(PosixFirmware, InterruptedTableUploadKeepsThePreviousTable) {
+  // one point per 4 bytes; 200 points of n = 1
+  std::vector<uint8_t> obj(8 + 4 * 200);
+  obj[0] = 1, obj[1] = 1;
+  const uint32_t count = 200;
+  std::memcpy(&obj[4], &count, 4);
+  for (uint32_t i = 0; i < count; ++i) {
+    const float v = 0.001f * float(i);
+    std::memcpy(&obj[8 + 4 * i], &v, 4);
+  }
+  auto upload = [&](const std::vector<uint8_t>& o, uint32_t crc, bool skip_one) {
+    proto::XferBegin b;
+    b.kind = uint8_t(proto::XferKind::RefTable);
+    b.total_size = uint32_t(o.size());
+    b.crc32 = crc;
+    b.options = proto::xfer_options::kRestart;
+    EXPECT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+    uint32_t off = 0;
+    bool skipped = false;
+    while (off < o.size()) {
+      proto::XferChunk c;
+      c.kind = b.kind;
+      c.offset = off;
+      c.size = uint8_t(std::min<size_t>(200, o.size() - off));
+      std::memcpy(c.data, &o[off], c.size);
+      if (skip_one && !skipped && off > 0) {  // a lost chunk: send the one after it
+        skipped = true;
+        c.offset = off + 200;
+        c.size = uint8_t(std::min<size_t>(200, o.size() - c.offset));
+        std::memcpy(c.data, &o[c.offset], c.size);
+      }
+      const auto ack = as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK"));
+      off = ack.next_offset;  // the firmware says where to continue
+    }
+    proto::XferCommit cm;
+    cm.kind = b.kind;
+    return must(peer_->request(cm), "XFER_COMMIT");
+  };
+  const uint32_t good = crc32(obj.data(), obj.size());
+  EXPECT_EQ(upload(obj, good, true).header.type, uint8_t(proto::MsgType::Ack));
+  proto::RefSelect sel;
+  sel.ref_id = uint8_t(proto::RefId::Table);
+  sel.hold = 1;
+  EXPECT_EQ(must(peer_->request(sel), "REF_SELECT table").header.type, uint8_t(proto::MsgType::Ack));
+  // a corrupted object: refused, the committed table stays selectable
+  auto bad = obj;
+  bad[100] ^= 0xFF;
+  const auto nack = upload(bad, good, false);
+  ASSERT_EQ(nack.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(nack).status, uint8_t(proto::StatusCode::BadChecksum));
+  EXPECT_EQ(must(peer_->request(sel), "REF_SELECT table").header.type, uint8_t(proto::MsgType::Ack));
+}
+
+TEST_F(PosixFirmware, ModelUploadOnlyWhileStopped) {
+  const auto file = msd_arx_model_file();
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::Model);
+  b.total_size = uint32_t(file.size());
+  b.crc32 = crc32(file.data(), file.size());
+  ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+  proto::XferChunk c;
+  c.kind = b.kind;
+  c.size = uint8_t(file.size());
+  std::memcpy(c.data, file.data(), file.size());
+  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, file.size());
+  proto::RunStart start;
+  start.run_id = 3;
+  ASSERT_EQ(must(peer_->request(start), "RUN_START").header.type, uint8_t(proto::MsgType::Ack));
+  proto::XferCommit cm;
+  cm.kind = b.kind;
+  const auto busy = must(peer_->request(cm), "XFER_COMMIT while running");
+  ASSERT_EQ(busy.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(busy).status, uint8_t(proto::StatusCode::WrongState));
+  ASSERT_EQ(must(peer_->request(proto::RunStop{}), "RUN_STOP").header.type, uint8_t(proto::MsgType::Ack));
+  proto::XferCommit cm2 = cm;
+  EXPECT_EQ(must(peer_->request(cm2), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
+}
+
+TEST_F(PosixFirmware, SilentLinkSendsActuatorsToTheSafeStateAndSaysSo) {
+  proto::ParamSet wd;
+  wd.id = uint16_t(fw::FwParamId::WatchdogMs);
+  wd.count = 1;
+  wd.values[0] = 150;
+  ASSERT_EQ(must(peer_->request(wd), "PARAM_SET watchdog_ms").header.type, uint8_t(proto::MsgType::ParamValue));
+  proto::TelemetryConfig off;
+  off.mask = tf::kAll;
+  off.decimation = 0;  // quiet, so our silence is the only thing going on
+  ASSERT_TRUE(peer_->request(off).has_value());
+  proto::RunStart start;
+  start.run_id = 9;
+  ASSERT_EQ(must(peer_->request(start), "RUN_START").header.type, uint8_t(proto::MsgType::Ack));
+  usleep(600 * 1000);
+  peer_->unsolicited.clear();
+  const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
+  EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Neutral));
+  EXPECT_TRUE(st.watchdog & fw::watchdog_bits::kTripped);
+  bool said_so = false;
+  for (const auto& u : peer_->unsolicited)
+    if (u.header.type == uint8_t(proto::MsgType::Log)) said_so = true;
+  EXPECT_TRUE(said_so) << "no LOG when the link came back";
+  proto::RunHold resume;
+  resume.mode = uint8_t(proto::HoldMode::Resume);
+  ASSERT_EQ(must(peer_->request(resume), "RUN_HOLD resume").header.type, uint8_t(proto::MsgType::Ack));
+  const auto st2 = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
+  EXPECT_EQ(st2.run_state, uint8_t(proto::RunState::Running));
+}
