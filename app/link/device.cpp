@@ -1,0 +1,157 @@
+#include "app/link/device.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "app/cli_error.hpp"
+#include "protocol/crc.hpp"
+
+namespace nlsoft::console {
+
+namespace p = nlsoft::protocol;
+
+p::Info Device::handshake() {
+  const p::Info info = session_.call<p::Info>(p::InfoGet{});
+  if (info.protocol_version != p::kProtocolVersion)
+    throw LinkError(fmt::format("the firmware speaks protocol v{}, this console v{}", info.protocol_version,
+                                p::kProtocolVersion));
+  if (info.n == 0 || info.n > p::kMaxTelemetryDim || info.m == 0 || info.m > p::kMaxTelemetryDim)
+    throw LinkError(fmt::format("the firmware reports impossible dimensions n={} m={}", info.n, info.m));
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    info_ = info;
+  }
+  session_.set_nominal_rate(info.loop_rate_hz);
+  return info;
+}
+
+p::Info Device::info() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return info_;
+}
+
+void Device::load_params(const Progress& progress) {
+  std::vector<ParamInfo> list;
+  p::ParamList req;
+  uint16_t count = 1;
+  for (uint16_t i = 0; i < count; ++i) {
+    req.index = i;
+    const p::ParamDesc d = session_.call<p::ParamDesc>(req);
+    if (i == 0) count = d.count;
+    if (d.index != i) throw LinkError(fmt::format("PARAM_LIST({}) answered with index {}", i, d.index));
+    if (d.size == 0 || d.size > p::kMaxParamValues)
+      throw LinkError(fmt::format("parameter '{}' has an impossible size {}", d.name, d.size));
+    list.push_back(param_info_from(d));
+    if (progress) progress(size_t(i) + 1, count);
+  }
+  auto cat = std::make_shared<const ParamCatalog>(std::move(list));
+  std::lock_guard<std::mutex> lock(mu_);
+  catalog_ = std::move(cat);
+}
+
+std::shared_ptr<const ParamCatalog> Device::catalog() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return catalog_;
+}
+
+std::vector<double> Device::get(const ParamInfo& info) {
+  p::ParamGet req;
+  req.id = info.id;
+  const p::ParamValue v = session_.call<p::ParamValue>(req);
+  if (v.id != info.id) throw LinkError(fmt::format("PARAM_GET({}) answered for id {}", info.name, v.id));
+  return decode_param_values(info, v.values, v.count);
+}
+
+std::vector<double> Device::set(const ParamInfo& info, const std::vector<double>& values) {
+  if (values.size() != info.size || values.size() > p::kMaxParamValues)
+    throw CliError(fmt::format("{} takes {} values, got {}", info.name, info.size, values.size()));
+  p::ParamSet req;
+  req.id = info.id;
+  req.count = uint8_t(values.size());
+  encode_param_values(info, values, req.values);
+  try {
+    const p::ParamValue v = session_.call<p::ParamValue>(req);
+    return decode_param_values(info, v.values, v.count);
+  } catch (const NackError& e) {
+    throw ParamRefused(e.nack, describe_param_refusal(info, e.nack, values));
+  }
+}
+
+std::vector<std::pair<ParamInfo, std::vector<double>>> Device::get_all() {
+  std::vector<std::pair<ParamInfo, std::vector<double>>> out;
+  const auto cat = catalog();
+  for (const ParamInfo& pi : cat->all()) out.emplace_back(pi, get(pi));
+  return out;
+}
+
+void Device::select_reference(const RefParams& ref) {
+  static_assert(sizeof(RefParams) == 52, "REF_SELECT payload is RefParams as is");
+  p::RefSelect req;
+  req.ref_id = uint8_t(ref.kind);
+  req.level_count = ref.level_count;
+  req.hold = ref.hold;
+  req.a = ref.A;
+  req.b = ref.B;
+  req.c = ref.C;
+  std::copy(ref.c, ref.c + 3, req.center);
+  req.omega = ref.omega;
+  req.lambda = ref.lambda;
+  req.scale = ref.scale;
+  std::copy(ref.levels, ref.levels + 3, req.levels);
+  session_.call<p::Ack>(req);
+}
+
+void Device::upload(p::XferKind kind, const std::vector<uint8_t>& object, const Progress& progress) {
+  if (object.empty()) throw CliError("nothing to upload: the object is empty");
+  p::XferBegin begin;
+  begin.kind = uint8_t(kind);
+  begin.total_size = uint32_t(object.size());
+  begin.crc32 = p::crc32(object.data(), object.size());
+  p::XferAck ack = session_.call<p::XferAck>(begin);
+  size_t stalls = 0;
+  while (ack.next_offset < object.size()) {
+    if (progress) progress(ack.next_offset, object.size());
+    p::XferChunk chunk;
+    chunk.kind = uint8_t(kind);
+    chunk.offset = ack.next_offset;
+    chunk.size = uint8_t(std::min<size_t>(p::kMaxChunkData, object.size() - ack.next_offset));
+    std::memcpy(chunk.data, object.data() + ack.next_offset, chunk.size);
+    const uint32_t before = ack.next_offset;
+    ack = session_.call<p::XferAck>(chunk);
+    // The firmware ignores out-of-order chunks and tells us where it is;
+    // a peer that never advances would loop forever without this guard.
+    stalls = ack.next_offset > before ? 0 : stalls + 1;
+    if (stalls > 8) throw LinkError(fmt::format("upload stalled at byte {} of {}", ack.next_offset, object.size()));
+  }
+  if (progress) progress(object.size(), object.size());
+  p::XferCommit commit;
+  commit.kind = uint8_t(kind);
+  session_.call<p::Ack>(commit);
+}
+
+void Device::run_start(uint32_t run_id) {
+  p::RunStart req;
+  req.run_id = run_id;
+  session_.call<p::Ack>(req);
+}
+
+void Device::run_stop() { session_.call<p::Ack>(p::RunStop{}); }
+
+void Device::run_hold(p::HoldMode mode) {
+  p::RunHold req;
+  req.mode = uint8_t(mode);
+  session_.call<p::Ack>(req);
+}
+
+void Device::telemetry_config(uint8_t mask, uint16_t decimation) {
+  p::TelemetryConfig req;
+  req.mask = mask;
+  req.decimation = decimation;
+  session_.call<p::Ack>(req);
+}
+
+p::Status Device::status() { return session_.call<p::Status>(p::StatusGet{}); }
+
+}  // namespace nlsoft::console

@@ -1,0 +1,66 @@
+#pragma once
+// The firmware as the console uses it: handshake, parameters by name,
+// references, uploads, run control. Every method is one or a few requests
+// through Session; refusals come back as exceptions in words.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "app/link/param_catalog.hpp"
+#include "app/link/session.hpp"
+#include "protocol/messages.hpp"
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+// Thrown for a refused parameter write: what() names the element and range.
+struct ParamRefused : NackError {
+  ParamRefused(const protocol::Nack& n, const std::string& words) : NackError(n, words) {}
+};
+
+class Device {
+ public:
+  using Progress = std::function<void(size_t done, size_t total)>;
+
+  explicit Device(Session& session) : session_(session) {}
+
+  // INFO_GET; checks protocol version and dimensions. Throws LinkError.
+  protocol::Info handshake();
+  protocol::Info info() const;
+  bool has(uint32_t capability) const { return (info().capabilities & capability) != 0; }
+
+  // Walks PARAM_LIST 0..count-1.
+  void load_params(const Progress& progress = {});
+  std::shared_ptr<const ParamCatalog> catalog() const;
+
+  std::vector<double> get(const ParamInfo& p);
+  // Returns the value now in force (echoed by the firmware). Throws
+  // ParamRefused on NACK, LinkError when the link fails.
+  std::vector<double> set(const ParamInfo& p, const std::vector<double>& values);
+  // Current value of every parameter, in list order.
+  std::vector<std::pair<ParamInfo, std::vector<double>>> get_all();
+
+  void select_reference(const RefParams& ref);
+  // XFER_BEGIN/CHUNK/COMMIT of one object; resumes a matching partial
+  // upload. Throws NackError/LinkError; the previous object stays in force.
+  void upload(protocol::XferKind kind, const std::vector<uint8_t>& object, const Progress& progress = {});
+
+  void run_start(uint32_t run_id);
+  void run_stop();
+  void run_hold(protocol::HoldMode mode);
+  void telemetry_config(uint8_t mask, uint16_t decimation);
+  protocol::Status status();
+
+  Session& session() { return session_; }
+
+ private:
+  Session& session_;
+  mutable std::mutex mu_;
+  protocol::Info info_{};
+  std::shared_ptr<const ParamCatalog> catalog_ = std::make_shared<ParamCatalog>();
+};
+
+}  // namespace nlsoft::console

@@ -1,0 +1,140 @@
+#include "app/link/param_catalog.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <strings.h>
+
+#include "app/cli_error.hpp"
+#include "app/link/link_error.hpp"
+
+namespace nlsoft::console {
+
+namespace proto = nlsoft::protocol;
+
+ParamInfo param_info_from(const proto::ParamDesc& d) {
+  ParamInfo i;
+  i.index = d.index;
+  i.id = d.id;
+  i.type = proto::ParamType(d.type);
+  i.size = d.size;
+  i.access = d.access;
+  i.min = d.min;
+  i.max = d.max;
+  i.unit = d.unit;
+  i.name = d.name;
+  return i;
+}
+
+const ParamInfo* ParamCatalog::find(const std::string& name) const {
+  for (const ParamInfo& p : params_)
+    if (p.name == name) return &p;
+  for (const ParamInfo& p : params_)
+    if (strcasecmp(p.name.c_str(), name.c_str()) == 0) return &p;
+  return nullptr;
+}
+
+const ParamInfo* ParamCatalog::find_id(uint16_t id) const {
+  for (const ParamInfo& p : params_)
+    if (p.id == id) return &p;
+  return nullptr;
+}
+
+const ParamInfo& ParamCatalog::require(const std::string& name) const {
+  const ParamInfo* p = find(name);
+  if (!p) {
+    if (params_.empty()) throw CliError("the firmware has no parameter list (not connected yet?)");
+    throw CliError(fmt::format("unknown parameter '{}'; the firmware has: {}", name, names()));
+  }
+  return *p;
+}
+
+std::string ParamCatalog::names() const {
+  std::string s;
+  for (const ParamInfo& p : params_) s += (s.empty() ? "" : ", ") + p.name;
+  return s;
+}
+
+std::vector<double> parse_param_values(const ParamInfo& p, const std::vector<std::string>& tokens) {
+  std::vector<double> out;
+  for (const std::string& raw : tokens) {
+    // "1e6,2e6,1e6" and "1e6 2e6 1e6" both read naturally; accept both.
+    size_t pos = 0;
+    while (pos <= raw.size()) {
+      const size_t comma = raw.find(',', pos);
+      const std::string t = raw.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
+      pos = comma == std::string::npos ? raw.size() + 1 : comma + 1;
+      if (t.empty()) {
+        if (comma == std::string::npos && !out.empty()) break;
+        throw CliError(fmt::format("{}: empty value in '{}'", p.name, raw));
+      }
+      char* end = nullptr;
+      const double v = std::strtod(t.c_str(), &end);
+      if (end == t.c_str() || *end != '\0') throw CliError(fmt::format("{}: '{}' is not a number", p.name, t));
+      if (!std::isfinite(v)) throw CliError(fmt::format("{}: '{}' is not a finite number", p.name, t));
+      if (!p.is_float() && (v != std::floor(v) || v < 0))
+        throw CliError(fmt::format("{}: '{}' must be a whole number >= 0", p.name, t));
+      out.push_back(v);
+    }
+  }
+  if (out.size() != p.size)
+    throw CliError(fmt::format("{} takes {} value{}, got {}", p.name, p.size, p.size == 1 ? "" : "s", out.size()));
+  return out;
+}
+
+void encode_param_values(const ParamInfo& p, const std::vector<double>& values, uint32_t* words) {
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (p.is_float()) {
+      const float f = float(values[i]);
+      std::memcpy(&words[i], &f, 4);
+    } else {
+      words[i] = values[i] < 0 ? 0u : values[i] > 4294967295.0 ? 0xFFFFFFFFu : uint32_t(values[i]);
+    }
+  }
+}
+
+std::vector<double> decode_param_values(const ParamInfo& p, const uint32_t* words, uint8_t count) {
+  std::vector<double> out(count);
+  for (uint8_t i = 0; i < count; ++i) {
+    if (p.is_float()) {
+      float f;
+      std::memcpy(&f, &words[i], 4);
+      out[i] = double(f);
+    } else {
+      out[i] = double(words[i]);
+    }
+  }
+  return out;
+}
+
+std::string format_param_values(const ParamInfo& p, const std::vector<double>& values) {
+  std::string s;
+  for (double v : values) {
+    if (!s.empty()) s += ' ';
+    s += p.is_float() ? fmt::format("{:g}", float(v)) : fmt::format("{}", uint64_t(v));
+  }
+  return s;
+}
+
+std::string describe_param_refusal(const ParamInfo& p, const proto::Nack& nack, const std::vector<double>& sent) {
+  const bool has_elem = nack.element != proto::kNoField;
+  const std::string elem = has_elem && p.size > 1 ? fmt::format("{}[{}]", p.name, nack.element) : p.name;
+  const double v = has_elem && nack.element < sent.size() ? sent[nack.element] : 0.0;
+  switch (proto::StatusCode(nack.status)) {
+    case proto::StatusCode::OutOfRange:
+      return fmt::format("{} = {:g} is out of range [{:g}, {:g}]", elem, v, p.min, p.max);
+    case proto::StatusCode::NotFinite: return fmt::format("{} must be a finite number", elem);
+    case proto::StatusCode::WrongSize: return fmt::format("{} takes {} values", p.name, p.size);
+    case proto::StatusCode::ReadOnly: return fmt::format("{} is read-only", p.name);
+    case proto::StatusCode::WrongState: return fmt::format("{} can only change while no run is active", p.name);
+    case proto::StatusCode::Inconsistent:
+      return fmt::format("{}{} = {} breaks a rule between parameters (e.g. Nc <= N, u_min < u_max)", elem,
+                         has_elem ? "" : "", has_elem ? fmt::format("{:g}", v) : format_param_values(p, sent));
+    case proto::StatusCode::TooLarge: return fmt::format("{} exceeds what this firmware build can hold", elem);
+    default: return fmt::format("{} refused: {}", p.name, status_words(nack.status));
+  }
+}
+
+}  // namespace nlsoft::console

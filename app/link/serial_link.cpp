@@ -1,0 +1,140 @@
+#include "app/link/serial_link.hpp"
+
+#include <boost/asio/post.hpp>
+#include <boost/asio/write.hpp>
+#include <fmt/format.h>
+
+#include "app/link/custom_baud.hpp"
+#include "app/link/link_error.hpp"
+
+namespace nlsoft::console {
+
+namespace asio = boost::asio;
+
+SerialLink::SerialLink() : port_(io_), reopen_timer_(io_) {}
+
+SerialLink::~SerialLink() { close(); }
+
+void SerialLink::open_port(boost::system::error_code& ec) {
+  port_.open(path_, ec);
+  if (ec) return;
+  using sp = asio::serial_port_base;
+  port_.set_option(sp::character_size(8), ec);
+  if (!ec) port_.set_option(sp::parity(sp::parity::none), ec);
+  if (!ec) port_.set_option(sp::stop_bits(sp::stop_bits::one), ec);
+  if (!ec) port_.set_option(sp::flow_control(sp::flow_control::none), ec);
+  if (ec) {
+    // A pty refuses some line settings; it carries bytes all the same.
+    ec.clear();
+  }
+  port_.set_option(sp::baud_rate(baud_), ec);
+  if (ec) {
+    const std::string why = set_custom_baud(port_.native_handle(), baud_);
+    ec.clear();
+    if (!why.empty()) {
+      boost::system::error_code ignore;
+      port_.close(ignore);
+      ec = asio::error::invalid_argument;
+    }
+  }
+}
+
+void SerialLink::open(const std::string& path, unsigned baud, Handlers handlers) {
+  close();
+  closing_ = false;
+  path_ = path;
+  baud_ = baud;
+  handlers_ = std::move(handlers);
+  io_.restart();
+  boost::system::error_code ec;
+  open_port(ec);
+  if (ec) {
+    if (ec == asio::error::invalid_argument)
+      throw LinkError(fmt::format("cannot set {} baud on {}", baud, path));
+    throw LinkError(fmt::format("cannot open {}: {}", path, ec.message()));
+  }
+  up_ = true;
+  // A leading delimiter ends whatever partial frame the firmware holds.
+  write_queue_.push_back({0x00});
+  start_write();
+  start_read();
+  thread_ = std::thread([this] {
+    auto guard = asio::make_work_guard(io_);
+    io_.run();
+  });
+}
+
+void SerialLink::close() {
+  if (!thread_.joinable()) return;
+  closing_ = true;
+  asio::post(io_, [this] {
+    boost::system::error_code ignore;
+    reopen_timer_.cancel();
+    port_.close(ignore);
+    io_.stop();
+  });
+  thread_.join();
+  up_ = false;
+  write_queue_.clear();
+}
+
+void SerialLink::write(std::vector<uint8_t> bytes) {
+  asio::post(io_, [this, b = std::move(bytes)]() mutable {
+    if (!up_) return;
+    const bool idle = write_queue_.empty();
+    write_queue_.push_back(std::move(b));
+    if (idle) start_write();
+  });
+}
+
+void SerialLink::start_write() {
+  if (write_queue_.empty() || !port_.is_open()) return;
+  asio::async_write(port_, asio::buffer(write_queue_.front()),
+                    [this](const boost::system::error_code& ec, size_t) {
+                      if (ec) {
+                        if (ec != asio::error::operation_aborted) port_failed("write: " + ec.message());
+                        return;
+                      }
+                      if (!write_queue_.empty()) write_queue_.pop_front();
+                      start_write();
+                    });
+}
+
+void SerialLink::start_read() {
+  port_.async_read_some(asio::buffer(read_buf_), [this](const boost::system::error_code& ec, size_t n) {
+    if (ec) {
+      if (ec != asio::error::operation_aborted) port_failed(ec.message());
+      return;
+    }
+    if (handlers_.on_bytes) handlers_.on_bytes(read_buf_, n);
+    start_read();
+  });
+}
+
+void SerialLink::port_failed(const std::string& why) {
+  if (closing_ || !up_) return;
+  up_ = false;
+  boost::system::error_code ignore;
+  port_.close(ignore);
+  write_queue_.clear();
+  if (handlers_.on_down) handlers_.on_down(why);
+  schedule_reopen();
+}
+
+void SerialLink::schedule_reopen() {
+  if (closing_) return;
+  reopen_timer_.expires_after(reconnect_interval_);
+  reopen_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec || closing_) return;
+    boost::system::error_code oec;
+    open_port(oec);
+    if (oec) return schedule_reopen();
+    up_ = true;
+    write_queue_.push_back({0x00});
+    start_write();
+    start_read();
+    if (handlers_.on_up) handlers_.on_up();
+  });
+}
+
+}  // namespace nlsoft::console

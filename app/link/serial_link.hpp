@@ -1,0 +1,71 @@
+#pragma once
+// The byte pipe: one serial port (or pty) driven by Boost.Asio on a single
+// I/O thread. It reads continuously, writes in order, and when the port
+// vanishes (cable pulled, board reset, simulator gone) it closes, reports
+// the loss and keeps trying to reopen the same path until told to stop.
+// It knows nothing about frames; Session does.
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/serial_port.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace nlsoft::console {
+
+class SerialLink {
+ public:
+  struct Handlers {
+    // Called on the I/O thread; must not block.
+    std::function<void(const uint8_t* data, size_t len)> on_bytes;
+    std::function<void(const std::string& why)> on_down;
+    std::function<void()> on_up;  // after a successful reopen
+  };
+
+  SerialLink();
+  ~SerialLink();
+  SerialLink(const SerialLink&) = delete;
+  SerialLink& operator=(const SerialLink&) = delete;
+
+  // Opens the port in raw 8N1 mode at `baud` and starts reading. Throws
+  // LinkError with the system's reason when the port cannot be opened.
+  void open(const std::string& path, unsigned baud, Handlers handlers);
+  // Stops reading, reconnecting and the I/O thread. Idempotent.
+  void close();
+
+  // Thread-safe; silently dropped while the port is down (the request layer
+  // times out and retries, which is what a lost byte would cause anyway).
+  void write(std::vector<uint8_t> bytes);
+
+  bool is_up() const { return up_.load(); }
+  const std::string& path() const { return path_; }
+  void set_reconnect_interval(std::chrono::milliseconds ms) { reconnect_interval_ = ms; }
+
+ private:
+  void open_port(boost::system::error_code& ec);
+  void start_read();
+  void start_write();
+  void port_failed(const std::string& why);
+  void schedule_reopen();
+
+  boost::asio::io_context io_;
+  boost::asio::serial_port port_;
+  boost::asio::steady_timer reopen_timer_;
+  std::thread thread_;
+  Handlers handlers_;
+  std::string path_;
+  unsigned baud_ = 115200;
+  std::atomic<bool> up_{false};
+  std::atomic<bool> closing_{false};
+  std::chrono::milliseconds reconnect_interval_{300};
+  uint8_t read_buf_[4096] = {};
+  std::deque<std::vector<uint8_t>> write_queue_;  // I/O thread only
+};
+
+}  // namespace nlsoft::console

@@ -1,0 +1,309 @@
+#include "app/link/session.hpp"
+
+#include <fmt/format.h>
+
+#include <cstring>
+
+#include "protocol/encoder.hpp"
+
+namespace nlsoft::console {
+
+namespace p = nlsoft::protocol;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+int64_t now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
+}
+
+// The data reply a request expects besides ACK/NACK (PROTOCOL.md table 6).
+p::MsgType data_reply_of(uint8_t request) {
+  switch (p::MsgType(request)) {
+    case p::MsgType::Ping: return p::MsgType::Pong;
+    case p::MsgType::InfoGet: return p::MsgType::Info;
+    case p::MsgType::ParamList: return p::MsgType::ParamDesc;
+    case p::MsgType::ParamGet:
+    case p::MsgType::ParamSet: return p::MsgType::ParamValue;
+    case p::MsgType::XferBegin:
+    case p::MsgType::XferChunk: return p::MsgType::XferAck;
+    case p::MsgType::StatusGet: return p::MsgType::Status;
+    default: return p::MsgType::Ack;
+  }
+}
+
+bool answers(uint8_t request, const p::FrameView& f) {
+  const uint8_t t = f.header.type;
+  if (t == uint8_t(p::MsgType::Ack) || t == uint8_t(p::MsgType::Nack))
+    return f.header.length >= 1 && f.payload[0] == request;
+  return t == uint8_t(data_reply_of(request));
+}
+
+}  // namespace
+
+const char* link_event_name(LinkEvent::Kind k) {
+  switch (k) {
+    case LinkEvent::Kind::Down: return "down";
+    case LinkEvent::Kind::Up: return "up";
+    case LinkEvent::Kind::Silent: return "silent";
+    case LinkEvent::Kind::Resumed: return "resumed";
+  }
+  return "?";
+}
+
+Session::Session(SessionOptions options) : options_(options) {
+  link_.set_reconnect_interval(options_.reconnect_interval);
+}
+
+Session::~Session() { close(); }
+
+void Session::open(const std::string& path, unsigned baud) {
+  SerialLink::Handlers h;
+  h.on_bytes = [this](const uint8_t* d, size_t n) { on_bytes(d, n); };
+  h.on_down = [this](const std::string& why) {
+    decoder_.reset();
+    {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      stats_.connected = false;
+      have_tseq_ = false;
+      have_last_status_ = false;
+    }
+    post_event({LinkEvent::Kind::Down, fmt::format("{}: {}", link_.path(), why)});
+  };
+  h.on_up = [this] {
+    {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      stats_.connected = true;
+      ++stats_.reconnects;
+    }
+    last_frame_ns_ = now_ns();
+    post_event({LinkEvent::Kind::Up, link_.path() + " reopened"});
+  };
+  link_.open(path, baud, std::move(h));
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    stats_.connected = true;
+  }
+  last_frame_ns_ = now_ns();
+  stopping_ = false;
+  supervisor_ = std::thread([this] { supervise(); });
+}
+
+void Session::close() {
+  link_.close();
+  if (supervisor_.joinable()) {
+    {
+      std::lock_guard<std::mutex> lock(event_mu_);
+      stopping_ = true;
+    }
+    event_cv_.notify_all();
+    supervisor_.join();
+  }
+}
+
+void Session::post_event(LinkEvent e) {
+  {
+    std::lock_guard<std::mutex> lock(event_mu_);
+    events_.push_back(std::move(e));
+  }
+  event_cv_.notify_all();
+}
+
+void Session::supervise() {
+  auto last_rate = Clock::now();
+  uint64_t last_frames = 0, last_bytes = 0;
+  bool silent = false;
+  std::unique_lock<std::mutex> lock(event_mu_);
+  while (!stopping_) {
+    event_cv_.wait_for(lock, std::chrono::milliseconds(100));
+    std::vector<LinkEvent> batch;
+    batch.swap(events_);
+    lock.unlock();
+    // Silence: the port is open but nothing valid arrives (board hung,
+    // wrong baud, firmware of another protocol version).
+    const int64_t quiet_ns = now_ns() - last_frame_ns_.load();
+    const bool now_silent =
+        link_.is_up() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+    if (now_silent != silent) {
+      silent = now_silent;
+      batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed,
+                       silent ? fmt::format("no valid frame for {} ms", options_.silence_limit.count())
+                              : "frames arriving again"});
+    }
+    const auto now = Clock::now();
+    const double dt = std::chrono::duration<double>(now - last_rate).count();
+    {
+      std::lock_guard<std::mutex> s(stats_mu_);
+      stats_.silent = silent;
+      if (dt >= 1.0) {
+        stats_.frames_per_s = double(stats_.frames - last_frames) / dt;
+        stats_.bytes_per_s = double(stats_.bytes - last_bytes) / dt;
+        last_frames = stats_.frames;
+        last_bytes = stats_.bytes;
+        last_rate = now;
+      }
+    }
+    for (const LinkEvent& e : batch)
+      if (event_handler_) event_handler_(e);
+    lock.lock();
+  }
+}
+
+void Session::on_bytes(const uint8_t* data, size_t len) {
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    stats_.bytes += len;
+  }
+  size_t used = 0;
+  while (used < len) {
+    p::DecodeResult r;
+    used += decoder_.feed(data + used, len - used, r);
+    if (r.kind == p::DecodeResult::Kind::Frame) {
+      last_frame_ns_ = now_ns();
+      on_frame(r.frame);
+    } else if (r.kind == p::DecodeResult::Kind::Error) {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      if (r.error == p::FrameError::BadCrc)
+        ++stats_.crc_errors;
+      else
+        ++stats_.decode_errors;
+      if (r.error == p::FrameError::WrongVersion) foreign_version_ = r.frame.header.version;
+    }
+  }
+}
+
+void Session::on_frame(const p::FrameView& f) {
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    ++stats_.frames;
+  }
+  const auto type = p::MsgType(f.header.type);
+  if (f.is_reply()) on_reply(f);
+  if (type == p::MsgType::Telemetry) {
+    p::Telemetry t;
+    if (p::unpack(f, t) != p::StatusCode::Ok) return;
+    uint32_t lost = 0;
+    {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      ++stats_.telemetry_frames;
+      if (have_tseq_) lost = uint16_t(t.tseq - last_tseq_ - 1);
+      stats_.lost_telemetry += lost;
+      have_tseq_ = true;
+      last_tseq_ = t.tseq;
+    }
+    if (telemetry_handler_) telemetry_handler_(t, lost);
+  } else if (type == p::MsgType::Status) {
+    p::Status s;
+    if (p::unpack(f, s) != p::StatusCode::Ok) return;
+    {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      const bool running = s.run_state == uint8_t(p::RunState::Running);
+      if (have_last_status_ && running && last_status_.run_state == s.run_state &&
+          last_status_.run_id == s.run_id && s.uptime_ms > last_status_.uptime_ms && s.step >= last_status_.step) {
+        stats_.loop_rate_hz = 1000.0 * double(s.step - last_status_.step) / double(s.uptime_ms - last_status_.uptime_ms);
+      } else if (!running) {
+        stats_.loop_rate_hz = nominal_rate_hz_;
+      }
+      const double tick = s.tick_rate_hz ? 1e6 / double(s.tick_rate_hz) : 0.0;
+      stats_.compute_mean_us = double(s.compute_mean) * tick;
+      stats_.compute_max_us = double(s.compute_max) * tick;
+      stats_.fw_crc_errors = s.crc_errors;
+      stats_.fw_frame_errors = s.frame_errors;
+      stats_.fw_tx_dropped = s.tx_dropped;
+      stats_.fw_loop_overruns = s.loop_overruns;
+      stats_.run_state = s.run_state;
+      stats_.run_id = s.run_id;
+      stats_.step = s.step;
+      stats_.have_status = true;
+      last_status_ = s;
+      have_last_status_ = true;
+    }
+    if (status_handler_) status_handler_(s);
+  } else if (type == p::MsgType::Log) {
+    p::Log l;
+    if (p::unpack(f, l) == p::StatusCode::Ok && log_handler_) log_handler_(l);
+  }
+}
+
+void Session::on_reply(const p::FrameView& f) {
+  {
+    std::lock_guard<std::mutex> lock(pending_mu_);
+    if (pending_active_ && !pending_done_ && f.header.seq == pending_seq_ && answers(pending_type_, f)) {
+      pending_reply_.type = f.header.type;
+      pending_reply_.seq = f.header.seq;
+      pending_reply_.length = f.header.length;
+      std::memcpy(pending_reply_.payload, f.payload, f.header.length);
+      pending_done_ = true;
+      pending_cv_.notify_all();
+      return;
+    }
+  }
+  // A reply to a retransmission we no longer wait for, or to a request from
+  // before a reconnect: the firmware repeats replies by design.
+  std::lock_guard<std::mutex> lock(stats_mu_);
+  ++stats_.stale_replies;
+}
+
+Reply Session::transact(uint8_t type, const uint8_t* payload, size_t length) {
+  std::lock_guard<std::mutex> serial(request_mu_);
+  uint8_t wire[p::kWireBufferSize];
+  const uint8_t seq = next_seq_++;
+  const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
+  if (n == 0) throw LinkError(fmt::format("cannot encode {}: payload breaks the message's length rule", message_name(type)));
+  const auto per_try = type == uint8_t(p::MsgType::XferCommit) ? options_.commit_timeout : options_.timeout;
+  {
+    std::lock_guard<std::mutex> lock(pending_mu_);
+    pending_active_ = true;
+    pending_done_ = false;
+    pending_seq_ = seq;
+    pending_type_ = type;
+  }
+  for (int attempt = 0; attempt < options_.tries; ++attempt) {
+    if (attempt > 0) {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      ++stats_.retransmits;
+    }
+    link_.write(std::vector<uint8_t>(wire, wire + n));
+    std::unique_lock<std::mutex> lock(pending_mu_);
+    // The reply may belong to any earlier try (same seq): whichever arrives
+    // first under this mutex wins, and a later copy counts as stale.
+    if (pending_cv_.wait_for(lock, per_try, [this] { return pending_done_; })) {
+      pending_active_ = false;
+      return pending_reply_;
+    }
+  }
+  {
+    std::lock_guard<std::mutex> lock(pending_mu_);
+    pending_active_ = false;
+  }
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    ++stats_.timeouts;
+  }
+  std::string why = fmt::format("no reply to {} after {} tries ({} ms)", message_name(type), options_.tries,
+                                per_try.count() * options_.tries);
+  if (!link_.is_up()) why += fmt::format("; {} is down, reconnecting", link_.path());
+  if (const uint8_t v = foreign_version_.load())
+    why += fmt::format("; the firmware speaks protocol v{}, this console v{}", v, p::kProtocolVersion);
+  throw LinkError(why);
+}
+
+void Session::throw_nack(const Reply& r) const {
+  p::Nack nack;
+  if (p::unpack(r.payload, r.length, nack) != p::StatusCode::Ok) unexpected(r, 0);
+  throw NackError(nack, describe_nack(nack));
+}
+
+void Session::unexpected(const Reply& r, uint8_t request_type) const {
+  throw LinkError(fmt::format("unexpected reply {} ({} bytes) to {}", message_name(r.type), r.length,
+                              message_name(request_type)));
+}
+
+LinkStats Session::stats() const {
+  std::lock_guard<std::mutex> lock(stats_mu_);
+  LinkStats s = stats_;
+  s.connected = link_.is_up();
+  return s;
+}
+
+}  // namespace nlsoft::console

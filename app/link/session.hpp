@@ -1,0 +1,157 @@
+#pragma once
+// Request/reply over the serial link (PROTOCOL.md sections 9-10): one
+// outstanding request at a time, matched to its reply by sequence number on
+// the single reader, retransmitted unchanged (same seq) on timeout a bounded
+// number of times. A reply that arrives as a timeout fires is decided under
+// one mutex, so it is either taken or the retry goes out, never both lost.
+// Unsolicited TELEMETRY, STATUS and LOG go to handlers; link loss and
+// recovery go to an event handler on a supervisor thread, which is where a
+// re-handshake may block.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "app/link/link_error.hpp"
+#include "app/link/link_stats.hpp"
+#include "app/link/serial_link.hpp"
+#include "protocol/decoder.hpp"
+#include "protocol/messages.hpp"
+
+namespace nlsoft::console {
+
+struct SessionOptions {
+  std::chrono::milliseconds timeout{250};          // per try
+  std::chrono::milliseconds commit_timeout{1500};  // XFER_COMMIT validates a whole object
+  int tries = 4;                                   // first send + 3 retransmissions
+  std::chrono::milliseconds silence_limit{3000};   // heartbeat is 1 s
+  std::chrono::milliseconds reconnect_interval{300};
+};
+
+struct Reply {
+  uint8_t type = 0;
+  uint8_t seq = 0;
+  uint8_t length = 0;
+  uint8_t payload[protocol::kMaxPayload] = {};
+};
+
+struct LinkEvent {
+  enum class Kind { Down, Up, Silent, Resumed };
+  Kind kind;
+  std::string detail;
+};
+
+const char* link_event_name(LinkEvent::Kind k);
+
+class Session {
+ public:
+  using TelemetryHandler = std::function<void(const protocol::Telemetry&, uint32_t lost_before)>;
+  using StatusHandler = std::function<void(const protocol::Status&)>;
+  using LogHandler = std::function<void(const protocol::Log&)>;
+  using EventHandler = std::function<void(const LinkEvent&)>;
+
+  explicit Session(SessionOptions options = {});
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+
+  // Set before open(). Telemetry/status/log handlers run on the I/O thread
+  // and must not block; the event handler runs on the supervisor thread.
+  void on_telemetry(TelemetryHandler h) { telemetry_handler_ = std::move(h); }
+  void on_status(StatusHandler h) { status_handler_ = std::move(h); }
+  void on_log(LogHandler h) { log_handler_ = std::move(h); }
+  void on_event(EventHandler h) { event_handler_ = std::move(h); }
+
+  void open(const std::string& path, unsigned baud);  // throws LinkError
+  void close();
+
+  // Sends a request and waits for its reply (any type). Throws LinkError
+  // after the last try.
+  Reply transact(uint8_t type, const uint8_t* payload, size_t length);
+
+  // Typed request: returns the expected reply, throws NackError on NACK and
+  // LinkError on anything else.
+  template <class Rep, class Req>
+  Rep call(const Req& req) {
+    uint8_t payload[protocol::kMaxPayload];
+    payload[0] = 0;
+    size_t len = 0;
+    if (protocol::pack(req, payload, sizeof payload, len) != protocol::StatusCode::Ok)
+      throw LinkError(std::string("cannot encode ") + protocol::message_name(uint8_t(Req::kType)) +
+                      ": a value does not fit the message");
+    const Reply r = transact(uint8_t(Req::kType), payload, len);
+    if (r.type == uint8_t(protocol::MsgType::Nack)) throw_nack(r);
+    if (r.type != uint8_t(Rep::kType)) unexpected(r, uint8_t(Req::kType));
+    Rep out;
+    if (protocol::unpack(r.payload, r.length, out) != protocol::StatusCode::Ok)
+      unexpected(r, uint8_t(Req::kType));
+    return out;
+  }
+
+  LinkStats stats() const;
+  bool connected() const { return link_.is_up(); }
+  const std::string& port() const { return link_.path(); }
+  const SessionOptions& options() const { return options_; }
+  // Protocol version byte of frames dropped as wrong_version, 0 if none.
+  uint8_t foreign_version() const { return foreign_version_.load(); }
+
+ private:
+  void on_bytes(const uint8_t* data, size_t len);
+  void on_frame(const protocol::FrameView& f);
+  void on_reply(const protocol::FrameView& f);
+  void post_event(LinkEvent e);
+  void supervise();
+  [[noreturn]] void throw_nack(const Reply& r) const;
+  [[noreturn]] void unexpected(const Reply& r, uint8_t request_type) const;
+
+  SessionOptions options_;
+  SerialLink link_;
+  protocol::Decoder decoder_;  // I/O thread only
+
+  TelemetryHandler telemetry_handler_;
+  StatusHandler status_handler_;
+  LogHandler log_handler_;
+  EventHandler event_handler_;
+
+  // One request in flight (stop-and-wait).
+  std::mutex request_mu_;
+  std::mutex pending_mu_;
+  std::condition_variable pending_cv_;
+  bool pending_active_ = false;
+  bool pending_done_ = false;
+  uint8_t pending_seq_ = 0;
+  uint8_t pending_type_ = 0;
+  Reply pending_reply_;
+  uint8_t next_seq_ = 0;
+
+  // Supervisor: events, silence detection, rates.
+  std::thread supervisor_;
+  std::mutex event_mu_;
+  std::condition_variable event_cv_;
+  std::vector<LinkEvent> events_;
+  bool stopping_ = false;
+
+  mutable std::mutex stats_mu_;
+  LinkStats stats_;  // counters; rates filled by the supervisor
+  bool have_tseq_ = false;
+  uint16_t last_tseq_ = 0;
+  bool have_last_status_ = false;
+  protocol::Status last_status_{};
+  uint32_t nominal_rate_hz_ = 0;
+  std::atomic<int64_t> last_frame_ns_{0};
+  std::atomic<uint8_t> foreign_version_{0};
+
+ public:
+  // INFO's loop rate, shown when the firmware is idle.
+  void set_nominal_rate(uint32_t hz) {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    nominal_rate_hz_ = hz;
+  }
+};
+
+}  // namespace nlsoft::console

@@ -1,0 +1,15 @@
+#pragma once
+// A run's samples as CSV: one header line, one row per sample, floats with
+// 9 significant digits so a reader gets the recorded f32 back exactly.
+#include <string>
+
+#include "app/record/run_store.hpp"
+
+namespace nlsoft::console {
+
+// Writes to a temporary file next to `path` and renames it into place, so a
+// failed export never leaves a half file under the requested name. Returns
+// the number of rows. Throws CliError on I/O failure.
+size_t export_run_csv(RunStore& store, int64_t run_id, const std::string& path);
+
+}  // namespace nlsoft::console

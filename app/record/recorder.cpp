@@ -1,0 +1,274 @@
+#include "app/record/recorder.hpp"
+
+#include <fmt/format.h>
+#include <sys/stat.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+
+#include "app/record/schema.hpp"
+
+namespace nlsoft::console {
+
+namespace tf = protocol::telemetry_field;
+
+std::string default_db_path() {
+  if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x) return std::string(x) + "/nlsoft/runs.db";
+  const char* home = std::getenv("HOME");
+  return std::string(home && *home ? home : ".") + "/.local/share/nlsoft/runs.db";
+}
+
+void ensure_parent_dir(const std::string& path) {
+  const size_t slash = path.rfind('/');
+  if (slash == std::string::npos || slash == 0) return;
+  const std::string dir = path.substr(0, slash);
+  for (size_t pos = 1; pos <= dir.size(); ++pos) {
+    if (pos != dir.size() && dir[pos] != '/') continue;
+    const std::string part = dir.substr(0, pos);
+    if (::mkdir(part.c_str(), 0755) != 0 && errno != EEXIST)
+      throw DbError(fmt::format("cannot create directory {} for the database: {}", part, std::strerror(errno)),
+                    SQLITE_CANTOPEN);
+  }
+}
+
+std::string utc_now() {
+  timespec ts{};
+  clock_gettime(CLOCK_REALTIME, &ts);
+  tm t{};
+  gmtime_r(&ts.tv_sec, &t);
+  char buf[40];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &t);
+  return fmt::format("{}.{:03d}Z", buf, int(ts.tv_nsec / 1000000));
+}
+
+Recorder::Recorder(const std::string& path, Options options) : path_(path), options_(options) {
+  ensure_parent_dir(path);
+  db_ = std::make_unique<Db>(path, true);
+  migrate(*db_);
+  insert_sample_ = db_->prepare(
+      "INSERT INTO samples(run_id,k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us) "
+      "VALUES(?,?,?,?,?,?,?,?,?,?,?)");
+  insert_param_ = db_->prepare("INSERT INTO params(run_id,t,at_start,name,value) VALUES(?,?,?,?,?)");
+  insert_gap_ = db_->prepare("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason) VALUES(?,?,?,?,?)");
+  insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
+  insert_run_ = db_->prepare(
+      "INSERT INTO runs(started_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,"
+      "decimation,reference) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
+  end_run_ = db_->prepare("UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=? WHERE id=?");
+  set_notes_ = db_->prepare("UPDATE runs SET notes=? WHERE id=?");
+  queue_.reserve(options_.batch_wakeup * 2);
+  thread_ = std::thread([this] { writer(); });
+}
+
+Recorder::~Recorder() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stop_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+void Recorder::push(Item item) {
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!error_.empty()) return;
+    queue_.push_back(std::move(item));
+    wake = queue_.size() >= options_.batch_wakeup;
+  }
+  if (wake) cv_.notify_one();
+}
+
+bool Recorder::add_sample(int64_t run_id, const Sample& s) {
+  bool wake = false;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!error_.empty()) {
+      dropped_total_++;
+      return false;
+    }
+    if (queue_.size() >= options_.queue_capacity) {
+      if (overflow_ == 0) overflow_after_k_ = s.k == 0 ? 0 : s.k - 1, overflow_run_ = run_id;
+      ++overflow_;
+      dropped_total_++;
+      return false;
+    }
+    if (overflow_ > 0) {
+      queue_.push_back(TextItem{TextItem::Gap, overflow_run_, 0, int64_t(overflow_after_k_), int64_t(overflow_),
+                                "recorder queue full: samples dropped", {}});
+      overflow_ = 0;
+    }
+    queue_.push_back(SampleItem{run_id, s});
+    wake = queue_.size() >= options_.batch_wakeup;
+  }
+  if (wake) cv_.notify_one();
+  return true;
+}
+
+void Recorder::add_param_change(int64_t run_id, double t, const std::string& name, const std::string& value) {
+  push(TextItem{TextItem::Param, run_id, t, 0, 0, name, value});
+}
+
+void Recorder::add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason) {
+  push(TextItem{TextItem::Gap, run_id, 0, int64_t(after_k), int64_t(lost_frames), reason, {}});
+}
+
+void Recorder::add_link_event(int64_t run_id, const std::string& kind, const std::string& detail) {
+  push(TextItem{TextItem::Event, run_id, 0, 0, 0, kind, detail});
+}
+
+void Recorder::set_notes(int64_t run_id, const std::string& notes) {
+  push(TextItem{TextItem::Notes, run_id, 0, 0, 0, notes, {}});
+}
+
+int64_t Recorder::sync(SyncItem item) {
+  auto done = std::make_shared<std::promise<int64_t>>();
+  auto fut = done->get_future();
+  item.done = done;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!error_.empty()) throw DbError("recording stopped: " + error_, SQLITE_ERROR);
+    queue_.push_back(std::move(item));
+    urgent_ = true;
+  }
+  cv_.notify_one();
+  return fut.get();  // rethrows the writer's DbError
+}
+
+int64_t Recorder::begin_run(const RunInfo& info) {
+  SyncItem s;
+  s.begin = std::make_shared<RunInfo>(info);
+  return sync(std::move(s));
+}
+
+void Recorder::end_run(int64_t run_id, const std::string& reason, uint64_t samples, uint64_t lost_frames) {
+  SyncItem s;
+  s.end_run = run_id;
+  s.end_reason = reason;
+  s.samples = samples;
+  s.lost = lost_frames;
+  sync(std::move(s));
+}
+
+void Recorder::flush() { sync(SyncItem{}); }
+
+std::string Recorder::error() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return error_;
+}
+
+void Recorder::writer() {
+  std::vector<Item> batch;
+  batch.reserve(options_.batch_wakeup * 2);
+  std::vector<std::shared_ptr<std::promise<int64_t>>> waiting;
+  std::unique_lock<std::mutex> lock(mu_);
+  while (true) {
+    cv_.wait_for(lock, options_.batch_delay,
+                 [this] { return stop_ || urgent_ || queue_.size() >= options_.batch_wakeup; });
+    urgent_ = false;
+    batch.swap(queue_);
+    const bool stopping = stop_;
+    lock.unlock();
+    if (!batch.empty()) write_batch(batch, waiting);
+    batch.clear();
+    lock.lock();
+    if (stopping && queue_.empty()) break;
+  }
+}
+
+void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr<std::promise<int64_t>>>& waiting) {
+  std::string failed;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    failed = error_;
+  }
+  waiting.clear();
+  std::vector<int64_t> results;
+  uint64_t samples = 0;
+  if (failed.empty()) {
+    try {
+      db_->exec("BEGIN");
+      const std::string now = utc_now();
+      for (Item& item : batch) {
+        if (auto* si = std::get_if<SampleItem>(&item)) {
+          const Sample& s = si->s;
+          Stmt& st = insert_sample_;
+          st.bind(1, si->run).bind(2, int64_t(s.k));
+          if (s.has(tf::kStep)) st.bind(3, int64_t(s.step)); else st.bind_null(3);
+          if (s.has(tf::kTime)) st.bind(4, int64_t(s.time_us)); else st.bind_null(4);
+          const size_t nb = size_t(s.n) * 4;
+          if (s.has(tf::kYRef)) st.bind_blob(5, s.y_ref(), nb); else st.bind_null(5);
+          if (s.has(tf::kYHat)) st.bind_blob(6, s.y_hat(), nb); else st.bind_null(6);
+          if (s.has(tf::kYTrue)) st.bind_blob(7, s.y_true(), nb); else st.bind_null(7);
+          if (s.has(tf::kU)) st.bind_blob(8, s.u(), size_t(s.m) * 4); else st.bind_null(8);
+          if (s.has(tf::kCost)) st.bind(9, double(s.cost)); else st.bind_null(9);
+          if (s.has(tf::kSolver)) {
+            st.bind(10, int64_t(s.iterations));
+            st.bind(11, double(s.compute_us));
+          } else {
+            st.bind_null(10);
+            st.bind_null(11);
+          }
+          st.step();
+          st.reset();
+          ++samples;
+        } else if (auto* ti = std::get_if<TextItem>(&item)) {
+          switch (ti->kind) {
+            case TextItem::Param:
+              insert_param_.bind(1, ti->run).bind(2, ti->t).bind(3, int64_t(0)).bind(4, ti->x).bind(5, ti->y).exec();
+              break;
+            case TextItem::Gap:
+              insert_gap_.bind(1, ti->run).bind(2, now).bind(3, ti->a).bind(4, ti->b).bind(5, ti->x).exec();
+              break;
+            case TextItem::Event:
+              insert_event_.bind(1, now);
+              if (ti->run > 0) insert_event_.bind(2, ti->run); else insert_event_.bind_null(2);
+              insert_event_.bind(3, ti->x).bind(4, ti->y).exec();
+              break;
+            case TextItem::Notes: set_notes_.bind(1, ti->x).bind(2, ti->run).exec(); break;
+          }
+        } else if (auto* sy = std::get_if<SyncItem>(&item)) {
+          int64_t result = 0;
+          if (sy->begin) {
+            const RunInfo& r = *sy->begin;
+            insert_run_.bind(1, now).bind(2, r.label).bind(3, r.notes).bind(4, r.platform).bind(5, r.firmware)
+                .bind(6, int64_t(r.model_hash)).bind(7, int64_t(r.param_hash)).bind(8, r.loop_rate_hz)
+                .bind(9, int64_t(r.n)).bind(10, int64_t(r.m)).bind(11, int64_t(r.decimation)).bind(12, r.reference)
+                .exec();
+            result = db_->last_insert_id();
+            for (const auto& [name, value] : r.params)
+              insert_param_.bind(1, result).bind(2, 0.0).bind(3, int64_t(1)).bind(4, name).bind(5, value).exec();
+          } else if (sy->end_run > 0) {
+            end_run_.bind(1, now).bind(2, sy->end_reason).bind(3, int64_t(sy->samples)).bind(4, int64_t(sy->lost))
+                .bind(5, sy->end_run).exec();
+          }
+          waiting.push_back(sy->done);
+          results.push_back(result);
+        }
+      }
+      db_->exec("COMMIT");
+      committed_ += samples;
+    } catch (const std::exception& e) {
+      sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+      failed = e.what();
+      std::lock_guard<std::mutex> lock(mu_);
+      if (error_.empty()) error_ = failed;
+      // Whatever this batch held is not in the file; say how much.
+      error_ += fmt::format(" ({} samples of the last batch not written)", samples);
+      failed = error_;
+      dropped_total_ += samples;
+    }
+  }
+  if (failed.empty()) {
+    for (size_t i = 0; i < waiting.size(); ++i) waiting[i]->set_value(results[i]);
+  } else {
+    for (Item& item : batch)
+      if (auto* sy = std::get_if<SyncItem>(&item))
+        sy->done->set_exception(std::make_exception_ptr(DbError("recording stopped: " + failed, SQLITE_ERROR)));
+  }
+}
+
+}  // namespace nlsoft::console

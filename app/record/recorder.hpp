@@ -1,0 +1,127 @@
+#pragma once
+// Recording into SQLite without ever blocking the link: producers append to
+// a bounded in-memory queue (a mutex held for a copy, never for I/O); one
+// writer thread commits what has accumulated in a transaction every
+// `batch_delay` or sooner when the queue is large. A crash loses at most the
+// batch not yet committed; WAL keeps every commit. A full queue drops
+// samples and records the gap, a failed write stops recording and says why:
+// nothing is lost silently.
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <future>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include "app/record/sample.hpp"
+#include "app/record/sqlite.hpp"
+
+namespace nlsoft::console {
+
+struct RunInfo {
+  std::string label, notes, platform, firmware;
+  uint32_t model_hash = 0, param_hash = 0;
+  double loop_rate_hz = 0;
+  int n = 0, m = 0, decimation = 1;
+  std::string reference;  // JSON
+  std::vector<std::pair<std::string, std::string>> params;  // name, value at start
+};
+
+// Default database: $XDG_DATA_HOME/nlsoft/runs.db or ~/.local/share/nlsoft/runs.db.
+std::string default_db_path();
+// Creates the directory of `path` if missing; throws DbError if it cannot.
+void ensure_parent_dir(const std::string& path);
+
+// UTC now as "2024-05-01T12:34:56.789Z".
+std::string utc_now();
+
+class Recorder {
+ public:
+  struct Options {
+    size_t queue_capacity = 1u << 17;  // ~13 s at 10 kHz
+    std::chrono::milliseconds batch_delay{50};
+    size_t batch_wakeup = 8192;  // commit early once this many items wait
+  };
+
+  // Opens or creates the database and migrates it. Throws DbError.
+  explicit Recorder(const std::string& path) : Recorder(path, Options{}) {}
+  Recorder(const std::string& path, Options options);
+  ~Recorder();
+  Recorder(const Recorder&) = delete;
+  Recorder& operator=(const Recorder&) = delete;
+
+  // Synchronous (waits for the writer): returns the new run's id.
+  int64_t begin_run(const RunInfo& info);
+  // Synchronous: everything queued before is committed, then the run closes.
+  void end_run(int64_t run_id, const std::string& reason, uint64_t samples, uint64_t lost_frames);
+
+  // Never block on I/O. add_sample returns false when the queue is full (the
+  // drop is counted and recorded as a gap once there is room again).
+  bool add_sample(int64_t run_id, const Sample& s);
+  void add_param_change(int64_t run_id, double t, const std::string& name, const std::string& value);
+  void add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason);
+  void add_link_event(int64_t run_id, const std::string& kind, const std::string& detail);
+  void set_notes(int64_t run_id, const std::string& notes);
+
+  // Waits until everything queued so far is committed. Throws DbError if the
+  // writer has failed.
+  void flush();
+
+  // First write error ("" if none). After an error nothing more is written.
+  std::string error() const;
+  uint64_t dropped_samples() const { return dropped_total_.load(); }
+  uint64_t committed_samples() const { return committed_.load(); }
+  const std::string& path() const { return path_; }
+
+ private:
+  struct SampleItem {
+    int64_t run;
+    Sample s;
+  };
+  struct TextItem {
+    enum Kind { Param, Gap, Event, Notes } kind;
+    int64_t run;
+    double t;
+    int64_t a, b;
+    std::string x, y;
+  };
+  struct SyncItem {
+    std::shared_ptr<std::promise<int64_t>> done;
+    std::shared_ptr<RunInfo> begin;  // null: a flush or an end
+    int64_t end_run = 0;
+    std::string end_reason;
+    uint64_t samples = 0, lost = 0;
+  };
+  using Item = std::variant<SampleItem, TextItem, SyncItem>;
+
+  void push(Item item);
+  int64_t sync(SyncItem item);
+  void writer();
+  void write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr<std::promise<int64_t>>>& waiting);
+
+  std::string path_;
+  Options options_;
+  std::unique_ptr<Db> db_;
+  Stmt insert_sample_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_;
+
+  mutable std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<Item> queue_;
+  bool stop_ = false;
+  bool urgent_ = false;
+  std::string error_;
+  uint64_t overflow_ = 0;  // samples dropped since the last recorded gap
+  uint64_t overflow_after_k_ = 0;
+  int64_t overflow_run_ = 0;
+  std::atomic<uint64_t> dropped_total_{0};
+  std::atomic<uint64_t> committed_{0};
+  std::thread thread_;
+};
+
+}  // namespace nlsoft::console

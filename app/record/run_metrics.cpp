@@ -1,0 +1,91 @@
+#include "app/record/run_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace nlsoft::console {
+
+RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps) {
+  RunMetrics m;
+  m.samples = s.rows();
+  m.lost_frames = run.lost_frames;
+  m.gaps = gaps;
+  m.has_true = s.has_y_true;
+  std::vector<float> w;
+  if (weights.size() == size_t(s.n)) {
+    const float top = *std::max_element(weights.begin(), weights.end());
+    for (float q : weights) w.push_back(top > 0 && q / top < 1e-6f ? 0.0f : 1.0f);
+  }
+  const float* wp = w.empty() ? nullptr : w.data();
+  if (s.has_y_ref && s.has_y_true) m.truth = tracking_metrics(s.y_ref, s.y_true, s.n, wp);
+  if (s.has_y_ref && s.has_y_hat) m.predicted = tracking_metrics(s.y_ref, s.y_hat, s.n, wp);
+  if (s.has_solver && !s.compute_us.empty()) {
+    m.compute_p50_us = percentile(s.compute_us, 0.5);
+    m.compute_p99_us = percentile(s.compute_us, 0.99);
+    double it = 0;
+    for (uint8_t i : s.iterations) it += i;
+    m.mean_iterations = it / double(s.iterations.size());
+  }
+  m.loop_rate_hz = run.loop_rate_hz;
+  if (s.rows() >= 2) {
+    // time_us wraps every 71.6 min: sum the wrapped differences.
+    double us = 0;
+    for (size_t i = 1; i < s.rows(); ++i) us += double(uint32_t(s.time_us[i] - s.time_us[i - 1]));
+    const double steps = double(s.step.back()) - double(s.step.front());
+    if (us > 0 && steps > 0) m.loop_rate_hz = steps / (us * 1e-6);
+    m.duration_s = us * 1e-6;
+  }
+  return m;
+}
+
+RunMetrics run_metrics(RunStore& store, int64_t run_id) {
+  const RunRow run = store.run(run_id);
+  const RunSeries s = store.series(run_id);
+  std::vector<float> q;
+  for (const ParamRecord& p : store.params(run_id)) {
+    if (!p.at_start || p.name != "Q") continue;
+    std::istringstream in(p.value);
+    float v;
+    while (in >> v) q.push_back(v);
+  }
+  return run_metrics(run, s, q, store.gaps(run_id).size());
+}
+
+const std::vector<std::string>& metric_names() {
+  static const std::vector<std::string> names = {
+      "rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
+      "iterations", "samples", "duration", "gaps", "rmse0", "rmse1", "rmse2"};
+  return names;
+}
+
+std::optional<double> metric_value(const RunMetrics& m, const std::string& name) {
+  // Tracking is judged on the true plant output when the firmware sends it,
+  // on the model's prediction otherwise.
+  const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+  auto worst = [](const TrackingMetrics& x) {
+    return x.rmse.empty() ? 0.0 : *std::max_element(x.rmse.begin(), x.rmse.end());
+  };
+  if (name == "rmse") return worst(t);
+  if (name == "nrmse") return t.nrmse;
+  if (name == "max_error") return t.max_error;
+  if (name == "rmse_hat") return worst(m.predicted);
+  if (name == "nrmse_hat") return m.predicted.nrmse;
+  if (name == "lost") return double(m.lost_frames);
+  if (name == "loop_rate") return m.loop_rate_hz;
+  if (name == "compute_p50") return m.compute_p50_us;
+  if (name == "compute_p99") return m.compute_p99_us;
+  if (name == "iterations") return m.mean_iterations;
+  if (name == "samples") return double(m.samples);
+  if (name == "duration") return m.duration_s;
+  if (name == "gaps") return double(m.gaps);
+  if (name.size() > 4 && name.compare(0, 4, "rmse") == 0) {
+    char* end = nullptr;
+    const long i = std::strtol(name.c_str() + 4, &end, 10);
+    if (*end == '\0' && i >= 0 && size_t(i) < t.rmse.size()) return t.rmse[size_t(i)];
+  }
+  return std::nullopt;
+}
+
+}  // namespace nlsoft::console

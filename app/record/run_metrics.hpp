@@ -1,0 +1,39 @@
+#pragma once
+// Per-run figures (what `runs show`, `runs compare`, `expect` and `sweep`
+// speak of), computed from recorded samples with app/metrics.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/metrics.hpp"
+#include "app/record/run_store.hpp"
+
+namespace nlsoft::console {
+
+struct RunMetrics {
+  uint64_t samples = 0;
+  double duration_s = 0;
+  bool has_true = false;
+  TrackingMetrics truth;      // y_true vs y_ref (when the firmware sends y_true)
+  TrackingMetrics predicted;  // y_hat vs y_ref
+  double loop_rate_hz = 0;    // from step and time stamps; nominal if those are missing
+  double compute_p50_us = 0, compute_p99_us = 0;
+  double mean_iterations = 0;
+  uint64_t lost_frames = 0;
+  uint64_t gaps = 0;
+};
+
+// weights: per-axis Q at the start of the run (empty: every axis counts);
+// axes weighted ~0 relative to the largest are left out of nrmse/max_error.
+RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps);
+
+// Loads and computes in one go.
+RunMetrics run_metrics(RunStore& store, int64_t run_id);
+
+// The names `expect` and `sweep` accept, and a metric's value by name:
+// rmse (worst axis), rmse0.., nrmse, max_error, rmse_hat, nrmse_hat, lost,
+// loop_rate, compute_p50, compute_p99, iterations, samples, duration, gaps.
+const std::vector<std::string>& metric_names();
+std::optional<double> metric_value(const RunMetrics& m, const std::string& name);
+
+}  // namespace nlsoft::console

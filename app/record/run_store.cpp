@@ -1,0 +1,183 @@
+#include "app/record/run_store.hpp"
+
+#include <fmt/format.h>
+#include <sys/stat.h>
+
+#include <cstring>
+
+#include "app/cli_error.hpp"
+#include "app/record/schema.hpp"
+
+namespace nlsoft::console {
+
+namespace tf = protocol::telemetry_field;
+
+namespace {
+
+const char* kRunColumns =
+    "id,started_at,ifnull(ended_at,''),label,notes,platform,firmware,reference,ifnull(end_reason,''),"
+    "model_hash,param_hash,loop_rate_hz,n,m,decimation,samples,lost_frames";
+
+RunRow read_run(const Stmt& s) {
+  RunRow r;
+  r.id = s.int64(0);
+  r.started_at = s.text(1);
+  r.ended_at = s.text(2);
+  r.label = s.text(3);
+  r.notes = s.text(4);
+  r.platform = s.text(5);
+  r.firmware = s.text(6);
+  r.reference = s.text(7);
+  r.end_reason = s.text(8);
+  r.model_hash = uint32_t(s.int64(9));
+  r.param_hash = uint32_t(s.int64(10));
+  r.loop_rate_hz = s.real(11);
+  r.n = int(s.int64(12));
+  r.m = int(s.int64(13));
+  r.decimation = int(s.int64(14));
+  r.samples = uint64_t(s.int64(15));
+  r.lost_frames = uint64_t(s.int64(16));
+  return r;
+}
+
+// Copies a float blob into v (count floats); false if NULL or mis-sized.
+bool read_floats(const Stmt& s, int col, float* v, int count) {
+  if (s.is_null(col)) return false;
+  size_t n = 0;
+  const void* p = s.blob(col, n);
+  if (n != size_t(count) * 4 || p == nullptr) return false;
+  std::memcpy(v, p, n);
+  return true;
+}
+
+}  // namespace
+
+RunStore::RunStore(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw CliError(fmt::format("no recordings yet: database {} does not exist (record a run first, or pick one with --db)", path));
+  db_ = std::make_unique<Db>(path, false);
+  const int v = schema_version(*db_);
+  if (v == 0) throw CliError(fmt::format("{} is not an nlsoft recording database", path));
+  // Older files are upgraded in place so every reader sees one schema.
+  if (v < kSchemaVersion) migrate(*db_);
+  if (v > kSchemaVersion)
+    throw CliError(fmt::format("database {} has schema v{}, newer than this console's v{}", path, v, kSchemaVersion));
+}
+
+std::vector<RunRow> RunStore::list() {
+  Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs ORDER BY id", kRunColumns).c_str());
+  std::vector<RunRow> out;
+  while (s.step()) out.push_back(read_run(s));
+  return out;
+}
+
+RunRow RunStore::run(int64_t id) {
+  Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs WHERE id=?", kRunColumns).c_str());
+  s.bind(1, id);
+  if (!s.step()) {
+    const int64_t last = last_run_id();
+    throw CliError(last ? fmt::format("no run {} (runs are numbered 1..{}; see `nlsoft-console runs list`)", id, last)
+                        : fmt::format("no run {}: nothing recorded yet", id));
+  }
+  RunRow r = read_run(s);
+  // A run cut short by a crash has no totals yet; count what is there.
+  if (r.ended_at.empty()) {
+    Stmt c = db_->prepare("SELECT count(*) FROM samples WHERE run_id=?");
+    c.bind(1, id);
+    if (c.step()) r.samples = uint64_t(c.int64(0));
+    Stmt g = db_->prepare("SELECT ifnull(sum(lost_frames),0) FROM gaps WHERE run_id=?");
+    g.bind(1, id);
+    if (g.step()) r.lost_frames = uint64_t(g.int64(0));
+  }
+  return r;
+}
+
+int64_t RunStore::last_run_id() {
+  Stmt s = db_->prepare("SELECT ifnull(max(id),0) FROM runs");
+  return s.step() ? s.int64(0) : 0;
+}
+
+void RunStore::for_each_sample(int64_t id, const std::function<void(const Sample&)>& f) {
+  const RunRow r = run(id);
+  Stmt s = db_->prepare(
+      "SELECT k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us FROM samples WHERE run_id=? ORDER BY k");
+  s.bind(1, id);
+  Sample x;
+  x.n = uint8_t(r.n);
+  x.m = uint8_t(r.m);
+  while (s.step()) {
+    x.k = uint64_t(s.int64(0));
+    x.mask = 0;
+    if (!s.is_null(1)) x.step = uint32_t(s.int64(1)), x.mask |= tf::kStep;
+    if (!s.is_null(2)) x.time_us = uint32_t(s.int64(2)), x.mask |= tf::kTime;
+    if (read_floats(s, 3, x.y_ref(), r.n)) x.mask |= tf::kYRef;
+    if (read_floats(s, 4, x.y_hat(), r.n)) x.mask |= tf::kYHat;
+    if (read_floats(s, 5, x.y_true(), r.n)) x.mask |= tf::kYTrue;
+    if (read_floats(s, 6, x.u(), r.m)) x.mask |= tf::kU;
+    if (!s.is_null(7)) x.cost = float(s.real(7)), x.mask |= tf::kCost;
+    if (!s.is_null(8)) {
+      x.iterations = uint8_t(s.int64(8));
+      x.compute_us = float(s.real(9));
+      x.mask |= tf::kSolver;
+    }
+    f(x);
+  }
+}
+
+RunSeries RunStore::series(int64_t id) {
+  RunSeries out;
+  const RunRow r = run(id);
+  out.n = r.n;
+  out.m = r.m;
+  bool first = true;
+  for_each_sample(id, [&](const Sample& x) {
+    if (first) {
+      out.has_y_ref = x.has(tf::kYRef);
+      out.has_y_hat = x.has(tf::kYHat);
+      out.has_y_true = x.has(tf::kYTrue);
+      out.has_u = x.has(tf::kU);
+      out.has_solver = x.has(tf::kSolver);
+      first = false;
+    }
+    out.step.push_back(x.step);
+    out.time_us.push_back(x.time_us);
+    // Rows stay aligned even if a field is missing from one sample.
+    for (int i = 0; i < out.n; ++i) {
+      out.y_ref.push_back(x.has(tf::kYRef) ? x.y_ref()[i] : 0.0f);
+      out.y_hat.push_back(x.has(tf::kYHat) ? x.y_hat()[i] : 0.0f);
+      out.y_true.push_back(x.has(tf::kYTrue) ? x.y_true()[i] : 0.0f);
+    }
+    for (int i = 0; i < out.m; ++i) out.u.push_back(x.has(tf::kU) ? x.u()[i] : 0.0f);
+    out.cost.push_back(x.cost);
+    out.iterations.push_back(x.iterations);
+    out.compute_us.push_back(x.compute_us);
+  });
+  return out;
+}
+
+std::vector<ParamRecord> RunStore::params(int64_t id) {
+  Stmt s = db_->prepare("SELECT t,at_start,name,value FROM params WHERE run_id=? ORDER BY at_start DESC, t, rowid");
+  s.bind(1, id);
+  std::vector<ParamRecord> out;
+  while (s.step()) out.push_back({s.real(0), s.int64(1) != 0, s.text(2), s.text(3)});
+  return out;
+}
+
+std::vector<GapRecord> RunStore::gaps(int64_t id) {
+  Stmt s = db_->prepare("SELECT t,reason,after_k,lost_frames FROM gaps WHERE run_id=? ORDER BY after_k");
+  s.bind(1, id);
+  std::vector<GapRecord> out;
+  while (s.step()) out.push_back({s.text(0), s.text(1), uint64_t(s.int64(2)), uint64_t(s.int64(3))});
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> RunStore::link_events(int64_t id) {
+  Stmt s = db_->prepare("SELECT t || ' ' || kind, detail FROM link_events WHERE run_id=? ORDER BY id");
+  s.bind(1, id);
+  std::vector<std::pair<std::string, std::string>> out;
+  while (s.step()) out.emplace_back(s.text(0), s.text(1));
+  return out;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,27 @@
+#include "app/record/sample.hpp"
+
+#include <algorithm>
+
+namespace nlsoft::console {
+
+Sample sample_from(const protocol::Telemetry& t, uint64_t k, uint32_t tick_rate_hz) {
+  namespace tf = protocol::telemetry_field;
+  Sample s;
+  s.k = k;
+  s.mask = t.mask;
+  s.n = t.n;
+  s.m = t.m;
+  s.step = t.step;
+  s.time_us = t.time_us;
+  std::copy(t.y_ref, t.y_ref + t.n, s.y_ref());
+  std::copy(t.y_hat, t.y_hat + t.n, s.y_hat());
+  std::copy(t.y_true, t.y_true + t.n, s.y_true());
+  std::copy(t.u, t.u + t.m, s.u());
+  s.cost = t.cost;
+  s.iterations = t.iterations;
+  if ((t.mask & tf::kSolver) && tick_rate_hz > 0)
+    s.compute_us = float(double(t.compute_ticks) * 1e6 / double(tick_rate_hz));
+  return s;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,102 @@
+#include "app/record/schema.hpp"
+
+#include <fmt/format.h>
+
+namespace nlsoft::console {
+
+namespace {
+
+// Append only: a released migration never changes, or databases created by
+// it would differ from ones migrated through it.
+const char* const kMigrations[] = {
+    // v1: runs, parameters, samples, gaps, link events.
+    R"sql(
+CREATE TABLE runs(
+  id INTEGER PRIMARY KEY,
+  started_at TEXT NOT NULL,            -- UTC, ISO 8601
+  ended_at TEXT,                       -- NULL while running or after a crash
+  label TEXT NOT NULL DEFAULT '',
+  notes TEXT NOT NULL DEFAULT '',
+  platform TEXT NOT NULL,
+  firmware TEXT NOT NULL,              -- name and version from INFO
+  model_hash INTEGER NOT NULL,
+  param_hash INTEGER NOT NULL,
+  loop_rate_hz REAL NOT NULL,          -- nominal, from INFO
+  n INTEGER NOT NULL,
+  m INTEGER NOT NULL,
+  decimation INTEGER NOT NULL DEFAULT 1,
+  reference TEXT NOT NULL DEFAULT '',  -- JSON
+  end_reason TEXT
+);
+CREATE TABLE params(
+  run_id INTEGER NOT NULL REFERENCES runs(id) ON DELETE CASCADE,
+  t REAL NOT NULL,                     -- seconds since the run started (0 at start)
+  at_start INTEGER NOT NULL,           -- 1: value in force when the run started
+  name TEXT NOT NULL,
+  value TEXT NOT NULL                  -- space-separated, as the console prints it
+);
+CREATE INDEX params_run ON params(run_id);
+-- One row per telemetry frame. Vectors are little-endian f32 blobs (n or m
+-- values); a missing field is NULL.
+CREATE TABLE samples(
+  run_id INTEGER NOT NULL,
+  k INTEGER NOT NULL,                  -- 0, 1, ... in arrival order
+  step INTEGER,
+  time_us INTEGER,
+  y_ref BLOB, y_hat BLOB, y_true BLOB, u BLOB,
+  cost REAL,
+  iterations INTEGER,
+  compute_us REAL,
+  PRIMARY KEY(run_id, k)
+) WITHOUT ROWID;
+CREATE TABLE gaps(
+  run_id INTEGER NOT NULL,
+  t TEXT NOT NULL,
+  after_k INTEGER NOT NULL,            -- the gap lies between samples k and k+1
+  lost_frames INTEGER NOT NULL,
+  reason TEXT NOT NULL
+);
+CREATE TABLE link_events(
+  id INTEGER PRIMARY KEY,
+  t TEXT NOT NULL,
+  run_id INTEGER,
+  kind TEXT NOT NULL,
+  detail TEXT NOT NULL
+);
+)sql",
+    // v2: per-run totals kept with the run, so listing runs needs no scan.
+    R"sql(
+ALTER TABLE runs ADD COLUMN samples INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE runs ADD COLUMN lost_frames INTEGER NOT NULL DEFAULT 0;
+CREATE INDEX gaps_run ON gaps(run_id);
+)sql",
+};
+static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "one migration per version");
+
+}  // namespace
+
+int schema_version(Db& db) {
+  Stmt s = db.prepare("PRAGMA user_version");
+  return s.step() ? int(s.int64(0)) : 0;
+}
+
+void migrate(Db& db) {
+  const int have = schema_version(db);
+  if (have > kSchemaVersion)
+    throw DbError(fmt::format("database {} has schema v{}, newer than this console's v{}; upgrade nlsoft-console",
+                              db.path(), have, kSchemaVersion),
+                  SQLITE_ERROR);
+  for (int v = have; v < kSchemaVersion; ++v) {
+    db.exec("BEGIN IMMEDIATE");
+    try {
+      db.exec(kMigrations[v]);
+      db.exec(fmt::format("PRAGMA user_version={}", v + 1).c_str());
+      db.exec("COMMIT");
+    } catch (...) {
+      sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
+    }
+  }
+}
+
+}  // namespace nlsoft::console

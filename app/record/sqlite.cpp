@@ -1,0 +1,87 @@
+#include "app/record/sqlite.hpp"
+
+#include <fmt/format.h>
+
+namespace nlsoft::console {
+
+std::string db_error_words(const std::string& path, int code, const char* detail) {
+  const std::string d = detail ? detail : sqlite3_errstr(code);
+  switch (code & 0xFF) {
+    case SQLITE_BUSY:
+    case SQLITE_LOCKED:
+      return fmt::format("database {} is locked by another process (another nlsoft-console?): {}", path, d);
+    case SQLITE_NOTADB:
+    case SQLITE_CORRUPT:
+      return fmt::format("database {} is damaged or not an nlsoft database ({}); move it aside or pick another with --db",
+                         path, d);
+    case SQLITE_READONLY: return fmt::format("database {} is read-only: {}", path, d);
+    case SQLITE_FULL: return fmt::format("disk full while writing {}: {}", path, d);
+    case SQLITE_CANTOPEN: return fmt::format("cannot open database {}: {}", path, d);
+    default: return fmt::format("database {}: {}", path, d);
+  }
+}
+
+Stmt::Stmt(sqlite3* db, const char* sql) : db_(db) {
+  const int rc = sqlite3_prepare_v2(db, sql, -1, &s_, nullptr);
+  if (rc != SQLITE_OK) {
+    const char* file = sqlite3_db_filename(db, "main");
+    throw DbError(db_error_words(file ? file : "?", rc, sqlite3_errmsg(db)), rc);
+  }
+}
+
+Stmt& Stmt::check(int rc) {
+  if (rc != SQLITE_OK) {
+    const char* file = sqlite3_db_filename(db_, "main");
+    throw DbError(db_error_words(file ? file : "?", rc, sqlite3_errmsg(db_)), rc);
+  }
+  return *this;
+}
+
+bool Stmt::step() {
+  const int rc = sqlite3_step(s_);
+  if (rc == SQLITE_ROW) return true;
+  if (rc == SQLITE_DONE) return false;
+  const char* file = sqlite3_db_filename(db_, "main");
+  const std::string msg = db_error_words(file ? file : "?", rc, sqlite3_errmsg(db_));
+  sqlite3_reset(s_);
+  throw DbError(msg, rc);
+}
+
+Db::Db(const std::string& path, bool create) : path_(path) {
+  const int flags = SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX;
+  int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+  if (rc != SQLITE_OK) {
+    const std::string msg = db_error_words(path, rc, db_ ? sqlite3_errmsg(db_) : nullptr);
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw DbError(msg, rc);
+  }
+  sqlite3_extended_result_codes(db_, 1);
+  // A short wait absorbs a reader's checkpoint; a real second writer still
+  // fails fast with "locked" instead of hanging the console.
+  sqlite3_busy_timeout(db_, 1500);
+  try {
+    // Touching the schema is what reveals a file that is not a database.
+    exec("PRAGMA journal_mode=WAL");
+    exec("PRAGMA synchronous=NORMAL");
+    exec("PRAGMA foreign_keys=ON");
+  } catch (...) {
+    sqlite3_close(db_);
+    db_ = nullptr;
+    throw;
+  }
+}
+
+Db::~Db() { sqlite3_close(db_); }
+
+void Db::exec(const char* sql) {
+  char* err = nullptr;
+  const int rc = sqlite3_exec(db_, sql, nullptr, nullptr, &err);
+  if (rc != SQLITE_OK) {
+    const std::string msg = db_error_words(path_, rc, err ? err : sqlite3_errmsg(db_));
+    sqlite3_free(err);
+    throw DbError(msg, rc);
+  }
+}
+
+}  // namespace nlsoft::console
