@@ -305,10 +305,10 @@ void add_model_commands(CLI::App& app) {
       "Random steps, smoothed random walks and chirps inside the input limits (plus the paper's\n"
       "u(t) = 1000 sin t cos t for msd), so the model sees the whole task space and how each input moves it.\n"
       "Example: nlsoft-console dataset --platform hasel --out hasel.csv --seed 1");
-  ds->add_option("--platform", dataset_args->platform, "msd | hasel | tendon (required)");
-  ds->add_option("--out", dataset_args->out, "CSV file to write (required; replaced atomically)");
-  ds->add_option("--steps", dataset_args->steps, "number of samples (default 120000)");
-  ds->add_option("--seed", dataset_args->seed, "seed of the excitation and the sensor noise (default 1)");
+  ds->add_option("--platform", dataset_args->platform, "msd | hasel | tendon (required)")->type_name("NAME");
+  ds->add_option("--out", dataset_args->out, "CSV file to write (required; replaced atomically)")->type_name("FILE");
+  ds->add_option("--steps", dataset_args->steps, "number of samples (default 120000)")->type_name("K");
+  ds->add_option("--seed", dataset_args->seed, "seed of the excitation and the sensor noise (default 1)")->type_name("S");
   ds->callback([dataset_args] { run_dataset(*dataset_args); });
 
   auto train_args = std::make_shared<TrainArgs>();
@@ -319,20 +319,21 @@ void add_model_commands(CLI::App& app) {
       "Defaults per platform are the shipped models (app/models/README.md): msd linear residual,\n"
       "hasel Dense 5 relu, 5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh.\n"
       "Example: nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm");
-  tr->add_option("--platform", train_args->platform, "msd | hasel | tendon: dimensions, limits (required)");
-  tr->add_option("--data", train_args->data, "CSV from 'dataset' or a recorded run (required)");
-  tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)");
-  tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)");
-  tr->add_option("--hidden", train_args->hidden, "hidden sizes, e.g. 5,5; 'none' = one linear layer");
-  tr->add_option("--epochs", train_args->epochs, "maximum epochs (default 200)");
-  tr->add_option("--batch", train_args->batch, "mini-batch size (default 64)");
-  tr->add_option("--lr", train_args->lr, "Adam learning rate (default 3e-3, halved on plateaus)");
-  tr->add_option("--loss", train_args->loss, "mse | huber (default mse)");
-  tr->add_option("--seed", train_args->seed, "weight init and shuffling seed (default 1)");
-  tr->add_option("--patience", train_args->patience, "stop after this many epochs without a better validation loss");
+  tr->add_option("--platform", train_args->platform, "msd | hasel | tendon: dimensions, limits (required)")->type_name("NAME");
+  tr->add_option("--data", train_args->data, "CSV from 'dataset' or a recorded run (required)")->type_name("FILE");
+  tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
+  tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
+  tr->add_option("--hidden", train_args->hidden, "hidden sizes, e.g. 5,5; 'none' = one linear layer")->type_name("LIST");
+  tr->add_option("--epochs", train_args->epochs, "maximum epochs (default 200)")->type_name("E");
+  tr->add_option("--batch", train_args->batch, "mini-batch size (default 64)")->type_name("B");
+  tr->add_option("--lr", train_args->lr, "Adam learning rate (default 3e-3, halved on plateaus)")->type_name("LR");
+  tr->add_option("--loss", train_args->loss, "mse | huber (default mse)")->type_name("LOSS");
+  tr->add_option("--seed", train_args->seed, "weight init and shuffling seed (default 1)")->type_name("S");
+  tr->add_option("--patience", train_args->patience, "stop after this many epochs without a better validation loss")->type_name("P");
   tr->add_option("--y-noise", train_args->y_noise,
-                 "sigma of noise added to the y-history inputs while training (normalised units); makes the\n"
-                 "model robust to being fed its own predictions");
+                 "sigma of noise added to the y-history inputs while training (normalised units),\n"
+                 "so the model stays accurate when fed its own predictions (default 0.05 hasel/tendon)")
+      ->type_name("SIGMA");
   tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd)");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");
   tr->callback([train_args] { run_train(*train_args); });
@@ -348,11 +349,11 @@ void add_model_commands(CLI::App& app) {
       "Normalisation is the identity unless --norm gives a JSON file with in_offset[p], in_scale[p],\n"
       "out_offset[n], out_scale[n].\n"
       "Example: nlsoft-console model import hasel.h5 --out hasel.nlsm --platform hasel");
-  im->add_option("file", import_args->file, "Keras .h5 file (required)");
-  im->add_option("--out", import_args->out, "model file to write (required)");
-  im->add_option("--platform", import_args->platform, "msd | hasel | tendon");
-  im->add_option("--dims", import_args->dims, "m,n,w,nd,dd");
-  im->add_option("--norm", import_args->norm, "normalisation JSON");
+  im->add_option("file", import_args->file, "Keras .h5 file (required)")->type_name("FILE.h5");
+  im->add_option("--out", import_args->out, "model file to write (required)")->type_name("FILE");
+  im->add_option("--platform", import_args->platform, "msd | hasel | tendon")->type_name("NAME");
+  im->add_option("--dims", import_args->dims, "m,n,w,nd,dd")->type_name("m,n,w,nd,dd");
+  im->add_option("--norm", import_args->norm, "normalisation JSON")->type_name("FILE.json");
   im->add_flag("--residual", import_args->residual, "the network predicts y(k+1) - y(k)");
   im->callback([import_args] { run_import(*import_args); });
 
@@ -362,14 +363,14 @@ void add_model_commands(CLI::App& app) {
       "Run a model on input vectors: one row of p values per line (no header), one row of n outputs\n"
       "written per input; each row independent (a GRU starts from a zero state).\n"
       "Example: nlsoft-console model eval hasel.nlsm --input x.csv --output y.csv");
-  ev->add_option("model", (*eval_args)[0], "model file (required)");
-  ev->add_option("--input", (*eval_args)[1], "CSV of input vectors (required)");
-  ev->add_option("--output", (*eval_args)[2], "CSV to write (required)");
+  ev->add_option("model", (*eval_args)[0], "model file (required)")->type_name("MODEL");
+  ev->add_option("--input", (*eval_args)[1], "CSV of input vectors (required)")->type_name("FILE");
+  ev->add_option("--output", (*eval_args)[2], "CSV to write (required)")->type_name("FILE");
   ev->callback([eval_args] { run_eval((*eval_args)[0], (*eval_args)[1], (*eval_args)[2]); });
 
   auto info_path = std::make_shared<std::string>();
   CLI::App* in = model->add_subcommand("info", "Print a model's layers, shapes, parameter count and hash.");
-  in->add_option("model", *info_path, "model file (required)");
+  in->add_option("model", *info_path, "model file (required)")->type_name("MODEL");
   in->callback([info_path] { run_info(*info_path); });
 
   auto cg_args = std::make_shared<std::array<std::string, 3>>();
@@ -380,9 +381,9 @@ void add_model_commands(CLI::App& app) {
       "fills an nlsoft::Model view over them; no heap. Example:\n"
       "  nlsoft-console model codegen hasel.nlsm --out hasel_model.hpp --name hasel_model\n"
       "  then: nlsoft::Model<Cap> m; hasel_model::build(m);");
-  cg->add_option("model", (*cg_args)[0], "model file (required)");
-  cg->add_option("--out", (*cg_args)[1], "header to write (required)");
-  cg->add_option("--name", (*cg_args)[2], "namespace of the generated code (default nlsoft_model)");
+  cg->add_option("model", (*cg_args)[0], "model file (required)")->type_name("MODEL");
+  cg->add_option("--out", (*cg_args)[1], "header to write (required)")->type_name("FILE");
+  cg->add_option("--name", (*cg_args)[2], "namespace of the generated code (default nlsoft_model)")->type_name("IDENT");
   cg->callback([cg_args] { run_codegen((*cg_args)[0], (*cg_args)[1], (*cg_args)[2]); });
 }
 
