@@ -1,0 +1,57 @@
+#pragma once
+// Hardware in the loop: the link and the clock are the board's, the
+// actuators and sensors are the simulated plant. The plant advances between
+// control steps (advance(), called by the loop once per period), as a real
+// plant moves while the MCU waits, so the compute time the firmware measures
+// is the controller's alone, not the simulation's.
+#include "firmware/core/hal.hpp"
+#include "firmware/ports/mps2-an386/cmsdk_uart.hpp"
+#include "firmware/ports/mps2-an386/systick.hpp"
+
+namespace nlsoft::fw::an386 {
+
+template <class Plant>
+class HilHal final : public Hal {
+ public:
+  explicit HilHal(float dt, uint32_t seed = 1) : dt_(dt) {
+    plant_.reset(seed);
+    Plant::neutral_input(u_);
+    sample();
+  }
+
+  size_t serial_read(uint8_t* buf, size_t cap) override { return uart_read(buf, cap); }
+  size_t serial_write(const uint8_t* data, size_t len) override { return uart_write(data, len); }
+  uint32_t ticks() override { return systick_ticks(); }
+  uint32_t tick_rate_hz() const override { return kCoreClockHz; }
+  void actuate(const float* u, int m) override {
+    for (int i = 0; i < m && i < Plant::m; ++i) u_[i] = u[i];
+  }
+  void read_sensors(float* l, int w) override {
+    for (int i = 0; i < w && i < Plant::w; ++i) l[i] = l_[i];
+  }
+  bool read_output(float* y, int n) override {
+    for (int j = 0; j < n && j < Plant::n; ++j) y[j] = y_[j];
+    return true;
+  }
+
+  // One period of the plant under the last command, then the sensors and
+  // the true output the next step will read.
+  void advance() {
+    plant_.step(u_, dt_);
+    sample();
+  }
+
+ private:
+  void sample() {
+    plant_.sensors(l_);
+    plant_.output(y_);
+  }
+
+  Plant plant_;
+  float dt_;
+  float u_[Plant::m] = {};
+  float l_[Plant::w + 1] = {};  // +1: msd has no sensor channel
+  float y_[Plant::n] = {};
+};
+
+}  // namespace nlsoft::fw::an386

@@ -1,0 +1,47 @@
+#pragma once
+// What differs between the three images: the platform, the tightest
+// capacity that holds its preset and paper-sized model, the simulated plant
+// of the HIL build, and the RAM given to uploads. Selected by
+// NLSOFT_PLATFORM_{MSD,HASEL,TENDON} from the build.
+#include <cstddef>
+#include <cstdint>
+
+#include "shared/capacity.hpp"
+#include "shared/platform_id.hpp"
+#include "shared/plant_hasel.hpp"
+#include "shared/plant_msd.hpp"
+#include "shared/plant_tendon.hpp"
+
+namespace nlsoft::fw::an386 {
+
+#if defined(NLSOFT_PLATFORM_HASEL)
+using Cap = HaselCapacity;
+using Plant = HaselPlant;
+constexpr PlatformId kPlatform = PlatformId::Hasel;
+#elif defined(NLSOFT_PLATFORM_TENDON)
+using Cap = TendonCapacity;
+using Plant = TendonPlant;
+constexpr PlatformId kPlatform = PlatformId::Tendon;
+#elif defined(NLSOFT_PLATFORM_MSD)
+using Cap = MsdCapacity;
+using Plant = MsdPlant;
+constexpr PlatformId kPlatform = PlatformId::Msd;
+#else
+#error "define NLSOFT_PLATFORM_MSD, NLSOFT_PLATFORM_HASEL or NLSOFT_PLATFORM_TENDON"
+#endif
+
+// Transmit ring: one full telemetry frame above the reserve for replies.
+constexpr size_t kTxCapacity = 512;
+
+// The model in force: normalisation (2p + 2n) plus the largest weight count
+// the capacity admits; an upload is staged whole before it replaces it.
+constexpr uint32_t kModelParams = uint32_t(Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n);
+constexpr size_t kModelFileMax = 24 + 8 * size_t(Cap::layers) + 4 * size_t(kModelParams) + 4;
+
+// Uploaded reference tables: a short path of points (the built-in references
+// are computed on the fly and need none of this).
+constexpr uint32_t kTablePoints = 64;
+constexpr uint32_t kTableFloats = kTablePoints * uint32_t(Cap::n);
+constexpr size_t kTableFileMax = 8 + 4 * size_t(kTableFloats);
+
+}  // namespace nlsoft::fw::an386
