@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/cli_error.hpp"
+#include "app/live/console_command.hpp"
 #include "app/simulate.hpp"
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
 #include "app/model/commands.hpp"
@@ -16,6 +17,7 @@ int main(int argc, char** argv) {
       "or run it offline against a simulated rig."};
   app.require_subcommand(1);
   add_simulate_command(app);
+  add_console_commands(app);
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
   add_model_commands(app);
 #endif

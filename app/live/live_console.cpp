@@ -1,0 +1,457 @@
+#include "app/live/live_console.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include "app/cli_error.hpp"
+#include "app/live/reference_spec.hpp"
+#include "app/live/reference_table.hpp"
+#include "app/record/run_store.hpp"
+
+namespace nlsoft::console {
+
+namespace p = nlsoft::protocol;
+namespace tf = protocol::telemetry_field;
+
+namespace {
+
+// "Q[1]" -> ("Q", 1); "Q" -> ("Q", -1).
+std::pair<std::string, int> split_element(const std::string& name) {
+  const size_t open = name.find('[');
+  if (open != std::string::npos && name.back() == ']') {
+    const std::string idx = name.substr(open + 1, name.size() - open - 2);
+    char* end = nullptr;
+    const long i = std::strtol(idx.c_str(), &end, 10);
+    if (idx.empty() || *end != '\0' || i < 0) throw CliError(fmt::format("'{}': bad element index", name));
+    return {name.substr(0, open), int(i)};
+  }
+  return {name, -1};
+}
+
+bool is_pty(const std::string& path) { return path.rfind("/dev/pts/", 0) == 0; }
+
+}  // namespace
+
+LiveConsole::LiveConsole(LiveOptions options) : options_(std::move(options)) {}
+
+LiveConsole::~LiveConsole() { disconnect(); }
+
+void LiveConsole::set_notify(Notify n) {
+  std::lock_guard<std::mutex> lock(notify_mu_);
+  notify_ = std::move(n);
+}
+
+void LiveConsole::say(const std::string& s) {
+  std::lock_guard<std::mutex> lock(notify_mu_);
+  if (notify_) notify_(s);
+}
+
+PlatformId LiveConsole::platform() const {
+  const uint8_t pl = device_->info().platform;
+  if (pl > uint8_t(PlatformId::Tendon))
+    throw CliError("the firmware reports a custom platform: no presets; give every reference parameter");
+  return PlatformId(pl);
+}
+
+void LiveConsole::connect(const Progress& params_progress) {
+  std::string port = options_.port;
+  if (!options_.sim_platform.empty()) {
+    PlatformId id;
+    if (!platform_from_name(options_.sim_platform.c_str(), &id))
+      throw CliError(fmt::format("--sim {}: unknown platform; use msd, hasel or tendon", options_.sim_platform));
+    sim_ = std::make_unique<SimLauncher>();
+    port = sim_->start(options_.sim_platform, options_.sim_args);
+  }
+  if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");
+
+  db_path_ = options_.db_path.empty() ? default_db_path() : options_.db_path;
+  if (!options_.record) {
+    char tmpl[] = "/tmp/nlsoft-unrecorded-XXXXXX";
+    const int fd = ::mkstemp(tmpl);
+    if (fd < 0) throw CliError(fmt::format("cannot create a temporary database: {}", std::strerror(errno)));
+    ::close(fd);
+    ::unlink(tmpl);
+    db_path_ = std::string(tmpl) + ".db";
+    temp_db_ = true;
+  }
+  // The database first: a locked or damaged file should stop us before we
+  // touch the board.
+  recorder_ = std::make_unique<Recorder>(db_path_);
+
+  session_ = std::make_unique<Session>(options_.session);
+  session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
+  session_->on_status([this](const p::Status& s) { tick_rate_hz_ = s.tick_rate_hz; });
+  session_->on_log([this](const p::Log& l) {
+    static const char* level[] = {"debug", "info", "warn", "error"};
+    say(fmt::format("firmware {}: {}", l.level < 4 ? level[l.level] : "log", l.text));
+  });
+  session_->on_event([this](const LinkEvent& e) { on_event(e); });
+  session_->open(port, options_.baud);
+  device_ = std::make_unique<Device>(*session_);
+  device_->handshake();
+  device_->load_params(params_progress);
+  configure_telemetry();
+  recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
+}
+
+void LiveConsole::configure_telemetry() {
+  const p::Info info = device_->info();
+  uint8_t mask = tf::kAll;
+  if (!(info.capabilities & p::capability::kYTrue)) mask = uint8_t(mask & ~tf::kYTrue);
+  int dec = options_.decimation;
+  if (dec <= 0) {
+    dec = 1;
+    if (sim_ == nullptr && !is_pty(session_->port())) {
+      // 8N1: ten bits a byte; keep a fifth of the line for replies.
+      const double frame = double(p::telemetry_payload_size(mask, info.n, info.m) + 9);
+      const double per_s = 0.8 * options_.baud / 10.0 / frame;
+      dec = std::max(1, int(std::ceil(double(info.loop_rate_hz) / per_s)));
+    }
+  }
+  decimation_ = uint16_t(std::min(dec, 65535));
+  device_->telemetry_config(mask, decimation_);
+}
+
+void LiveConsole::disconnect() {
+  if (running()) {
+    try {
+      stop_run("console exited");
+    } catch (...) {
+      // Leaving anyway; the run stays open in the database (ended_at NULL).
+    }
+  }
+  if (session_) session_->close();
+  if (recorder_) {
+    try {
+      recorder_->flush();
+    } catch (...) {
+    }
+  }
+  recorder_.reset();
+  sim_.reset();
+  if (temp_db_) {
+    for (const char* suffix : {"", "-wal", "-shm"}) std::remove((db_path_ + suffix).c_str());
+    temp_db_ = false;
+  }
+}
+
+void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
+  const int64_t run = run_id_.load();
+  if (run == 0) {
+    live_.push(sample_from(t, 0, tick_rate_hz_.load()));
+    return;
+  }
+  const uint64_t k = run_k_.fetch_add(1);
+  if (k == 0) first_step_ = t.step;
+  if (lost_before > 0) {
+    run_lost_ += lost_before;
+    recorder_->add_gap(run, k == 0 ? 0 : k - 1, lost_before, "telemetry frames lost on the link");
+  } else if (resync_after_gap_.exchange(false) && have_last_step_ && (t.mask & tf::kStep)) {
+    const uint32_t d = decimation_ ? decimation_ : 1;
+    const uint32_t missed = (t.step - last_step_.load()) / d;
+    if (missed > 1) {
+      run_lost_ += missed - 1;
+      recorder_->add_gap(run, k == 0 ? 0 : k - 1, missed - 1, "link down");
+    }
+  }
+  const Sample s = sample_from(t, k, tick_rate_hz_.load());
+  recorder_->add_sample(run, s);
+  live_.push(s);
+  last_step_ = t.step;
+  have_last_step_ = true;
+}
+
+void LiveConsole::on_event(const LinkEvent& e) {
+  const int64_t run = run_id_.load();
+  if (recorder_) recorder_->add_link_event(run, link_event_name(e.kind), e.detail);
+  switch (e.kind) {
+    case LinkEvent::Kind::Down:
+      resync_after_gap_ = true;
+      say("link down: " + e.detail + " (reconnecting)");
+      break;
+    case LinkEvent::Kind::Silent: say("link silent: " + e.detail); break;
+    case LinkEvent::Kind::Resumed: say("link: " + e.detail); break;
+    case LinkEvent::Kind::Up: {
+      say("link up: " + e.detail + "; re-handshaking (nothing is re-applied)");
+      try {
+        const p::Info before = device_->info();
+        const p::Info now = device_->handshake();
+        if (now.param_hash != before.param_hash) {
+          device_->load_params();
+          say("the firmware's parameter list changed; reloaded it");
+        }
+        if (now.model_hash != before.model_hash) say(fmt::format("the firmware now runs another model ({:08x})", now.model_hash));
+        const p::Status st = device_->status();
+        if (run != 0 && (st.run_id != uint32_t(run) || st.run_state == uint8_t(p::RunState::Idle)))
+          say(fmt::format("run {} is no longer running on the firmware (reset?); stop it to close the recording", run));
+        if (st.telemetry_mask == 0) say("telemetry is off after the reconnect (board reset?); restart the run");
+        if (recorder_) recorder_->add_link_event(run, "handshake", fmt::format("uptime {} ms", st.uptime_ms));
+      } catch (const std::exception& ex) {
+        say(std::string("re-handshake failed: ") + ex.what());
+      }
+      break;
+    }
+  }
+}
+
+std::pair<ParamInfo, int> LiveConsole::resolve_param(const std::string& name) const {
+  const auto cat = device_->catalog();
+  auto [base, element] = split_element(name);
+  const ParamInfo* info = cat->find(base);
+  if (!info && element < 0) {
+    // "Q0" = Q[0], as in `sweep Q0 1e5 1e6`.
+    size_t d = base.size();
+    while (d > 0 && std::isdigit(static_cast<unsigned char>(base[d - 1]))) --d;
+    if (d > 0 && d < base.size() && cat->find(base.substr(0, d))) {
+      element = std::atoi(base.c_str() + d);
+      info = cat->find(base.substr(0, d));
+    }
+  }
+  if (!info) cat->require(base);  // throws with the known names
+  if (element >= int(info->size))
+    throw CliError(fmt::format("{}[{}]: {} has {} element{} (0..{})", info->name, element, info->name, info->size,
+                               info->size == 1 ? "" : "s", info->size - 1));
+  return {*info, element};
+}
+
+std::vector<double> LiveConsole::set_param(const std::string& name, const std::vector<std::string>& values) {
+  const auto [pinfo, element] = resolve_param(name);
+  const ParamInfo* info = &pinfo;
+  std::vector<double> v;
+  if (element >= 0) {
+    ParamInfo one = *info;
+    one.size = 1;
+    const std::vector<double> x = parse_param_values(one, values);
+    v = device_->get(*info);
+    v[size_t(element)] = x[0];
+  } else {
+    v = parse_param_values(*info, values);
+  }
+  const std::vector<double> echoed = device_->set(*info, v);
+  if (const int64_t run = run_id_.load()) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
+    recorder_->add_param_change(run, t, info->name, format_param_values(*info, echoed));
+  }
+  return echoed;
+}
+
+std::pair<ParamInfo, std::vector<double>> LiveConsole::get_param(const std::string& name) {
+  const ParamInfo info = resolve_param(name).first;
+  return {info, device_->get(info)};
+}
+
+void LiveConsole::save_params(const std::string& path) {
+  const auto all = device_->get_all();
+  const p::Info info = device_->info();
+  const std::string tmp = path + ".part";
+  {
+    std::ofstream out(tmp);
+    if (!out) throw CliError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+    out << fmt::format("# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
+                       info.fw_minor, info.fw_patch, int(info.platform), utc_now());
+    out << "# NAME VALUES...  (load with `params load FILE`)\n";
+    for (const auto& [pi, v] : all) out << pi.name << ' ' << format_param_values(pi, v) << '\n';
+    if (!out) throw CliError(fmt::format("writing {} failed", path));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw CliError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+}
+
+std::vector<std::string> LiveConsole::load_params(const std::string& path, bool dry_run) {
+  std::ifstream in(path);
+  if (!in) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+  const auto cat = device_->catalog();
+  struct Change {
+    const ParamInfo* info;
+    std::vector<double> from, to;
+    int line;
+  };
+  std::vector<Change> changes;
+  std::vector<std::string> diff;
+  std::string line;
+  int lineno = 0;
+  // Parse and check the whole file before sending anything.
+  std::vector<std::tuple<const ParamInfo*, std::vector<double>, int>> wanted;
+  while (std::getline(in, line)) {
+    ++lineno;
+    std::istringstream ls(line);
+    std::string name;
+    if (!(ls >> name) || name[0] == '#') continue;
+    const ParamInfo* info = cat->find(name);
+    if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno, name, cat->names()));
+    std::vector<std::string> tokens;
+    std::string t;
+    while (ls >> t) tokens.push_back(t);
+    try {
+      wanted.emplace_back(info, parse_param_values(*info, tokens), lineno);
+    } catch (const CliError& e) {
+      throw CliError(fmt::format("{}:{}: {}", path, lineno, e.what()));
+    }
+  }
+  for (auto& [info, to, ln] : wanted) {
+    const std::vector<double> from = device_->get(*info);
+    bool same = true;
+    for (size_t i = 0; i < to.size(); ++i)
+      if (float(to[i]) != float(from[i])) same = false;
+    if (same) continue;
+    diff.push_back(fmt::format("{}: {} -> {}", info->name, format_param_values(*info, from), format_param_values(*info, to)));
+    changes.push_back({info, from, to, ln});
+  }
+  if (dry_run) return diff;
+  for (size_t i = 0; i < changes.size(); ++i) {
+    try {
+      set_param(changes[i].info->name, {format_param_values(*changes[i].info, changes[i].to)});
+    } catch (const std::exception& e) {
+      // All or nothing, like PARAM_SET itself: put back what went through.
+      size_t restored = 0;
+      for (size_t j = i; j-- > 0;) {
+        try {
+          device_->set(*changes[j].info, changes[j].from);
+          ++restored;
+        } catch (...) {
+        }
+      }
+      throw CliError(fmt::format("{}:{}: {}; {} earlier change{} rolled back, nothing changed", path, changes[i].line,
+                                 e.what(), restored, restored == 1 ? "" : "s"));
+    }
+  }
+  return diff;
+}
+
+void LiveConsole::select_reference(const RefParams& ref) {
+  device_->select_reference(ref);
+  std::lock_guard<std::mutex> lock(mu_);
+  reference_ = ref;
+  reference_table_file_.clear();
+}
+
+void LiveConsole::upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress) {
+  if (!device_->has(p::capability::kXferRefTable))
+    throw CliError("this firmware does not accept reference tables (no XFER_REF_TABLE capability)");
+  const ReferenceTablePoints pts = read_reference_csv(csv_path, n());
+  device_->upload(p::XferKind::RefTable, reference_table_object(pts), progress);
+  RefParams r{};
+  r.kind = RefKind::Table;
+  r.hold = hold == 0 ? 1 : hold;
+  device_->select_reference(r);
+  std::lock_guard<std::mutex> lock(mu_);
+  reference_ = r;
+  reference_table_file_ = csv_path;
+}
+
+std::optional<RefParams> LiveConsole::reference() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return reference_;
+}
+
+int64_t LiveConsole::start_run(const std::string& label) {
+  if (running()) throw CliError(fmt::format("run {} is already active; stop it first", run_id_.load()));
+  if (const std::string err = recorder_->error(); !err.empty()) throw CliError("recording has stopped: " + err);
+  const p::Info info = device_->info();
+  RunInfo ri;
+  ri.label = label;
+  ri.platform = info.platform <= 2 ? platform_name(PlatformId(info.platform)) : "custom";
+  ri.firmware = fmt::format("{} {}.{}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch);
+  ri.model_hash = info.model_hash;
+  ri.param_hash = info.param_hash;
+  ri.loop_rate_hz = info.loop_rate_hz;
+  ri.n = info.n;
+  ri.m = info.m;
+  ri.decimation = decimation_;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    ri.reference = reference_ ? reference_json(*reference_, reference_table_file_) : "";
+  }
+  for (const auto& [pi, v] : device_->get_all()) ri.params.emplace_back(pi.name, format_param_values(pi, v));
+  const int64_t id = recorder_->begin_run(ri);
+  run_k_ = 0;
+  run_lost_ = 0;
+  have_last_step_ = false;
+  resync_after_gap_ = false;
+  run_label_ = label;
+  run_started_ = std::chrono::steady_clock::now();
+  live_.clear();
+  run_id_ = id;
+  try {
+    device_->run_start(uint32_t(id));
+  } catch (const std::exception& e) {
+    run_id_ = 0;
+    recorder_->end_run(id, std::string("not started: ") + e.what(), 0, 0);
+    if (const auto* nack = dynamic_cast<const NackError*>(&e); nack && nack->status() == p::StatusCode::WrongState)
+      throw CliError("the firmware is already running another run; stop it first");
+    throw;
+  }
+  return id;
+}
+
+RunSummary LiveConsole::stop_run(const std::string& reason) {
+  const int64_t id = run_id_.load();
+  if (id == 0) throw CliError("no run is active");
+  std::string why = reason;
+  try {
+    device_->run_stop();
+  } catch (const std::exception& e) {
+    why = std::string("link lost at stop: ") + e.what();
+  }
+  // Every frame of the run came before RUN_STOP's ACK on the one reader.
+  run_id_ = 0;
+  recorder_->end_run(id, why, run_k_.load(), run_lost_.load());
+  RunSummary s;
+  s.run_id = id;
+  s.label = run_label_;
+  s.end_reason = why;
+  s.metrics = metrics_of(id);
+  std::lock_guard<std::mutex> lock(mu_);
+  last_run_ = s;
+  return s;
+}
+
+void LiveConsole::hold(p::HoldMode mode) {
+  if (!running()) throw CliError("no run is active");
+  device_->run_hold(mode);
+  recorder_->add_link_event(run_id_.load(), "hold",
+                            mode == p::HoldMode::Hold ? "hold" : mode == p::HoldMode::Neutral ? "neutral" : "resume");
+}
+
+RunSummary LiveConsole::run_for(double seconds, const std::string& label, const Progress& progress) {
+  if (!(seconds > 0)) throw CliError("run duration must be > 0");
+  start_run(label);
+  const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
+  const uint64_t target = std::max<uint64_t>(1, uint64_t(std::llround(seconds * rate)));
+  const auto deadline =
+      std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
+  bool reached = false;
+  while (std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (!have_last_step_) continue;
+    const uint64_t done = uint64_t(last_step_.load() - first_step_.load()) + decimation_;
+    if (progress) progress(std::min(done, target), target);
+    if (done >= target) {
+      reached = true;
+      break;
+    }
+  }
+  RunSummary s = stop_run(reached ? "completed" : "timed out waiting for telemetry");
+  if (!reached) say(fmt::format("run {} ended early: telemetry stopped arriving", s.run_id));
+  return s;
+}
+
+std::optional<RunSummary> LiveConsole::last_run() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return last_run_;
+}
+
+RunMetrics LiveConsole::metrics_of(int64_t run_id) {
+  RunStore store(db_path_);
+  return run_metrics(store, run_id);
+}
+
+}  // namespace nlsoft::console

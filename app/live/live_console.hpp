@@ -1,0 +1,135 @@
+#pragma once
+// A connected console: the session and device, the simulator child when
+// there is one, the recorder, and the run in progress. Scripts, the `:`
+// line and the TUI all drive the firmware through this one object, so they
+// behave the same way.
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/link/device.hpp"
+#include "app/link/session.hpp"
+#include "app/link/sim_launcher.hpp"
+#include "app/live/live_buffer.hpp"
+#include "app/record/recorder.hpp"
+#include "app/record/run_metrics.hpp"
+#include "shared/platform_id.hpp"
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+struct LiveOptions {
+  std::string port;          // a serial device, or empty with sim_platform
+  unsigned baud = 115200;
+  std::string sim_platform;  // msd|hasel|tendon: start nlsoft-firmware-sim
+  std::vector<std::string> sim_args;
+  std::string db_path;       // empty: default_db_path()
+  bool record = true;        // false: a temporary database, deleted on exit
+  int decimation = 0;        // 0: 1 on a simulator, else what the baud rate carries
+  SessionOptions session;
+};
+
+struct RunSummary {
+  int64_t run_id = 0;
+  std::string label, end_reason;
+  RunMetrics metrics;
+};
+
+class LiveConsole {
+ public:
+  using Notify = std::function<void(const std::string& line)>;
+  using Progress = std::function<void(size_t done, size_t total)>;
+
+  explicit LiveConsole(LiveOptions options);
+  ~LiveConsole();
+
+  // Messages the user should see (link events, firmware LOG lines). Set
+  // before connect(); may be called from any thread.
+  void set_notify(Notify n);
+
+  // Starts the simulator if asked, opens the port, handshakes, reads the
+  // parameter list and configures telemetry. Throws CliError/LinkError/DbError.
+  void connect(const Progress& params_progress = {});
+  void disconnect();
+
+  Device& device() { return *device_; }
+  Session& session() { return *session_; }
+  Recorder& recorder() { return *recorder_; }
+  LiveBuffer& live() { return live_; }
+  const std::string& db_path() const { return db_path_; }
+  PlatformId platform() const;
+  double loop_rate_hz() const { return double(device_->info().loop_rate_hz); }
+  int n() const { return device_->info().n; }
+
+  // Parameters by name; "Q[1]" addresses one element, the rest keep their
+  // value. Returns the echoed value in force. Logs the change into the run.
+  std::vector<double> set_param(const std::string& name, const std::vector<std::string>& values);
+  std::pair<ParamInfo, std::vector<double>> get_param(const std::string& name);
+  // "Q" -> (Q, -1); "Q[1]" and "Q1" -> (Q, 1). Throws CliError naming the
+  // known parameters, or the valid element range.
+  std::pair<ParamInfo, int> resolve_param(const std::string& name) const;
+  // Returns the lines of the diff; applies nothing if dry_run. On a refusal
+  // rolls back what was applied and throws.
+  std::vector<std::string> load_params(const std::string& path, bool dry_run = false);
+  void save_params(const std::string& path);
+
+  void select_reference(const RefParams& ref);
+  void upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress = {});
+  std::optional<RefParams> reference() const;
+
+  // Run control. start_run records the run (when recording) and sends
+  // RUN_START; stop_run sends RUN_STOP and closes the run with its metrics.
+  int64_t start_run(const std::string& label);
+  RunSummary stop_run(const std::string& reason = "stopped");
+  void hold(protocol::HoldMode mode);
+  bool running() const { return run_id_.load() != 0; }
+  int64_t current_run() const { return run_id_.load(); }
+  uint64_t run_samples() const { return run_k_.load(); }
+  uint64_t run_lost() const { return run_lost_.load(); }
+  // Blocks until `seconds` of control steps have been recorded (by the
+  // firmware's step count, so a faster-than-real-time simulator finishes
+  // early) or a generous wall-clock limit passes, then stops the run.
+  RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {});
+
+  std::optional<RunSummary> last_run() const;
+  RunMetrics metrics_of(int64_t run_id);
+
+ private:
+  void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
+  void on_event(const LinkEvent& e);
+  void configure_telemetry();
+  void say(const std::string& s);
+
+  LiveOptions options_;
+  std::string db_path_;
+  bool temp_db_ = false;
+  std::unique_ptr<SimLauncher> sim_;
+  std::unique_ptr<Session> session_;
+  std::unique_ptr<Device> device_;
+  std::unique_ptr<Recorder> recorder_;
+  LiveBuffer live_;
+  Notify notify_;
+  std::mutex notify_mu_;
+
+  mutable std::mutex mu_;
+  std::optional<RefParams> reference_;
+  std::string reference_table_file_;
+  std::optional<RunSummary> last_run_;
+  std::atomic<int64_t> run_id_{0};
+  std::atomic<uint64_t> run_k_{0};
+  std::atomic<uint64_t> run_lost_{0};
+  std::atomic<uint32_t> tick_rate_hz_{0};
+  std::atomic<bool> resync_after_gap_{false};
+  std::atomic<bool> have_last_step_{false};
+  std::atomic<uint32_t> last_step_{0};
+  std::atomic<uint32_t> first_step_{0};
+  std::string run_label_;
+  std::chrono::steady_clock::time_point run_started_{};
+  uint16_t decimation_ = 1;
+};
+
+}  // namespace nlsoft::console

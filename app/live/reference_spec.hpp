@@ -1,0 +1,34 @@
+#pragma once
+// `ref NAME key=value...`: a named preset for the connected platform
+// (app/reference_presets) with any of its parameters overridden, and the
+// reverse, a RefParams as JSON for the runs table.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "shared/platform_id.hpp"
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+// Names the `ref` command accepts (presets plus "step" for "steps").
+std::vector<std::string> reference_spec_names();
+// Keys a reference takes: a b c c0 c1 c2 omega lambda period scale hold levels.
+const std::vector<std::string>& reference_keys();
+
+// Throws CliError for an unknown name or key, a malformed number or a set
+// the firmware would refuse anyway (shared/reference.hpp's reference_check).
+RefParams reference_from_spec(PlatformId platform, double loop_rate_hz, const std::string& name,
+                              const std::vector<std::pair<std::string, std::string>>& options);
+
+// Applies one key=value to r (used by the spec and the TUI editor).
+void set_reference_key(RefParams& r, double loop_rate_hz, const std::string& key, const std::string& value);
+// Current value of a key as text ("" for keys the kind does not use).
+std::string reference_key_value(const RefParams& r, double loop_rate_hz, const std::string& key);
+// Keys that matter for r.kind, in display order.
+std::vector<std::string> reference_keys_for(RefKind kind);
+
+const char* reference_kind_name(RefKind k);
+std::string reference_json(const RefParams& r, const std::string& table_file = {});
+
+}  // namespace nlsoft::console

@@ -1,0 +1,207 @@
+#include "app/record/runs_command.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "app/cli_error.hpp"
+#include "app/record/csv_export.hpp"
+#include "app/record/recorder.hpp"
+#include "app/record/run_metrics.hpp"
+#include "app/record/run_store.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+struct RunsArgs {
+  std::string db;
+  int64_t id = 0, other = 0;
+  std::string csv;
+  bool json = false;
+};
+
+std::unique_ptr<RunStore> open_store(const RunsArgs& a) {
+  try {
+    return std::make_unique<RunStore>(a.db.empty() ? default_db_path() : a.db);
+  } catch (const DbError& e) {
+    throw CliError(e.what());
+  }
+}
+
+std::string rmse_list(const TrackingMetrics& t) {
+  std::string s;
+  for (double r : t.rmse) s += (s.empty() ? "" : " ") + fmt::format("{:.4g}", r);
+  return "[" + s + "]";
+}
+
+nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
+  const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+  nlohmann::json j;
+  j["id"] = r.id;
+  j["label"] = r.label;
+  j["started_at"] = r.started_at;
+  j["platform"] = r.platform;
+  j["firmware"] = r.firmware;
+  j["samples"] = m.samples;
+  j["duration_s"] = m.duration_s;
+  j["tracked"] = m.has_true ? "y_true" : "y_hat";
+  j["rmse"] = t.rmse;
+  j["nrmse"] = t.nrmse;
+  j["max_error"] = t.max_error;
+  j["rmse_hat"] = m.predicted.rmse;
+  j["nrmse_hat"] = m.predicted.nrmse;
+  j["loop_rate_hz"] = m.loop_rate_hz;
+  j["compute_p50_us"] = m.compute_p50_us;
+  j["compute_p99_us"] = m.compute_p99_us;
+  j["iterations"] = m.mean_iterations;
+  j["lost_frames"] = m.lost_frames;
+  j["gaps"] = m.gaps;
+  return j;
+}
+
+void print_metrics(const RunMetrics& m) {
+  const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+  fmt::print("  tracking ({}): rmse {} nrmse {:.4f} ({:.2f} %) max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
+             rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
+  if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
+  fmt::print("  loop {:.1f} Hz, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", m.loop_rate_hz,
+             m.compute_p50_us, m.compute_p99_us, m.mean_iterations);
+  fmt::print("  {} samples over {:.2f} s, {} lost frame{}, {} gap{}\n", m.samples, m.duration_s, m.lost_frames,
+             m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
+}
+
+void list(const RunsArgs& a) {
+  auto store = open_store(a);
+  const auto runs = store->list();
+  if (runs.empty()) {
+    fmt::print("no runs recorded yet in {}\n", a.db.empty() ? default_db_path() : a.db);
+    return;
+  }
+  fmt::print("{:>5}  {:<24} {:<7} {:>9} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "samples", "lost", "label", "ended");
+  for (const RunRow& r : runs)
+    fmt::print("{:>5}  {:<24} {:<7} {:>9} {:>6}  {:<20} {}\n", r.id, r.started_at, r.platform, r.samples, r.lost_frames,
+               r.label, r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+}
+
+void show(const RunsArgs& a) {
+  auto store = open_store(a);
+  const RunRow r = store->run(a.id);
+  const RunMetrics m = run_metrics(*store, a.id);
+  if (a.json) {
+    nlohmann::json j = metrics_json(r, m);
+    nlohmann::json params = nlohmann::json::object(), changes = nlohmann::json::array();
+    for (const auto& p : store->params(a.id)) {
+      if (p.at_start) params[p.name] = p.value;
+      else changes.push_back({{"t", p.t}, {"name", p.name}, {"value", p.value}});
+    }
+    j["params"] = params;
+    j["param_changes"] = changes;
+    j["reference"] = r.reference.empty() ? nlohmann::json() : nlohmann::json::parse(r.reference, nullptr, false);
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  fmt::print("run {}{}  {} .. {}  ({})\n", r.id, r.label.empty() ? "" : " \"" + r.label + "\"", r.started_at,
+             r.ended_at.empty() ? "?" : r.ended_at, r.ended_at.empty() ? "unfinished: console stopped" : r.end_reason);
+  fmt::print("  {} on {}, model {:08x}, n={} m={}, nominal {:.0f} Hz, decimation {}\n", r.firmware, r.platform, r.model_hash,
+             r.n, r.m, r.loop_rate_hz, r.decimation);
+  if (!r.reference.empty()) fmt::print("  reference {}\n", r.reference);
+  if (!r.notes.empty()) fmt::print("  notes: {}\n", r.notes);
+  print_metrics(m);
+  fmt::print("  parameters at start:\n");
+  for (const auto& p : store->params(a.id))
+    if (p.at_start) fmt::print("    {:<12} {}\n", p.name, p.value);
+  for (const auto& p : store->params(a.id))
+    if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, p.name, p.value);
+  for (const auto& g : store->gaps(a.id))
+    fmt::print("  gap after sample {}: {} frame{} lost ({}, {})\n", g.after_k, g.lost_frames, g.lost_frames == 1 ? "" : "s",
+               g.reason, g.t);
+  for (const auto& [when, detail] : store->link_events(a.id)) fmt::print("  link {}: {}\n", when, detail);
+}
+
+void export_csv(const RunsArgs& a) {
+  auto store = open_store(a);
+  const size_t rows = export_run_csv(*store, a.id, a.csv);
+  fmt::print("run {}: {} samples written to {}\n", a.id, rows, a.csv);
+}
+
+void compare(const RunsArgs& a) {
+  auto store = open_store(a);
+  const RunRow ra = store->run(a.id), rb = store->run(a.other);
+  const RunMetrics ma = run_metrics(*store, a.id), mb = run_metrics(*store, a.other);
+  std::map<std::string, std::pair<std::string, std::string>> pdiff;
+  for (const auto& p : store->params(a.id))
+    if (p.at_start) pdiff[p.name].first = p.value;
+  for (const auto& p : store->params(a.other))
+    if (p.at_start) pdiff[p.name].second = p.value;
+  if (a.json) {
+    nlohmann::json j;
+    j["a"] = metrics_json(ra, ma);
+    j["b"] = metrics_json(rb, mb);
+    nlohmann::json d = nlohmann::json::object();
+    for (const auto& [name, v] : pdiff)
+      if (v.first != v.second) d[name] = {v.first, v.second};
+    j["param_diff"] = d;
+    fmt::print("{}\n", j.dump(2));
+    return;
+  }
+  auto row = [](const char* name, const std::string& x, const std::string& y) {
+    fmt::print("  {:<16} {:>24} {:>24}\n", name, x, y);
+  };
+  fmt::print("  {:<16} {:>24} {:>24}\n", "", fmt::format("run {}", ra.id), fmt::format("run {}", rb.id));
+  row("label", ra.label, rb.label);
+  row("platform", ra.platform, rb.platform);
+  auto num = [](double v) { return fmt::format("{:.5g}", v); };
+  for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "loop_rate", "compute_p50", "compute_p99",
+                        "iterations", "lost", "gaps", "samples", "duration"})
+    row(m, num(metric_value(ma, m).value_or(0)), num(metric_value(mb, m).value_or(0)));
+  bool any = false;
+  for (const auto& [name, v] : pdiff) {
+    if (v.first == v.second) continue;
+    if (!any) fmt::print("  parameters that differ:\n");
+    any = true;
+    row(name.c_str(), v.first, v.second);
+  }
+  if (!any) fmt::print("  same parameters at start\n");
+}
+
+}  // namespace
+
+void add_runs_command(CLI::App& app) {
+  auto args = std::make_shared<RunsArgs>();
+  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare");
+  runs->require_subcommand(1);
+  runs->footer(
+      "Examples:\n"
+      "  nlsoft-console runs list\n"
+      "  nlsoft-console runs show 12\n"
+      "  nlsoft-console runs export 12 --csv run12.csv\n"
+      "  nlsoft-console runs compare 12 13 --json\n");
+  auto db = [&](CLI::App* c) {
+    c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
+  };
+  db(runs);
+  CLI::App* l = runs->add_subcommand("list", "One line per run");
+  db(l);
+  l->callback([args] { list(*args); });
+  CLI::App* s = runs->add_subcommand("show", "A run's setup, parameters, gaps and metrics");
+  db(s);
+  s->add_option("ID", args->id, "Run id (see runs list)")->required();
+  s->add_flag("--json", args->json, "Machine-readable output");
+  s->callback([args] { show(*args); });
+  CLI::App* e = runs->add_subcommand("export", "A run's samples as CSV");
+  db(e);
+  e->add_option("ID", args->id, "Run id")->required();
+  e->add_option("--csv", args->csv, "Output file")->required();
+  e->callback([args] { export_csv(*args); });
+  CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
+  db(c);
+  c->add_option("A", args->id, "First run id")->required();
+  c->add_option("B", args->other, "Second run id")->required();
+  c->add_flag("--json", args->json, "Machine-readable output");
+  c->callback([args] { compare(*args); });
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,294 @@
+#include "app/script/script_parser.hpp"
+
+#include <fmt/format.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "app/record/run_metrics.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r");
+  return s.substr(a, b - a + 1);
+}
+
+bool split_option(const std::string& tok, std::pair<std::string, std::string>& kv) {
+  const size_t eq = tok.find('=');
+  if (eq == std::string::npos || eq == 0) return false;
+  kv = {tok.substr(0, eq), tok.substr(eq + 1)};
+  return true;
+}
+
+std::string metric_list() {
+  std::string s;
+  for (const auto& m : metric_names()) s += (s.empty() ? "" : ", ") + m;
+  return s;
+}
+
+}  // namespace
+
+const char* cmp_op_text(CmpOp op) {
+  switch (op) {
+    case CmpOp::Lt: return "<";
+    case CmpOp::Le: return "<=";
+    case CmpOp::Gt: return ">";
+    case CmpOp::Ge: return ">=";
+    case CmpOp::Eq: return "==";
+    case CmpOp::Ne: return "!=";
+  }
+  return "?";
+}
+
+bool compare(double a, CmpOp op, double b) {
+  switch (op) {
+    case CmpOp::Lt: return a < b;
+    case CmpOp::Le: return a <= b;
+    case CmpOp::Gt: return a > b;
+    case CmpOp::Ge: return a >= b;
+    case CmpOp::Eq: return a == b;
+    case CmpOp::Ne: return a != b;
+  }
+  return false;
+}
+
+double parse_duration(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end == text.c_str()) throw std::invalid_argument(fmt::format("'{}' is not a duration (e.g. 5s, 250ms, 2min)", text));
+  const std::string unit = end;
+  double scale = 0;
+  if (unit == "s" || unit == "sec") scale = 1;
+  else if (unit == "ms") scale = 1e-3;
+  else if (unit == "min" || unit == "m") scale = 60;
+  else if (unit == "h") scale = 3600;
+  else if (unit.empty())
+    throw std::invalid_argument(fmt::format("'{}' needs a unit: {}s, {}ms or {}min", text, text, text, text));
+  else
+    throw std::invalid_argument(fmt::format("'{}': unknown unit '{}' (use ms, s, min or h)", text, unit));
+  if (!std::isfinite(v) || v <= 0) throw std::invalid_argument(fmt::format("'{}': a duration must be > 0", text));
+  return v * scale;
+}
+
+std::vector<std::string> tokenize(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  bool in_quotes = false, have = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (in_quotes) {
+      if (c == '\\' && i + 1 < line.size() && line[i + 1] == '"') cur += line[++i];
+      else if (c == '"') in_quotes = false;
+      else cur += c;
+    } else if (c == '"') {
+      in_quotes = have = true;
+    } else if (c == ' ' || c == '\t') {
+      if (have) out.push_back(cur), cur.clear(), have = false;
+    } else {
+      cur += c;
+      have = true;
+    }
+  }
+  if (in_quotes) throw std::invalid_argument("unterminated \"quote\"");
+  if (have) out.push_back(cur);
+  return out;
+}
+
+Command parse_command(const std::string& raw, const std::string& file, int lineno) {
+  const std::string line = trim(raw);
+  auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, msg); };
+  std::vector<std::string> t;
+  try {
+    t = tokenize(line);
+  } catch (const std::invalid_argument& e) {
+    throw fail(e.what());
+  }
+  if (t.empty()) throw fail("empty command");
+  Command c;
+  c.line = lineno;
+  c.text = line;
+  const std::string verb = t[0];
+  auto need = [&](size_t n, const char* usage) {
+    if (t.size() < n) throw fail(fmt::format("'{}' needs more: {}", verb, usage));
+  };
+  auto at_most = [&](size_t n, const char* usage) {
+    if (t.size() > n) throw fail(fmt::format("'{}' takes fewer arguments: {} (extra: '{}')", verb, usage, t[n]));
+  };
+  auto duration = [&](const std::string& s) {
+    try {
+      return parse_duration(s);
+    } catch (const std::invalid_argument& e) {
+      throw fail(e.what());
+    }
+  };
+  auto label_options = [&](size_t from, const char* usage) {
+    for (size_t i = from; i < t.size(); ++i) {
+      std::pair<std::string, std::string> kv;
+      if (!split_option(t[i], kv) || kv.first != "label")
+        throw fail(fmt::format("'{}': unexpected '{}'; usage: {}", verb, t[i], usage));
+      c.label = kv.second;
+    }
+  };
+
+  if (verb == "set") {
+    need(3, "set NAME VALUES...  e.g. set Q 1e6 2e6 1e6");
+    c.kind = Command::Kind::Set;
+    c.name = t[1];
+    c.values.assign(t.begin() + 2, t.end());
+  } else if (verb == "get") {
+    need(2, "get NAME");
+    at_most(2, "get NAME");
+    c.kind = Command::Kind::Get;
+    c.name = t[1];
+  } else if (verb == "params") {
+    need(3, "params save FILE | params load FILE");
+    at_most(3, "params save FILE | params load FILE");
+    if (t[1] == "save") c.kind = Command::Kind::ParamsSave;
+    else if (t[1] == "load") c.kind = Command::Kind::ParamsLoad;
+    else throw fail(fmt::format("params {}: expected 'save' or 'load'", t[1]));
+    c.name = t[2];
+  } else if (verb == "ref") {
+    need(2, "ref NAME key=value...  or  ref load FILE.csv [hold=N]");
+    if (t[1] == "load") {
+      need(3, "ref load FILE.csv [hold=N]");
+      c.kind = Command::Kind::RefLoad;
+      c.name = t[2];
+      for (size_t i = 3; i < t.size(); ++i) {
+        std::pair<std::string, std::string> kv;
+        if (!split_option(t[i], kv) || kv.first != "hold")
+          throw fail(fmt::format("ref load: unexpected '{}'; only hold=N", t[i]));
+        c.options.push_back(kv);
+      }
+    } else {
+      c.kind = Command::Kind::Ref;
+      c.name = t[1];
+      for (size_t i = 2; i < t.size(); ++i) {
+        std::pair<std::string, std::string> kv;
+        if (!split_option(t[i], kv)) throw fail(fmt::format("ref {}: '{}' is not key=value", c.name, t[i]));
+        c.options.push_back(kv);
+      }
+    }
+  } else if (verb == "run") {
+    need(2, "run DURATION [label=TEXT]  e.g. run 10s label=baseline");
+    c.kind = Command::Kind::Run;
+    c.seconds = duration(t[1]);
+    label_options(2, "run DURATION [label=TEXT]");
+  } else if (verb == "start") {
+    c.kind = Command::Kind::Start;
+    label_options(1, "start [label=TEXT]");
+  } else if (verb == "stop" || verb == "hold" || verb == "neutral" || verb == "resume") {
+    at_most(1, verb.c_str());
+    c.kind = verb == "stop" ? Command::Kind::Stop
+             : verb == "hold" ? Command::Kind::Hold
+             : verb == "neutral" ? Command::Kind::Neutral
+                                 : Command::Kind::Resume;
+  } else if (verb == "wait") {
+    need(2, "wait DURATION");
+    at_most(2, "wait DURATION");
+    c.kind = Command::Kind::Wait;
+    c.seconds = duration(t[1]);
+  } else if (verb == "expect") {
+    need(4, "expect METRIC OP VALUE  e.g. expect nrmse < 0.05");
+    at_most(4, "expect METRIC OP VALUE");
+    c.kind = Command::Kind::Expect;
+    c.name = t[1];
+    bool known = false;
+    for (const auto& m : metric_names()) known |= m == c.name;
+    if (!known && !(c.name.rfind("rmse", 0) == 0 && c.name.size() > 4 &&
+                    c.name.find_first_not_of("0123456789", 4) == std::string::npos))
+      throw fail(fmt::format("unknown metric '{}'; known: {}", c.name, metric_list()));
+    const std::string& op = t[2];
+    if (op == "<") c.op = CmpOp::Lt;
+    else if (op == "<=") c.op = CmpOp::Le;
+    else if (op == ">") c.op = CmpOp::Gt;
+    else if (op == ">=") c.op = CmpOp::Ge;
+    else if (op == "==" || op == "=") c.op = CmpOp::Eq;
+    else if (op == "!=") c.op = CmpOp::Ne;
+    else throw fail(fmt::format("'{}' is not a comparison; use < <= > >= == !=", op));
+    char* end = nullptr;
+    c.value = std::strtod(t[3].c_str(), &end);
+    if (end == t[3].c_str() || *end != '\0' || !std::isfinite(c.value))
+      throw fail(fmt::format("'{}' is not a number", t[3]));
+  } else if (verb == "export") {
+    need(3, "export csv FILE");
+    at_most(3, "export csv FILE");
+    if (t[1] != "csv") throw fail(fmt::format("export {}: only 'export csv FILE' is supported", t[1]));
+    c.kind = Command::Kind::ExportCsv;
+    c.name = t[2];
+  } else if (verb == "echo") {
+    c.kind = Command::Kind::Echo;
+    c.name = trim(line.substr(4));
+  } else if (verb == "sweep") {
+    // sweep PARAM V1 V2 ... run DURATION [label=TEXT]
+    size_t run_at = 0;
+    for (size_t i = 2; i < t.size(); ++i)
+      if (t[i] == "run") run_at = i;
+    if (t.size() < 5 || run_at < 3 || run_at + 1 >= t.size())
+      throw fail("usage: sweep PARAM V1 V2 ... run DURATION  e.g. sweep Q0 1e5 1e6 1e7 run 5s");
+    c.kind = Command::Kind::Sweep;
+    c.name = t[1];
+    c.values.assign(t.begin() + 2, t.begin() + long(run_at));
+    c.seconds = duration(t[run_at + 1]);
+    label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [label=TEXT]");
+  } else {
+    throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
+                           "wait expect export echo sweep",
+                           verb));
+  }
+  return c;
+}
+
+Script parse_script(const std::string& text, const std::string& file) {
+  Script s;
+  s.file = file;
+  std::istringstream in(text);
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const std::string tl = trim(line);
+    if (tl.empty() || tl[0] == '#') continue;
+    s.commands.push_back(parse_command(tl, file, lineno));
+  }
+  return s;
+}
+
+Script parse_script_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ScriptError(path, 0, fmt::format("cannot read script: {}", std::strerror(errno)));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_script(ss.str(), path);
+}
+
+const std::vector<std::string>& script_help() {
+  static const std::vector<std::string> h = {
+      "set NAME VALUES...          set a parameter (all elements), or one: set Q[1] 2e6",
+      "get NAME                    print a parameter's value in force",
+      "params save FILE            write every parameter to FILE",
+      "params load FILE            show the diff and apply it (all or nothing)",
+      "ref NAME key=value...       infinity|pringle|diagonal|swirl|steps|hold; keys a b c c0 c1 c2 period omega lambda scale hold levels",
+      "ref load FILE.csv [hold=N]  upload a table of points and select it",
+      "run DURATION [label=TEXT]   record a run, e.g. run 10s label=baseline",
+      "start [label=TEXT] | stop   start or stop a run without a duration",
+      "hold | neutral | resume     pause the run, actuators to neutral, continue",
+      "wait DURATION               sleep, e.g. wait 500ms",
+      "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost == 0",
+      "export csv FILE             the last run's samples as CSV",
+      "echo TEXT                   print TEXT",
+      "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics",
+  };
+  return h;
+}
+
+}  // namespace nlsoft::console

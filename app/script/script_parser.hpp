@@ -1,0 +1,78 @@
+#pragma once
+// The script language (`--script FILE` and the TUI's `:` line), parsed
+// apart from execution so every syntax error is found, with its line
+// number, before anything is sent to the firmware.
+//
+//   # comment
+//   set NAME VALUES...        set Q 1e6 2e6 1e6   |  set Q[1] 2e6
+//   get NAME
+//   params save FILE | params load FILE
+//   ref NAME key=value...     ref infinity period=8 a=4
+//   ref load FILE.csv [hold=N]
+//   run DURATION [label=TEXT] run 10s label="baseline"
+//   start [label=TEXT] | stop | hold | neutral | resume
+//   wait DURATION
+//   expect METRIC OP VALUE    expect nrmse < 0.05   (OP: < <= > >= == !=)
+//   export csv FILE
+//   echo TEXT
+//   sweep PARAM V1 V2 ... run DURATION [label=TEXT]
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace nlsoft::console {
+
+struct ScriptError : std::runtime_error {
+  ScriptError(const std::string& f, int l, const std::string& msg)
+      : std::runtime_error(f + ":" + std::to_string(l) + ": " + msg), file(f), line(l), message(msg) {}
+  std::string file;
+  int line;
+  std::string message;
+};
+
+enum class CmpOp { Lt, Le, Gt, Ge, Eq, Ne };
+const char* cmp_op_text(CmpOp op);
+bool compare(double lhs, CmpOp op, double rhs);
+
+struct Command {
+  enum class Kind {
+    Set, Get, ParamsSave, ParamsLoad, Ref, RefLoad, Run, Start, Stop, Hold, Neutral, Resume,
+    Wait, Expect, ExportCsv, Echo, Sweep,
+  };
+  Kind kind = Kind::Echo;
+  int line = 0;
+  std::string text;                 // the source line, trimmed
+  std::string name;                 // parameter, reference, metric, file or echo text
+  std::vector<std::string> values;  // set / sweep values
+  std::vector<std::pair<std::string, std::string>> options;  // key=value
+  double seconds = 0;               // run / wait / sweep duration
+  CmpOp op = CmpOp::Lt;
+  double value = 0;                 // expect
+  std::string label;                // run / start / sweep
+};
+
+struct Script {
+  std::string file;
+  std::vector<Command> commands;
+};
+
+// "5s", "250ms", "2min", "1.5s"; throws std::invalid_argument in words.
+double parse_duration(const std::string& text);
+
+// Splits on blanks; "double quotes" group, \" escapes a quote.
+std::vector<std::string> tokenize(const std::string& line);
+
+// Parses one line (already known not to be blank or a comment). Throws
+// ScriptError(file, line, ...).
+Command parse_command(const std::string& line, const std::string& file, int lineno);
+
+// Parses a whole script; the first error throws. Blank lines and lines
+// whose first non-blank is '#' are skipped.
+Script parse_script(const std::string& text, const std::string& file);
+Script parse_script_file(const std::string& path);  // ScriptError on read failure (line 0)
+
+// One line of help per command, for --help, F1 and `:help`.
+const std::vector<std::string>& script_help();
+
+}  // namespace nlsoft::console

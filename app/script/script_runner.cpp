@@ -1,0 +1,179 @@
+#include "app/script/script_runner.hpp"
+
+#include <fmt/format.h>
+
+#include <thread>
+
+#include "app/cli_error.hpp"
+#include "app/link/link_error.hpp"
+#include "app/live/reference_spec.hpp"
+#include "app/record/csv_export.hpp"
+#include "app/record/run_store.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+std::string summary_line(const RunSummary& s) {
+  const RunMetrics& m = s.metrics;
+  const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+  std::string rmse;
+  for (double r : t.rmse) rmse += (rmse.empty() ? "" : " ") + fmt::format("{:.4g}", r);
+  return fmt::format("run {}{}: {} samples, {:.2f} s, rmse [{}] nrmse {:.4f} max_error {:.4g}, loop {:.0f} Hz, "
+                     "compute p50 {:.1f} us p99 {:.1f} us, lost {}{}",
+                     s.run_id, s.label.empty() ? "" : " (" + s.label + ")", m.samples, m.duration_s, rmse, t.nrmse,
+                     t.max_error, m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us, m.lost_frames,
+                     s.end_reason == "completed" ? "" : ", " + s.end_reason);
+}
+
+}  // namespace
+
+int ScriptRunner::run(const Script& script) {
+  for (const Command& c : script.commands) {
+    try {
+      execute(c, script.file);
+    } catch (const ScriptError& e) {
+      out_(std::string("error: ") + e.what());
+      if (console_.running()) {
+        try {
+          console_.stop_run("script error");
+        } catch (...) {
+        }
+      }
+      return 2;
+    }
+  }
+  return failed_ > 0 ? 1 : 0;
+}
+
+void ScriptRunner::execute(const Command& c, const std::string& file) {
+  using K = Command::Kind;
+  try {
+    switch (c.kind) {
+      case K::Set: {
+        const auto v = console_.set_param(c.name, c.values);
+        const ParamInfo info = console_.resolve_param(c.name).first;
+        out_(fmt::format("{} = {}", info.name, format_param_values(info, v)));
+        break;
+      }
+      case K::Get: {
+        const auto [info, v] = console_.get_param(c.name);
+        out_(fmt::format("{} = {}{}", info.name, format_param_values(info, v), info.unit.empty() ? "" : " " + info.unit));
+        break;
+      }
+      case K::ParamsSave:
+        console_.save_params(c.name);
+        out_(fmt::format("parameters saved to {}", c.name));
+        break;
+      case K::ParamsLoad: {
+        const auto diff = console_.load_params(c.name);
+        if (diff.empty()) out_(fmt::format("{}: every parameter already has that value", c.name));
+        for (const auto& d : diff) out_("  " + d);
+        break;
+      }
+      case K::Ref: {
+        const RefParams r = reference_from_spec(console_.platform(), console_.loop_rate_hz(), c.name, c.options);
+        console_.select_reference(r);
+        out_(fmt::format("reference {}", reference_json(r)));
+        break;
+      }
+      case K::RefLoad: {
+        uint16_t hold = 1;
+        for (const auto& [k, v] : c.options) {
+          RefParams tmp{};
+          set_reference_key(tmp, console_.loop_rate_hz(), k, v);
+          hold = tmp.hold;
+        }
+        console_.upload_table(c.name, hold, [&](size_t d, size_t t) {
+          if (progress_) progress_("upload " + c.name, d, t);
+        });
+        out_(fmt::format("reference table {} uploaded and selected (hold {})", c.name, hold));
+        break;
+      }
+      case K::Run: {
+        const RunSummary s = console_.run_for(c.seconds, c.label, [&](size_t d, size_t t) {
+          if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
+        });
+        out_(summary_line(s));
+        break;
+      }
+      case K::Start: out_(fmt::format("run {} started", console_.start_run(c.label))); break;
+      case K::Stop: out_(summary_line(console_.stop_run())); break;
+      case K::Hold: console_.hold(protocol::HoldMode::Hold); out_("holding"); break;
+      case K::Neutral: console_.hold(protocol::HoldMode::Neutral); out_("actuators neutral"); break;
+      case K::Resume: console_.hold(protocol::HoldMode::Resume); out_("resumed"); break;
+      case K::Wait: std::this_thread::sleep_for(std::chrono::duration<double>(c.seconds)); break;
+      case K::Expect: {
+        const auto last = console_.last_run();
+        if (!last) throw CliError("expect needs a finished run first (run DURATION)");
+        const auto v = metric_value(last->metrics, c.name);
+        if (!v) throw CliError(fmt::format("metric '{}' is not available for run {}", c.name, last->run_id));
+        if (compare(*v, c.op, c.value)) {
+          ++passed_;
+          out_(fmt::format("ok: {} = {:.6g} {} {:g}", c.name, *v, cmp_op_text(c.op), c.value));
+        } else {
+          ++failed_;
+          out_(fmt::format("{}:{}: expect {} {} {:g} failed: {} = {:.6g} (run {})", file, c.line, c.name,
+                           cmp_op_text(c.op), c.value, c.name, *v, last->run_id));
+        }
+        break;
+      }
+      case K::ExportCsv: {
+        const auto last = console_.last_run();
+        if (!last) throw CliError("export needs a finished run first (run DURATION)");
+        RunStore store(console_.db_path());
+        const size_t rows = export_run_csv(store, last->run_id, c.name);
+        out_(fmt::format("run {}: {} samples written to {}", last->run_id, rows, c.name));
+        break;
+      }
+      case K::Echo: out_(c.name); break;
+      case K::Sweep: sweep(c); break;
+    }
+  } catch (const ScriptError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ScriptError(file, c.line, e.what());
+  }
+}
+
+void ScriptRunner::sweep(const Command& c) {
+  const auto [info, original] = console_.get_param(c.name);
+  std::vector<std::string> header = {c.name, "run", "rmse", "nrmse", "max_error", "lost", "p99_us"};
+  std::vector<std::vector<std::string>> rows;
+  std::exception_ptr failure;
+  for (const std::string& v : c.values) {
+    try {
+      console_.set_param(c.name, {v});
+      const RunSummary s = console_.run_for(c.seconds, c.label.empty() ? fmt::format("sweep {}={}", c.name, v) : c.label,
+                                            [&](size_t d, size_t t) {
+                                              if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
+                                            });
+      auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(s.metrics, m).value_or(0)); };
+      rows.push_back({v, std::to_string(s.run_id), f("rmse"), f("nrmse"), f("max_error"), f("lost"), f("compute_p99")});
+    } catch (...) {
+      failure = std::current_exception();
+      break;
+    }
+  }
+  // Put the parameter back as it was before the sweep.
+  try {
+    console_.device().set(info, original);
+  } catch (...) {
+  }
+  std::vector<size_t> w(header.size());
+  for (size_t i = 0; i < header.size(); ++i) {
+    w[i] = header[i].size();
+    for (const auto& r : rows) w[i] = std::max(w[i], r[i].size());
+  }
+  auto line = [&](const std::vector<std::string>& r) {
+    std::string s;
+    for (size_t i = 0; i < r.size(); ++i) s += fmt::format("{:>{}}  ", r[i], w[i]);
+    out_(s);
+  };
+  line(header);
+  for (const auto& r : rows) line(r);
+  out_(fmt::format("{} restored to {}", info.name, format_param_values(info, original)));
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace nlsoft::console
