@@ -145,6 +145,7 @@ void Session::supervise() {
     }
     for (const LinkEvent& e : batch)
       if (event_handler_) event_handler_(e);
+    keepalive();
     lock.lock();
   }
 }
@@ -246,6 +247,28 @@ void Session::on_reply(const p::FrameView& f) {
 
 Reply Session::transact(uint8_t type, const uint8_t* payload, size_t length) {
   std::lock_guard<std::mutex> serial(request_mu_);
+  return transact_locked(type, payload, length);
+}
+
+void Session::keepalive() {
+  if (options_.keepalive.count() == 0 || !link_.is_up()) return;
+  if (now_ns() - last_tx_ns_.load() < std::chrono::nanoseconds(options_.keepalive).count()) return;
+  // A request in flight is traffic already; never queue behind it.
+  std::unique_lock<std::mutex> serial(request_mu_, std::try_to_lock);
+  if (!serial.owns_lock()) return;
+  p::Ping ping;
+  ping.nonce = ++ping_nonce_;
+  uint8_t payload[4];
+  size_t len = 0;
+  if (p::pack(ping, payload, sizeof payload, len) != p::StatusCode::Ok) return;
+  try {
+    transact_locked(uint8_t(p::MsgType::Ping), payload, len);
+  } catch (const LinkError&) {
+    // Counted as a timeout; the silence detector reports a dead link.
+  }
+}
+
+Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t length) {
   uint8_t wire[p::kWireBufferSize];
   const uint8_t seq = next_seq_++;
   const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
@@ -263,6 +286,7 @@ Reply Session::transact(uint8_t type, const uint8_t* payload, size_t length) {
       std::lock_guard<std::mutex> lock(stats_mu_);
       ++stats_.retransmits;
     }
+    last_tx_ns_ = now_ns();
     link_.write(std::vector<uint8_t>(wire, wire + n));
     std::unique_lock<std::mutex> lock(pending_mu_);
     // The reply may belong to any earlier try (same seq): whichever arrives

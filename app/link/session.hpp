@@ -31,6 +31,10 @@ struct SessionOptions {
   int tries = 4;                                   // first send + 3 retransmissions
   std::chrono::milliseconds silence_limit{3000};   // heartbeat is 1 s
   std::chrono::milliseconds reconnect_interval{300};
+  // The firmware's link watchdog (1 s by default) puts the actuators in the
+  // safe state when the console goes quiet during a run; a PING at this
+  // interval whenever nothing else was sent keeps it fed. 0 disables.
+  std::chrono::milliseconds keepalive{300};
 };
 
 struct Reply {
@@ -101,6 +105,8 @@ class Session {
   uint8_t foreign_version() const { return foreign_version_.load(); }
 
  private:
+  Reply transact_locked(uint8_t type, const uint8_t* payload, size_t length);
+  void keepalive();
   void on_bytes(const uint8_t* data, size_t len);
   void on_frame(const protocol::FrameView& f);
   void on_reply(const protocol::FrameView& f);
@@ -144,6 +150,8 @@ class Session {
   protocol::Status last_status_{};
   uint32_t nominal_rate_hz_ = 0;
   std::atomic<int64_t> last_frame_ns_{0};
+  std::atomic<int64_t> last_tx_ns_{0};
+  uint32_t ping_nonce_ = 0;
   std::atomic<uint8_t> foreign_version_{0};
 
  public:

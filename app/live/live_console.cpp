@@ -98,6 +98,8 @@ void LiveConsole::connect(const Progress& params_progress) {
   device_ = std::make_unique<Device>(*session_);
   device_->handshake();
   device_->load_params(params_progress);
+  // The tick rate converts compute ticks to microseconds from the first sample on.
+  tick_rate_hz_ = device_->status().tick_rate_hz;
   configure_telemetry();
   recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
 }
