@@ -16,6 +16,11 @@ TrackingMetrics tracking_metrics(const std::vector<float>& y_ref, const std::vec
                                  const float* weight) {
   TrackingMetrics m;
   const size_t rows = n > 0 ? y.size() / size_t(n) : 0;
+  float wmax = 0.0f;
+  for (int i = 0; weight && i < n; ++i) wmax = std::max(wmax, weight[i]);
+  auto tracked = [&](int i) { return !weight || weight[i] >= 1e-3f * wmax; };
+  for (int i = 0; i < n; ++i)
+    if (tracked(i)) m.tracked.push_back(i);
   m.rmse.assign(size_t(n), 0.0);
   std::vector<double> lo(size_t(n), INFINITY), hi(size_t(n), -INFINITY);
   for (size_t k = 0; k < rows; ++k) {
@@ -23,20 +28,24 @@ TrackingMetrics tracking_metrics(const std::vector<float>& y_ref, const std::vec
     for (int i = 0; i < n; ++i) {
       const double r = y_ref[k * size_t(n) + size_t(i)], e = double(y[k * size_t(n) + size_t(i)]) - r;
       m.rmse[size_t(i)] += e * e;
-      if (!weight || weight[i] != 0.0f) dist2 += e * e;
+      if (tracked(i)) dist2 += e * e;
       lo[size_t(i)] = std::min(lo[size_t(i)], r);
       hi[size_t(i)] = std::max(hi[size_t(i)], r);
     }
     m.max_error = std::max(m.max_error, std::sqrt(dist2));
   }
-  double worst = 0, range = 0;
+  double worst = 0, range = 0, worst_all = 0, range_all = 0;
   for (int i = 0; i < n; ++i) {
     m.rmse[size_t(i)] = rows ? std::sqrt(m.rmse[size_t(i)] / double(rows)) : 0.0;
-    if (weight && weight[i] == 0.0f) continue;
+    const double r = rows ? hi[size_t(i)] - lo[size_t(i)] : 0.0;
+    worst_all = std::max(worst_all, m.rmse[size_t(i)]);
+    range_all = std::max(range_all, r);
+    if (!tracked(i)) continue;
     worst = std::max(worst, m.rmse[size_t(i)]);
-    if (rows) range = std::max(range, hi[size_t(i)] - lo[size_t(i)]);
+    range = std::max(range, r);
   }
   m.nrmse = range > 0 ? worst / range : 0.0;
+  m.nrmse_all = range_all > 0 ? worst_all / range_all : 0.0;
   return m;
 }
 

@@ -124,6 +124,8 @@ int run_simulate(const SimulateOptions& o) {
     j["model"] = setup.model ? model->path : "";
     j["rmse"] = tm.rmse;
     j["nrmse"] = tm.nrmse;
+    j["nrmse_all_axes"] = tm.nrmse_all;
+    j["tracked_axes"] = tm.tracked;
     j["max_error"] = tm.max_error;
     j["predicted_nrmse"] = pm.nrmse;
     j["mean_iterations"] = tm.mean_iterations;
@@ -144,7 +146,13 @@ int run_simulate(const SimulateOptions& o) {
   std::string rm;
   for (double r : tm.rmse) rm += fmt::format("{:.4g} ", r);
   fmt::print("RMSE        {}(true output vs reference, per axis)\n", rm);
-  fmt::print("nRMSE       {:.2f} %   (predicted path: {:.2f} %)\n", 100 * tm.nrmse, 100 * pm.nrmse);
+  std::string axes;
+  for (int i : tm.tracked) axes += fmt::format("y{} ", i);
+  fmt::print("nRMSE       {:.2f} % over the tracked axes {}(predicted path: {:.2f} %)\n", 100 * tm.nrmse, axes,
+             100 * pm.nrmse);
+  if (int(tm.tracked.size()) < t.n)
+    fmt::print("            {:.2f} % over every axis (an axis with Q < 1e-3 max Q is not tracked)\n",
+               100 * tm.nrmse_all);
   fmt::print("max error   {:.4g}\n", tm.max_error);
   if (setup.controller == ControllerKind::Mpc)
     fmt::print("NR          {:.2f} iterations per step on average\n", tm.mean_iterations);

@@ -8,8 +8,8 @@
 //
 // The Lambda term runs over time steps j (each du_j is an m-vector), and the
 // Hessian couples every pair of unknowns; the published firmware collapsed
-// both to a per-actuator scalar. The second-order network term uses the
-// curvature along each direction (diagonal), as the paper's stencil does.
+// both to a per-actuator scalar. The second-order network term is the full
+// curvature in exact mode and its diagonal in fd mode (the paper's stencil).
 #include <cmath>
 
 #include "shared/derivatives.hpp"
@@ -22,8 +22,9 @@ struct CostTerms {
   static constexpr int K = Derived<Cap>::K;
   float J = 0.0f;
   float g[K] = {};
-  float H[K * K] = {};   // Gauss-Newton part + Lambda + barrier: positive semi-definite
-  float curv[K] = {};    // second-order network term, diagonal (added by the solver)
+  float H[K * K] = {};     // Gauss-Newton part + Lambda + barrier: positive semi-definite
+  float curv[K * K] = {};  // second-order network term -2 sum e'Q d2y/dU2 (added by the solver):
+                           // full in exact mode, diagonal in fd mode
 };
 
 // The barrier walls sit at b - r/2 and b + r/2. Past a wall the terms would
@@ -57,8 +58,7 @@ void evaluate_cost(const Params<Cap>& P, int m, int n, const float* y_ref, const
   C.J = 0.0f;
   for (int a = 0; a < k; ++a) {
     C.g[a] = 0.0f;
-    C.curv[a] = 0.0f;
-    for (int b = 0; b < k; ++b) C.H[a * K + b] = 0.0f;
+    for (int b = 0; b < k; ++b) C.H[a * K + b] = C.curv[a * K + b] = 0.0f;
   }
 
   // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G, curv -= 2 e' Q D2
@@ -74,7 +74,14 @@ void evaluate_cost(const Params<Cap>& P, int m, int n, const float* y_ref, const
         C.g[a] -= 2.0f * q * e * G[a];
         const float qga = 2.0f * q * G[a];
         for (int b = a; b < k; ++b) C.H[a * K + b] += qga * G[b];
-        C.curv[a] -= 2.0f * q * e * D2[a];
+      }
+      const float w = -2.0f * q * e;
+      if (D.jets) {
+        const Jet<K>& y = D.jets[row];
+        for (int b = 0; b < k && b < y.n; ++b)
+          for (int a = 0; a <= b; ++a) C.curv[a * K + b] += w * y.dd[Jet<K>::pair(a, b)];
+      } else {
+        for (int a = 0; a < k; ++a) C.curv[a * K + a] += w * D2[a];
       }
     }
   }
@@ -106,9 +113,12 @@ void evaluate_cost(const Params<Cap>& P, int m, int n, const float* y_ref, const
     C.H[a * K + a] += bar.hess(U[a]);
   }
 
-  // mirror the upper triangle
+  // mirror the upper triangles
   for (int a = 0; a < k; ++a)
-    for (int b = a + 1; b < k; ++b) C.H[b * K + a] = C.H[a * K + b];
+    for (int b = a + 1; b < k; ++b) {
+      C.H[b * K + a] = C.H[a * K + b];
+      C.curv[b * K + a] = C.curv[a * K + b];
+    }
 }
 
 }  // namespace nlsoft

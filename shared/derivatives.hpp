@@ -1,9 +1,12 @@
 #pragma once
-// dY_hat/dU and the per-direction curvature d2Y_hat/dU_a^2 over the whole
-// horizon, in the two modes of the product:
+// dY_hat/dU and the curvature d2Y_hat/dU2 over the whole horizon, in the two
+// modes of the product:
 //   fd     the paper's central stencil (eqs. first_derivative1 and
-//          second_derivative1), applied to U directly: 2K+1 horizon rollouts.
-//   exact  forward-mode chain rule through the layers (jet.hpp): one rollout.
+//          second_derivative1), applied to U directly: 2K+1 horizon rollouts,
+//          second derivatives along each direction only (the diagonal).
+//   exact  forward-mode chain rule through the layers (jet.hpp): one rollout,
+//          every second derivative (the full curvature, so Newton converges
+//          quadratically even where the prediction cannot meet the reference).
 // Both differentiate the recursion itself; the paper's X_j = X shortcut is not
 // taken, so both modes see the same function and tests hold one to the other.
 #include "shared/horizon.hpp"
@@ -18,7 +21,10 @@ struct HorizonDerivatives {
   static constexpr int K = Derived<Cap>::K;
   float Y[Cap::N * Cap::n];        // Y[j*n + i] = y_hat_i(k+1+j)
   float G[Cap::N * Cap::n * K];    // G[(j*n + i)*K + a] = dY[j][i] / dU_a
-  float D2[Cap::N * Cap::n * K];   // D2[(j*n + i)*K + a] = d2Y[j][i] / dU_a^2
+  float D2[Cap::N * Cap::n * K];   // fd: D2[(j*n + i)*K + a] = d2Y[j][i] / dU_a^2
+  // exact: the predictions as jets, with every second derivative
+  // (Jet::dd); null in fd mode.
+  const Jet<K>* jets = nullptr;
 };
 
 template <class Cap>
@@ -55,9 +61,10 @@ void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int
     D.Y[r] = y.v;
     for (int a = 0; a < k; ++a) {
       D.G[r * K + a] = a < y.n ? y.d[a] : 0.0f;
-      D.D2[r * K + a] = a < y.n ? y.dd[a] : 0.0f;
+      D.D2[r * K + a] = a < y.n ? y.dd[Jet<K>::pair(a, a)] : 0.0f;
     }
   }
+  D.jets = s.Y;
 }
 
 template <class Cap>
@@ -66,6 +73,7 @@ void derivatives_fd(const Model<Cap>& M, const float* x0, const float* U, int N,
   constexpr int K = Derived<Cap>::K;
   const int k = Nc * M.m;
   const int rows = N * M.n;
+  D.jets = nullptr;
   predict_horizon(M, x0, U, N, Nc, D.Y, s.h);
   for (int a = 0; a < k; ++a) s.U[a] = U[a];
   const float inv2e = 0.5f / eps, inve2 = 1.0f / (eps * eps);

@@ -10,21 +10,42 @@ namespace nlsoft {
 // Caller-owned scratch for one forward pass; nothing is allocated.
 template <class Cap, class T>
 struct ForwardScratch {
-  T xin[Derived<Cap>::p];
   T a[Cap::width];
   T b[Cap::width];
   T gates[Cap::width];
 };
 
+// The input normalisation x_net = (x - offset) * scale, folded into the
+// first layer so the raw input is never copied (a host Jet is kilobytes).
+struct InputAffine {
+  const float* scale = nullptr;
+  const float* offset = nullptr;
+  float s(int i) const { return scale ? scale[i] : 1.0f; }
+  float o(int i) const { return scale ? offset[i] * scale[i] : 0.0f; }
+};
+
+namespace detail {
+// out[j] = bias[j] + x_net W[:, j] for j < cols, W row-major [rows][ld].
+template <class T>
+void affine_layer(const float* W, int rows, int ld, int cols, const float* bias, const T* x, T* out,
+                  const InputAffine& in) {
+  for (int j = 0; j < cols; ++j) {
+    float c = bias[j];
+    for (int i = 0; i < rows; ++i) c -= in.o(i) * W[i * ld + j];
+    set_constant(out[j], c);
+  }
+  for (int i = 0; i < rows; ++i) {
+    const float* row = W + i * ld;
+    const float s = in.s(i);
+    for (int j = 0; j < cols; ++j) mul_add(out[j], x[i], row[j] * s);
+  }
+}
+}  // namespace detail
+
 // y = act(x W + b), W stored [in][out] (Keras Dense).
 template <class T>
-void dense(const Layer& L, const float* W, const T* x, T* y) {
-  const float* bias = W + uint32_t(L.in) * L.out;
-  for (int j = 0; j < L.out; ++j) set_constant(y[j], bias[j]);
-  for (int i = 0; i < L.in; ++i) {
-    const float* row = W + uint32_t(i) * L.out;
-    for (int j = 0; j < L.out; ++j) mul_add(y[j], x[i], row[j]);
-  }
+void dense(const Layer& L, const float* W, const T* x, T* y, const InputAffine& in = {}) {
+  detail::affine_layer(W, L.in, L.out, L.out, W + uint32_t(L.in) * L.out, x, y, in);
   for (int j = 0; j < L.out; ++j) apply(L.act, y[j]);
 }
 
@@ -37,20 +58,15 @@ void dense(const Layer& L, const float* W, const T* x, T* y) {
 //   h = z * h_prev + (1 - z) * h~
 // The recurrent kernel is read [u][3u], row = previous unit (not transposed).
 template <class T>
-void gru(const Layer& L, const float* W, const T* x, const float* h_prev, T* h, T* gates) {
+void gru(const Layer& L, const float* W, const T* x, const float* h_prev, T* h, T* gates,
+         const InputAffine& in = {}) {
   const int u = L.out, g3 = 3 * u;
-  const float* kernel = W;
   const float* rec = W + uint32_t(L.in) * g3;
   const float* bias_in = rec + uint32_t(u) * g3;
   const float* bias_rec = L.reset_after ? bias_in + g3 : nullptr;
+  detail::affine_layer(W, L.in, g3, g3, bias_in, x, gates, in);
 
-  // input contributions x W + b for all three gates
-  for (int j = 0; j < g3; ++j) set_constant(gates[j], bias_in[j]);
-  for (int i = 0; i < L.in; ++i) {
-    const float* row = kernel + uint32_t(i) * g3;
-    for (int j = 0; j < g3; ++j) mul_add(gates[j], x[i], row[j]);
-  }
-  // recurrent contributions (constants: h_prev does not depend on x)
+  // recurrent contributions are constants: h_prev does not depend on x
   auto rec_term = [&](int col) {
     float s = bias_rec ? bias_rec[col] : 0.0f;
     if (h_prev)
@@ -68,23 +84,18 @@ void gru(const Layer& L, const float* W, const T* x, const float* h_prev, T* h, 
   }
   for (int j = 0; j < u; ++j) {
     if (L.reset_after) {
-      T t = r[j];
-      affine(t, rec_term(2 * u + j), 0.0f);
-      add(hh[j], hh[j], t);
+      mul_add(hh[j], r[j], rec_term(2 * u + j));
     } else if (h_prev) {
       for (int i = 0; i < u; ++i) mul_add(hh[j], r[i], h_prev[i] * rec[uint32_t(i) * g3 + 2 * u + j]);
     }
     apply(L.act, hh[j]);
   }
   for (int j = 0; j < u; ++j) {
-    // h = z*h_prev + (1 - z)*h~
-    T one_minus_z = z[j];
-    affine(one_minus_z, -1.0f, 1.0f);
-    multiply(h[j], one_minus_z, hh[j]);
-    if (h_prev) {
-      T zh = z[j];
-      affine(zh, h_prev[j], 0.0f);
-      add(h[j], h[j], zh);
+    affine(z[j], -1.0f, 1.0f);       // z <- 1 - z
+    multiply(h[j], z[j], hh[j]);     // (1 - z) h~
+    if (h_prev) {                    // + z h_prev = + h_prev - (1 - z) h_prev
+      mul_add(h[j], z[j], -h_prev[j]);
+      affine(h[j], 1.0f, h_prev[j]);
     }
   }
 }
@@ -92,31 +103,26 @@ void gru(const Layer& L, const float* W, const T* x, const float* h_prev, T* h, 
 // y_hat = g(x): normalise, run the layers, de-normalise (see model.hpp).
 template <class Cap, class T>
 void forward(const Model<Cap>& M, const T* x, T* y, ForwardScratch<Cap, T>& s) {
-  const int p = M.p();
-  const float* off = M.in_offset();
-  const float* sc = M.in_scale();
-  for (int i = 0; i < p; ++i) {
-    s.xin[i] = x[i];
-    affine(s.xin[i], sc[i], -off[i] * sc[i]);
-  }
-  const T* in = s.xin;
+  InputAffine in{M.in_scale(), M.in_offset()};
+  const T* cur = x;
   T* out = s.a;
   for (int l = 0; l < M.layer_count; ++l) {
     const Layer& L = M.layer[l];
     if (L.kind == LayerKind::Dense)
-      dense(L, M.weights(L), in, out);
+      dense(L, M.weights(L), cur, out, in);
     else
-      gru(L, M.weights(L), in, nullptr, out, s.gates);
-    in = out;
+      gru(L, M.weights(L), cur, nullptr, out, s.gates, in);
+    in = InputAffine{};
+    cur = out;
     out = (out == s.a) ? s.b : s.a;
   }
   const float* oo = M.out_offset();
   const float* os = M.out_scale();
   const int y_newest = M.nd * M.m;  // y(k) in the input vector (Algorithm 1)
   for (int j = 0; j < M.n; ++j) {
-    y[j] = in[j];
+    y[j] = cur[j];
     affine(y[j], os[j], oo[j]);
-    if (M.residual) add(y[j], y[j], x[y_newest + j]);
+    if (M.residual) mul_add(y[j], x[y_newest + j], 1.0f);
   }
 }
 

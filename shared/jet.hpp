@@ -2,13 +2,20 @@
 // Forward-mode differentiation for the `exact` derivative mode.
 //
 // A Jet carries a value, its first derivatives along K input directions and
-// the second derivatives along each of those directions (the diagonal of the
-// Hessian). That is exactly what the paper's cost needs: the Jacobian
-// dy/dU (eq. first_derivative_full) and the per-direction curvature
-// d2y/dU2 (eq. first_derivative_full2), here through the whole recursive
-// horizon instead of holding X_j = X. The network code is written once over a
-// scalar type (float or Jet), so `fd` and `exact` evaluate the same model.
+// all its second derivatives (the triangle of the K x K Hessian). That is
+// what the cost's full Hessian (eq. cost2) needs: the Jacobian dy/dU and the
+// curvature d2y/dU2 of every prediction, through the whole recursive horizon
+// instead of the paper's X_j = X shortcut. The network code is written once
+// over a scalar type (float or Jet), so `fd` and `exact` evaluate the same
+// model.
 //
+// Only the first n directions are live (n = 0 for a constant), and the
+// triangle is stored column by column, pair (a <= b) at b(b+1)/2 + a, so the
+// live part is always a prefix: copies and linear operations touch n + n(n+1)/2
+// floats, not the capacity's K + K(K+1)/2. Operations write in place and may
+// alias their inputs.
+#include <cstdint>
+
 #include "shared/activation.hpp"
 
 namespace nlsoft {
@@ -16,15 +23,24 @@ namespace nlsoft {
 template <int K>
 struct Jet {
   static_assert(K >= 1 && K <= 255, "direction count is stored in a byte");
+  static constexpr int kPairs = K * (K + 1) / 2;
+  static constexpr int pair(int a, int b) { return b * (b + 1) / 2 + a; }  // a <= b
+  static constexpr int pairs(int n) { return n * (n + 1) / 2; }
+
   float v = 0.0f;
-  float d[K] = {};
-  float dd[K] = {};
-  // Directions in use: 0 for a constant, otherwise the count of seeded
-  // directions (d[a], dd[a] for a >= n are stale and never read). Loops run to
-  // n, not K, so a capacity sized for the largest platform costs nothing on
-  // a small one, and multiply-adds by constants (sensor channels, old
-  // history) cost one float operation.
   uint8_t n = 0;
+  float d[K];
+  float dd[kPairs];
+
+  Jet() = default;
+  Jet(const Jet& o) { *this = o; }
+  Jet& operator=(const Jet& o) {
+    v = o.v;
+    n = o.n;
+    for (int a = 0; a < n; ++a) d[a] = o.d[a];
+    for (int i = 0; i < pairs(n); ++i) dd[i] = o.dd[i];
+    return *this;
+  }
 };
 
 // ---- scalar operations, overloaded for float and Jet -------------------------
@@ -41,11 +57,12 @@ inline void set_constant(Jet<K>& x, float c) {
 }
 
 namespace detail {
-// Zero-extends acc's derivatives to n directions.
+// Zero-extends x's derivatives to n directions (a prefix grows in place).
 template <int K>
-inline void widen(Jet<K>& acc, uint8_t n) {
-  for (int a = acc.n; a < n; ++a) acc.d[a] = acc.dd[a] = 0.0f;
-  acc.n = n;
+inline void widen(Jet<K>& x, uint8_t n) {
+  for (int a = x.n; a < n; ++a) x.d[a] = 0.0f;
+  for (int i = Jet<K>::pairs(x.n); i < Jet<K>::pairs(n); ++i) x.dd[i] = 0.0f;
+  x.n = n;
 }
 }  // namespace detail
 
@@ -56,10 +73,8 @@ inline void mul_add(Jet<K>& acc, const Jet<K>& x, float w) {
   acc.v += x.v * w;
   if (x.n == 0) return;
   if (acc.n < x.n) detail::widen(acc, x.n);
-  for (int a = 0; a < x.n; ++a) {
-    acc.d[a] += x.d[a] * w;
-    acc.dd[a] += x.dd[a] * w;
-  }
+  for (int a = 0; a < x.n; ++a) acc.d[a] += x.d[a] * w;
+  for (int i = 0; i < Jet<K>::pairs(x.n); ++i) acc.dd[i] += x.dd[i] * w;
 }
 
 // x = x * scale + offset
@@ -67,10 +82,8 @@ inline void affine(float& x, float scale, float offset) { x = x * scale + offset
 template <int K>
 inline void affine(Jet<K>& x, float scale, float offset) {
   x.v = x.v * scale + offset;
-  for (int a = 0; a < x.n; ++a) {
-    x.d[a] *= scale;
-    x.dd[a] *= scale;
-  }
+  for (int a = 0; a < x.n; ++a) x.d[a] *= scale;
+  for (int i = 0; i < Jet<K>::pairs(x.n); ++i) x.dd[i] *= scale;
 }
 
 inline void apply(Activation act, float& x) { x = activate(act, x); }
@@ -82,40 +95,30 @@ inline void apply(Activation act, Jet<K>& x) {
   }
   const ActValue f = activate_d2(act, x.v);
   x.v = f.f;
-  // chain rule along one direction: (f o x)'' = f''(x) x'^2 + f'(x) x''
-  for (int a = 0; a < x.n; ++a) {
-    x.dd[a] = f.d2f * x.d[a] * x.d[a] + f.df * x.dd[a];
-    x.d[a] = f.df * x.d[a];
-  }
+  // chain rule: (f o x)_ab = f''(x) x_a x_b + f'(x) x_ab
+  float* h = x.dd;
+  for (int b = 0; b < x.n; ++b)
+    for (int a = 0; a <= b; ++a, ++h) *h = f.d2f * x.d[a] * x.d[b] + f.df * *h;
+  for (int a = 0; a < x.n; ++a) x.d[a] *= f.df;
 }
 
-// out = x * y (element product of two variables, used by the GRU gates)
+// out = x * y (element product of two variables, used by the GRU gates).
+// Second derivatives first, then first, then the value: out may alias x or y.
 inline void multiply(float& out, float x, float y) { out = x * y; }
 template <int K>
 inline void multiply(Jet<K>& out, const Jet<K>& x, const Jet<K>& y) {
-  Jet<K> r;
-  r.v = x.v * y.v;
-  r.n = x.n > y.n ? x.n : y.n;
-  for (int a = 0; a < r.n; ++a) {
-    const float xd = a < x.n ? x.d[a] : 0.0f, xdd = a < x.n ? x.dd[a] : 0.0f;
-    const float yd = a < y.n ? y.d[a] : 0.0f, ydd = a < y.n ? y.dd[a] : 0.0f;
-    r.d[a] = xd * y.v + x.v * yd;
-    r.dd[a] = xdd * y.v + 2.0f * xd * yd + x.v * ydd;
-  }
-  out = r;
-}
-
-// out = x + y
-inline void add(float& out, float x, float y) { out = x + y; }
-template <int K>
-inline void add(Jet<K>& out, const Jet<K>& x, const Jet<K>& y) {
-  Jet<K> r;
-  r.v = x.v + y.v;
-  r.n = x.n > y.n ? x.n : y.n;
-  for (int a = 0; a < r.n; ++a)
-    r.d[a] = (a < x.n ? x.d[a] : 0.0f) + (a < y.n ? y.d[a] : 0.0f),
-    r.dd[a] = (a < x.n ? x.dd[a] : 0.0f) + (a < y.n ? y.dd[a] : 0.0f);
-  out = r;
+  const uint8_t n = x.n > y.n ? x.n : y.n;
+  auto d = [](const Jet<K>& j, int a) { return a < j.n ? j.d[a] : 0.0f; };
+  auto dd = [](const Jet<K>& j, int i, int b) { return b < j.n ? j.dd[i] : 0.0f; };
+  const float xv = x.v, yv = y.v;
+  for (int b = 0; b < n; ++b)
+    for (int a = 0; a <= b; ++a) {
+      const int i = Jet<K>::pair(a, b);
+      out.dd[i] = dd(x, i, b) * yv + d(x, a) * d(y, b) + d(x, b) * d(y, a) + xv * dd(y, i, b);
+    }
+  for (int a = 0; a < n; ++a) out.d[a] = d(x, a) * yv + xv * d(y, a);
+  out.v = xv * yv;
+  out.n = n;
 }
 
 }  // namespace nlsoft

@@ -1,16 +1,21 @@
 #pragma once
 // Newton-Raphson on U (paper eq. NR): H (U+ - U) = -dJ/dU, H the full
 // Hessian of eq. cost2, solved by LU with partial pivoting, iterated to a
-// tolerance or a cap, each iterate clamped to the input limits.
+// tolerance or a cap, each iterate kept inside the input limits.
 //
-// Safeguards, each reported in the result flags:
-//   - if H with the second-order network term is singular or gives no descent
-//     direction, the term is dropped (Gauss-Newton Hessian, positive
-//     semi-definite by construction);
-//   - if that is singular too (e.g. Lambda = 0 and a flat model), a scaled
-//     gradient step is taken;
-//   - a non-finite gradient leaves U unchanged.
-// Whatever the parameters, U stays finite and inside [u_min, u_max].
+// Globalisation, because the plain Newton step is only as good as the local
+// quadratic model: the learned model is piecewise linear (ReLU) and, with
+// redundant actuators and Q >> Lambda (the paper's tunings), H is
+// conditioned 1e8, so an undamped step can be hundreds of times the input
+// range. Each iteration therefore tries the undamped step first and accepts
+// it only if it lowers J (Armijo); otherwise it damps, H + mu I with mu
+// growing tenfold (Levenberg-Marquardt), which bends the step towards the
+// gradient and shortens it. Near the optimum the first try wins and
+// convergence stays quadratic. Inputs held at a limit by the gradient drop out
+// of the system (projected Newton).
+//
+// Whatever the parameters, U stays finite and inside [u_min, u_max]; what
+// happened is reported in the result flags.
 #include <cmath>
 
 #include "shared/cost.hpp"
@@ -21,12 +26,13 @@ namespace nlsoft {
 
 enum StepFlag : uint8_t {
   kConverged = 1u << 0,         // max |dU| < nr_tol before the cap
-  kCurvatureDropped = 1u << 1,  // fell back to the Gauss-Newton Hessian
-  kGradientStep = 1u << 2,      // Hessian singular / non-finite: gradient step
+  kDamped = 1u << 1,            // the undamped Newton step did not lower J: damped
+  kSingular = 1u << 2,          // the Hessian was singular or not finite at least once
   kNonFinite = 1u << 3,         // gradient not finite: U kept
   kClamped = 1u << 4,           // an input limit was active
   kBadSensor = 1u << 5,         // a sensor value was not finite (previous kept)
   kBadReference = 1u << 6,      // a reference value was not finite (held)
+  kNoDescent = 1u << 7,         // no step along the Newton direction lowered J: U kept
 };
 
 template <class Cap>
@@ -56,15 +62,21 @@ inline float clamp_to(float v, float lo, float hi) {
 
 namespace detail {
 
-// Solves (H + diag(extra)) dU = -g into s.dU; false if singular / not descent.
+// Solves (H + curv + mu I) dU = -g into s.dU over the free unknowns; those
+// held at a limit (active[a]) get dU = 0 and drop out of the system. False
+// if singular, not finite, or not a descent direction.
 template <class Cap>
-bool newton_direction(NewtonScratch<Cap>& s, int k, const float* extra) {
+bool newton_direction(NewtonScratch<Cap>& s, int k, float mu, const bool* active) {
   constexpr int K = Derived<Cap>::K;
   for (int a = 0; a < k; ++a)
-    for (int b = 0; b < k; ++b) s.LU[a * K + b] = s.C.H[a * K + b] + (a == b && extra ? extra[a] : 0.0f);
+    for (int b = 0; b < k; ++b) {
+      float h = s.C.H[a * K + b] + s.C.curv[a * K + b] + (a == b ? mu : 0.0f);
+      if (active[a] || active[b]) h = a == b ? 1.0f : 0.0f;
+      s.LU[a * K + b] = h;
+    }
   if (!lu_decompose(s.LU, k, K, s.piv)) return false;
   float descent = 0.0f;
-  for (int a = 0; a < k; ++a) s.dU[a] = -s.C.g[a];
+  for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -s.C.g[a];
   lu_solve(s.LU, k, K, s.piv, s.dU);
   for (int a = 0; a < k; ++a) {
     if (!finite(s.dU[a])) return false;
@@ -99,30 +111,63 @@ NewtonResult newton_solve(const Model<Cap>& M, const Params<Cap>& P, const float
       r.flags |= kNonFinite;
       break;
     }
-    if (!detail::newton_direction(s, k, s.C.curv)) {
-      r.flags |= kCurvatureDropped;
-      if (!detail::newton_direction(s, k, static_cast<const float*>(nullptr))) {
-        // steepest descent scaled by the largest curvature we can trust
-        float h = 0.0f;
-        for (int a = 0; a < k; ++a) {
-          const float d = std::fabs(s.C.H[a * Derived<Cap>::K + a]);
-          if (finite(d) && d > h) h = d;
-        }
-        const float alpha = h > 0.0f ? 1.0f / h : 0.0f;
-        for (int a = 0; a < k; ++a) s.dU[a] = -alpha * s.C.g[a];
-        r.flags |= kGradientStep;
-      }
-    }
-    float step = 0.0f;
+    bool active[Derived<Cap>::K];
+    bool any_free = false;
+    float hmax = 0.0f;
     for (int a = 0; a < k; ++a) {
       const float lo = P.u_min[a % m], hi = P.u_max[a % m];
-      const float want = U[a] + s.dU[a];
-      const float next = clamp_to(want, lo, hi);
-      if (next != want) r.flags |= kClamped;
-      const float d = std::fabs(next - U[a]);
-      if (d > step) step = d;
-      U[a] = next;
+      active[a] = (U[a] <= lo && s.C.g[a] > 0.0f) || (U[a] >= hi && s.C.g[a] < 0.0f);
+      any_free = any_free || !active[a];
+      const float d = std::fabs(s.C.H[a * Derived<Cap>::K + a]);
+      if (finite(d) && d > hmax) hmax = d;
     }
+    if (!any_free) {  // every input pinned at a limit by the gradient: optimal as it is
+      r.flags |= kConverged | kClamped;
+      r.step = 0.0f;
+      break;
+    }
+
+    // Undamped first, then Levenberg-Marquardt damping until J decreases.
+    float mu = 0.0f, step = 0.0f;
+    bool accepted = false, clamped = false;
+    for (int tries = 0; tries < 8; ++tries) {
+      if (tries > 0) {
+        r.flags |= kDamped;
+        mu = mu == 0.0f ? (hmax > 0.0f ? 1e-4f * hmax : 1.0f) : 10.0f * mu;
+      }
+      if (!detail::newton_direction(s, k, mu, active)) {
+        r.flags |= kSingular;
+        continue;
+      }
+      float slope = 0.0f;
+      step = 0.0f;
+      clamped = false;
+      for (int a = 0; a < k; ++a) {
+        const float want = U[a] + s.dU[a];
+        s.fd.U[a] = clamp_to(want, P.u_min[a % m], P.u_max[a % m]);
+        clamped = clamped || s.fd.U[a] != want;
+        slope += s.C.g[a] * (s.fd.U[a] - U[a]);
+        const float d = std::fabs(s.fd.U[a] - U[a]);
+        if (d > step) step = d;
+      }
+      if (step < P.nr_tol) {  // too small to matter: accept without a rollout
+        accepted = true;
+        break;
+      }
+      predict_horizon(M, x0, s.fd.U, P.N, P.Nc, s.fd.Yp, s.fd.h);
+      const float J = cost_value(P, m, M.n, y_ref, s.fd.U, u_prev, s.fd.Yp);
+      if (J <= s.C.J + 1e-4f * slope) {
+        accepted = true;
+        break;
+      }
+    }
+    if (!accepted) {
+      r.flags |= kNoDescent;
+      r.step = 0.0f;
+      break;
+    }
+    if (clamped) r.flags |= kClamped;
+    for (int a = 0; a < k; ++a) U[a] = s.fd.U[a];
     r.step = step;
     if (step < P.nr_tol) {
       r.flags |= kConverged;

