@@ -90,6 +90,8 @@ std::vector<std::string> tokenize(const std::string& line) {
       if (c == '\\' && i + 1 < line.size() && line[i + 1] == '"') cur += line[++i];
       else if (c == '"') in_quotes = false;
       else cur += c;
+    } else if (c == '#' && !have) {
+      break;  // a comment to the end of the line
     } else if (c == '"') {
       in_quotes = have = true;
     } else if (c == ' ' || c == '\t') {
@@ -107,6 +109,15 @@ std::vector<std::string> tokenize(const std::string& line) {
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
   auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, msg); };
+  if (line.compare(0, line.find_first_of(" \t"), "echo") == 0) {
+    // Free text: quotes and all are printed as written.
+    Command c;
+    c.kind = Command::Kind::Echo;
+    c.line = lineno;
+    c.text = line;
+    c.name = trim(line.substr(4));
+    return c;
+  }
   std::vector<std::string> t;
   try {
     t = tokenize(line);

@@ -1,0 +1,123 @@
+// End to end over a pty: nlsoft-console --sim runs nlsoft-firmware-sim and
+// executes scripts headless; the recording is then checked in the database.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <fstream>
+
+#include "app/live/reference_table.hpp"
+#include "app/record/run_store.hpp"
+#include "run_process.hpp"
+#include "shared/plant_hasel.hpp"
+#include "temp_dir.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+using test::run_process;
+using test::shell_quote;
+
+class ConsoleE2E : public ::testing::Test {
+ protected:
+  void SetUp() override { ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1); }
+
+  test::ProcessResult run_script(const std::string& text, const std::string& platform = "hasel",
+                                 const std::string& extra = "") {
+    script_ = dir_.file("tune.nls");
+    std::ofstream(script_) << text;
+    return run_process(fmt_command(platform, extra));
+  }
+  std::string fmt_command(const std::string& platform, const std::string& extra) const {
+    return std::string(NLSOFT_CONSOLE_BIN) + " --sim " + platform + " --db " + shell_quote(db()) + " --script " +
+           shell_quote(script_) + " " + extra;
+  }
+  std::string db() const { return dir_.file("runs.db"); }
+
+  test::TempDir dir_;
+  std::string script_;
+};
+
+TEST_F(ConsoleE2E, SetParametersUploadSwirlRunAndCheckTheRecording) {
+  const std::string csv = dir_.file("swirl.csv");
+  write_reference_csv(swirl_table(HaselPlant::kSwirlCentre, HaselPlant::kSwirlScale, 3), csv);
+  const auto r = run_script(
+      "# the tuning session of the issue, headless\n"
+      "set Q 1e6 2e6 1e6\n"
+      "set Lambda 1 1 1 1 1 1\n"
+      "get Q\n"
+      "ref load " + csv + " hold=1\n"
+      "run 3s label=swirl-e2e\n"
+      "expect lost == 0\n"
+      "expect samples >= 380\n"
+      "export csv " + dir_.file("run.csv") + "\n");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("Q = 1e+06 2e+06 1e+06"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("uploaded and selected"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ok: lost = 0 == 0"), std::string::npos) << r.output;
+
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  const RunRow& run = runs[0];
+  EXPECT_EQ(run.label, "swirl-e2e");
+  EXPECT_EQ(run.platform, "hasel");
+  EXPECT_EQ(run.end_reason, "completed");
+  EXPECT_EQ(run.lost_frames, 0u);
+  EXPECT_NE(run.reference.find("\"kind\":\"table\""), std::string::npos) << run.reference;
+  const RunSeries s = store.series(run.id);
+  EXPECT_GE(s.rows(), 380u);
+  EXPECT_EQ(s.rows(), run.samples);
+  EXPECT_TRUE(s.has_y_true);
+  // Steps are consecutive (decimation 1) and the reference is the table's
+  // first points: the Swirl rests at its centre for 30 points.
+  for (size_t i = 1; i < s.rows(); ++i) ASSERT_EQ(s.step[i], s.step[i - 1] + 1) << "at sample " << i;
+  EXPECT_EQ(s.step[0], 0u);
+  EXPECT_FLOAT_EQ(s.y_ref[0], HaselPlant::kSwirlCentre[0]);
+  bool q_at_start = false;
+  for (const auto& p : store.params(run.id)) q_at_start |= p.at_start && p.name == "Q" && p.value == "1e+06 2e+06 1e+06";
+  EXPECT_TRUE(q_at_start);
+  std::ifstream exported(dir_.file("run.csv"));
+  size_t lines = 0;
+  for (std::string l; std::getline(exported, l);) ++lines;
+  EXPECT_EQ(lines, s.rows() + 1);
+}
+
+TEST_F(ConsoleE2E, FailedExpectExitsOneWithFileAndLine) {
+  const auto r = run_script("ref hold\nrun 500ms\nexpect samples > 1e9\nexpect lost == 0\n", "msd");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("tune.nls:3: expect samples > 1e+09 failed: samples = "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("ok: lost = 0 == 0"), std::string::npos) << r.output;
+}
+
+TEST_F(ConsoleE2E, RefusedParameterExitsTwoAndChangesNothing) {
+  const auto r = run_script("get Q\nset Q[1] -5\n", "hasel");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("tune.nls:2: Q[1] = -5 is out of range [0, 1e+12]"), std::string::npos) << r.output;
+  const auto after = run_script("get Q\n", "hasel");
+  EXPECT_EQ(after.code, 0) << after.output;
+  EXPECT_NE(after.output.find("Q = 1e+06 2e+06 1e+06"), std::string::npos) << after.output;
+}
+
+TEST_F(ConsoleE2E, ScriptErrorIsReportedBeforeConnecting) {
+  const auto r = run_script("set Q 1 2 3\nrun ten seconds\n");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("tune.nls:2: 'ten' is not a duration"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("connected:"), std::string::npos) << r.output;
+}
+
+TEST_F(ConsoleE2E, ParamsSaveLoadShowsTheDiff) {
+  const std::string saved = dir_.file("p.params");
+  const auto r = run_script("params save " + saved + "\nset Q 5 5 5\nparams load " + saved + "\nget Q\n");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("Q: 5 5 5 -> 1e+06 2e+06 1e+06"), std::string::npos) << r.output;
+}
+
+TEST_F(ConsoleE2E, SweepPrintsATablePerSetting) {
+  const auto r = run_script("ref hold\nsweep Q0 1 1000 run 300ms\n", "msd");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("Q0  run"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Q restored to 1"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace nlsoft::console

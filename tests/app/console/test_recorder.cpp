@@ -1,0 +1,260 @@
+// The recording database: schema and migrations, batching, gaps, clear
+// errors for locked/corrupt/newer files, and crash safety (a killed writer
+// keeps every committed batch and the file passes integrity_check).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fstream>
+
+#include "app/record/recorder.hpp"
+#include "app/record/run_metrics.hpp"
+#include "app/record/run_store.hpp"
+#include "app/record/schema.hpp"
+#include "temp_dir.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+namespace tf = protocol::telemetry_field;
+using test::TempDir;
+
+Sample make_sample(uint64_t k, float err = 0.1f) {
+  Sample s;
+  s.k = k;
+  s.step = uint32_t(k);
+  s.time_us = uint32_t(k * 1000);
+  s.mask = tf::kAll;
+  s.n = 3;
+  s.m = 2;
+  for (int i = 0; i < 3; ++i) {
+    s.y_ref()[i] = float(k % 10) + float(i);
+    s.y_hat()[i] = s.y_ref()[i] + err / 2;
+    s.y_true()[i] = s.y_ref()[i] + err;
+  }
+  s.u()[0] = 0.25f;
+  s.u()[1] = -0.5f;
+  s.cost = 1.5f;
+  s.iterations = 2;
+  s.compute_us = float(k % 100);
+  return s;
+}
+
+RunInfo run_info(const std::string& label = "t") {
+  RunInfo r;
+  r.label = label;
+  r.platform = "hasel";
+  r.firmware = "fake 1.0.0";
+  r.loop_rate_hz = 1000;
+  r.n = 3;
+  r.m = 2;
+  r.params = {{"Q", "1 1 1"}, {"N", "3"}};
+  return r;
+}
+
+int64_t scalar(Db& db, const char* sql) {
+  Stmt s = db.prepare(sql);
+  return s.step() ? s.int64(0) : -1;
+}
+
+TEST(Recorder, FreshDatabaseHasTheCurrentSchema) {
+  TempDir dir;
+  { Recorder r(dir.file("runs.db")); }
+  Db db(dir.file("runs.db"), false);
+  EXPECT_EQ(schema_version(db), kSchemaVersion);
+  for (const char* t : {"runs", "params", "samples", "gaps", "link_events"}) {
+    Stmt s = db.prepare("SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
+    s.bind(1, std::string(t));
+    ASSERT_TRUE(s.step());
+    EXPECT_EQ(s.int64(0), 1) << t;
+  }
+  Stmt wal = db.prepare("PRAGMA journal_mode");
+  ASSERT_TRUE(wal.step());
+  EXPECT_EQ(wal.text(0), "wal");
+}
+
+TEST(Recorder, MigratesAVersion1DatabaseKeepingItsRuns) {
+  TempDir dir;
+  const std::string path = dir.file("old.db");
+  {
+    Db db(path, true);
+    migrate(db, 1);
+    ASSERT_EQ(schema_version(db), 1);
+    db.exec("INSERT INTO runs(started_at,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,label) "
+            "VALUES('2024-01-01T00:00:00Z','msd','old',0,0,1000,1,1,'kept')");
+  }
+  { Recorder r(path); }
+  RunStore store(path);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].label, "kept");
+  EXPECT_EQ(runs[0].samples, 0u);  // the v2 column, defaulted
+  Db db(path, false);
+  EXPECT_EQ(schema_version(db), kSchemaVersion);
+}
+
+TEST(Recorder, RefusesADatabaseFromANewerConsole) {
+  TempDir dir;
+  const std::string path = dir.file("new.db");
+  {
+    Db db(path, true);
+    db.exec("PRAGMA user_version=99");
+  }
+  try {
+    Recorder r(path);
+    FAIL();
+  } catch (const DbError& e) {
+    EXPECT_NE(std::string(e.what()).find("newer than this console"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Recorder, NotADatabaseIsAClearErrorAndTheFileIsUntouched) {
+  TempDir dir;
+  const std::string path = dir.file("junk.db");
+  std::ofstream(path) << std::string(4096, 'x');
+  try {
+    Recorder r(path);
+    FAIL();
+  } catch (const DbError& e) {
+    EXPECT_NE(std::string(e.what()).find("damaged or not an nlsoft database"), std::string::npos) << e.what();
+  }
+  std::ifstream in(path);
+  std::string content((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(content, std::string(4096, 'x'));
+}
+
+TEST(Recorder, LockedDatabaseIsAClearError) {
+  TempDir dir;
+  const std::string path = dir.file("locked.db");
+  { Recorder r(path); }
+  Db other(path, false);
+  other.exec("BEGIN IMMEDIATE");
+  try {
+    Recorder r(path);
+    FAIL();
+  } catch (const DbError& e) {
+    EXPECT_NE(std::string(e.what()).find("locked by another process"), std::string::npos) << e.what();
+  }
+  other.exec("ROLLBACK");
+}
+
+TEST(Recorder, BatchesEverySampleIntoItsRun) {
+  TempDir dir;
+  const std::string path = dir.file("runs.db");
+  int64_t id = 0;
+  {
+    Recorder::Options o;
+    o.batch_wakeup = 1000;
+    Recorder r(path, o);
+    id = r.begin_run(run_info("batch"));
+    for (uint64_t k = 0; k < 50000; ++k) ASSERT_TRUE(r.add_sample(id, make_sample(k)));
+    r.add_param_change(id, 1.5, "Q", "2 2 2");
+    r.add_gap(id, 100, 3, "telemetry frames lost on the link");
+    r.end_run(id, "completed", 50000, 3);
+    EXPECT_EQ(r.committed_samples(), 50000u);
+    EXPECT_EQ(r.dropped_samples(), 0u);
+    EXPECT_EQ(r.error(), "");
+  }
+  RunStore store(path);
+  const RunRow row = store.run(id);
+  EXPECT_EQ(row.samples, 50000u);
+  EXPECT_EQ(row.lost_frames, 3u);
+  EXPECT_EQ(row.end_reason, "completed");
+  const RunSeries s = store.series(id);
+  ASSERT_EQ(s.rows(), 50000u);
+  EXPECT_TRUE(s.has_y_true);
+  EXPECT_FLOAT_EQ(s.u[1], -0.5f);
+  const auto params = store.params(id);
+  ASSERT_EQ(params.size(), 3u);
+  EXPECT_TRUE(params[0].at_start);
+  EXPECT_EQ(params[2].name, "Q");
+  EXPECT_EQ(params[2].value, "2 2 2");
+  EXPECT_DOUBLE_EQ(params[2].t, 1.5);
+  const auto gaps = store.gaps(id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].after_k, 100u);
+  EXPECT_EQ(gaps[0].lost_frames, 3u);
+
+  const RunMetrics m = run_metrics(store, id);
+  EXPECT_TRUE(m.has_true);
+  ASSERT_EQ(m.truth.rmse.size(), 3u);
+  EXPECT_NEAR(m.truth.rmse[0], 0.1, 1e-6);
+  EXPECT_NEAR(m.predicted.rmse[2], 0.05, 1e-6);
+  EXPECT_NEAR(m.loop_rate_hz, 1000.0, 1e-6);
+  EXPECT_EQ(m.lost_frames, 3u);
+  EXPECT_EQ(m.gaps, 1u);
+  EXPECT_NEAR(*metric_value(m, "compute_p99"), 98.0, 1.0);
+}
+
+TEST(Recorder, FullQueueDropsAreRecordedAsAGap) {
+  TempDir dir;
+  const std::string path = dir.file("runs.db");
+  Recorder::Options o;
+  o.queue_capacity = 100;
+  o.batch_wakeup = 1000000;                // never woken early
+  o.batch_delay = std::chrono::hours(1);   // and never by time: only flush
+  Recorder r(path, o);
+  const int64_t id = r.begin_run(run_info());
+  uint64_t accepted = 0;
+  for (uint64_t k = 0; k < 150; ++k) accepted += r.add_sample(id, make_sample(k)) ? 1 : 0;
+  EXPECT_EQ(accepted, 100u);
+  EXPECT_EQ(r.dropped_samples(), 50u);
+  r.flush();
+  ASSERT_TRUE(r.add_sample(id, make_sample(150)));
+  r.end_run(id, "completed", 101, 0);
+  RunStore store(path);
+  const auto gaps = store.gaps(id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].lost_frames, 50u);
+  EXPECT_EQ(gaps[0].after_k, 99u);
+  EXPECT_EQ(gaps[0].reason, "recorder queue full: samples dropped");
+}
+
+TEST(Recorder, KilledWriterKeepsEveryCommittedBatch) {
+  TempDir dir;
+  const std::string path = dir.file("crash.db");
+  int ready[2];
+  ASSERT_EQ(pipe(ready), 0);
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    close(ready[0]);
+    Recorder::Options o;
+    o.batch_delay = std::chrono::milliseconds(5);
+    Recorder r(path, o);
+    const int64_t id = r.begin_run(run_info("crash"));
+    uint64_t k = 0;
+    for (; k < 20000; ++k) r.add_sample(id, make_sample(k));
+    r.flush();
+    const char c = 'x';
+    if (write(ready[1], &c, 1) != 1) _exit(3);
+    for (;; ++k) {  // keep writing until killed mid-batch
+      if (!r.add_sample(id, make_sample(k))) usleep(100);
+    }
+  }
+  close(ready[1]);
+  char c = 0;
+  ASSERT_EQ(read(ready[0], &c, 1), 1);
+  usleep(50000);
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+
+  Db db(path, false);
+  Stmt check = db.prepare("PRAGMA integrity_check");
+  ASSERT_TRUE(check.step());
+  EXPECT_EQ(check.text(0), "ok");
+  const int64_t count = scalar(db, "SELECT count(*) FROM samples");
+  const int64_t max_k = scalar(db, "SELECT max(k) FROM samples");
+  EXPECT_GE(count, 20000) << "everything flushed before the kill is there";
+  EXPECT_EQ(count, max_k + 1) << "committed batches are contiguous: no hole";
+  RunStore store(path);
+  const RunRow row = store.run(1);
+  EXPECT_TRUE(row.ended_at.empty()) << "an unfinished run stays visible as unfinished";
+  EXPECT_EQ(row.samples, uint64_t(count));
+}
+
+}  // namespace
+}  // namespace nlsoft::console
