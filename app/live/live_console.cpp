@@ -237,10 +237,14 @@ std::vector<double> LiveConsole::set_param(const std::string& name, const std::v
   } else {
     v = parse_param_values(*info, values);
   }
-  const std::vector<double> echoed = device_->set(*info, v);
+  return apply_param(*info, v);
+}
+
+std::vector<double> LiveConsole::apply_param(const ParamInfo& info, const std::vector<double>& values) {
+  const std::vector<double> echoed = device_->set(info, values);
   if (const int64_t run = run_id_.load()) {
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
-    recorder_->add_param_change(run, t, info->name, format_param_values(*info, echoed));
+    recorder_->add_param_change(run, t, info.name, format_param_values(info, echoed));
   }
   return echoed;
 }
@@ -310,13 +314,13 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
   if (dry_run) return diff;
   for (size_t i = 0; i < changes.size(); ++i) {
     try {
-      set_param(changes[i].info->name, {format_param_values(*changes[i].info, changes[i].to)});
+      apply_param(*changes[i].info, changes[i].to);
     } catch (const std::exception& e) {
       // All or nothing, like PARAM_SET itself: put back what went through.
       size_t restored = 0;
       for (size_t j = i; j-- > 0;) {
         try {
-          device_->set(*changes[j].info, changes[j].from);
+          apply_param(*changes[j].info, changes[j].from);
           ++restored;
         } catch (...) {
         }

@@ -69,6 +69,8 @@ class LiveConsole {
   // value. Returns the echoed value in force. Logs the change into the run.
   std::vector<double> set_param(const std::string& name, const std::vector<std::string>& values);
   std::pair<ParamInfo, std::vector<double>> get_param(const std::string& name);
+  // Sends a whole value and logs the change into the active run.
+  std::vector<double> apply_param(const ParamInfo& info, const std::vector<double>& values);
   // "Q" -> (Q, -1); "Q[1]" and "Q1" -> (Q, 1). Throws CliError naming the
   // known parameters, or the valid element range.
   std::pair<ParamInfo, int> resolve_param(const std::string& name) const;

@@ -157,7 +157,7 @@ void ScriptRunner::sweep(const Command& c) {
   }
   // Put the parameter back as it was before the sweep.
   try {
-    console_.device().set(info, original);
+    console_.apply_param(info, original);
   } catch (...) {
   }
   std::vector<size_t> w(header.size());
