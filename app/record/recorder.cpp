@@ -47,9 +47,13 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   ensure_parent_dir(path);
   db_ = std::make_unique<Db>(path, true);
   migrate(*db_);
+  // Probe for a writer lock now, so "locked by another process" is said at
+  // start instead of failing the first batch mid-run.
+  db_->exec("BEGIN IMMEDIATE");
+  db_->exec("ROLLBACK");
   insert_sample_ = db_->prepare(
-      "INSERT INTO samples(run_id,k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us) "
-      "VALUES(?,?,?,?,?,?,?,?,?,?,?)");
+      "INSERT INTO samples(id,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us) "
+      "VALUES(?,?,?,?,?,?,?,?,?,?)");
   insert_param_ = db_->prepare("INSERT INTO params(run_id,t,at_start,name,value) VALUES(?,?,?,?,?)");
   insert_gap_ = db_->prepare("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason) VALUES(?,?,?,?,?)");
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
@@ -196,24 +200,24 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
         if (auto* si = std::get_if<SampleItem>(&item)) {
           const Sample& s = si->s;
           Stmt& st = insert_sample_;
-          st.bind(1, si->run).bind(2, int64_t(s.k));
-          if (s.has(tf::kStep)) st.bind(3, int64_t(s.step)); else st.bind_null(3);
-          if (s.has(tf::kTime)) st.bind(4, int64_t(s.time_us)); else st.bind_null(4);
+          st.bind(1, sample_key(si->run, s.k));
+          if (s.has(tf::kStep)) st.bind(2, int64_t(s.step)); else st.bind_null(2);
+          if (s.has(tf::kTime)) st.bind(3, int64_t(s.time_us)); else st.bind_null(3);
           const size_t nb = size_t(s.n) * 4;
-          if (s.has(tf::kYRef)) st.bind_blob(5, s.y_ref(), nb); else st.bind_null(5);
-          if (s.has(tf::kYHat)) st.bind_blob(6, s.y_hat(), nb); else st.bind_null(6);
-          if (s.has(tf::kYTrue)) st.bind_blob(7, s.y_true(), nb); else st.bind_null(7);
-          if (s.has(tf::kU)) st.bind_blob(8, s.u(), size_t(s.m) * 4); else st.bind_null(8);
-          if (s.has(tf::kCost)) st.bind(9, double(s.cost)); else st.bind_null(9);
+          if (s.has(tf::kYRef)) st.bind_blob(4, s.y_ref(), nb); else st.bind_null(4);
+          if (s.has(tf::kYHat)) st.bind_blob(5, s.y_hat(), nb); else st.bind_null(5);
+          if (s.has(tf::kYTrue)) st.bind_blob(6, s.y_true(), nb); else st.bind_null(6);
+          if (s.has(tf::kU)) st.bind_blob(7, s.u(), size_t(s.m) * 4); else st.bind_null(7);
+          if (s.has(tf::kCost)) st.bind(8, double(s.cost)); else st.bind_null(8);
           if (s.has(tf::kSolver)) {
-            st.bind(10, int64_t(s.iterations));
-            st.bind(11, double(s.compute_us));
+            st.bind(9, int64_t(s.iterations));
+            st.bind(10, double(s.compute_us));
           } else {
+            st.bind_null(9);
             st.bind_null(10);
-            st.bind_null(11);
           }
           st.step();
-          st.reset();
+          st.reset_keep_bindings();
           ++samples;
         } else if (auto* ti = std::get_if<TextItem>(&item)) {
           switch (ti->kind) {

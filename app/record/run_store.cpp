@@ -83,8 +83,8 @@ RunRow RunStore::run(int64_t id) {
   RunRow r = read_run(s);
   // A run cut short by a crash has no totals yet; count what is there.
   if (r.ended_at.empty()) {
-    Stmt c = db_->prepare("SELECT count(*) FROM samples WHERE run_id=?");
-    c.bind(1, id);
+    Stmt c = db_->prepare("SELECT count(*) FROM samples WHERE id BETWEEN ? AND ?");
+    c.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
     if (c.step()) r.samples = uint64_t(c.int64(0));
     Stmt g = db_->prepare("SELECT ifnull(sum(lost_frames),0) FROM gaps WHERE run_id=?");
     g.bind(1, id);
@@ -101,8 +101,9 @@ int64_t RunStore::last_run_id() {
 void RunStore::for_each_sample(int64_t id, const std::function<void(const Sample&)>& f) {
   const RunRow r = run(id);
   Stmt s = db_->prepare(
-      "SELECT k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us FROM samples WHERE run_id=? ORDER BY k");
-  s.bind(1, id);
+      "SELECT k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us FROM samples WHERE id BETWEEN ? AND ? "
+      "ORDER BY id");
+  s.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
   Sample x;
   x.n = uint8_t(r.n);
   x.m = uint8_t(r.m);

@@ -27,6 +27,9 @@ struct Sample {
   float* u() { return v + 3 * n; }
 };
 
+// The samples table's key: a run's samples form one contiguous rowid range.
+inline int64_t sample_key(int64_t run_id, uint64_t k) { return (run_id << 32) | int64_t(k & 0xFFFFFFFFu); }
+
 // tick_rate_hz from STATUS (0: unknown, compute_us stays 0).
 Sample sample_from(const protocol::Telemetry& t, uint64_t k, uint32_t tick_rate_hz);
 

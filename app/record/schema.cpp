@@ -37,18 +37,21 @@ CREATE TABLE params(
 );
 CREATE INDEX params_run ON params(run_id);
 -- One row per telemetry frame. Vectors are little-endian f32 blobs (n or m
--- values); a missing field is NULL.
+-- values); a missing field is NULL. The key is run_id << 32 | k so a run's
+-- samples are one contiguous rowid range and inserts always append (the
+-- fastest path SQLite has: no second index to maintain).
 CREATE TABLE samples(
-  run_id INTEGER NOT NULL,
-  k INTEGER NOT NULL,                  -- 0, 1, ... in arrival order
+  id INTEGER PRIMARY KEY,              -- run_id * 4294967296 + k
   step INTEGER,
   time_us INTEGER,
   y_ref BLOB, y_hat BLOB, y_true BLOB, u BLOB,
   cost REAL,
   iterations INTEGER,
   compute_us REAL,
-  PRIMARY KEY(run_id, k)
-) WITHOUT ROWID;
+  -- Derived, stored nowhere: free on insert, handy in ad-hoc SQL.
+  run_id INTEGER GENERATED ALWAYS AS (id >> 32) VIRTUAL,
+  k INTEGER GENERATED ALWAYS AS (id & 4294967295) VIRTUAL  -- 0, 1, ... in arrival order
+);
 CREATE TABLE gaps(
   run_id INTEGER NOT NULL,
   t TEXT NOT NULL,
@@ -80,13 +83,13 @@ int schema_version(Db& db) {
   return s.step() ? int(s.int64(0)) : 0;
 }
 
-void migrate(Db& db) {
+void migrate(Db& db, int target) {
   const int have = schema_version(db);
   if (have > kSchemaVersion)
     throw DbError(fmt::format("database {} has schema v{}, newer than this console's v{}; upgrade nlsoft-console",
                               db.path(), have, kSchemaVersion),
                   SQLITE_ERROR);
-  for (int v = have; v < kSchemaVersion; ++v) {
+  for (int v = have; v < target && v < kSchemaVersion; ++v) {
     db.exec("BEGIN IMMEDIATE");
     try {
       db.exec(kMigrations[v]);

@@ -10,7 +10,7 @@ constexpr int kSchemaVersion = 2;
 // Applies every migration past the file's user_version. Throws DbError for a
 // file written by a newer console (it would be misread) or a failed step
 // (the transaction rolls back; the file stays at its old version).
-void migrate(Db& db);
+void migrate(Db& db, int target = kSchemaVersion);
 
 int schema_version(Db& db);
 

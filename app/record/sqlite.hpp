@@ -49,6 +49,8 @@ class Stmt {
     sqlite3_reset(s_);
     sqlite3_clear_bindings(s_);
   }
+  // For a statement whose every parameter is bound again before each step.
+  void reset_keep_bindings() { sqlite3_reset(s_); }
 
   int64_t int64(int col) const { return sqlite3_column_int64(s_, col); }
   double real(int col) const { return sqlite3_column_double(s_, col); }
