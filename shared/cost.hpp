@@ -77,9 +77,11 @@ void evaluate_cost(const Params<Cap>& P, int m, int n, const float* y_ref, const
       }
       const float w = -2.0f * q * e;
       if (D.jets) {
-        const Jet<K>& y = D.jets[row];
-        for (int b = 0; b < k && b < y.n; ++b)
-          for (int a = 0; a <= b; ++a) C.curv[a * K + b] += w * y.dd[Jet<K>::pair(a, b)];
+        if constexpr (Cap::second_order) {
+          const JetOf<Cap>& y = D.jets[row];
+          for (int b = 0; b < k && b < y.n; ++b)
+            for (int a = 0; a <= b; ++a) C.curv[a * K + b] += w * y.dd[JetOf<Cap>::pair(a, b)];
+        }
       } else {
         for (int a = 0; a < k; ++a) C.curv[a * K + a] += w * D2[a];
       }

@@ -16,6 +16,10 @@ namespace nlsoft {
 
 enum class DerivMode : uint8_t { Exact = 0, Fd = 1 };
 
+// The jet type of a capacity: K directions, second derivatives if it asks.
+template <class Cap>
+using JetOf = Jet<Derived<Cap>::K, Cap::second_order>;
+
 template <class Cap>
 struct HorizonDerivatives {
   static constexpr int K = Derived<Cap>::K;
@@ -24,15 +28,15 @@ struct HorizonDerivatives {
   float D2[Cap::N * Cap::n * K];   // fd: D2[(j*n + i)*K + a] = d2Y[j][i] / dU_a^2
   // exact: the predictions as jets, with every second derivative
   // (Jet::dd); null in fd mode.
-  const Jet<K>* jets = nullptr;
+  const JetOf<Cap>* jets = nullptr;
 };
 
 template <class Cap>
 struct ExactScratch {
   static constexpr int K = Derived<Cap>::K;
-  Jet<K> U[K];
-  Jet<K> Y[Cap::N * Cap::n];
-  HorizonScratch<Cap, Jet<K>> h;
+  JetOf<Cap> U[K];
+  JetOf<Cap> Y[Cap::N * Cap::n];
+  HorizonScratch<Cap, JetOf<Cap>> h;
 };
 
 template <class Cap>
@@ -49,7 +53,7 @@ void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int
   constexpr int K = Derived<Cap>::K;
   const int k = Nc * M.m;
   for (int a = 0; a < k; ++a) {
-    Jet<K>& u = s.U[a];
+    JetOf<Cap>& u = s.U[a];
     u.v = U[a];
     u.n = uint8_t(k);
     for (int b = 0; b < k; ++b) u.d[b] = u.dd[b] = 0.0f;
@@ -57,11 +61,11 @@ void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int
   }
   predict_horizon(M, x0, s.U, N, Nc, s.Y, s.h);
   for (int r = 0; r < N * M.n; ++r) {
-    const Jet<K>& y = s.Y[r];
+    const JetOf<Cap>& y = s.Y[r];
     D.Y[r] = y.v;
     for (int a = 0; a < k; ++a) {
       D.G[r * K + a] = a < y.n ? y.d[a] : 0.0f;
-      D.D2[r * K + a] = a < y.n ? y.dd[Jet<K>::pair(a, a)] : 0.0f;
+      D.D2[r * K + a] = Cap::second_order && a < y.n ? y.dd[JetOf<Cap>::pair(a, a)] : 0.0f;
     }
   }
   D.jets = s.Y;

@@ -29,15 +29,11 @@ namespace detail {
 template <class T>
 void affine_layer(const float* W, int rows, int ld, int cols, const float* bias, const T* x, T* out,
                   const InputAffine& in) {
-  for (int j = 0; j < cols; ++j) {
-    float c = bias[j];
-    for (int i = 0; i < rows; ++i) c -= in.o(i) * W[i * ld + j];
-    set_constant(out[j], c);
-  }
+  for (int j = 0; j < cols; ++j) set_constant(out[j], bias[j]);
   for (int i = 0; i < rows; ++i) {
     const float* row = W + i * ld;
-    const float s = in.s(i);
-    for (int j = 0; j < cols; ++j) mul_add(out[j], x[i], row[j] * s);
+    const float s = in.s(i), o = in.o(i);
+    for (int j = 0; j < cols; ++j) mul_add(out[j], x[i], row[j], s, o);
   }
 }
 }  // namespace detail
