@@ -1,9 +1,439 @@
 #include "app/tui/tui_app.hpp"
 
-#include "app/cli_error.hpp"
+#include <fmt/format.h>
+
+#include <chrono>
+#include <csignal>
+#include <deque>
+#include <mutex>
+
+#include "app/script/script_runner.hpp"
+#include "app/tui/curses.hpp"
+#include "app/tui/line_edit.hpp"
+#include "app/tui/param_panel.hpp"
+#include "app/tui/plot_view.hpp"
+#include "app/tui/ref_panel.hpp"
+#include "app/tui/runs_panel.hpp"
+#include "app/tui/screen.hpp"
+#include "app/tui/status_bar.hpp"
+#include "app/tui/ui.hpp"
+#include "app/tui/worker.hpp"
 
 namespace nlsoft::console {
 
-int run_tui(LiveConsole&) { throw CliError("the TUI is not built yet; use --script"); }
+namespace tui {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr int kMinCols = 60, kMinRows = 16;
+
+const char* const kHelp[] = {
+    "nlsoft-console keys",
+    "",
+    "  F1 ?      this help (any key closes it)",
+    "  F2 F3 F4  focus parameters / reference / runs (Tab cycles)",
+    "  F5        start a run (recorded)     F6  stop the run",
+    "  F7        hold / resume              F8  actuators neutral",
+    "  v         time plots <-> 2-D path    x   change the path's axes",
+    "  + -       longer / shorter time window",
+    "  :         command line: the script commands (set, get, ref, run, expect, ...)",
+    "  q F10     quit (asks first while a run is active)",
+    "",
+    "Parameters: Up/Down select, Enter edit in place (Esc cancels), u undo,",
+    "            S save to a file, L load one (shows the diff before sending)",
+    "Reference:  Left/Right kind, Enter edit a value, a send (CSV: upload)",
+    "Runs:       Enter metrics, m mark, c compare with the marked run, e export CSV",
+};
+
+class App : public Ui {
+ public:
+  App(LiveConsole& console, Screen& screen)
+      : console_(console),
+        screen_(screen),
+        params_(console, worker_, *this),
+        refs_(console, worker_, *this),
+        runs_(console, worker_, *this),
+        runner_(console, [this](const std::string& s) { message(s); }) {
+    cmd_.set_history(&history_);
+    console_.set_notify([this](const std::string& s) { message(s, Role::Warn); });
+    params_.reload();
+    runs_.reload();
+    const auto info = console_.device().info();
+    message(fmt::format("connected to {} {}.{}.{}: F5 starts a run, F1 help", info.firmware, info.fw_major,
+                        info.fw_minor, info.fw_patch),
+            Role::Ok);
+  }
+  ~App() override { console_.set_notify({}); }
+
+  int loop();
+
+  void message(const std::string& text, Role role = Role::Normal) override {
+    std::lock_guard<std::mutex> lock(log_mu_);
+    log_.push_back({text, role});
+    if (log_.size() > 200) log_.pop_front();
+  }
+  void prompt(const std::string& label, const std::string& initial,
+              std::function<void(const std::string&)> done) override {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    pending_prompt_ = {label, initial, std::move(done)};
+    has_pending_prompt_ = true;
+  }
+  void confirm(const std::string& title, std::vector<std::string> lines, std::function<void()> yes) override {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    confirm_title_ = title;
+    confirm_lines_ = std::move(lines);
+    confirm_yes_ = std::move(yes);
+    confirming_ = true;
+  }
+
+ private:
+  enum class Focus { Params, Ref, Runs };
+  struct PromptRequest {
+    std::string label, initial;
+    std::function<void(const std::string&)> done;
+  };
+
+  bool handle(int ch);  // false: quit
+  void draw();
+  void draw_title(int w);
+  void draw_message_line(int y, int w);
+  void draw_confirm(int rows, int cols);
+  void draw_help(int rows, int cols);
+  void start_run();
+  void stop_run();
+  void command(const std::string& line);
+
+  LiveConsole& console_;
+  Screen& screen_;
+  Worker worker_;
+  ParamPanel params_;
+  RefPanel refs_;
+  RunsPanel runs_;
+  ScriptRunner runner_;
+  Focus focus_ = Focus::Params;
+  bool path_view_ = false, help_ = false;
+  int ax_ = 0, ay_ = 1;
+  double window_s_ = 10;
+  LineEdit cmd_;  // ':' line and prompts share the message row
+  std::vector<std::string> history_;
+  std::function<void(const std::string&)> prompt_done_;
+
+  std::mutex log_mu_;
+  std::deque<std::pair<std::string, Role>> log_;
+  std::mutex ui_mu_;
+  bool has_pending_prompt_ = false;
+  PromptRequest pending_prompt_;
+  bool confirming_ = false;
+  std::string confirm_title_;
+  std::vector<std::string> confirm_lines_;
+  std::function<void()> confirm_yes_;
+  bool quit_confirmed_ = false;
+};
+
+void App::start_run() {
+  worker_.post("starting a run", [this] {
+    try {
+      const int64_t id = console_.start_run("");
+      message(fmt::format("run {} started, recording to {}", id, console_.db_path()), Role::Ok);
+    } catch (const std::exception& e) {
+      message(e.what(), Role::Error);
+    }
+  });
+}
+
+void App::stop_run() {
+  worker_.post("stopping the run", [this] {
+    try {
+      const RunSummary s = console_.stop_run();
+      const TrackingMetrics& t = s.metrics.has_true ? s.metrics.truth : s.metrics.predicted;
+      message(fmt::format("run {} stopped: {} samples, nrmse {:.4f}, lost {}", s.run_id, s.metrics.samples, t.nrmse,
+                          s.metrics.lost_frames),
+              Role::Ok);
+    } catch (const std::exception& e) {
+      message(e.what(), Role::Error);
+    }
+    runs_.reload();
+  });
+}
+
+void App::command(const std::string& line) {
+  if (line.empty()) return;
+  if (line == "help") {
+    help_ = true;
+    return;
+  }
+  if (line == "q" || line == "quit") {
+    handle('q');
+    return;
+  }
+  try {
+    const Command c = parse_command(line, "cmd", 1);
+    worker_.post(line, [this, c] {
+      try {
+        runner_.execute(c, "cmd");
+      } catch (const ScriptError& e) {
+        message(e.message, Role::Error);
+      }
+      if (c.kind == Command::Kind::Set || c.kind == Command::Kind::ParamsLoad || c.kind == Command::Kind::Sweep)
+        params_.reload();
+      if (c.kind == Command::Kind::Run || c.kind == Command::Kind::Stop || c.kind == Command::Kind::Sweep) runs_.reload();
+    });
+  } catch (const ScriptError& e) {
+    message(e.message, Role::Error);
+  }
+}
+
+bool App::handle(int ch) {
+  if (ch == KEY_RESIZE) return true;
+  {
+    std::unique_lock<std::mutex> lock(ui_mu_);
+    if (confirming_) {
+      if (ch == 'y' || ch == 'Y') {
+        confirming_ = false;
+        auto yes = std::move(confirm_yes_);
+        lock.unlock();
+        if (yes) yes();
+      } else if (ch == 'n' || ch == 'N' || ch == 27 || ch == 'q') {
+        confirming_ = false;
+        message("cancelled: nothing sent");
+      }
+      return !quit_confirmed_;
+    }
+  }
+  if (help_) {
+    help_ = false;
+    return true;
+  }
+  if (cmd_.active()) {
+    const auto r = cmd_.key(ch);
+    if (r == LineEdit::Result::Done) {
+      auto done = std::move(prompt_done_);
+      prompt_done_ = nullptr;
+      if (done) done(cmd_.text());
+      else command(cmd_.text());
+    } else if (r == LineEdit::Result::Cancelled) {
+      prompt_done_ = nullptr;
+    }
+    return true;
+  }
+  const bool panel_editing = (focus_ == Focus::Params && params_.editing()) || (focus_ == Focus::Ref && refs_.editing());
+  if (panel_editing) {
+    if (focus_ == Focus::Params) params_.key(ch);
+    else refs_.key(ch);
+    return true;
+  }
+  switch (ch) {
+    case 'q':
+    case KEY_F(10):
+      if (console_.running()) {
+        confirm("a run is active: stop it and quit?", {"the run is stopped and kept in the database"}, [this] {
+          quit_confirmed_ = true;
+        });
+        return true;
+      }
+      return false;
+    case KEY_F(1):
+    case '?': help_ = true; return true;
+    case KEY_F(2): focus_ = Focus::Params; return true;
+    case KEY_F(3): focus_ = Focus::Ref; return true;
+    case KEY_F(4):
+      focus_ = Focus::Runs;
+      runs_.reload();
+      return true;
+    case '\t':
+      if (focus_ != Focus::Ref) {
+        focus_ = focus_ == Focus::Params ? Focus::Ref : Focus::Params;
+        return true;
+      }
+      break;
+    case KEY_BTAB: focus_ = focus_ == Focus::Params ? Focus::Runs : focus_ == Focus::Ref ? Focus::Params : Focus::Ref; return true;
+    case KEY_F(5): start_run(); return true;
+    case KEY_F(6): stop_run(); return true;
+    case KEY_F(7): {
+      const bool held = console_.session().stats().run_state == uint8_t(protocol::RunState::Hold) ||
+                        console_.session().stats().run_state == uint8_t(protocol::RunState::Neutral);
+      worker_.post("hold", [this, held] {
+        try {
+          console_.hold(held ? protocol::HoldMode::Resume : protocol::HoldMode::Hold);
+          message(held ? "resumed" : "holding (F7 resumes)", Role::Ok);
+        } catch (const std::exception& e) {
+          message(e.what(), Role::Error);
+        }
+      });
+      return true;
+    }
+    case KEY_F(8):
+      worker_.post("neutral", [this] {
+        try {
+          console_.hold(protocol::HoldMode::Neutral);
+          message("actuators neutral (F7 resumes)", Role::Ok);
+        } catch (const std::exception& e) {
+          message(e.what(), Role::Error);
+        }
+      });
+      return true;
+    case ':':
+      prompt_done_ = nullptr;
+      cmd_.start(":");
+      return true;
+    case 'v': path_view_ = !path_view_; return true;
+    case 'x': {
+      const int n = std::max(2, console_.n());
+      ay_ = (ay_ + 1) % n;
+      if (ay_ == ax_) ax_ = (ax_ + 1) % n, ay_ = (ax_ + 1) % n;
+      return true;
+    }
+    case '+': window_s_ = std::min(120.0, window_s_ * 2); return true;
+    case '-': window_s_ = std::max(0.25, window_s_ / 2); return true;
+  }
+  switch (focus_) {
+    case Focus::Params: params_.key(ch); break;
+    case Focus::Ref: refs_.key(ch); break;
+    case Focus::Runs: runs_.key(ch); break;
+  }
+  return true;
+}
+
+void App::draw_title(int w) {
+  const auto info = console_.device().info();
+  const LinkStats st = console_.session().stats();
+  static const char* states[] = {"idle", "RUNNING", "HOLD", "NEUTRAL", "FAULT"};
+  std::string run = console_.running()
+                        ? fmt::format("run {} {} k={}", console_.current_run(), st.run_state < 5 ? states[st.run_state] : "?",
+                                      console_.run_samples())
+                        : "no run";
+  const std::string t = fmt::format(" nlsoft-console | {} {}.{}.{} | {} n={} m={} {} Hz | {} | rec {}", info.firmware,
+                                    info.fw_major, info.fw_minor, info.fw_patch,
+                                    info.platform <= 2 ? platform_name(PlatformId(info.platform)) : "custom", info.n,
+                                    info.m, info.loop_rate_hz, run, console_.db_path());
+  fill_row(0, 0, w, screen_.attr(Role::Title));
+  put(0, 0, t, w, screen_.attr(Role::Title));
+}
+
+void App::draw_message_line(int y, int w) {
+  if (cmd_.active()) {
+    cmd_.draw(y, 0, w, 0);
+    return;
+  }
+  fill_row(y, 0, w, 0);
+  std::pair<std::string, Role> last{"", Role::Normal};
+  {
+    std::lock_guard<std::mutex> lock(log_mu_);
+    if (!log_.empty()) last = log_.back();
+  }
+  const std::string busy = worker_.busy();
+  const std::string right = busy.empty() ? "" : "[" + busy + "...]";
+  put(y, 0, last.first, w - int(right.size()) - 1, screen_.attr(last.second));
+  if (!right.empty()) put(y, w - int(right.size()), right, int(right.size()), screen_.attr(Role::Pending));
+}
+
+void App::draw_confirm(int rows, int cols) {
+  const int w = std::min(cols - 4, 90);
+  const int h = std::min(rows - 4, int(confirm_lines_.size()) + 4);
+  const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
+  for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
+  put(y0, x0 + 1, confirm_title_, w - 2, screen_.attr(Role::Selected) | A_BOLD);
+  for (int i = 0; i < h - 4 && size_t(i) < confirm_lines_.size(); ++i)
+    put(y0 + 2 + i, x0 + 2, confirm_lines_[size_t(i)], w - 4, screen_.attr(Role::Selected));
+  if (int(confirm_lines_.size()) > h - 4)
+    put(y0 + h - 2, x0 + 2, fmt::format("... and {} more", int(confirm_lines_.size()) - (h - 4)), w - 4,
+        screen_.attr(Role::Selected));
+  put(y0 + h - 1, x0 + 1, "y: yes   n/Esc: no", w - 2, screen_.attr(Role::Selected) | A_BOLD);
+}
+
+void App::draw_help(int rows, int cols) {
+  const int n = int(sizeof(kHelp) / sizeof(kHelp[0]));
+  const auto& script = script_help();
+  const int h = std::min(rows - 2, n + int(script.size()) + 3);
+  const int w = std::min(cols - 2, 100);
+  const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
+  for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
+  int y = y0;
+  for (int i = 0; i < n && y < y0 + h; ++i) put(y++, x0 + 1, kHelp[i], w - 2, screen_.attr(Role::Selected));
+  if (y < y0 + h) put(y++, x0 + 1, "Commands (':' line and --script files):", w - 2, screen_.attr(Role::Selected) | A_BOLD);
+  for (size_t i = 0; i < script.size() && y < y0 + h; ++i) put(y++, x0 + 3, script[i], w - 4, screen_.attr(Role::Selected));
+}
+
+void App::draw() {
+  erase();
+  const int rows = screen_.rows(), cols = screen_.cols();
+  if (cols < kMinCols || rows < kMinRows) {
+    put(0, 0, fmt::format("terminal too small: {}x{}, need {}x{}", cols, rows, kMinCols, kMinRows), cols,
+        screen_.attr(Role::Warn));
+    put(1, 0, "q quits", cols, 0);
+    refresh();
+    return;
+  }
+  draw_title(cols);
+  const int right_w = std::max(40, cols * 2 / 5);
+  const int left_w = cols - right_w - 1;
+  const int main_h = rows - 4;
+  const double rate = console_.session().stats().loop_rate_hz > 0 ? console_.session().stats().loop_rate_hz
+                                                                   : console_.loop_rate_hz();
+  const auto samples = console_.live().snapshot(16384);
+  if (path_view_) draw_path_view(screen_, 1, 0, main_h, left_w, samples, ax_, ay_);
+  else draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, window_s_ * std::max(1.0, rate));
+  if (!path_view_) put(rows - 4, 0, fmt::format(" window {:g} s  (+/- zoom, v path view)", window_s_), left_w, screen_.attr(Role::Dim));
+  attrset(screen_.attr(Role::Border));
+  mvvline(1, left_w, screen_.utf8() ? ACS_VLINE : '|', main_h);
+  attrset(A_NORMAL);
+  const int rx = left_w + 1;
+  switch (focus_) {
+    case Focus::Params: params_.draw(screen_, 1, rx, main_h, right_w, true); break;
+    case Focus::Ref: refs_.draw(screen_, 1, rx, main_h, right_w, true); break;
+    case Focus::Runs: runs_.draw(screen_, 1, rx, main_h, right_w, true); break;
+  }
+  draw_message_line(rows - 3, cols);
+  draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());
+  draw_key_bar(screen_, rows - 1, cols);
+  {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    if (confirming_) draw_confirm(rows, cols);
+  }
+  if (help_) draw_help(rows, cols);
+  refresh();
+}
+
+int App::loop() {
+  auto last_draw = Clock::now() - std::chrono::seconds(1);
+  while (!quit_confirmed_) {
+    {
+      std::lock_guard<std::mutex> lock(ui_mu_);
+      if (has_pending_prompt_ && !cmd_.active()) {
+        has_pending_prompt_ = false;
+        prompt_done_ = pending_prompt_.done;
+        cmd_.start(pending_prompt_.label, pending_prompt_.initial);
+      }
+    }
+    const int ch = getch();
+    if (ch != ERR && !handle(ch)) break;
+    // Steady redraw whatever the telemetry or key rate: at most every 40 ms.
+    if (Clock::now() - last_draw >= std::chrono::milliseconds(40)) {
+      draw();
+      last_draw = Clock::now();
+    }
+  }
+  if (console_.running()) {
+    try {
+      console_.stop_run("stopped at quit");
+    } catch (...) {
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+}  // namespace tui
+
+int run_tui(LiveConsole& console) {
+  int rc = 0;
+  {
+    tui::Screen screen;
+    tui::App app(console, screen);
+    rc = app.loop();
+  }
+  console.set_notify({});
+  return rc;
+}
 
 }  // namespace nlsoft::console

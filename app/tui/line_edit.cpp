@@ -1,0 +1,92 @@
+#include "app/tui/line_edit.hpp"
+
+#include "app/tui/curses.hpp"
+#include "app/tui/screen.hpp"
+
+namespace nlsoft::console::tui {
+
+void LineEdit::start(std::string prompt, std::string initial) {
+  prompt_ = std::move(prompt);
+  text_ = std::move(initial);
+  cursor_ = text_.size();
+  active_ = true;
+  hist_pos_ = history_ ? history_->size() : 0;
+}
+
+LineEdit::Result LineEdit::key(int ch) {
+  switch (ch) {
+    case '\n':
+    case '\r':
+    case KEY_ENTER:
+      active_ = false;
+      if (history_ && !text_.empty() && (history_->empty() || history_->back() != text_)) history_->push_back(text_);
+      return Result::Done;
+    case 27:  // Esc
+      active_ = false;
+      return Result::Cancelled;
+    case KEY_LEFT:
+      if (cursor_ > 0) --cursor_;
+      break;
+    case KEY_RIGHT:
+      if (cursor_ < text_.size()) ++cursor_;
+      break;
+    case KEY_HOME:
+    case 1:  // Ctrl-A
+      cursor_ = 0;
+      break;
+    case KEY_END:
+    case 5:  // Ctrl-E
+      cursor_ = text_.size();
+      break;
+    case KEY_BACKSPACE:
+    case 127:
+    case 8:
+      if (cursor_ > 0) text_.erase(--cursor_, 1);
+      break;
+    case KEY_DC:
+      if (cursor_ < text_.size()) text_.erase(cursor_, 1);
+      break;
+    case 21:  // Ctrl-U
+      text_.erase(0, cursor_);
+      cursor_ = 0;
+      break;
+    case 23: {  // Ctrl-W
+      size_t p = cursor_;
+      while (p > 0 && text_[p - 1] == ' ') --p;
+      while (p > 0 && text_[p - 1] != ' ') --p;
+      text_.erase(p, cursor_ - p);
+      cursor_ = p;
+      break;
+    }
+    case KEY_UP:
+      if (history_ && hist_pos_ > 0) text_ = (*history_)[--hist_pos_], cursor_ = text_.size();
+      break;
+    case KEY_DOWN:
+      if (history_ && hist_pos_ < history_->size()) {
+        ++hist_pos_;
+        text_ = hist_pos_ < history_->size() ? (*history_)[hist_pos_] : "";
+        cursor_ = text_.size();
+      }
+      break;
+    default:
+      if (ch >= 32 && ch < 127) text_.insert(cursor_++, 1, char(ch));
+  }
+  return Result::Editing;
+}
+
+void LineEdit::draw(int y, int x, int width, int attr) const {
+  fill_row(y, x, width, attr);
+  const std::string all = prompt_ + text_;
+  const size_t cur = prompt_.size() + cursor_;
+  // Scroll so the cursor stays in view.
+  const size_t first = cur >= size_t(width) ? cur - size_t(width) + 1 : 0;
+  put(y, x, all.substr(first), width, attr);
+  const int cx = x + int(cur - first);
+  if (cx < x + width) {
+    attrset(attr | A_REVERSE);
+    mvaddch(y, cx, cur < all.size() ? chtype(static_cast<unsigned char>(all[cur])) : ' ');
+    attrset(A_NORMAL);
+  }
+}
+
+}  // namespace nlsoft::console::tui

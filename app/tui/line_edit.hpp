@@ -1,0 +1,30 @@
+#pragma once
+// A one-line editor for the `:` prompt and in-place edits: arrows, Home/End,
+// Backspace/Delete, Ctrl-U (clear), Ctrl-W (word), history with Up/Down.
+#include <string>
+#include <vector>
+
+namespace nlsoft::console::tui {
+
+class LineEdit {
+ public:
+  enum class Result { Editing, Done, Cancelled };
+
+  void start(std::string prompt, std::string initial = "");
+  Result key(int ch);
+  bool active() const { return active_; }
+  const std::string& text() const { return text_; }
+  const std::string& prompt() const { return prompt_; }
+  // Draws prompt + text on row y, cursor visible.
+  void draw(int y, int x, int width, int attr) const;
+  void set_history(std::vector<std::string>* h) { history_ = h; }
+
+ private:
+  std::string prompt_, text_;
+  size_t cursor_ = 0;
+  bool active_ = false;
+  std::vector<std::string>* history_ = nullptr;
+  size_t hist_pos_ = 0;
+};
+
+}  // namespace nlsoft::console::tui

@@ -1,0 +1,233 @@
+#include "app/tui/param_panel.hpp"
+
+#include <fmt/format.h>
+
+#include "app/cli_error.hpp"
+#include "app/tui/curses.hpp"
+
+namespace nlsoft::console::tui {
+
+void ParamPanel::reload() {
+  worker_.post("reading parameters", [this] {
+    try {
+      const auto all = console_.device().get_all();
+      std::lock_guard<std::mutex> lock(mu_);
+      std::vector<Row> rows;
+      for (const auto& [info, v] : all) {
+        Row r;
+        r.info = info;
+        r.value = v;
+        // Keep what the user saw happen to each row across a reload.
+        for (const Row& old : rows_)
+          if (old.info.id == info.id && old.state == State::Refused) r.state = old.state, r.note = old.note;
+        rows.push_back(std::move(r));
+      }
+      rows_ = std::move(rows);
+      loading_error_.clear();
+    } catch (const std::exception& e) {
+      std::lock_guard<std::mutex> lock(mu_);
+      loading_error_ = e.what();
+    }
+  });
+}
+
+void ParamPanel::send(size_t row, const std::vector<double>& values, bool record_undo) {
+  ParamInfo info;
+  std::vector<double> before;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (row >= rows_.size()) return;
+    rows_[row].state = State::Pending;
+    rows_[row].note = format_param_values(rows_[row].info, values);
+    info = rows_[row].info;
+    before = rows_[row].value;
+  }
+  worker_.post("setting " + info.name, [this, row, values, record_undo, info, before] {
+    State state;
+    std::string note;
+    std::vector<double> now = before;
+    try {
+      now = console_.apply_param(info, values);
+      state = State::Applied;
+      bool same = true;
+      for (size_t i = 0; i < now.size() && i < values.size(); ++i) same &= float(now[i]) == float(values[i]);
+      note = same ? "applied" : "applied as " + format_param_values(info, now);
+    } catch (const std::exception& e) {
+      state = State::Refused;
+      note = e.what();
+    }
+    std::lock_guard<std::mutex> lock(mu_);
+    if (row >= rows_.size()) return;
+    rows_[row].value = now;
+    rows_[row].state = state;
+    rows_[row].note = note;
+    if (state == State::Applied && record_undo) undo_.emplace_back(row, before);
+    ui_.message(fmt::format("{}: {}", info.name, note), state == State::Applied ? Role::Ok : Role::Error);
+  });
+}
+
+void ParamPanel::save() {
+  ui_.prompt("save parameters to: ", "params.txt", [this](const std::string& path) {
+    if (path.empty()) return;
+    worker_.post("saving parameters", [this, path] {
+      try {
+        console_.save_params(path);
+        ui_.message("parameters saved to " + path, Role::Ok);
+      } catch (const std::exception& e) {
+        ui_.message(e.what(), Role::Error);
+      }
+    });
+  });
+}
+
+void ParamPanel::load() {
+  ui_.prompt("load parameters from: ", "params.txt", [this](const std::string& path) {
+    if (path.empty()) return;
+    worker_.post("reading " + path, [this, path] {
+      try {
+        const auto diff = console_.load_params(path, true);
+        if (diff.empty()) {
+          ui_.message(path + ": every parameter already has that value", Role::Ok);
+          return;
+        }
+        ui_.confirm("send these changes from " + path + "?", diff, [this, path] {
+          worker_.post("loading " + path, [this, path] {
+            try {
+              const auto applied = console_.load_params(path);
+              ui_.message(fmt::format("{}: {} parameter{} changed", path, applied.size(), applied.size() == 1 ? "" : "s"),
+                          Role::Ok);
+            } catch (const std::exception& e) {
+              ui_.message(e.what(), Role::Error);
+            }
+          });
+          reload();
+        });
+      } catch (const std::exception& e) {
+        ui_.message(e.what(), Role::Error);
+      }
+    });
+  });
+}
+
+bool ParamPanel::key(int ch) {
+  if (edit_.active()) {
+    const auto r = edit_.key(ch);
+    if (r == LineEdit::Result::Done) {
+      std::vector<std::string> tokens;
+      std::string t;
+      for (char c : edit_.text() + " ") {
+        if (c == ' ' || c == ',') {
+          if (!t.empty()) tokens.push_back(t), t.clear();
+        } else {
+          t += c;
+        }
+      }
+      ParamInfo info;
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        if (selected_ >= rows_.size()) return true;
+        info = rows_[selected_].info;
+      }
+      try {
+        send(selected_, parse_param_values(info, tokens), true);
+      } catch (const CliError& e) {
+        std::lock_guard<std::mutex> lock(mu_);
+        rows_[selected_].state = State::Refused;
+        rows_[selected_].note = e.what();
+        ui_.message(e.what(), Role::Error);
+      }
+    }
+    return true;
+  }
+  std::lock_guard<std::mutex> lock(mu_);
+  const size_t n = rows_.size();
+  switch (ch) {
+    case KEY_UP:
+    case 'k':
+      if (selected_ > 0) --selected_;
+      return true;
+    case KEY_DOWN:
+    case 'j':
+      if (selected_ + 1 < n) ++selected_;
+      return true;
+    case KEY_PPAGE: selected_ = selected_ > 10 ? selected_ - 10 : 0; return true;
+    case KEY_NPAGE: selected_ = n ? std::min(n - 1, selected_ + 10) : 0; return true;
+    case '\n':
+    case '\r':
+    case KEY_ENTER:
+      if (selected_ < n) {
+        const Row& r = rows_[selected_];
+        if (r.info.read_only()) {
+          ui_.message(r.info.name + " is read-only", Role::Warn);
+        } else {
+          edit_.start(r.info.name + " = ", format_param_values(r.info, r.value));
+        }
+      }
+      return true;
+    case 'u':
+      if (undo_.empty()) {
+        ui_.message("nothing to undo", Role::Warn);
+      } else {
+        const auto [row, value] = undo_.back();
+        undo_.pop_back();
+        mu_.unlock();
+        send(row, value, false);
+        mu_.lock();
+      }
+      return true;
+    case 'S':
+      save();
+      return true;
+    case 'L':
+      load();
+      return true;
+    case 'R':
+      reload();
+      return true;
+  }
+  return false;
+}
+
+void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focused) {
+  std::lock_guard<std::mutex> lock(mu_);
+  put(y, x, fmt::format(" Parameters ({}) ", rows_.size()), w, screen.attr(focused ? Role::Title : Role::KeyName));
+  if (!loading_error_.empty()) put(y + 1, x, loading_error_, w, screen.attr(Role::Error));
+  if (rows_.empty()) {
+    put(y + 2, x + 1, "reading the firmware's parameter list...", w - 2, screen.attr(Role::Dim));
+    return;
+  }
+  const int body = h - 3;  // title, hint line, one spare for the edit
+  if (body <= 0) return;
+  if (selected_ < top_) top_ = selected_;
+  if (selected_ >= top_ + size_t(body)) top_ = selected_ - size_t(body) + 1;
+  const int name_w = 12;
+  for (int i = 0; i < body && top_ + size_t(i) < rows_.size(); ++i) {
+    const size_t idx = top_ + size_t(i);
+    const Row& r = rows_[idx];
+    const int ry = y + 1 + i;
+    const bool sel = focused && idx == selected_;
+    fill_row(ry, x, w, sel ? screen.attr(Role::Selected) : 0);
+    put(ry, x + 1, r.info.name, name_w, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
+    if (sel && edit_.active()) {
+      edit_.draw(ry, x + 1 + name_w, w - 2 - name_w, screen.attr(Role::Selected));
+      continue;
+    }
+    std::string value = format_param_values(r.info, r.value);
+    if (!r.info.unit.empty()) value += " " + r.info.unit;
+    std::string mark;
+    Role role = Role::Normal;
+    switch (r.state) {
+      case State::Idle: break;
+      case State::Pending: mark = " pending " + r.note; role = Role::Pending; break;
+      case State::Applied: mark = " " + r.note; role = Role::Ok; break;
+      case State::Refused: mark = " refused: " + r.note; role = Role::Error; break;
+    }
+    const int vw = std::max(0, w - 2 - name_w);
+    put(ry, x + 1 + name_w, value, vw, sel ? screen.attr(Role::Selected) : 0);
+    const int used = std::min(vw, int(value.size()));
+    if (!mark.empty()) put(ry, x + 1 + name_w + used, mark, vw - used, screen.attr(role));
+  }
+  put(y + h - 1, x, "Enter edit  u undo  S save  L load  R reread", w, screen.attr(Role::Dim));
+}
+
+}  // namespace nlsoft::console::tui

@@ -1,0 +1,50 @@
+#pragma once
+// The parameter panel, built from the firmware's PARAM_LIST: every value in
+// force, edited in place (Enter), each edit shown pending -> applied (the
+// value the firmware echoed) or refused (its reason); u undoes the last
+// applied edit; S saves the set to a file, L loads one after showing the diff.
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "app/link/param_catalog.hpp"
+#include "app/live/live_console.hpp"
+#include "app/tui/line_edit.hpp"
+#include "app/tui/ui.hpp"
+#include "app/tui/worker.hpp"
+
+namespace nlsoft::console::tui {
+
+class ParamPanel {
+ public:
+  ParamPanel(LiveConsole& console, Worker& worker, Ui& ui) : console_(console), worker_(worker), ui_(ui) {}
+
+  void reload();  // fetches every value (worker)
+  void draw(const Screen& screen, int y, int x, int h, int w, bool focused);
+  bool key(int ch);  // true if consumed
+  bool editing() const { return edit_.active(); }
+
+ private:
+  enum class State { Idle, Pending, Applied, Refused };
+  struct Row {
+    ParamInfo info;
+    std::vector<double> value;
+    State state = State::Idle;
+    std::string note;  // refusal reason, or what was sent while pending
+  };
+  void send(size_t row, const std::vector<double>& values, bool record_undo);
+  void save();
+  void load();
+
+  LiveConsole& console_;
+  Worker& worker_;
+  Ui& ui_;
+  std::mutex mu_;  // rows are written by the worker
+  std::vector<Row> rows_;
+  std::vector<std::pair<size_t, std::vector<double>>> undo_;
+  size_t selected_ = 0, top_ = 0;
+  LineEdit edit_;
+  std::string loading_error_;
+};
+
+}  // namespace nlsoft::console::tui

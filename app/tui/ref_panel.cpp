@@ -1,0 +1,174 @@
+#include "app/tui/ref_panel.hpp"
+
+#include <fmt/format.h>
+
+#include "app/live/reference_spec.hpp"
+#include "app/tui/curses.hpp"
+
+namespace nlsoft::console::tui {
+
+namespace {
+struct Kind {
+  const char* label;
+  const char* preset;  // reference_presets name; nullptr for the CSV table
+};
+constexpr Kind kKinds[] = {{"Infinity", "infinity"}, {"Pringle", "pringle"}, {"Diagonal", "diagonal"},
+                           {"Swirl", "swirl"},       {"Step", "steps"},      {"CSV", nullptr}};
+constexpr size_t kKindCount = sizeof(kKinds) / sizeof(kKinds[0]);
+}  // namespace
+
+RefPanel::RefPanel(LiveConsole& console, Worker& worker, Ui& ui) : console_(console), worker_(worker), ui_(ui) {
+  reset_kind();
+}
+
+void RefPanel::reset_kind() {
+  selected_ = 0;
+  if (!kKinds[kind_].preset) return;
+  try {
+    ref_ = reference_from_spec(console_.platform(), console_.loop_rate_hz(), kKinds[kind_].preset, {});
+  } catch (const std::exception& e) {
+    ui_.message(e.what(), Role::Error);
+  }
+}
+
+std::vector<std::string> RefPanel::keys() const {
+  if (!kKinds[kind_].preset) return {"file", "hold"};
+  return reference_keys_for(ref_.kind);
+}
+
+void RefPanel::send() {
+  if (!kKinds[kind_].preset) {
+    const std::string path = csv_path_;
+    const uint16_t hold = csv_hold_;
+    uploading_ = true;
+    up_done_ = 0;
+    up_total_ = 0;
+    worker_.post("uploading " + path, [this, path, hold] {
+      try {
+        console_.upload_table(path, hold, [this](size_t d, size_t t) {
+          up_done_ = d;
+          up_total_ = t;
+        });
+        ui_.message(fmt::format("table {} uploaded and selected", path), Role::Ok);
+      } catch (const std::exception& e) {
+        ui_.message(std::string("upload failed, the previous reference stays: ") + e.what(), Role::Error);
+      }
+      uploading_ = false;
+    });
+    return;
+  }
+  const RefParams r = ref_;
+  if (const char* why = reference_check(r)) {
+    ui_.message(std::string("not sent: ") + why, Role::Error);
+    return;
+  }
+  worker_.post("selecting reference", [this, r] {
+    try {
+      console_.select_reference(r);
+      ui_.message(fmt::format("reference {} in force", reference_kind_name(r.kind)), Role::Ok);
+    } catch (const std::exception& e) {
+      ui_.message(e.what(), Role::Error);
+    }
+  });
+}
+
+bool RefPanel::key(int ch) {
+  const auto ks = keys();
+  if (edit_.active()) {
+    if (edit_.key(ch) == LineEdit::Result::Done && selected_ < ks.size()) {
+      const std::string& k = ks[selected_];
+      try {
+        if (!kKinds[kind_].preset) {
+          if (k == "file") csv_path_ = edit_.text();
+          else {
+            RefParams tmp{};
+            set_reference_key(tmp, console_.loop_rate_hz(), "hold", edit_.text());
+            csv_hold_ = tmp.hold;
+          }
+        } else {
+          RefParams next = ref_;
+          set_reference_key(next, console_.loop_rate_hz(), k, edit_.text());
+          ref_ = next;  // only a valid edit changes the working copy
+        }
+      } catch (const std::exception& e) {
+        ui_.message(e.what(), Role::Error);
+      }
+    }
+    return true;
+  }
+  switch (ch) {
+    case KEY_LEFT:
+    case 'h':
+      kind_ = (kind_ + kKindCount - 1) % kKindCount;
+      reset_kind();
+      return true;
+    case KEY_RIGHT:
+    case 'l':
+    case '\t':
+      kind_ = (kind_ + 1) % kKindCount;
+      reset_kind();
+      return true;
+    case KEY_UP:
+    case 'k':
+      if (selected_ > 0) --selected_;
+      return true;
+    case KEY_DOWN:
+    case 'j':
+      if (selected_ + 1 < ks.size()) ++selected_;
+      return true;
+    case '\n':
+    case '\r':
+    case KEY_ENTER:
+      if (selected_ < ks.size()) {
+        const std::string& k = ks[selected_];
+        const std::string v = !kKinds[kind_].preset ? (k == "file" ? csv_path_ : std::to_string(csv_hold_))
+                                                    : reference_key_value(ref_, console_.loop_rate_hz(), k);
+        edit_.start(k + " = ", v);
+      }
+      return true;
+    case 'a':
+      send();
+      return true;
+  }
+  return false;
+}
+
+void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focused) {
+  put(y, x, " Reference ", w, screen.attr(focused ? Role::Title : Role::KeyName));
+  int cx = x + 1;
+  for (size_t i = 0; i < kKindCount; ++i) {
+    const std::string label = fmt::format(" {} ", kKinds[i].label);
+    put(y + 1, cx, label, x + w - cx, i == kind_ ? screen.attr(Role::Selected) : 0);
+    cx += int(label.size()) + 1;
+  }
+  const auto ks = keys();
+  for (size_t i = 0; i < ks.size() && int(i) + 3 < h - 3; ++i) {
+    const int ry = y + 3 + int(i);
+    const bool sel = focused && i == selected_;
+    fill_row(ry, x, w, sel ? screen.attr(Role::Selected) : 0);
+    put(ry, x + 1, ks[i], 8, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
+    if (sel && edit_.active()) {
+      edit_.draw(ry, x + 10, w - 11, screen.attr(Role::Selected));
+      continue;
+    }
+    std::string v = !kKinds[kind_].preset ? (ks[i] == "file" ? csv_path_ : std::to_string(csv_hold_))
+                                          : reference_key_value(ref_, console_.loop_rate_hz(), ks[i]);
+    if (ks[i] == "period") v += " s";
+    put(ry, x + 10, v, w - 11, sel ? screen.attr(Role::Selected) : 0);
+  }
+  if (uploading_) {
+    const size_t t = up_total_.load(), d = up_done_.load();
+    const int bw = std::max(10, w - 16);
+    const int filled = t ? int(double(d) / double(t) * bw) : 0;
+    put(y + h - 3, x + 1,
+        fmt::format("upload [{}{}] {:3d}%", std::string(size_t(filled), '#'), std::string(size_t(bw - filled), '.'),
+                    t ? int(100 * d / t) : 0),
+        w - 2, screen.attr(Role::Pending));
+  }
+  const auto cur = console_.reference();
+  put(y + h - 2, x + 1, cur ? fmt::format("in force: {}", reference_kind_name(cur->kind)) : "in force: firmware default", w - 2,
+      screen.attr(Role::Dim));
+  put(y + h - 1, x, "\u2190\u2192 kind  Enter edit  a send/upload", w, screen.attr(Role::Dim));
+}
+
+}  // namespace nlsoft::console::tui

@@ -1,0 +1,16 @@
+#pragma once
+// The bottom lines that are always visible: link statistics, and the
+// function-key bar (htop style).
+#include <string>
+
+#include "app/link/link_stats.hpp"
+#include "app/tui/screen.hpp"
+
+namespace nlsoft::console::tui {
+
+// "link up /dev/pts/3 | 2.6k fr/s 92 kB/s | crc 0 err 0 | lost 0 | loop 130.0 Hz | step 55 us (max 329)"
+std::string status_text(const LinkStats& s, const std::string& port);
+void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port);
+void draw_key_bar(const Screen& screen, int y, int w);
+
+}  // namespace nlsoft::console::tui
