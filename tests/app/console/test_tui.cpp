@@ -1,0 +1,143 @@
+// The TUI as a person uses it: nlsoft-console --sim hasel runs inside tmux,
+// keys are sent, and the screen is read back with capture-pane. Skipped,
+// saying why, when tmux is not installed.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <functional>
+#include <thread>
+
+#include "app/record/run_store.hpp"
+#include "run_process.hpp"
+#include "temp_dir.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+using test::run_process;
+using test::shell_quote;
+
+bool have_tmux() { return run_process("command -v tmux").code == 0; }
+
+class Tmux {
+ public:
+  Tmux(const std::string& command, const std::string& env) : socket_("nlsoft-tui-test-" + std::to_string(::getpid())) {
+    const auto r = run_process(tmux() + " new-session -d -s ui -x 120 -y 40 " + shell_quote("env " + env + " " + command));
+    started_ = r.code == 0;
+    if (!started_) error_ = r.output;
+  }
+  ~Tmux() { run_process(tmux() + " kill-server"); }
+  bool started() const { return started_; }
+  const std::string& error() const { return error_; }
+
+  std::string screen() const { return run_process(tmux() + " capture-pane -p -t ui").output; }
+  void keys(const std::string& keys) const { run_process(tmux() + " send-keys -t ui " + keys); }
+  bool alive() const { return run_process(tmux() + " has-session -t ui").code == 0; }
+
+  // Polls the screen until pred holds (the UI redraws at 25 Hz); returns the
+  // last screen either way so a failure shows what was drawn.
+  bool wait_for(const std::function<bool(const std::string&)>& pred, std::string& last, int seconds = 15) const {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+    while (std::chrono::steady_clock::now() < end) {
+      last = screen();
+      if (pred(last)) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  }
+
+ private:
+  std::string tmux() const { return "tmux -L " + socket_; }
+  std::string socket_;
+  bool started_ = false;
+  std::string error_;
+};
+
+bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+// A row of the parameter panel: the name is printed padded to 12 columns.
+std::string param_row(const std::string& screen, const std::string& name) {
+  std::string padded = name;
+  padded.resize(12, ' ');
+  const size_t at = screen.find(" " + padded);
+  if (at == std::string::npos) return "";
+  return screen.substr(at, screen.find('\n', at) - at);
+}
+
+bool has_braille(const std::string& s) {
+  // U+2801..U+28FF in UTF-8: E2 A0 81 .. E2 A3 BF
+  for (size_t i = 0; i + 2 < s.size(); ++i)
+    if (uint8_t(s[i]) == 0xE2 && (uint8_t(s[i + 1]) & 0xFC) == 0xA0 && !(uint8_t(s[i + 1]) == 0xA0 && uint8_t(s[i + 2]) == 0x80))
+      return true;
+  return false;
+}
+
+TEST(ConsoleTui, PlotsDrawAndAnEditedParameterShowsApplied) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db");
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + db,
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  EXPECT_TRUE(contains(s, "F1Help")) << s;
+  EXPECT_TRUE(contains(s, "link up")) << s;
+
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && has_braille(x); }, s)) << s;
+  EXPECT_TRUE(contains(s, "y0  \u2501 ref \u2501 hat \u2501 true")) << s;
+
+  // Down to r (Q, Lambda, s, b, r), edit in place, type 500.
+  t.keys("Down Down Down Down Enter C-u 500 Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "r"), "500 u applied"); }, s)) << s;
+
+  // A value the firmware refuses shows its reason and changes nothing.
+  t.keys("Enter C-u -1 Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "r"), "refused"); }, s)) << s;
+  EXPECT_TRUE(contains(param_row(s, "r"), "refused: r = -1")) << s;
+  EXPECT_TRUE(contains(s, "r: r = -1 is out of range [1e-06, 1e+07]")) << s;  // the message line has room
+  EXPECT_TRUE(contains(param_row(s, "r"), "500 u")) << s;
+
+  t.keys("F6");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
+  t.keys("q");
+  std::string last;
+  for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(t.alive()) << "q should quit when no run is active";
+
+  RunStore store(db);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_GT(runs[0].samples, 0u);
+  bool logged = false;
+  for (const auto& p : store.params(runs[0].id)) logged |= !p.at_start && p.name == "r" && p.value == "500";
+  EXPECT_TRUE(logged) << "the edit is recorded with its time in the run";
+}
+
+TEST(ConsoleTui, AsciiFallbackAndResize) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim msd --no-record",
+         "LANG=C LC_ALL=C NO_COLOR=1 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters ("); }, s)) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && contains(x, "y0  . ref + hat * true"); }, s)) << s;
+  EXPECT_FALSE(has_braille(s)) << s;
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 50 -y 12");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "terminal too small"); }, s)) << s;
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 100 -y 30");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "F1Help"); }, s)) << s;
+  t.keys("q");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
+  t.keys("y");
+  for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(t.alive());
+}
+
+}  // namespace
+}  // namespace nlsoft::console
