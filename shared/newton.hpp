@@ -10,8 +10,9 @@
 // range. Each iteration therefore tries the undamped step first and accepts
 // it only if it lowers J (Armijo); otherwise it damps, H + mu I with mu
 // growing tenfold (Levenberg-Marquardt), which bends the step towards the
-// gradient and shortens it. Near the optimum the first try wins and
-// convergence stays quadratic. Inputs held at a limit by the gradient drop out
+// gradient and shortens it. The damping that worked is remembered and eased
+// tenfold after each success, so near the optimum the undamped step returns
+// and convergence stays quadratic. Inputs held at a limit by the gradient drop out
 // of the system (projected Newton).
 //
 // Whatever the parameters, U stays finite and inside [u_min, u_max]; what
@@ -43,6 +44,10 @@ struct NewtonScratch {
   float LU[K * K];
   int piv[K];
   float dU[K];
+  // Levenberg-Marquardt damping carried from one iteration (and one control
+  // step) to the next, as a fraction of the Hessian's largest diagonal
+  // entry: consecutive problems are alike, so most iterations need one try.
+  float mu_rel = 0.0f;
   ExactScratch<Cap> exact;
   FdScratch<Cap> fd;
 };
@@ -127,14 +132,13 @@ NewtonResult newton_solve(const Model<Cap>& M, const Params<Cap>& P, const float
       break;
     }
 
-    // Undamped first, then Levenberg-Marquardt damping until J decreases.
-    float mu = 0.0f, step = 0.0f;
+    // Damping from the last success, raised tenfold until J decreases.
+    const float hscale = hmax > 0.0f ? hmax : 1.0f;
+    float mu = s.mu_rel * hscale, step = 0.0f;
     bool accepted = false, clamped = false;
     for (int tries = 0; tries < 8; ++tries) {
-      if (tries > 0) {
-        r.flags |= kDamped;
-        mu = mu == 0.0f ? (hmax > 0.0f ? 1e-4f * hmax : 1.0f) : 10.0f * mu;
-      }
+      if (tries > 0) mu = mu == 0.0f ? 1e-4f * hscale : 10.0f * mu;
+      if (mu > 0.0f) r.flags |= kDamped;
       if (!detail::newton_direction(s, k, mu, active)) {
         r.flags |= kSingular;
         continue;
@@ -172,8 +176,10 @@ NewtonResult newton_solve(const Model<Cap>& M, const Params<Cap>& P, const float
     if (!accepted) {
       r.flags |= kNoDescent;
       r.step = 0.0f;
+      s.mu_rel = 0.0f;
       break;
     }
+    s.mu_rel = mu / hscale < 1e-6f ? 0.0f : 0.1f * mu / hscale;
     if (clamped) r.flags |= kClamped;
     for (int a = 0; a < k; ++a) U[a] = s.fd.U[a];
     r.step = step;
