@@ -14,6 +14,42 @@ namespace nlsoft::console {
 
 namespace tf = protocol::telemetry_field;
 
+namespace {
+
+// Rows per multi-row INSERT: one statement step for many samples amortises
+// SQLite's per-statement cost (measured +25-30 % rows/s at 32).
+constexpr size_t kSamplesPerInsert = 32;
+constexpr int kSampleColumns = 10;
+
+std::string sample_insert_sql(size_t rows) {
+  std::string sql = "INSERT INTO samples(id,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us) VALUES";
+  for (size_t r = 0; r < rows; ++r) sql += r ? ",(?,?,?,?,?,?,?,?,?,?)" : "(?,?,?,?,?,?,?,?,?,?)";
+  return sql;
+}
+
+// Binds one sample at parameter offset base (0 for the first row). The
+// blobs point into s, which must outlive the statement's step.
+void bind_sample(Stmt& st, int base, int64_t run, const Sample& s) {
+  st.bind(base + 1, sample_key(run, s.k));
+  if (s.has(tf::kStep)) st.bind(base + 2, int64_t(s.step)); else st.bind_null(base + 2);
+  if (s.has(tf::kTime)) st.bind(base + 3, int64_t(s.time_us)); else st.bind_null(base + 3);
+  const size_t nb = size_t(s.n) * 4;
+  if (s.has(tf::kYRef)) st.bind_blob(base + 4, s.y_ref(), nb); else st.bind_null(base + 4);
+  if (s.has(tf::kYHat)) st.bind_blob(base + 5, s.y_hat(), nb); else st.bind_null(base + 5);
+  if (s.has(tf::kYTrue)) st.bind_blob(base + 6, s.y_true(), nb); else st.bind_null(base + 6);
+  if (s.has(tf::kU)) st.bind_blob(base + 7, s.u(), size_t(s.m) * 4); else st.bind_null(base + 7);
+  if (s.has(tf::kCost)) st.bind(base + 8, double(s.cost)); else st.bind_null(base + 8);
+  if (s.has(tf::kSolver)) {
+    st.bind(base + 9, int64_t(s.iterations));
+    st.bind(base + 10, double(s.compute_us));
+  } else {
+    st.bind_null(base + 9);
+    st.bind_null(base + 10);
+  }
+}
+
+}  // namespace
+
 std::string default_db_path() {
   if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x) return std::string(x) + "/nlsoft/runs.db";
   const char* home = std::getenv("HOME");
@@ -51,9 +87,8 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   // start instead of failing the first batch mid-run.
   db_->exec("BEGIN IMMEDIATE");
   db_->exec("ROLLBACK");
-  insert_sample_ = db_->prepare(
-      "INSERT INTO samples(id,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us) "
-      "VALUES(?,?,?,?,?,?,?,?,?,?)");
+  insert_sample_ = db_->prepare(sample_insert_sql(1).c_str());
+  insert_samples_ = db_->prepare(sample_insert_sql(kSamplesPerInsert).c_str());
   insert_param_ = db_->prepare("INSERT INTO params(run_id,t,at_start,name,value) VALUES(?,?,?,?,?)");
   insert_gap_ = db_->prepare("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason) VALUES(?,?,?,?,?)");
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
@@ -62,8 +97,26 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
       "decimation,reference) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
   end_run_ = db_->prepare("UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=? WHERE id=?");
   set_notes_ = db_->prepare("UPDATE runs SET notes=? WHERE id=?");
+  // Checkpoints (copying the WAL into the database, with an fsync) would
+  // stall the writer on the disk every few MB; a second connection does
+  // them in the background instead, which WAL allows concurrently.
+  db_->exec("PRAGMA wal_autocheckpoint=0");
+  checkpoint_db_ = std::make_unique<Db>(path, false);
   queue_.reserve(options_.batch_wakeup * 2);
   thread_ = std::thread([this] { writer(); });
+  checkpointer_ = std::thread([this] { checkpointer(); });
+}
+
+void Recorder::checkpointer() {
+  std::unique_lock<std::mutex> lock(mu_);
+  while (!stop_) {
+    checkpoint_cv_.wait_for(lock, std::chrono::milliseconds(500));
+    if (stop_) break;
+    lock.unlock();
+    // PASSIVE never waits for the writer; a busy result just means "later".
+    sqlite3_wal_checkpoint_v2(checkpoint_db_->handle(), nullptr, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+    lock.lock();
+  }
 }
 
 Recorder::~Recorder() {
@@ -72,7 +125,12 @@ Recorder::~Recorder() {
     stop_ = true;
   }
   cv_.notify_all();
+  checkpoint_cv_.notify_all();
   if (thread_.joinable()) thread_.join();
+  if (checkpointer_.joinable()) checkpointer_.join();
+  checkpoint_db_.reset();
+  // Fold the WAL back so the file is self-contained when we are done.
+  if (db_) sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
 }
 
 void Recorder::push(Item item) {
@@ -196,30 +254,33 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
     try {
       db_->exec("BEGIN");
       const std::string now = utc_now();
-      for (Item& item : batch) {
-        if (auto* si = std::get_if<SampleItem>(&item)) {
-          const Sample& s = si->s;
-          Stmt& st = insert_sample_;
-          st.bind(1, sample_key(si->run, s.k));
-          if (s.has(tf::kStep)) st.bind(2, int64_t(s.step)); else st.bind_null(2);
-          if (s.has(tf::kTime)) st.bind(3, int64_t(s.time_us)); else st.bind_null(3);
-          const size_t nb = size_t(s.n) * 4;
-          if (s.has(tf::kYRef)) st.bind_blob(4, s.y_ref(), nb); else st.bind_null(4);
-          if (s.has(tf::kYHat)) st.bind_blob(5, s.y_hat(), nb); else st.bind_null(5);
-          if (s.has(tf::kYTrue)) st.bind_blob(6, s.y_true(), nb); else st.bind_null(6);
-          if (s.has(tf::kU)) st.bind_blob(7, s.u(), size_t(s.m) * 4); else st.bind_null(7);
-          if (s.has(tf::kCost)) st.bind(8, double(s.cost)); else st.bind_null(8);
-          if (s.has(tf::kSolver)) {
-            st.bind(9, int64_t(s.iterations));
-            st.bind(10, double(s.compute_us));
-          } else {
-            st.bind_null(9);
-            st.bind_null(10);
+      for (size_t i = 0; i < batch.size(); ++i) {
+        Item& item = batch[i];
+        if (std::holds_alternative<SampleItem>(item)) {
+          // A run of samples: full groups through the multi-row insert.
+          size_t end = i;
+          while (end < batch.size() && std::holds_alternative<SampleItem>(batch[end])) ++end;
+          while (end - i >= kSamplesPerInsert) {
+            for (size_t r = 0; r < kSamplesPerInsert; ++r) {
+              const auto& si = std::get<SampleItem>(batch[i + r]);
+              bind_sample(insert_samples_, int(r) * kSampleColumns, si.run, si.s);
+            }
+            insert_samples_.step();
+            insert_samples_.reset_keep_bindings();
+            i += kSamplesPerInsert;
+            samples += kSamplesPerInsert;
           }
-          st.step();
-          st.reset_keep_bindings();
-          ++samples;
-        } else if (auto* ti = std::get_if<TextItem>(&item)) {
+          for (; i < end; ++i) {
+            const auto& si = std::get<SampleItem>(batch[i]);
+            bind_sample(insert_sample_, 0, si.run, si.s);
+            insert_sample_.step();
+            insert_sample_.reset_keep_bindings();
+            ++samples;
+          }
+          --i;  // the for loop's ++i lands on the item after the run
+          continue;
+        }
+        if (auto* ti = std::get_if<TextItem>(&item)) {
           switch (ti->kind) {
             case TextItem::Param:
               insert_param_.bind(1, ti->run).bind(2, ti->t).bind(3, int64_t(0)).bind(4, ti->x).bind(5, ti->y).exec();

@@ -103,12 +103,14 @@ class Recorder {
   void push(Item item);
   int64_t sync(SyncItem item);
   void writer();
+  void checkpointer();
   void write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr<std::promise<int64_t>>>& waiting);
 
   std::string path_;
   Options options_;
   std::unique_ptr<Db> db_;
-  Stmt insert_sample_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_;
+  std::unique_ptr<Db> checkpoint_db_;
+  Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_;
 
   mutable std::mutex mu_;
   std::condition_variable cv_;
@@ -122,6 +124,8 @@ class Recorder {
   std::atomic<uint64_t> dropped_total_{0};
   std::atomic<uint64_t> committed_{0};
   std::thread thread_;
+  std::condition_variable checkpoint_cv_;
+  std::thread checkpointer_;
 };
 
 }  // namespace nlsoft::console
