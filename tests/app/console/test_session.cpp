@@ -3,7 +3,10 @@
 // taken exactly once, duplicate and stale replies are ignored.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <memory>
+#include <mutex>
 #include <chrono>
 #include <thread>
 
@@ -220,6 +223,47 @@ TEST(Session, CorruptBytesAreCountedAndTheNextFrameStillDecodes) {
   EXPECT_EQ(ping(s, 77).nonce, 77u);
   const LinkStats st = s.stats();
   EXPECT_EQ(st.crc_errors + st.decode_errors, 1u);
+}
+
+TEST(Session, LostPortIsReportedAndReopenedWhenItReturns) {
+  std::mutex mu;
+  std::vector<LinkEvent::Kind> events;
+  auto seen = [&](LinkEvent::Kind k) {
+    std::lock_guard<std::mutex> lock(mu);
+    return std::find(events.begin(), events.end(), k) != events.end();
+  };
+  auto wait_for = [&](LinkEvent::Kind k) {
+    for (int i = 0; i < 300 && !seen(k); ++i) std::this_thread::sleep_for(10ms);
+    return seen(k);
+  };
+  auto peer = std::make_unique<FakePeer>([](FakePeer& pe, const p::FrameView& f) { pong(pe, f); });
+  const std::string path = peer->path();
+  SessionOptions o = fast_options();
+  o.reconnect_interval = 20ms;
+  Session s(o);
+  s.on_event([&](const LinkEvent& e) {
+    std::lock_guard<std::mutex> lock(mu);
+    events.push_back(e.kind);
+  });
+  s.open(path, 115200);
+  EXPECT_EQ(ping(s, 1).nonce, 1u);
+
+  peer.reset();  // the cable is pulled: the pty disappears
+  ASSERT_TRUE(wait_for(LinkEvent::Kind::Down));
+  EXPECT_FALSE(s.connected());
+  try {
+    ping(s, 2);
+    FAIL() << "a request on a dead link must fail";
+  } catch (const LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find("is down, reconnecting"), std::string::npos) << e.what();
+  }
+
+  peer = std::make_unique<FakePeer>([](FakePeer& pe, const p::FrameView& f) { pong(pe, f); });
+  if (peer->path() != path) GTEST_SKIP() << "the kernel gave the new pty another name; cannot test the reopen";
+  ASSERT_TRUE(wait_for(LinkEvent::Kind::Up));
+  EXPECT_TRUE(s.connected());
+  EXPECT_EQ(ping(s, 3).nonce, 3u);
+  EXPECT_EQ(s.stats().reconnects, 1u);
 }
 
 TEST(Session, MissingPortIsAClearError) {
