@@ -80,6 +80,9 @@ std::string SimLauncher::start(const std::string& platform, const std::vector<st
   if (pid < 0) throw CliError(fmt::format("fork: {}", std::strerror(errno)));
   if (pid == 0) {
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    // Its own process group: Ctrl-C at the terminal is for the console,
+    // which then stops the run and ends the simulator itself.
+    ::setpgid(0, 0);
     if (::getppid() != parent) ::_exit(127);
     ::dup2(out[1], STDOUT_FILENO);
     const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);

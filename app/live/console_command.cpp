@@ -30,7 +30,7 @@ struct ConsoleArgs {
   int timeout_ms = 250;
 };
 
-volatile std::sig_atomic_t g_interrupted = 0;
+void on_interrupt(int) { LiveConsole::request_interrupt(); }
 
 int run_console(const ConsoleArgs& a) {
   if (a.port.empty() && a.sim.empty())
@@ -60,6 +60,13 @@ int run_console(const ConsoleArgs& a) {
   o.decimation = a.decimation;
   o.session.timeout = std::chrono::milliseconds(a.timeout_ms);
   LiveConsole console(o);
+  // Ctrl-C stops the run cleanly (it stays in the database, marked
+  // interrupted) instead of leaving it unfinished.
+  struct sigaction sa {};
+  sa.sa_handler = on_interrupt;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
   const bool headless = !a.script.empty();
   if (headless) console.set_notify([](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
   try {

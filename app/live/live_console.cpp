@@ -435,8 +435,13 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
   bool reached = false;
+  bool interrupted = false;
   while (std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (LiveConsole::interrupted()) {
+      interrupted = true;
+      break;
+    }
     if (!have_last_step_) continue;
     const uint64_t done = uint64_t(last_step_.load() - first_step_.load()) + decimation_;
     if (progress) progress(std::min(done, target), target);
@@ -445,7 +450,8 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
       break;
     }
   }
-  RunSummary s = stop_run(reached ? "completed" : "timed out waiting for telemetry");
+  RunSummary s = stop_run(reached ? "completed" : interrupted ? "interrupted" : "timed out waiting for telemetry");
+  if (interrupted) throw CliError(fmt::format("interrupted: run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
   if (!reached) say(fmt::format("run {} ended early: telemetry stopped arriving", s.run_id));
   return s;
 }

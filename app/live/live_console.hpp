@@ -4,6 +4,7 @@
 // line and the TUI all drive the firmware through this one object, so they
 // behave the same way.
 #include <atomic>
+#include <csignal>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -98,6 +99,11 @@ class LiveConsole {
   RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {});
 
   std::optional<RunSummary> last_run() const;
+
+  // Set from a signal handler (Ctrl-C): run_for() stops the run early and
+  // the script runner stops before its next command. Async-signal-safe.
+  static void request_interrupt() { interrupted_flag() = 1; }
+  static bool interrupted() { return interrupted_flag() != 0; }
   RunMetrics metrics_of(int64_t run_id);
 
  private:
@@ -105,6 +111,10 @@ class LiveConsole {
   void on_event(const LinkEvent& e);
   void configure_telemetry();
   void say(const std::string& s);
+  static volatile std::sig_atomic_t& interrupted_flag() {
+    static volatile std::sig_atomic_t flag = 0;
+    return flag;
+  }
 
   LiveOptions options_;
   std::string db_path_;

@@ -30,6 +30,10 @@ std::string summary_line(const RunSummary& s) {
 
 int ScriptRunner::run(const Script& script) {
   for (const Command& c : script.commands) {
+    if (LiveConsole::interrupted()) {
+      out_(fmt::format("{}:{}: interrupted before '{}'", script.file, c.line, c.text));
+      return 2;
+    }
     try {
       execute(c, script.file);
     } catch (const ScriptError& e) {

@@ -407,6 +407,7 @@ int App::loop() {
     }
     const int ch = getch();
     if (ch != ERR && !handle(ch)) break;
+    if (LiveConsole::interrupted()) break;  // SIGTERM, or Ctrl-C outside raw mode
     // Steady redraw whatever the telemetry or key rate: at most every 40 ms.
     if (Clock::now() - last_draw >= std::chrono::milliseconds(40)) {
       draw();
