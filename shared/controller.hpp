@@ -100,7 +100,7 @@ class Controller {
     out.flags |= nr.flags;
 
     // Predicted path and cost at the U actually applied.
-    predict_horizon(*model_, x_, U_, Pm.N, Pm.Nc, out.y_hat, scratch_.fd.h);
+    predict_horizon(*model_, x_, U_, Pm.N, Pm.Nc, out.y_hat, scratch_.fd.h, scratch_.constant);
     out.cost = cost_value(Pm, L.m, L.n, ref_, U_, x_, out.y_hat);
 
     // Algorithm 1, lines 1-2: u(k) = U_0 into the u-queue.

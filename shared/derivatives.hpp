@@ -49,7 +49,7 @@ struct FdScratch {
 
 template <class Cap>
 void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc,
-                       HorizonDerivatives<Cap>& D, ExactScratch<Cap>& s) {
+                       HorizonDerivatives<Cap>& D, ExactScratch<Cap>& s, const ConstantInputs& c = {}) {
   constexpr int K = Derived<Cap>::K;
   const int k = Nc * M.m;
   for (int a = 0; a < k; ++a) {
@@ -59,7 +59,7 @@ void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int
     for (int b = 0; b < k; ++b) u.d[b] = u.dd[b] = 0.0f;
     u.d[a] = 1.0f;
   }
-  predict_horizon(M, x0, s.U, N, Nc, s.Y, s.h);
+  predict_horizon(M, x0, s.U, N, Nc, s.Y, s.h, c);
   for (int r = 0; r < N * M.n; ++r) {
     const JetOf<Cap>& y = s.Y[r];
     D.Y[r] = y.v;
@@ -73,19 +73,19 @@ void derivatives_exact(const Model<Cap>& M, const float* x0, const float* U, int
 
 template <class Cap>
 void derivatives_fd(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc, float eps,
-                    HorizonDerivatives<Cap>& D, FdScratch<Cap>& s) {
+                    HorizonDerivatives<Cap>& D, FdScratch<Cap>& s, const ConstantInputs& c = {}) {
   constexpr int K = Derived<Cap>::K;
   const int k = Nc * M.m;
   const int rows = N * M.n;
   D.jets = nullptr;
-  predict_horizon(M, x0, U, N, Nc, D.Y, s.h);
+  predict_horizon(M, x0, U, N, Nc, D.Y, s.h, c);
   for (int a = 0; a < k; ++a) s.U[a] = U[a];
   const float inv2e = 0.5f / eps, inve2 = 1.0f / (eps * eps);
   for (int a = 0; a < k; ++a) {
     s.U[a] = U[a] + eps;
-    predict_horizon(M, x0, s.U, N, Nc, s.Yp, s.h);
+    predict_horizon(M, x0, s.U, N, Nc, s.Yp, s.h, c);
     s.U[a] = U[a] - eps;
-    predict_horizon(M, x0, s.U, N, Nc, s.Ym, s.h);
+    predict_horizon(M, x0, s.U, N, Nc, s.Ym, s.h, c);
     s.U[a] = U[a];
     for (int r = 0; r < rows; ++r) {
       D.G[r * K + a] = (s.Yp[r] - s.Ym[r]) * inv2e;

@@ -21,15 +21,16 @@ InputLayout layout_of(const Model<Cap>& M) {
   return InputLayout{M.m, M.n, M.w, M.nd, M.dd};
 }
 
+// `c`: the first layer's response to x0's sensors (constant_inputs), or none.
 template <class Cap, class T>
 void predict_horizon(const Model<Cap>& M, const float* x0, const T* U, int N, int Nc, T* Y,
-                     HorizonScratch<Cap, T>& s) {
+                     HorizonScratch<Cap, T>& s, const ConstantInputs& c = {}) {
   const InputLayout L = layout_of(M);
   for (int i = 0; i < L.p(); ++i) set_constant(s.x[i], x0[i]);
   for (int j = 0; j < N; ++j) {
     push_input(s.x, L, U + (j < Nc ? j : Nc - 1) * L.m);
     if (j > 0) push_output(s.x, L, Y + (j - 1) * L.n);
-    forward(M, s.x, Y + j * L.n, s.fw);
+    forward(M, s.x, Y + j * L.n, s.fw, c);
   }
 }
 

@@ -48,6 +48,8 @@ struct NewtonScratch {
   // step) to the next, as a fraction of the Hessian's largest diagonal
   // entry: consecutive problems are alike, so most iterations need one try.
   float mu_rel = 0.0f;
+  float pre[Cap::width];  // the first layer's constant part for this step's x0
+  ConstantInputs constant;
   ExactScratch<Cap> exact;
   FdScratch<Cap> fd;
 };
@@ -101,12 +103,13 @@ NewtonResult newton_solve(const Model<Cap>& M, const Params<Cap>& P, const float
   const float* u_prev = x0;  // u(k-1) is the newest entry of the u-queue
   NewtonResult r;
   for (int a = 0; a < k; ++a) U[a] = clamp_to(U[a], P.u_min[a % m], P.u_max[a % m]);
+  s.constant = constant_inputs(M, x0, s.pre);
 
   for (int it = 0; it < P.nr_max_iter; ++it) {
     if (P.mode == DerivMode::Fd)
-      derivatives_fd(M, x0, U, P.N, P.Nc, P.eps, s.D, s.fd);
+      derivatives_fd(M, x0, U, P.N, P.Nc, P.eps, s.D, s.fd, s.constant);
     else
-      derivatives_exact(M, x0, U, P.N, P.Nc, s.D, s.exact);
+      derivatives_exact(M, x0, U, P.N, P.Nc, s.D, s.exact, s.constant);
     evaluate_cost(P, m, M.n, y_ref, U, u_prev, s.D, s.C);
     r.iterations = uint8_t(it + 1);
 
@@ -166,7 +169,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const Params<Cap>& P, const float
         accepted = true;
         break;
       }
-      predict_horizon(M, x0, s.fd.U, P.N, P.Nc, s.fd.Yp, s.fd.h);
+      predict_horizon(M, x0, s.fd.U, P.N, P.Nc, s.fd.Yp, s.fd.h, s.constant);
       const float J = cost_value(P, m, M.n, y_ref, s.fd.U, u_prev, s.fd.Yp);
       if (J <= s.C.J + 1e-4f * slope) {
         accepted = true;
