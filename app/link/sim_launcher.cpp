@@ -64,14 +64,55 @@ std::string find_firmware_sim() {
                  "\nbuild it (cmake --build build --target nlsoft-firmware-sim) or set NLSOFT_FIRMWARE_SIM");
 }
 
+std::string find_m4_image(const std::string& platform) {
+  if (const char* env = std::getenv("NLSOFT_M4_IMAGE"); env && *env) {
+    if (::access(env, R_OK) == 0) return env;
+    throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
+  }
+  const std::string cand = exe_dir() + "/../firmware/m4/nlsoft-m4-" + platform + "-hil.elf";
+  if (::access(cand.c_str(), R_OK) == 0) return cand;
+  throw CliError(fmt::format("cannot find the Cortex-M4F image {}; build it (needs arm-none-eabi-g++) or set "
+                             "NLSOFT_M4_IMAGE",
+                             cand));
+}
+
+namespace {
+
+// nlsoft-firmware-sim prints the path alone on its first line.
+std::string first_line_path(const std::string& line) { return line; }
+
+// QEMU: "char device redirected to /dev/pts/N (label serial0)".
+std::string qemu_pty(const std::string& line) {
+  const size_t at = line.find("redirected to /dev/");
+  if (at == std::string::npos) return "";
+  const size_t from = at + 14;
+  const size_t to = line.find_first_of(" \t", from);
+  return line.substr(from, to == std::string::npos ? std::string::npos : to - from);
+}
+
+}  // namespace
+
 std::string SimLauncher::start(const std::string& platform, const std::vector<std::string>& extra_args) {
+  std::vector<std::string> args = {find_firmware_sim(), "--platform", platform};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  return spawn(args, args[0], &first_line_path);
+}
+
+std::string SimLauncher::start_qemu(const std::string& platform) {
+  const std::string elf = find_m4_image(platform);
+  if (!executable("/usr/bin/qemu-system-arm") && !executable("/usr/local/bin/qemu-system-arm"))
+    throw CliError("qemu-system-arm is not installed (apt-get install qemu-system-arm)");
+  return spawn({"qemu-system-arm", "-M", "mps2-an386", "-nographic", "-monitor", "none", "-serial", "pty", "-kernel", elf},
+               "qemu-system-arm", &qemu_pty);
+}
+
+std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const std::string& what,
+                               std::string (*pick)(const std::string& line)) {
   stop();
-  const std::string exe = find_firmware_sim();
   int out[2];
   if (::pipe2(out, O_CLOEXEC) != 0) throw CliError(fmt::format("pipe: {}", std::strerror(errno)));
   log_path_ = fmt::format("/tmp/nlsoft-firmware-sim.{}.log", ::getpid());
-  std::vector<std::string> args = {exe, "--platform", platform};
-  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  std::vector<std::string> args = argv_in;
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
@@ -87,16 +128,26 @@ std::string SimLauncher::start(const std::string& platform, const std::vector<st
     ::dup2(out[1], STDOUT_FILENO);
     const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (log >= 0) ::dup2(log, STDERR_FILENO);
-    ::execv(exe.c_str(), argv.data());
+    const int null_in = ::open("/dev/null", O_RDONLY);
+    if (null_in >= 0) ::dup2(null_in, STDIN_FILENO);
+    ::execvp(argv[0], argv.data());
     ::_exit(127);
   }
   ::close(out[1]);
   pid_ = pid;
   out_fd_ = out[0];
-  // First line = the pty path; wait a few seconds for the child to print it.
-  std::string line;
+  // Read lines until one names the pty; give the child a few seconds.
+  std::string buffer, path;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (line.find('\n') == std::string::npos) {
+  while (path.empty()) {
+    const size_t nl = buffer.find('\n');
+    if (nl != std::string::npos) {
+      std::string line = buffer.substr(0, nl);
+      buffer.erase(0, nl + 1);
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      path = pick(line);
+      continue;
+    }
     const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
     if (left.count() <= 0) break;
     pollfd pfd{out_fd_, POLLIN, 0};
@@ -104,20 +155,17 @@ std::string SimLauncher::start(const std::string& platform, const std::vector<st
     char buf[256];
     const ssize_t n = ::read(out_fd_, buf, sizeof buf);
     if (n <= 0) break;
-    line.append(buf, size_t(n));
+    buffer.append(buf, size_t(n));
   }
-  const size_t nl = line.find('\n');
-  if (nl == std::string::npos) {
+  if (path.empty()) {
     int status = 0;
     const bool exited = ::waitpid(pid_, &status, WNOHANG) == pid_;
     if (exited) pid_ = -1;
     stop();
-    throw CliError(fmt::format("{} did not report its pty{}; see {}", exe,
+    throw CliError(fmt::format("{} did not report its pty{}; see {}", what,
                                exited ? fmt::format(" (exit status {})", WEXITSTATUS(status)) : "", log_path_));
   }
-  std::string path = line.substr(0, nl);
-  if (!path.empty() && path.back() == '\r') path.pop_back();
-  // Keep draining stdout so the simulator never blocks on a full pipe.
+  // Keep draining stdout so the child never blocks on a full pipe.
   drain_ = std::thread([fd = out_fd_] {
     char buf[1024];
     while (::read(fd, buf, sizeof buf) > 0) {

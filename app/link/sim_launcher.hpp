@@ -16,6 +16,10 @@ namespace nlsoft::console {
 // CliError listing what was tried.
 std::string find_firmware_sim();
 
+// The Cortex-M4F image with the simulated plant in the loop for `platform`:
+// $NLSOFT_M4_IMAGE, else <exe_dir>/../firmware/m4/nlsoft-m4-<platform>-hil.elf.
+std::string find_m4_image(const std::string& platform);
+
 class SimLauncher {
  public:
   SimLauncher() = default;
@@ -25,11 +29,17 @@ class SimLauncher {
 
   // Returns the pty path. extra_args go after --platform (e.g. --rate 10000).
   std::string start(const std::string& platform, const std::vector<std::string>& extra_args = {});
+  // Boots the M4 image in qemu-system-arm (mps2-an386) with UART0 on a pty.
+  std::string start_qemu(const std::string& platform);
   void stop();
   pid_t pid() const { return pid_; }
   const std::string& log_path() const { return log_path_; }
 
  private:
+  // Forks argv with stdout on a pipe; returns the first stdout line for which
+  // pick() yields a non-empty path.
+  std::string spawn(const std::vector<std::string>& argv, const std::string& what,
+                    std::string (*pick)(const std::string& line));
   pid_t pid_ = -1;
   int out_fd_ = -1;
   std::thread drain_;

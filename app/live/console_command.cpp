@@ -21,7 +21,7 @@ namespace nlsoft::console {
 namespace {
 
 struct ConsoleArgs {
-  std::string port, sim, script, db;
+  std::string port, sim, qemu, script, db;
   unsigned baud = 115200;
   bool no_record = false;
   int decimation = 0;
@@ -33,10 +33,12 @@ struct ConsoleArgs {
 void on_interrupt(int) { LiveConsole::request_interrupt(); }
 
 int run_console(const ConsoleArgs& a) {
-  if (a.port.empty() && a.sim.empty())
+  if (!a.qemu.empty() && !a.sim.empty()) throw CliError("give either --sim or --qemu, not both");
+  if (a.port.empty() && a.sim.empty() && a.qemu.empty())
     throw CliError("nothing to connect to: give a serial port (nlsoft-console /dev/ttyACM0) or --sim hasel; "
                    "see nlsoft-console --help");
-  if (!a.port.empty() && !a.sim.empty()) throw CliError("give either a PORT or --sim, not both");
+  if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
+    throw CliError("give either a PORT or --sim/--qemu, not both");
   Script script;
   if (!a.script.empty()) {
     // Parse everything before connecting: a typo on line 40 should not cost
@@ -52,7 +54,8 @@ int run_console(const ConsoleArgs& a) {
   LiveOptions o;
   o.port = a.port;
   o.baud = a.baud;
-  o.sim_platform = a.sim;
+  o.sim_platform = a.qemu.empty() ? a.sim : a.qemu;
+  o.sim_in_qemu = !a.qemu.empty();
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");
   o.db_path = a.db;
@@ -112,6 +115,9 @@ void add_console_commands(CLI::App& app) {
   app.add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
   app.add_option("--sim", a->sim, "Start nlsoft-firmware-sim for this platform and connect to it")
       ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  app.add_option("--qemu", a->qemu,
+                 "Boot the Cortex-M4F image (plant in the loop) in qemu-system-arm and connect to its UART")
+      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
   app.add_option("--baud", a->baud, "Baud rate, any integer the port supports (default 115200)")
       ->check(CLI::Range(50u, 20000000u));
   app.add_option("--script", a->script, "Run a script headless (no terminal needed); exit 0/1/2");
@@ -125,6 +131,7 @@ void add_console_commands(CLI::App& app) {
   std::string footer =
       "Connect and tune:\n"
       "  nlsoft-console --sim hasel              # no hardware: firmware simulator on a pty\n"
+      "  nlsoft-console --qemu hasel             # the Cortex-M4F image in QEMU, UART on a pty\n"
       "  nlsoft-console /dev/ttyACM0 --baud 1000000\n"
       "Headless (CI): exit 0 when every expect held, 1 when one failed, 2 on an error\n"
       "  nlsoft-console --sim hasel --script tune.nls\n"

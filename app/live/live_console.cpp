@@ -68,7 +68,8 @@ void LiveConsole::connect(const Progress& params_progress) {
     if (!platform_from_name(options_.sim_platform.c_str(), &id))
       throw CliError(fmt::format("--sim {}: unknown platform; use msd, hasel or tendon", options_.sim_platform));
     sim_ = std::make_unique<SimLauncher>();
-    port = sim_->start(options_.sim_platform, options_.sim_args);
+    port = options_.sim_in_qemu ? sim_->start_qemu(options_.sim_platform)
+                                : sim_->start(options_.sim_platform, options_.sim_args);
   }
   if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");
 
@@ -96,7 +97,20 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_->on_event([this](const LinkEvent& e) { on_event(e); });
   session_->open(port, options_.baud);
   device_ = std::make_unique<Device>(*session_);
-  device_->handshake();
+  // A board may still be booting (QEMU takes a second or two; many USB
+  // boards reset when the port opens): keep asking for a while.
+  const auto patience = std::chrono::seconds(sim_ && !options_.sim_in_qemu ? 3 : 10);
+  const auto give_up = std::chrono::steady_clock::now() + patience;
+  while (true) {
+    try {
+      device_->handshake();
+      break;
+    } catch (const LinkError& e) {
+      if (std::chrono::steady_clock::now() >= give_up || session_->foreign_version() != 0)
+        throw LinkError(fmt::format("{} (no INFO for {} s: is the firmware running at {} baud?)", e.what(),
+                                    patience.count(), options_.baud));
+    }
+  }
   device_->load_params(params_progress);
   // The tick rate converts compute ticks to microseconds from the first sample on.
   tick_rate_hz_ = device_->status().tick_rate_hz;

@@ -27,6 +27,7 @@ struct LiveOptions {
   std::string port;          // a serial device, or empty with sim_platform
   unsigned baud = 115200;
   std::string sim_platform;  // msd|hasel|tendon: start nlsoft-firmware-sim
+  bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
   std::vector<std::string> sim_args;
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit
