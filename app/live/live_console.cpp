@@ -449,9 +449,15 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
   bool reached = false;
-  bool interrupted = false;
+  bool interrupted = false, stopped = false;
+  stop_timed_ = false;
+  timed_run_ = true;
   while (std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (stop_timed_.exchange(false)) {
+      stopped = true;
+      break;
+    }
     if (LiveConsole::interrupted()) {
       interrupted = true;
       break;
@@ -464,7 +470,12 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
       break;
     }
   }
-  RunSummary s = stop_run(reached ? "completed" : interrupted ? "interrupted" : "timed out waiting for telemetry");
+  timed_run_ = false;
+  RunSummary s = stop_run(reached       ? "completed"
+                          : stopped     ? "stopped by the user"
+                          : interrupted ? "interrupted"
+                                        : "timed out waiting for telemetry");
+  if (stopped) return s;
   if (interrupted) throw CliError(fmt::format("interrupted: run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
   if (!reached) say(fmt::format("run {} ended early: telemetry stopped arriving", s.run_id));
   return s;

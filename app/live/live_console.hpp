@@ -101,6 +101,14 @@ class LiveConsole {
 
   std::optional<RunSummary> last_run() const;
 
+  // Ends a run_for() early from another thread (the TUI's stop key while a
+  // `run 10s` from the command line is going). Returns false if none is.
+  bool stop_timed_run() {
+    if (!timed_run_.load()) return false;
+    stop_timed_ = true;
+    return true;
+  }
+
   // Set from a signal handler (Ctrl-C): run_for() stops the run early and
   // the script runner stops before its next command. Async-signal-safe.
   static void request_interrupt() { interrupted_flag() = 1; }
@@ -137,6 +145,7 @@ class LiveConsole {
   std::atomic<uint64_t> run_lost_{0};
   std::atomic<uint32_t> tick_rate_hz_{0};
   std::atomic<bool> resync_after_gap_{false};
+  std::atomic<bool> timed_run_{false}, stop_timed_{false};
   std::atomic<bool> have_last_step_{false};
   std::atomic<uint32_t> last_step_{0};
   std::atomic<uint32_t> first_step_{0};

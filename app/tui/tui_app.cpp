@@ -248,7 +248,12 @@ bool App::handle(int ch) {
       break;
     case KEY_BTAB: focus_ = focus_ == Focus::Params ? Focus::Runs : focus_ == Focus::Ref ? Focus::Params : Focus::Ref; return true;
     case KEY_F(5): start_run(); return true;
-    case KEY_F(6): stop_run(); return true;
+    case KEY_F(6):
+      // A timed run from the ':' line is ended where it waits; otherwise
+      // the stop queues behind whatever the worker is doing.
+      if (console_.stop_timed_run()) message("stopping the timed run...");
+      else stop_run();
+      return true;
     case KEY_F(7): {
       const bool held = console_.session().stats().run_state == uint8_t(protocol::RunState::Hold) ||
                         console_.session().stats().run_state == uint8_t(protocol::RunState::Neutral);
