@@ -16,6 +16,9 @@
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
 #include "protocol/messages.hpp"
+#include "shared/params.hpp"
+#include <gtest/gtest.h>
+#include <initializer_list>
 
 namespace nlsoft::test {
 
@@ -31,6 +34,22 @@ struct Received {
     return v;
   }
 };
+
+// A received frame as a typed message (the test fails if it does not unpack).
+template <class M>
+M as(const Received& r) {
+  M m;
+  EXPECT_EQ(proto::unpack(r.view(), m), proto::StatusCode::Ok);
+  return m;
+}
+
+// PARAM_SET of float values.
+inline proto::ParamSet param_set(ParamId id, std::initializer_list<float> v) {
+  proto::ParamSet p;
+  p.id = uint16_t(id);
+  for (float x : v) p.set_f32(p.count++, x);
+  return p;
+}
 
 class Peer {
  public:

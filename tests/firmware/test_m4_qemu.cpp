@@ -18,19 +18,6 @@ namespace tf = proto::telemetry_field;
 
 namespace {
 
-template <class M>
-M as(const Received& r) {
-  M m;
-  EXPECT_EQ(proto::unpack(r.view(), m), proto::StatusCode::Ok);
-  return m;
-}
-
-proto::ParamSet param_set(ParamId id, std::initializer_list<float> v) {
-  proto::ParamSet p;
-  p.id = uint16_t(id);
-  for (float x : v) p.set_f32(p.count++, x);
-  return p;
-}
 
 class M4Image : public ::testing::Test {
  protected:

@@ -29,19 +29,6 @@ std::string model_path() {
   return path;
 }
 
-template <class M>
-M as(const Received& r) {
-  M m;
-  EXPECT_EQ(proto::unpack(r.view(), m), proto::StatusCode::Ok);
-  return m;
-}
-
-proto::ParamSet param_set(ParamId id, std::initializer_list<float> v) {
-  proto::ParamSet p;
-  p.id = uint16_t(id);
-  for (float x : v) p.set_f32(p.count++, x);
-  return p;
-}
 
 class PosixFirmware : public ::testing::Test {
  protected:
