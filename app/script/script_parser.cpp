@@ -109,10 +109,11 @@ std::vector<std::string> tokenize(const std::string& line) {
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
   auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, msg); };
-  if (line.compare(0, line.find_first_of(" \t"), "echo") == 0) {
-    // Free text: quotes and all are printed as written.
+  const std::string first = line.substr(0, line.find_first_of(" \t"));
+  if (first == "echo" || first == "note") {
+    // Free text: quotes and all are kept as written.
     Command c;
-    c.kind = Command::Kind::Echo;
+    c.kind = first == "echo" ? Command::Kind::Echo : Command::Kind::Note;
     c.line = lineno;
     c.text = line;
     c.name = trim(line.substr(4));
@@ -253,7 +254,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [label=TEXT]");
   } else {
     throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
-                           "wait expect export echo sweep",
+                           "wait expect export echo note sweep",
                            verb));
   }
   return c;
@@ -297,6 +298,7 @@ const std::vector<std::string>& script_help() {
       "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost == 0",
       "export csv FILE             the last run's samples as CSV",
       "echo TEXT                   print TEXT",
+      "note TEXT                   attach notes to the current (or last) run",
       "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics",
   };
   return h;

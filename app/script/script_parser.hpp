@@ -15,6 +15,7 @@
 //   expect METRIC OP VALUE    expect nrmse < 0.05   (OP: < <= > >= == !=)
 //   export csv FILE
 //   echo TEXT
+//   note TEXT                 notes on the current (or last) run
 //   sweep PARAM V1 V2 ... run DURATION [label=TEXT]
 #include <stdexcept>
 #include <string>
@@ -38,7 +39,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 struct Command {
   enum class Kind {
     Set, Get, ParamsSave, ParamsLoad, Ref, RefLoad, Run, Start, Stop, Hold, Neutral, Resume,
-    Wait, Expect, ExportCsv, Echo, Sweep,
+    Wait, Expect, ExportCsv, Echo, Sweep, Note,
   };
   Kind kind = Kind::Echo;
   int line = 0;

@@ -131,6 +131,14 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Echo: out_(c.name); break;
+      case K::Note: {
+        const auto last = console_.last_run();
+        const int64_t id = console_.running() ? console_.current_run() : last ? last->run_id : 0;
+        if (id == 0) throw CliError("note needs a run (start one, or after run DURATION)");
+        console_.recorder().set_notes(id, c.name);
+        out_(fmt::format("notes on run {}: {}", id, c.name));
+        break;
+      }
       case K::Sweep: sweep(c); break;
     }
   } catch (const ScriptError&) {

@@ -47,6 +47,7 @@ TEST_F(ConsoleE2E, SetParametersUploadSwirlRunAndCheckTheRecording) {
       "get Q\n"
       "ref load " + csv + " hold=1\n"
       "run 3s label=swirl-e2e\n"
+      "note swirl from a CSV table, paper tuning\n"
       "expect lost == 0\n"
       "expect samples >= 380\n"
       "export csv " + dir_.file("run.csv") + "\n");
@@ -60,6 +61,7 @@ TEST_F(ConsoleE2E, SetParametersUploadSwirlRunAndCheckTheRecording) {
   ASSERT_EQ(runs.size(), 1u);
   const RunRow& run = runs[0];
   EXPECT_EQ(run.label, "swirl-e2e");
+  EXPECT_EQ(run.notes, "swirl from a CSV table, paper tuning");
   EXPECT_EQ(run.platform, "hasel");
   EXPECT_EQ(run.end_reason, "completed");
   EXPECT_EQ(run.lost_frames, 0u);
