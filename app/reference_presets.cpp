@@ -2,84 +2,45 @@
 
 #include <fmt/format.h>
 
-#include <cmath>
-
 #include "app/cli_error.hpp"
-#include "shared/plant_hasel.hpp"
-#include "shared/plant_tendon.hpp"
-#include "shared/platform.hpp"
+#include "shared/reference_presets.hpp"
 
 namespace nlsoft::console {
 
 namespace {
-constexpr float kPi = 3.14159265358979f;
-constexpr float kPeriodS = 8.0f;  // one lap of a periodic path
+
+struct Named {
+  const char* name;
+  RefKind kind;
+};
+constexpr Named kNames[] = {{"infinity", RefKind::Infinity}, {"pringle", RefKind::Pringle},
+                            {"diagonal", RefKind::Diagonal}, {"swirl", RefKind::Swirl},
+                            {"steps", RefKind::Step},        {"hold", RefKind::Hold}};
+
 }  // namespace
 
 const std::vector<std::string>& reference_names() {
-  static const std::vector<std::string> names = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const Named& n : kNames) v.emplace_back(n.name);
+    return v;
+  }();
   return names;
 }
 
 std::string default_reference(PlatformId platform) {
-  switch (platform) {
-    case PlatformId::Msd: return "steps";
-    case PlatformId::Hasel: return "swirl";
-    case PlatformId::Tendon: return "infinity";
-  }
+  const RefKind k = default_reference_kind(platform);
+  for (const Named& n : kNames)
+    if (n.kind == k) return n.name;
   return "hold";
 }
 
 RefParams reference_preset(PlatformId platform, const std::string& name) {
-  const float rate = preset(platform).rate_hz;
-  RefParams r{};
-  r.hold = 1;
-  r.scale = 1.0f;
-  r.omega = 2.0f * kPi / (kPeriodS * rate);
-  r.lambda = kPeriodS * rate;
-  // centre and amplitudes from the plants' documented reachable sets
-  switch (platform) {
-    case PlatformId::Msd:
-      r.A = r.B = r.C = 0.5f;
-      break;
-    case PlatformId::Hasel:
-      for (int i = 0; i < 3; ++i) r.c[i] = HaselPlant::kSwirlCentre[i];
-      r.c[2] = 8.0f;
-      r.A = 4.0f, r.B = 4.0f, r.C = 4.0f;
-      break;
-    case PlatformId::Tendon:
-      for (int i = 0; i < 3; ++i) r.c[i] = TendonPlant::kCentre[i];
-      r.A = TendonPlant::kInfinity[0], r.B = TendonPlant::kInfinity[1], r.C = TendonPlant::kInfinity[2];
-      break;
-  }
-  if (name == "infinity") {
-    r.kind = RefKind::Infinity;
-  } else if (name == "pringle" || name == "diagonal") {
-    r.kind = name == "pringle" ? RefKind::Pringle : RefKind::Diagonal;
-    if (platform == PlatformId::Tendon)
-      r.A = TendonPlant::kPringle[0], r.B = TendonPlant::kPringle[1], r.C = TendonPlant::kPringle[2];
-  } else if (name == "swirl") {
-    r.kind = RefKind::Swirl;
-    r.hold = 10;
-    if (platform == PlatformId::Hasel)
-      for (int i = 0; i < 3; ++i) r.c[i] = HaselPlant::kSwirlCentre[i], r.scale = HaselPlant::kSwirlScale;
-  } else if (name == "steps") {
-    // the paper's msd task: 0.5 m, 1 m, 2 m
-    r.kind = RefKind::Step;
-    r.level_count = 3;
-    r.levels[0] = 0.5f, r.levels[1] = 1.0f, r.levels[2] = 2.0f;
-    r.hold = uint16_t(std::lround(10.0f * rate > 65535.0f ? 65535.0f : 10.0f * rate));
-    if (platform != PlatformId::Msd) {
-      r.levels[0] = 1.0f, r.levels[1] = 2.0f, r.levels[2] = 3.0f;
-    }
-  } else if (name == "hold") {
-    r.kind = RefKind::Hold;
-  } else {
-    std::string known;
-    for (const auto& n : reference_names()) known += (known.empty() ? "" : ", ") + n;
-    throw CliError(fmt::format("unknown reference '{}'; known: {}", name, known));
-  }
-  return r;
+  for (const Named& n : kNames)
+    if (name == n.name) return nlsoft::reference_preset(platform, n.kind);
+  std::string known;
+  for (const auto& n : reference_names()) known += (known.empty() ? "" : ", ") + n;
+  throw CliError(fmt::format("unknown reference '{}'; known: {}", name, known));
 }
 
 }  // namespace nlsoft::console

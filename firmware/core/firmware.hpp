@@ -21,6 +21,7 @@
 #include "shared/controller.hpp"
 #include "shared/model_file.hpp"
 #include "shared/platform.hpp"
+#include "shared/reference_presets.hpp"
 
 namespace nlsoft::fw {
 
@@ -74,6 +75,8 @@ class Firmware {
     Status s = preset_params(preset_, params_);
     if (s != Status::Ok) return s;
     neutral(u_);
+    // Until the console selects one, a run follows the rig's paper task.
+    ref_.select(reference_preset(id_.platform, default_reference_kind(id_.platform)));
     if (model_file) {
       s = load_model(model_file, model_len);
       if (s != Status::Ok) return s;
