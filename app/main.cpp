@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "app/cli_error.hpp"
+#include "app/live/conformance.hpp"
 #include "app/live/console_command.hpp"
 #include "app/simulate.hpp"
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   add_simulate_command(app);
   add_console_commands(app);
+  add_conformance_command(app);
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
   add_model_commands(app);
 #endif
