@@ -20,7 +20,7 @@ class CobsWriter {
   explicit CobsWriter(uint8_t* out) : out_(out) {}
 
   void put(uint8_t b) {
-    // A full block is closed lazily, only when another byte needs a new one,
+    // A full block is closed lazily, only when another byte needs a fresh one,
     // so 254 non-zero bytes at the end do not cost a redundant 0x01 code.
     if (code_ == 0xFF) close_block();
     if (b == 0) {

@@ -120,7 +120,7 @@ class Controller {
     const int n_old_nc = params_.Nc;
     const ParamResult r = nlsoft::set_param(params_, id, v, count, model_->m, model_->n);
     if (r.status == Status::Ok && params_.Nc > n_old_nc) {
-      // new control rows start from the last planned input
+      // added control rows start from the last planned input
       for (int j = n_old_nc; j < params_.Nc; ++j)
         for (int i = 0; i < model_->m; ++i) U_[j * model_->m + i] = U_[(n_old_nc - 1) * model_->m + i];
     }

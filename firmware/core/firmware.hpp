@@ -140,7 +140,7 @@ class Firmware {
   void count_overrun() { ++overruns_; }
   // Fast mode paces itself on this: a step would otherwise drop telemetry.
   bool telemetry_has_room() const {
-    return tx_.free() >= TxQueue<TxCapacity>::kReserve + proto::kWireBufferSize;
+    return tx_.room() >= TxQueue<TxCapacity>::kReserve + proto::kWireBufferSize;
   }
   proto::RunState state() const { return state_; }
   uint32_t tx_dropped() const { return tx_dropped_; }

@@ -16,13 +16,13 @@ class TxQueue {
   static constexpr size_t kReserve = 160;  // two replies or a STATUS + a LOG
   static_assert(Capacity > kReserve + 256, "room for a telemetry frame above the reserve");
 
-  size_t free() const { return Capacity - used_; }
+  size_t room() const { return Capacity - used_; }
 
   // Whole frame or nothing. Droppable frames (telemetry, log) must leave the
   // reserve free.
   bool push(const uint8_t* frame, size_t len, bool droppable) {
     const size_t need = len + (droppable ? kReserve : 0);
-    if (need > free()) return false;
+    if (need > room()) return false;
     for (size_t i = 0; i < len; ++i) buf_[(head_ + used_ + i) % Capacity] = frame[i];
     used_ += len;
     return true;

@@ -14,7 +14,7 @@
 #include "protocol/cobs.hpp"
 #include "protocol/encoder.hpp"
 #include "protocol/messages.hpp"
-#include "protocol/vectors/golden_reader.hpp"
+#include "protocol/host/golden_reader.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 
 #include "protocol/decoder.hpp"
 #include "protocol/status.hpp"
-#include "protocol/vectors/message_text.hpp"
+#include "protocol/host/message_text.hpp"
 
 namespace nlsoft::protocol::golden {
 
