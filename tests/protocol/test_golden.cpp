@@ -5,8 +5,8 @@
 
 #include "protocol/catalog.hpp"
 #include "protocol/encoder.hpp"
-#include "protocol/vectors/golden_reader.hpp"
-#include "protocol/vectors/message_text.hpp"
+#include "protocol/host/golden_reader.hpp"
+#include "protocol/host/message_text.hpp"
 
 namespace np = nlsoft::protocol;
 namespace golden = nlsoft::protocol::golden;

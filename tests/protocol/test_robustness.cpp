@@ -9,8 +9,8 @@
 #include <random>
 
 #include "protocol/messages.hpp"
-#include "protocol/vectors/golden_reader.hpp"
-#include "protocol/vectors/message_text.hpp"
+#include "protocol/host/golden_reader.hpp"
+#include "protocol/host/message_text.hpp"
 #include "test_util.hpp"
 
 namespace np = nlsoft::protocol;
