@@ -44,10 +44,12 @@ struct MsdCapacity {
   static constexpr int width = 16, layers = 4, weights = 512;
   static constexpr bool second_order = false;
 };
+// hasel: the paper's Dense 36 -> 5 -> 5 -> 3 (233 weights) with room to
+// grow each layer to 8 units; every byte here is RAM the real board pays.
 struct HaselCapacity {
   static constexpr int m = 6, n = 3, w = 18, nd = 2;
   static constexpr int N = 4, Nc = 1;
-  static constexpr int width = 16, layers = 4, weights = 512;
+  static constexpr int width = 8, layers = 4, weights = 384;
   static constexpr bool second_order = false;
 };
 struct TendonCapacity {

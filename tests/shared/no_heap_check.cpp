@@ -18,8 +18,8 @@ int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
   M.nd = pr.nd;
   M.dd = pr.dd;
   M.layer_count = 2;
-  M.layer[0] = Layer{LayerKind::Gru, Activation::Tanh, Activation::HardSigmoid, true, uint16_t(M.p()), 3, 0};
-  M.layer[1] = Layer{LayerKind::Dense, Activation::Tanh, Activation::Linear, false, 3, pr.n, 0};
+  M.layer[0] = Layer{LayerKind::Gru, Activation::Tanh, Activation::HardSigmoid, true, uint16_t(M.p()), 2, 0};
+  M.layer[1] = Layer{LayerKind::Dense, Activation::Tanh, Activation::Linear, false, 2, pr.n, 0};
   M.param_count = M.norm_count() + layer_weight_count(M.layer[0]) + layer_weight_count(M.layer[1]);
   if (M.param_count > count) return 1;
   for (unsigned i = 0; i < M.param_count; ++i) params[i] = 0.01f * float(i % 7);
