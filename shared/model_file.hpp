@@ -1,6 +1,6 @@
 #pragma once
 // The model file: one binary format for the console, firmware upload and
-// codegen (docs/model-format.md has the byte layout). Little-endian.
+// codegen. Little-endian; the byte layout below is the whole specification.
 //
 //   off  size  field
 //   0    4     magic "NLSM"
