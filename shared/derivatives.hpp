@@ -14,8 +14,6 @@
 
 namespace nlsoft {
 
-enum class DerivMode : uint8_t { Exact = 0, Fd = 1 };
-
 // The jet type of a capacity: K directions, second derivatives if it asks.
 template <class Cap>
 using JetOf = Jet<Derived<Cap>::K, Cap::second_order>;

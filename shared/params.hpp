@@ -6,7 +6,6 @@
 #include <cstring>
 
 #include "shared/capacity.hpp"
-#include "shared/derivatives.hpp"
 #include "shared/status.hpp"
 
 namespace nlsoft {
@@ -89,6 +88,9 @@ inline const ParamDesc* find_param(const char* name) {
 inline int param_count(const ParamDesc& d, int m, int n) {
   return d.size == ParamSize::PerOutput ? n : (d.size == ParamSize::PerInput ? m : 1);
 }
+
+// How dJ/dU and d2J/dU2 are obtained (derivatives.hpp).
+enum class DerivMode : uint8_t { Exact = 0, Fd = 1 };
 
 enum class Feedback : uint8_t { Predicted = 0, Measured = 1 };
 
