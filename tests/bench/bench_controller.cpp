@@ -13,6 +13,9 @@
 #include <vector>
 
 #include "shared/controller.hpp"
+#include <fstream>
+#include <iterator>
+#include <string>
 #include "shared/model_file.hpp"
 #include "shared/platform.hpp"
 
@@ -34,12 +37,13 @@ namespace {
 
 using namespace nlsoft;
 
-// Paper architectures with seeded random weights: the cost of a step depends
+// The shipped model of the platform (app/models), or, if it is missing, the
+// paper's architecture with seeded random weights: the cost of a step depends
 // on the shapes and on the iteration count, which the benchmark reports.
 template <class Cap>
 struct Rig {
   Model<Cap> model;
-  std::vector<float> params;
+  std::vector<float> params, shipped_params;
   Controller<Cap> ctl;
   std::vector<float> sensors, ref;
 
@@ -68,6 +72,13 @@ struct Rig {
     for (int i = 0; i < model.n; ++i) params[size_t(2 * p + model.n + i)] = 5.0f;  // out_scale, mm
     model.params = params.data();
     if (finalize_model(model) != Status::Ok) std::abort();
+    std::ifstream in(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + platform_name(id) + ".nlsm", std::ios::binary);
+    const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    shipped_params.assign(Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n, 0.0f);
+    Model<Cap> shipped;
+    if (!file.empty() && parse_model(file.data(), file.size(), shipped, shipped_params.data(),
+                                     uint32_t(shipped_params.size())) == Status::Ok)
+      model = shipped;
     Params<Cap> P;
     preset_params(pr, P);
     P.mode = mode;
