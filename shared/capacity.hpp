@@ -14,7 +14,7 @@
 //   second_order exact mode carries second derivatives through the network,
 //                for the full Hessian of eq. cost2; without them it uses the
 //                Gauss-Newton Hessian. Measured on the shipped models (host,
-//                `simulate`): Swirl nRMSE 4.09 % with, 4.14 % without, the same
+//                `simulate`): Swirl nRMSE 3.32 % with, 3.33 % without, the same
 //                iteration counts, and 75 % less derivative work without, so
 //                the MCU capacities leave them out and the console keeps them.
 #include <cstdint>
