@@ -9,7 +9,7 @@ namespace nlsoft::console {
 
 struct TrackingMetrics {
   std::vector<double> rmse;  // per axis, y_true vs y_ref
-  double nrmse = 0;          // max RMSE / max range of the reference, tracked axes
+  double nrmse = 0;          // max RMSE / max range of the reference, tracked axes (NaN: flat reference)
   double nrmse_all = 0;      // the same over every axis
   std::vector<int> tracked;  // the axes nrmse covers
   double max_error = 0;      // largest Euclidean distance y_true - y_ref

@@ -47,3 +47,13 @@ TEST(Metrics, Percentile) {
   EXPECT_DOUBLE_EQ(percentile(v, 0.99), 99.0);
   EXPECT_DOUBLE_EQ(percentile({}, 0.5), 0.0);
 }
+
+TEST(Metrics, FlatReferenceHasNoNormalisedError) {
+  // nothing to normalise by: NaN, never a perfect-looking 0
+  const std::vector<float> ref = {1, 1, 1};
+  const std::vector<float> y = {1.5f, 0.5f, 1.0f};
+  const TrackingMetrics m = tracking_metrics(ref, y, 1);
+  EXPECT_GT(m.rmse[0], 0.0);
+  EXPECT_TRUE(std::isnan(m.nrmse));
+  EXPECT_FALSE(m.nrmse < 0.05);
+}
