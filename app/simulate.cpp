@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -148,11 +149,10 @@ int run_simulate(const SimulateOptions& o) {
   fmt::print("RMSE        {}(true output vs reference, per axis)\n", rm);
   std::string axes;
   for (int i : tm.tracked) axes += fmt::format("y{} ", i);
-  fmt::print("nRMSE       {:.2f} % over the tracked axes {}(predicted path: {:.2f} %)\n", 100 * tm.nrmse, axes,
-             100 * pm.nrmse);
+  auto pct = [](double v) { return std::isnan(v) ? std::string("n/a (flat reference)") : fmt::format("{:.2f} %", 100 * v); };
+  fmt::print("nRMSE       {} over the tracked axes {}(predicted path: {})\n", pct(tm.nrmse), axes, pct(pm.nrmse));
   if (int(tm.tracked.size()) < t.n)
-    fmt::print("            {:.2f} % over every axis (an axis with Q < 1e-3 max Q is not tracked)\n",
-               100 * tm.nrmse_all);
+    fmt::print("            {} over every axis (an axis with Q < 1e-3 max Q is not tracked)\n", pct(tm.nrmse_all));
   fmt::print("max error   {:.4g}\n", tm.max_error);
   if (setup.controller == ControllerKind::Mpc)
     fmt::print("NR          {:.2f} iterations per step on average\n", tm.mean_iterations);
