@@ -1,3 +1,4 @@
+#include "app/tui/list_cursor.hpp"
 #include "app/tui/param_panel.hpp"
 
 #include <fmt/format.h>
@@ -141,17 +142,8 @@ bool ParamPanel::key(int ch) {
   }
   std::lock_guard<std::mutex> lock(mu_);
   const size_t n = rows_.size();
+  if (move_cursor(ch, selected_, n)) return true;
   switch (ch) {
-    case KEY_UP:
-    case 'k':
-      if (selected_ > 0) --selected_;
-      return true;
-    case KEY_DOWN:
-    case 'j':
-      if (selected_ + 1 < n) ++selected_;
-      return true;
-    case KEY_PPAGE: selected_ = selected_ > 10 ? selected_ - 10 : 0; return true;
-    case KEY_NPAGE: selected_ = n ? std::min(n - 1, selected_ + 10) : 0; return true;
     case '\n':
     case '\r':
     case KEY_ENTER:

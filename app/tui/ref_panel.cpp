@@ -1,3 +1,4 @@
+#include "app/tui/list_cursor.hpp"
 #include "app/tui/ref_panel.hpp"
 
 #include <fmt/format.h>
@@ -96,6 +97,7 @@ bool RefPanel::key(int ch) {
     }
     return true;
   }
+  if (move_cursor(ch, selected_, ks.size())) return true;
   switch (ch) {
     case KEY_LEFT:
     case 'h':
@@ -107,14 +109,6 @@ bool RefPanel::key(int ch) {
     case '\t':
       kind_ = (kind_ + 1) % kKindCount;
       reset_kind();
-      return true;
-    case KEY_UP:
-    case 'k':
-      if (selected_ > 0) --selected_;
-      return true;
-    case KEY_DOWN:
-    case 'j':
-      if (selected_ + 1 < ks.size()) ++selected_;
       return true;
     case '\n':
     case '\r':

@@ -1,3 +1,4 @@
+#include "app/tui/list_cursor.hpp"
 #include "app/tui/runs_panel.hpp"
 
 #include <fmt/format.h>
@@ -55,15 +56,8 @@ void RunsPanel::show(int64_t id) {
 bool RunsPanel::key(int ch) {
   std::lock_guard<std::mutex> lock(mu_);
   const size_t n = runs_.size();
+  if (move_cursor(ch, selected_, n)) return true;
   switch (ch) {
-    case KEY_UP:
-    case 'k':
-      if (selected_ > 0) --selected_;
-      return true;
-    case KEY_DOWN:
-    case 'j':
-      if (selected_ + 1 < n) ++selected_;
-      return true;
     case '\n':
     case '\r':
     case KEY_ENTER:
