@@ -3,8 +3,11 @@
 #include <fmt/format.h>
 
 #include <cstring>
+#include <string>
+#include <vector>
 
 #include "protocol/encoder.hpp"
+#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 
@@ -39,6 +42,39 @@ bool answers(uint8_t request, const p::FrameView& f) {
   return t == uint8_t(data_reply_of(request));
 }
 
+std::string platform_words(uint8_t platform) {
+  if (platform < kPlatformCount) return platform_name(PlatformId(platform));
+  return platform == uint8_t(p::Platform::Custom) ? "custom" : fmt::format("#{}", platform);
+}
+
+std::string firmware_words(const p::Info& i) {
+  return fmt::format("{} {}.{}.{}", std::string(i.firmware, strnlen(i.firmware, sizeof i.firmware)), i.fw_major,
+                     i.fw_minor, i.fw_patch);
+}
+
+std::string dimension_words(const p::Info& i) {
+  return fmt::format("m={} n={} w={} nd={} dd={} max_n={} max_nc={}", i.m, i.n, i.w, i.nd, i.dd, i.max_n, i.max_nc);
+}
+
+// How `now` is not the device `was`, in words; empty if it is the same one.
+// The same device is the same rig and firmware build. Not compared: uptime
+// (a board that reset is still the same board), model_hash and param_hash
+// (an upload changes them; the console re-reads both after a reconnect),
+// loop rate and capabilities. INFO carries no serial number, so two boards
+// of one build on one rig cannot be told apart.
+std::string identity_change(const p::Info& was, const p::Info& now) {
+  std::vector<std::string> diffs;
+  if (now.platform != was.platform)
+    diffs.push_back(fmt::format("platform {} (was {})", platform_words(now.platform), platform_words(was.platform)));
+  if (firmware_words(now) != firmware_words(was))
+    diffs.push_back(fmt::format("firmware {} (was {})", firmware_words(now), firmware_words(was)));
+  if (dimension_words(now) != dimension_words(was))
+    diffs.push_back(fmt::format("dimensions {} (was {})", dimension_words(now), dimension_words(was)));
+  std::string out;
+  for (const std::string& d : diffs) out += (out.empty() ? "" : "; ") + d;
+  return out;
+}
+
 }  // namespace
 
 const char* link_event_name(LinkEvent::Kind k) {
@@ -47,6 +83,7 @@ const char* link_event_name(LinkEvent::Kind k) {
     case LinkEvent::Kind::Up: return "up";
     case LinkEvent::Kind::Silent: return "silent";
     case LinkEvent::Kind::Resumed: return "resumed";
+    case LinkEvent::Kind::Foreign: return "foreign";
   }
   return "?";
 }
@@ -63,6 +100,12 @@ void Session::open(const std::string& path, unsigned baud) {
   h.on_down = [this](const std::string& why) {
     decoder_.reset();
     {
+      // Whatever the name leads to next must identify itself first.
+      std::lock_guard<std::mutex> lock(identity_mu_);
+      if (have_identity_) peer_ = Peer::Unchecked;
+      ++losses_;
+    }
+    {
       std::lock_guard<std::mutex> lock(stats_mu_);
       stats_.connected = false;
       have_tseq_ = false;
@@ -71,14 +114,23 @@ void Session::open(const std::string& path, unsigned baud) {
     post_event({LinkEvent::Kind::Down, fmt::format("{}: {}", link_.path(), why)});
   };
   h.on_up = [this] {
+    last_frame_ns_ = now_ns();
+    if (peer_ == Peer::Unchecked) {
+      event_cv_.notify_all();  // the supervisor asks who answers (check_peer)
+      return;
+    }
     {
       std::lock_guard<std::mutex> lock(stats_mu_);
       stats_.connected = true;
       ++stats_.reconnects;
     }
-    last_frame_ns_ = now_ns();
     post_event({LinkEvent::Kind::Up, link_.path() + " reopened"});
   };
+  {
+    std::lock_guard<std::mutex> lock(identity_mu_);
+    peer_ = Peer::Known;
+    have_identity_ = false;
+  }
   link_.open(path, baud, std::move(h));
   {
     std::lock_guard<std::mutex> lock(stats_mu_);
@@ -113,6 +165,7 @@ void Session::supervise() {
   auto last_rate = Clock::now();
   uint64_t last_frames = 0, last_bytes = 0;
   bool silent = false;
+  auto next_check = Clock::now();
   std::unique_lock<std::mutex> lock(event_mu_);
   while (!stopping_) {
     event_cv_.wait_for(lock, std::chrono::milliseconds(100));
@@ -123,7 +176,7 @@ void Session::supervise() {
     // wrong baud, firmware of another protocol version).
     const int64_t quiet_ns = now_ns() - last_frame_ns_.load();
     const bool now_silent =
-        link_.is_up() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+        connected() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
     if (now_silent != silent) {
       silent = now_silent;
       batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed,
@@ -145,6 +198,12 @@ void Session::supervise() {
     }
     for (const LinkEvent& e : batch)
       if (event_handler_) event_handler_(e);
+    // A peer that does not answer yet (a board still booting) is asked
+    // again at the reconnect interval.
+    if (peer_ == Peer::Unchecked && link_.is_up() && Clock::now() >= next_check) {
+      check_peer();
+      next_check = Clock::now() + options_.reconnect_interval;
+    }
     keepalive();
     lock.lock();
   }
@@ -177,6 +236,12 @@ void Session::on_frame(const p::FrameView& f) {
   {
     std::lock_guard<std::mutex> lock(stats_mu_);
     ++stats_.frames;
+  }
+  // Frames of a peer not (yet) known to be our device are not ours; only the
+  // reply to the identifying INFO_GET is taken (on_reply checks).
+  if (peer_ != Peer::Known) {
+    if (f.is_reply()) on_reply(f);
+    return;
   }
   const auto type = p::MsgType(f.header.type);
   if (f.is_reply()) on_reply(f);
@@ -229,7 +294,8 @@ void Session::on_frame(const p::FrameView& f) {
 void Session::on_reply(const p::FrameView& f) {
   {
     std::lock_guard<std::mutex> lock(pending_mu_);
-    if (pending_active_ && !pending_done_ && f.header.seq == pending_seq_ && answers(pending_type_, f)) {
+    if (pending_active_ && !pending_done_ && f.header.seq == pending_seq_ && answers(pending_type_, f) &&
+        (pending_identifying_ || peer_ == Peer::Known)) {
       pending_reply_.type = f.header.type;
       pending_reply_.seq = f.header.seq;
       pending_reply_.length = f.header.length;
@@ -247,11 +313,67 @@ void Session::on_reply(const p::FrameView& f) {
 
 Reply Session::transact(uint8_t type, const uint8_t* payload, size_t length) {
   std::lock_guard<std::mutex> serial(request_mu_);
-  return transact_locked(type, payload, length);
+  const Reply r = transact_locked(type, payload, length);
+  // The device's identity, to recognise it after a reconnect.
+  p::Info info;
+  if (r.type == uint8_t(p::MsgType::Info) && p::unpack(r.payload, r.length, info) == p::StatusCode::Ok) {
+    std::lock_guard<std::mutex> lock(identity_mu_);
+    identity_ = info;
+    have_identity_ = true;
+  }
+  return r;
+}
+
+// After a reopen, on the supervisor thread: INFO_GET to whatever answers at
+// the port now. The same identity makes it the link we had (Up); another
+// one is reported in words and refused (Foreign). No answer leaves it
+// Unchecked, to be asked again.
+void Session::check_peer() {
+  const uint64_t losses = losses_.load();
+  Reply r;
+  {
+    std::lock_guard<std::mutex> serial(request_mu_);
+    try {
+      r = transact_locked(uint8_t(p::MsgType::InfoGet), nullptr, 0, /*identifying=*/true);
+    } catch (const LinkError&) {
+      return;
+    }
+  }
+  p::Info now;
+  std::string refusal;
+  {
+    std::lock_guard<std::mutex> lock(identity_mu_);
+    // Lost again while asking: the answer may be from the port before; the
+    // next reopen is checked anew.
+    if (losses_ != losses) return;
+    std::string change;
+    if (r.type != uint8_t(p::MsgType::Info) || p::unpack(r.payload, r.length, now) != p::StatusCode::Ok)
+      change = fmt::format("it answers INFO_GET with {}", message_name(r.type));
+    else
+      change = identity_change(identity_, now);
+    if (change.empty()) {
+      identity_ = now;  // the hashes may have changed; the console re-reads them
+      peer_ = Peer::Known;
+    } else {
+      refusal = foreign_ = fmt::format("a different device now answers at {}: {}", link_.path(), change);
+      peer_ = Peer::Foreign;
+    }
+  }
+  if (!refusal.empty()) {
+    post_event({LinkEvent::Kind::Foreign, refusal});
+    return;
+  }
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    stats_.connected = true;
+    ++stats_.reconnects;
+  }
+  last_frame_ns_ = now_ns();
+  post_event({LinkEvent::Kind::Up, link_.path() + " reopened, the same device answers"});
 }
 
 void Session::keepalive() {
-  if (options_.keepalive.count() == 0 || !link_.is_up()) return;
+  if (options_.keepalive.count() == 0 || !connected()) return;
   if (now_ns() - last_tx_ns_.load() < std::chrono::nanoseconds(options_.keepalive).count()) return;
   // A request in flight is traffic already; never queue behind it.
   std::unique_lock<std::mutex> serial(request_mu_, std::try_to_lock);
@@ -268,7 +390,7 @@ void Session::keepalive() {
   }
 }
 
-Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t length) {
+Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t length, bool identifying) {
   uint8_t wire[p::kWireBufferSize];
   const uint8_t seq = next_seq_++;
   const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
@@ -280,6 +402,7 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     pending_done_ = false;
     pending_seq_ = seq;
     pending_type_ = type;
+    pending_identifying_ = identifying;
   }
   for (int attempt = 0; attempt < options_.tries; ++attempt) {
     if (attempt > 0) {
@@ -287,7 +410,9 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
       ++stats_.retransmits;
     }
     last_tx_ns_ = now_ns();
-    link_.write(std::vector<uint8_t>(wire, wire + n));
+    // A peer not known to be our device gets nothing but the identifying
+    // INFO_GET; the request waits as on a down link, for it to be checked.
+    if (identifying || peer_ == Peer::Known) link_.write(std::vector<uint8_t>(wire, wire + n));
     std::unique_lock<std::mutex> lock(pending_mu_);
     // The reply may belong to any earlier try (same seq): whichever arrives
     // first under this mutex wins, and a later copy counts as stale.
@@ -306,7 +431,14 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
   }
   std::string why = fmt::format("no reply to {} after {} tries ({} ms)", message_name(type), options_.tries,
                                 per_try.count() * options_.tries);
-  if (!link_.is_up()) why += fmt::format("; {} is down, reconnecting", link_.path());
+  if (!link_.is_up()) {
+    why += fmt::format("; {} is down, reconnecting", link_.path());
+  } else if (peer_ == Peer::Unchecked) {
+    why += fmt::format("; {} reopened, waiting for the device to identify itself", link_.path());
+  } else if (peer_ == Peer::Foreign) {
+    std::lock_guard<std::mutex> lock(identity_mu_);
+    why += "; " + foreign_;
+  }
   if (const uint8_t v = foreign_version_.load())
     why += fmt::format("; the firmware speaks protocol v{}, this console v{}", v, p::kProtocolVersion);
   throw LinkError(why);
@@ -326,7 +458,7 @@ void Session::unexpected(const Reply& r, uint8_t request_type) const {
 LinkStats Session::stats() const {
   std::lock_guard<std::mutex> lock(stats_mu_);
   LinkStats s = stats_;
-  s.connected = link_.is_up();
+  s.connected = connected();
   return s;
 }
 

@@ -6,7 +6,10 @@
 // one mutex, so it is either taken or the retry goes out, never both lost.
 // Unsolicited TELEMETRY, STATUS and LOG go to handlers; link loss and
 // recovery go to an event handler on a supervisor thread, which is where a
-// re-handshake may block.
+// re-handshake may block. A port is reopened by its name, and a name can
+// lead to another device afterwards (another board on /dev/ttyACM0, another
+// program's pty on a freed /dev/pts/N): once the device has sent INFO, the
+// link only counts as back when the peer sends the same identity again.
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -45,7 +48,8 @@ struct Reply {
 };
 
 struct LinkEvent {
-  enum class Kind { Down, Up, Silent, Resumed };
+  // Foreign: the port reopened but another device answers there.
+  enum class Kind { Down, Up, Silent, Resumed, Foreign };
   Kind kind;
   std::string detail;
 };
@@ -98,14 +102,16 @@ class Session {
   }
 
   LinkStats stats() const;
-  bool connected() const { return link_.is_up(); }
+  // The port is open and leads to the device identified before (if any).
+  bool connected() const { return link_.is_up() && peer_.load() == Peer::Known; }
   const std::string& port() const { return link_.path(); }
   const SessionOptions& options() const { return options_; }
   // Protocol version byte of frames dropped as wrong_version, 0 if none.
   uint8_t foreign_version() const { return foreign_version_.load(); }
 
  private:
-  Reply transact_locked(uint8_t type, const uint8_t* payload, size_t length);
+  Reply transact_locked(uint8_t type, const uint8_t* payload, size_t length, bool identifying = false);
+  void check_peer();
   void keepalive();
   void on_bytes(const uint8_t* data, size_t len);
   void on_frame(const protocol::FrameView& f);
@@ -130,6 +136,7 @@ class Session {
   std::condition_variable pending_cv_;
   bool pending_active_ = false;
   bool pending_done_ = false;
+  bool pending_identifying_ = false;  // the INFO_GET of check_peer()
   uint8_t pending_seq_ = 0;
   uint8_t pending_type_ = 0;
   Reply pending_reply_;
@@ -153,6 +160,19 @@ class Session {
   std::atomic<int64_t> last_tx_ns_{0};
   uint32_t ping_nonce_ = 0;
   std::atomic<uint8_t> foreign_version_{0};
+
+  // Who answers at the port. Known: the device identified by its last INFO
+  // (or nothing to compare with yet). Unchecked: the port was lost; whatever
+  // it leads to now gets nothing but INFO_GET and its frames are dropped
+  // until it sends the same identity. Foreign: it sent another one; it stays
+  // refused until the port is lost again.
+  enum class Peer : uint8_t { Known, Unchecked, Foreign };
+  std::atomic<Peer> peer_{Peer::Known};  // changed under identity_mu_
+  std::atomic<uint64_t> losses_{0};       // ports lost, so a late answer is not taken for the new peer
+  mutable std::mutex identity_mu_;
+  bool have_identity_ = false;
+  protocol::Info identity_{};  // the last INFO of the known device
+  std::string foreign_;        // why the peer is refused, in words
 
  public:
   // INFO's loop rate, shown when the firmware is idle.

@@ -1,19 +1,27 @@
 // Session against a fake firmware on a pty: retries keep the seq, timeouts
 // say what failed, NACKs arrive in words, a reply racing its timeout is
-// taken exactly once, duplicate and stale replies are ignored.
+// taken exactly once, duplicate and stale replies are ignored, a lost port
+// is reopened and whatever answers there must be the device it was before.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <memory>
 #include <mutex>
-#include <chrono>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "app/link/link_error.hpp"
 #include "app/link/param_catalog.hpp"
 #include "app/link/session.hpp"
 #include "fake_peer.hpp"
+#include "temp_dir.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -225,31 +233,103 @@ TEST(Session, CorruptBytesAreCountedAndTheNextFrameStillDecodes) {
   EXPECT_EQ(st.crc_errors + st.decode_errors, 1u);
 }
 
+// Link events as the supervisor thread reports them.
+class Events {
+ public:
+  Session::EventHandler handler() {
+    return [this](const LinkEvent& e) {
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        events_.push_back(e);
+      }
+      cv_.notify_all();
+    };
+  }
+  bool wait_for(const std::function<bool(const LinkEvent&)>& match) {
+    std::unique_lock<std::mutex> lock(mu_);
+    return cv_.wait_for(lock, 3s, [&] { return std::any_of(events_.begin(), events_.end(), match); });
+  }
+  bool wait_for(LinkEvent::Kind k) {
+    return wait_for([k](const LinkEvent& e) { return e.kind == k; });
+  }
+  int count(LinkEvent::Kind k) {
+    std::lock_guard<std::mutex> lock(mu_);
+    return int(std::count_if(events_.begin(), events_.end(), [k](const LinkEvent& e) { return e.kind == k; }));
+  }
+  std::string all() {
+    std::lock_guard<std::mutex> lock(mu_);
+    std::string out;
+    for (const LinkEvent& e : events_) out += std::string(link_event_name(e.kind)) + ": " + e.detail + "\n";
+    return out;
+  }
+
+ private:
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<LinkEvent> events_;
+};
+
+// A port name only this test uses: a symlink to the fake peer's pty, the way
+// udev's /dev/serial/by-id/ names point at a board's tty. Reconnecting by the
+// pty's own name is not private: the kernel gives a freed /dev/pts/N to the
+// next pty opened anywhere (lowest free number), so under `ctest -j` another
+// test's pty could answer there. Behind this link only the test decides what
+// is plugged in.
+struct PrivatePort {
+  test::TempDir dir;
+  std::string path = dir.file("port");
+  void plug(const FakePeer& peer) { std::filesystem::create_symlink(peer.path(), path); }
+  void unplug() { std::filesystem::remove(path); }
+};
+
+p::Info board_info(p::Platform platform, const char* firmware, uint8_t major) {
+  p::Info info;
+  info.platform = uint8_t(platform);
+  info.m = 2;
+  info.n = 2;
+  info.w = 2;
+  info.nd = 2;
+  info.dd = 2;
+  info.max_n = 50;
+  info.max_nc = 10;
+  info.fw_major = major;
+  info.loop_rate_hz = 100;
+  std::snprintf(info.firmware, sizeof info.firmware, "%s", firmware);
+  return info;
+}
+
+// A firmware that answers INFO_GET with `info` and PING with `uptime_ms`;
+// `pings` counts the PINGs it answered.
+FakePeer::Handler board(const p::Info& info, uint32_t uptime_ms, std::atomic<int>* pings = nullptr) {
+  return [info, uptime_ms, pings](FakePeer& pe, const p::FrameView& f) {
+    if (f.header.type == uint8_t(p::MsgType::InfoGet)) return pe.reply(info, f.header.seq);
+    p::Ping req;
+    if (p::unpack(f, req) != p::StatusCode::Ok) return;
+    if (pings) ++*pings;
+    p::Pong reply;
+    reply.nonce = req.nonce;
+    reply.uptime_ms = uptime_ms;
+    pe.reply(reply, f.header.seq);
+  };
+}
+
 TEST(Session, LostPortIsReportedAndReopenedWhenItReturns) {
-  std::mutex mu;
-  std::vector<LinkEvent::Kind> events;
-  auto seen = [&](LinkEvent::Kind k) {
-    std::lock_guard<std::mutex> lock(mu);
-    return std::find(events.begin(), events.end(), k) != events.end();
-  };
-  auto wait_for = [&](LinkEvent::Kind k) {
-    for (int i = 0; i < 300 && !seen(k); ++i) std::this_thread::sleep_for(10ms);
-    return seen(k);
-  };
-  auto peer = std::make_unique<FakePeer>([](FakePeer& pe, const p::FrameView& f) { pong(pe, f); });
-  const std::string path = peer->path();
+  const p::Info hasel = board_info(p::Platform::Hasel, "nlsoft-fake", 1);
+  PrivatePort port;
+  auto peer = std::make_unique<FakePeer>(board(hasel, 5000));
+  port.plug(*peer);
   SessionOptions o = fast_options();
   o.reconnect_interval = 20ms;
+  Events events;
   Session s(o);
-  s.on_event([&](const LinkEvent& e) {
-    std::lock_guard<std::mutex> lock(mu);
-    events.push_back(e.kind);
-  });
-  s.open(path, 115200);
+  s.on_event(events.handler());
+  s.open(port.path, 115200);
+  EXPECT_STREQ(s.call<p::Info>(p::InfoGet{}).firmware, "nlsoft-fake");
   EXPECT_EQ(ping(s, 1).nonce, 1u);
 
-  peer.reset();  // the cable is pulled: the pty disappears
-  ASSERT_TRUE(wait_for(LinkEvent::Kind::Down));
+  port.unplug();  // the cable is pulled: the port's name and its pty disappear
+  peer.reset();
+  ASSERT_TRUE(events.wait_for(LinkEvent::Kind::Down)) << events.all();
   EXPECT_FALSE(s.connected());
   try {
     ping(s, 2);
@@ -258,12 +338,48 @@ TEST(Session, LostPortIsReportedAndReopenedWhenItReturns) {
     EXPECT_NE(std::string(e.what()).find("is down, reconnecting"), std::string::npos) << e.what();
   }
 
-  peer = std::make_unique<FakePeer>([](FakePeer& pe, const p::FrameView& f) { pong(pe, f); });
-  if (peer->path() != path) GTEST_SKIP() << "the kernel gave the new pty another name; cannot test the reopen";
-  ASSERT_TRUE(wait_for(LinkEvent::Kind::Up));
+  // The same board comes back after a reset: same identity, uptime restarted.
+  peer = std::make_unique<FakePeer>(board(hasel, 3));
+  port.plug(*peer);
+  ASSERT_TRUE(events.wait_for(LinkEvent::Kind::Up)) << events.all();
   EXPECT_TRUE(s.connected());
-  EXPECT_EQ(ping(s, 3).nonce, 3u);
+  EXPECT_EQ(ping(s, 3).uptime_ms, 3u);
   EXPECT_EQ(s.stats().reconnects, 1u);
+}
+
+TEST(Session, AnotherDeviceOnTheSamePortIsRefusedOnReconnect) {
+  PrivatePort port;
+  auto peer = std::make_unique<FakePeer>(board(board_info(p::Platform::Hasel, "nlsoft-fake", 1), 5000));
+  port.plug(*peer);
+  SessionOptions o = fast_options();
+  o.reconnect_interval = 20ms;
+  Events events;
+  Session s(o);
+  s.on_event(events.handler());
+  s.open(port.path, 115200);
+  EXPECT_STREQ(s.call<p::Info>(p::InfoGet{}).firmware, "nlsoft-fake");
+
+  port.unplug();
+  peer.reset();
+  ASSERT_TRUE(events.wait_for(LinkEvent::Kind::Down)) << events.all();
+
+  // Another board, of another rig and firmware, now gets the same name.
+  std::atomic<int> pings{0};
+  auto other = std::make_unique<FakePeer>(board(board_info(p::Platform::Tendon, "other-fw", 2), 7, &pings));
+  port.plug(*other);
+  const std::string refusal = "a different device now answers at " + port.path +
+                              ": platform tendon (was hasel); firmware other-fw 2.0.0 (was nlsoft-fake 1.0.0)";
+  ASSERT_TRUE(events.wait_for([&](const LinkEvent& e) { return e.detail == refusal; })) << events.all();
+  EXPECT_FALSE(s.connected());
+  try {
+    ping(s, 4);
+    FAIL() << "a request must not go to another device";
+  } catch (const LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find(refusal), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(pings.load(), 0) << "nothing but INFO_GET may reach the other device";
+  EXPECT_EQ(events.count(LinkEvent::Kind::Up), 0) << events.all();
+  EXPECT_EQ(s.stats().reconnects, 0u);
 }
 
 TEST(Session, MissingPortIsAClearError) {
