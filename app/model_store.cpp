@@ -16,7 +16,7 @@ void load_model(const std::string& path, LoadedModel& out) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw CliError(fmt::format("cannot open model file '{}'", path));
   std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::vector<float> storage(HostCapacity::weights + 2 * Derived<HostCapacity>::p + 2 * HostCapacity::n);
+  std::vector<float> storage(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);
   Model<HostCapacity> M;
   uint8_t platform = 255;
   const Status s = parse_model(bytes.data(), bytes.size(), M, storage.data(), uint32_t(storage.size()), &platform);

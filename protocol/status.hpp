@@ -9,7 +9,7 @@
 
 namespace nlsoft::protocol {
 
-// Values 0..8 are the same as shared/status.hpp's nlsoft::Status, so the
+// Values 0..8 and 10 are the same as shared/status.hpp's nlsoft::Status, so the
 // firmware forwards a controller or model-loader verdict with a cast.
 enum class StatusCode : uint8_t {
   Ok = 0,

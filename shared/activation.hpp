@@ -1,8 +1,11 @@
 #pragma once
-// Keras activations with their first and second derivatives, the three values
-// forward-mode differentiation needs (see jet.hpp).
+// Keras activations: exact (std::exp, std::tanh) with first and second
+// derivatives for the model pipeline and the reference derivatives (jet.hpp),
+// and fast with the first derivative for the controller's kernels
+// (rollout.hpp), where a libm call costs more than a whole layer on an MCU.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace nlsoft {
 
@@ -52,6 +55,91 @@ inline ActValue activate_d2(Activation a, float x) {
     }
     case Activation::Linear:
     default: return {x, 1.0f, 0.0f};
+  }
+}
+
+// e^x without libm, relative error below 2.5e-7 over the float range
+// (tests/shared/test_activation.cpp measures it against std::exp): x = i ln2
+// + f with i = round(x / ln2) and |f| <= ln2 / 2 (Cody-Waite: ln2 split in
+// two so f is exact), e^f by its Taylor series to degree 6 (truncation
+// below 1.2e-7), 2^i put straight into the exponent bits. Inputs are clamped
+// to [-87, 88], where e^x is a normal float; NaN gives e^88.
+inline float fast_exp(float x) {
+  x = x < 88.0f ? x : 88.0f;
+  x = x > -87.0f ? x : -87.0f;
+  const float t = x * 1.44269504f;
+  const int i = int(t + (t >= 0.0f ? 0.5f : -0.5f));
+  const float fi = float(i);
+  const float f = (x - fi * 0.693145752f) - fi * 1.42860677e-6f;
+  float p = 1.0f / 720.0f;
+  p = p * f + 1.0f / 120.0f;
+  p = p * f + 1.0f / 24.0f;
+  p = p * f + 1.0f / 6.0f;
+  p = p * f + 0.5f;
+  p = p * f + 1.0f;
+  p = p * f + 1.0f;
+  const uint32_t bits = uint32_t(i + 127) << 23;
+  float scale;
+  std::memcpy(&scale, &bits, sizeof scale);
+  return p * scale;
+}
+
+// tanh(x) = 1 - 2 / (e^{2|x|} + 1) with the sign of x: absolute error below
+// 3e-7 (tests/shared/test_activation.cpp); exactly +-1 past |x| = 9.
+inline float fast_tanh(float x) {
+  const float ax = std::fabs(x);
+  const float t = ax < 9.0f ? 1.0f - 2.0f / (fast_exp(2.0f * ax) + 1.0f) : 1.0f;
+  return x < 0.0f ? -t : t;
+}
+
+inline float fast_sigmoid(float x) { return 1.0f / (1.0f + fast_exp(-x)); }
+
+// An activation's value and slope at x, the two numbers the controller's
+// forward-mode Jacobian needs (the chain rule's f'(z)).
+struct ActSlope {
+  float f, df;
+};
+
+inline ActSlope activate_slope(Activation a, float x) {
+  switch (a) {
+    case Activation::Relu: return x > 0.0f ? ActSlope{x, 1.0f} : ActSlope{0.0f, 0.0f};
+    case Activation::Tanh: {
+      const float t = fast_tanh(x);
+      return {t, 1.0f - t * t};
+    }
+    case Activation::Sigmoid: {
+      const float s = fast_sigmoid(x);
+      return {s, s * (1.0f - s)};
+    }
+    case Activation::HardSigmoid: {
+      const float y = 0.2f * x + 0.5f;
+      if (y <= 0.0f) return {0.0f, 0.0f};
+      if (y >= 1.0f) return {1.0f, 0.0f};
+      return {y, 0.2f};
+    }
+    case Activation::Linear:
+    default: return {x, 1.0f};
+  }
+}
+
+// f and f' over a whole layer: the switch runs once per layer, not per unit.
+inline void activate_slopes(Activation a, float* z, float* df, int count) {
+  switch (a) {
+    case Activation::Relu:
+      for (int j = 0; j < count; ++j) {
+        df[j] = z[j] > 0.0f ? 1.0f : 0.0f;
+        z[j] = z[j] > 0.0f ? z[j] : 0.0f;
+      }
+      return;
+    case Activation::Linear:
+      for (int j = 0; j < count; ++j) df[j] = 1.0f;
+      return;
+    default:
+      for (int j = 0; j < count; ++j) {
+        const ActSlope f = activate_slope(a, z[j]);
+        z[j] = f.f;
+        df[j] = f.df;
+      }
   }
 }
 

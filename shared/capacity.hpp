@@ -11,52 +11,62 @@
 //   width        max layer width (a GRU counts 3 x units)
 //   layers       max layer count
 //   weights      max total weight + bias count of a model
-//   second_order exact mode carries second derivatives through the network,
-//                for the full Hessian of eq. cost2; without them it uses the
-//                Gauss-Newton Hessian. Measured on the shipped models (host,
-//                `simulate`): Swirl nRMSE 3.32 % with, 3.33 % without, the same
-//                iteration counts, and 75 % less derivative work without, so
-//                the MCU capacities leave them out and the console keeps them.
+//   Shapes       the network shapes with specialised kernels (net_shape.hpp)
+//   generic      whether other shapes run on the generic kernel or are refused
 #include <cstdint>
+
+#include "shared/net_shape.hpp"
 
 namespace nlsoft {
 
+// The dimensions that follow from a capacity.
 template <class Cap>
-struct Derived {
-  static constexpr bool second_order = Cap::second_order;
+struct Dims {
   // p = n_d m + d_d n + w, the network input length (paper, "Problem Statement")
   static constexpr int p = Cap::nd * Cap::m + Cap::nd * Cap::n + Cap::w;
   // U in R^{Nc x m}, flattened: the Newton-Raphson unknowns
   static constexpr int K = Cap::Nc * Cap::m;
 };
 
+// The shipped models' shapes (app/models/README.md) and the authors' hasel
+// model (Dense 36 -> 10 -> 5 -> 3).
+using MsdShape = NetShape<1, 1, 0, 2, DenseLayer<1>>;
+using HaselShape = NetShape<6, 3, 18, 2, DenseLayer<5>, DenseLayer<5>, DenseLayer<3>>;
+using HaselAuthorsShape = NetShape<6, 3, 18, 2, DenseLayer<10>, DenseLayer<5>, DenseLayer<3>>;
+using TendonShape = NetShape<2, 3, 11, 2, GruLayer<5>, DenseLayer<5>, DenseLayer<3>>;
+
 struct HostCapacity {
   static constexpr int m = 8, n = 3, w = 24, nd = 4;
   static constexpr int N = 128, Nc = 4;
   static constexpr int width = 48, layers = 8, weights = 8192;
-  static constexpr bool second_order = true;
+  using Shapes = ShapeList<MsdShape, HaselShape, HaselAuthorsShape, TendonShape>;
+  static constexpr bool generic = true;
 };
 
-// Tight fits for the three platforms of the paper (PRODUCT.md, "Platforms").
+// Tight fits for the three platforms of the paper (the paper's three rigs).
 struct MsdCapacity {
   static constexpr int m = 1, n = 1, w = 0, nd = 2;
   static constexpr int N = 128, Nc = 2;
   static constexpr int width = 16, layers = 4, weights = 512;
-  static constexpr bool second_order = false;
+  using Shapes = ShapeList<MsdShape>;
+  static constexpr bool generic = false;
 };
-// hasel: the paper's Dense 36 -> 5 -> 5 -> 3 (233 weights) with room to
-// grow each layer to 8 units; every byte here is RAM the real board pays.
+// hasel: the authors' published Dense 36 -> 10 -> 5 -> 3 (443 weights) and
+// our 36 -> 5 -> 5 -> 3 (233) both fit; every byte here is RAM the real
+// board pays.
 struct HaselCapacity {
   static constexpr int m = 6, n = 3, w = 18, nd = 2;
   static constexpr int N = 4, Nc = 1;
-  static constexpr int width = 8, layers = 4, weights = 384;
-  static constexpr bool second_order = false;
+  static constexpr int width = 10, layers = 4, weights = 448;
+  using Shapes = ShapeList<HaselShape, HaselAuthorsShape>;
+  static constexpr bool generic = false;
 };
 struct TendonCapacity {
   static constexpr int m = 2, n = 3, w = 11, nd = 2;
   static constexpr int N = 4, Nc = 3;
   static constexpr int width = 16, layers = 4, weights = 512;
-  static constexpr bool second_order = false;
+  using Shapes = ShapeList<TendonShape>;
+  static constexpr bool generic = false;
 };
 
 }  // namespace nlsoft

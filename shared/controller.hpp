@@ -3,7 +3,6 @@
 // (Algorithm 1), solve for U by Newton-Raphson, apply u(k) = U_0, predict
 // y_hat(k+1) for the next step's y-queue. All state is inside the object; its
 // size is fixed by the capacity, nothing is allocated.
-#include "shared/cost.hpp"
 #include "shared/horizon.hpp"
 #include "shared/input_vector.hpp"
 #include "shared/newton.hpp"
@@ -23,8 +22,8 @@ struct StepResult {
 template <class Cap>
 class Controller {
  public:
-  static constexpr int K = Derived<Cap>::K;
-  static constexpr int P = Derived<Cap>::p;
+  static constexpr int K = Dims<Cap>::K;
+  static constexpr int P = Dims<Cap>::p;
 
   // The model must already be finalized; params are validated here so a
   // controller can never run with a set the table would refuse.
@@ -32,6 +31,8 @@ class Controller {
     if (model == nullptr || model->layer_count == 0) return Status::BadFormat;
     const ParamResult ok = check_consistent(params, model->m);
     if (ok.status != Status::Ok) return ok.status;
+    const Status k = select_kernels(*model, kernels_);
+    if (k != Status::Ok) return k;
     model_ = model;
     params_ = params;
     return Status::Ok;
@@ -45,6 +46,7 @@ class Controller {
     for (int i = 0; i < L.w; ++i) x_[L.l_begin() + i] = l0 ? l0[i] : 0.0f;
     for (int j = 0; j < L.n; ++j) y_next_[j] = y0[j];
     for (int a = 0; a < K; ++a) U_[a] = u0[a % L.m];
+    solver_ = SolverState{};
   }
 
   // With no observer of y, start from the model's own rest: hold u0 and the
@@ -55,11 +57,12 @@ class Controller {
     float y[Cap::n];
     for (int j = 0; j < L.n; ++j) y[j] = model_->out_offset()[j];
     reset(u0, y, l0);
+    const ConstantInputs c = kernels_.constant(*model_, x_, scratch_.pre);
     for (int it = 0; it < iterations; ++it) {
-      push_input(x_, L, u0);
-      forward(*model_, x_, y, scratch_.fd.h.fw);
+      kernels_.values(*model_, x_, u0, 1, 1, c, y, nullptr, scratch_.roll);
       for (int j = 0; j < L.n; ++j)
         if (!finite(y[j])) y[j] = model_->out_offset()[j];
+      push_input(x_, L, u0);
       push_output(x_, L, y);
     }
     reset(u0, y, l0);
@@ -95,13 +98,12 @@ class Controller {
         }
       }
 
-    const NewtonResult nr = newton_solve(*model_, Pm, x_, ref_, U_, scratch_);
+    const NewtonResult nr = newton_solve(*model_, kernels_, Pm, x_, ref_, U_, solver_, scratch_);
     out.iterations = nr.iterations;
     out.flags |= nr.flags;
-
     // Predicted path and cost at the U actually applied.
-    predict_horizon(*model_, x_, U_, Pm.N, Pm.Nc, out.y_hat, scratch_.fd.h, scratch_.constant);
-    out.cost = cost_value(Pm, L.m, L.n, ref_, U_, x_, out.y_hat);
+    for (int r = 0; r < Pm.N * L.n; ++r) out.y_hat[r] = nr.y_hat[r];
+    out.cost = nr.cost;
 
     // Algorithm 1, lines 1-2: u(k) = U_0 into the u-queue.
     for (int i = 0; i < L.m; ++i) out.u[i] = clamp_to(U_[i], Pm.u_min[i], Pm.u_max[i]);
@@ -138,12 +140,14 @@ class Controller {
   }
 
   const Model<Cap>* model_ = nullptr;
+  RolloutKernels<Cap> kernels_{};
   Params<Cap> params_{};
   float x_[P] = {};
   float U_[K] = {};
   float y_next_[Cap::n] = {};
   float ref_[Cap::N * Cap::n] = {};
-  NewtonScratch<Cap> scratch_{};
+  SolverState solver_{};
+  SolverScratch<Cap> scratch_{};
 };
 
 }  // namespace nlsoft

@@ -12,7 +12,7 @@ namespace nlsoft {
 
 template <class Cap, class T>
 struct HorizonScratch {
-  T x[Derived<Cap>::p];
+  T x[Dims<Cap>::p];
   ForwardScratch<Cap, T> fw;
 };
 

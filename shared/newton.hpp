@@ -1,63 +1,85 @@
 #pragma once
-// Newton-Raphson on U (paper eq. NR): H (U+ - U) = -dJ/dU, H the full
-// Hessian of eq. cost2, solved by LU with partial pivoting, iterated to a
-// tolerance or a cap, each iterate kept inside the input limits.
+// Newton-Raphson on U (paper eq. NR): H (U+ - U) = -dJ/dU with H the full
+// Gauss-Newton Hessian of eq. cost2 (cost.hpp), solved by LDL^T, iterated to
+// a tolerance or a cap, each iterate kept inside the input limits.
 //
 // Globalisation, because the plain Newton step is only as good as the local
-// quadratic model: the learned model is piecewise linear (ReLU) and, with
-// redundant actuators and Q >> Lambda (the paper's tunings), H is
-// conditioned 1e8, so an undamped step can be hundreds of times the input
-// range. Each iteration therefore tries the undamped step first and accepts
-// it only if it lowers J (Armijo); otherwise it damps, H + mu I with mu
-// growing tenfold (Levenberg-Marquardt), which bends the step towards the
-// gradient and shortens it. The damping that worked is remembered and eased
-// tenfold after each success, so near the optimum the undamped step returns
-// and convergence stays quadratic. Inputs held at a limit by the gradient drop out
-// of the system (projected Newton).
+// quadratic model: with redundant actuators and Q >> Lambda (the paper's
+// tunings) H is conditioned ~1e8, and the undamped step can be many times the
+// input range. Every step is therefore damped, (H + mu h I) dU = -g with h
+// H's largest diagonal entry (Levenberg-Marquardt), and mu is a trust
+// decision made once per iteration, not by retries: the next iteration's
+// linearisation measures J at the new point anyway, so the step's actual
+// reduction is compared with the quadratic model's prediction there;
+// mu shrinks after a good step and grows after a poor one, and a step that
+// raised J is undone and solved again from the kept system with more
+// damping, no extra rollout. mu persists from one control step to the next
+// (SolverState): consecutive problems are alike. The last step of a solve is
+// checked by one plain rollout, which also gives the predicted path at the U
+// applied. Inputs held at a limit by the gradient drop out of the system
+// (projected Newton).
+//
+// Both derivative modes solve this same system; they differ only in how the
+// Jacobian G = dY_hat/dU is obtained (linearise()).
 //
 // Whatever the parameters, U stays finite and inside [u_min, u_max]; what
 // happened is reported in the result flags.
 #include <cmath>
 
 #include "shared/cost.hpp"
-#include "shared/derivatives.hpp"
-#include "shared/lu.hpp"
+#include "shared/ldlt.hpp"
+#include "shared/kernels.hpp"
+
+// The control step's hot code is compiled for speed even in images built
+// for size (-Os): measured on the Cortex-M4F, -Os here costs 2.3x the
+// instructions per step (the accessors and the unrolled tangent loops are
+// not inlined), while the rest of an image gains nothing from -O2.
+#pragma GCC push_options
+#pragma GCC optimize("O2")
 
 namespace nlsoft {
 
 enum StepFlag : uint8_t {
   kConverged = 1u << 0,         // max |dU| < nr_tol before the cap
-  kDamped = 1u << 1,            // the undamped Newton step did not lower J: damped
-  kSingular = 1u << 2,          // the Hessian was singular or not finite at least once
-  kNonFinite = 1u << 3,         // gradient not finite: U kept
+  kDamped = 1u << 1,            // a step raised J and was solved again with more damping
+  kSingular = 1u << 2,          // the damped system was not positive definite at least once
+  kNonFinite = 1u << 3,         // J or its gradient not finite: U kept
   kClamped = 1u << 4,           // an input limit was active
   kBadSensor = 1u << 5,         // a sensor value was not finite (previous kept)
   kBadReference = 1u << 6,      // a reference value was not finite (held)
-  kNoDescent = 1u << 7,         // no step along the Newton direction lowered J: U kept
+  kNoDescent = 1u << 7,         // the last step raised J: U kept at the point before it
 };
 
+// What the solver carries from one control step to the next.
+struct SolverState {
+  static constexpr float kMuStart = 1e-4f, kMuMin = 1e-6f, kMuMax = 1e3f;
+  float mu = kMuStart;  // Levenberg damping, relative to H's largest diagonal entry
+};
+
+// Caller-owned working memory of one solve; nothing in it outlives the call
+// but the predicted path the result points to.
 template <class Cap>
-struct NewtonScratch {
-  static constexpr int K = Derived<Cap>::K;
-  HorizonDerivatives<Cap> D;
-  CostTerms<Cap> C;
-  float LU[K * K];
-  int piv[K];
-  float dU[K];
-  // Levenberg-Marquardt damping carried from one iteration (and one control
-  // step) to the next, as a fraction of the Hessian's largest diagonal
-  // entry: consecutive problems are alike, so most iterations need one try.
-  float mu_rel = 0.0f;
-  float pre[Cap::width];  // the first layer's constant part for this step's x0
+struct SolverScratch {
+  static constexpr int K = Dims<Cap>::K;
+  float pre[Cap::width];            // the first layer's constant part for this step's x0
   ConstantInputs constant;
-  ExactScratch<Cap> exact;
-  FdScratch<Cap> fd;
+  float G[Cap::N * Cap::n * K];     // dY_hat/dU at the point being linearised
+  NewtonSystem<Cap> sys[2];         // at U, and at the point the last step left
+  float U_base[K];                  // that point
+  float A[K * K];                   // the damped system, factored
+  float dU[K];
+  float U_fd[K];                    // fd: U with one input moved by +-eps
+  float Y_plus[Cap::N * Cap::n];    // fd: the predictions there
+  float Y_minus[Cap::N * Cap::n];
+  RolloutScratch<Cap> roll;
 };
 
 struct NewtonResult {
-  uint8_t iterations = 0;
+  uint8_t iterations = 0;        // linearisations (rollouts with derivatives)
   uint8_t flags = 0;
-  float step = 0.0f;  // max |dU| of the last iteration
+  float step = 0.0f;             // max |dU| of the last step taken
+  float cost = 0.0f;             // J at the U returned
+  const float* y_hat = nullptr;  // Y_hat at the U returned, N x n, in the scratch
 };
 
 inline bool finite(float v) { return v - v == 0.0f; }
@@ -69,129 +91,189 @@ inline float clamp_to(float v, float lo, float hi) {
 
 namespace detail {
 
-// Solves (H + curv + mu I) dU = -g into s.dU over the free unknowns; those
-// held at a limit (active[a]) get dU = 0 and drop out of the system. False
-// if singular, not finite, or not a descent direction.
+// Y_hat(U) and G = dY_hat/dU: in `exact` mode by the chain rule in the same
+// rollout; in `fd` mode by the paper's central stencil, 2 Nc m more rollouts.
 template <class Cap>
-bool newton_direction(NewtonScratch<Cap>& s, int k, float mu, const bool* active) {
-  constexpr int K = Derived<Cap>::K;
-  for (int a = 0; a < k; ++a)
-    for (int b = 0; b < k; ++b) {
-      float h = s.C.H[a * K + b] + s.C.curv[a * K + b] + (a == b ? mu : 0.0f);
-      if (active[a] || active[b]) h = a == b ? 1.0f : 0.0f;
-      s.LU[a * K + b] = h;
-    }
-  if (!lu_decompose(s.LU, k, K, s.piv)) return false;
-  float descent = 0.0f;
-  for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -s.C.g[a];
-  lu_solve(s.LU, k, K, s.piv, s.dU);
-  for (int a = 0; a < k; ++a) {
-    if (!finite(s.dU[a])) return false;
-    descent += s.C.g[a] * s.dU[a];
+void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Params<Cap>& P, const float* x0,
+               const float* U, float* Y, SolverScratch<Cap>& s) {
+  constexpr int K = Dims<Cap>::K;
+  if (P.mode != DerivMode::Fd) {
+    kern.jacobian(M, x0, U, P.N, P.Nc, s.constant, Y, s.G, s.roll);
+    return;
   }
-  return descent <= 0.0f;
+  const int k = P.Nc * M.m, rows = P.N * M.n;
+  kern.values(M, x0, U, P.N, P.Nc, s.constant, Y, nullptr, s.roll);
+  for (int a = 0; a < k; ++a) s.U_fd[a] = U[a];
+  const float inv2e = 0.5f / P.eps;
+  for (int a = 0; a < k; ++a) {
+    s.U_fd[a] = U[a] + P.eps;
+    kern.values(M, x0, s.U_fd, P.N, P.Nc, s.constant, s.Y_plus, nullptr, s.roll);
+    s.U_fd[a] = U[a] - P.eps;
+    kern.values(M, x0, s.U_fd, P.N, P.Nc, s.constant, s.Y_minus, nullptr, s.roll);
+    s.U_fd[a] = U[a];
+    for (int r = 0; r < rows; ++r) s.G[r * K + a] = (s.Y_plus[r] - s.Y_minus[r]) * inv2e;
+  }
+  for (int a = k; a < K; ++a)  // no unknown there: as the exact kernels leave it
+    for (int r = 0; r < rows; ++r) s.G[r * K + a] = 0.0f;
+}
+
+// Solves (H + mu h I) dU = -g over the free unknowns; those held at a limit
+// (active[a]) get dU = 0 and drop out. False if not positive definite.
+template <class Cap>
+bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, SolverScratch<Cap>& s) {
+  constexpr int K = Dims<Cap>::K;
+  for (int a = 0; a < k; ++a)
+    for (int b = 0; b <= a; ++b) {
+      float h = S.H[a * K + b] + (a == b ? damping : 0.0f);
+      if (active[a] || active[b]) h = a == b ? 1.0f : 0.0f;
+      s.A[a * K + b] = h;
+    }
+  if (!ldlt_decompose(s.A, k, K)) return false;
+  for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -S.g[a];
+  ldlt_solve(s.A, k, K, s.dU);
+  for (int a = 0; a < k; ++a)
+    if (!finite(s.dU[a])) return false;
+  return true;
+}
+
+inline float clamp_mu(float mu) {
+  return mu < SolverState::kMuMin ? SolverState::kMuMin : (mu > SolverState::kMuMax ? SolverState::kMuMax : mu);
 }
 
 }  // namespace detail
 
-// x0: input vector before the decision (see horizon.hpp); y_ref: N x n;
-// U: Nc x m, the initial guess on entry and the solution on exit.
+// kern: select_kernels() of M; x0: input vector before the decision (see
+// horizon.hpp); y_ref: N x n; U: Nc x m, the initial guess on entry and the
+// solution on exit.
 template <class Cap>
-NewtonResult newton_solve(const Model<Cap>& M, const Params<Cap>& P, const float* x0, const float* y_ref,
-                          float* U, NewtonScratch<Cap>& s) {
-  const int m = M.m, k = P.Nc * m;
+NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Params<Cap>& P,
+                          const float* x0, const float* y_ref, float* U, SolverState& st, SolverScratch<Cap>& s) {
+  constexpr int K = Dims<Cap>::K;
+  const int m = M.m, n = M.n, k = P.Nc * m;
   const float* u_prev = x0;  // u(k-1) is the newest entry of the u-queue
   NewtonResult r;
   for (int a = 0; a < k; ++a) U[a] = clamp_to(U[a], P.u_min[a % m], P.u_max[a % m]);
-  s.constant = constant_inputs(M, x0, s.pre);
+  s.constant = kern.constant(M, x0, s.pre);
+  if (!finite(st.mu)) st.mu = SolverState::kMuStart;
+  st.mu = detail::clamp_mu(st.mu);
+
+  NewtonSystem<Cap>* cur = &s.sys[0];   // the system at U
+  NewtonSystem<Cap>* base = &s.sys[1];  // the system at s.U_base
+  auto swap_systems = [&] {
+    NewtonSystem<Cap>* t = cur;
+    cur = base;
+    base = t;
+  };
+  bool pending = false;  // U is a step from U_base whose J is not known yet
+  float predicted = 0.0f;
+  // The trust decision on a step from `base`: actual against predicted
+  // reduction. A reduction below J's float rounding (1e-4 J) cannot be
+  // measured by a rollout (msd at 1 kHz: 0.01 N/kg moves y by 5e-9 m per
+  // step, below float resolution at 1 m), so there the quadratic model is
+  // taken at its word. False: the step raised J; undo it.
+  auto judge = [&](float J_new) {
+    const float actual = base->J - J_new, noise = 1e-4f * base->J;
+    if (!(actual >= -noise)) return false;
+    const float rho = predicted > noise ? actual / predicted : 1.0f;
+    if (rho > 0.75f)
+      st.mu = detail::clamp_mu(0.1f * st.mu);
+    else if (rho < 0.25f)
+      st.mu = detail::clamp_mu(4.0f * st.mu);
+    return true;
+  };
 
   for (int it = 0; it < P.nr_max_iter; ++it) {
-    if (P.mode == DerivMode::Fd)
-      derivatives_fd(M, x0, U, P.N, P.Nc, P.eps, s.D, s.fd, s.constant);
-    else
-      derivatives_exact(M, x0, U, P.N, P.Nc, s.D, s.exact, s.constant);
-    evaluate_cost(P, m, M.n, y_ref, U, u_prev, s.D, s.C);
+    detail::linearise(M, kern, P, x0, U, cur->Y, s);
+    build_system(P, m, n, y_ref, U, u_prev, s.G, *cur);
     r.iterations = uint8_t(it + 1);
-
-    bool grad_ok = true;
-    for (int a = 0; a < k; ++a) grad_ok = grad_ok && finite(s.C.g[a]);
-    if (!grad_ok) {
+    bool ok = finite(cur->J);
+    for (int a = 0; a < k; ++a) ok = ok && finite(cur->g[a]);
+    if (pending) {
+      pending = false;
+      if (!ok || !judge(cur->J)) {  // the step raised J: undo it, damp harder
+        for (int a = 0; a < k; ++a) U[a] = s.U_base[a];
+        swap_systems();
+        st.mu = detail::clamp_mu(10.0f * st.mu);
+        r.flags |= kDamped;
+        ok = true;
+      }
+    }
+    if (!ok) {
       r.flags |= kNonFinite;
       break;
     }
-    bool active[Derived<Cap>::K];
+
+    bool active[K];
     bool any_free = false;
     float hmax = 0.0f;
     for (int a = 0; a < k; ++a) {
       const float lo = P.u_min[a % m], hi = P.u_max[a % m];
-      active[a] = (U[a] <= lo && s.C.g[a] > 0.0f) || (U[a] >= hi && s.C.g[a] < 0.0f);
+      active[a] = (U[a] <= lo && cur->g[a] > 0.0f) || (U[a] >= hi && cur->g[a] < 0.0f);
       any_free = any_free || !active[a];
-      const float d = std::fabs(s.C.H[a * Derived<Cap>::K + a]);
-      if (finite(d) && d > hmax) hmax = d;
+      const float d = cur->H[a * K + a];
+      if (!active[a] && finite(d) && d > hmax) hmax = d;
     }
     if (!any_free) {  // every input pinned at a limit by the gradient: optimal as it is
       r.flags |= kConverged | kClamped;
       r.step = 0.0f;
       break;
     }
-
-    // Damping from the last success, raised tenfold until J decreases.
     const float hscale = hmax > 0.0f ? hmax : 1.0f;
-    float mu = s.mu_rel * hscale, step = 0.0f;
-    bool accepted = false, clamped = false;
-    for (int tries = 0; tries < 8; ++tries) {
-      if (tries > 0) mu = mu == 0.0f ? 1e-4f * hscale : 10.0f * mu;
-      if (mu > 0.0f) r.flags |= kDamped;
-      if (!detail::newton_direction(s, k, mu, active)) {
+    bool solved = false;
+    for (int tries = 0; tries < 4 && !solved; ++tries) {
+      solved = detail::damped_direction(*cur, k, st.mu * hscale, active, s);
+      if (!solved) {
         r.flags |= kSingular;
-        continue;
-      }
-      float slope = 0.0f;
-      step = 0.0f;
-      clamped = false;
-      for (int a = 0; a < k; ++a) {
-        const float want = U[a] + s.dU[a];
-        s.fd.U[a] = clamp_to(want, P.u_min[a % m], P.u_max[a % m]);
-        clamped = clamped || s.fd.U[a] != want;
-        slope += s.C.g[a] * (s.fd.U[a] - U[a]);
-        const float d = std::fabs(s.fd.U[a] - U[a]);
-        if (d > step) step = d;
-      }
-      // Small steps are taken on the quadratic model's word: within 2 % of
-      // the input range it is trustworthy, and a float rollout could not
-      // confirm them anyway (at 1 kHz a 0.01 N/kg change moves y by 5e-9 m
-      // per step, below float resolution at 1 m). The rollout guards the big
-      // steps, which are the ones that go wrong.
-      bool small = true;
-      for (int a = 0; a < k && small; ++a)
-        small = std::fabs(s.fd.U[a] - U[a]) <= 0.02f * (P.u_max[a % m] - P.u_min[a % m]);
-      if (small || step < P.nr_tol) {
-        accepted = true;
-        break;
-      }
-      predict_horizon(M, x0, s.fd.U, P.N, P.Nc, s.fd.Yp, s.fd.h, s.constant);
-      const float J = cost_value(P, m, M.n, y_ref, s.fd.U, u_prev, s.fd.Yp);
-      if (J <= s.C.J + 1e-4f * slope) {
-        accepted = true;
-        break;
+        st.mu = detail::clamp_mu(100.0f * (st.mu > 1e-4f ? st.mu : 1e-4f));
       }
     }
-    if (!accepted) {
-      r.flags |= kNoDescent;
-      r.step = 0.0f;
-      s.mu_rel = 0.0f;
-      break;
+    if (!solved) break;
+
+    // Take the step inside the limits; predict J's decrease from the model.
+    float step = 0.0f, lin = 0.0f, quad = 0.0f;
+    bool clamped = false;
+    for (int a = 0; a < k; ++a) {
+      s.U_base[a] = U[a];
+      const float want = U[a] + s.dU[a];
+      U[a] = clamp_to(want, P.u_min[a % m], P.u_max[a % m]);
+      clamped = clamped || U[a] != want;
+      s.dU[a] = U[a] - s.U_base[a];
+      step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
     }
-    s.mu_rel = mu / hscale < 1e-6f ? 0.0f : 0.1f * mu / hscale;
-    if (clamped) r.flags |= kClamped;
-    for (int a = 0; a < k; ++a) U[a] = s.fd.U[a];
+    for (int a = 0; a < k; ++a) {
+      lin += cur->g[a] * s.dU[a];
+      float hd = 0.0f;
+      for (int b = 0; b < k; ++b) hd += cur->H[a * K + b] * s.dU[b];
+      quad += s.dU[a] * hd;
+    }
+    predicted = -(lin + 0.5f * quad);
+    swap_systems();
+    pending = true;
     r.step = step;
+    if (clamped) r.flags |= kClamped;
     if (step < P.nr_tol) {
       r.flags |= kConverged;
       break;
     }
   }
+
+  if (pending) {  // the last step, checked by one plain rollout
+    kern.values(M, x0, U, P.N, P.Nc, s.constant, cur->Y, nullptr, s.roll);
+    cur->J = cost_value(P, m, n, y_ref, U, u_prev, cur->Y);
+    // Below the tolerance the comparison is rounding noise: keep the step.
+    if (!judge(cur->J) && !(r.step < P.nr_tol)) {
+      for (int a = 0; a < k; ++a) U[a] = s.U_base[a];
+      swap_systems();
+      st.mu = detail::clamp_mu(10.0f * st.mu);
+      r.flags |= kNoDescent;
+      r.step = 0.0f;
+    }
+  }
+  r.cost = cur->J;
+  r.y_hat = cur->Y;
   return r;
 }
 
 }  // namespace nlsoft
+
+#pragma GCC pop_options

@@ -15,6 +15,7 @@ enum class Status : uint8_t {
   TooLarge = 6,        // exceeds a compile-time capacity
   BadFormat = 7,       // malformed model file / table
   BadChecksum = 8,     // CRC mismatch
+  Unsupported = 10,    // a model shape this build has no kernel for (capacity.hpp)
 };
 
 inline const char* status_name(Status s) {
@@ -28,6 +29,7 @@ inline const char* status_name(Status s) {
     case Status::TooLarge: return "exceeds capacity";
     case Status::BadFormat: return "bad format";
     case Status::BadChecksum: return "bad checksum";
+    case Status::Unsupported: return "no kernel for this model shape in this build";
   }
   return "unknown status";
 }

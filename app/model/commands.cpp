@@ -251,7 +251,7 @@ void run_eval(const std::string& model, const std::string& input, const std::str
   out.cols = M.n;
   out.rows = in.rows;
   ForwardScratch<HostCapacity, float> scratch;
-  float x[Derived<HostCapacity>::p], y[HostCapacity::n];
+  float x[Dims<HostCapacity>::p], y[HostCapacity::n];
   for (long r = 0; r < in.rows; ++r) {
     for (int i = 0; i < M.p(); ++i) x[i] = static_cast<float>(in.at(r, i));
     forward(M, x, y, scratch);

@@ -28,7 +28,7 @@ std::vector<uint8_t> encode_model(ModelFile& f) {
 
 ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name) {
   ModelFile f;
-  f.params.resize(HostCapacity::weights + 2 * Derived<HostCapacity>::p + 2 * HostCapacity::n);
+  f.params.resize(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);
   Model<HostCapacity> m;
   uint8_t platform = kNoPlatform;
   const Status s = parse_model(bytes.data(), bytes.size(), m, f.params.data(),

@@ -101,7 +101,7 @@ Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long e
   ev.free_run_mse.assign(size_t(L.n), 0.0);
   if (end <= begin) return ev;
   ForwardScratch<HostCapacity, float> scratch;
-  float x[Derived<HostCapacity>::p], y[HostCapacity::n];
+  float x[Dims<HostCapacity>::p], y[HostCapacity::n];
   float yq[HostCapacity::nd * HostCapacity::n];  // own predictions, newest first
   for (int i = 0; i < L.dd * L.n; ++i) yq[i] = static_cast<float>(d.X(begin, L.y_begin() + i));
   for (long r = begin; r < end; ++r) {

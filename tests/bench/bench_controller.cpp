@@ -74,7 +74,7 @@ struct Rig {
     if (finalize_model(model) != Status::Ok) std::abort();
     std::ifstream in(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + platform_name(id) + ".nlsm", std::ios::binary);
     const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    shipped_params.assign(Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n, 0.0f);
+    shipped_params.assign(Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n, 0.0f);
     Model<Cap> shipped;
     if (!file.empty() && parse_model(file.data(), file.size(), shipped, shipped_params.data(),
                                      uint32_t(shipped_params.size())) == Status::Ok)

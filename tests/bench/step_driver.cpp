@@ -1,6 +1,8 @@
 // Runs K control steps of a platform's shipped model on its paper task with
 // the simulated plant, for instruction counting under valgrind (see
-// instructions-per-step). Usage: nlsoft-step-driver PLATFORM exact|fd K
+// instructions-per-step). Usage: nlsoft-step-driver PLATFORM exact|fd K [MODEL]
+// MODEL: a model file of the platform's dimensions (default: the shipped one),
+// e.g. one imported from Keras with `nlsoft-console model import`.
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,11 +23,12 @@ namespace {
 using namespace nlsoft;
 
 template <class Cap>
-int run(PlatformId id, DerivMode mode, int steps) {
-  const std::string path = std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + platform_name(id) + ".nlsm";
+int run(PlatformId id, DerivMode mode, int steps, const char* model) {
+  const std::string path =
+      model ? std::string(model) : std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + platform_name(id) + ".nlsm";
   std::ifstream in(path, std::ios::binary);
   const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  static float storage[Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n];
+  static float storage[Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n];
   static Model<Cap> M;
   if (parse_model(file.data(), file.size(), M, storage, sizeof storage / sizeof(float)) != Status::Ok) {
     std::fprintf(stderr, "cannot load %s\n", path.c_str());
@@ -81,18 +84,19 @@ int run(PlatformId id, DerivMode mode, int steps) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 4) {
-    std::fprintf(stderr, "usage: %s msd|hasel|tendon exact|fd STEPS\n", argv[0]);
+  if (argc != 4 && argc != 5) {
+    std::fprintf(stderr, "usage: %s msd|hasel|tendon exact|fd STEPS [MODEL_FILE]\n", argv[0]);
     return 2;
   }
   PlatformId id;
   if (!platform_from_name(argv[1], &id)) return 2;
   const DerivMode mode = std::strcmp(argv[2], "fd") == 0 ? DerivMode::Fd : DerivMode::Exact;
   const int steps = std::atoi(argv[3]);
+  const char* model = argc == 5 ? argv[4] : nullptr;
   switch (id) {
-    case PlatformId::Msd: return run<MsdCapacity>(id, mode, steps);
-    case PlatformId::Hasel: return run<HaselCapacity>(id, mode, steps);
-    case PlatformId::Tendon: return run<TendonCapacity>(id, mode, steps);
+    case PlatformId::Msd: return run<MsdCapacity>(id, mode, steps, model);
+    case PlatformId::Hasel: return run<HaselCapacity>(id, mode, steps, model);
+    case PlatformId::Tendon: return run<TendonCapacity>(id, mode, steps, model);
   }
   return 2;
 }

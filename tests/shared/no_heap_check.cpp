@@ -6,7 +6,32 @@
 
 namespace {
 
-// A tiny two-layer model, enough to make the code reachable.
+// A model of the first shape the capacity has kernels for, with small
+// weights: enough to make the code reachable.
+template <class Cap, class S>
+struct ShapeLayers;
+template <class Cap, int M, int N, int W, int ND, class First, class... Rest>
+struct ShapeLayers<Cap, nlsoft::NetShape<M, N, W, ND, First, Rest...>> {
+  static void fill(nlsoft::Model<Cap>& Mo) {
+    using namespace nlsoft;
+    const int units[] = {First::units, Rest::units...};
+    const bool gru[] = {First::gru, Rest::gru...};
+    int in = Mo.p();
+    Mo.layer_count = uint8_t(1 + sizeof...(Rest));
+    for (int l = 0; l < Mo.layer_count; ++l) {
+      Mo.layer[l] = Layer{gru[l] ? LayerKind::Gru : LayerKind::Dense, Activation::Tanh, Activation::HardSigmoid, true,
+                          uint16_t(in), uint16_t(units[l]), 0};
+      in = units[l];
+    }
+  }
+};
+template <class List>
+struct First;
+template <class S, class... More>
+struct First<nlsoft::ShapeList<S, More...>> {
+  using type = S;
+};
+
 template <class Cap>
 int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
   using namespace nlsoft;
@@ -17,10 +42,9 @@ int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
   M.w = pr.w;
   M.nd = pr.nd;
   M.dd = pr.dd;
-  M.layer_count = 2;
-  M.layer[0] = Layer{LayerKind::Gru, Activation::Tanh, Activation::HardSigmoid, true, uint16_t(M.p()), 2, 0};
-  M.layer[1] = Layer{LayerKind::Dense, Activation::Tanh, Activation::Linear, false, 2, pr.n, 0};
-  M.param_count = M.norm_count() + layer_weight_count(M.layer[0]) + layer_weight_count(M.layer[1]);
+  ShapeLayers<Cap, typename First<typename Cap::Shapes>::type>::fill(M);
+  M.param_count = M.norm_count();
+  for (int l = 0; l < M.layer_count; ++l) M.param_count += layer_weight_count(M.layer[l]);
   if (M.param_count > count) return 1;
   for (unsigned i = 0; i < M.param_count; ++i) params[i] = 0.01f * float(i % 7);
   M.params = params;
@@ -31,8 +55,14 @@ int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
   if (ctl.configure(&M, P) != Status::Ok) return 4;
   float u0[Cap::m] = {}, y0[Cap::n] = {}, l0[Cap::w + 1] = {}, ref[Cap::N * Cap::n] = {};
   ctl.reset(u0, y0, l0);
-  const StepResult<Cap> r = ctl.step(ref, l0, y0);
-  return r.u[0] - r.u[0] == 0.0f ? 0 : 5;
+  const DerivMode modes[] = {DerivMode::Exact, DerivMode::Fd};
+  for (DerivMode mode : modes) {
+    P.mode = mode;
+    if (ctl.configure(&M, P) != Status::Ok) return 4;
+    const StepResult<Cap> r = ctl.step(ref, l0, y0);
+    if (!(r.u[0] - r.u[0] == 0.0f)) return 5;
+  }
+  return 0;
 }
 
 float storage[600];

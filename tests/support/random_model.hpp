@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "shared/model.hpp"
+#include "shared/net_shape.hpp"
 
 namespace nlsoft::test {
 
@@ -66,5 +67,36 @@ OwnedModel<Cap> random_model(int m, int n, int w, int nd, std::initializer_list<
   M.param_count = count;
   return o;
 }
+
+// A random model of a compile-time shape (net_shape.hpp): hidden layers
+// use `hidden`, the last `out`; a GRU first layer gets sigmoid gates.
+template <class Cap, class S>
+struct ShapeModel;
+template <class Cap, int M, int N, int W, int ND, class First, class... Rest>
+struct ShapeModel<Cap, NetShape<M, N, W, ND, First, Rest...>> {
+  static OwnedModel<Cap> make(unsigned seed, Activation hidden, Activation out, float scale = 0.6f,
+                              bool residual = false) {
+    constexpr int count = 1 + int(sizeof...(Rest));
+    const int units[] = {First::units, Rest::units...};
+    const bool gru[] = {First::gru, Rest::gru...};
+    LayerSpec specs[count];
+    for (int l = 0; l < count; ++l)
+      specs[l] = LayerSpec{gru[l] ? LayerKind::Gru : LayerKind::Dense, units[l], l + 1 == count ? out : hidden,
+                           Activation::Sigmoid, seed % 2 == 0};
+    if constexpr (count == 1) return random_model<Cap>(M, N, W, ND, {specs[0]}, seed, scale, residual);
+    if constexpr (count == 2) return random_model<Cap>(M, N, W, ND, {specs[0], specs[1]}, seed, scale, residual);
+    if constexpr (count == 3)
+      return random_model<Cap>(M, N, W, ND, {specs[0], specs[1], specs[2]}, seed, scale, residual);
+    static_assert(count <= 3, "extend ShapeModel for deeper shapes");
+  }
+};
+
+// The first shape a capacity ships kernels for.
+template <class List>
+struct FirstShape;
+template <class S, class... More>
+struct FirstShape<ShapeList<S, More...>> {
+  using type = S;
+};
 
 }  // namespace nlsoft::test

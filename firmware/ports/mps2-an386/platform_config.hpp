@@ -35,7 +35,7 @@ constexpr size_t kTxCapacity = 512;
 
 // The model in force: normalisation (2p + 2n) plus the largest weight count
 // the capacity admits; an upload is staged whole before it replaces it.
-constexpr uint32_t kModelParams = uint32_t(Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n);
+constexpr uint32_t kModelParams = uint32_t(Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n);
 constexpr size_t kModelFileMax = 24 + 8 * size_t(Cap::layers) + 4 * size_t(kModelParams) + 4;
 
 // Uploaded reference tables: a short path of points (the built-in references

@@ -31,7 +31,7 @@ void on_signal(int) { g_stop = 1; }
 
 // Port memory: generous on a host.
 uint8_t g_model_staging[64 * 1024];
-float g_model_params[Cap::weights + 2 * Derived<Cap>::p + 2 * Cap::n];
+float g_model_params[Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
 

@@ -26,7 +26,7 @@ void expect_same_outputs(const std::string& file, Build build) {
   for (uint32_t i = 0; i < generated.param_count; ++i) ASSERT_EQ(generated.params[i], from_file.params[i]) << i;
   ForwardScratch<HostCapacity, float> s1;
   ForwardScratch<Cap, float> s2;
-  float x[Derived<HostCapacity>::p], y1[HostCapacity::n], y2[HostCapacity::n];
+  float x[Dims<HostCapacity>::p], y1[HostCapacity::n], y2[HostCapacity::n];
   for (int row = 0; row < 20; ++row) {
     for (int i = 0; i < from_file.p(); ++i)
       x[i] = from_file.in_offset()[i] + (0.9f * std::sin(float(row * 7 + i))) / from_file.in_scale()[i];

@@ -62,7 +62,7 @@ double export_mismatch(const TrainResult& r, const Series& s, int nd) {
   const Eigen::MatrixXd ref = r.trained.predict(d.X);
   const Model<HostCapacity> M = r.model.view();
   ForwardScratch<HostCapacity, float> scratch;
-  float x[Derived<HostCapacity>::p], y[HostCapacity::n];
+  float x[Dims<HostCapacity>::p], y[HostCapacity::n];
   double worst = 0.0;
   for (long row = 0; row < d.rows(); row += 7) {
     for (int i = 0; i < M.p(); ++i) x[i] = float(d.X(row, i));

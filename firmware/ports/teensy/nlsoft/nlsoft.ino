@@ -26,7 +26,7 @@ const nlsoft::Preset& kPreset = nlsoft::preset(kPlatform);
 const uint32_t kRateHz = uint32_t(kPreset.rate_hz);
 
 // Model in force, an upload in transit, and an uploaded reference table.
-constexpr uint32_t kModelParams = Cap::weights + 2 * nlsoft::Derived<Cap>::p + 2 * Cap::n;
+constexpr uint32_t kModelParams = Cap::weights + 2 * nlsoft::Dims<Cap>::p + 2 * Cap::n;
 float g_model_params[kModelParams];
 uint8_t g_model_staging[24 + 8 * Cap::layers + 4 * kModelParams + 4];
 constexpr uint32_t kTableFloats = 512 * Cap::n;
