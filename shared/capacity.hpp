@@ -44,9 +44,11 @@ struct HostCapacity {
 };
 
 // Tight fits for the three platforms of the paper (the paper's three rigs).
+// msd: the paper's Nc = 1 (one unknown: the tangent arrays are a single
+// column) and room for our N = 100.
 struct MsdCapacity {
   static constexpr int m = 1, n = 1, w = 0, nd = 2;
-  static constexpr int N = 128, Nc = 2;
+  static constexpr int N = 128, Nc = 1;
   static constexpr int width = 16, layers = 4, weights = 512;
   using Shapes = ShapeList<MsdShape>;
   static constexpr bool generic = false;

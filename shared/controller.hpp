@@ -57,8 +57,8 @@ class Controller {
     float y[Cap::n];
     for (int j = 0; j < L.n; ++j) y[j] = model_->out_offset()[j];
     reset(u0, y, l0);
-    const ConstantInputs c = kernels_.constant(*model_, x_, scratch_.pre);
     for (int it = 0; it < iterations; ++it) {
+      const ConstantInputs c = kernels_.constant(*model_, x_, scratch_.pre);
       kernels_.values(*model_, x_, u0, 1, 1, c, y, nullptr, scratch_.roll);
       for (int j = 0; j < L.n; ++j)
         if (!finite(y[j])) y[j] = model_->out_offset()[j];
@@ -111,7 +111,7 @@ class Controller {
     for (int j = 0; j < L.n; ++j) y_next_[j] = finite(out.y_hat[j]) ? out.y_hat[j] : y_now[j];
 
     // Warm start: shift U one step, repeat the last row.
-    for (int j = 0; j + 1 < Pm.Nc; ++j)
+    for (int j = 0; j + 1 < Pm.Nc && j + 1 < Cap::Nc; ++j)
       for (int i = 0; i < L.m; ++i) U_[j * L.m + i] = U_[(j + 1) * L.m + i];
     return out;
   }

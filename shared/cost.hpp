@@ -98,10 +98,9 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
           for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
         }
       }
-    int idx = 0;
+    int idx = 0;  // all K rows: past k they are zero (G's columns there are), see newton.hpp
     for (int a = 0; a < K; ++a)
-      for (int b = 0; b <= a; ++b, ++idx)
-        if (a < k) S.H[a * K + b] = h[idx];
+      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
   } else {
     for (int t = P.N1 - 1; t < P.N; ++t)
       for (int i = 0; i < n; ++i) {
@@ -146,8 +145,9 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
     S.H[a * K + a] += bar.hess(U[a]);
   }
 
-  for (int a = 0; a < k; ++a)
-    for (int b = a + 1; b < k; ++b) S.H[a * K + b] = S.H[b * K + a];  // the Lambda terms are in the lower triangle
+  const int kk = K <= 8 ? K : k;
+  for (int a = 0; a < kk; ++a)
+    for (int b = a + 1; b < kk; ++b) S.H[a * K + b] = S.H[b * K + a];  // the Lambda terms are in the lower triangle
 }
 
 // J alone, from predictions Y (no derivatives).

@@ -54,12 +54,15 @@ inline void dense_fixed(Activation act, const float* W, const float* x, const fl
 #pragma GCC unroll 16
   for (int j = 0; j < Out; ++j) y[j] = z[j];
   if constexpr (kTangents) {
+    uint8_t on[In];  // the inputs whose tangent is not zero
+    int count = 0;
+    for (int i = 0; i < In; ++i)
+      if (live[i]) on[count++] = uint8_t(i);
     for (int j = 0; j < Out; ++j) {
       float acc[K];
       tangent_zero<K>(acc);
       if (df[j] != 0.0f)
-        for (int i = 0; i < In; ++i)
-          if (live[i]) tangent_axpy<K>(acc, W[i * Out + j], Tx[i]);
+        for (int c = 0; c < count; ++c) tangent_axpy<K>(acc, W[on[c] * Out + j], Tx[on[c]]);
       tangent_scale<K>(Ty[j], acc, df[j]);
     }
 #pragma GCC unroll 16
@@ -106,8 +109,11 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       return cur;
   }
 
-  // forward.hpp's constant_inputs() for this shape: the first layer's bias
-  // plus the sensor signals' products, once per control step.
+  // What U does not touch in the first layer, once per control step: its
+  // bias plus the sensor signals' products (forward.hpp's constant_inputs()),
+  // and for the first ND horizon steps the products of the history entries
+  // that still come from x0. Row j (j < ND) serves step j, row ND every
+  // later step: (ND + 1) x kC0 floats.
   static ConstantInputs constant(const Model<Cap>& Mo, const float* x0, float* pre) {
     const float* W0 = Mo.weights(Mo.layer[0]);
     const float* bias = W0 + S::p * kC0 + (First::gru ? First::units * kC0 : 0);
@@ -116,15 +122,32 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     float z[kC0];
 #pragma GCC unroll 32
     for (int q = 0; q < kC0; ++q) z[q] = bias[q];
-    for (int i = S::queue; i < S::p; ++i) {
-      const float xi = (x0[i] - off[i]) * sc[i];
-      const float* w = W0 + i * kC0;
+    for (int i = S::queue; i < S::p; ++i) add_entry(z, W0, (x0[i] - off[i]) * sc[i], i);
+    for (int q = 0; q < kC0; ++q) pre[ND * kC0 + q] = z[q];
+    for (int j = 0; j < ND; ++j) {
+      float r[kC0];
 #pragma GCC unroll 32
-      for (int q = 0; q < kC0; ++q) z[q] += xi * w[q];
+      for (int q = 0; q < kC0; ++q) r[q] = z[q];
+      for (int t = j + 1; t < ND; ++t)  // u-slot t holds u(k+j-t), from x0
+        for (int i = 0; i < M; ++i) {
+          const int e = t * M + i, xi = (t - j - 1) * M + i;
+          add_entry(r, W0, (x0[xi] - off[e]) * sc[e], e);
+        }
+      for (int t = j; t < ND; ++t)  // y-slot t holds y(k+j-t), from x0
+        for (int i = 0; i < N; ++i) {
+          const int e = ND * M + t * N + i, xi = ND * M + (t - j) * N + i;
+          add_entry(r, W0, (x0[xi] - off[e]) * sc[e], e);
+        }
+      for (int q = 0; q < kC0; ++q) pre[j * kC0 + q] = r[q];
     }
-#pragma GCC unroll 32
-    for (int q = 0; q < kC0; ++q) pre[q] = z[q];
     return ConstantInputs{pre, S::queue};
+  }
+
+  // z += x W1[e]
+  static inline void add_entry(float* z, const float* W0, float x, int e) {
+    const float* w = W0 + e * kC0;
+#pragma GCC unroll 32
+    for (int q = 0; q < kC0; ++q) z[q] += x * w[q];
   }
 
   static void run(const Model<Cap>& Mo, const float* x0, const float* U, int Nh, int Nc, const ConstantInputs& c,
@@ -137,62 +160,53 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     constexpr int kU = ND * M;  // first y-queue entry
 
     for (int j = 0; j < Nh; ++j) {
-      // ---- the queue entries of x(k+j) (Algorithm 1), normalised ----
-      float* xn = s.xn;
-      for (int t = 0; t < ND; ++t) {
-        const int row = j - t;  // u-slot t holds u(k+j-t)
-        const float* src = row >= 0 ? U + (row < Nc ? row : Nc - 1) * M : x0 + (t - j - 1) * M;
-#pragma GCC unroll 8
-        for (int i = 0; i < M; ++i) xn[t * M + i] = (src[i] - off[t * M + i]) * sc[t * M + i];
-      }
-      for (int t = 0; t < ND; ++t) {
-        const int row = j - t - 1;  // y-slot t holds y(k+j-t)
-        const float* src = row >= 0 ? Y + row * N : x0 + kU + (t - j) * N;
-        const int e0 = kU + t * N;
-#pragma GCC unroll 8
-        for (int i = 0; i < N; ++i) xn[e0 + i] = (src[i] - off[e0 + i]) * sc[e0 + i];
-      }
-
-      // ---- first layer: z = pre + sum_e xn_e W1[e] ----
+      // ---- first layer: z = pre_j + the entries of x(k+j) that hold U or
+      // a prediction (Algorithm 1; the rest is in pre_j, see constant()) ----
+      const int preds = j < ND ? j : ND;          // y-slots holding predictions
+      const int slots = j + 1 < ND ? j + 1 : ND;  // u-slots holding U
       float* z = s.v[0];
       float zr[kC0];
+      const float* prow = c.pre + (j < ND ? j : ND) * kC0;
 #pragma GCC unroll 32
-      for (int q = 0; q < kC0; ++q) zr[q] = c.pre[q];
-      for (int e = 0; e < kQ; ++e) {
-        const float xe = xn[e];
-        const float* w = W0 + e * kC0;
-#pragma GCC unroll 32
-        for (int q = 0; q < kC0; ++q) zr[q] += xe * w[q];
+      for (int q = 0; q < kC0; ++q) zr[q] = prow[q];
+      for (int t = 0; t < slots; ++t) {  // u-slot t holds U's row j - t
+        const float* u = U + (j - t < Nc ? j - t : Nc - 1) * M;
+        for (int i = 0; i < M; ++i) add_entry(zr, W0, (u[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
+      }
+      for (int t = 0; t < preds; ++t) {  // y-slot t holds y_hat(k+j-t)
+        const float* y = Y + (j - t - 1) * N;
+        const int e0 = kU + t * N;
+        for (int i = 0; i < N; ++i) add_entry(zr, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
       }
 #pragma GCC unroll 32
       for (int q = 0; q < kC0; ++q) z[q] = zr[q];
 
       if constexpr (kTangents) {
-        // dz = sum over the y-slots holding predictions of sc W1[e] G_row ...
-        const int preds = j < ND ? j : ND;
         for (int q = 0; q < kC0; ++q) {
           float acc[K];
           detail::tangent_zero<K>(acc);
+          // a prediction enters with its row of G: dz += sc_e W1[e][q] dy
           for (int t = 0; t < preds; ++t) {
             const int e0 = kU + t * N;
             const float* g = G + (j - t - 1) * N * K;
+#pragma GCC unroll 8
             for (int i = 0; i < N; ++i)
               detail::tangent_axpy<K>(acc, sc[e0 + i] * W0[(e0 + i) * kC0 + q], g + i * K);
           }
-          detail::tangent_scale<K>(s.T[0][q], acc, 1.0f);
-        }
-        // ... plus, for the u-slots holding U, a weight into U's column
-        const int slots = j + 1 < ND ? j + 1 : ND;
-        for (int t = 0; t < slots; ++t) {
-          const int row = j - t;
-          const int col0 = (row < Nc ? row : Nc - 1) * M;
-          for (int i = 0; i < M; ++i) {
-            const int e = t * M + i;
-            const float* w = W0 + e * kC0;
-            const float se = sc[e];
-#pragma GCC unroll 32
-            for (int q = 0; q < kC0; ++q) s.T[0][q][col0 + i] += se * w[q];
+          // U itself enters through its weight, into the columns of its row
+          // of U; the row is picked among the capacity's Nc blocks so every
+          // index is a constant and acc stays in registers.
+          for (int t = 0; t < slots; ++t) {
+            const int row = j - t < Nc ? j - t : Nc - 1;
+#pragma GCC unroll 8
+            for (int rr = 0; rr < Cap::Nc; ++rr) {
+              if (rr != row) continue;
+#pragma GCC unroll 8
+              for (int i = 0; i < M; ++i)
+                if (rr * M + i < K) acc[rr * M + i] += sc[t * M + i] * W0[(t * M + i) * kC0 + q];
+            }
           }
+          detail::tangent_scale<K>(s.T[0][q], acc, 1.0f);
         }
       }
 

@@ -46,7 +46,10 @@ inline void wr32(uint8_t* p, uint32_t v) {
 }  // namespace detail
 
 // Parses and validates a model file. The parameters are copied into the
-// caller's storage (capacity in floats); M points at it afterwards. On any
+// caller's storage (capacity in floats), or, with storage == nullptr, used
+// where they are in buf (which must then outlive M, be 4-byte aligned and
+// the machine little-endian: an MCU runs its built-in model from flash and an
+// uploaded one from the transfer buffer, with no second copy in RAM). On any
 // error M is left untouched.
 template <class Cap>
 Status parse_model(const uint8_t* buf, size_t len, Model<Cap>& M, float* storage, uint32_t storage_cap,
@@ -57,7 +60,7 @@ Status parse_model(const uint8_t* buf, size_t len, Model<Cap>& M, float* storage
   const int L = buf[11];
   const uint32_t P = rd32(buf + 12);
   if (L > Cap::layers) return Status::TooLarge;
-  if (P > storage_cap) return Status::TooLarge;
+  if (storage ? P > storage_cap : P > uint32_t(Cap::weights) + 2u * Dims<Cap>::p + 2u * Cap::n) return Status::TooLarge;
   if (len != model_file_size(L, P)) return Status::WrongSize;
   const uint32_t crc = rd32(buf + len - 4);
   if (crc32(buf, len - 4) != crc) return Status::BadChecksum;
@@ -92,11 +95,19 @@ Status parse_model(const uint8_t* buf, size_t len, Model<Cap>& M, float* storage
     std::memcpy(&v, &bits, 4);
     if (!(v - v == 0.0f)) return Status::NotFinite;
   }
-  for (uint32_t i = 0; i < P; ++i) {
-    const uint32_t bits = rd32(pp + 4 * i);
-    std::memcpy(&storage[i], &bits, 4);
+  if (storage) {
+    for (uint32_t i = 0; i < P; ++i) {
+      const uint32_t bits = rd32(pp + 4 * i);
+      std::memcpy(&storage[i], &bits, 4);
+    }
+    c.params = storage;
+  } else {
+    const uint32_t one = 1;
+    uint8_t first;
+    std::memcpy(&first, &one, 1);
+    if (first != 1 || reinterpret_cast<uintptr_t>(pp) % alignof(float) != 0) return Status::BadFormat;
+    c.params = reinterpret_cast<const float*>(pp);
   }
-  c.params = storage;
   c.hash = crc;
   M = c;
   if (platform) *platform = buf[16];

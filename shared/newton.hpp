@@ -61,7 +61,7 @@ struct SolverState {
 template <class Cap>
 struct SolverScratch {
   static constexpr int K = Dims<Cap>::K;
-  float pre[Cap::width];            // the first layer's constant part for this step's x0
+  float pre[(Cap::nd + 1) * Cap::width];  // the first layer's constant part for this step's x0 (kernels.hpp)
   ConstantInputs constant;
   float G[Cap::N * Cap::n * K];     // dY_hat/dU at the point being linearised
   NewtonSystem<Cap> sys[2];         // at U, and at the point the last step left
@@ -152,7 +152,17 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   const int m = M.m, n = M.n, k = P.Nc * m;
   const float* u_prev = x0;  // u(k-1) is the newest entry of the u-queue
   NewtonResult r;
-  for (int a = 0; a < k; ++a) U[a] = clamp_to(U[a], P.u_min[a % m], P.u_max[a % m]);
+  // Small systems (the MCU capacities) run over the capacity's K, so every
+  // loop below has a constant trip count; unknowns past k are held at their
+  // value like inputs at a limit, and their gradient and Hessian are zero.
+  constexpr bool kPadded = K <= 8;
+  const int kk = kPadded ? K : k;
+  float lo[K], hi[K];
+  for (int a = 0; a < kk; ++a) {
+    lo[a] = a < k ? P.u_min[a % m] : -3.0e38f;
+    hi[a] = a < k ? P.u_max[a % m] : 3.0e38f;
+    U[a] = clamp_to(U[a], lo[a], hi[a]);
+  }
   s.constant = kern.constant(M, x0, s.pre);
   if (!finite(st.mu)) st.mu = SolverState::kMuStart;
   st.mu = detail::clamp_mu(st.mu);
@@ -187,11 +197,11 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     build_system(P, m, n, y_ref, U, u_prev, s.G, *cur);
     r.iterations = uint8_t(it + 1);
     bool ok = finite(cur->J);
-    for (int a = 0; a < k; ++a) ok = ok && finite(cur->g[a]);
+    for (int a = 0; a < kk; ++a) ok = ok && finite(cur->g[a]);
     if (pending) {
       pending = false;
       if (!ok || !judge(cur->J)) {  // the step raised J: undo it, damp harder
-        for (int a = 0; a < k; ++a) U[a] = s.U_base[a];
+        for (int a = 0; a < kk; ++a) U[a] = s.U_base[a];
         swap_systems();
         st.mu = detail::clamp_mu(10.0f * st.mu);
         r.flags |= kDamped;
@@ -206,9 +216,8 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     bool active[K];
     bool any_free = false;
     float hmax = 0.0f;
-    for (int a = 0; a < k; ++a) {
-      const float lo = P.u_min[a % m], hi = P.u_max[a % m];
-      active[a] = (U[a] <= lo && cur->g[a] > 0.0f) || (U[a] >= hi && cur->g[a] < 0.0f);
+    for (int a = 0; a < kk; ++a) {
+      active[a] = a >= k || (U[a] <= lo[a] && cur->g[a] > 0.0f) || (U[a] >= hi[a] && cur->g[a] < 0.0f);
       any_free = any_free || !active[a];
       const float d = cur->H[a * K + a];
       if (!active[a] && finite(d) && d > hmax) hmax = d;
@@ -221,7 +230,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     const float hscale = hmax > 0.0f ? hmax : 1.0f;
     bool solved = false;
     for (int tries = 0; tries < 4 && !solved; ++tries) {
-      solved = detail::damped_direction(*cur, k, st.mu * hscale, active, s);
+      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, s);
       if (!solved) {
         r.flags |= kSingular;
         st.mu = detail::clamp_mu(100.0f * (st.mu > 1e-4f ? st.mu : 1e-4f));
@@ -232,18 +241,18 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     // Take the step inside the limits; predict J's decrease from the model.
     float step = 0.0f, lin = 0.0f, quad = 0.0f;
     bool clamped = false;
-    for (int a = 0; a < k; ++a) {
+    for (int a = 0; a < kk; ++a) {
       s.U_base[a] = U[a];
       const float want = U[a] + s.dU[a];
-      U[a] = clamp_to(want, P.u_min[a % m], P.u_max[a % m]);
+      U[a] = clamp_to(want, lo[a], hi[a]);
       clamped = clamped || U[a] != want;
       s.dU[a] = U[a] - s.U_base[a];
       step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
     }
-    for (int a = 0; a < k; ++a) {
+    for (int a = 0; a < kk; ++a) {
       lin += cur->g[a] * s.dU[a];
       float hd = 0.0f;
-      for (int b = 0; b < k; ++b) hd += cur->H[a * K + b] * s.dU[b];
+      for (int b = 0; b < kk; ++b) hd += cur->H[a * K + b] * s.dU[b];
       quad += s.dU[a] * hd;
     }
     predicted = -(lin + 0.5f * quad);
@@ -262,7 +271,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     cur->J = cost_value(P, m, n, y_ref, U, u_prev, cur->Y);
     // Below the tolerance the comparison is rounding noise: keep the step.
     if (!judge(cur->J) && !(r.step < P.nr_tol)) {
-      for (int a = 0; a < k; ++a) U[a] = s.U_base[a];
+      for (int a = 0; a < kk; ++a) U[a] = s.U_base[a];
       swap_systems();
       st.mu = detail::clamp_mu(10.0f * st.mu);
       r.flags |= kNoDescent;

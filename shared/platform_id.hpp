@@ -1,5 +1,5 @@
 // Which rig a configuration, a simulated plant or a preset belongs to
-// (PRODUCT.md, "Platforms"). Kept apart so the protocol, the presets and the
+// (docs/platforms.md). Kept apart so the protocol, the presets and the
 // plants can all name a platform without including each other.
 #pragma once
 

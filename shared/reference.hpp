@@ -1,5 +1,5 @@
 // Reference paths y_ref(k), evaluated at control step k from a few parameters
-// so the MCU can compute them on the fly (PRODUCT.md, "References"; the paper,
+// so the MCU can compute them on the fly (docs/platforms.md, "References"; the paper,
 // section "Tendon-driven path following" and Figure "Swirl (HASEL)").
 //
 //   Infinity  y = { A sin^2(wk) + c0,  B sin(wk) cos(wk) + c1,  C sin(wk) + c2 }

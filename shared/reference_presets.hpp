@@ -1,5 +1,5 @@
 #pragma once
-// References sized for each platform's task space (PRODUCT.md,
+// References sized for each platform's task space (docs/platforms.md,
 // "References"), so the console, the firmware's start-up reference and the
 // tests agree on what "Swirl on hasel" means. Centres and amplitudes come
 // from the simulated plants' documented reachable sets.

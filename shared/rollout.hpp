@@ -38,7 +38,8 @@ namespace nlsoft {
 template <class Cap>
 struct RolloutScratch {
   static constexpr int K = Dims<Cap>::K;
-  static constexpr int kQueue = Cap::nd * (Cap::m + Cap::n);  // u- and y-queue entries
+  // u- and y-queue entries; only the generic kernel keeps them (kernels.hpp)
+  static constexpr int kQueue = Cap::generic ? Cap::nd * (Cap::m + Cap::n) : 1;
   float v[2][Cap::width];
   float T[2][Cap::width][K];
   uint8_t live[Cap::width];    // units of the last cell whose tangent is not zero

@@ -42,10 +42,8 @@ struct Identity {
 
 // Caller-owned memory, sized by the port.
 struct Buffers {
-  uint8_t* model_staging;  // a whole model file in transit
+  uint8_t* model_staging;  // a whole model file in transit, then the uploaded model in force (4-byte aligned)
   size_t model_staging_cap;
-  float* model_params;     // the model in force
-  uint32_t model_params_cap;
   uint8_t* table_staging;  // a whole reference table in transit
   size_t table_staging_cap;
   float* table_points;     // the table in force
@@ -80,6 +78,8 @@ class Firmware {
     if (model_file) {
       s = load_model(model_file, model_len);
       if (s != Status::Ok) return s;
+      builtin_ = model_file;
+      builtin_len_ = model_len;
     }
     return Status::Ok;
   }
@@ -147,29 +147,51 @@ class Firmware {
 
  private:
   // ---------------------------------------------------------------- model
+  // The model in force is read where its file lies (parse_model in place):
+  // the built-in one in flash, an uploaded one in the transfer buffer. So a
+  // new model transfer, which overwrites that buffer, first puts the
+  // built-in model back in force (or none, in an image without one); and a
+  // model transfer is refused during a run.
   Status load_model(const uint8_t* file, size_t len) {
     Model<Cap> M;
-    const Status s = parse_model(file, len, M, buf_.model_params, buf_.model_params_cap);
+    const Status s = parse_model(file, len, M, nullptr, 0);
     if (s != Status::Ok) return s;
     return adopt(M);
   }
   Status adopt(const Model<Cap>& M) {
     if (M.m != preset_.m || M.n != preset_.n || M.w != preset_.w) return Status::Inconsistent;
+    const Model<Cap> previous = model_;
     model_ = M;
+    const Status s = ctl_.configure(&model_, params_);
+    if (s != Status::Ok) {
+      model_ = previous;  // the controller still runs the previous model
+      return s;
+    }
     has_model_ = true;
-    return ctl_.configure(&model_, params_);
+    return Status::Ok;
   }
-  // Validates a staged model file against this build without touching the
-  // model in force; parse_model writes the parameter block only when valid.
+  bool model_in_staging() const {
+    return has_model_ && model_.params != nullptr && reinterpret_cast<const uint8_t*>(model_.params) >= buf_.model_staging &&
+           reinterpret_cast<const uint8_t*>(model_.params) < buf_.model_staging + buf_.model_staging_cap;
+  }
+  // Before a model transfer writes over the buffer of the model in force.
+  void restore_builtin_model() {
+    if (!model_in_staging()) return;
+    has_model_ = false;
+    if (builtin_ && load_model(builtin_, builtin_len_) == Status::Ok) return;
+    model_ = Model<Cap>{};
+  }
   proto::StatusCode commit_model() {
     Model<Cap> probe;
     const uint8_t* f = model_rx_.data();
     const size_t len = model_rx_.size();
     if (len < kModelHeaderSize || f[6] != preset_.m || f[7] != preset_.n || f[8] != preset_.w)
       return proto::StatusCode::Inconsistent;
-    const Status s = parse_model(f, len, probe, buf_.model_params, buf_.model_params_cap);
+    const Status s = parse_model(f, len, probe, nullptr, 0);
     if (s != Status::Ok) return proto::StatusCode(uint8_t(s));
-    return adopt(probe) == Status::Ok ? proto::StatusCode::Ok : proto::StatusCode::Inconsistent;
+    const Status a = adopt(probe);
+    return a == Status::Ok ? proto::StatusCode::Ok
+                           : (a == Status::Unsupported ? proto::StatusCode::Unsupported : proto::StatusCode::Inconsistent);
   }
 
   // ------------------------------------------------------------- requests
@@ -246,6 +268,11 @@ class Firmware {
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        if (rx == &model_rx_) {
+          if (state_ != proto::RunState::Idle && model_in_staging())
+            return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+          restore_builtin_model();
+        }
         return xfer_reply(f.header.type, rx->begin(p));
       }
       case T::XferChunk: {
@@ -352,7 +379,7 @@ class Firmware {
     }
     rx->close();
     if (s != proto::StatusCode::Ok) {
-      log(proto::LogLevel::Warn, kind == uint8_t(proto::XferKind::Model) ? "model upload refused; the previous model stays" : "reference table refused; the previous table stays");
+      log(proto::LogLevel::Warn, kind == uint8_t(proto::XferKind::Model) ? "model upload refused; the built-in model stays in force" : "reference table refused; the previous table stays");
       return nack(type, s, proto::kNoField, proto::kNoField);
     }
     ack(type);
@@ -494,6 +521,8 @@ class Firmware {
   proto::TransferReceiver model_rx_, table_rx_;
   Model<Cap> model_{};
   bool has_model_ = false;
+  const uint8_t* builtin_ = nullptr;  // the image's own model file, or none
+  size_t builtin_len_ = 0;
   Controller<Cap> ctl_{};
 
   proto::Decoder decoder_{};

@@ -239,6 +239,53 @@ TEST_F(PosixFirmware, ModelUploadOnlyWhileStopped) {
   EXPECT_EQ(must(peer_->request(cm2), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
 }
 
+// The model in force is read where its file lies: an uploaded one in the
+// transfer buffer, so a new model transfer first puts the built-in back.
+TEST_F(PosixFirmware, ANewModelTransferPutsTheBuiltInModelBackUntilCommitted) {
+  const auto builtin = msd_arx_model_file();
+  auto other = builtin;
+  other[kModelHeaderSize + kModelLayerSize + 4 * 9] ^= 0x01;  // one weight's lowest bit
+  const uint32_t body = uint32_t(other.size() - 4);
+  const uint32_t crc = crc32(other.data(), body);
+  for (int i = 0; i < 4; ++i) other[body + i] = uint8_t(crc >> (8 * i));
+  auto model_hash = [&] { return as<proto::Info>(must(peer_->request(proto::InfoGet{}), "INFO_GET")).model_hash; };
+  const uint32_t builtin_hash = crc32(builtin.data(), builtin.size() - 4);
+  ASSERT_EQ(model_hash(), builtin_hash);
+
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::Model);
+  b.total_size = uint32_t(other.size());
+  b.crc32 = crc32(other.data(), other.size());
+  proto::XferChunk c;
+  c.kind = b.kind;
+  c.size = uint8_t(other.size());
+  std::memcpy(c.data, other.data(), other.size());
+  proto::XferCommit cm;
+  cm.kind = b.kind;
+  auto upload = [&] {
+    ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+    ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, other.size());
+    ASSERT_EQ(must(peer_->request(cm), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
+  };
+  upload();
+  EXPECT_EQ(model_hash(), crc);
+  // the uploaded model runs; a new model transfer is refused meanwhile
+  proto::RunStart start;
+  start.run_id = 4;
+  ASSERT_EQ(must(peer_->request(start), "RUN_START").header.type, uint8_t(proto::MsgType::Ack));
+  const auto busy = must(peer_->request(b), "XFER_BEGIN while running");
+  ASSERT_EQ(busy.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(busy).status, uint8_t(proto::StatusCode::WrongState));
+  EXPECT_EQ(model_hash(), crc);
+  ASSERT_EQ(must(peer_->request(proto::RunStop{}), "RUN_STOP").header.type, uint8_t(proto::MsgType::Ack));
+  // stopped: the transfer begins and the built-in model is in force until the commit
+  ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+  EXPECT_EQ(model_hash(), builtin_hash);
+  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, other.size());
+  ASSERT_EQ(must(peer_->request(cm), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
+  EXPECT_EQ(model_hash(), crc);
+}
+
 TEST_F(PosixFirmware, SilentLinkSendsActuatorsToTheSafeStateAndSaysSo) {
   proto::ParamSet wd;
   wd.id = uint16_t(fw::FwParamId::WatchdogMs);

@@ -149,8 +149,8 @@ TYPED_TEST(FastRollout, MatchesTheReferenceJets) {
     derivatives_jets(M, x0.data(), U.data(), N, Nc, ref, js);
     static float Y[Cap::N * Cap::n], G[Cap::N * Cap::n * kK];
     static RolloutScratch<Cap> rs;
-    float pre[Cap::width];
-    const ConstantInputs ci = constant_inputs(M, x0.data(), pre);
+    float pre[(Cap::nd + 1) * Cap::width];
+    const ConstantInputs ci = kern.constant(M, x0.data(), pre);  // what the solver uses
     // Poison G past the live columns: the kernels must write every entry.
     for (float& g : G) g = NAN;
     kern.jacobian(M, x0.data(), U.data(), N, Nc, ci, Y, G, rs);

@@ -1,4 +1,4 @@
-// References against their formulas in PRODUCT.md, evaluated independently in
+// References against their formulas in docs/platforms.md, evaluated independently in
 // double precision here.
 #include <gtest/gtest.h>
 

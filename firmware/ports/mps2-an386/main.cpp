@@ -41,13 +41,12 @@ PortHal g_hal;
 constexpr const char* kName = "nlsoft-an386";
 #endif
 
-uint8_t g_model_staging[kModelFileMax];
-float g_model_params[kModelParams];
+alignas(4) uint8_t g_model_staging[kModelFileMax];
 uint8_t g_table_staging[kTableFileMax];
 float g_table_points[kTableFloats];
 
 Fw g_fw(g_hal, fw::Identity{kPlatform, kName, 0, 1, 0, kRateHz, NLSOFT_HIL != 0},
-        fw::Buffers{g_model_staging, sizeof g_model_staging, g_model_params, kModelParams, g_table_staging,
+        fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging,
                     sizeof g_table_staging, g_table_points, kTableFloats});
 
 }  // namespace

@@ -33,8 +33,9 @@ constexpr PlatformId kPlatform = PlatformId::Msd;
 // Transmit ring: one full telemetry frame above the reserve for replies.
 constexpr size_t kTxCapacity = 512;
 
-// The model in force: normalisation (2p + 2n) plus the largest weight count
-// the capacity admits; an upload is staged whole before it replaces it.
+// A model file of the largest size the capacity admits: normalisation
+// (2p + 2n) plus its weights. An upload is staged whole before it replaces
+// the built-in model, and then runs where it lies (firmware.hpp).
 constexpr uint32_t kModelParams = uint32_t(Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n);
 constexpr size_t kModelFileMax = 24 + 8 * size_t(Cap::layers) + 4 * size_t(kModelParams) + 4;
 

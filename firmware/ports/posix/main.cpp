@@ -30,8 +30,7 @@ volatile sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
 // Port memory: generous on a host.
-uint8_t g_model_staging[64 * 1024];
-float g_model_params[Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n];
+alignas(4) uint8_t g_model_staging[64 * 1024];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
 
@@ -111,8 +110,7 @@ int main(int argc, char** argv) {
   static fw::posix::SimHal hal(pty.master, platform, seed);
   hal.set_period(float(1.0 / rate));
   const fw::Identity id{platform, "nlsoft-posix", 0, 1, 0, uint32_t(rate + 0.5), true};
-  const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_model_params,
-                         uint32_t(sizeof g_model_params / sizeof(float)), g_table_staging, sizeof g_table_staging,
+  const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                          g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
   static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
   const Status s = firmware->begin(model.empty() ? nullptr : model.data(), model.size());

@@ -25,18 +25,18 @@ using Fw = nlsoft::fw::Firmware<Cap, 1024>;
 const nlsoft::Preset& kPreset = nlsoft::preset(kPlatform);
 const uint32_t kRateHz = uint32_t(kPreset.rate_hz);
 
-// Model in force, an upload in transit, and an uploaded reference table.
+// An upload in transit (then the uploaded model in force), and an uploaded
+// reference table.
 constexpr uint32_t kModelParams = Cap::weights + 2 * nlsoft::Dims<Cap>::p + 2 * Cap::n;
-float g_model_params[kModelParams];
-uint8_t g_model_staging[24 + 8 * Cap::layers + 4 * kModelParams + 4];
+alignas(4) uint8_t g_model_staging[24 + 8 * Cap::layers + 4 * kModelParams + 4];
 constexpr uint32_t kTableFloats = 512 * Cap::n;
 float g_table_points[kTableFloats];
 uint8_t g_table_staging[8 + 4 * kTableFloats];
 
 TeensyHal g_hal;
 Fw g_fw(g_hal, nlsoft::fw::Identity{kPlatform, "nlsoft-teensy", 0, 1, 0, kRateHz, false},
-        nlsoft::fw::Buffers{g_model_staging, sizeof g_model_staging, g_model_params, kModelParams,
-                            g_table_staging, sizeof g_table_staging, g_table_points, kTableFloats});
+        nlsoft::fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
+                            g_table_points, kTableFloats});
 uint32_t g_next_us = 0;
 
 }  // namespace
