@@ -35,10 +35,10 @@ struct RolloutKernels {
 
 namespace detail {
 
-// A Dense layer past the first, In inputs to Out units.
-template <int K, bool kTangents, int In, int Out>
-inline void dense_fixed(Activation act, const float* W, const float* x, const float (*Tx)[K], uint8_t* live,
-                        float* y, float (*Ty)[K]) {
+// A Dense layer past the first, In inputs to Out units: y = act(x W + b)
+// and the slopes act'(.), which the Jacobian's reverse sweep needs.
+template <int In, int Out>
+inline void dense_values(Activation act, const float* W, const float* x, float* y, float* df) {
   const float* bias = W + In * Out;
   float z[Out];
 #pragma GCC unroll 16
@@ -49,25 +49,9 @@ inline void dense_fixed(Activation act, const float* W, const float* x, const fl
 #pragma GCC unroll 16
     for (int j = 0; j < Out; ++j) z[j] += xi * w[j];
   }
-  float df[Out];
   activate_slopes(act, z, df, Out);
 #pragma GCC unroll 16
   for (int j = 0; j < Out; ++j) y[j] = z[j];
-  if constexpr (kTangents) {
-    uint8_t on[In];  // the inputs whose tangent is not zero
-    int count = 0;
-    for (int i = 0; i < In; ++i)
-      if (live[i]) on[count++] = uint8_t(i);
-    for (int j = 0; j < Out; ++j) {
-      float acc[K];
-      tangent_zero<K>(acc);
-      if (df[j] != 0.0f)
-        for (int c = 0; c < count; ++c) tangent_axpy<K>(acc, W[on[c] * Out + j], Tx[on[c]]);
-      tangent_scale<K>(Ty[j], acc, df[j]);
-    }
-#pragma GCC unroll 16
-    for (int j = 0; j < Out; ++j) live[j] = df[j] != 0.0f;
-  }
 }
 
 }  // namespace detail
@@ -95,16 +79,16 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     return true;
   }
 
+  // The layers past the first: values, and each layer's slopes in slope[l].
   template <int In, class L, class... More>
-  static int layers(const Model<Cap>& Mo, int l, RolloutScratch<Cap>& s, int cur) {
+  static int layers(const Model<Cap>& Mo, int l, RolloutScratch<Cap>& s, int cur, float (*slope)[Cap::width]) {
     static_assert(!L::gru, "a GRU runs only as the first layer of a shaped kernel");
     static_assert(L::units <= Cap::width, "layer exceeds capacity");
     const Layer& Lr = Mo.layer[l];
-    detail::dense_fixed<K, kTangents, In, L::units>(Lr.act, Mo.weights(Lr), s.v[cur], s.T[cur], s.live,
-                                                     s.v[1 - cur], s.T[1 - cur]);
+    detail::dense_values<In, L::units>(Lr.act, Mo.weights(Lr), s.v[cur], s.v[1 - cur], slope[l]);
     cur = 1 - cur;
     if constexpr (sizeof...(More) > 0)
-      return layers<L::units, More...>(Mo, l + 1, s, cur);
+      return layers<L::units, More...>(Mo, l + 1, s, cur, slope);
     else
       return cur;
   }
@@ -144,7 +128,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   }
 
   // z += x W1[e]
-  static inline void add_entry(float* z, const float* W0, float x, int e) {
+  __attribute__((always_inline)) static inline void add_entry(float* z, const float* W0, float x, int e) {
     const float* w = W0 + e * kC0;
 #pragma GCC unroll 32
     for (int q = 0; q < kC0; ++q) z[q] += x * w[q];
@@ -210,35 +194,78 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
         }
       }
 
-      // ---- the first layer's cell, then the rest ----
+      // ---- the first layer's cell, then the rest (values and slopes) ----
+      float slope[S::layers][Cap::width];
       int cur = 0;
       const Layer& L0 = Mo.layer[0];
-      if constexpr (First::gru) {
+      if constexpr (First::gru) {  // its tangent, dh, forward: 5 units x 3 gates
         const float* bias_rec = L0.reset_after ? W0 + (S::p + First::units) * kC0 + kC0 : nullptr;
         detail::gru_cell<K, kTangents>(L0, bias_rec, s.v[0], s.T[0], s.v[1], s.T[1], s.live);
         cur = 1;
       } else {
-        float df[kC0];
-        activate_slopes(L0.act, z, df, kC0);
-        if constexpr (kTangents)
-          for (int q = 0; q < kC0; ++q) {
-            detail::tangent_scale<K>(s.T[0][q], s.T[0][q], df[q]);
-            s.live[q] = df[q] != 0.0f;
-          }
+        activate_slopes(L0.act, z, slope[0], kC0);
       }
-      if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur);
+      const int t1 = cur;  // the first layer's units and their tangents: v[t1], T[t1]
+      if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
 
       // ---- output: y = y_net out_scale + out_offset (+ y(k+j) if residual) ----
       for (int i = 0; i < N; ++i) {
         const int r = j * N + i;
         const float prev = j > 0 ? Y[r - N] : x0[kU + i];
         Y[r] = s.v[cur][i] * os[i] + oo[i] + (Mo.residual ? prev : 0.0f);
-        if constexpr (kTangents) {
-          float* g = G + r * K;
-          detail::tangent_scale<K>(g, s.T[cur][i], os[i]);
-          if (Mo.residual && j > 0) detail::tangent_axpy<K>(g, 1.0f, g - N * K);
+      }
+      if constexpr (kTangents) jacobian_rows(Mo, slope, s.T[t1], G + j * N * K, j > 0);
+    }
+  }
+
+  // R2 = R W_l' diag(slope_{l-1}) for layers l = L-1 .. 1, sizes constant.
+  template <int l>
+  static const float* sweep(const Model<Cap>& Mo, const float (*slope)[Cap::width], float* R, float* R2) {
+    if constexpr (l < 1) {
+      return R;
+    } else {
+      constexpr int units[S::layers] = {First::units, Rest::units...};
+      constexpr int in = units[l - 1], out = units[l];
+      constexpr bool scale = !(l == 1 && First::gru);  // past a GRU, T1 is already dh
+      const float* Wl = Mo.weights(Mo.layer[l]);
+      for (int r = 0; r < N; ++r) {
+        const float* rr = R + r * Cap::width;
+        for (int i = 0; i < in; ++i) {
+          float acc = 0.0f;
+          const float* w = Wl + i * out;
+#pragma GCC unroll 16
+          for (int c = 0; c < out; ++c) acc += rr[c] * w[c];
+          R2[r * Cap::width + i] = scale ? acc * slope[l - 1][i] : acc;
         }
       }
+      return sweep<l - 1>(Mo, slope, R2, R);
+    }
+  }
+
+  // Mixed mode: the chain rule through the layers past the first is swept
+  // backwards, from the n outputs (R = dy/dh, n x units, starting at
+  // diag(out_scale * slope)), because n = 3 rows are fewer than the K = 6
+  // tangent columns a forward sweep carries through every layer; then
+  // dY = R T1 with T1 the first layer's tangents, and the residual's y(k+j).
+  static void jacobian_rows(const Model<Cap>& Mo, const float (*slope)[Cap::width], const float (*T1)[K], float* G,
+                            bool chain) {
+    constexpr int kL = S::layers;
+    constexpr int units[kL] = {First::units, Rest::units...};
+    float Ra[N * Cap::width], Rb[N * Cap::width];
+    const float* os = Mo.out_scale();
+    for (int r = 0; r < N; ++r)
+      for (int c = 0; c < N; ++c) Ra[r * Cap::width + c] = r == c ? os[r] * slope[kL - 1][r] : 0.0f;
+    if constexpr (First::gru) static_assert(kL > 1, "a GRU's outputs are not the model's");
+    const float* R = sweep<kL - 1>(Mo, slope, Ra, Rb);
+    for (int r = 0; r < N; ++r) {
+      float acc[K];
+      detail::tangent_zero<K>(acc);
+      const float* rr = R + r * Cap::width;
+      for (int q = 0; q < units[0]; ++q)
+        if (rr[q] != 0.0f) detail::tangent_axpy<K>(acc, rr[q], T1[q]);
+      float* g = G + r * K;
+      detail::tangent_scale<K>(g, acc, 1.0f);
+      if (Mo.residual && chain) detail::tangent_axpy<K>(g, 1.0f, g - N * K);
     }
   }
 };

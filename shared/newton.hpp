@@ -122,15 +122,24 @@ void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Param
 template <class Cap>
 bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, SolverScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
+#pragma GCC unroll 8
   for (int a = 0; a < k; ++a)
+#pragma GCC unroll 8
     for (int b = 0; b <= a; ++b) {
       float h = S.H[a * K + b] + (a == b ? damping : 0.0f);
       if (active[a] || active[b]) h = a == b ? 1.0f : 0.0f;
       s.A[a * K + b] = h;
     }
-  if (!ldlt_decompose(s.A, k, K)) return false;
+  if constexpr (K <= 8) {  // k == K here (newton_solve pads small systems)
+    if (!ldlt_decompose_fixed<K>(s.A)) return false;
+  } else {
+    if (!ldlt_decompose(s.A, k, K)) return false;
+  }
   for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -S.g[a];
-  ldlt_solve(s.A, k, K, s.dU);
+  if constexpr (K <= 8)
+    ldlt_solve_fixed<K>(s.A, s.dU);
+  else
+    ldlt_solve(s.A, k, K, s.dU);
   for (int a = 0; a < k; ++a)
     if (!finite(s.dU[a])) return false;
   return true;
@@ -249,9 +258,11 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
       s.dU[a] = U[a] - s.U_base[a];
       step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
     }
+#pragma GCC unroll 8
     for (int a = 0; a < kk; ++a) {
       lin += cur->g[a] * s.dU[a];
       float hd = 0.0f;
+#pragma GCC unroll 8
       for (int b = 0; b < kk; ++b) hd += cur->H[a * K + b] * s.dU[b];
       quad += s.dU[a] * hd;
     }

@@ -28,6 +28,8 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "shared/sincos.hpp"
+
 namespace nlsoft {
 
 enum class RefKind : uint8_t { Infinity, Pringle, Diagonal, Swirl, Step, Table, Hold };
@@ -87,8 +89,9 @@ inline void swirl_point(uint32_t index, float p[3]) {
   const uint32_t i = index < kReverseStart ? index - kSpiralStart
                                            : kPoints - 1 - index;  // reverse run
   const float theta = kThetaMax * static_cast<float>(i) / static_cast<float>(kSpiralPoints - 1);
-  p[0] = kRadiusRate * theta * std::cos(theta);
-  p[1] = kRadiusRate * theta * std::sin(theta);
+  const SinCos sc = sincos_fast(theta);
+  p[0] = kRadiusRate * theta * sc.c;
+  p[1] = kRadiusRate * theta * sc.s;
   p[2] = kRiseTop + kZRate * theta;
 }
 
@@ -140,9 +143,9 @@ inline void reference_at(const RefParams& p, const ReferenceTable* table, uint32
   const uint32_t hold = detail::hold_of(p);
   switch (p.kind) {
     case RefKind::Infinity: {
-      const float a = p.omega * static_cast<float>(k);
-      const float s = std::sin(a);
-      const float co = std::cos(a);
+      const SinCos sc = sincos_fast(p.omega * static_cast<float>(k));
+      const float s = sc.s;
+      const float co = sc.c;
       out[0] += p.A * s * s;
       out[1] += p.B * s * co;
       out[2] += p.C * s;
@@ -152,13 +155,13 @@ inline void reference_at(const RefParams& p, const ReferenceTable* table, uint32
     case RefKind::Diagonal: {
       float d1, d2;
       if (p.kind == RefKind::Pringle) {
-        const float phi = detail::periodic_phase(k, p.lambda);
-        d1 = p.B * std::cos(phi);
-        d2 = p.C * std::sin(phi);
+        const SinCos sc = sincos_fast(detail::periodic_phase(k, p.lambda));
+        d1 = p.B * sc.c;
+        d2 = p.C * sc.s;
       } else {
         const float kk = static_cast<float>(k) * 1e-3f;  // 1e-6 k^2 = (k / 1000)^2
         const float phi = detail::periodic_phase(k, p.lambda) + kk * kk;
-        const float s = std::sin(phi);
+        const float s = sincos_fast(phi).s;
         d1 = p.B * s;
         d2 = p.C * s;
       }

@@ -1,6 +1,8 @@
 // Runs K control steps of a platform's shipped model on its paper task with
-// the simulated plant, for instruction counting under valgrind (see
-// instructions-per-step). Usage: nlsoft-step-driver PLATFORM exact|fd K [MODEL]
+// the simulated plant, with the firmware's capacity (the MCU code path), for
+// instruction counting under valgrind (see instructions-per-step). Prints the
+// mean Newton iterations and the tracking nRMSE of the true plant output
+// (app/metrics.hpp) over the K steps. Usage: nlsoft-step-driver PLATFORM exact|fd K [MODEL]
 // MODEL: a model file of the platform's dimensions (default: the shipped one),
 // e.g. one imported from Keras with `nlsoft-console model import`.
 #include <cstdio>
@@ -17,6 +19,7 @@
 #include "shared/plant_tendon.hpp"
 #include "shared/reference.hpp"
 #include "shared/sim_plant.hpp"
+#include "app/metrics.hpp"
 
 namespace {
 
@@ -68,6 +71,7 @@ int run(PlatformId id, DerivMode mode, int steps, const char* model) {
     r.hold = 60000;
   }
   long iterations = 0;
+  std::vector<float> y_ref, y_true;
   for (int k = 0; k < steps; ++k) {
     float ref[Cap::N * Cap::n];
     for (int j = 0; j < P.N; ++j) reference_at(r, nullptr, uint32_t(k + 1 + j), ref + j * M.n, M.n);
@@ -76,8 +80,11 @@ int run(PlatformId id, DerivMode mode, int steps, const char* model) {
     plant.step(s.u, plant.dt());
     plant.sensors(l);
     plant.output(y);
+    y_ref.insert(y_ref.end(), ref, ref + M.n);
+    y_true.insert(y_true.end(), y, y + M.n);
   }
-  std::printf("%.3f\n", steps ? double(iterations) / steps : 0.0);
+  const double nrmse = steps ? console::tracking_metrics(y_ref, y_true, M.n, P.Q).nrmse : 0.0;
+  std::printf("%.3f %.5f\n", steps ? double(iterations) / steps : 0.0, nrmse);
   return 0;
 }
 

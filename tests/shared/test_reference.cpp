@@ -245,3 +245,26 @@ TEST(Reference, CheckRejectsWhatCannotRun) {
 
 }  // namespace
 }  // namespace nlsoft
+
+// The references' sin and cos (shared/sincos.hpp) against double precision,
+// with the bound the header states.
+TEST(SinCos, AbsoluteErrorBelowStatedBound) {
+  double worst = 0, worst_far = 0;
+  for (double x = -1e5; x <= 1e5; x += 0.37) {
+    const float xf = float(x);
+    const nlsoft::SinCos sc = nlsoft::sincos_fast(xf);
+    const double e = std::max(std::fabs(double(sc.s) - std::sin(double(xf))), std::fabs(double(sc.c) - std::cos(double(xf))));
+    if (std::fabs(x) <= 6000)
+      worst = std::max(worst, e);
+    else
+      worst_far = std::max(worst_far, e / std::fabs(x));
+  }
+  EXPECT_LT(worst, 2e-7);
+  EXPECT_LT(worst_far, 3e-8);
+  for (float x : {0.0f, 1e-30f, 1.5707964f, 3.1415927f, -4.712389f, 1e6f, -3e7f}) {
+    const nlsoft::SinCos sc = nlsoft::sincos_fast(x);
+    EXPECT_NEAR(sc.s * sc.s + sc.c * sc.c, 1.0f, 1e-6f) << x;
+  }
+  EXPECT_TRUE(std::isnan(nlsoft::sincos_fast(NAN).s));
+  EXPECT_TRUE(std::isnan(nlsoft::sincos_fast(INFINITY).c));
+}
