@@ -253,10 +253,24 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     constexpr int units[kL] = {First::units, Rest::units...};
     float Ra[N * Cap::width], Rb[N * Cap::width];
     const float* os = Mo.out_scale();
-    for (int r = 0; r < N; ++r)
-      for (int c = 0; c < N; ++c) Ra[r * Cap::width + c] = r == c ? os[r] * slope[kL - 1][r] : 0.0f;
+    const float* R = Ra;
     if constexpr (First::gru) static_assert(kL > 1, "a GRU's outputs are not the model's");
-    const float* R = sweep<kL - 1>(Mo, slope, Ra, Rb);
+    if constexpr (kL == 1) {
+      for (int r = 0; r < N; ++r)
+        for (int c = 0; c < N; ++c) Ra[r * Cap::width + c] = r == c ? os[r] * slope[0][r] : 0.0f;
+    } else {
+      // the last layer's R = diag(out_scale * slope) is diagonal: its sweep is a scaling
+      constexpr int in = units[kL - 2];
+      constexpr bool scale = !(kL == 2 && First::gru);
+      const float* Wl = Mo.weights(Mo.layer[kL - 1]);
+      for (int r = 0; r < N; ++r) {
+        const float d = os[r] * slope[kL - 1][r];
+#pragma GCC unroll 16
+        for (int i = 0; i < in; ++i)
+          Ra[r * Cap::width + i] = d * Wl[i * N + r] * (scale ? slope[kL - 2][i] : 1.0f);
+      }
+      R = sweep<kL - 2>(Mo, slope, Ra, Rb);
+    }
     for (int r = 0; r < N; ++r) {
       float acc[K];
       detail::tangent_zero<K>(acc);
