@@ -77,18 +77,19 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
     for (int b = 0; b <= a; ++b) S.H[a * K + b] = 0.0f;
   }
 
-  // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
-  if constexpr (K <= 8) {
-    // The lower triangle in locals over every row: K is a compile-time
-    // count, so this unrolls and the accumulators stay in registers.
-    float h[K * (K + 1) / 2] = {};
-    for (int t = P.N1 - 1; t < P.N; ++t)
-      for (int i = 0; i < n; ++i) {
-        const int row = t * n + i;
-        const float q = P.Q[i];
-        const float e = y_ref[row] - S.Y[row];
-        S.J += q * e * e;
-        const float* __restrict Gr = G + row * K;
+  // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G. Small systems
+  // (the MCU capacities) keep the lower triangle in locals over every row:
+  // K is a compile-time count, so it unrolls and stays in registers.
+  constexpr bool kLocal = K <= 8;
+  float h[kLocal ? K * (K + 1) / 2 : 1] = {};
+  for (int t = P.N1 - 1; t < P.N; ++t)
+    for (int i = 0; i < n; ++i) {
+      const int row = t * n + i;
+      const float q = P.Q[i];
+      const float e = y_ref[row] - S.Y[row];
+      S.J += q * e * e;
+      const float* __restrict Gr = G + row * K;
+      if constexpr (kLocal) {
         int idx = 0;
 #pragma GCC unroll 8
         for (int a = 0; a < K; ++a) {
@@ -97,18 +98,7 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
 #pragma GCC unroll 8
           for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
         }
-      }
-    int idx = 0;  // all K rows: past k they are zero (G's columns there are), see newton.hpp
-    for (int a = 0; a < K; ++a)
-      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
-  } else {
-    for (int t = P.N1 - 1; t < P.N; ++t)
-      for (int i = 0; i < n; ++i) {
-        const int row = t * n + i;
-        const float q = P.Q[i];
-        const float e = y_ref[row] - S.Y[row];
-        S.J += q * e * e;
-        const float* __restrict Gr = G + row * K;
+      } else {
         for (int a = 0; a < k; ++a) {
           const float qga = 2.0f * q * Gr[a];
           S.g[a] -= qga * e;
@@ -116,6 +106,11 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
           for (int b = 0; b <= a; ++b) Ha[b] += qga * Gr[b];
         }
       }
+    }
+  if constexpr (kLocal) {
+    int idx = 0;  // all K rows: past k they are zero (G's columns there are), see newton.hpp
+    for (int a = 0; a < K; ++a)
+      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
   }
 
   // smoothness: du_j = U_j - U_{j-1}; dJ/dU_j = 2 Lambda (du_j - du_{j+1})

@@ -14,7 +14,7 @@
 namespace nlsoft {
 
 template <class Cap>
-using JetOf = Jet<Dims<Cap>::K, false>;
+using JetOf = Jet<Dims<Cap>::K>;
 
 template <class Cap>
 struct HorizonDerivatives {
