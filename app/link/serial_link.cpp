@@ -6,6 +6,7 @@
 
 #include "app/link/custom_baud.hpp"
 #include "app/link/link_error.hpp"
+#include "app/link/port_check.hpp"
 
 namespace nlsoft::console {
 
@@ -15,28 +16,31 @@ SerialLink::SerialLink() : port_(io_), reopen_timer_(io_) {}
 
 SerialLink::~SerialLink() { close(); }
 
-void SerialLink::open_port(boost::system::error_code& ec) {
+std::string SerialLink::open_port() {
+  boost::system::error_code ec;
   port_.open(path_, ec);
-  if (ec) return;
-  using sp = asio::serial_port_base;
-  port_.set_option(sp::character_size(8), ec);
-  if (!ec) port_.set_option(sp::parity(sp::parity::none), ec);
-  if (!ec) port_.set_option(sp::stop_bits(sp::stop_bits::one), ec);
-  if (!ec) port_.set_option(sp::flow_control(sp::flow_control::none), ec);
-  if (ec) {
-    // A pty refuses some line settings; it carries bytes all the same.
-    ec.clear();
+  if (ec == boost::system::errc::inappropriate_io_control_operation) return check_terminal(-1, path_);
+  if (ec) return fmt::format("cannot open {}: {}", path_, ec.message());
+  const int fd = port_.native_handle();
+  std::string why = check_terminal(fd, path_);
+  if (why.empty()) why = take_exclusive(fd, path_);
+  if (why.empty()) {
+    using sp = asio::serial_port_base;
+    port_.set_option(sp::character_size(8), ec);
+    if (!ec) port_.set_option(sp::parity(sp::parity::none), ec);
+    if (!ec) port_.set_option(sp::stop_bits(sp::stop_bits::one), ec);
+    if (!ec) port_.set_option(sp::flow_control(sp::flow_control::none), ec);
+    if (ec && !is_pseudo_terminal(fd)) why = fmt::format("cannot set 8N1 without flow control on {}: {}", path_, ec.message());
   }
-  port_.set_option(sp::baud_rate(baud_), ec);
-  if (ec) {
-    const std::string why = set_custom_baud(port_.native_handle(), baud_);
-    ec.clear();
-    if (!why.empty()) {
-      boost::system::error_code ignore;
-      port_.close(ignore);
-      ec = asio::error::invalid_argument;
-    }
+  if (why.empty()) {
+    port_.set_option(asio::serial_port_base::baud_rate(baud_), ec);
+    if (ec && !set_custom_baud(fd, baud_).empty()) why = fmt::format("cannot set {} baud on {}", baud_, path_);
   }
+  if (!why.empty()) {
+    boost::system::error_code ignore;
+    port_.close(ignore);
+  }
+  return why;
 }
 
 void SerialLink::open(const std::string& path, unsigned baud, Handlers handlers) {
@@ -46,13 +50,9 @@ void SerialLink::open(const std::string& path, unsigned baud, Handlers handlers)
   baud_ = baud;
   handlers_ = std::move(handlers);
   io_.restart();
-  boost::system::error_code ec;
-  open_port(ec);
-  if (ec) {
-    if (ec == asio::error::invalid_argument)
-      throw LinkError(fmt::format("cannot set {} baud on {}", baud, path));
-    throw LinkError(fmt::format("cannot open {}: {}", path, ec.message()));
-  }
+  ++generation_;  // writes posted while closed (still queued in io_) never reach this port
+  const std::string why = open_port();
+  if (!why.empty()) throw LinkError(why);
   up_ = true;
   // A leading delimiter ends whatever partial frame the firmware holds.
   write_queue_.push_back({0x00});
@@ -79,8 +79,8 @@ void SerialLink::close() {
 }
 
 void SerialLink::write(std::vector<uint8_t> bytes) {
-  asio::post(io_, [this, b = std::move(bytes)]() mutable {
-    if (!up_) return;
+  asio::post(io_, [this, g = generation_.load(), b = std::move(bytes)]() mutable {
+    if (!up_ || g != generation_.load()) return;
     const bool idle = write_queue_.empty();
     write_queue_.push_back(std::move(b));
     if (idle) start_write();
@@ -126,9 +126,7 @@ void SerialLink::schedule_reopen() {
   reopen_timer_.expires_after(reconnect_interval_);
   reopen_timer_.async_wait([this](const boost::system::error_code& ec) {
     if (ec || closing_) return;
-    boost::system::error_code oec;
-    open_port(oec);
-    if (oec) return schedule_reopen();
+    if (!open_port().empty()) return schedule_reopen();
     up_ = true;
     write_queue_.push_back({0x00});
     start_write();

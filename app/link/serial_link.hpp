@@ -33,8 +33,10 @@ class SerialLink {
   SerialLink(const SerialLink&) = delete;
   SerialLink& operator=(const SerialLink&) = delete;
 
-  // Opens the port in raw 8N1 mode at `baud` and starts reading. Throws
-  // LinkError with the system's reason when the port cannot be opened.
+  // Opens the port in raw 8N1 mode at `baud`, exclusively, and starts
+  // reading. Throws LinkError when the port cannot be opened, is not a
+  // terminal, is held by another program (named where it can be), or
+  // refuses the line settings.
   void open(const std::string& path, unsigned baud, Handlers handlers);
   // Stops reading, reconnecting and the I/O thread. Idempotent.
   void close();
@@ -48,7 +50,7 @@ class SerialLink {
   void set_reconnect_interval(std::chrono::milliseconds ms) { reconnect_interval_ = ms; }
 
  private:
-  void open_port(boost::system::error_code& ec);
+  std::string open_port();  // "" or why the port cannot serve
   void start_read();
   void start_write();
   void port_failed(const std::string& why);
@@ -66,6 +68,7 @@ class SerialLink {
   std::chrono::milliseconds reconnect_interval_{300};
   uint8_t read_buf_[4096] = {};
   std::deque<std::vector<uint8_t>> write_queue_;  // I/O thread only
+  std::atomic<unsigned> generation_{0};            // one per open(): stale writes are dropped
 };
 
 }  // namespace nlsoft::console

@@ -227,7 +227,15 @@ void Session::on_bytes(const uint8_t* data, size_t len) {
         ++stats_.crc_errors;
       else
         ++stats_.decode_errors;
-      if (r.error == p::FrameError::WrongVersion) foreign_version_ = r.frame.header.version;
+      // The version byte is read before the CRC can be, so line noise
+      // "speaks" a random version now and then: only the same one three
+      // times running is taken for a firmware of another protocol.
+      if (r.error == p::FrameError::WrongVersion) {
+        const uint8_t v = r.frame.header.version;
+        foreign_streak_ = v == foreign_candidate_ ? foreign_streak_ + 1 : 1;
+        foreign_candidate_ = v;
+        if (foreign_streak_ >= 3) foreign_version_ = v;
+      }
     }
   }
 }
@@ -404,6 +412,12 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     pending_type_ = type;
     pending_identifying_ = identifying;
   }
+  LinkStats before;
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    before = stats_;
+  }
+  int sent = 0;
   for (int attempt = 0; attempt < options_.tries; ++attempt) {
     if (attempt > 0) {
       std::lock_guard<std::mutex> lock(stats_mu_);
@@ -412,7 +426,10 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     last_tx_ns_ = now_ns();
     // A peer not known to be our device gets nothing but the identifying
     // INFO_GET; the request waits as on a down link, for it to be checked.
-    if (identifying || peer_ == Peer::Known) link_.write(std::vector<uint8_t>(wire, wire + n));
+    if (link_.is_up() && (identifying || peer_ == Peer::Known)) {
+      link_.write(std::vector<uint8_t>(wire, wire + n));
+      ++sent;
+    }
     std::unique_lock<std::mutex> lock(pending_mu_);
     // The reply may belong to any earlier try (same seq): whichever arrives
     // first under this mutex wins, and a later copy counts as stale.
@@ -429,8 +446,23 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     std::lock_guard<std::mutex> lock(stats_mu_);
     ++stats_.timeouts;
   }
-  std::string why = fmt::format("no reply to {} after {} tries ({} ms)", message_name(type), options_.tries,
-                                per_try.count() * options_.tries);
+  LinkStats after;
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    after = stats_;
+  }
+  std::string why = sent == 0 ? fmt::format("{} not sent in {} ms", message_name(type), per_try.count() * options_.tries)
+                              : fmt::format("no reply to {} after {} {} ({} ms)", message_name(type), sent,
+                                            sent == 1 ? "try" : "tries", per_try.count() * options_.tries);
+  const uint64_t bytes = after.bytes - before.bytes, frames = after.frames - before.frames;
+  if (link_.is_up() && peer_ == Peer::Known && foreign_version_.load() == 0) {
+    if (bytes == 0)
+      why += fmt::format("; nothing arrived from {}: is the firmware running? (a slow device needs a longer --timeout)",
+                         link_.path());
+    else if (frames == 0)
+      why += fmt::format("; {} bytes arrived from {}, none of them a valid frame (another baud rate, or not an nlsoft "
+                         "firmware?)", bytes, link_.path());
+  }
   if (!link_.is_up()) {
     why += fmt::format("; {} is down, reconnecting", link_.path());
   } else if (peer_ == Peer::Unchecked) {

@@ -160,6 +160,8 @@ class Session {
   std::atomic<int64_t> last_tx_ns_{0};
   uint32_t ping_nonce_ = 0;
   std::atomic<uint8_t> foreign_version_{0};
+  uint8_t foreign_candidate_ = 0;  // I/O thread only: the last foreign version seen
+  int foreign_streak_ = 0;         // and how many times running
 
   // Who answers at the port. Known: the device identified by its last INFO
   // (or nothing to compare with yet). Unchecked: the port was lost; whatever

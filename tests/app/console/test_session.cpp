@@ -4,6 +4,8 @@
 // is reopened and whatever answers there must be the device it was before.
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -92,10 +94,37 @@ TEST(Session, TimeoutSaysWhatFailedAfterHowManyTries) {
     s.call<p::ParamValue>(req);
     FAIL() << "expected a LinkError";
   } catch (const LinkError& e) {
-    EXPECT_STREQ(e.what(), "no reply to PARAM_SET after 3 tries (180 ms)");
+    EXPECT_EQ(std::string(e.what()), "no reply to PARAM_SET after 3 tries (180 ms); nothing arrived from " +
+                                         peer.path() + ": is the firmware running? (a slow device needs a longer --timeout)");
   }
   EXPECT_EQ(peer.requests_seen(), 3);
   EXPECT_EQ(s.stats().timeouts, 1u);
+}
+
+// Line noise (another baud rate, another device) answers with bytes that are
+// no frame; the error says so, and does not take the noise for a firmware of
+// another protocol version (its version byte is read before the CRC).
+TEST(Session, NoiseIsReportedAsNoFrameNotAsAnotherProtocol) {
+  std::mt19937 rng(7);
+  FakePeer peer([&rng](FakePeer& pe, const p::FrameView&) {
+    uint8_t noise[600];
+    for (uint8_t& b : noise) b = uint8_t(rng());
+    pe.write(noise, sizeof noise);
+  });
+  Session s(fast_options());
+  s.open(peer.path(), 115200);
+  p::ParamSet req;
+  req.id = 0;
+  req.count = 1;
+  try {
+    s.call<p::ParamValue>(req);
+    FAIL() << "expected a LinkError";
+  } catch (const LinkError& e) {
+    const std::string why = e.what();
+    EXPECT_NE(why.find("no reply to PARAM_SET after 3 tries"), std::string::npos) << why;
+    EXPECT_NE(why.find("bytes arrived from " + peer.path() + ", none of them a valid frame"), std::string::npos) << why;
+    EXPECT_EQ(why.find("protocol v"), std::string::npos) << why;
+  }
 }
 
 TEST(Session, NackBecomesTypedErrorInWords) {
