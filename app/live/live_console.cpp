@@ -414,8 +414,26 @@ int64_t LiveConsole::start_run(const std::string& label) {
 }
 
 RunSummary LiveConsole::stop_run(const std::string& reason) {
+  std::lock_guard<std::mutex> stopping(stop_mu_);
   const int64_t id = run_id_.load();
   if (id == 0) throw CliError("no run is active");
+  return stop_run_locked(id, reason);
+}
+
+RunSummary LiveConsole::finish_run(int64_t id, const std::string& label, const std::string& reason) {
+  std::lock_guard<std::mutex> stopping(stop_mu_);
+  if (run_id_.load() == id) return stop_run_locked(id, reason);
+  // Someone else stopped it; their stop_run finished under stop_mu_.
+  std::lock_guard<std::mutex> lock(mu_);
+  if (last_run_ && last_run_->run_id == id) return *last_run_;
+  RunSummary s;
+  s.run_id = id;
+  s.label = label;
+  s.end_reason = "stopped";
+  return s;
+}
+
+RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   std::string why = reason;
   try {
     device_->run_stop();
@@ -442,25 +460,37 @@ void LiveConsole::hold(p::HoldMode mode) {
                             mode == p::HoldMode::Hold ? "hold" : mode == p::HoldMode::Neutral ? "neutral" : "resume");
 }
 
-RunSummary LiveConsole::run_for(double seconds, const std::string& label, const Progress& progress) {
+RunSummary LiveConsole::run_for(double seconds, const std::string& label, const Progress& progress,
+                                const std::atomic<bool>* cancel) {
   if (!(seconds > 0)) throw CliError("run duration must be > 0");
-  start_run(label);
+  const int64_t id = start_run(label);
   const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
   const uint64_t target = std::max<uint64_t>(1, uint64_t(std::llround(seconds * rate)));
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
   bool reached = false;
-  bool interrupted = false, stopped = false;
+  bool interrupted = false, stopped = false, cancelled = false, stopped_elsewhere = false;
   stop_timed_ = false;
   timed_run_ = true;
   while (std::chrono::steady_clock::now() < deadline) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    if (cancel && cancel->load()) {
+      cancelled = true;
+      break;
+    }
     if (stop_timed_.exchange(false)) {
       stopped = true;
       break;
     }
     if (LiveConsole::interrupted()) {
       interrupted = true;
+      break;
+    }
+    // No more telemetry will come for a run someone else stopped; polling
+    // on until the deadline would only keep the caller (and a quitting TUI
+    // joining its worker) waiting.
+    if (run_id_.load() != id) {
+      stopped_elsewhere = true;
       break;
     }
     if (!have_last_step_) continue;
@@ -472,11 +502,13 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
     }
   }
   timed_run_ = false;
-  RunSummary s = stop_run(reached       ? "completed"
-                          : stopped     ? "stopped by the user"
-                          : interrupted ? "interrupted"
-                                        : "timed out waiting for telemetry");
-  if (stopped) return s;
+  RunSummary s = finish_run(id, label,
+                            reached       ? "completed"
+                            : stopped     ? "stopped by the user"
+                            : cancelled   ? "cancelled"
+                            : interrupted ? "interrupted"
+                                          : "timed out waiting for telemetry");
+  if (stopped_elsewhere || stopped || cancelled) return s;
   if (interrupted) throw CliError(fmt::format("interrupted: run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
   if (!reached) say(fmt::format("run {} ended early: telemetry stopped arriving", s.run_id));
   return s;

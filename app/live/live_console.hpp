@@ -96,8 +96,12 @@ class LiveConsole {
   uint64_t run_lost() const { return run_lost_.load(); }
   // Blocks until `seconds` of control steps have been recorded (by the
   // firmware's step count, so a faster-than-real-time simulator finishes
-  // early) or a generous wall-clock limit passes, then stops the run.
-  RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {});
+  // early) or a generous wall-clock limit passes, then stops the run. Ends
+  // early, stopping the run, when *cancel becomes true or stop_timed_run()
+  // is called; returns at once, with that stop's summary, when another
+  // thread stops the run (stop_run, or the console shutting down).
+  RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {},
+                     const std::atomic<bool>* cancel = nullptr);
 
   std::optional<RunSummary> last_run() const;
 
@@ -116,6 +120,11 @@ class LiveConsole {
   RunMetrics metrics_of(int64_t run_id);
 
  private:
+  // stop_run's body; the caller holds stop_mu_ and id is the active run.
+  RunSummary stop_run_locked(int64_t id, const std::string& reason);
+  // Stops run `id` if it is still the active one, else returns the summary
+  // of whoever stopped it.
+  RunSummary finish_run(int64_t id, const std::string& label, const std::string& reason);
   void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
   void on_event(const LinkEvent& e);
   void configure_telemetry();
@@ -136,6 +145,10 @@ class LiveConsole {
   Notify notify_;
   std::mutex notify_mu_;
 
+  // Held across a whole stop_run, so two threads stopping the same run (the
+  // TUI quitting while a worker's run_for ends it) close it once, and a
+  // run_for that saw its run stopped can wait for that stop's summary.
+  std::mutex stop_mu_;
   mutable std::mutex mu_;
   std::optional<RefParams> reference_;
   std::string reference_table_file_;

@@ -50,8 +50,21 @@ int ScriptRunner::run(const Script& script) {
   return failed_ > 0 ? 1 : 0;
 }
 
+void ScriptRunner::cancel() {
+  {
+    std::lock_guard<std::mutex> lock(cancel_mu_);
+    cancelled_ = true;
+  }
+  cancel_cv_.notify_all();
+}
+
+void ScriptRunner::throw_if_cancelled(const Command& c, const std::string& file) const {
+  if (cancelled_.load()) throw ScriptError(file, c.line, "cancelled: '" + c.text + "'");
+}
+
 void ScriptRunner::execute(const Command& c, const std::string& file) {
   using K = Command::Kind;
+  throw_if_cancelled(c, file);
   try {
     switch (c.kind) {
       case K::Set: {
@@ -95,9 +108,12 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Run: {
-        const RunSummary s = console_.run_for(c.seconds, c.label, [&](size_t d, size_t t) {
-          if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
-        });
+        const RunSummary s = console_.run_for(
+            c.seconds, c.label,
+            [&](size_t d, size_t t) {
+              if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
+            },
+            &cancelled_);
         out_(summary_line(s));
         break;
       }
@@ -106,7 +122,11 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
       case K::Hold: console_.hold(protocol::HoldMode::Hold); out_("holding"); break;
       case K::Neutral: console_.hold(protocol::HoldMode::Neutral); out_("actuators neutral"); break;
       case K::Resume: console_.hold(protocol::HoldMode::Resume); out_("resumed"); break;
-      case K::Wait: std::this_thread::sleep_for(std::chrono::duration<double>(c.seconds)); break;
+      case K::Wait: {
+        std::unique_lock<std::mutex> lock(cancel_mu_);
+        cancel_cv_.wait_for(lock, std::chrono::duration<double>(c.seconds), [this] { return cancelled_.load(); });
+        break;
+      }
       case K::Expect: {
         const auto last = console_.last_run();
         if (!last) throw CliError("expect needs a finished run first (run DURATION)");
@@ -154,12 +174,15 @@ void ScriptRunner::sweep(const Command& c) {
   std::vector<std::vector<std::string>> rows;
   std::exception_ptr failure;
   for (const std::string& v : c.values) {
+    if (cancelled_.load()) break;
     try {
       console_.set_param(c.name, {v});
-      const RunSummary s = console_.run_for(c.seconds, c.label.empty() ? fmt::format("sweep {}={}", c.name, v) : c.label,
-                                            [&](size_t d, size_t t) {
-                                              if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
-                                            });
+      const RunSummary s = console_.run_for(
+          c.seconds, c.label.empty() ? fmt::format("sweep {}={}", c.name, v) : c.label,
+          [&](size_t d, size_t t) {
+            if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
+          },
+          &cancelled_);
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(s.metrics, m).value_or(0)); };
       rows.push_back({v, std::to_string(s.run_id), f("rmse"), f("nrmse"), f("max_error"), f("lost"), f("compute_p99")});
     } catch (...) {

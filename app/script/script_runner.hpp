@@ -1,7 +1,10 @@
 #pragma once
 // Executes parsed script commands against a connected console. The same
 // runner serves `--script FILE` (exit codes for CI) and the TUI's `:` line.
+#include <atomic>
+#include <condition_variable>
 #include <functional>
+#include <mutex>
 #include <string>
 
 #include "app/live/live_console.hpp"
@@ -26,15 +29,26 @@ class ScriptRunner {
   // expect is not an exception: it is reported and counted.
   void execute(const Command& c, const std::string& file);
 
+  // From another thread: the command in progress ends as soon as it can
+  // (a run is stopped and kept, a wait or sweep returns) and this and every
+  // later command throws ScriptError "cancelled". Sticky: the TUI calls it
+  // once, at quit, before joining the thread that executes commands.
+  void cancel();
+  bool cancelled() const { return cancelled_.load(); }
+
   int failed_expects() const { return failed_; }
   int passed_expects() const { return passed_; }
 
  private:
   void sweep(const Command& c);
+  void throw_if_cancelled(const Command& c, const std::string& file) const;
   LiveConsole& console_;
   Output out_;
   Progress progress_;
   int failed_ = 0, passed_ = 0;
+  std::atomic<bool> cancelled_{false};
+  std::mutex cancel_mu_;  // with cancel_cv_: a `wait` ends at cancel()
+  std::condition_variable cancel_cv_;
 };
 
 }  // namespace nlsoft::console

@@ -50,6 +50,7 @@ class App : public Ui {
   App(LiveConsole& console, Screen& screen)
       : console_(console),
         screen_(screen),
+        worker_([this](const std::string& s) { message(s, Role::Error); }),
         params_(console, worker_, *this),
         refs_(console, worker_, *this),
         runs_(console, worker_, *this),
@@ -63,7 +64,7 @@ class App : public Ui {
                         info.fw_minor, info.fw_patch),
             Role::Ok);
   }
-  ~App() override { console_.set_notify({}); }
+  ~App() override { shutdown(); }
 
   int loop();
 
@@ -102,9 +103,13 @@ class App : public Ui {
   void start_run();
   void stop_run();
   void command(const std::string& line);
+  void shutdown();
 
   LiveConsole& console_;
   Screen& screen_;
+  // Worker tasks use every member below and message() (log_); the worker
+  // is therefore stopped and joined in shutdown(), before any member is
+  // destroyed, whatever the declaration order.
   Worker worker_;
   ParamPanel params_;
   RefPanel refs_;
@@ -128,7 +133,34 @@ class App : public Ui {
   std::vector<std::string> confirm_lines_;
   std::function<void()> confirm_yes_;
   bool quit_confirmed_ = false;
+  bool shut_down_ = false;
 };
+
+// The shutdown order, on quit (q, F10, SIGTERM) and in ~App if loop() threw:
+//  1. cancel the `:` command in progress: a timed run is stopped and kept, a
+//     wait or sweep returns (ScriptRunner::cancel);
+//  2. stop and join the worker: the task running finishes (bounded by the
+//     link's timeouts), queued ones are dropped; afterwards no other thread
+//     touches the panels, the runner or the message log;
+//  3. detach the console's notify callback: LiveConsole::say calls it under
+//     its mutex, so once set_notify returns the link's threads are done with
+//     message();
+//  4. stop a run still active (F5) on this thread, so it is kept with an end;
+// then the members are destroyed, in any order.
+void App::shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  runner_.cancel();
+  worker_.stop();
+  console_.set_notify({});
+  if (console_.running()) {
+    try {
+      console_.stop_run("stopped at quit");
+    } catch (...) {
+      // Quitting regardless; the run stays open in the database (ended_at NULL).
+    }
+  }
+}
 
 void App::start_run() {
   worker_.post("starting a run", [this] {
@@ -419,12 +451,7 @@ int App::loop() {
       last_draw = Clock::now();
     }
   }
-  if (console_.running()) {
-    try {
-      console_.stop_run("stopped at quit");
-    } catch (...) {
-    }
-  }
+  shutdown();
   return 0;
 }
 

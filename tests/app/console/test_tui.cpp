@@ -5,7 +5,10 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <thread>
 
 #include "app/record/run_store.hpp"
@@ -137,6 +140,56 @@ TEST(ConsoleTui, AsciiFallbackAndResize) {
   t.keys("y");
   for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_FALSE(t.alive());
+}
+
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Quitting while a `:run` from the command line is going: the worker that
+// waits in run_for is stopped and joined before anything it uses is
+// destroyed (it was a heap-use-after-free of the message log), and the quit
+// does not wait for the run's deadline. The exit status is the console's
+// own, so under ASan/UBSan (abort) or TSan (exit 66) a report fails here.
+TEST(ConsoleTui, QuitDuringATimedRunExitsCleanlyAndKeepsTheRun) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db"), status = dir.file("status"), err = dir.file("stderr");
+  Tmux t("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db) + " 2>" +
+                                shell_quote(err) + "; echo $? >" + shell_quote(status)),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  // A run far longer than the test: it can only end through the quit.
+  t.keys(shell_quote(":run 60s") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && contains(x, "[run 60s"); }, s))
+      << s;
+  t.keys("q");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
+  t.keys("y");
+  // Bounded poll for the exit; the bound is generous for sanitizer builds
+  // and far below the 60 s run the console would otherwise wait out.
+  for (int i = 0; i < 300 && !std::filesystem::exists(status); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after q, y during a timed run\n"
+                                               << t.screen() << read_file(err);
+  // `echo` may not have flushed the digits when the file first appears.
+  std::string code;
+  for (int i = 0; i < 100 && (code = read_file(status)).find('\n') == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(code, "0\n") << read_file(err);
+
+  RunStore store(db);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_FALSE(runs[0].ended_at.empty()) << "the run is closed, not left unfinished";
+  EXPECT_GT(runs[0].samples, 0u);
 }
 
 }  // namespace
