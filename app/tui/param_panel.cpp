@@ -140,7 +140,8 @@ bool ParamPanel::key(int ch) {
     }
     return true;
   }
-  std::lock_guard<std::mutex> lock(mu_);
+  // unique_lock: 'u' releases it while send() takes it itself.
+  std::unique_lock<std::mutex> lock(mu_);
   const size_t n = rows_.size();
   if (move_cursor(ch, selected_, n)) return true;
   switch (ch) {
@@ -162,9 +163,9 @@ bool ParamPanel::key(int ch) {
       } else {
         const auto [row, value] = undo_.back();
         undo_.pop_back();
-        mu_.unlock();
+        lock.unlock();
         send(row, value, false);
-        mu_.lock();
+        lock.lock();
       }
       return true;
     case 'S':

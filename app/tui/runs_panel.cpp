@@ -54,7 +54,8 @@ void RunsPanel::show(int64_t id) {
 }
 
 bool RunsPanel::key(int ch) {
-  std::lock_guard<std::mutex> lock(mu_);
+  // unique_lock: 'R' releases it around reload().
+  std::unique_lock<std::mutex> lock(mu_);
   const size_t n = runs_.size();
   if (move_cursor(ch, selected_, n)) return true;
   switch (ch) {
@@ -109,9 +110,9 @@ bool RunsPanel::key(int ch) {
       }
       return true;
     case 'R':
-      mu_.unlock();
+      lock.unlock();
       reload();
-      mu_.lock();
+      lock.lock();
       return true;
   }
   return false;
