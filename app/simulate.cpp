@@ -10,6 +10,7 @@
 #include "app/cli_error.hpp"
 #include "app/closed_loop.hpp"
 #include "app/metrics.hpp"
+#include "app/output_file.hpp"
 #include "app/model_store.hpp"
 #include "app/param_args.hpp"
 #include "app/progress_bar.hpp"
@@ -35,25 +36,21 @@ struct SimulateOptions {
 };
 
 void write_trace_csv(const std::string& path, const Trace& t) {
-  const std::string tmp = path + ".part";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw CliError(fmt::format("cannot write '{}'", path));
-    f << "step,time_s";
-    for (const char* col : {"y_ref", "y_hat", "y_true"})
-      for (int i = 0; i < t.n; ++i) f << ',' << col << i;
-    for (int i = 0; i < t.m; ++i) f << ",u" << i;
-    f << ",cost,iterations,flags\n";
-    for (long k = 0; k < t.rows(); ++k) {
-      f << k << ',' << double(k + 1) * double(t.dt);
-      for (const auto* v : {&t.y_ref, &t.y_hat, &t.y_true})
-        for (int i = 0; i < t.n; ++i) f << ',' << (*v)[size_t(k * t.n + i)];
-      for (int i = 0; i < t.m; ++i) f << ',' << t.u[size_t(k * t.m + i)];
-      f << ',' << t.cost[size_t(k)] << ',' << int(t.iterations[size_t(k)]) << ',' << int(t.flags[size_t(k)]) << '\n';
-    }
-    if (!f.flush()) throw CliError(fmt::format("writing '{}' failed", path));
+  OutputFile out(path);
+  std::FILE* f = out.get();
+  fmt::print(f, "step,time_s");
+  for (const char* col : {"y_ref", "y_hat", "y_true"})
+    for (int i = 0; i < t.n; ++i) fmt::print(f, ",{}{}", col, i);
+  for (int i = 0; i < t.m; ++i) fmt::print(f, ",u{}", i);
+  fmt::print(f, ",cost,iterations,flags\n");
+  for (long k = 0; k < t.rows(); ++k) {
+    fmt::print(f, "{},{:.9g}", k, double(k + 1) * double(t.dt));
+    for (const auto* v : {&t.y_ref, &t.y_hat, &t.y_true})
+      for (int i = 0; i < t.n; ++i) fmt::print(f, ",{:.9g}", (*v)[size_t(k * t.n + i)]);
+    for (int i = 0; i < t.m; ++i) fmt::print(f, ",{:.9g}", t.u[size_t(k * t.m + i)]);
+    fmt::print(f, ",{:.9g},{},{}\n", t.cost[size_t(k)], int(t.iterations[size_t(k)]), int(t.flags[size_t(k)]));
   }
-  std::rename(tmp.c_str(), path.c_str());
+  out.commit();
 }
 
 int run_simulate(const SimulateOptions& o) {

@@ -12,6 +12,8 @@
 #include <climits>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <fmt/format.h>
 
 #include "app/cli_error.hpp"
@@ -111,7 +113,12 @@ std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const st
   stop();
   int out[2];
   if (::pipe2(out, O_CLOEXEC) != 0) throw CliError(fmt::format("pipe: {}", std::strerror(errno)));
-  log_path_ = fmt::format("/tmp/nlsoft-firmware-sim.{}.log", ::getpid());
+  if (log_dir_.empty()) {
+    std::string tmpl = "/tmp/nlsoft-sim.XXXXXX";
+    if (!::mkdtemp(tmpl.data())) throw CliError(fmt::format("cannot create a folder in /tmp: {}", std::strerror(errno)));
+    log_dir_ = tmpl;
+  }
+  log_path_ = log_dir_ + "/" + std::filesystem::path(what).filename().string() + ".log";
   std::vector<std::string> args = argv_in;
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
@@ -126,7 +133,7 @@ std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const st
     ::setpgid(0, 0);
     if (::getppid() != parent) ::_exit(127);
     ::dup2(out[1], STDOUT_FILENO);
-    const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int log = ::open(log_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_NOFOLLOW | O_CLOEXEC, 0600);
     if (log >= 0) ::dup2(log, STDERR_FILENO);
     const int null_in = ::open("/dev/null", O_RDONLY);
     if (null_in >= 0) ::dup2(null_in, STDIN_FILENO);
@@ -162,8 +169,13 @@ std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const st
     const bool exited = ::waitpid(pid_, &status, WNOHANG) == pid_;
     if (exited) pid_ = -1;
     stop();
-    throw CliError(fmt::format("{} did not report its pty{}; see {}", what,
-                               exited ? fmt::format(" (exit status {})", WEXITSTATUS(status)) : "", log_path_));
+    // The log goes with this object: quote its end rather than point at it.
+    std::ifstream log(log_path_);
+    std::string line, tail;
+    while (std::getline(log, line)) tail = tail.size() > 600 ? line : tail + "\n  " + line;
+    throw CliError(fmt::format("{} did not report its pty{}{}", what,
+                               exited ? fmt::format(" (exit status {})", WEXITSTATUS(status)) : "",
+                               tail.empty() ? "" : "; it said:" + tail));
   }
   // Keep draining stdout so the child never blocks on a full pipe.
   drain_ = std::thread([fd = out_fd_] {
@@ -172,6 +184,14 @@ std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const st
     }
   });
   return path;
+}
+
+SimLauncher::~SimLauncher() {
+  stop();
+  if (!log_dir_.empty()) {
+    std::error_code ec;
+    std::filesystem::remove_all(log_dir_, ec);
+  }
 }
 
 void SimLauncher::stop() {

@@ -23,7 +23,7 @@ std::string find_m4_image(const std::string& platform);
 class SimLauncher {
  public:
   SimLauncher() = default;
-  ~SimLauncher() { stop(); }
+  ~SimLauncher();  // stops the child and removes its log
   SimLauncher(const SimLauncher&) = delete;
   SimLauncher& operator=(const SimLauncher&) = delete;
 
@@ -33,6 +33,8 @@ class SimLauncher {
   std::string start_qemu(const std::string& platform);
   void stop();
   pid_t pid() const { return pid_; }
+  // The child's stderr, in a folder of our own (mode 0700) that goes with
+  // this object: nobody else can plant a link there or read it meanwhile.
   const std::string& log_path() const { return log_path_; }
 
  private:
@@ -43,7 +45,7 @@ class SimLauncher {
   pid_t pid_ = -1;
   int out_fd_ = -1;
   std::thread drain_;
-  std::string log_path_;
+  std::string log_dir_, log_path_;
 };
 
 }  // namespace nlsoft::console

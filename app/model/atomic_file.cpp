@@ -8,24 +8,45 @@
 #include <fstream>
 #include <iterator>
 
+#include "app/cli_error.hpp"
 #include "app/model/error.hpp"
+#include "app/output_file.hpp"
 
 namespace nlsoft::pipeline {
 
+namespace {
+
+// std::ostream onto the FILE* of an OutputFile.
+class FileBuf : public std::streambuf {
+ public:
+  explicit FileBuf(std::FILE* f) : f_(f) {}
+
+ protected:
+  int_type overflow(int_type c) override {
+    if (traits_type::eq_int_type(c, traits_type::eof())) return traits_type::not_eof(c);
+    return std::fputc(c, f_) == EOF ? traits_type::eof() : c;
+  }
+  std::streamsize xsputn(const char* s, std::streamsize n) override {
+    return std::streamsize(std::fwrite(s, 1, size_t(n), f_));
+  }
+
+ private:
+  std::FILE* f_;
+};
+
+}  // namespace
+
 void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& fill) {
-  const std::string tmp = path + ".tmp." + std::to_string(::getpid());
   try {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw PipelineError("cannot write '" + path + "': " + std::strerror(errno));
+    console::OutputFile file(path);
+    FileBuf buf(file.get());
+    std::ostream out(&buf);
     fill(out);
     out.flush();
     if (!out) throw PipelineError("write to '" + path + "' failed (disk full?)");
-    out.close();
-    if (std::rename(tmp.c_str(), path.c_str()) != 0)
-      throw PipelineError("cannot move the new file onto '" + path + "': " + std::strerror(errno));
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
+    file.commit();
+  } catch (const console::CliError& e) {
+    throw PipelineError(e.what());
   }
 }
 

@@ -10,9 +10,10 @@
 
 namespace nlsoft::pipeline {
 
-// Streams into "<path>.tmp.<pid>", flushes, then renames over path. If
-// `fill` throws or the write fails, the temporary is removed and path keeps
-// its old content. Throws PipelineError.
+// Streams into a temporary beside path, flushes, then renames over it
+// (app/output_file.hpp: "-" is standard output, a device is written in
+// place). If `fill` throws or the write fails, path keeps its old content.
+// Throws PipelineError.
 void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& fill);
 
 void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes);

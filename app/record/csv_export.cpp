@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "app/cli_error.hpp"
+#include "app/output_file.hpp"
 
 namespace nlsoft::console {
 
@@ -15,9 +16,7 @@ namespace tf = protocol::telemetry_field;
 
 size_t export_run_csv(RunStore& store, int64_t run_id, const std::string& path) {
   const RunRow run = store.run(run_id);
-  const std::string tmp = path + ".part";
-  std::unique_ptr<FILE, int (*)(FILE*)> f(std::fopen(tmp.c_str(), "w"), &std::fclose);
-  if (!f) throw CliError(fmt::format("cannot write {}: {}", tmp, std::strerror(errno)));
+  OutputFile f(path);
   std::string head = "k,step,time_us";
   for (const char* v : {"y_ref", "y_hat", "y_true"})
     for (int i = 0; i < run.n; ++i) head += fmt::format(",{}{}", v, i);
@@ -50,18 +49,7 @@ size_t export_run_csv(RunStore& store, int64_t run_id, const std::string& path) 
     std::fwrite(line.data(), 1, line.size(), f.get());
     ++rows;
   });
-  if (std::fflush(f.get()) != 0 || std::ferror(f.get())) {
-    const std::string why = std::strerror(errno);
-    f.reset();
-    std::remove(tmp.c_str());
-    throw CliError(fmt::format("writing {} failed: {}", path, why));
-  }
-  f.reset();
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const std::string why = std::strerror(errno);
-    std::remove(tmp.c_str());
-    throw CliError(fmt::format("cannot move export into {}: {}", path, why));
-  }
+  f.commit();
   return rows;
 }
 

@@ -2,11 +2,15 @@
 // fields are empty cells, and a failed export leaves no file behind.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "app/cli_error.hpp"
+#include "app/output_file.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/recorder.hpp"
 #include "temp_dir.hpp"
@@ -124,6 +128,52 @@ TEST(CsvExport, UnwritablePathIsAClearErrorAndNoFileIsLeft) {
   }
   std::ifstream probe(dir.file("out.csv"));
   EXPECT_FALSE(probe.good());
+}
+
+// Where an export goes: a symlink to a device (/dev/stdout) stays a symlink
+// and gets the bytes, "-" is standard output, a regular file is replaced
+// whole, and nothing is left beside it.
+TEST(OutputFile, DevicesAreWrittenInPlaceFilesReplacedWholeAndDashIsStdout) {
+  test::TempDir dir;
+  const std::string link = dir.file("to-null");
+  ASSERT_EQ(::symlink("/dev/null", link.c_str()), 0);
+  {
+    OutputFile f(link);
+    std::fputs("discarded\n", f.get());
+    f.commit();
+  }
+  char target[64] = {};
+  ASSERT_GT(::readlink(link.c_str(), target, sizeof target - 1), 0) << "the symlink was replaced";
+  EXPECT_STREQ(target, "/dev/null");
+
+  const std::string file = dir.file("out.csv");
+  { std::ofstream(file) << "old\n"; }
+  {
+    OutputFile f(file);
+    std::fputs("new\n", f.get());
+    // not committed: the old file stays, no temporary is left
+  }
+  std::string line;
+  std::getline(std::ifstream(file), line);
+  EXPECT_EQ(line, "old");
+  {
+    OutputFile f(file);
+    std::fputs("new\n", f.get());
+    f.commit();
+  }
+  std::getline(std::ifstream(file), line);
+  EXPECT_EQ(line, "new");
+  size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path)) entries += e.path().filename() != "to-null";
+  EXPECT_EQ(entries, 1u) << "a temporary was left beside the file";
+
+  testing::internal::CaptureStdout();
+  {
+    OutputFile f("-");
+    std::fputs("to stdout\n", f.get());
+    f.commit();
+  }
+  EXPECT_EQ(testing::internal::GetCapturedStdout(), "to stdout\n");
 }
 
 }  // namespace

@@ -2,9 +2,12 @@
 // executes scripts headless; the recording is then checked in the database.
 #include <gtest/gtest.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 
+#include <filesystem>
 #include <fstream>
 
+#include "app/link/sim_launcher.hpp"
 #include "app/live/reference_table.hpp"
 #include "app/record/run_store.hpp"
 #include "run_process.hpp"
@@ -119,6 +122,26 @@ TEST_F(ConsoleE2E, SweepPrintsATablePerSetting) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("Q0  run"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("Q restored to 1"), std::string::npos) << r.output;
+}
+
+// The simulator's log lives in a folder of the console's own (0700), not at
+// a predictable /tmp name another user could plant a link at, and goes away
+// with the launcher.
+TEST_F(ConsoleE2E, SimulatorLogIsPrivateAndRemoved) {
+  std::string dir;
+  {
+    nlsoft::console::SimLauncher sim;
+    const std::string pty = sim.start("msd");
+    ASSERT_FALSE(pty.empty());
+    dir = std::filesystem::path(sim.log_path()).parent_path().string();
+    EXPECT_EQ(dir.rfind("/tmp/nlsoft-sim.", 0), 0u) << dir;
+    struct stat st {};
+    ASSERT_EQ(::stat(dir.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0700u);
+    ASSERT_EQ(::lstat(sim.log_path().c_str(), &st), 0);
+    EXPECT_TRUE(S_ISREG(st.st_mode));
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir));
 }
 
 }  // namespace
