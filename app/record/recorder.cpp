@@ -247,10 +247,14 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
     std::lock_guard<std::mutex> lock(mu_);
     failed = error_;
   }
-  waiting.clear();
   std::vector<int64_t> results;
   uint64_t samples = 0;
-  if (failed.empty()) {
+  auto busy_waited = std::chrono::milliseconds(0);
+  for (bool retry = true; retry && failed.empty();) {
+    retry = false;
+    waiting.clear();
+    results.clear();
+    samples = 0;
     try {
       db_->exec("BEGIN");
       const std::string now = utc_now();
@@ -318,6 +322,16 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
       committed_ += samples;
     } catch (const std::exception& e) {
       sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+      const auto* db_error = dynamic_cast<const DbError*>(&e);
+      const int code = db_error ? (db_error->sqlite_code & 0xFF) : 0;
+      if ((code == SQLITE_BUSY || code == SQLITE_LOCKED) && busy_waited < options_.busy_limit) {
+        // Locked by another process: the whole batch again in a moment.
+        const auto pause = std::chrono::milliseconds(200);
+        std::this_thread::sleep_for(pause);
+        busy_waited += pause + std::chrono::milliseconds(1500);  // and the busy timeout that elapsed
+        retry = true;
+        continue;
+      }
       failed = e.what();
       std::lock_guard<std::mutex> lock(mu_);
       if (error_.empty()) error_ = failed;

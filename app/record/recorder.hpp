@@ -47,6 +47,10 @@ class Recorder {
     size_t queue_capacity = 1u << 17;  // ~13 s at 10 kHz
     std::chrono::milliseconds batch_delay{50};
     size_t batch_wakeup = 8192;  // commit early once this many items wait
+    // Another process holding the write lock (a colleague's sqlite3 shell)
+    // stalls a commit: it is retried this long, the samples queue meanwhile
+    // (up to queue_capacity, then counted as a gap), before recording stops.
+    std::chrono::milliseconds busy_limit{30000};
   };
 
   // Opens or creates the database and migrates it. Throws DbError.

@@ -1,5 +1,7 @@
 #include "app/record/run_store.hpp"
 
+#include <sqlite3.h>
+
 #include <fmt/format.h>
 #include <sys/stat.h>
 
@@ -56,11 +58,21 @@ RunStore::RunStore(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw CliError(fmt::format("no recordings yet: database {} does not exist (record a run first, or pick one with --db)", path));
-  db_ = std::make_unique<Db>(path, false);
+  db_ = std::make_unique<Db>(path, Db::Access::ReadOnly);
   const int v = schema_version(*db_);
   if (v == 0) throw CliError(fmt::format("{} is not an nlsoft recording database", path));
-  // Older files are upgraded in place so every reader sees one schema.
-  if (v < kSchemaVersion) migrate(*db_);
+  // Older files are upgraded in place so every reader sees one schema; that
+  // takes the one write a reader ever makes.
+  if (v < kSchemaVersion) {
+    db_.reset();
+    try {
+      db_ = std::make_unique<Db>(path, Db::Access::ReadWrite);
+    } catch (const DbError& e) {
+      throw CliError(fmt::format("{} has schema v{} and cannot be upgraded to v{} here: {}", path, v, kSchemaVersion,
+                                 e.what()));
+    }
+    migrate(*db_);
+  }
   if (v > kSchemaVersion)
     throw CliError(fmt::format("database {} has schema v{}, newer than this console's v{}", path, v, kSchemaVersion));
 }
@@ -69,7 +81,19 @@ std::vector<RunRow> RunStore::list() {
   Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs ORDER BY id", kRunColumns).c_str());
   std::vector<RunRow> out;
   while (s.step()) out.push_back(read_run(s));
+  for (RunRow& r : out) count_unfinished(r);
   return out;
+}
+
+// A run cut short by a crash has no totals yet: count what is there.
+void RunStore::count_unfinished(RunRow& r) {
+  if (!r.ended_at.empty()) return;
+  Stmt c = db_->prepare("SELECT count(*) FROM samples WHERE id BETWEEN ? AND ?");
+  c.bind(1, sample_key(r.id, 0)).bind(2, sample_key(r.id, 0xFFFFFFFFu));
+  if (c.step()) r.samples = uint64_t(c.int64(0));
+  Stmt g = db_->prepare("SELECT ifnull(sum(lost_frames),0) FROM gaps WHERE run_id=?");
+  g.bind(1, r.id);
+  if (g.step()) r.lost_frames = uint64_t(g.int64(0));
 }
 
 RunRow RunStore::run(int64_t id) {
@@ -81,17 +105,11 @@ RunRow RunStore::run(int64_t id) {
                         : fmt::format("no run {}: nothing recorded yet", id));
   }
   RunRow r = read_run(s);
-  // A run cut short by a crash has no totals yet; count what is there.
-  if (r.ended_at.empty()) {
-    Stmt c = db_->prepare("SELECT count(*) FROM samples WHERE id BETWEEN ? AND ?");
-    c.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
-    if (c.step()) r.samples = uint64_t(c.int64(0));
-    Stmt g = db_->prepare("SELECT ifnull(sum(lost_frames),0) FROM gaps WHERE run_id=?");
-    g.bind(1, id);
-    if (g.step()) r.lost_frames = uint64_t(g.int64(0));
-  }
+  count_unfinished(r);
   return r;
 }
+
+bool RunStore::read_only() const { return sqlite3_db_readonly(db_->handle(), "main") == 1; }
 
 int64_t RunStore::last_run_id() {
   Stmt s = db_->prepare("SELECT ifnull(max(id),0) FROM runs");

@@ -55,8 +55,10 @@ class RunStore {
   std::vector<GapRecord> gaps(int64_t id);
   std::vector<std::pair<std::string, std::string>> link_events(int64_t id);  // kind, detail
   int64_t last_run_id();  // 0 if none
+  bool read_only() const;  // opened read-only (the usual case: reading never writes)
 
  private:
+  void count_unfinished(RunRow& r);
   std::unique_ptr<Db> db_;
 };
 

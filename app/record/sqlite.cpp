@@ -47,11 +47,12 @@ bool Stmt::step() {
   throw DbError(msg, rc);
 }
 
-Db::Db(const std::string& path, bool create) : path_(path) {
+Db::Db(const std::string& path, Access access) : path_(path) {
   // Allocation statistics cost a global mutex per malloc; nobody reads them.
   static const int memstatus_off = sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
   (void)memstatus_off;
-  const int flags = SQLITE_OPEN_READWRITE | (create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX;
+  const int flags = (access == Access::ReadOnly ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE) |
+                    (access == Access::Create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX;
   int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
   if (rc != SQLITE_OK) {
     const std::string msg = db_error_words(path, rc, db_ ? sqlite3_errmsg(db_) : nullptr);
@@ -66,9 +67,13 @@ Db::Db(const std::string& path, bool create) : path_(path) {
   try {
     // Touching the schema is what reveals a file that is not a database.
     // Big pages suit an append-only log of samples (a no-op on an existing file).
-    exec("PRAGMA page_size=16384");
-    exec("PRAGMA journal_mode=WAL");
-    exec("PRAGMA synchronous=NORMAL");  // WAL: a crash keeps every commit; power loss may cost the last
+    if (access == Access::ReadOnly) {
+      exec("PRAGMA query_only=1");
+    } else {
+      exec("PRAGMA page_size=16384");
+      exec("PRAGMA journal_mode=WAL");
+      exec("PRAGMA synchronous=NORMAL");  // WAL: a crash keeps every commit; power loss may cost the last
+    }
     exec("PRAGMA cache_size=-32768");   // 32 MiB: bulk inserts stay in memory until commit
     exec("PRAGMA temp_store=MEMORY");
     exec("PRAGMA foreign_keys=ON");

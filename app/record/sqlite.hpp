@@ -73,9 +73,13 @@ class Stmt {
 
 class Db {
  public:
-  // Opens (creating if asked) and applies the recorder's pragmas. Throws
-  // DbError in words: locked by another process, not a database, ...
-  Db(const std::string& path, bool create);
+  // Opens (creating if asked) and applies the recorder's pragmas; read-only
+  // for the commands that only read (runs list|show|export|compare), so a
+  // database on a read-only medium or another user's file serves them.
+  // Throws DbError in words: locked by another process, not a database, ...
+  enum class Access { Create, ReadWrite, ReadOnly };
+  Db(const std::string& path, Access access);
+  Db(const std::string& path, bool create) : Db(path, create ? Access::Create : Access::ReadWrite) {}
   ~Db();
   Db(const Db&) = delete;
   Db& operator=(const Db&) = delete;

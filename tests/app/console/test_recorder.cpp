@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <thread>
 
 #include "app/record/recorder.hpp"
 #include "app/record/run_metrics.hpp"
@@ -254,6 +255,52 @@ TEST(Recorder, KilledWriterKeepsEveryCommittedBatch) {
   const RunRow row = store.run(1);
   EXPECT_TRUE(row.ended_at.empty()) << "an unfinished run stays visible as unfinished";
   EXPECT_EQ(row.samples, uint64_t(count));
+}
+
+
+// A colleague's sqlite3 shell holding the write lock for longer than the
+// busy timeout stalls the recording, not ends it: the batch is retried and
+// every sample lands once the lock is released.
+TEST(Recorder, AWriteLockHeldElsewhereDelaysTheRecordingAndLosesNothing) {
+  TempDir dir;
+  const std::string path = dir.file("busy.db");
+  Recorder::Options o;
+  o.batch_delay = std::chrono::milliseconds(5);
+  Recorder r(path, o);
+  const int64_t id = r.begin_run(run_info("busy"));
+  Db other(path, false);
+  other.exec("BEGIN IMMEDIATE");  // the other process's write lock
+  for (uint64_t k = 0; k < 500; ++k) ASSERT_TRUE(r.add_sample(id, make_sample(k)));
+  std::thread release([&] {
+    // longer than the recorder's busy timeout, so its commit fails at least once
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    other.exec("ROLLBACK");
+  });
+  r.end_run(id, "completed", 500, 0);  // waits until everything before it is written
+  release.join();
+  EXPECT_EQ(r.error(), "");
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples"), 500);
+  EXPECT_EQ(scalar(db, "SELECT samples FROM runs WHERE id=1"), 500);
+}
+
+// The reading commands open the database read-only (a read-only medium,
+// another user's file) and count what a crashed run left in the list too.
+TEST(RunStore, ReadsReadOnlyAndListsACrashedRunsSamples) {
+  TempDir dir;
+  const std::string path = dir.file("ro.db");
+  {
+    Recorder r(path);
+    const int64_t id = r.begin_run(run_info("crashed"));
+    for (uint64_t k = 0; k < 300; ++k) r.add_sample(id, make_sample(k));
+    r.flush();  // and never end_run: as after a crash
+  }
+  RunStore store(path);
+  EXPECT_TRUE(store.read_only());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_TRUE(runs[0].ended_at.empty());
+  EXPECT_EQ(runs[0].samples, 300u);
 }
 
 }  // namespace
