@@ -113,7 +113,15 @@ std::string format_param_values(const ParamInfo& p, const std::vector<double>& v
   std::string s;
   for (double v : values) {
     if (!s.empty()) s += ' ';
-    s += p.is_float() ? fmt::format("{:g}", float(v)) : fmt::format("{}", uint64_t(v));
+    // Six digits where they read back as the same float, else the shortest
+    // text that does: a saved set loads without a spurious change.
+    if (p.is_float()) {
+      const float f = float(v);
+      const std::string g = fmt::format("{:g}", f);
+      s += std::strtof(g.c_str(), nullptr) == f ? g : fmt::format("{}", f);
+    } else {
+      s += fmt::format("{}", uint64_t(v));
+    }
   }
   return s;
 }

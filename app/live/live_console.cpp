@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -14,6 +15,7 @@
 #include "app/cli_error.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/output_file.hpp"
 #include "app/record/run_store.hpp"
 
 namespace nlsoft::console {
@@ -75,12 +77,12 @@ void LiveConsole::connect(const Progress& params_progress) {
 
   db_path_ = options_.db_path.empty() ? default_db_path() : options_.db_path;
   if (!options_.record) {
+    // A folder of our own (0700): the database and its -wal/-shm files are
+    // created where nobody else can place a file or a link first.
     char tmpl[] = "/tmp/nlsoft-unrecorded-XXXXXX";
-    const int fd = ::mkstemp(tmpl);
-    if (fd < 0) throw CliError(fmt::format("cannot create a temporary database: {}", std::strerror(errno)));
-    ::close(fd);
-    ::unlink(tmpl);
-    db_path_ = std::string(tmpl) + ".db";
+    if (!::mkdtemp(tmpl)) throw CliError(fmt::format("cannot create a temporary database: {}", std::strerror(errno)));
+    temp_dir_ = tmpl;
+    db_path_ = temp_dir_ + "/runs.db";
     temp_db_ = true;
   }
   // The database first: a locked or damaged file should stop us before we
@@ -154,7 +156,8 @@ void LiveConsole::disconnect() {
   recorder_.reset();
   sim_.reset();
   if (temp_db_) {
-    for (const char* suffix : {"", "-wal", "-shm"}) std::remove((db_path_ + suffix).c_str());
+    std::error_code ec;
+    std::filesystem::remove_all(temp_dir_, ec);
     temp_db_ = false;
   }
 }
@@ -272,18 +275,12 @@ std::pair<ParamInfo, std::vector<double>> LiveConsole::get_param(const std::stri
 void LiveConsole::save_params(const std::string& path) {
   const auto all = device_->get_all();
   const p::Info info = device_->info();
-  const std::string tmp = path + ".part";
-  {
-    std::ofstream out(tmp);
-    if (!out) throw CliError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-    out << fmt::format("# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
-                       info.fw_minor, info.fw_patch, int(info.platform), utc_now());
-    out << "# NAME VALUES...  (load with `params load FILE`)\n";
-    for (const auto& [pi, v] : all) out << pi.name << ' ' << format_param_values(pi, v) << '\n';
-    if (!out) throw CliError(fmt::format("writing {} failed", path));
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw CliError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
+  OutputFile out(path);
+  fmt::print(out.get(), "# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
+             info.fw_minor, info.fw_patch, int(info.platform), utc_now());
+  fmt::print(out.get(), "# NAME VALUES...  (load with `params load FILE`)\n");
+  for (const auto& [pi, v] : all) fmt::print(out.get(), "{} {}\n", pi.name, format_param_values(pi, v));
+  out.commit();
 }
 
 std::vector<std::string> LiveConsole::load_params(const std::string& path, bool dry_run) {

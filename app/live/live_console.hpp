@@ -137,6 +137,7 @@ class LiveConsole {
   LiveOptions options_;
   std::string db_path_;
   bool temp_db_ = false;
+  std::string temp_dir_;  // --no-record: the private folder of the temporary database
   std::unique_ptr<SimLauncher> sim_;
   std::unique_ptr<Session> session_;
   std::unique_ptr<Device> device_;

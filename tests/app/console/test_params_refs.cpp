@@ -41,6 +41,18 @@ TEST(ParamValues, ParsesBlankOrCommaSeparated) {
   EXPECT_EQ(decode_param_values(q, words, 3), (std::vector<double>{1.5, 2, 3}));
 }
 
+// What is shown and saved reads back as the very float the firmware holds
+// (a saved set loads without a spurious change), in six digits where they do.
+TEST(ParamValues, FormattedFloatsReadBackExactly) {
+  const ParamInfo eps = param("eps", protocol::ParamType::F32, 1);
+  for (float v : {1.0f / 130.0f, 1.0f / 120.0f, 1e-25f, 0.1f, 3.14159274f, 123456.789f, -2e-7f}) {
+    const std::string text = format_param_values(eps, {double(v)});
+    EXPECT_EQ(float(parse_param_values(eps, {text})[0]), v) << text;
+  }
+  EXPECT_EQ(format_param_values(eps, {double(1.0f / 130.0f)}), "0.007692308");
+  EXPECT_EQ(format_param_values(eps, {1e-25}), "1e-25");
+}
+
 TEST(ParamValues, RefusesBadTextInWords) {
   const ParamInfo q = param("Q", protocol::ParamType::F32, 3);
   const ParamInfo n = param("N", protocol::ParamType::U8, 1);
