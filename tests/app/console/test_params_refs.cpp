@@ -49,7 +49,7 @@ TEST(ParamValues, FormattedFloatsReadBackExactly) {
     const std::string text = format_param_values(eps, {double(v)});
     EXPECT_EQ(float(parse_param_values(eps, {text})[0]), v) << text;
   }
-  EXPECT_EQ(format_param_values(eps, {double(1.0f / 130.0f)}), "0.007692308");
+  EXPECT_EQ(format_param_values(eps, {double(1.0f / 130.0f)}), "0.0076923077");
   EXPECT_EQ(format_param_values(eps, {1e-25}), "1e-25");
 }
 
