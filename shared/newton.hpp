@@ -9,7 +9,7 @@
 // input range. Every step is therefore damped, (H + mu h I) dU = -g with h
 // H's largest diagonal entry (Levenberg-Marquardt), and mu is a trust
 // decision made once per iteration, not by retries: the next iteration's
-// linearisation measures J at the new point anyway, so the step's actual
+// linearisation measures J at the point the step reached anyway, so its actual
 // reduction is compared with the quadratic model's prediction there;
 // mu shrinks after a good step and grows after a poor one, and a step that
 // raised J is undone and solved again from the kept system with more

@@ -148,8 +148,8 @@ class Firmware {
  private:
   // ---------------------------------------------------------------- model
   // The model in force is read where its file lies (parse_model in place):
-  // the built-in one in flash, an uploaded one in the transfer buffer. So a
-  // new model transfer, which overwrites that buffer, first puts the
+  // the built-in one in flash, an uploaded one in the transfer buffer. So
+  // each model transfer, which overwrites that buffer, first puts the
   // built-in model back in force (or none, in an image without one); and a
   // model transfer is refused during a run.
   Status load_model(const uint8_t* file, size_t len) {
