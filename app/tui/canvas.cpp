@@ -23,7 +23,10 @@ Canvas::Canvas(int cols, int rows, bool braille)
 void Canvas::dot(int x, int y, uint8_t series) {
   if (x < 0 || y < 0 || x >= width() || y >= height()) return;
   const size_t cell = size_t((y / dy_) * cols_ + x / dx_);
-  bits_[cell] |= braille_ ? kDot[x % 2][y % 4] : 1;
+  // Spelled out: under UBSan, GCC loses the range of kDot's element and
+  // warns (-Wconversion) on `|=` with the int it promotes to.
+  const uint8_t dot = braille_ ? kDot[x % 2][y % 4] : uint8_t(1);
+  bits_[cell] = uint8_t(bits_[cell] | dot);
   series_[cell] = series;
 }
 
