@@ -28,6 +28,7 @@ struct ConsoleArgs {
   double sim_rate = 0;
   bool sim_fast = false;
   int timeout_ms = 250;
+  double wait_s = 0;
 };
 
 void on_interrupt(int) { LiveConsole::request_interrupt(); }
@@ -62,6 +63,7 @@ int run_console(const ConsoleArgs& a) {
   o.record = !a.no_record;
   o.decimation = a.decimation;
   o.session.timeout = std::chrono::milliseconds(a.timeout_ms);
+  o.wait = a.wait_s < 0 ? std::chrono::milliseconds(-1) : std::chrono::milliseconds(int64_t(a.wait_s * 1000));
   LiveConsole console(o);
   // Ctrl-C stops the run cleanly (it stays in the database, marked
   // interrupted) instead of leaving it unfinished.
@@ -100,8 +102,11 @@ int run_console(const ConsoleArgs& a) {
   const int rc = runner.run(script);
   bar.reset();
   console.disconnect();
-  std::fprintf(stderr, "%d expect%s held, %d failed\n", runner.passed_expects(), runner.passed_expects() == 1 ? "" : "s",
+  std::fprintf(stderr, "%d expect%s held, %d failed", runner.passed_expects(), runner.passed_expects() == 1 ? "" : "s",
                runner.failed_expects());
+  if (runner.incomplete_runs() > 0)
+    std::fprintf(stderr, "; %d run%s ended early", runner.incomplete_runs(), runner.incomplete_runs() == 1 ? "" : "s");
+  std::fprintf(stderr, "\n");
   return rc;
 }
 
@@ -127,12 +132,16 @@ void add_console_commands(CLI::App& app) {
       ->check(CLI::Range(1, 65535));
   app.add_option("--sim-rate", a->sim_rate, "Control loop rate of the simulator, Hz")->check(CLI::PositiveNumber);
   app.add_flag("--sim-fast", a->sim_fast, "Let the simulator run faster than real time");
+  app.add_option("--wait", a->wait_s,
+                 "Wait this many seconds for a PORT that does not exist yet (a board being plugged in); -1: until Ctrl-C")
+      ->check(CLI::Range(-1.0, 1e6));
   app.add_option("--timeout", a->timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
   std::string footer =
       "Connect and tune:\n"
       "  nlsoft-console --sim hasel              # no hardware: firmware simulator on a pty\n"
       "  nlsoft-console --qemu hasel             # the Cortex-M4F image in QEMU, UART on a pty\n"
       "  nlsoft-console /dev/ttyACM0 --baud 1000000\n"
+      "  nlsoft-console /dev/ttyACM0 --wait -1     # wait for the board to be plugged in\n"
       "Headless (CI): exit 0 when every expect held, 1 when one failed, 2 on an error\n"
       "  nlsoft-console --sim hasel --script tune.nls\n"
       "Recorded runs:\n"

@@ -1,8 +1,10 @@
 #include "app/live/live_console.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -74,6 +76,7 @@ void LiveConsole::connect(const Progress& params_progress) {
                                 : sim_->start(options_.sim_platform, options_.sim_args);
   }
   if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");
+  if (!sim_) port = settle_port(port);
 
   db_path_ = options_.db_path.empty() ? default_db_path() : options_.db_path;
   if (!options_.record) {
@@ -91,7 +94,7 @@ void LiveConsole::connect(const Progress& params_progress) {
 
   session_ = std::make_unique<Session>(options_.session);
   session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
-  session_->on_status([this](const p::Status& s) { tick_rate_hz_ = s.tick_rate_hz; });
+  session_->on_status([this](const p::Status& s) { on_status(s); });
   session_->on_log([this](const p::Log& l) {
     static const char* level[] = {"debug", "info", "warn", "error"};
     say(fmt::format("firmware {}: {}", l.level < 4 ? level[l.level] : "log", l.text));
@@ -115,9 +118,30 @@ void LiveConsole::connect(const Progress& params_progress) {
   }
   device_->load_params(params_progress);
   // The tick rate converts compute ticks to microseconds from the first sample on.
-  tick_rate_hz_ = device_->status().tick_rate_hz;
+  const p::Status st = device_->status();
+  tick_rate_hz_ = st.tick_rate_hz;
+  note_uptime(st.uptime_ms);
   configure_telemetry();
   recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
+}
+
+std::string LiveConsole::settle_port(const std::string& port) {
+  struct stat st {};
+  const double wait_s = std::chrono::duration<double>(options_.wait).count();
+  if (::stat(port.c_str(), &st) != 0) {
+    if (options_.wait.count() == 0)
+      throw CliError(fmt::format("{} does not exist: is the board plugged in? --wait SECONDS waits for it", port));
+    say(options_.wait.count() < 0
+            ? fmt::format("waiting for {} to appear (Ctrl-C gives up)", port)
+            : fmt::format("waiting up to {:g} s for {} to appear (Ctrl-C gives up)", wait_s, port));
+    if (!wait_for_port(port, options_.wait, [] { return LiveConsole::interrupted(); }))
+      throw CliError(LiveConsole::interrupted()
+                         ? fmt::format("interrupted while waiting for {}", port)
+                         : fmt::format("{} did not appear within {:g} s", port, wait_s));
+  }
+  const std::string stable = stable_port_path(port, options_.by_id_dir);
+  if (stable != port) say(fmt::format("{} is {}: a reconnect follows the board wherever it re-enumerates", port, stable));
+  return stable;
 }
 
 void LiveConsole::configure_telemetry() {
@@ -186,6 +210,20 @@ void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
   live_.push(s);
   last_step_ = t.step;
   have_last_step_ = true;
+  last_sample_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
+}
+
+// The firmware ends a run on its own only through its link watchdog (or a
+// fault): STATUS, sent every second, is where that shows, since telemetry
+// just stops.
+void LiveConsole::on_status(const p::Status& s) {
+  tick_rate_hz_ = s.tick_rate_hz;
+  note_uptime(s.uptime_ms);
+  const int64_t run = run_id_.load();
+  if (run != 0 && s.run_id == uint32_t(run) && s.run_state != uint8_t(p::RunState::Running) && !user_hold_.load()) {
+    left_run_watchdog_ = s.watchdog;
+    left_run_state_ = s.run_state;
+  }
 }
 
 void LiveConsole::on_event(const LinkEvent& e) {
@@ -193,6 +231,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
   if (recorder_) recorder_->add_link_event(run, link_event_name(e.kind), e.detail);
   switch (e.kind) {
     case LinkEvent::Kind::Down:
+      boot_at_down_ns_ = boot_ns_.load();
       resync_after_gap_ = true;
       say("link down: " + e.detail + " (reconnecting)");
       break;
@@ -210,6 +249,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
         }
         if (now.model_hash != before.model_hash) say(fmt::format("the firmware now runs another model ({:08x})", now.model_hash));
         const p::Status st = device_->status();
+        check_for_reset(before, now, st);
         if (run != 0 && (st.run_id != uint32_t(run) || st.run_state == uint8_t(p::RunState::Idle)))
           say(fmt::format("run {} is no longer running on the firmware (reset?); stop it to close the recording", run));
         if (st.telemetry_mask == 0) say("telemetry is off after the reconnect (board reset?); restart the run");
@@ -220,6 +260,74 @@ void LiveConsole::on_event(const LinkEvent& e) {
       break;
     }
   }
+}
+
+void LiveConsole::note_uptime(uint32_t uptime_ms) {
+  boot_ns_ = std::chrono::steady_clock::now().time_since_epoch().count() - int64_t(uptime_ms) * 1000000;
+}
+
+void LiveConsole::check_for_reset(const p::Info& before, const p::Info& now, const p::Status& st) {
+  const int64_t was = boot_at_down_ns_.load();
+  note_uptime(st.uptime_ms);
+  // Half a second absorbs the reply latency in the estimates.
+  constexpr int64_t kSlackNs = 500000000;
+  std::string why;
+  if (was != 0 && boot_ns_.load() - was > kSlackNs)
+    why = fmt::format("its uptime says it started again {:.1f} s ago", st.uptime_ms / 1000.0);
+  else if (now.param_hash != before.param_hash)
+    why = "its parameter list changed";
+  if (why.empty()) return;
+  const auto all = device_->get_all();
+  std::vector<std::string> forgotten;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const auto& [info, mine] : edits_) {
+      for (const auto& [fi, theirs] : all) {
+        if (fi.name != info.name) continue;
+        bool same = theirs.size() == mine.size();
+        for (size_t i = 0; same && i < mine.size(); ++i) same = float(theirs[i]) == float(mine[i]);
+        if (!same)
+          forgotten.push_back(fmt::format("{} is {} (this session set {})", info.name, format_param_values(fi, theirs),
+                                          format_param_values(info, mine)));
+      }
+    }
+    forgotten_ = forgotten;
+  }
+  ++firmware_resets_;
+  say(fmt::format("the firmware has reset ({}): parameters re-read; {}", why,
+                  forgotten.empty() ? "none of this session's edits was lost"
+                                    : fmt::format("{} edit{} no longer in force; `params reapply` (A in the parameter "
+                                                  "panel) sends them again",
+                                                  forgotten.size(), forgotten.size() == 1 ? " is" : "s are")));
+  for (const std::string& f : forgotten) say("  " + f);
+  if (recorder_) recorder_->add_link_event(run_id_.load(), "reset", why);
+}
+
+std::vector<std::string> LiveConsole::forgotten_edits() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return forgotten_;
+}
+
+std::vector<std::string> LiveConsole::reapply_edits() {
+  std::vector<std::pair<ParamInfo, std::vector<double>>> edits;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    edits = edits_;
+  }
+  std::vector<std::string> sent;
+  for (const auto& [info, values] : edits) {
+    // The catalog may have changed with the firmware: send by today's entry.
+    const ParamInfo* now = device_->catalog()->find(info.name);
+    if (!now) {
+      sent.push_back(fmt::format("{}: no longer a parameter of this firmware; skipped", info.name));
+      continue;
+    }
+    const auto echoed = apply_param(*now, values);
+    sent.push_back(fmt::format("{} = {}", now->name, format_param_values(*now, echoed)));
+  }
+  std::lock_guard<std::mutex> lock(mu_);
+  forgotten_.clear();
+  return sent;
 }
 
 std::pair<ParamInfo, int> LiveConsole::resolve_param(const std::string& name) const {
@@ -260,6 +368,12 @@ std::vector<double> LiveConsole::set_param(const std::string& name, const std::v
 
 std::vector<double> LiveConsole::apply_param(const ParamInfo& info, const std::vector<double>& values) {
   const std::vector<double> echoed = device_->set(info, values);
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    edits_.erase(std::remove_if(edits_.begin(), edits_.end(), [&](const auto& e) { return e.first.name == info.name; }),
+                 edits_.end());
+    edits_.emplace_back(info, echoed);
+  }
   if (const int64_t run = run_id_.load()) {
     const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
     recorder_->add_param_change(run, t, info.name, format_param_values(info, echoed));
@@ -393,6 +507,9 @@ int64_t LiveConsole::start_run(const std::string& label) {
   run_k_ = 0;
   run_lost_ = 0;
   have_last_step_ = false;
+  user_hold_ = false;
+  left_run_state_ = 0;
+  left_run_watchdog_ = 0;
   resync_after_gap_ = false;
   run_label_ = label;
   run_started_ = std::chrono::steady_clock::now();
@@ -435,7 +552,8 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   try {
     device_->run_stop();
   } catch (const std::exception& e) {
-    why = std::string("link lost at stop: ") + e.what();
+    // Keeps why the run ended (an early end's cause comes first).
+    why = reason + "; link lost at stop: " + e.what();
   }
   // Every frame of the run came before RUN_STOP's ACK on the one reader.
   run_id_ = 0;
@@ -452,24 +570,55 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
 
 void LiveConsole::hold(p::HoldMode mode) {
   if (!running()) throw CliError("no run is active");
+  // Set before a hold is sent and cleared only after a resume is
+  // acknowledged, so no STATUS of a held run reads as the firmware leaving it.
+  if (mode != p::HoldMode::Resume) user_hold_ = true;
   device_->run_hold(mode);
+  if (mode == p::HoldMode::Resume) user_hold_ = false;
   recorder_->add_link_event(run_id_.load(), "hold",
                             mode == p::HoldMode::Hold ? "hold" : mode == p::HoldMode::Neutral ? "neutral" : "resume");
 }
 
+namespace {
+
+std::string left_run_reason(uint8_t state, uint8_t watchdog) {
+  // STATUS watchdog bit 2: the link went silent during this run.
+  constexpr uint8_t kWatchdogTripped = 0x04;
+  const char* where = state == uint8_t(p::RunState::Hold)      ? "holding"
+                      : state == uint8_t(p::RunState::Neutral) ? "with the actuators neutral"
+                      : state == uint8_t(p::RunState::Fault)   ? "in its fault state"
+                                                               : "idle";
+  if (watchdog & kWatchdogTripped)
+    return fmt::format("the firmware's link watchdog tripped (nothing from the console for watchdog_ms); it is {}",
+                       where);
+  return fmt::format("the firmware left the run on its own; it is {}", where);
+}
+
+}  // namespace
+
 RunSummary LiveConsole::run_for(double seconds, const std::string& label, const Progress& progress,
                                 const std::atomic<bool>* cancel) {
+  using clock = std::chrono::steady_clock;
   if (!(seconds > 0)) throw CliError("run duration must be > 0");
   const int64_t id = start_run(label);
   const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
   const uint64_t target = std::max<uint64_t>(1, uint64_t(std::llround(seconds * rate)));
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
+  // Telemetry may pause for a link outage the session rides out, or for a
+  // slow line's decimation; longer than that, the firmware is not running
+  // our run any more.
+  const double period_s = double(decimation_ ? decimation_ : 1) / rate;
+  const auto silence = std::max<clock::duration>(
+      options_.session.silence_limit, std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(10 * period_s)));
+  const auto started = clock::now();
+  // A backstop for a step counter that never advances: twice the run, plus
+  // the time to start.
+  auto deadline = started + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
+  std::string early, record_error;
   bool reached = false;
   bool interrupted = false, stopped = false, cancelled = false, stopped_elsewhere = false;
   stop_timed_ = false;
   timed_run_ = true;
-  while (std::chrono::steady_clock::now() < deadline) {
+  while (true) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     if (cancel && cancel->load()) {
       cancelled = true;
@@ -484,30 +633,85 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
       break;
     }
     // No more telemetry will come for a run someone else stopped; polling
-    // on until the deadline would only keep the caller (and a quitting TUI
-    // joining its worker) waiting.
+    // on would only keep the caller (and a quitting TUI joining its worker)
+    // waiting.
     if (run_id_.load() != id) {
       stopped_elsewhere = true;
       break;
     }
-    if (!have_last_step_) continue;
-    const uint64_t done = uint64_t(last_step_.load() - first_step_.load()) + decimation_;
-    if (progress) progress(std::min(done, target), target);
-    if (done >= target) {
-      reached = true;
+    if (const std::string err = recorder_->error(); !err.empty()) {
+      record_error = err;
+      break;
+    }
+    if (const uint8_t st = left_run_state_.load(); st != 0 || left_run_watchdog_.load() != 0) {
+      early = left_run_reason(st, left_run_watchdog_.load());
+      break;
+    }
+    const auto now = clock::now();
+    if (have_last_step_) {
+      const uint64_t done = uint64_t(last_step_.load() - first_step_.load()) + decimation_;
+      if (progress) progress(std::min(done, target), target);
+      if (done >= target) {
+        reached = true;
+        break;
+      }
+    }
+    if (user_hold_.load()) {  // held on purpose: telemetry pauses, and so does the clock
+      deadline += std::chrono::milliseconds(10);
+      continue;
+    }
+    if (now > deadline) {
+      early = fmt::format("the firmware's step count did not reach {} steps in {:.0f} s", target,
+                          std::chrono::duration<double>(now - started).count());
+      break;
+    }
+    const auto last = have_last_step_ ? clock::time_point(clock::duration(last_sample_ns_.load())) : started;
+    if (now - last > silence) {
+      early = have_last_step_ ? fmt::format("telemetry stopped arriving (none for {:.1f} s: firmware stopped or link lost)",
+                                            std::chrono::duration<double>(now - last).count())
+                              : "no telemetry arrived after RUN_START";
       break;
     }
   }
   timed_run_ = false;
+  if (!early.empty() && run_id_.load() == id) {
+    // What the run did not get, as a gap that says for how long.
+    const uint64_t done = have_last_step_ ? uint64_t(last_step_.load() - first_step_.load()) + decimation_ : 0;
+    const uint64_t missing = done >= target ? 0 : (target - done + decimation_ - 1) / std::max<uint16_t>(decimation_, 1);
+    const auto last = have_last_step_ ? clock::time_point(clock::duration(last_sample_ns_.load())) : started;
+    const uint64_t k = run_k_.load();
+    if (missing > 0) {
+      run_lost_ += missing;
+      recorder_->add_gap(id, k == 0 ? 0 : k - 1, missing, "run ended early: " + early,
+                         std::chrono::duration<double>(clock::now() - last).count());
+    }
+  }
+  if (!record_error.empty()) {
+    // The run is stopped on the firmware whatever the database says; closing
+    // its row may fail like the rest of the writes did.
+    const uint64_t received = run_k_.load();
+    std::string saved;
+    try {
+      saved = fmt::format("{} of {} samples saved", finish_run(id, label, "recording failed: " + record_error).metrics.samples,
+                          received);
+    } catch (const std::exception&) {
+      // The same failure again, most likely: not worth repeating.
+      saved = fmt::format("{} samples received; the run's row could not be closed either", received);
+    }
+    throw CliError(fmt::format("run {} stopped at once: recording failed ({}); {}", id, record_error, saved));
+  }
   RunSummary s = finish_run(id, label,
                             reached       ? "completed"
                             : stopped     ? "stopped by the user"
                             : cancelled   ? "cancelled"
                             : interrupted ? "interrupted"
-                                          : "timed out waiting for telemetry");
+                                          : "ended early: " + early);
   if (stopped_elsewhere || stopped || cancelled) return s;
   if (interrupted) throw CliError(fmt::format("interrupted: run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
-  if (!reached) say(fmt::format("run {} ended early: telemetry stopped arriving", s.run_id));
+  if (!early.empty()) {
+    s.ended_early = true;
+    say(fmt::format("run {} ended early: {}", s.run_id, early));
+  }
   return s;
 }
 

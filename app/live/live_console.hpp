@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "app/link/device.hpp"
+#include "app/link/port_path.hpp"
 #include "app/link/session.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/live/live_buffer.hpp"
@@ -32,12 +33,20 @@ struct LiveOptions {
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit
   int decimation = 0;        // 0: 1 on a simulator, else what the baud rate carries
+  // --wait: how long to wait for a port that is not there yet (a board
+  // being plugged in); 0: fail at once; negative: until Ctrl-C.
+  std::chrono::milliseconds wait{0};
+  std::string by_id_dir = kSerialByIdDir;  // where udev names USB devices (tests point it elsewhere)
   SessionOptions session;
 };
 
 struct RunSummary {
   int64_t run_id = 0;
   std::string label, end_reason;
+  // A timed run that stopped before its duration for a reason nobody asked
+  // for: telemetry stopped (firmware died, link gone), the firmware left the
+  // run (its link watchdog tripped). Scripts fail on it unless told not to.
+  bool ended_early = false;
   RunMetrics metrics;
 };
 
@@ -76,6 +85,16 @@ class LiveConsole {
   // "Q" -> (Q, -1); "Q[1]" and "Q1" -> (Q, 1). Throws CliError naming the
   // known parameters, or the valid element range.
   std::pair<ParamInfo, int> resolve_param(const std::string& name) const;
+  // A firmware that reset while the link was down (its uptime went back, or
+  // its parameter list changed) has forgotten this session's edits; the
+  // console re-reads the parameters, names the edits no longer in force,
+  // and counts the reset (the TUI redraws its panel on the count). This
+  // sends the session's edits again, in the order they were made, and
+  // returns what it sent.
+  std::vector<std::string> reapply_edits();
+  std::vector<std::string> forgotten_edits() const;  // "Q is 1e6 (you set 2e6)"
+  uint32_t firmware_resets() const { return firmware_resets_.load(); }
+
   // Returns the lines of the diff; applies nothing if dry_run. On a refusal
   // rolls back what was applied and throws.
   std::vector<std::string> load_params(const std::string& path, bool dry_run = false);
@@ -96,10 +115,14 @@ class LiveConsole {
   uint64_t run_lost() const { return run_lost_.load(); }
   // Blocks until `seconds` of control steps have been recorded (by the
   // firmware's step count, so a faster-than-real-time simulator finishes
-  // early) or a generous wall-clock limit passes, then stops the run. Ends
-  // early, stopping the run, when *cancel becomes true or stop_timed_run()
-  // is called; returns at once, with that stop's summary, when another
-  // thread stops the run (stop_run, or the console shutting down).
+  // early), then stops the run. Ends early, stopping the run, when *cancel
+  // becomes true or stop_timed_run() is called; returns at once, with that
+  // stop's summary, when another thread stops the run (stop_run, or the
+  // console shutting down). Ends early with ended_early set, recording the
+  // missing steps as a gap with its duration, when no telemetry comes for
+  // the silence limit (or a user hold) or STATUS says the firmware left the
+  // run. Throws CliError, after closing the run, if recording fails (disk
+  // full): a run nobody can read back is not worth waiting out.
   RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {},
                      const std::atomic<bool>* cancel = nullptr);
 
@@ -127,7 +150,13 @@ class LiveConsole {
   RunSummary finish_run(int64_t id, const std::string& label, const std::string& reason);
   void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
   void on_event(const LinkEvent& e);
+  void on_status(const protocol::Status& s);
+  // After a reconnect: did the firmware reset, and which edits did it lose?
+  void check_for_reset(const protocol::Info& before, const protocol::Info& now, const protocol::Status& st);
+  void note_uptime(uint32_t uptime_ms);
   void configure_telemetry();
+  // A port that may not exist yet (--wait), opened by its by-id name.
+  std::string settle_port(const std::string& port);
   void say(const std::string& s);
   static volatile std::sig_atomic_t& interrupted_flag() {
     static volatile std::sig_atomic_t flag = 0;
@@ -152,6 +181,15 @@ class LiveConsole {
   std::mutex stop_mu_;
   mutable std::mutex mu_;
   std::optional<RefParams> reference_;
+  // This session's parameter edits as echoed, oldest first, one per name.
+  std::vector<std::pair<ParamInfo, std::vector<double>>> edits_;
+  std::vector<std::string> forgotten_;
+  std::atomic<uint32_t> firmware_resets_{0};
+  // When the firmware booted, on our steady clock, from the last STATUS's
+  // uptime; and that estimate when the link went down. A later boot after a
+  // reconnect is a reset, whatever the uptimes themselves are.
+  std::atomic<int64_t> boot_ns_{0};
+  std::atomic<int64_t> boot_at_down_ns_{0};
   std::string reference_table_file_;
   std::optional<RunSummary> last_run_;
   std::atomic<int64_t> run_id_{0};
@@ -163,6 +201,10 @@ class LiveConsole {
   std::atomic<bool> have_last_step_{false};
   std::atomic<uint32_t> last_step_{0};
   std::atomic<uint32_t> first_step_{0};
+  std::atomic<int64_t> last_sample_ns_{0};  // steady clock, when the run's last sample came
+  std::atomic<bool> user_hold_{false};      // hold/neutral asked by us: telemetry pauses on purpose
+  std::atomic<uint8_t> left_run_state_{0};  // STATUS: our run's state, when it is no longer Running
+  std::atomic<uint8_t> left_run_watchdog_{0};
   std::string run_label_;
   std::chrono::steady_clock::time_point run_started_{};
   uint16_t decimation_ = 1;

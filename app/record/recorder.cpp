@@ -69,16 +69,6 @@ void ensure_parent_dir(const std::string& path) {
   }
 }
 
-std::string utc_now() {
-  timespec ts{};
-  clock_gettime(CLOCK_REALTIME, &ts);
-  tm t{};
-  gmtime_r(&ts.tv_sec, &t);
-  char buf[40];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S", &t);
-  return fmt::format("{}.{:03d}Z", buf, int(ts.tv_nsec / 1000000));
-}
-
 Recorder::Recorder(const std::string& path, Options options) : path_(path), options_(options) {
   ensure_parent_dir(path);
   db_ = std::make_unique<Db>(path, true);
@@ -90,7 +80,7 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   insert_sample_ = db_->prepare(sample_insert_sql(1).c_str());
   insert_samples_ = db_->prepare(sample_insert_sql(kSamplesPerInsert).c_str());
   insert_param_ = db_->prepare("INSERT INTO params(run_id,t,at_start,name,value) VALUES(?,?,?,?,?)");
-  insert_gap_ = db_->prepare("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason) VALUES(?,?,?,?,?)");
+  insert_gap_ = db_->prepare("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason,duration_s) VALUES(?,?,?,?,?,?)");
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
   insert_run_ = db_->prepare(
       "INSERT INTO runs(started_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,"
@@ -159,7 +149,7 @@ bool Recorder::add_sample(int64_t run_id, const Sample& s) {
       return false;
     }
     if (overflow_ > 0) {
-      queue_.push_back(TextItem{TextItem::Gap, overflow_run_, 0, int64_t(overflow_after_k_), int64_t(overflow_),
+      queue_.push_back(TextItem{TextItem::Gap, overflow_run_, -1, int64_t(overflow_after_k_), int64_t(overflow_),
                                 "recorder queue full: samples dropped", {}});
       overflow_ = 0;
     }
@@ -174,8 +164,9 @@ void Recorder::add_param_change(int64_t run_id, double t, const std::string& nam
   push(TextItem{TextItem::Param, run_id, t, 0, 0, name, value});
 }
 
-void Recorder::add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason) {
-  push(TextItem{TextItem::Gap, run_id, 0, int64_t(after_k), int64_t(lost_frames), reason, {}});
+void Recorder::add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason,
+                       double duration_s) {
+  push(TextItem{TextItem::Gap, run_id, duration_s, int64_t(after_k), int64_t(lost_frames), reason, {}});
 }
 
 void Recorder::add_link_event(int64_t run_id, const std::string& kind, const std::string& detail) {
@@ -290,7 +281,10 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
               insert_param_.bind(1, ti->run).bind(2, ti->t).bind(3, int64_t(0)).bind(4, ti->x).bind(5, ti->y).exec();
               break;
             case TextItem::Gap:
-              insert_gap_.bind(1, ti->run).bind(2, now).bind(3, ti->a).bind(4, ti->b).bind(5, ti->x).exec();
+              insert_gap_.bind(1, ti->run).bind(2, now).bind(3, ti->a).bind(4, ti->b).bind(5, ti->x);
+              // t carries the gap's duration; negative: not known.
+              if (ti->t >= 0) insert_gap_.bind(6, ti->t); else insert_gap_.bind_null(6);
+              insert_gap_.exec();
               break;
             case TextItem::Event:
               insert_event_.bind(1, now);

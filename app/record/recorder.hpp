@@ -21,6 +21,7 @@
 
 #include "app/record/sample.hpp"
 #include "app/record/sqlite.hpp"
+#include "app/record/utc_time.hpp"
 
 namespace nlsoft::console {
 
@@ -38,8 +39,6 @@ std::string default_db_path();
 // Creates the directory of `path` if missing; throws DbError if it cannot.
 void ensure_parent_dir(const std::string& path);
 
-// UTC now as "2024-05-01T12:34:56.789Z".
-std::string utc_now();
 
 class Recorder {
  public:
@@ -69,7 +68,9 @@ class Recorder {
   // drop is counted and recorded as a gap once there is room again).
   bool add_sample(int64_t run_id, const Sample& s);
   void add_param_change(int64_t run_id, double t, const std::string& name, const std::string& value);
-  void add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason);
+  // duration_s < 0: not known.
+  void add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason,
+               double duration_s = -1);
   void add_link_event(int64_t run_id, const std::string& kind, const std::string& detail);
   void set_notes(int64_t run_id, const std::string& notes);
 

@@ -5,6 +5,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "app/record/utc_time.hpp"
+
 namespace nlsoft::console {
 
 RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps) {
@@ -29,6 +31,10 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
     m.mean_iterations = it / double(s.iterations.size());
   }
   m.loop_rate_hz = run.loop_rate_hz;
+  // A run whose firmware died half-way spans less in samples than it lasted:
+  // both are reported, so neither passes for the other.
+  const auto t0 = utc_seconds(run.started_at), t1 = utc_seconds(run.ended_at);
+  if (t0 && t1 && *t1 >= *t0) m.wall_s = *t1 - *t0;
   if (s.rows() >= 2) {
     // time_us wraps every 71.6 min: sum the wrapped differences.
     double us = 0;
@@ -56,7 +62,7 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id) {
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names = {
       "rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
-      "iterations", "samples", "duration", "gaps", "rmse0", "rmse1", "rmse2"};
+      "iterations", "samples", "duration", "wall", "gaps", "rmse0", "rmse1", "rmse2"};
   return names;
 }
 
@@ -79,6 +85,7 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& name)
   if (name == "iterations") return m.mean_iterations;
   if (name == "samples") return double(m.samples);
   if (name == "duration") return m.duration_s;
+  if (name == "wall") return m.wall_s;
   if (name == "gaps") return double(m.gaps);
   if (name.size() > 4 && name.compare(0, 4, "rmse") == 0) {
     char* end = nullptr;

@@ -12,7 +12,8 @@ namespace nlsoft::console {
 
 struct RunMetrics {
   uint64_t samples = 0;
-  double duration_s = 0;
+  double duration_s = 0;  // the time the samples span (firmware clock)
+  double wall_s = 0;      // start to end of the run (console clock); 0 while unfinished
   bool has_true = false;
   TrackingMetrics truth;      // y_true vs y_ref (when the firmware sends y_true)
   TrackingMetrics predicted;  // y_hat vs y_ref
@@ -32,7 +33,8 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id);
 
 // The names `expect` and `sweep` accept, and a metric's value by name:
 // rmse (worst axis), rmse0.., nrmse, max_error, rmse_hat, nrmse_hat, lost,
-// loop_rate, compute_p50, compute_p99, iterations, samples, duration, gaps.
+// loop_rate, compute_p50, compute_p99, iterations, samples, duration, wall,
+// gaps.
 const std::vector<std::string>& metric_names();
 std::optional<double> metric_value(const RunMetrics& m, const std::string& name);
 

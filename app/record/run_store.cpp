@@ -63,15 +63,23 @@ RunStore::RunStore(const std::string& path) {
   if (v == 0) throw CliError(fmt::format("{} is not an nlsoft recording database", path));
   // Older files are upgraded in place so every reader sees one schema; that
   // takes the one write a reader ever makes.
+  // takes the one write a reader ever makes. A file we may not write (a
+  // read-only copy, someone else's) is read at its own version: v2 lacks
+  // only the gaps' durations.
   if (v < kSchemaVersion) {
-    db_.reset();
     try {
-      db_ = std::make_unique<Db>(path, Db::Access::ReadWrite);
-    } catch (const DbError& e) {
-      throw CliError(fmt::format("{} has schema v{} and cannot be upgraded to v{} here: {}", path, v, kSchemaVersion,
-                                 e.what()));
+      auto rw = std::make_unique<Db>(path, Db::Access::ReadWrite);
+      migrate(*rw);
+      db_ = std::move(rw);
+      version_ = kSchemaVersion;
+    } catch (const DbError&) {
+      if (v < 2)
+        throw CliError(fmt::format("{} has schema v{} and cannot be upgraded to v{} here (read-only)", path, v,
+                                   kSchemaVersion));
+      version_ = v;
     }
-    migrate(*db_);
+  } else {
+    version_ = v;
   }
   if (v > kSchemaVersion)
     throw CliError(fmt::format("database {} has schema v{}, newer than this console's v{}", path, v, kSchemaVersion));
@@ -184,10 +192,12 @@ std::vector<ParamRecord> RunStore::params(int64_t id) {
 }
 
 std::vector<GapRecord> RunStore::gaps(int64_t id) {
-  Stmt s = db_->prepare("SELECT t,reason,after_k,lost_frames FROM gaps WHERE run_id=? ORDER BY after_k");
+  Stmt s = db_->prepare(
+      version_ >= 3 ? "SELECT t,reason,after_k,lost_frames,ifnull(duration_s,-1) FROM gaps WHERE run_id=? ORDER BY after_k"
+                    : "SELECT t,reason,after_k,lost_frames,-1 FROM gaps WHERE run_id=? ORDER BY after_k");
   s.bind(1, id);
   std::vector<GapRecord> out;
-  while (s.step()) out.push_back({s.text(0), s.text(1), uint64_t(s.int64(2)), uint64_t(s.int64(3))});
+  while (s.step()) out.push_back({s.text(0), s.text(1), uint64_t(s.int64(2)), uint64_t(s.int64(3)), s.real(4)});
   return out;
 }
 

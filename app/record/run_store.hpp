@@ -40,6 +40,7 @@ struct ParamRecord {
 struct GapRecord {
   std::string t, reason;
   uint64_t after_k = 0, lost_frames = 0;
+  double duration_s = -1;  // < 0: not known
 };
 
 class RunStore {
@@ -60,6 +61,7 @@ class RunStore {
  private:
   void count_unfinished(RunRow& r);
   std::unique_ptr<Db> db_;
+  int version_ = 0;  // the schema read (older than the console's when the file cannot be upgraded)
 };
 
 }  // namespace nlsoft::console

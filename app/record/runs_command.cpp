@@ -59,6 +59,7 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["iterations"] = m.mean_iterations;
   j["lost_frames"] = m.lost_frames;
   j["gaps"] = m.gaps;
+  j["wall_s"] = m.wall_s;
   return j;
 }
 
@@ -69,7 +70,8 @@ void print_metrics(const RunMetrics& m) {
   if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
   fmt::print("  loop {:.1f} Hz, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", m.loop_rate_hz,
              m.compute_p50_us, m.compute_p99_us, m.mean_iterations);
-  fmt::print("  {} samples over {:.2f} s, {} lost frame{}, {} gap{}\n", m.samples, m.duration_s, m.lost_frames,
+  fmt::print("  {} samples over {:.2f} s{}, {} lost frame{}, {} gap{}\n", m.samples, m.duration_s,
+             m.wall_s > 0 ? fmt::format(" (the run lasted {:.2f} s)", m.wall_s) : "", m.lost_frames,
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
 }
 
@@ -99,6 +101,13 @@ void show(const RunsArgs& a) {
     }
     j["params"] = params;
     j["param_changes"] = changes;
+    nlohmann::json gaps = nlohmann::json::array();
+    for (const auto& g : store->gaps(a.id)) {
+      nlohmann::json x = {{"after_k", g.after_k}, {"lost_frames", g.lost_frames}, {"reason", g.reason}, {"t", g.t}};
+      x["duration_s"] = g.duration_s >= 0 ? nlohmann::json(g.duration_s) : nlohmann::json();
+      gaps.push_back(x);
+    }
+    j["gap_list"] = gaps;
     j["reference"] = r.reference.empty() ? nlohmann::json() : nlohmann::json::parse(r.reference, nullptr, false);
     fmt::print("{}\n", j.dump(2));
     return;
@@ -116,7 +125,8 @@ void show(const RunsArgs& a) {
   for (const auto& p : store->params(a.id))
     if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, p.name, p.value);
   for (const auto& g : store->gaps(a.id))
-    fmt::print("  gap after sample {}: {} frame{} lost ({}, {})\n", g.after_k, g.lost_frames, g.lost_frames == 1 ? "" : "s",
+    fmt::print("  gap after sample {}: {} frame{} lost{} ({}, {})\n", g.after_k, g.lost_frames,
+               g.lost_frames == 1 ? "" : "s", g.duration_s >= 0 ? fmt::format(" over {:.2f} s", g.duration_s) : "",
                g.reason, g.t);
   for (const auto& [when, detail] : store->link_events(a.id)) fmt::print("  link {}: {}\n", when, detail);
 }

@@ -73,6 +73,11 @@ ALTER TABLE runs ADD COLUMN samples INTEGER NOT NULL DEFAULT 0;
 ALTER TABLE runs ADD COLUMN lost_frames INTEGER NOT NULL DEFAULT 0;
 CREATE INDEX gaps_run ON gaps(run_id);
 )sql",
+    // v3: how long a gap lasted, so an outage reads as time, not only as
+    // frames (NULL: not known, as for gaps recorded before v3).
+    R"sql(
+ALTER TABLE gaps ADD COLUMN duration_s REAL;
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "one migration per version");
 

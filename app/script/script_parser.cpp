@@ -143,12 +143,21 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
       throw fail(e.what());
     }
   };
-  auto label_options = [&](size_t from, const char* usage) {
+  // label=TEXT everywhere; early=ok on timed runs, where a run that ends
+  // before its duration is otherwise a failure.
+  auto label_options = [&](size_t from, const char* usage, bool timed = false) {
     for (size_t i = from; i < t.size(); ++i) {
       std::pair<std::string, std::string> kv;
-      if (!split_option(t[i], kv) || kv.first != "label")
-        throw fail(fmt::format("'{}': unexpected '{}'; usage: {}", verb, t[i], usage));
-      c.label = kv.second;
+      const bool ok = split_option(t[i], kv) && (kv.first == "label" || (timed && kv.first == "early"));
+      if (!ok) throw fail(fmt::format("'{}': unexpected '{}'; usage: {}", verb, t[i], usage));
+      if (kv.first == "label") {
+        c.label = kv.second;
+      } else if (kv.second == "ok") {
+        c.allow_early = true;
+      } else if (kv.second != "fail") {
+        throw fail(fmt::format("'{}': early={}: use early=ok (a run may end before its duration) or early=fail", verb,
+                               kv.second));
+      }
     }
   };
 
@@ -163,12 +172,18 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     c.kind = Command::Kind::Get;
     c.name = t[1];
   } else if (verb == "params") {
-    need(3, "params save FILE | params load FILE");
-    at_most(3, "params save FILE | params load FILE");
-    if (t[1] == "save") c.kind = Command::Kind::ParamsSave;
-    else if (t[1] == "load") c.kind = Command::Kind::ParamsLoad;
-    else throw fail(fmt::format("params {}: expected 'save' or 'load'", t[1]));
-    c.name = t[2];
+    need(2, "params save FILE | params load FILE | params reapply");
+    if (t[1] == "reapply") {
+      at_most(2, "params reapply");
+      c.kind = Command::Kind::ParamsReapply;
+    } else {
+      need(3, "params save FILE | params load FILE | params reapply");
+      at_most(3, "params save FILE | params load FILE | params reapply");
+      if (t[1] == "save") c.kind = Command::Kind::ParamsSave;
+      else if (t[1] == "load") c.kind = Command::Kind::ParamsLoad;
+      else throw fail(fmt::format("params {}: expected 'save', 'load' or 'reapply'", t[1]));
+      c.name = t[2];
+    }
   } else if (verb == "ref") {
     need(2, "ref NAME key=value...  or  ref load FILE.csv [hold=N]");
     if (t[1] == "load") {
@@ -191,10 +206,10 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
       }
     }
   } else if (verb == "run") {
-    need(2, "run DURATION [label=TEXT]  e.g. run 10s label=baseline");
+    need(2, "run DURATION [label=TEXT] [early=ok]  e.g. run 10s label=baseline");
     c.kind = Command::Kind::Run;
     c.seconds = duration(t[1]);
-    label_options(2, "run DURATION [label=TEXT]");
+    label_options(2, "run DURATION [label=TEXT] [early=ok]", true);
   } else if (verb == "start") {
     c.kind = Command::Kind::Start;
     label_options(1, "start [label=TEXT]");
@@ -251,7 +266,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     c.name = t[1];
     c.values.assign(t.begin() + 2, t.begin() + long(run_at));
     c.seconds = duration(t[run_at + 1]);
-    label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [label=TEXT]");
+    label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [label=TEXT] [early=ok]", true);
   } else {
     throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
                            "wait expect export echo note sweep",
@@ -289,9 +304,11 @@ const std::vector<std::string>& script_help() {
       "get NAME                    print a parameter's value in force",
       "params save FILE            write every parameter to FILE",
       "params load FILE            show the diff and apply it (all or nothing)",
+      "params reapply              send this session's edits again (after a firmware reset)",
       "ref NAME key=value...       infinity|pringle|diagonal|swirl|steps|hold; keys a b c c0 c1 c2 period omega lambda scale hold levels",
       "ref load FILE.csv [hold=N]  upload a table of points and select it",
-      "run DURATION [label=TEXT]   record a run, e.g. run 10s label=baseline",
+      "run DURATION [label=TEXT]   record a run, e.g. run 10s label=baseline; a run that ends",
+      "                            before DURATION fails the script unless early=ok is given",
       "start [label=TEXT] | stop   start or stop a run without a duration",
       "hold | neutral | resume     pause the run, actuators to neutral, continue",
       "wait DURATION               sleep, e.g. wait 500ms",

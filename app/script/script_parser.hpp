@@ -6,17 +6,20 @@
 //   # comment
 //   set NAME VALUES...        set Q 1e6 2e6 1e6   |  set Q[1] 2e6
 //   get NAME
-//   params save FILE | params load FILE
+//   params save FILE | params load FILE | params reapply
 //   ref NAME key=value...     ref infinity period=8 a=4
 //   ref load FILE.csv [hold=N]
-//   run DURATION [label=TEXT] run 10s label="baseline"
+//   run DURATION [label=TEXT] [early=ok]
+//                             run 10s label="baseline"; a run that ends before
+//                             DURATION (firmware stopped, watchdog) fails the
+//                             script unless early=ok
 //   start [label=TEXT] | stop | hold | neutral | resume
 //   wait DURATION
 //   expect METRIC OP VALUE    expect nrmse < 0.05   (OP: < <= > >= == !=)
 //   export csv FILE
 //   echo TEXT
 //   note TEXT                 notes on the current (or last) run
-//   sweep PARAM V1 V2 ... run DURATION [label=TEXT]
+//   sweep PARAM V1 V2 ... run DURATION [label=TEXT] [early=ok]
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -38,7 +41,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 
 struct Command {
   enum class Kind {
-    Set, Get, ParamsSave, ParamsLoad, Ref, RefLoad, Run, Start, Stop, Hold, Neutral, Resume,
+    Set, Get, ParamsSave, ParamsLoad, ParamsReapply, Ref, RefLoad, Run, Start, Stop, Hold, Neutral, Resume,
     Wait, Expect, ExportCsv, Echo, Sweep, Note,
   };
   Kind kind = Kind::Echo;
@@ -51,6 +54,7 @@ struct Command {
   CmpOp op = CmpOp::Lt;
   double value = 0;                 // expect
   std::string label;                // run / start / sweep
+  bool allow_early = false;         // run / sweep: early=ok
 };
 
 struct Script {

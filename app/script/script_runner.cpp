@@ -28,6 +28,15 @@ std::string summary_line(const RunSummary& s) {
 
 }  // namespace
 
+// A run that ended before its duration measured something else than the
+// script asked for: a failure, like a failed expect, unless it said early=ok.
+void ScriptRunner::check_completed(const RunSummary& s, const Command& c, const std::string& file) {
+  if (!s.ended_early || c.allow_early) return;
+  ++incomplete_runs_;
+  out_(fmt::format("{}:{}: run {} did not complete: {} (add early=ok to '{}' if that is expected)", file, c.line,
+                   s.run_id, s.end_reason, c.text));
+}
+
 int ScriptRunner::run(const Script& script) {
   for (const Command& c : script.commands) {
     if (LiveConsole::interrupted()) {
@@ -47,7 +56,7 @@ int ScriptRunner::run(const Script& script) {
       return 2;
     }
   }
-  return failed_ > 0 ? 1 : 0;
+  return failed_ > 0 || incomplete_runs_ > 0 ? 1 : 0;
 }
 
 void ScriptRunner::cancel() {
@@ -88,6 +97,12 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         for (const auto& d : diff) out_("  " + d);
         break;
       }
+      case K::ParamsReapply: {
+        const auto sent = console_.reapply_edits();
+        if (sent.empty()) out_("no edits in this session to send again");
+        for (const auto& l : sent) out_("  " + l);
+        break;
+      }
       case K::Ref: {
         const RefParams r = reference_from_spec(console_.platform(), console_.loop_rate_hz(), c.name, c.options);
         console_.select_reference(r);
@@ -115,6 +130,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
             },
             &cancelled_);
         out_(summary_line(s));
+        check_completed(s, c, file);
         break;
       }
       case K::Start: out_(fmt::format("run {} started", console_.start_run(c.label))); break;
@@ -159,7 +175,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         out_(fmt::format("notes on run {}: {}", id, c.name));
         break;
       }
-      case K::Sweep: sweep(c); break;
+      case K::Sweep: sweep(c, file); break;
     }
   } catch (const ScriptError&) {
     throw;
@@ -168,7 +184,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
   }
 }
 
-void ScriptRunner::sweep(const Command& c) {
+void ScriptRunner::sweep(const Command& c, const std::string& file) {
   const auto [info, original] = console_.get_param(c.name);
   std::vector<std::string> header = {c.name, "run", "rmse", "nrmse", "max_error", "lost", "p99_us"};
   std::vector<std::vector<std::string>> rows;
@@ -184,7 +200,9 @@ void ScriptRunner::sweep(const Command& c) {
           },
           &cancelled_);
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(s.metrics, m).value_or(0)); };
-      rows.push_back({v, std::to_string(s.run_id), f("rmse"), f("nrmse"), f("max_error"), f("lost"), f("compute_p99")});
+      rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("rmse"), f("nrmse"),
+                      f("max_error"), f("lost"), f("compute_p99")});
+      check_completed(s, c, file);
     } catch (...) {
       failure = std::current_exception();
       break;

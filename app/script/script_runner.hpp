@@ -20,13 +20,15 @@ class ScriptRunner {
   ScriptRunner(LiveConsole& console, Output out, Progress progress = {})
       : console_(console), out_(std::move(out)), progress_(std::move(progress)) {}
 
-  // Runs every command in order. Returns 0 when every expect held, 1 when
-  // one failed, 2 on a script or link error (the message names file:line;
-  // an active run is stopped first).
+  // Runs every command in order. Returns 0 when every expect held and every
+  // timed run completed, 1 when one did not, 2 on a script, link or
+  // recording error (the message names file:line; an active run is stopped
+  // first).
   int run(const Script& script);
 
   // One command; throws ScriptError (file:line: ...) on failure. A failed
-  // expect is not an exception: it is reported and counted.
+  // expect, or a run that ended early, is not an exception: it is reported
+  // and counted.
   void execute(const Command& c, const std::string& file);
 
   // From another thread: the command in progress ends as soon as it can
@@ -38,14 +40,16 @@ class ScriptRunner {
 
   int failed_expects() const { return failed_; }
   int passed_expects() const { return passed_; }
+  int incomplete_runs() const { return incomplete_runs_; }  // ended early without early=ok
 
  private:
-  void sweep(const Command& c);
+  void sweep(const Command& c, const std::string& file);
+  void check_completed(const RunSummary& s, const Command& c, const std::string& file);
   void throw_if_cancelled(const Command& c, const std::string& file) const;
   LiveConsole& console_;
   Output out_;
   Progress progress_;
-  int failed_ = 0, passed_ = 0;
+  int failed_ = 0, passed_ = 0, incomplete_runs_ = 0;
   std::atomic<bool> cancelled_{false};
   std::mutex cancel_mu_;  // with cancel_cv_: a `wait` ends at cancel()
   std::condition_variable cancel_cv_;

@@ -8,8 +8,11 @@
 
 namespace nlsoft::console::tui {
 
-void ParamPanel::reload() {
-  worker_.post("reading parameters", [this] {
+void ParamPanel::reload() { fetch(false); }
+void ParamPanel::reload_after_reset() { fetch(true); }
+
+void ParamPanel::fetch(bool after_reset) {
+  worker_.post("reading parameters", [this, after_reset] {
     try {
       const auto all = console_.device().get_all();
       std::lock_guard<std::mutex> lock(mu_);
@@ -18,9 +21,19 @@ void ParamPanel::reload() {
         Row r;
         r.info = info;
         r.value = v;
-        // Keep what the user saw happen to each row across a reload.
-        for (const Row& old : rows_)
-          if (old.info.id == info.id && old.state == State::Refused) r.state = old.state, r.note = old.note;
+        for (const Row& old : rows_) {
+          if (old.info.name != info.name) continue;
+          // Keep what the user saw happen to each row across a reload.
+          if (old.state == State::Refused || old.state == State::Reset) r.state = old.state, r.note = old.note;
+          bool same = old.value.size() == v.size();
+          for (size_t i = 0; same && i < v.size(); ++i) same = float(old.value[i]) == float(v[i]);
+          if (after_reset && !same) {
+            r.state = State::Reset;
+            r.note = "reset, was " + format_param_values(old.info, old.value);
+          } else if (after_reset && r.state == State::Applied) {
+            r.state = State::Idle;
+          }
+        }
         rows.push_back(std::move(r));
       }
       rows_ = std::move(rows);
@@ -65,6 +78,25 @@ void ParamPanel::send(size_t row, const std::vector<double>& values, bool record
     if (state == State::Applied && record_undo) undo_.emplace_back(row, before);
     ui_.message(fmt::format("{}: {}", info.name, note), state == State::Applied ? Role::Ok : Role::Error);
   });
+}
+
+void ParamPanel::reapply() {
+  worker_.post("re-applying this session's edits", [this] {
+    try {
+      const auto sent = console_.reapply_edits();
+      ui_.message(sent.empty() ? "no edits in this session to send again"
+                               : fmt::format("{} edit{} sent again", sent.size(), sent.size() == 1 ? "" : "s"),
+                  Role::Ok);
+      {
+        std::lock_guard<std::mutex> lock(mu_);
+        for (Row& r : rows_)
+          if (r.state == State::Reset) r.state = State::Idle, r.note.clear();
+      }
+    } catch (const std::exception& e) {
+      ui_.message(e.what(), Role::Error);
+    }
+  });
+  reload();
 }
 
 void ParamPanel::save() {
@@ -177,6 +209,11 @@ bool ParamPanel::key(int ch) {
     case 'R':
       reload();
       return true;
+    case 'A':
+      lock.unlock();
+      reapply();
+      lock.lock();
+      return true;
   }
   return false;
 }
@@ -214,13 +251,14 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
       case State::Pending: mark = " pending " + r.note; role = Role::Pending; break;
       case State::Applied: mark = " " + r.note; role = Role::Ok; break;
       case State::Refused: mark = " refused: " + r.note; role = Role::Error; break;
+      case State::Reset: mark = " " + r.note; role = Role::Warn; break;
     }
     const int vw = std::max(0, w - 2 - name_w);
     put(ry, x + 1 + name_w, value, vw, sel ? screen.attr(Role::Selected) : 0);
     const int used = std::min(vw, int(value.size()));
     if (!mark.empty()) put(ry, x + 1 + name_w + used, mark, vw - used, screen.attr(role));
   }
-  put(y + h - 1, x, "Enter edit  u undo  S save  L load  R reread", w, screen.attr(Role::Dim));
+  put(y + h - 1, x, "Enter edit  u undo  S/L save/load  R reread  A reapply", w, screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

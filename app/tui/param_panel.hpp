@@ -2,7 +2,8 @@
 // The parameter panel, built from the firmware's PARAM_LIST: every value in
 // force, edited in place (Enter), each edit shown pending -> applied (the
 // value the firmware echoed) or refused (its reason); u undoes the last
-// applied edit; S saves the set to a file, L loads one after showing the diff.
+// applied edit; S saves the set to a file, L loads one after showing the diff;
+// after a firmware reset the rows it changed are marked and A re-applies.
 #include <mutex>
 #include <string>
 #include <vector>
@@ -20,12 +21,16 @@ class ParamPanel {
   ParamPanel(LiveConsole& console, Worker& worker, Ui& ui) : console_(console), worker_(worker), ui_(ui) {}
 
   void reload();  // fetches every value (worker)
+  // After the firmware reset: fetches every value and marks the rows the
+  // reset changed, so no old value stays on screen as if it were in force;
+  // A sends the session's edits again.
+  void reload_after_reset();
   void draw(const Screen& screen, int y, int x, int h, int w, bool focused);
   bool key(int ch);  // true if consumed
   bool editing() const { return edit_.active(); }
 
  private:
-  enum class State { Idle, Pending, Applied, Refused };
+  enum class State { Idle, Pending, Applied, Refused, Reset };
   struct Row {
     ParamInfo info;
     std::vector<double> value;
@@ -33,6 +38,8 @@ class ParamPanel {
     std::string note;  // refusal reason, or what was sent while pending
   };
   void send(size_t row, const std::vector<double>& values, bool record_undo);
+  void fetch(bool after_reset);
+  void reapply();
   void save();
   void load();
 

@@ -40,7 +40,8 @@ const char* const kHelp[] = {
     "  q F10     quit (asks first while a run is active)",
     "",
     "Parameters: Up/Down select, Enter edit in place (Esc cancels), u undo,",
-    "            S save to a file, L load one (shows the diff before sending)",
+    "            S save to a file, L load one (shows the diff before sending),",
+    "            R reread, A send this session's edits again (after a firmware reset)",
     "Reference:  Left/Right kind, Enter edit a value, a send (CSV: upload)",
     "Runs:       Enter metrics, m mark, c compare with the marked run, e export CSV",
 };
@@ -134,6 +135,7 @@ class App : public Ui {
   std::function<void()> confirm_yes_;
   bool quit_confirmed_ = false;
   bool shut_down_ = false;
+  uint32_t seen_resets_ = 0;  // console_.firmware_resets() the panel has caught up with
 };
 
 // The shutdown order, on quit (q, F10, SIGTERM) and in ~App if loop() threw:
@@ -206,7 +208,7 @@ void App::command(const std::string& line) {
       } catch (const ScriptError& e) {
         message(e.message, Role::Error);
       }
-      if (c.kind == Command::Kind::Set || c.kind == Command::Kind::ParamsLoad || c.kind == Command::Kind::Sweep)
+      if (c.kind == Command::Kind::Set || c.kind == Command::Kind::ParamsLoad || c.kind == Command::Kind::ParamsReapply || c.kind == Command::Kind::Sweep)
         params_.reload();
       if (c.kind == Command::Kind::Run || c.kind == Command::Kind::Stop || c.kind == Command::Kind::Sweep) runs_.reload();
     });
@@ -444,6 +446,12 @@ int App::loop() {
     }
     const int ch = getch();
     if (ch != ERR && !handle(ch)) break;
+    // A firmware that reset behind a reconnect: old values must not stay on
+    // screen as if they were in force.
+    if (const uint32_t resets = console_.firmware_resets(); resets != seen_resets_) {
+      seen_resets_ = resets;
+      params_.reload_after_reset();
+    }
     if (LiveConsole::interrupted()) break;  // SIGTERM, or Ctrl-C outside raw mode
     // Steady redraw whatever the telemetry or key rate: at most every 40 ms.
     if (Clock::now() - last_draw >= std::chrono::milliseconds(40)) {

@@ -124,6 +124,18 @@ TEST_F(ConsoleE2E, SweepPrintsATablePerSetting) {
   EXPECT_NE(r.output.find("Q restored to 1"), std::string::npos) << r.output;
 }
 
+// Disk full, as a file-size limit makes it (SIGXFSZ ignored, so writes fail
+// with EFBIG): the recording fails a second or so into a ten-minute run, and
+// the console stops the run at once and says so, exit 2, instead of running
+// on unrecorded. `timeout` turns waiting out the run into a failure here.
+TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnce) {
+  script_ = dir_.file("full.nls");
+  std::ofstream(script_) << "run 600s label=full\n";
+  const auto r = run_process("trap '' XFSZ; ulimit -f 600; exec timeout 80 " + fmt_command("msd", "--sim-rate 5000"));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("stopped at once: recording failed"), std::string::npos) << r.output;
+}
+
 // The simulator's log lives in a folder of the console's own (0700), not at
 // a predictable /tmp name another user could plant a link at, and goes away
 // with the launcher.

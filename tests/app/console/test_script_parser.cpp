@@ -87,12 +87,35 @@ TEST(ScriptParser, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("sweep Q0 1 2 3\n"), "tune.nls:1: usage: sweep PARAM V1 V2 ... run DURATION  e.g. sweep Q0 1e5 1e6 1e7 run 5s");
   EXPECT_EQ(error_of("echo \"unterminated\n"), "");  // echo takes the raw rest of the line
   EXPECT_EQ(error_of("run 5s label=\"open\n"), "tune.nls:1: unterminated \"quote\"");
-  EXPECT_EQ(error_of("run 5s colour=red\n"), "tune.nls:1: 'run': unexpected 'colour=red'; usage: run DURATION [label=TEXT]");
-  EXPECT_EQ(error_of("params edit x\n"), "tune.nls:1: params edit: expected 'save' or 'load'");
+  EXPECT_EQ(error_of("run 5s colour=red\n"), "tune.nls:1: 'run': unexpected 'colour=red'; usage: run DURATION [label=TEXT] [early=ok]");
+  EXPECT_EQ(error_of("params edit x\n"), "tune.nls:1: params edit: expected 'save', 'load' or 'reapply'");
   EXPECT_EQ(error_of("export json x\n"), "tune.nls:1: export json: only 'export csv FILE' is supported");
   EXPECT_EQ(error_of("ref swirl scale\n"), "tune.nls:1: ref swirl: 'scale' is not key=value");
   EXPECT_EQ(error_of("get\n"), "tune.nls:1: 'get' needs more: get NAME");
   EXPECT_EQ(error_of("stop now\n"), "tune.nls:1: 'stop' takes fewer arguments: stop (extra: 'now')");
+}
+
+TEST(ScriptParser, EarlyOkAndParamsReapply) {
+  const Script s = parse_script("run 10s early=ok label=x\nrun 1s\nsweep b 1 2 run 1s early=ok\nparams reapply\n", "t.nls");
+  ASSERT_EQ(s.commands.size(), 4u);
+  EXPECT_TRUE(s.commands[0].allow_early);
+  EXPECT_EQ(s.commands[0].label, "x");
+  EXPECT_FALSE(s.commands[1].allow_early) << "a run that ends early fails by default";
+  EXPECT_TRUE(s.commands[2].allow_early);
+  EXPECT_EQ(s.commands[3].kind, K::ParamsReapply);
+  auto error_of = [](const std::string& text) {
+    try {
+      parse_script(text, "t.nls");
+    } catch (const ScriptError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of("run 1s early=maybe\n"),
+            "t.nls:1: 'run': early=maybe: use early=ok (a run may end before its duration) or early=fail");
+  EXPECT_EQ(error_of("start early=ok\n"), "t.nls:1: 'start': unexpected 'early=ok'; usage: start [label=TEXT]")
+      << "early= belongs to timed runs only";
+  EXPECT_EQ(error_of("params reapply now\n"), "t.nls:1: 'params' takes fewer arguments: params reapply (extra: 'now')");
 }
 
 TEST(ScriptParser, DurationsAndComparisons) {

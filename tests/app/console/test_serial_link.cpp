@@ -10,9 +10,11 @@
 
 #include <cstdio>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "app/link/link_error.hpp"
+#include "app/link/port_path.hpp"
 #include "app/link/serial_link.hpp"
 #include "temp_dir.hpp"
 
@@ -111,4 +113,35 @@ TEST(SerialLink, BytesWrittenAfterACloseNeverReachTheNextPort) {
   ASSERT_FALSE(got.empty());
   EXPECT_EQ(got.back(), 0x44);
   for (uint8_t b : got) EXPECT_TRUE(b != 0x11 && b != 0x22 && b != 0x33) << "stale byte " << int(b);
+}
+
+// A USB board that re-enumerates as another ttyACMn keeps its by-id name: the
+// console opens that name when there is one, so a reconnect finds the board.
+TEST(PortPath, APortIsOpenedByItsByIdNameWhenItHasOne) {
+  Pty board, other;
+  nlsoft::test::TempDir by_id;
+  const std::string link = by_id.file("usb-nlsoft_board_0042-if00");
+  ASSERT_EQ(::symlink(board.path.c_str(), link.c_str()), 0);
+  ASSERT_EQ(::symlink("/dev/null", by_id.file("usb-something-else").c_str()), 0);
+  EXPECT_EQ(stable_port_path(board.path, by_id.path), link);
+  EXPECT_EQ(stable_port_path(link, by_id.path), link) << "a by-id name is kept";
+  EXPECT_EQ(stable_port_path(other.path, by_id.path), other.path) << "no link: the path as given";
+  EXPECT_EQ(stable_port_path(board.path, by_id.file("missing-folder")), board.path);
+}
+
+TEST(PortPath, WaitingForAPortEndsWhenItAppearsOrTheLimitPasses) {
+  nlsoft::test::TempDir dir;
+  const std::string path = dir.file("ttyACM9");
+  EXPECT_FALSE(wait_for_port(path, std::chrono::milliseconds(200), {}));
+  bool asked = false;
+  EXPECT_FALSE(wait_for_port(path, std::chrono::milliseconds(-1), [&] { return asked = true; }))
+      << "give_up ends an unlimited wait";
+  EXPECT_TRUE(asked);
+  std::thread plug([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    std::FILE* f = std::fopen(path.c_str(), "w");
+    if (f) std::fclose(f);
+  });
+  EXPECT_TRUE(wait_for_port(path, std::chrono::milliseconds(-1), {}));
+  plug.join();
 }

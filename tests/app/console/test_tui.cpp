@@ -2,6 +2,7 @@
 // keys are sent, and the screen is read back with capture-pane. Skipped,
 // saying why, when tmux is not installed.
 #include <gtest/gtest.h>
+#include <stdlib.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -11,6 +12,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/link/sim_launcher.hpp"
 #include "app/record/run_store.hpp"
 #include "run_process.hpp"
 #include "temp_dir.hpp"
@@ -190,6 +192,45 @@ TEST(ConsoleTui, QuitDuringATimedRunExitsCleanlyAndKeepsTheRun) {
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_FALSE(runs[0].ended_at.empty()) << "the run is closed, not left unfinished";
   EXPECT_GT(runs[0].samples, 0u);
+}
+
+// A board that reset behind a reconnect: the panel re-reads the values,
+// marks the row the reset changed (never "applied" with an old value), and
+// A sends the session's edit again. The port is a link the test re-points
+// to a freshly started firmware, as a board reset looks to the console.
+TEST(ConsoleTui, AFirmwareResetIsMarkedInThePanelAndAReappliesTheEdits) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  test::TempDir dir;
+  auto first = std::make_unique<SimLauncher>();
+  const std::string board = dir.file("board");
+  ASSERT_EQ(::symlink(first->start("hasel").c_str(), board.c_str()), 0);
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " " + board + " --db " + dir.file("runs.db"), "LANG=C.UTF-8 LC_ALL=C.UTF-8");
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  t.keys("Down Down Down Down Enter C-u 500 Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "r"), "500 u applied"); }, s)) << s;
+  // The second firmware boots well after the first (the console allows
+  // half a second of latency in its boot-time estimate).
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  first.reset();
+  SimLauncher second;
+  ASSERT_EQ(::unlink(board.c_str()), 0);
+  ASSERT_EQ(::symlink(second.start("hasel").c_str(), board.c_str()), 0);
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "r"), "reset, was 500"); },
+                         s, 30))
+      << s;
+  EXPECT_FALSE(contains(param_row(s, "r"), "500 u applied")) << s;
+  EXPECT_FALSE(contains(param_row(s, "r"), "applied")) << s;
+  t.keys("A");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "1 edit sent again"); }, s)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "r"), "500 u") &&
+                                                           !contains(param_row(x, "r"), "reset, was"); },
+                         s))
+      << s;
+  t.keys("q");
 }
 
 }  // namespace
