@@ -78,13 +78,23 @@ TEST_F(LiveConsoleRun, RunForEndsWhenCancelledAndKeepsTheRun) {
 
 // A run whose firmware goes away, or leaves the run, must not look like a
 // run that completed. The simulator is started here, not by the console, so
-// the test can end it once the run is under way.
+// the test can end it once the run is under way. The console reaches it
+// through a link of the test's own: killed, the simulator's /dev/pts/N is
+// free for the next pty anyone opens (another test's firmware, in a
+// parallel ctest), and a console still reconnecting by that path would take
+// it; the link is removed first, so the reconnects find nothing.
 class RunEndingBadly : public ::testing::Test {
  protected:
   void SetUp() override {
     ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
-    port_ = sim_.start("msd");
-    ASSERT_FALSE(port_.empty());
+    const std::string pty = sim_.start("msd");
+    ASSERT_FALSE(pty.empty());
+    port_ = dir_.file("board");
+    ASSERT_EQ(::symlink(pty.c_str(), port_.c_str()), 0);
+  }
+  void kill_firmware() {
+    ::unlink(port_.c_str());
+    sim_.stop();
   }
   void connect(std::chrono::milliseconds keepalive = std::chrono::milliseconds(300)) {
     LiveOptions o;
@@ -112,7 +122,7 @@ class RunEndingBadly : public ::testing::Test {
     for (std::string l; std::getline(in, l);) script.commands.push_back(parse_command(l, script.file, ++line));
     auto rc = std::async(std::launch::async, [&] { return runner.run(script); });
     EXPECT_TRUE(wait_until_sampling());
-    sim_.stop();
+    kill_firmware();
     EXPECT_EQ(rc.wait_for(std::chrono::seconds(60)), std::future_status::ready);
     return rc.get();
   }
@@ -127,7 +137,7 @@ TEST_F(RunEndingBadly, FirmwareDyingMidRunEndsTheRunEarlyAndRecordsTheOutage) {
   connect();
   auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "dies"); });
   ASSERT_TRUE(wait_until_sampling());
-  sim_.stop();
+  kill_firmware();
   ASSERT_EQ(timed.wait_for(std::chrono::seconds(60)), std::future_status::ready)
       << "run_for waited for telemetry from a firmware that is gone";
   const RunSummary s = timed.get();
@@ -222,9 +232,10 @@ TEST(FirmwareReset, EditsLostToAResetAreNamedAndSentAgain) {
   // The second firmware must boot well after the first (the console allows
   // half a second of reply latency in its boot-time estimate).
   std::this_thread::sleep_for(std::chrono::seconds(2));
+  // The link goes first: the dead firmware's pty may be anyone's next.
+  ASSERT_EQ(::unlink(board.c_str()), 0);
   first.reset();
   SimLauncher second;
-  ASSERT_EQ(::unlink(board.c_str()), 0);
   ASSERT_EQ(::symlink(second.start("msd").c_str(), board.c_str()), 0);
   for (int i = 0; i < 1500 && console.firmware_resets() == 0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
