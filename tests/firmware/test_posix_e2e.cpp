@@ -1,5 +1,6 @@
 // The posix firmware over a real pty, driven as the console drives it.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -19,13 +20,19 @@ namespace tf = proto::telemetry_field;
 
 namespace {
 
+// One file per test process: ctest runs each test as a process of its own,
+// in parallel, and a shared name would be truncated by one while another's
+// simulator reads it ("no model for msd").
 std::string model_path() {
   static std::string path;
   if (path.empty()) {
-    path = ::testing::TempDir() + "msd_arx.nlsm";
+    path = ::testing::TempDir() + "msd_arx." + std::to_string(::getpid()) + ".nlsm";
     const auto file = msd_arx_model_file();
     std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), long(file.size()));
   }
+  static const struct RemoveAtExit {
+    ~RemoveAtExit() { std::remove(path.c_str()); }
+  } remove_at_exit;
   return path;
 }
 
