@@ -69,6 +69,7 @@ struct SolverScratch {
   float A[K * K];                   // the damped system, factored
   float dU[K];
   float U_fd[K];                    // fd: U with one input moved by +-eps
+  float U_pad[K];                   // a padded system's unknowns (the caller's U holds only Nc·m)
   float Y_plus[Cap::N * Cap::n];    // fd: the predictions there
   float Y_minus[Cap::N * Cap::n];
   RolloutScratch<Cap> roll;
@@ -166,6 +167,13 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   // value like inputs at a limit, and their gradient and Hessian are zero.
   constexpr bool kPadded = K <= 8;
   const int kk = kPadded ? K : k;
+  // The caller's U holds k = Nc·m values: a padded system works on a copy
+  // of K, and only the first k go back.
+  float* const U_out = U;
+  if (kPadded) {
+    for (int a = 0; a < K; ++a) s.U_pad[a] = a < k ? U[a] : 0.0f;
+    U = s.U_pad;
+  }
   float lo[K], hi[K];
   for (int a = 0; a < kk; ++a) {
     lo[a] = a < k ? P.u_min[a % m] : -3.0e38f;
@@ -291,6 +299,8 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   }
   r.cost = cur->J;
   r.y_hat = cur->Y;
+  if (kPadded)
+    for (int a = 0; a < k; ++a) U_out[a] = U[a];
   return r;
 }
 

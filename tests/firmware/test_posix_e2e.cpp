@@ -104,6 +104,14 @@ TEST_F(PosixFirmware, ParameterRoundTripAndRefusals) {
 }
 
 TEST_F(PosixFirmware, RunTracksAStepAndLosesNoTelemetry) {
+  // This test only listens while the run goes; on a slow machine (a
+  // sanitizer build) reading 2000 frames takes longer than the link
+  // watchdog's second, which would stop the run: the watchdog is off here.
+  proto::ParamSet wd;
+  wd.id = uint16_t(fw::FwParamId::WatchdogMs);
+  wd.count = 1;
+  wd.values[0] = 0;
+  ASSERT_EQ(must(peer_->request(wd), "PARAM_SET watchdog_ms").header.type, uint8_t(proto::MsgType::ParamValue));
   proto::RefSelect ref;
   ref.ref_id = uint8_t(proto::RefId::Step);
   ref.level_count = 1;

@@ -219,9 +219,11 @@ TEST(FirmwareReset, EditsLostToAResetAreNamedAndSentAgain) {
   LiveOptions o;
   o.port = board;
   o.db_path = dir.file("runs.db");
-  LiveConsole console(o);
+  // Before the console: its link threads may still say something while it
+  // shuts down.
   std::mutex mu;
   std::vector<std::string> said;
+  LiveConsole console(o);
   console.set_notify([&](const std::string& l) {
     std::lock_guard<std::mutex> lock(mu);
     said.push_back(l);
@@ -268,16 +270,21 @@ TEST(LiveConsoleWait, APortThatAppearsLaterIsConnectedTo) {
   o.port = dir.file("ttyACM7");
   o.db_path = dir.file("runs.db");
   o.wait = std::chrono::milliseconds(30000);
+  std::mutex mu;
+  std::vector<std::string> said;  // before the console, which may still say something while it shuts down
   LiveConsole console(o);
   std::thread plug([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     (void)::symlink(pty.c_str(), o.port.c_str());
   });
-  std::vector<std::string> said;
-  console.set_notify([&](const std::string& l) { said.push_back(l); });
+  console.set_notify([&](const std::string& l) {
+    std::lock_guard<std::mutex> lock(mu);
+    said.push_back(l);
+  });
   EXPECT_NO_THROW(console.connect());
   plug.join();
   EXPECT_EQ(console.platform(), PlatformId::Msd);
+  std::lock_guard<std::mutex> lock(mu);
   ASSERT_FALSE(said.empty());
   EXPECT_EQ(said.front().rfind("waiting up to 30 s for " + o.port, 0), 0u) << said.front();
 }
