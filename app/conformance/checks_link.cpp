@@ -22,12 +22,7 @@ void check_handshake(Suite& s, std::chrono::seconds patience) {
         throw LinkError(fmt::format("no INFO for {} s: is the firmware running at this baud rate?", patience.count()));
     }
   }
-  Reply r;
-  r.type = f.type;
-  r.seq = f.seq;
-  r.length = uint8_t(f.payload.size());
-  std::copy(f.payload.begin(), f.payload.end(), r.payload);
-  if (!unpack_info(r, s.info)) {
+  if (!as_info(f, s.info)) {
     s.check("handshake", false, "INFO_GET answered by " + describe(f));
     throw LinkError("no usable INFO: cannot go on");
   }

@@ -240,6 +240,17 @@ void check_transfers(Suite& s) {
                         status_words(uint8_t(b.status)), describe(again), kept ? "still in force" : "GONE",
                         err.empty() ? "" : "; " + err));
   }
+  // A refused model BEGIN changes nothing: the model in force stays, even on
+  // an MCU whose accepted model BEGIN would put its built-in model back.
+  if ((s.info.info.capabilities & p::capability::kXferModel) && s.info.model_max) {
+    const auto was = s.info_now();
+    const Frame big = begin(s, s.info.model_max + 1, 0, p::xfer_options::kRestart, uint8_t(p::XferKind::Model));
+    const auto now = s.info_now();
+    const bool same = was && now && was->info.model_hash == now->info.model_hash;
+    s.check("xfer_model_begin_too_large", nacked(big, p::StatusCode::TooLarge, 2, p::kNoField) && same,
+            fmt::format("model of {} bytes (INFO_EX model_max {}): {}; model_hash {}", s.info.model_max + 1,
+                        s.info.model_max, describe(big), same ? "unchanged" : "CHANGED"));
+  }
   // Leave the reference as the references group did.
   p::RefSelect hold;
   hold.ref_id = uint8_t(p::RefId::Hold);

@@ -21,6 +21,15 @@ SessionOptions probe_options(Ms timeout) {
 
 }  // namespace
 
+bool as_info(const Frame& f, p::InfoEx& out) {
+  Reply r;
+  r.type = f.type;
+  r.seq = f.seq;
+  r.length = uint8_t(std::min<size_t>(f.payload.size(), sizeof r.payload));
+  std::copy(f.payload.begin(), f.payload.begin() + r.length, r.payload);
+  return unpack_info(r, out);
+}
+
 std::string describe(const Frame& f) {
   p::Nack n;
   if (as(f, n)) return "NACK: " + describe_nack(n);

@@ -36,6 +36,9 @@ bool as(const Frame& f, M& m) {
   return f.type == uint8_t(M::kType) && p::unpack(f.payload.data(), f.payload.size(), m) == p::StatusCode::Ok;
 }
 
+// INFO_EX, or a 1.0 firmware's INFO (session.hpp's unpack_info).
+bool as_info(const Frame& f, p::InfoEx& out);
+
 // "PONG", "NACK: PARAM_SET refused: out of range (values[0])".
 std::string describe(const Frame& f);
 bool acked(const Frame& f, p::MsgType request);

@@ -45,6 +45,12 @@ std::optional<p::Status> Suite::status() {
   return s;
 }
 
+std::optional<p::InfoEx> Suite::info_now() {
+  p::InfoEx x;
+  if (!as_info(pr.request(p::InfoGet{}), x)) return std::nullopt;
+  return x;
+}
+
 std::optional<p::ParamValue> Suite::get(uint16_t id) {
   p::ParamGet g;
   g.id = id;

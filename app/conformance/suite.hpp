@@ -37,6 +37,7 @@ class Suite {
   void group(const std::string& g) { group_ = g; }
   uint32_t random() { return uint32_t(rng_()); }
   std::optional<p::Status> status();
+  std::optional<p::InfoEx> info_now();
   std::optional<p::ParamValue> get(uint16_t id);
   const p::ParamDesc* param(const char* name) const;
   // Sets a parameter the suite will set back; nullopt with `why` on refusal.
