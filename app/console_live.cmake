@@ -8,6 +8,7 @@ find_package(Curses REQUIRED)
 
 file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/link/*.cpp
+  ${CMAKE_CURRENT_SOURCE_DIR}/conformance/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/record/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/script/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/tui/*.cpp

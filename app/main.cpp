@@ -4,7 +4,7 @@
 #include <cstdio>
 
 #include "app/cli_error.hpp"
-#include "app/live/conformance.hpp"
+#include "app/conformance/command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/simulate.hpp"
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE

@@ -44,6 +44,9 @@ enum class MsgType : uint8_t {
   Status = 0x47,
   Telemetry = 0x48,
   Log = 0x49,
+  // Protocol 1.1: INFO with the transfer limits. INFO (0x43) keeps its 1.0
+  // layout, so a 1.1 console still reads a 1.0 firmware's INFO.
+  InfoEx = 0x4A,
 };
 
 // Telemetry field mask bits; fields appear in the payload in bit order.
@@ -84,6 +87,9 @@ struct MsgInfo {
   uint8_t max_len;
   uint8_t step;
   bool is_request;
+  // Requests: the reply that carries the answer (ACK when there is no data).
+  // NACK may answer any request. Replies and unsolicited messages: 0.
+  MsgType reply;
 };
 
 constexpr uint8_t crc_extra_of(const char* signature) {
@@ -92,53 +98,58 @@ constexpr uint8_t crc_extra_of(const char* signature) {
 }
 
 inline constexpr MsgInfo kMessages[] = {
-    {MsgType::Ping, "PING", "PING:u32 nonce", 4, 4, 1, true},
-    {MsgType::InfoGet, "INFO_GET", "INFO_GET:", 0, 0, 1, true},
-    {MsgType::ParamList, "PARAM_LIST", "PARAM_LIST:u16 index", 2, 2, 1, true},
-    {MsgType::ParamGet, "PARAM_GET", "PARAM_GET:u16 id", 2, 2, 1, true},
-    {MsgType::ParamSet, "PARAM_SET", "PARAM_SET:u16 id,u32[] values", 6, 66, 4, true},
+    {MsgType::Ping, "PING", "PING:u32 nonce", 4, 4, 1, true, MsgType::Pong},
+    {MsgType::InfoGet, "INFO_GET", "INFO_GET:", 0, 0, 1, true, MsgType::InfoEx},
+    {MsgType::ParamList, "PARAM_LIST", "PARAM_LIST:u16 index", 2, 2, 1, true, MsgType::ParamDesc},
+    {MsgType::ParamGet, "PARAM_GET", "PARAM_GET:u16 id", 2, 2, 1, true, MsgType::ParamValue},
+    {MsgType::ParamSet, "PARAM_SET", "PARAM_SET:u16 id,u32[] values", 6, 66, 4, true, MsgType::ParamValue},
     {MsgType::RefSelect, "REF_SELECT",
      "REF_SELECT:u8 ref_id,u8 level_count,u16 hold,f32 a,f32 b,f32 c,f32[3] center,f32 omega,"
      "f32 lambda,f32 scale,f32[3] levels",
-     52, 52, 1, true},
+     52, 52, 1, true, MsgType::Ack},
     {MsgType::XferBegin, "XFER_BEGIN", "XFER_BEGIN:u8 kind,u8 options,u32 total_size,u32 crc32",
-     10, 10, 1, true},
+     10, 10, 1, true, MsgType::XferAck},
     {MsgType::XferChunk, "XFER_CHUNK", "XFER_CHUNK:u8 kind,u32 offset,u8[] data", 6, 246, 1,
-     true},
-    {MsgType::XferCommit, "XFER_COMMIT", "XFER_COMMIT:u8 kind", 1, 1, 1, true},
-    {MsgType::XferAbort, "XFER_ABORT", "XFER_ABORT:u8 kind", 1, 1, 1, true},
-    {MsgType::RunStart, "RUN_START", "RUN_START:u32 run_id", 4, 4, 1, true},
-    {MsgType::RunStop, "RUN_STOP", "RUN_STOP:", 0, 0, 1, true},
-    {MsgType::RunHold, "RUN_HOLD", "RUN_HOLD:u8 mode", 1, 1, 1, true},
+     true, MsgType::XferAck},
+    {MsgType::XferCommit, "XFER_COMMIT", "XFER_COMMIT:u8 kind", 1, 1, 1, true, MsgType::Ack},
+    {MsgType::XferAbort, "XFER_ABORT", "XFER_ABORT:u8 kind", 1, 1, 1, true, MsgType::Ack},
+    {MsgType::RunStart, "RUN_START", "RUN_START:u32 run_id", 4, 4, 1, true, MsgType::Ack},
+    {MsgType::RunStop, "RUN_STOP", "RUN_STOP:", 0, 0, 1, true, MsgType::Ack},
+    {MsgType::RunHold, "RUN_HOLD", "RUN_HOLD:u8 mode", 1, 1, 1, true, MsgType::Ack},
     {MsgType::TelemetryConfig, "TELEMETRY_CONFIG", "TELEMETRY_CONFIG:u8 mask,u16 decimation", 3,
-     3, 1, true},
-    {MsgType::StatusGet, "STATUS_GET", "STATUS_GET:", 0, 0, 1, true},
-    {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false},
-    {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false},
-    {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false},
+     3, 1, true, MsgType::Ack},
+    {MsgType::StatusGet, "STATUS_GET", "STATUS_GET:", 0, 0, 1, true, MsgType::Status},
+    {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false, MsgType(0)},
+    {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false, MsgType(0)},
+    {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false, MsgType(0)},
     {MsgType::Info, "INFO",
      "INFO:u8 protocol_version,u8 platform,u8 m,u8 n,u8 w,u8 nd,u8 dd,u8 max_n,u8 max_nc,"
      "u8 fw_major,u8 fw_minor,u8 fw_patch,u32 loop_rate_hz,u32 model_hash,u32 param_hash,"
      "u32 capabilities,char[] firmware",
-     28, 60, 1, false},
+     28, 60, 1, false, MsgType(0)},
     {MsgType::ParamDesc, "PARAM_DESC",
      "PARAM_DESC:u16 index,u16 count,u16 id,u8 type,u8 size,u8 access,f32 min,f32 max,"
      "char[8] unit,char[] name",
-     26, 57, 1, false},
+     26, 57, 1, false, MsgType(0)},
     {MsgType::ParamValue, "PARAM_VALUE", "PARAM_VALUE:u16 id,u8 type,u32[] values", 7, 67, 4,
-     false},
+     false, MsgType(0)},
     {MsgType::XferAck, "XFER_ACK", "XFER_ACK:u8 kind,u32 next_offset,u32 total_size", 9, 9, 1,
-     false},
+     false, MsgType(0)},
     {MsgType::Status, "STATUS",
      "STATUS:u32 uptime_ms,u32 run_id,u32 step,u8 run_state,u8 watchdog,u8 telemetry_mask,"
      "u8 ref_id,u32 frames_in,u32 crc_errors,u32 frame_errors,u32 tx_dropped,"
      "u32 loop_overruns,u32 compute_min,u32 compute_mean,u32 compute_max,u32 tick_rate_hz",
-     52, 52, 1, false},
+     52, 52, 1, false, MsgType(0)},
     {MsgType::Telemetry, "TELEMETRY",
      "TELEMETRY:u16 tseq,u8 mask,u4 n,u4 m,?u32 step,?u32 time_us,?f32[n] y_ref,"
      "?f32[n] y_hat,?f32[n] y_true,?f32[m] u,?f32 cost,?u8 iterations,?u32 compute_ticks",
-     4, static_cast<uint8_t>(kMaxPayload), 0, false},
-    {MsgType::Log, "LOG", "LOG:u8 level,char[] text", 1, 246, 1, false},
+     4, static_cast<uint8_t>(kMaxPayload), 0, false, MsgType(0)},
+    {MsgType::Log, "LOG", "LOG:u8 level,char[] text", 1, 246, 1, false, MsgType(0)},
+    {MsgType::InfoEx, "INFO_EX",
+     "INFO_EX:u8 protocol_version,u8 platform,u8 m,u8 n,u8 w,u8 nd,u8 dd,u8 max_n,u8 max_nc,"
+     "u8 fw_major,u8 fw_minor,u8 fw_patch,u32 loop_rate_hz,u32 model_hash,u32 param_hash,"
+     "u32 capabilities,u32 table_max,u32 model_max,u8 protocol_minor,char[] firmware",
+     37, 69, 1, false, MsgType(0)},
 };
 
 constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);
@@ -200,6 +211,19 @@ constexpr const MsgInfo* find_message(uint8_t type) {
 constexpr const char* message_name(uint8_t type) {
   const MsgInfo* info = find_message(type);
   return info ? info->name : "UNKNOWN";
+}
+
+// Whether a frame of type `reply` may answer a request of type `request`
+// (section 6's reply column; for ACK and NACK the client also checks that
+// their request_type is the request's). A 1.0 firmware answers INFO_GET
+// with INFO, a 1.1 one with INFO_EX: both answer.
+constexpr bool answers(uint8_t request, uint8_t reply) {
+  // A firmware NACKs any known type sent to it that is not a request.
+  if (reply == uint8_t(MsgType::Nack)) return find_message(request) != nullptr;
+  const MsgInfo* req = find_message(request);
+  if (req == nullptr || !req->is_request) return false;
+  if (request == uint8_t(MsgType::InfoGet) && reply == uint8_t(MsgType::Info)) return true;
+  return reply == uint8_t(req->reply);
 }
 
 constexpr bool payload_length_ok(const MsgRule& rule, const uint8_t* payload, size_t len) {

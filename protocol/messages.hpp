@@ -71,10 +71,16 @@ constexpr uint32_t kRunHold = 1u << 6;
 constexpr uint32_t kLog = 1u << 7;
 }  // namespace capability
 
+// STATUS.watchdog (PROTOCOL.md 9.7).
 namespace watchdog_flags {
-constexpr uint8_t kArmed = 0x01;
+constexpr uint8_t kArmed = 0x01;            // the run watches the link (watchdog_ms != 0)
 constexpr uint8_t kResetByWatchdog = 0x02;  // the last reset was a watchdog reset
+constexpr uint8_t kTripped = 0x04;          // the link went silent during this run: safe state
 }  // namespace watchdog_flags
+
+// Minor revision of the catalogue this library implements (INFO_EX); the
+// frame's version byte stays kProtocolVersion across minor revisions.
+constexpr uint8_t kProtocolMinor = 1;
 
 // ---------------------------------------------------------------- requests
 
@@ -297,6 +303,41 @@ struct Info {
     v.u32("param_hash", s.param_hash);
     v.u32("capabilities", s.capabilities);
     v.text_tail("firmware", s.firmware, kMaxNameLen);
+  }
+};
+
+// Protocol 1.1's reply to INFO_GET: INFO's fields in INFO's order, then the
+// largest object each transfer kind accepts and the catalogue's minor
+// revision, then the name. A new type rather than a longer INFO, because a
+// layout never changes within a version (PROTOCOL.md section 11).
+struct InfoEx {
+  static constexpr MsgType kType = MsgType::InfoEx;
+  Info info;
+  uint32_t table_max = 0;  // XFER_BEGIN total_size limit, kind 1 (0: no such transfer)
+  uint32_t model_max = 0;  // kind 2
+  uint8_t protocol_minor = kProtocolMinor;
+  template <class S, class V> static void fields(S& s, V& v) {
+    auto& i = s.info;
+    v.u8("protocol_version", i.protocol_version);
+    v.u8("platform", i.platform);
+    v.u8("m", i.m);
+    v.u8("n", i.n);
+    v.u8("w", i.w);
+    v.u8("nd", i.nd);
+    v.u8("dd", i.dd);
+    v.u8("max_n", i.max_n);
+    v.u8("max_nc", i.max_nc);
+    v.u8("fw_major", i.fw_major);
+    v.u8("fw_minor", i.fw_minor);
+    v.u8("fw_patch", i.fw_patch);
+    v.u32("loop_rate_hz", i.loop_rate_hz);
+    v.u32("model_hash", i.model_hash);
+    v.u32("param_hash", i.param_hash);
+    v.u32("capabilities", i.capabilities);
+    v.u32("table_max", s.table_max);
+    v.u32("model_max", s.model_max);
+    v.u8("protocol_minor", s.protocol_minor);
+    v.text_tail("firmware", i.firmware, kMaxNameLen);
   }
 };
 
@@ -621,6 +662,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::Status: f(Status{}); return true;
     case MsgType::Telemetry: f(Telemetry{}); return true;
     case MsgType::Log: f(Log{}); return true;
+    case MsgType::InfoEx: f(InfoEx{}); return true;
   }
   return false;
 }

@@ -28,6 +28,9 @@ class TransferReceiver {
   TransferReceiver(uint8_t kind, uint8_t* buffer, size_t capacity)
       : kind_(kind), buf_(buffer), cap_(capacity) {}
 
+  // The largest total_size BEGIN accepts (INFO_EX advertises it).
+  size_t capacity() const { return cap_; }
+
   XferReply begin(const XferBegin& m) {
     if (m.total_size == 0) return nack(StatusCode::OutOfRange, 2);
     if (m.total_size > cap_) return nack(StatusCode::TooLarge, 2);

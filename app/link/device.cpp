@@ -13,7 +13,8 @@ namespace nlsoft::console {
 namespace p = nlsoft::protocol;
 
 p::Info Device::handshake() {
-  const p::Info info = session_.call<p::Info>(p::InfoGet{});
+  const p::InfoEx ex = session_.call<p::InfoEx>(p::InfoGet{});
+  const p::Info& info = ex.info;
   if (info.protocol_version != p::kProtocolVersion)
     throw LinkError(fmt::format("the firmware speaks protocol v{}, this console v{}", info.protocol_version,
                                 p::kProtocolVersion));
@@ -21,7 +22,7 @@ p::Info Device::handshake() {
     throw LinkError(fmt::format("the firmware reports impossible dimensions n={} m={}", info.n, info.m));
   {
     std::lock_guard<std::mutex> lock(mu_);
-    info_ = info;
+    info_ = ex;
   }
   session_.set_nominal_rate(info.loop_rate_hz);
   return info;
@@ -29,7 +30,17 @@ p::Info Device::handshake() {
 
 p::Info Device::info() const {
   std::lock_guard<std::mutex> lock(mu_);
-  return info_;
+  return info_.info;
+}
+
+uint32_t Device::transfer_limit(p::XferKind kind) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return kind == p::XferKind::Model ? info_.model_max : kind == p::XferKind::RefTable ? info_.table_max : 0;
+}
+
+uint8_t Device::protocol_minor() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return info_.protocol_minor;
 }
 
 void Device::load_params(const Progress& progress) {
@@ -109,7 +120,16 @@ void Device::upload(p::XferKind kind, const std::vector<uint8_t>& object, const 
   begin.kind = uint8_t(kind);
   begin.total_size = uint32_t(object.size());
   begin.crc32 = p::crc32(object.data(), object.size());
-  p::XferAck ack = session_.call<p::XferAck>(begin);
+  p::XferAck ack;
+  try {
+    ack = session_.call<p::XferAck>(begin);
+  } catch (const NackError& e) {
+    // NACK has no room for the limit; INFO_EX said it (protocol 1.1).
+    const uint32_t limit = transfer_limit(kind);
+    if (e.nack.status != uint8_t(p::StatusCode::TooLarge) || limit == 0) throw;
+    throw NackError(e.nack, fmt::format("{}: {} bytes, the firmware takes at most {} bytes for this kind", e.what(),
+                                        object.size(), limit));
+  }
   size_t stalls = 0;
   while (ack.next_offset < object.size()) {
     if (progress) progress(ack.next_offset, object.size());

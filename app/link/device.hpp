@@ -30,6 +30,10 @@ class Device {
   // INFO_GET; checks protocol version and dimensions. Throws LinkError.
   protocol::Info handshake();
   protocol::Info info() const;
+  // The largest object XFER_BEGIN accepts for `kind` (INFO_EX); 0 when the
+  // firmware does not say (protocol 1.0).
+  uint32_t transfer_limit(protocol::XferKind kind) const;
+  uint8_t protocol_minor() const;
   bool has(uint32_t capability) const { return (info().capabilities & capability) != 0; }
 
   // Walks PARAM_LIST 0..count-1.
@@ -59,7 +63,7 @@ class Device {
  private:
   Session& session_;
   mutable std::mutex mu_;
-  protocol::Info info_{};
+  protocol::InfoEx info_{};
   std::shared_ptr<const ParamCatalog> catalog_ = std::make_shared<ParamCatalog>();
 };
 

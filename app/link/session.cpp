@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -20,26 +22,14 @@ int64_t now_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
 }
 
-// The data reply a request expects besides ACK/NACK (PROTOCOL.md table 6).
-p::MsgType data_reply_of(uint8_t request) {
-  switch (p::MsgType(request)) {
-    case p::MsgType::Ping: return p::MsgType::Pong;
-    case p::MsgType::InfoGet: return p::MsgType::Info;
-    case p::MsgType::ParamList: return p::MsgType::ParamDesc;
-    case p::MsgType::ParamGet:
-    case p::MsgType::ParamSet: return p::MsgType::ParamValue;
-    case p::MsgType::XferBegin:
-    case p::MsgType::XferChunk: return p::MsgType::XferAck;
-    case p::MsgType::StatusGet: return p::MsgType::Status;
-    default: return p::MsgType::Ack;
-  }
-}
-
+// ACK and NACK name the request they answer; the other replies by type
+// (protocol/catalog.hpp, section 6's reply column).
 bool answers(uint8_t request, const p::FrameView& f) {
   const uint8_t t = f.header.type;
+  if (!p::answers(request, t)) return false;
   if (t == uint8_t(p::MsgType::Ack) || t == uint8_t(p::MsgType::Nack))
     return f.header.length >= 1 && f.payload[0] == request;
-  return t == uint8_t(data_reply_of(request));
+  return true;
 }
 
 std::string platform_words(uint8_t platform) {
@@ -88,8 +78,20 @@ const char* link_event_name(LinkEvent::Kind k) {
   return "?";
 }
 
+bool unpack_info(const Reply& r, p::InfoEx& out) {
+  if (r.type == uint8_t(p::MsgType::InfoEx)) return p::unpack(r.payload, r.length, out) == p::StatusCode::Ok;
+  if (r.type != uint8_t(p::MsgType::Info)) return false;
+  out = p::InfoEx{};
+  out.protocol_minor = 0;
+  return p::unpack(r.payload, r.length, out.info) == p::StatusCode::Ok;
+}
+
 Session::Session(SessionOptions options) : options_(options) {
   link_.set_reconnect_interval(options_.reconnect_interval);
+  // A console restarted within a few requests would otherwise reuse the
+  // seq of its previous life's last request, and a firmware that still
+  // remembers it could take the new request for a retransmission.
+  next_seq_ = uint8_t(std::random_device{}());
 }
 
 Session::~Session() { close(); }
@@ -300,6 +302,7 @@ void Session::on_frame(const p::FrameView& f) {
 }
 
 void Session::on_reply(const p::FrameView& f) {
+  if (any_reply_handler_) any_reply_handler_(f);
   {
     std::lock_guard<std::mutex> lock(pending_mu_);
     if (pending_active_ && !pending_done_ && f.header.seq == pending_seq_ && answers(pending_type_, f) &&
@@ -323,10 +326,10 @@ Reply Session::transact(uint8_t type, const uint8_t* payload, size_t length) {
   std::lock_guard<std::mutex> serial(request_mu_);
   const Reply r = transact_locked(type, payload, length);
   // The device's identity, to recognise it after a reconnect.
-  p::Info info;
-  if (r.type == uint8_t(p::MsgType::Info) && p::unpack(r.payload, r.length, info) == p::StatusCode::Ok) {
+  p::InfoEx info;
+  if (unpack_info(r, info)) {
     std::lock_guard<std::mutex> lock(identity_mu_);
-    identity_ = info;
+    identity_ = info.info;
     have_identity_ = true;
   }
   return r;
@@ -347,7 +350,8 @@ void Session::check_peer() {
       return;
     }
   }
-  p::Info now;
+  p::InfoEx now_ex;
+  p::Info& now = now_ex.info;
   std::string refusal;
   {
     std::lock_guard<std::mutex> lock(identity_mu_);
@@ -355,7 +359,7 @@ void Session::check_peer() {
     // next reopen is checked anew.
     if (losses_ != losses) return;
     std::string change;
-    if (r.type != uint8_t(p::MsgType::Info) || p::unpack(r.payload, r.length, now) != p::StatusCode::Ok)
+    if (!unpack_info(r, now_ex))
       change = fmt::format("it answers INFO_GET with {}", message_name(r.type));
     else
       change = identity_change(identity_, now);
@@ -398,27 +402,32 @@ void Session::keepalive() {
   }
 }
 
-Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t length, bool identifying) {
-  uint8_t wire[p::kWireBufferSize];
-  const uint8_t seq = next_seq_++;
-  const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
-  if (n == 0) throw LinkError(fmt::format("cannot encode {}: payload breaks the message's length rule", message_name(type)));
-  const auto per_try = type == uint8_t(p::MsgType::XferCommit) ? options_.commit_timeout : options_.timeout;
+uint8_t Session::next_seq() {
+  std::lock_guard<std::mutex> serial(request_mu_);
+  return next_seq_++;
+}
+
+void Session::write_raw(const std::vector<uint8_t>& bytes) {
+  last_tx_ns_ = now_ns();
+  if (link_.is_up()) link_.write(bytes);
+}
+
+std::optional<Reply> Session::exchange(const RawRequest& req) {
+  std::lock_guard<std::mutex> serial(request_mu_);
+  int sent = 0;
+  return exchange_locked(req, false, sent);
+}
+
+std::optional<Reply> Session::exchange_locked(const RawRequest& req, bool identifying, int& sent) {
   {
     std::lock_guard<std::mutex> lock(pending_mu_);
     pending_active_ = true;
     pending_done_ = false;
-    pending_seq_ = seq;
-    pending_type_ = type;
+    pending_seq_ = req.seq;
+    pending_type_ = req.type;
     pending_identifying_ = identifying;
   }
-  LinkStats before;
-  {
-    std::lock_guard<std::mutex> lock(stats_mu_);
-    before = stats_;
-  }
-  int sent = 0;
-  for (int attempt = 0; attempt < options_.tries; ++attempt) {
+  for (int attempt = 0; attempt < req.tries; ++attempt) {
     if (attempt > 0) {
       std::lock_guard<std::mutex> lock(stats_mu_);
       ++stats_.retransmits;
@@ -427,21 +436,49 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     // A peer not known to be our device gets nothing but the identifying
     // INFO_GET; the request waits as on a down link, for it to be checked.
     if (link_.is_up() && (identifying || peer_ == Peer::Known)) {
-      link_.write(std::vector<uint8_t>(wire, wire + n));
+      if (req.write_chunk == 0) {
+        link_.write(req.wire);
+      } else {
+        for (size_t off = 0; off < req.wire.size(); off += req.write_chunk) {
+          const size_t end = std::min(req.wire.size(), off + req.write_chunk);
+          link_.write(std::vector<uint8_t>(req.wire.begin() + long(off), req.wire.begin() + long(end)));
+          if (req.chunk_gap.count() > 0) std::this_thread::sleep_for(req.chunk_gap);
+        }
+      }
       ++sent;
     }
     std::unique_lock<std::mutex> lock(pending_mu_);
     // The reply may belong to any earlier try (same seq): whichever arrives
     // first under this mutex wins, and a later copy counts as stale.
-    if (pending_cv_.wait_for(lock, per_try, [this] { return pending_done_; })) {
+    if (pending_cv_.wait_for(lock, req.timeout, [this] { return pending_done_; })) {
       pending_active_ = false;
       return pending_reply_;
     }
   }
+  std::lock_guard<std::mutex> lock(pending_mu_);
+  pending_active_ = false;
+  return std::nullopt;
+}
+
+Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t length, bool identifying) {
+  uint8_t wire[p::kWireBufferSize];
+  const uint8_t seq = next_seq_++;
+  const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
+  if (n == 0) throw LinkError(fmt::format("cannot encode {}: payload breaks the message's length rule", message_name(type)));
+  const auto per_try = type == uint8_t(p::MsgType::XferCommit) ? options_.commit_timeout : options_.timeout;
+  LinkStats before;
   {
-    std::lock_guard<std::mutex> lock(pending_mu_);
-    pending_active_ = false;
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    before = stats_;
   }
+  RawRequest req;
+  req.wire.assign(wire, wire + n);
+  req.type = type;
+  req.seq = seq;
+  req.tries = options_.tries;
+  req.timeout = per_try;
+  int sent = 0;
+  if (auto r = exchange_locked(req, identifying, sent)) return *r;
   {
     std::lock_guard<std::mutex> lock(stats_mu_);
     ++stats_.timeouts;

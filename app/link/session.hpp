@@ -16,7 +16,9 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <thread>
 #include <vector>
 
@@ -56,12 +58,30 @@ struct LinkEvent {
 
 const char* link_event_name(LinkEvent::Kind k);
 
+// INFO_GET's answer from either protocol revision: INFO_EX (1.1) as is, INFO
+// (1.0) with the fields it lacks at 0 (limits unknown, protocol_minor 0).
+bool unpack_info(const Reply& r, protocol::InfoEx& out);
+
+// One request exactly as the caller built it, for tools that must choose the
+// bytes: a chosen seq (duplicates, replays), damaged frames, frames written
+// a few bytes at a time.
+struct RawRequest {
+  std::vector<uint8_t> wire;  // what goes on the line, delimiter included
+  uint8_t type = 0;           // the request it carries, to recognise the reply
+  uint8_t seq = 0;
+  int tries = 1;              // identical copies sent, each after a timeout
+  std::chrono::milliseconds timeout{250};
+  size_t write_chunk = 0;     // > 0: written in pieces of this many bytes
+  std::chrono::milliseconds chunk_gap{0};
+};
+
 class Session {
  public:
   using TelemetryHandler = std::function<void(const protocol::Telemetry&, uint32_t lost_before)>;
   using StatusHandler = std::function<void(const protocol::Status&)>;
   using LogHandler = std::function<void(const protocol::Log&)>;
   using EventHandler = std::function<void(const LinkEvent&)>;
+  using ReplyHandler = std::function<void(const protocol::FrameView&)>;
 
   explicit Session(SessionOptions options = {});
   ~Session();
@@ -74,6 +94,9 @@ class Session {
   void on_status(StatusHandler h) { status_handler_ = std::move(h); }
   void on_log(LogHandler h) { log_handler_ = std::move(h); }
   void on_event(EventHandler h) { event_handler_ = std::move(h); }
+  // Every frame with REPLY set, matched or not (I/O thread): a tool that
+  // pipelines requests or checks for unwanted replies sees them all.
+  void on_any_reply(ReplyHandler h) { any_reply_handler_ = std::move(h); }
 
   void open(const std::string& path, unsigned baud);  // throws LinkError
   void close();
@@ -84,6 +107,15 @@ class Session {
 
   // Typed request: returns the expected reply, throws NackError on NACK and
   // LinkError on anything else.
+  // The raw exchange under the typed calls: sends req.wire (tries times,
+  // unchanged) and returns the reply with req.seq that answers req.type, or
+  // nothing when none came. Serialised with every other request.
+  std::optional<Reply> exchange(const RawRequest& req);
+  // Bytes that are not a request (garbage, pipelined frames); no reply is awaited.
+  void write_raw(const std::vector<uint8_t>& bytes);
+  // A fresh sequence number, as transact() would use next.
+  uint8_t next_seq();
+
   template <class Rep, class Req>
   Rep call(const Req& req) {
     uint8_t payload[protocol::kMaxPayload];
@@ -94,10 +126,8 @@ class Session {
                       ": a value does not fit the message");
     const Reply r = transact(uint8_t(Req::kType), payload, len);
     if (r.type == uint8_t(protocol::MsgType::Nack)) throw_nack(r);
-    if (r.type != uint8_t(Rep::kType)) unexpected(r, uint8_t(Req::kType));
     Rep out;
-    if (protocol::unpack(r.payload, r.length, out) != protocol::StatusCode::Ok)
-      unexpected(r, uint8_t(Req::kType));
+    if (!unpack_reply(r, out)) unexpected(r, uint8_t(Req::kType));
     return out;
   }
 
@@ -110,7 +140,21 @@ class Session {
   uint8_t foreign_version() const { return foreign_version_.load(); }
 
  private:
+  template <class Rep>
+  static bool unpack_reply(const Reply& r, Rep& out) {
+    if constexpr (std::is_same_v<Rep, protocol::InfoEx>) {
+      return unpack_info(r, out);
+    } else if constexpr (std::is_same_v<Rep, protocol::Info>) {
+      protocol::InfoEx ex;
+      if (!unpack_info(r, ex)) return false;
+      out = ex.info;
+      return true;
+    } else {
+      return r.type == uint8_t(Rep::kType) && protocol::unpack(r.payload, r.length, out) == protocol::StatusCode::Ok;
+    }
+  }
   Reply transact_locked(uint8_t type, const uint8_t* payload, size_t length, bool identifying = false);
+  std::optional<Reply> exchange_locked(const RawRequest& req, bool identifying, int& sent);
   void check_peer();
   void keepalive();
   void on_bytes(const uint8_t* data, size_t len);
@@ -129,6 +173,7 @@ class Session {
   StatusHandler status_handler_;
   LogHandler log_handler_;
   EventHandler event_handler_;
+  ReplyHandler any_reply_handler_;
 
   // One request in flight (stop-and-wait).
   std::mutex request_mu_;
@@ -140,7 +185,7 @@ class Session {
   uint8_t pending_seq_ = 0;
   uint8_t pending_type_ = 0;
   Reply pending_reply_;
-  uint8_t next_seq_ = 0;
+  uint8_t next_seq_ = 0;  // random at start (PROTOCOL.md section 10)
 
   // Supervisor: events, silence detection, rates.
   std::thread supervisor_;

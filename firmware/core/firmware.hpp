@@ -27,10 +27,7 @@ namespace nlsoft::fw {
 
 namespace proto = nlsoft::protocol;
 
-namespace watchdog_bits {
-constexpr uint8_t kArmed = proto::watchdog_flags::kArmed;  // a timeout is set
-constexpr uint8_t kTripped = 0x04;  // the link went silent during this run: safe state
-}  // namespace watchdog_bits
+namespace watchdog_bits = proto::watchdog_flags;
 
 struct Identity {
   PlatformId platform;
@@ -61,7 +58,7 @@ class Firmware {
         params_svc_(params_, preset_.m, preset_.n, settings_),
         ref_(b.table_points, b.table_points_cap),
         model_rx_(uint8_t(proto::XferKind::Model), b.model_staging, b.model_staging_cap),
-        table_rx_(uint8_t(proto::XferKind::RefTable), b.table_staging, b.table_staging_cap) {
+        table_rx_(uint8_t(proto::XferKind::RefTable), b.table_staging, table_max(b)) {
     if (!id.has_y_true) mask_ &= uint8_t(~proto::telemetry_field::kYTrue);
   }
 
@@ -72,6 +69,7 @@ class Firmware {
     last_heartbeat_ms_ = 0;
     Status s = preset_params(preset_, params_);
     if (s != Status::Ok) return s;
+    param_hash_ = params_svc_.hash();
     neutral(u_);
     // Until the console selects one, a run follows the rig's paper task.
     ref_.select(reference_preset(id_.platform, default_reference_kind(id_.platform)));
@@ -82,6 +80,14 @@ class Firmware {
       builtin_len_ = model_len;
     }
     return Status::Ok;
+  }
+
+  // The largest table object worth receiving: one that fits the staging
+  // buffer and whose points fit the table in force. INFO_EX advertises it,
+  // and XFER_BEGIN refuses anything larger as too_large.
+  static size_t table_max(const Buffers& b) {
+    const size_t by_points = 8 + 4 * size_t(b.table_points_cap);
+    return b.table_staging_cap < by_points ? b.table_staging_cap : by_points;
   }
 
   // Serves the link; call as often as possible between control steps.
@@ -204,12 +210,12 @@ class Firmware {
     if (f.is_reply()) return;  // not a request
     const uint8_t* wire;
     size_t size;
-    if (cache_.find(f.header, wire, size)) {
+    if (cache_.find(f, wire, size)) {
       tx_.push(wire, size, false);
       return;
     }
     reply_seq_ = f.header.seq;
-    reply_header_ = f.header;
+    request_ = f;
     replied_ = false;
     dispatch(f);
     if (!replied_) nack(f.header.type, proto::StatusCode::Unsupported, proto::kNoField, proto::kNoField);
@@ -233,7 +239,7 @@ class Firmware {
         r.uptime_ms = clock_.ms();
         return reply(r);
       }
-      case T::InfoGet: return reply(info());
+      case T::InfoGet: return reply(info());  // INFO_EX: a 1.1 console reads both
       case T::ParamList: {
         proto::ParamList p;
         if (!unpack_or_nack(f, p)) return;
@@ -256,24 +262,20 @@ class Firmware {
       case T::RefSelect: {
         proto::RefSelect p;
         if (!unpack_or_nack(f, p)) return;
-        RefParams rp{};
-        static_assert(sizeof(RefParams) == 52, "REF_SELECT payload is RefParams");
-        std::memcpy(&rp, f.payload, sizeof rp);
-        if (p.ref_id >= kRefKindCount) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
-        const proto::StatusCode s = ref_.select(rp);
-        return s == proto::StatusCode::Ok ? ack(f.header.type) : nack(f.header.type, s, 0, proto::kNoField);
+        const RefRefusal r = ref_.select(p);
+        return r.status == proto::StatusCode::Ok ? ack(f.header.type) : nack(f.header.type, r.status, r.field, r.element);
       }
       case T::XferBegin: {
         proto::XferBegin p;
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
-        if (rx == &model_rx_) {
-          if (state_ != proto::RunState::Idle && model_in_staging())
-            return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
-          restore_builtin_model();
-        }
-        return xfer_reply(f.header.type, rx->begin(p));
+        if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_in_staging())
+          return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+        const proto::XferReply r = rx->begin(p);
+        // Only an accepted BEGIN may touch the model in force: a NACK changes nothing.
+        if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) restore_builtin_model();
+        return xfer_reply(f.header.type, r);
       }
       case T::XferChunk: {
         proto::XferChunk p;
@@ -398,7 +400,7 @@ class Firmware {
     const size_t len = proto::encode_reply(msg, reply_seq_, wire, sizeof wire);
     if (len == 0) return;
     tx_.push(wire, len, false);
-    cache_.store(reply_header_, wire, len);
+    cache_.store(request_, wire, len);
     replied_ = true;
   }
   void ack(uint8_t type) {
@@ -423,8 +425,11 @@ class Firmware {
     reply(r.ack);
   }
 
-  proto::Info info() const {
-    proto::Info i;
+  proto::InfoEx info() const {
+    proto::InfoEx x;
+    x.table_max = uint32_t(table_rx_.capacity());
+    x.model_max = uint32_t(model_rx_.capacity());
+    proto::Info& i = x.info;
     i.platform = uint8_t(id_.platform);
     i.m = preset_.m, i.n = preset_.n, i.w = preset_.w, i.nd = preset_.nd, i.dd = preset_.dd;
     i.max_n = uint8_t(Cap::N > 255 ? 255 : Cap::N);
@@ -432,12 +437,12 @@ class Firmware {
     i.fw_major = id_.major, i.fw_minor = id_.minor, i.fw_patch = id_.patch;
     i.loop_rate_hz = id_.loop_rate_hz;
     i.model_hash = has_model_ ? model_.hash : 0;
-    i.param_hash = param_table_hash();
+    i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
                      c::kLog | (id_.has_y_true ? c::kYTrue : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
-    return i;
+    return x;
   }
 
   void send_status(uint8_t seq, bool as_reply) {
@@ -528,10 +533,11 @@ class Firmware {
   proto::Decoder decoder_{};
   TxQueue<TxCapacity> tx_{};
   proto::ReplyCache cache_{};
-  proto::Header reply_header_{};
+  proto::FrameView request_{};  // the request being answered (valid during dispatch)
   uint8_t reply_seq_ = 0;
   bool replied_ = false;
   uint8_t unsolicited_seq_ = 0;
+  uint32_t param_hash_ = 0;  // the list never changes at run time: hashed once
   uint16_t tseq_ = 0;
 
   Clock clock_{};

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "protocol/crc.hpp"
 #include "protocol/messages.hpp"
 #include "shared/params.hpp"
 
@@ -73,6 +74,21 @@ class ParamService {
       copy_text(d.name, "safe_state", proto::kMaxNameLen);
     }
     return true;
+  }
+
+  // INFO.param_hash: the CRC-32 of every PARAM_DESC payload in index order,
+  // i.e. of the very list a console would read and cache. Platforms differ
+  // in their element counts (diag(Q) has n elements), so their hashes do.
+  uint32_t hash() const {
+    proto::Crc32 crc;
+    for (uint16_t i = 0; i < count(); ++i) {
+      proto::ParamDesc d;
+      uint8_t payload[proto::kMaxPayload];
+      size_t len = 0;
+      if (!describe(i, d) || proto::pack(d, payload, sizeof payload, len) != proto::StatusCode::Ok) continue;
+      crc.update(payload, len);
+    }
+    return crc.value();
   }
 
   ParamReply get(uint16_t id) const {

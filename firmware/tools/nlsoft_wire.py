@@ -2,22 +2,37 @@
 COBS framing, CRC-16/CCITT-FALSE with the per-type seed, and a blocking
 request/reply peer over a tty file descriptor. Standard library only."""
 import os
+import random
+import re
 import select
 import struct
 import termios
 import time
 import tty
 
-# Type ids and CRC seeds (PROTOCOL.md section 6).
+# Type ids (PROTOCOL.md section 6).
 PING, INFO_GET, PARAM_GET, PARAM_SET = 0x01, 0x02, 0x04, 0x05
 RUN_START, RUN_STOP, TELEMETRY_CONFIG, STATUS_GET = 0x0B, 0x0C, 0x0E, 0x0F
 ACK, NACK, PONG, INFO, PARAM_VALUE, STATUS, TELEMETRY, LOG = 0x40, 0x41, 0x42, 0x43, 0x45, 0x47, 0x48, 0x49
-SEED = {
-    0x01: 0x81, 0x02: 0xFB, 0x03: 0x32, 0x04: 0xC2, 0x05: 0x01, 0x06: 0x56, 0x07: 0x8F, 0x08: 0xEF,
-    0x09: 0xC6, 0x0A: 0xE9, 0x0B: 0x2D, 0x0C: 0xEC, 0x0D: 0x4B, 0x0E: 0x35, 0x0F: 0x11,
-    0x40: 0x9C, 0x41: 0x23, 0x42: 0x3B, 0x43: 0x46, 0x44: 0x33, 0x45: 0x1A, 0x46: 0x1B, 0x47: 0xE5,
-    0x48: 0x5D, 0x49: 0xF9,
-}
+INFO_EX = 0x4A
+SPEC = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "protocol", "PROTOCOL.md")
+
+
+def read_seeds(path=SPEC):
+    """The CRC seed of every type, computed from the layout signatures in the
+    spec as check_vectors.py does, so a layout change there cannot leave a
+    stale copy here. The catalogue table gives each name its type id."""
+    text = open(path, encoding="utf-8").read()
+    ids = {m.group(2): int(m.group(1), 16)
+           for m in re.finditer(r"^\| 0x([0-9A-F]{2}) \| ([A-Z_]+) \|", text, re.M)}
+    block = text.split("Layout signatures", 1)[1].split("```", 2)[1]
+    seeds = {}
+    for line in block.strip().splitlines():
+        c = crc16(line.encode())
+        seeds[ids[line.split(":", 1)[0]]] = (c & 0xFF) ^ (c >> 8)
+    return seeds
+
+
 REPLY_FLAG = 0x01
 
 # TELEMETRY mask bits (PROTOCOL.md section 7)
@@ -33,6 +48,9 @@ def crc16(data, crc=0xFFFF):
         for _ in range(8):
             crc = ((crc << 1) ^ 0x1021) & 0xFFFF if crc & 0x8000 else (crc << 1) & 0xFFFF
     return crc
+
+
+SEED = read_seeds()
 
 
 def cobs_encode(raw):
@@ -97,12 +115,18 @@ def parse_telemetry(p):
     return t
 
 
-def parse_info(p):
+def parse_info(p, msg_type=INFO_EX):
+    """INFO_EX (protocol 1.1) or INFO (1.0): the same first 28 bytes."""
     f = struct.unpack_from("<12B4I", p)
     keys = ("protocol_version", "platform", "m", "n", "w", "nd", "dd", "max_n", "max_nc", "fw_major",
             "fw_minor", "fw_patch", "loop_rate_hz", "model_hash", "param_hash", "capabilities")
     d = dict(zip(keys, f))
-    d["firmware"] = p[28:].decode("ascii", "replace")
+    if msg_type == INFO_EX:
+        d["table_max"], d["model_max"], d["protocol_minor"] = struct.unpack_from("<IIB", p, 28)
+        d["firmware"] = p[37:].decode("ascii", "replace")
+    else:
+        d["table_max"] = d["model_max"] = d["protocol_minor"] = 0
+        d["firmware"] = p[28:].decode("ascii", "replace")
     return d
 
 
@@ -119,7 +143,9 @@ class Peer:
     def __init__(self, path):
         self.fd = os.open(path, os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
         tty.setraw(self.fd, termios.TCSANOW)
-        self.seq, self.buf, self.unsolicited = 0, bytearray(), []
+        # A random first seq (PROTOCOL.md section 3): a restarted tool must not
+        # meet the firmware's memory of its previous last request.
+        self.seq, self.buf, self.unsolicited = random.randrange(256), bytearray(), []
 
     def close(self):
         os.close(self.fd)
@@ -165,3 +191,37 @@ class Peer:
 
     def set_param(self, pid, words):
         return self.request(PARAM_SET, struct.pack("<H%dI" % len(words), pid, *words))
+
+
+def self_test(golden):
+    """Decodes every golden vector that is one good frame with these seeds and
+    re-encodes it byte for byte: proof that the seeds read from the spec are
+    the ones the library uses."""
+    checked, types, blocks = 0, set(), []
+    for line in open(golden, encoding="utf-8"):
+        if line.startswith("vector:"):
+            blocks.append([bytearray(), []])
+        elif line.startswith("wire:"):
+            blocks[-1][0] += bytes(int(x, 16) for x in line.split(":", 1)[1].split())
+        elif line.startswith("expect:"):
+            blocks[-1][1].append(line.split(":", 1)[1].strip())
+    for wire, expect in blocks:
+        if len(expect) != 1 or not expect[0].startswith("frame ") or wire.count(0) != 1 or wire[-1] != 0:
+            continue
+        f = decode(bytes(wire[:-1]))
+        if f is None:
+            raise SystemExit("golden frame not decoded: %s" % expect[0])
+        f_type, f_seq, flags, payload = f
+        if encode(f_type, f_seq, payload, flags)[1:] != bytes(wire):  # without the leading 0x00
+            raise SystemExit("golden frame not re-encoded byte for byte: %s" % expect[0])
+        checked += 1
+        types.add(f_type)
+    missing = sorted(set(SEED) - types)
+    print("%d golden frames decoded and re-encoded, %d seeds from the spec, types without a frame: %s"
+          % (checked, len(SEED), " ".join("0x%02X" % t for t in missing) or "none"))
+    return 0 if checked and not missing else 1
+
+
+if __name__ == "__main__":
+    import sys
+    sys.exit(self_test(sys.argv[1]))

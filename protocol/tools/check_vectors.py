@@ -8,7 +8,10 @@ signature-driven field decoder, and compares with the expected events.
 Shares no code with the C++ library, so agreement means the document is
 enough to build a compatible peer.
 
-usage: check_vectors.py PROTOCOL.md golden.txt
+usage: check_vectors.py PROTOCOL.md golden.txt [model_file.txt]
+
+With a golden model file it also checks that file against the model file
+layout of PROTOCOL.md 9.4: sizes, layer chain, parameter count and CRC-32.
 """
 import math
 import re
@@ -205,6 +208,59 @@ def receive(frame, table):
     return " ".join([head] + decode_fields(info["name"], info["fields"], p))
 
 
+def crc32(data):
+    crc = 0xFFFFFFFF
+    for b in data:
+        crc ^= b
+        for _ in range(8):
+            crc = (crc >> 1) ^ (0xEDB88320 if crc & 1 else 0)
+    return crc ^ 0xFFFFFFFF
+
+
+def check_model(path):
+    """The golden model file read by the layout table of PROTOCOL.md 9.4."""
+    size = crc = None
+    data = bytearray()
+    for line in open(path, encoding="utf-8"):
+        if line.startswith("size:"):
+            size = int(line.split(":", 1)[1])
+        elif line.startswith("crc32:"):
+            crc = int(line.split(":", 1)[1], 16)
+        elif line.startswith("file:"):
+            data += bytes(int(x, 16) for x in line.split(":", 1)[1].split())
+    problems = []
+    if len(data) != size:
+        problems.append(f"{len(data)} bytes, size says {size}")
+    if data[0:4] != b"NLSM" or data[4] != 1:
+        problems.append("magic or format")
+    m, n, w, nd, dd, layers = data[6:12]
+    (params,) = struct.unpack_from("<I", data, 12)
+    if any(data[17:24]):
+        problems.append("reserved bytes not 0")
+    if len(data) != 24 + 8 * layers + 4 * params + 4:
+        problems.append("size is not 24 + 8L + 4P + 4")
+    p = nd * m + dd * n + w
+    width, count = p, 2 * p + 2 * n
+    for i in range(layers):
+        kind, act, rec_act, reset_after, lin, lout = struct.unpack_from("<4BHH", data, 24 + 8 * i)
+        if lin != width or act > 4 or rec_act > 4 or kind not in (1, 2):
+            problems.append(f"layer {i}")
+        count += lin * lout + lout if kind == 1 else 3 * lout * (lin + lout) + (6 if reset_after else 3) * lout
+        width = lout
+    if width != n or count != params:
+        problems.append(f"layer chain ends at {width} (n {n}), {count} parameters (header {params})")
+    values = struct.unpack_from(f"<{params}f", data, 24 + 8 * layers)
+    if not all(math.isfinite(v) for v in values):
+        problems.append("a parameter is not finite")
+    (trailer,) = struct.unpack_from("<I", data, len(data) - 4)
+    if crc32(bytes(data[:-4])) != trailer or trailer != crc:
+        problems.append(f"CRC-32 0x{crc32(bytes(data[:-4])):08x}, trailer 0x{trailer:08x}, crc32 line 0x{crc:08x}")
+    for p_ in problems:
+        print(f"MODEL {path}: {p_}")
+    print(f"model file: {len(data)} bytes, {layers} layer(s), {params} parameters, {len(problems)} problems")
+    return len(problems)
+
+
 def main():
     table = read_spec(sys.argv[1])
     vectors = []
@@ -223,6 +279,8 @@ def main():
             failures += 1
             print(f"MISMATCH {name}\n  got:  {events}\n  want: {expect}")
     print(f"{len(vectors)} vectors, {len(table)} message types, {failures} mismatches")
+    if len(sys.argv) > 3:
+        failures += check_model(sys.argv[3])
     return 1 if failures else 0
 
 

@@ -32,14 +32,14 @@ size_t embedded_check_transfer(const XferBegin& b, const XferChunk& c, uint8_t* 
                                size_t cap, uint8_t* out, size_t out_cap) {
   TransferReceiver rx(static_cast<uint8_t>(XferKind::RefTable), stage, cap);
   ReplyCache cache;
-  Header h;
-  h.type = static_cast<uint8_t>(MsgType::XferChunk);
+  FrameView h;
+  h.header.type = static_cast<uint8_t>(MsgType::XferChunk);
   const uint8_t* wire = nullptr;
   size_t n = 0;
   if (cache.find(h, wire, n)) return n;
   rx.begin(b);
   const XferReply r = rx.chunk(c);
-  n = encode_reply(r.ack, h.seq, out, out_cap);
+  n = encode_reply(r.ack, h.header.seq, out, out_cap);
   cache.store(h, out, n);
   return rx.commit().status == StatusCode::Ok ? n : 0;
 }

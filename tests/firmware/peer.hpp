@@ -88,13 +88,18 @@ class Peer {
     return seq;
   }
 
-  // Sends a request and waits for the reply with its seq; unsolicited
+  // Sends a request and waits for the reply with its seq, of a type that
+  // answers it (protocol/catalog.hpp, as the console matches); unsolicited
   // frames seen meanwhile go to `unsolicited`.
   template <class M>
   std::optional<Received> request(const M& msg, int timeout_ms = 1000) {
     const uint8_t seq = send(msg);
-    return wait_for([&](const Received& r) { return r.header.flags & proto::frame_flags::kReply && r.header.seq == seq; },
-                    timeout_ms);
+    return wait_for(
+        [&](const Received& r) {
+          return r.header.flags & proto::frame_flags::kReply && r.header.seq == seq &&
+                 proto::answers(uint8_t(M::kType), r.header.type);
+        },
+        timeout_ms);
   }
 
   // Frames are delivered in arrival order: those before the match land in

@@ -34,10 +34,14 @@ class M4Image : public ::testing::Test {
   // may still be booting: ask until it answers.
   proto::Info handshake() {
     for (int attempt = 0; attempt < 40; ++attempt)
-      if (auto r = peer_->request(proto::InfoGet{}, 250)) return as<proto::Info>(*r);
+      if (auto r = peer_->request(proto::InfoGet{}, 250)) {
+        ex_ = as<proto::InfoEx>(*r);
+        return ex_.info;
+      }
     ADD_FAILURE() << "no INFO from the image after 10 s";
     return {};
   }
+  proto::InfoEx ex_;
   Received must(std::optional<Received> r, const char* what) {
     EXPECT_TRUE(r.has_value()) << "no reply to " << what;
     return r.value_or(Received{});

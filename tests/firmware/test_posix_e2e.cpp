@@ -3,9 +3,11 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 #include "firmware/core/firmware.hpp"
 #include "peer.hpp"
@@ -58,8 +60,10 @@ class PosixFirmware : public ::testing::Test {
 
 TEST_F(PosixFirmware, HandshakeReportsPlatformModelAndTable) {
   const Received r = must(peer_->request(proto::InfoGet{}), "INFO_GET");
-  ASSERT_EQ(r.header.type, uint8_t(proto::MsgType::Info));
-  const auto info = as<proto::Info>(r);
+  ASSERT_EQ(r.header.type, uint8_t(proto::MsgType::InfoEx));
+  const auto ex = as<proto::InfoEx>(r);
+  const proto::Info& info = ex.info;
+  EXPECT_EQ(ex.protocol_minor, proto::kProtocolMinor);
   EXPECT_EQ(info.platform, uint8_t(PlatformId::Msd));
   EXPECT_EQ(info.m, 1);
   EXPECT_EQ(info.n, 1);
@@ -67,8 +71,79 @@ TEST_F(PosixFirmware, HandshakeReportsPlatformModelAndTable) {
   EXPECT_EQ(info.loop_rate_hz, 1000u);
   const auto file = msd_arx_model_file();
   EXPECT_EQ(info.model_hash, crc32(file.data(), file.size() - 4));
-  EXPECT_EQ(info.param_hash, param_table_hash());
   EXPECT_TRUE(info.capabilities & proto::capability::kYTrue);
+  // The posix port's buffers: 20000 points of 3 floats, 64 KiB of model.
+  EXPECT_EQ(ex.table_max, 8u + 4u * 3u * 20000u);
+  EXPECT_EQ(ex.model_max, 64u * 1024u);
+
+  // param_hash is the CRC-32 of the PARAM_DESC payloads as they arrive.
+  Crc32 crc;
+  uint16_t count = 1;
+  for (uint16_t i = 0; i < count; ++i) {
+    proto::ParamList l;
+    l.index = i;
+    const Received d = must(peer_->request(l), "PARAM_LIST");
+    ASSERT_EQ(d.header.type, uint8_t(proto::MsgType::ParamDesc));
+    count = as<proto::ParamDesc>(d).count;
+    crc.update(d.payload.data(), d.payload.size());
+  }
+  EXPECT_EQ(info.param_hash, crc.value());
+}
+
+TEST_F(PosixFirmware, TooLargeTransfersAreRefusedAtTheAdvertisedLimit) {
+  const auto ex = as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET"));
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::RefTable);
+  b.options = proto::xfer_options::kRestart;
+  b.total_size = ex.table_max + 1;
+  const auto n = as<proto::Nack>(must(peer_->request(b), "XFER_BEGIN too large"));
+  EXPECT_EQ(n.status, uint8_t(proto::StatusCode::TooLarge));
+  EXPECT_EQ(n.field, 2);
+  b.total_size = ex.table_max;
+  EXPECT_EQ(must(peer_->request(b), "XFER_BEGIN at the limit").header.type, uint8_t(proto::MsgType::XferAck));
+}
+
+TEST_F(PosixFirmware, RefSelectRefusalsNameTheFieldOverTheWire) {
+  proto::RefSelect sel;
+  sel.ref_id = uint8_t(proto::RefId::Infinity);
+  sel.a = sel.b = sel.c = 1.0f;
+  sel.omega = 0.01f;
+  sel.center[2] = std::numeric_limits<float>::infinity();
+  const auto n = as<proto::Nack>(must(peer_->request(sel), "REF_SELECT"));
+  EXPECT_EQ(n.status, uint8_t(proto::StatusCode::NotFinite));
+  EXPECT_EQ(n.field, 6);
+  EXPECT_EQ(n.element, 2);
+  // A NaN where infinity reads nothing (lambda) is ignored.
+  sel.center[2] = 0.0f;
+  sel.lambda = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(must(peer_->request(sel), "REF_SELECT").header.type, uint8_t(proto::MsgType::Ack));
+  const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
+  EXPECT_EQ(st.ref_id, uint8_t(proto::RefId::Infinity));
+}
+
+TEST_F(PosixFirmware, AReusedSeqWithANewRequestIsExecuted) {
+  // A console restarted at the same seq sends RUN_START for another run:
+  // executed (refused, a run is active), not answered with the first ACK.
+  auto send = [&](uint32_t run_id) {
+    proto::RunStart m;
+    m.run_id = run_id;
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode(m, 200, 0, wire, sizeof wire);
+    peer_->send_raw(wire, len);
+    return peer_->wait_for([](const Received& r) { return r.header.seq == 200 && r.header.flags == 1; }, 1000);
+  };
+  const auto first = send(11);
+  ASSERT_TRUE(first.has_value());
+  ASSERT_EQ(first->header.type, uint8_t(proto::MsgType::Ack));
+  const auto twin = send(11);  // a retransmission: the stored ACK
+  ASSERT_TRUE(twin.has_value());
+  EXPECT_EQ(twin->header.type, uint8_t(proto::MsgType::Ack));
+  const auto other = send(12);
+  ASSERT_TRUE(other.has_value());
+  ASSERT_EQ(other->header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(*other).status, uint8_t(proto::StatusCode::WrongState));
+  const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
+  EXPECT_EQ(st.run_id, 11u);
 }
 
 TEST_F(PosixFirmware, ParameterRoundTripAndRefusals) {
@@ -263,7 +338,7 @@ TEST_F(PosixFirmware, ANewModelTransferPutsTheBuiltInModelBackUntilCommitted) {
   const uint32_t body = uint32_t(other.size() - 4);
   const uint32_t crc = crc32(other.data(), body);
   for (int i = 0; i < 4; ++i) other[body + i] = uint8_t(crc >> (8 * i));
-  auto model_hash = [&] { return as<proto::Info>(must(peer_->request(proto::InfoGet{}), "INFO_GET")).model_hash; };
+  auto model_hash = [&] { return as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET")).info.model_hash; };
   const uint32_t builtin_hash = crc32(builtin.data(), builtin.size() - 4);
   ASSERT_EQ(model_hash(), builtin_hash);
 
@@ -328,4 +403,42 @@ TEST_F(PosixFirmware, SilentLinkSendsActuatorsToTheSafeStateAndSaysSo) {
   ASSERT_EQ(must(peer_->request(resume), "RUN_HOLD resume").header.type, uint8_t(proto::MsgType::Ack));
   const auto st2 = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
   EXPECT_EQ(st2.run_state, uint8_t(proto::RunState::Running));
+}
+
+// The golden model file of PROTOCOL.md 9.4, built from the layout table
+// alone, is taken as it is by the firmware it was made for, and a BEGIN
+// the firmware refuses leaves the model in force.
+TEST_F(PosixFirmware, TheGoldenModelFileUploadsAndRefusedBeginsChangeNothing) {
+  std::ifstream in(NLSOFT_GOLDEN_MODEL);
+  ASSERT_TRUE(in.good()) << NLSOFT_GOLDEN_MODEL;
+  std::vector<uint8_t> file;
+  uint32_t crc = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("crc32:", 0) == 0) crc = uint32_t(std::stoul(line.substr(6), nullptr, 16));
+    if (line.rfind("file:", 0) != 0) continue;
+    std::istringstream hex(line.substr(5));
+    for (std::string b; hex >> b;) file.push_back(uint8_t(std::stoul(b, nullptr, 16)));
+  }
+  ASSERT_EQ(file.size(), 96u);
+  auto info = [&] { return as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET")); };
+  const uint32_t builtin = info().info.model_hash;
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::Model);
+  b.options = proto::xfer_options::kRestart;
+  b.total_size = info().model_max + 1;
+  EXPECT_EQ(as<proto::Nack>(must(peer_->request(b), "XFER_BEGIN too large")).status, uint8_t(proto::StatusCode::TooLarge));
+  EXPECT_EQ(info().info.model_hash, builtin);
+
+  b.total_size = uint32_t(file.size());
+  b.crc32 = crc32(file.data(), file.size());
+  ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+  proto::XferChunk c;
+  c.kind = b.kind;
+  c.size = uint8_t(file.size());
+  std::memcpy(c.data, file.data(), file.size());
+  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, file.size());
+  proto::XferCommit cm;
+  cm.kind = b.kind;
+  ASSERT_EQ(must(peer_->request(cm), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
+  EXPECT_EQ(info().info.model_hash, crc);
 }

@@ -89,6 +89,26 @@ TEST(Decoder, AcceptsTheLargestFrameAndRejectsOneByteMoreAsOversize) {
   EXPECT_EQ(events[0].error, np::FrameError::Oversize);
 }
 
+// Section 2: a block's implied zero counts toward the 253 bytes once the
+// next code byte shows it is not the final block's (dropped) zero.
+TEST(Decoder, AnImpliedZeroCountsOnlyWhenAnotherBlockFollows) {
+  // 253 data bytes in one block: its implied zero is the final one, dropped.
+  Bytes fits = {0xFE};
+  fits.insert(fits.end(), 253, 0x11);
+  fits.push_back(0);
+  auto events = decode_all(fits);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NE(events[0].error, np::FrameError::Oversize);
+  // The same block closed by an empty block: its zero now counts, 254 bytes.
+  Bytes over = {0xFE};
+  over.insert(over.end(), 253, 0x11);
+  over.push_back(0x01);
+  over.push_back(0);
+  events = decode_all(over);
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].error, np::FrameError::Oversize);
+}
+
 TEST(Decoder, RecoversOnTheFrameAfterAnOversizeRun) {
   Bytes stream(5000, 0x33);
   stream.push_back(0);

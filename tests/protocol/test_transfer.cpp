@@ -120,11 +120,14 @@ TEST(Transfer, RejectsSizesAndChunksOutsideTheObject) {
   EXPECT_EQ(rx.chunk(past).status, np::StatusCode::OutOfRange);
 }
 
-TEST(ReplyCache, RepeatsTheStoredReplyOnlyForTheSameSeqAndType) {
+TEST(ReplyCache, RepeatsTheStoredReplyOnlyForTheSameSeqTypeAndPayload) {
   np::ReplyCache cache;
-  np::Header req;
-  req.seq = 9;
-  req.type = static_cast<uint8_t>(np::MsgType::XferCommit);
+  const uint8_t run7[] = {7, 0, 0, 0};
+  np::FrameView req;
+  req.header.seq = 9;
+  req.header.type = static_cast<uint8_t>(np::MsgType::RunStart);
+  req.header.length = sizeof run7;
+  req.payload = run7;
   const uint8_t* wire = nullptr;
   size_t n = 0;
   EXPECT_FALSE(cache.find(req, wire, n));
@@ -132,12 +135,17 @@ TEST(ReplyCache, RepeatsTheStoredReplyOnlyForTheSameSeqAndType) {
   cache.store(req, reply, sizeof reply);
   ASSERT_TRUE(cache.find(req, wire, n));
   EXPECT_EQ(std::vector<uint8_t>(wire, wire + n), std::vector<uint8_t>(reply, reply + 6));
-  np::Header next = req;
-  next.seq = 10;
+  np::FrameView next = req;
+  next.header.seq = 10;
   EXPECT_FALSE(cache.find(next, wire, n));
-  np::Header other = req;
-  other.type = static_cast<uint8_t>(np::MsgType::RunStart);
+  np::FrameView other = req;
+  other.header.type = static_cast<uint8_t>(np::MsgType::XferCommit);
   EXPECT_FALSE(cache.find(other, wire, n));
+  // A restarted console reusing seq 9 for another run: executed, not the old reply.
+  const uint8_t run8[] = {8, 0, 0, 0};
+  np::FrameView reused = req;
+  reused.payload = run8;
+  EXPECT_FALSE(cache.find(reused, wire, n));
 }
 
 }  // namespace

@@ -19,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/link/device.hpp"
 #include "app/link/link_error.hpp"
 #include "app/link/param_catalog.hpp"
 #include "app/link/session.hpp"
@@ -424,6 +425,110 @@ TEST(Session, NonStandardBaudIsAccepted) {
   Session s(fast_options());
   s.open(peer.path(), 250000);
   EXPECT_EQ(ping(s, 3).nonce, 3u);
+}
+
+}  // namespace
+}  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// Protocol 1.1, section 3: each session starts at a random seq, so a
+// restarted console rarely meets the firmware's memory of its last request.
+TEST(Session, EachSessionStartsAtARandomSequenceNumber) {
+  std::vector<uint8_t> first;
+  for (int i = 0; i < 6; ++i) {
+    FakePeer peer([](FakePeer& pe, const p::FrameView& f) { pong(pe, f); });
+    Session s(fast_options());
+    s.open(peer.path(), 115200);
+    ping(s, 1);
+    ASSERT_FALSE(peer.seqs_seen().empty());
+    first.push_back(peer.seqs_seen().front());
+  }
+  std::sort(first.begin(), first.end());
+  EXPECT_GT(std::unique(first.begin(), first.end()) - first.begin(), 1) << "six sessions, one first seq";
+}
+
+// INFO_GET is answered by INFO_EX (1.1) or INFO (1.0); both read as INFO,
+// and the limits are known only from INFO_EX. A refused upload names the limit.
+TEST(Session, InfoExAndInfoBothAnswerInfoGetAndTheLimitIsShown) {
+  const p::Info info = board_info(p::Platform::Hasel, "nlsoft-fake", 1);
+  for (bool ex : {true, false}) {
+    SCOPED_TRACE(ex ? "INFO_EX" : "INFO");
+    FakePeer peer([&](FakePeer& pe, const p::FrameView& f) {
+      if (f.header.type == uint8_t(p::MsgType::InfoGet)) {
+        if (!ex) return pe.reply(info, f.header.seq);
+        p::InfoEx x;
+        x.info = info;
+        x.table_max = 776;
+        x.model_max = 4096;
+        return pe.reply(x, f.header.seq);
+      }
+      if (f.header.type == uint8_t(p::MsgType::XferBegin)) {
+        p::Nack n;
+        n.request_type = f.header.type;
+        n.status = uint8_t(p::StatusCode::TooLarge);
+        n.field = 2;
+        return pe.reply(n, f.header.seq);
+      }
+    });
+    Session s(fast_options());
+    s.open(peer.path(), 115200);
+    EXPECT_STREQ(s.call<p::Info>(p::InfoGet{}).firmware, "nlsoft-fake");
+    Device d(s);
+    EXPECT_EQ(d.handshake().platform, uint8_t(p::Platform::Hasel));
+    EXPECT_EQ(d.transfer_limit(p::XferKind::RefTable), ex ? 776u : 0u);
+    EXPECT_EQ(d.protocol_minor(), ex ? 1 : 0);
+    try {
+      d.upload(p::XferKind::RefTable, std::vector<uint8_t>(1000, 1));
+      ADD_FAILURE() << "a too large upload was not refused";
+    } catch (const NackError& e) {
+      EXPECT_EQ(e.status(), p::StatusCode::TooLarge);
+      const std::string what = e.what();
+      EXPECT_EQ(what.find("at most 776 bytes") != std::string::npos, ex) << what;
+    }
+  }
+}
+
+// The raw exchange: the bytes go out as given (here a byte per write, with
+// a seq the caller chose), only a reply with that seq is taken, and every
+// reply is shown to the reply tap.
+TEST(Session, RawExchangeSendsTheBytesAsGivenAndMatchesItsSeq) {
+  FakePeer peer([](FakePeer& pe, const p::FrameView& f) {
+    p::Ping req;
+    if (p::unpack(f, req) != p::StatusCode::Ok) return;
+    p::Pong reply;
+    reply.nonce = req.nonce;
+    // nonce 13 is answered with the wrong seq
+    pe.reply(reply, req.nonce == 13 ? uint8_t(f.header.seq + 1) : f.header.seq);
+  });
+  Session s(fast_options());
+  std::atomic<int> tapped{0};
+  s.on_any_reply([&](const p::FrameView&) { ++tapped; });
+  s.open(peer.path(), 115200);
+  auto wire_of = [](uint32_t nonce, uint8_t seq) {
+    p::Ping ping;
+    ping.nonce = nonce;
+    uint8_t buf[p::kWireBufferSize];
+    const size_t n = p::encode(ping, seq, 0, buf, sizeof buf);
+    return std::vector<uint8_t>(buf, buf + n);
+  };
+  RawRequest req;
+  req.wire = wire_of(5, 77);
+  req.type = uint8_t(p::MsgType::Ping);
+  req.seq = 77;
+  req.write_chunk = 1;
+  const auto r = s.exchange(req);
+  ASSERT_TRUE(r.has_value());
+  EXPECT_EQ(r->seq, 77);
+  EXPECT_EQ(r->type, uint8_t(p::MsgType::Pong));
+  EXPECT_EQ(peer.seqs_seen().back(), 77);
+
+  req.wire = wire_of(13, 78);
+  req.seq = 78;
+  req.write_chunk = 0;
+  EXPECT_FALSE(s.exchange(req).has_value()) << "a reply with another seq was taken";
+  EXPECT_EQ(tapped.load(), 2);
 }
 
 }  // namespace

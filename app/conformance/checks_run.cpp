@@ -1,0 +1,236 @@
+// Run control, telemetry and the link watchdog (PROTOCOL.md 9.5-9.8).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <thread>
+
+#include "app/conformance/suite.hpp"
+
+namespace nlsoft::console::conformance {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+Frame hold(Suite& s, uint8_t mode) {
+  p::RunHold h;
+  h.mode = mode;
+  return s.pr.request(h);
+}
+
+std::string state_of(const std::optional<p::Status>& st) {
+  return st ? fmt::format("run_state {} watchdog 0x{:02x}", st->run_state, st->watchdog) : "no STATUS";
+}
+
+bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
+
+bool configure_telemetry(Suite& s, uint8_t mask, uint16_t decimation, std::string& why) {
+  p::TelemetryConfig tc;
+  tc.mask = mask;
+  tc.decimation = decimation;
+  const Frame f = s.pr.request(tc);
+  if (acked(f, p::MsgType::TelemetryConfig)) return true;
+  why = fmt::format("TELEMETRY_CONFIG mask 0x{:02x}/{}: {}", mask, decimation, describe(f));
+  return false;
+}
+
+}  // namespace
+
+void check_run_control(Suite& s) {
+  s.group("run");
+  {
+    const Frame f = hold(s, uint8_t(p::HoldMode::Hold));
+    s.check("run_hold_idle", nacked(f, p::StatusCode::WrongState, 0, p::kNoField) ||
+                                 nacked(f, p::StatusCode::WrongState, p::kNoField, p::kNoField),
+            "RUN_HOLD with no run: " + describe(f));
+  }
+  // y_true needs its capability.
+  {
+    p::TelemetryConfig tc;
+    tc.mask = p::telemetry_field::kYTrue;
+    tc.decimation = 0;
+    const Frame f = s.pr.request(tc);
+    const bool has = s.info.info.capabilities & p::capability::kYTrue;
+    s.check("telemetry_y_true", has ? acked(f, p::MsgType::TelemetryConfig)
+                                    : nacked(f, p::StatusCode::Unsupported, 0, p::kNoField),
+            fmt::format("mask y_true with{} the Y_TRUE capability: {}", has ? "" : "out", describe(f)));
+  }
+  std::string why;
+  if (!configure_telemetry(s, p::telemetry_field::kStep, 0, why)) {
+    s.check("run_start", false, why);
+    return;
+  }
+  p::RunStart start;
+  start.run_id = 0xC0F00000u | (s.random() & 0xFFFFu);
+  const Frame sf = s.pr.request(start);
+  const bool started = acked(sf, p::MsgType::RunStart);
+  auto st = s.status();
+  s.check("run_start", started && in_state(st, p::RunState::Running) && st->run_id == start.run_id,
+          fmt::format("RUN_START run_id {}: {}; STATUS {} run_id {}", start.run_id, describe(sf), state_of(st),
+                      st ? st->run_id : 0));
+  if (started) {
+    const Frame again = s.pr.request(start);
+    p::RunStart other = start;
+    other.run_id ^= 1;
+    const Frame busy = s.pr.request(other);
+    s.check("run_start_again", acked(again, p::MsgType::RunStart) &&
+                                   (nacked(busy, p::StatusCode::WrongState, 0, p::kNoField) ||
+                                    nacked(busy, p::StatusCode::WrongState, p::kNoField, p::kNoField)),
+            fmt::format("the same run_id again: {}; another run_id: {}", describe(again), describe(busy)));
+    const Frame bad = hold(s, 7);
+    s.check("run_hold_bad_mode", nacked(bad, p::StatusCode::OutOfRange, 0, p::kNoField),
+            "RUN_HOLD mode 7: " + describe(bad));
+    std::vector<std::string> steps;
+    bool ok = true;
+    for (auto [mode, state] : {std::pair{p::HoldMode::Hold, p::RunState::Hold},
+                               std::pair{p::HoldMode::Neutral, p::RunState::Neutral},
+                               std::pair{p::HoldMode::Resume, p::RunState::Running}}) {
+      const Frame f = hold(s, uint8_t(mode));
+      st = s.status();
+      ok = ok && acked(f, p::MsgType::RunHold) && in_state(st, state);
+      steps.push_back(fmt::format("mode {}: {}, {}", int(mode), describe(f), state_of(st)));
+    }
+    s.check("run_hold", ok, join(steps, "; "));
+  }
+  const Frame stop = s.pr.request(p::RunStop{});
+  const Frame stop2 = s.pr.request(p::RunStop{});
+  st = s.status();
+  s.check("run_stop", acked(stop, p::MsgType::RunStop) && acked(stop2, p::MsgType::RunStop) &&
+                          in_state(st, p::RunState::Idle),
+          fmt::format("RUN_STOP twice: {}, {}; STATUS {}", describe(stop), describe(stop2), state_of(st)));
+}
+
+// Every TELEMETRY frame generated is either received or counted in
+// tx_dropped: frames generated = steps with step % decimation == 0.
+void check_telemetry_rate(Suite& s) {
+  s.group("telemetry");
+  const uint16_t decimation = uint16_t(std::max<uint32_t>(1, s.info.info.loop_rate_hz / 200));
+  std::string why;
+  if (!configure_telemetry(s, p::telemetry_field::kAll & uint8_t(~(s.info.info.capabilities & p::capability::kYTrue
+                                                                        ? 0
+                                                                        : p::telemetry_field::kYTrue)),
+                           decimation, why)) {
+    s.check("telemetry", false, why);
+    return;
+  }
+  const auto before = s.status();
+  p::RunStart start;
+  start.run_id = 0xC0F10000u | (s.random() & 0xFFFFu);
+  s.pr.record_telemetry(true);
+  const Frame sf = s.pr.request(start);
+  if (!acked(sf, p::MsgType::RunStart)) {
+    s.pr.record_telemetry(false);
+    s.check("telemetry", false, "RUN_START: " + describe(sf));
+    return;
+  }
+  // STATUS_GET meanwhile keeps the link watchdog fed.
+  const auto until = Clock::now() + Ms(800);
+  while (Clock::now() < until) {
+    std::this_thread::sleep_for(Ms(150));
+    s.pr.request(p::Ping{});
+  }
+  s.pr.request(p::RunStop{});
+  const auto after = s.status();  // behind every TELEMETRY of the run
+  s.pr.record_telemetry(false);
+  const auto t = s.pr.telemetry();
+  if (!before || !after || t.empty()) {
+    s.check("telemetry", false, t.empty() ? "no TELEMETRY during the run" : "no STATUS");
+    return;
+  }
+  uint32_t gaps = 0;
+  bool steps_ok = t.front().step < decimation;
+  for (size_t i = 1; i < t.size(); ++i) {
+    gaps += uint16_t(t[i].tseq - t[i - 1].tseq - 1);
+    const uint32_t dstep = t[i].step - t[i - 1].step;
+    if (dstep % decimation != 0 || dstep / decimation != uint32_t(uint16_t(t[i].tseq - t[i - 1].tseq))) steps_ok = false;
+  }
+  const uint32_t generated = (after->step + decimation - 1) / decimation;
+  const uint32_t lost = generated - uint32_t(t.size());
+  const uint32_t dropped = after->tx_dropped - before->tx_dropped;
+  s.check("telemetry", t.size() >= 3 && steps_ok,
+          fmt::format("{} frames (decimation {}), tseq {}..{}, step {}..{}{}", t.size(), decimation, t.front().tseq,
+                      t.back().tseq, t.front().step, t.back().step, steps_ok ? "" : ", tseq and step disagree"));
+  s.check("telemetry_accounting", lost == dropped && gaps <= lost,
+          fmt::format("{} steps: {} frames generated, {} received, {} missing ({} inside tseq gaps); tx_dropped +{}",
+                      after->step, generated, t.size(), lost, gaps, dropped));
+  // Back to the mask in force before, every control step.
+  configure_telemetry(s, s.telemetry_mask, 1, why);
+}
+
+// The link watchdog: a run with a short watchdog_ms survives a console that
+// keeps sending, goes to the safe state when it falls silent, says so, and
+// resumes on RUN_HOLD resume.
+void check_watchdog(Suite& s) {
+  s.group("watchdog");
+  const p::ParamDesc* wd = s.param("watchdog_ms");
+  if (!wd) {
+    s.check("watchdog", false, "no watchdog_ms parameter (PROTOCOL.md 9.8)");
+    return;
+  }
+  std::string why;
+  // Short enough to keep the check brief, long enough that a loaded host
+  // feeding it every fifth of it never misses.
+  const uint32_t timeout_ms = 500;
+  if (!s.set(*wd, {timeout_ms}, why)) {
+    s.check("watchdog", false, fmt::format("watchdog_ms = {}: {}", timeout_ms, why));
+    return;
+  }
+  uint8_t safe = uint8_t(p::RunState::Neutral);
+  if (const p::ParamDesc* ss = s.param("safe_state"))
+    safe = s.original.at(ss->id).values[0] == 0 ? uint8_t(p::RunState::Hold) : uint8_t(p::RunState::Neutral);
+  configure_telemetry(s, s.telemetry_mask, 0, why);  // quiet, so heartbeats are what we hear
+  p::RunStart start;
+  start.run_id = 0xC0F20000u | (s.random() & 0xFFFFu);
+  const Frame sf = s.pr.request(start);
+  if (!acked(sf, p::MsgType::RunStart)) {
+    s.check("watchdog", false, "RUN_START: " + describe(sf));
+    configure_telemetry(s, s.telemetry_mask, 1, why);
+    return;
+  }
+  // Traffic every fifth of the timeout keeps the run going, for three
+  // timeouts of the firmware's clock (its uptime, not ours).
+  auto st = s.status();
+  const uint32_t t0 = st ? st->uptime_ms : 0;
+  bool kept = in_state(st, p::RunState::Running) && (st->watchdog & p::watchdog_flags::kArmed);
+  const auto give_up = Clock::now() + std::chrono::seconds(20);
+  while (kept && st && st->uptime_ms - t0 < 3 * timeout_ms && Clock::now() < give_up) {
+    std::this_thread::sleep_for(Ms(timeout_ms / 5));
+    st = s.status();
+    kept = in_state(st, p::RunState::Running) && !(st->watchdog & p::watchdog_flags::kTripped);
+  }
+  s.check("watchdog_fed", kept, fmt::format("STATUS_GET every {} ms for {} ms of firmware time: {}", timeout_ms / 5,
+                                            st ? st->uptime_ms - t0 : 0, state_of(st)));
+  // Silence: listen to the heartbeat only, until the firmware's clock is
+  // two timeouts past our last frame.
+  s.pr.take_statuses();
+  s.pr.take_logs();
+  const uint32_t quiet_from = st ? st->uptime_ms : 0;
+  std::optional<p::Status> beat;
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (Clock::now() < deadline) {
+    std::this_thread::sleep_for(Ms(100));
+    for (const p::Status& b : s.pr.take_statuses()) beat = b;
+    if (beat && beat->uptime_ms - quiet_from >= 2 * timeout_ms) break;
+  }
+  const bool tripped = beat && beat->run_state == safe && (beat->watchdog & p::watchdog_flags::kTripped) &&
+                       (beat->watchdog & p::watchdog_flags::kArmed);
+  s.check("watchdog_trips", tripped,
+          fmt::format("silent for {} ms of firmware time: heartbeat {} (expected run_state {}, watchdog bits armed and "
+                      "tripped)",
+                      beat ? beat->uptime_ms - quiet_from : 0, state_of(beat), safe));
+  // The next frame: the link is back, LOG says so; STATUS still tripped.
+  st = s.status();
+  std::this_thread::sleep_for(Ms(100));
+  const auto logs = s.pr.take_logs();
+  s.check("watchdog_link_back", in_state(st, p::RunState(safe)) && !logs.empty(),
+          fmt::format("after the silence: {}, LOG {}", state_of(st), logs.empty() ? "none" : "\"" + logs.back() + "\""));
+  const Frame r = hold(s, uint8_t(p::HoldMode::Resume));
+  st = s.status();
+  s.check("watchdog_resume", acked(r, p::MsgType::RunHold) && in_state(st, p::RunState::Running) &&
+                                 !(st->watchdog & p::watchdog_flags::kTripped),
+          fmt::format("RUN_HOLD resume: {}; {}", describe(r), state_of(st)));
+  s.pr.request(p::RunStop{});
+  configure_telemetry(s, s.telemetry_mask, 1, why);
+}
+
+}  // namespace nlsoft::console::conformance

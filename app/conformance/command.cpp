@@ -1,0 +1,98 @@
+#include "app/conformance/command.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "app/cli_error.hpp"
+#include "app/conformance/report.hpp"
+#include "app/conformance/suite.hpp"
+#include "app/link/sim_launcher.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+using namespace conformance;
+
+struct ConformanceArgs {
+  std::string port, sim, qemu;
+  unsigned baud = 115200;
+  bool json = false;
+  int timeout_ms = 250;
+};
+
+int run_conformance(const ConformanceArgs& a) {
+  if (int(!a.port.empty()) + int(!a.sim.empty()) + int(!a.qemu.empty()) != 1)
+    throw CliError(
+        "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim PLATFORM or --qemu PLATFORM");
+  SimLauncher launcher;
+  Summary summary;
+  summary.port = a.port;
+  summary.target = a.port;
+  if (!a.sim.empty()) {
+    summary.port = launcher.start(a.sim);
+    summary.target = "sim " + a.sim;
+  } else if (!a.qemu.empty()) {
+    summary.port = launcher.start_qemu(a.qemu);
+    summary.target = "qemu " + a.qemu;
+  }
+  // An emulated MCU answers a few times slower than the host simulator.
+  const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));
+  Probe probe{timeout};
+  Suite suite(probe, [&](const CheckResult& r) {
+    if (!a.json) std::printf("%s\n", result_line(r).c_str()), std::fflush(stdout);
+  });
+  try {
+    probe.open(summary.port, a.baud);
+    // A board may be resetting, QEMU booting: ask for longer before giving up.
+    suite.run(std::chrono::seconds(!a.port.empty() ? 10 : !a.qemu.empty() ? 20 : 3));
+  } catch (const LinkError& e) {
+    summary.link_error = e.what();
+  }
+  summary.checks = suite.results();
+  std::fputs((a.json ? json_report(summary) : text_summary(summary)).c_str(), stdout);
+  std::fflush(stdout);
+  if (!summary.link_error.empty()) return 2;
+  return summary.failed() ? 1 : 0;
+}
+
+}  // namespace
+
+void add_conformance_command(CLI::App& app) {
+  auto a = std::make_shared<ConformanceArgs>();
+  CLI::App* c = app.add_subcommand(
+      "conformance", "Run the protocol conformance suite (PROTOCOL.md) against a board, the simulator or QEMU");
+  c->add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
+  c->add_option("--sim", a->sim, "Start nlsoft-firmware-sim for this platform and test it")
+      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  c->add_option("--qemu", a->qemu,
+                "Boot this platform's Cortex-M4F image (simulated plant in the loop) in qemu-system-arm and test it")
+      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  c->add_option("--baud", a->baud, "Baud rate (default 115200)")->check(CLI::Range(50u, 20000000u));
+  c->add_option("--timeout", a->timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
+  c->add_flag("--json", a->json, "One JSON object instead of PASS/FAIL lines");
+  c->footer(
+      "Checks, by group: handshake (INFO/INFO_EX and its limits), basics (STATUS_GET, PING, frames\n"
+      "that are no request), params (the list and its hash, every PARAM_SET refusal with its field\n"
+      "and element, a valid set), references (every REF_SELECT refusal, unused fields ignored),\n"
+      "framing (garbage, bursts, bad CRC, unknown types, bad lengths, every bit flip of a request,\n"
+      "frames a byte at a time and back to back, duplicate, reused and replayed seq), run (start,\n"
+      "stop, hold, neutral, resume and their refusals), telemetry (every frame received or counted\n"
+      "in tx_dropped), watchdog (fed, tripped by silence, reported, resumed), transfers (a lost\n"
+      "chunk healed, interrupted at each stage and resumed, every refusal), and a summary: every\n"
+      "message answered or seen, every reply with a seq of ours.\n"
+      "Parameters it changes are set back. It leaves the hold reference selected, a small\n"
+      "reference table committed (kind 1) and telemetry at decimation 1; it never uploads a model.\n"
+      "Prints `PASS|FAIL name: detail` per check and `N passed, M failed`;\n"
+      "exit 0 when all passed, 1 when one failed, 2 on a link error.\n"
+      "Examples:\n"
+      "  nlsoft-console conformance --sim hasel\n"
+      "  nlsoft-console conformance --qemu msd --json\n"
+      "  nlsoft-console conformance /dev/ttyACM0 --baud 1000000\n");
+  c->callback([a] { throw CliExit{run_conformance(*a)}; });
+}
+
+}  // namespace nlsoft::console

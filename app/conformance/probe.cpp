@@ -1,0 +1,201 @@
+#include "app/conformance/probe.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <thread>
+
+namespace nlsoft::console::conformance {
+
+namespace {
+
+SessionOptions probe_options(Ms timeout) {
+  SessionOptions o;
+  o.timeout = timeout;
+  o.commit_timeout = std::max(timeout, Ms(1500));
+  // The suite decides when the link is quiet: the watchdog checks need
+  // silence, and a keepalive PING would be traffic the checks did not send.
+  o.keepalive = Ms(0);
+  return o;
+}
+
+}  // namespace
+
+bool as_info(const Frame& f, p::InfoEx& out) {
+  Reply r;
+  r.type = f.type;
+  r.seq = f.seq;
+  r.length = uint8_t(std::min<size_t>(f.payload.size(), sizeof r.payload));
+  std::copy(f.payload.begin(), f.payload.begin() + r.length, r.payload);
+  return unpack_info(r, out);
+}
+
+std::string describe(const Frame& f) {
+  p::Nack n;
+  if (as(f, n)) return "NACK: " + describe_nack(n);
+  return p::message_name(f.type);
+}
+
+bool acked(const Frame& f, p::MsgType request) {
+  p::Ack a;
+  return as(f, a) && a.request_type == uint8_t(request);
+}
+
+bool nacked(const Frame& f, p::StatusCode status, uint8_t field, uint8_t element) {
+  p::Nack n;
+  return as(f, n) && n.status == uint8_t(status) && n.field == field && n.element == element;
+}
+
+Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
+  session_.on_any_reply([this](const p::FrameView& f) {
+    std::lock_guard<std::mutex> lock(mu_);
+    ++replies_;
+    types_seen_.insert(f.header.type);
+    if (std::find(recent_seqs_.begin(), recent_seqs_.end(), f.header.seq) == recent_seqs_.end()) {
+      ++foreign_;
+      if (first_foreign_.empty())
+        first_foreign_ = fmt::format("{} with seq {}", p::message_name(f.header.type), f.header.seq);
+    }
+    if (listening_) heard_.push_back({f.header.type, f.header.seq, {f.payload, f.payload + f.header.length}});
+  });
+  session_.on_telemetry([this](const p::Telemetry& t, uint32_t) {
+    std::lock_guard<std::mutex> lock(mu_);
+    types_seen_.insert(uint8_t(p::MsgType::Telemetry));
+    if (recording_) telemetry_.push_back({t.tseq, t.step});
+  });
+  session_.on_status([this](const p::Status& s) {
+    std::lock_guard<std::mutex> lock(mu_);
+    types_seen_.insert(uint8_t(p::MsgType::Status));
+    statuses_.push_back(s);
+    if (statuses_.size() > 1000) statuses_.erase(statuses_.begin());
+  });
+  session_.on_log([this](const p::Log& l) {
+    std::lock_guard<std::mutex> lock(mu_);
+    types_seen_.insert(uint8_t(p::MsgType::Log));
+    logs_.emplace_back(l.text);
+  });
+}
+
+Probe::~Probe() { session_.close(); }
+
+void Probe::open(const std::string& path, unsigned baud) {
+  session_.open(path, baud);
+  session_.write_raw({p::kDelimiter});  // ends whatever partial frame the peer holds
+}
+
+uint8_t Probe::next_seq() {
+  const uint8_t seq = session_.next_seq();
+  note_sent(seq);
+  return seq;
+}
+
+void Probe::note_sent(uint8_t seq) {
+  std::lock_guard<std::mutex> lock(mu_);
+  recent_seqs_.push_back(seq);
+  if (recent_seqs_.size() > 32) recent_seqs_.pop_front();
+}
+
+std::vector<uint8_t> Probe::wire(uint8_t type, uint8_t seq, const uint8_t* payload, size_t len, uint8_t flags) {
+  uint8_t buf[p::kWireBufferSize];
+  const size_t n = p::encode_frame(type, seq, flags, payload, len, buf, sizeof buf);
+  if (n == 0) throw LinkError(fmt::format("cannot encode a {} frame", p::message_name(type)));
+  return {buf, buf + n};
+}
+
+Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& bytes, int tries, size_t write_chunk,
+                      Ms chunk_gap) {
+  RawRequest req;
+  req.wire = bytes;
+  req.type = type;
+  req.seq = seq;
+  req.tries = tries;
+  req.timeout = type == uint8_t(p::MsgType::XferCommit) ? std::max(timeout_, Ms(1500)) : timeout_;
+  req.write_chunk = write_chunk;
+  req.chunk_gap = chunk_gap;
+  note_sent(seq);
+  const auto r = done(type, session_.exchange(req));
+  if (!r)
+    throw LinkError(fmt::format("no reply to {} seq {} after {} tries of {} ms", p::message_name(type), seq, tries,
+                                req.timeout.count()));
+  return *r;
+}
+
+std::optional<Frame> Probe::done(uint8_t type, const std::optional<Reply>& r) {
+  if (!r) return std::nullopt;
+  if (r->type != uint8_t(p::MsgType::Nack)) {
+    std::lock_guard<std::mutex> lock(mu_);
+    answered_.insert(type);
+  }
+  return Frame{r->type, r->seq, {r->payload, r->payload + r->length}};
+}
+
+std::set<uint8_t> Probe::answered() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return answered_;
+}
+
+std::optional<Frame> Probe::try_exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& bytes, Ms wait) {
+  RawRequest req;
+  req.wire = bytes;
+  req.type = type;
+  req.seq = seq;
+  req.timeout = wait;
+  note_sent(seq);
+  return done(type, session_.exchange(req));
+}
+
+std::vector<Frame> Probe::send_and_listen(const std::vector<uint8_t>& bytes, Ms quiet) {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    heard_.clear();
+    listening_ = true;
+  }
+  session_.write_raw(bytes);
+  std::this_thread::sleep_for(quiet);
+  std::lock_guard<std::mutex> lock(mu_);
+  listening_ = false;
+  return std::move(heard_);
+}
+
+void Probe::record_telemetry(bool on) {
+  std::lock_guard<std::mutex> lock(mu_);
+  recording_ = on;
+  if (on) telemetry_.clear();
+}
+
+std::vector<TelemetrySample> Probe::telemetry() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return telemetry_;
+}
+
+std::vector<p::Status> Probe::take_statuses() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return std::move(statuses_);
+}
+
+std::vector<std::string> Probe::take_logs() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return std::move(logs_);
+}
+
+std::set<uint8_t> Probe::types_seen() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return types_seen_;
+}
+
+unsigned Probe::replies() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return replies_;
+}
+
+unsigned Probe::foreign_replies() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return foreign_;
+}
+
+std::string Probe::first_foreign() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return first_foreign_;
+}
+
+}  // namespace nlsoft::console::conformance

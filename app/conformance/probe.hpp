@@ -1,0 +1,124 @@
+#pragma once
+// The wire end of the conformance suite: the console's own Session, used
+// through its raw exchange so a check can choose sequence numbers, damage
+// frames, write them a byte at a time or back to back. Everything the
+// firmware sends besides the awaited reply is kept for the checks to judge:
+// every reply (a reply to nothing we sent is a fault), telemetry, STATUS and
+// LOG.
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "app/link/link_error.hpp"
+#include "app/link/session.hpp"
+#include "protocol/encoder.hpp"
+#include "protocol/messages.hpp"
+
+namespace nlsoft::console::conformance {
+
+namespace p = nlsoft::protocol;
+using Ms = std::chrono::milliseconds;
+
+// A reply as it arrived.
+struct Frame {
+  uint8_t type = 0;
+  uint8_t seq = 0;
+  std::vector<uint8_t> payload;
+};
+
+template <class M>
+bool as(const Frame& f, M& m) {
+  return f.type == uint8_t(M::kType) && p::unpack(f.payload.data(), f.payload.size(), m) == p::StatusCode::Ok;
+}
+
+// INFO_EX, or a 1.0 firmware's INFO (session.hpp's unpack_info).
+bool as_info(const Frame& f, p::InfoEx& out);
+
+// "PONG", "NACK: PARAM_SET refused: out of range (values[0])".
+std::string describe(const Frame& f);
+bool acked(const Frame& f, p::MsgType request);
+// NACK of `status` naming (field, element); `got` describes what came.
+bool nacked(const Frame& f, p::StatusCode status, uint8_t field, uint8_t element);
+
+struct TelemetrySample {
+  uint16_t tseq;
+  uint32_t step;
+};
+
+class Probe {
+ public:
+  explicit Probe(Ms timeout);
+  ~Probe();
+
+  void open(const std::string& path, unsigned baud);
+  Ms timeout() const { return timeout_; }
+  uint8_t next_seq();
+
+  static std::vector<uint8_t> wire(uint8_t type, uint8_t seq, const uint8_t* payload, size_t len, uint8_t flags = 0);
+  template <class Req>
+  static std::vector<uint8_t> wire(const Req& req, uint8_t seq, uint8_t flags = 0) {
+    uint8_t payload[p::kMaxPayload];
+    payload[0] = 0;
+    size_t len = 0;
+    if (p::pack(req, payload, sizeof payload, len) != p::StatusCode::Ok)
+      throw LinkError(std::string("cannot encode ") + p::message_name(uint8_t(Req::kType)));
+    return wire(uint8_t(Req::kType), seq, payload, len, flags);
+  }
+
+  // A request with a fresh seq; the frame that answers it. Throws LinkError
+  // when none came after `tries` identical copies.
+  template <class Req>
+  Frame request(const Req& req, int tries = 4) {
+    const uint8_t seq = next_seq();
+    return exchange(uint8_t(Req::kType), seq, wire(req, seq), tries);
+  }
+  Frame exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& bytes, int tries = 4,
+                 size_t write_chunk = 0, Ms chunk_gap = Ms(0));
+  // As exchange, but no reply is an answer too.
+  std::optional<Frame> try_exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& bytes, Ms wait);
+
+  // Writes bytes that are not one awaited request and returns the replies
+  // that arrive within `quiet` (for frames that must get none, and for
+  // requests written back to back).
+  std::vector<Frame> send_and_listen(const std::vector<uint8_t>& bytes, Ms quiet);
+
+  void record_telemetry(bool on);
+  std::vector<TelemetrySample> telemetry();
+  // STATUS frames in arrival order since the last call (replies included).
+  std::vector<p::Status> take_statuses();
+  std::vector<std::string> take_logs();
+
+  // Request types that got an answer other than NACK.
+  std::set<uint8_t> answered() const;
+  // What the firmware has sent so far, by type: replies and unsolicited.
+  std::set<uint8_t> types_seen() const;
+  unsigned replies() const;
+  // Replies whose seq none of our recent requests carried.
+  unsigned foreign_replies() const;
+  std::string first_foreign() const;
+
+ private:
+  Ms timeout_;
+  Session session_;
+  mutable std::mutex mu_;
+  std::deque<uint8_t> recent_seqs_;  // a reply to none of these answers nothing we sent lately
+  void note_sent(uint8_t seq);
+  std::set<uint8_t> types_seen_;
+  std::set<uint8_t> answered_;
+  std::optional<Frame> done(uint8_t type, const std::optional<Reply>& r);
+  std::vector<Frame> heard_;  // replies collected by send_and_listen
+  bool listening_ = false;
+  unsigned replies_ = 0, foreign_ = 0;
+  std::string first_foreign_;
+  bool recording_ = false;
+  std::vector<TelemetrySample> telemetry_;
+  std::vector<p::Status> statuses_;
+  std::vector<std::string> logs_;
+};
+
+}  // namespace nlsoft::console::conformance

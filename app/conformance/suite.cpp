@@ -1,0 +1,155 @@
+#include "app/conformance/suite.hpp"
+
+#include <fmt/format.h>
+
+#include <cstring>
+
+namespace nlsoft::console::conformance {
+
+std::string join(const std::vector<std::string>& v, const char* sep) {
+  std::string o;
+  for (size_t i = 0; i < v.size(); ++i) o += (i ? sep : "") + v[i];
+  return o;
+}
+
+float word_f32(uint32_t w) {
+  float x;
+  std::memcpy(&x, &w, 4);
+  return x;
+}
+
+uint32_t f32_word(float x) {
+  uint32_t w;
+  std::memcpy(&w, &x, 4);
+  return w;
+}
+
+std::string words_text(const uint32_t* v, uint8_t count, uint8_t type) {
+  std::string s;
+  for (uint8_t i = 0; i < count; ++i) {
+    if (i) s += ' ';
+    s += type == uint8_t(p::ParamType::F32) ? fmt::format("{:g}", word_f32(v[i])) : fmt::format("{}", v[i]);
+  }
+  return s;
+}
+
+void Suite::check(const std::string& name, bool pass, const std::string& detail) {
+  results_.push_back({group_, name, pass, detail});
+  if (on_result_) on_result_(results_.back());
+}
+
+std::optional<p::Status> Suite::status() {
+  const Frame f = pr.request(p::StatusGet{});
+  p::Status s;
+  if (!as(f, s)) return std::nullopt;
+  return s;
+}
+
+std::optional<p::InfoEx> Suite::info_now() {
+  p::InfoEx x;
+  if (!as_info(pr.request(p::InfoGet{}), x)) return std::nullopt;
+  return x;
+}
+
+std::optional<p::ParamValue> Suite::get(uint16_t id) {
+  p::ParamGet g;
+  g.id = id;
+  const Frame f = pr.request(g);
+  p::ParamValue v;
+  if (!as(f, v)) return std::nullopt;
+  return v;
+}
+
+const p::ParamDesc* Suite::param(const char* name) const {
+  for (const p::ParamDesc& d : descs)
+    if (std::strcmp(d.name, name) == 0 && original.count(d.id)) return &d;
+  return nullptr;
+}
+
+std::optional<p::ParamValue> Suite::set(const p::ParamDesc& d, const std::vector<uint32_t>& words, std::string& why) {
+  p::ParamSet s;
+  s.id = d.id;
+  s.count = uint8_t(words.size());
+  std::copy(words.begin(), words.end(), s.values);
+  touched.insert(d.id);
+  const Frame f = pr.request(s);
+  p::ParamValue v;
+  if (as(f, v)) return v;
+  why = describe(f);
+  return std::nullopt;
+}
+
+void Suite::restore_params() {
+  std::vector<std::string> bad;
+  for (uint16_t id : touched) {
+    const p::ParamValue& orig = original.at(id);
+    p::ParamSet s;
+    s.id = id;
+    s.count = orig.count;
+    std::memcpy(s.values, orig.values, 4u * orig.count);
+    try {
+      pr.request(s);
+      const auto back = get(id);
+      if (!back || back->count != orig.count || std::memcmp(back->values, orig.values, 4u * orig.count) != 0)
+        bad.push_back(fmt::format("id {}", id));
+    } catch (const LinkError& e) {
+      bad.push_back(fmt::format("id {}: {}", id, e.what()));
+    }
+  }
+  group("params");
+  check("params_restored", bad.empty(),
+        bad.empty() ? fmt::format("{} parameter{} set back and read back", touched.size(), touched.size() == 1 ? "" : "s")
+                    : "not restored: " + join(bad, ", "));
+  touched.clear();
+}
+
+void Suite::run(std::chrono::seconds patience) {
+  group("handshake");
+  check_handshake(*this, patience);
+  try {
+    check_basics(*this);
+    check_params(*this);
+    check_references(*this);
+    check_framing(*this);
+    check_run_control(*this);
+    check_telemetry_rate(*this);
+    check_watchdog(*this);
+    check_transfers(*this);
+  } catch (const LinkError&) {
+    try {
+      pr.request(p::RunStop{}, 2);
+      restore_params();
+    } catch (const LinkError&) {
+    }
+    throw;
+  }
+  restore_params();
+
+  group("summary");
+  // Every request of the catalogue was answered as section 6 says, and
+  // every firmware message was seen at least once.
+  std::vector<std::string> missing;
+  const std::set<uint8_t> seen = pr.types_seen();
+  const std::set<uint8_t> requests_answered = pr.answered();
+  for (const p::MsgInfo& m : p::kMessages) {
+    const uint8_t t = uint8_t(m.type);
+    if (m.is_request) {
+      if (!requests_answered.count(t)) missing.push_back(std::string(m.name) + " never answered");
+    } else if (t != uint8_t(p::MsgType::Info) && t != uint8_t(p::MsgType::InfoEx) && !seen.count(t)) {
+      missing.push_back(std::string(m.name) + " never seen");
+    }
+  }
+  if (!seen.count(uint8_t(p::MsgType::Info)) && !seen.count(uint8_t(p::MsgType::InfoEx)))
+    missing.push_back("INFO never seen");
+  check("every_message", missing.empty(),
+        missing.empty() ? fmt::format("{} request types answered, {} firmware message types seen",
+                                      requests_answered.size(), seen.size())
+                        : join(missing, "; "));
+  const unsigned foreign = pr.foreign_replies();
+  check("reply_seq", foreign == 0,
+        foreign == 0 ? fmt::format("{} replies, each with the seq of a request of ours and REPLY set", pr.replies())
+                     : fmt::format("{} of {} replies answer no request of ours; first: {}", foreign, pr.replies(),
+                                   pr.first_foreign()));
+}
+
+}  // namespace nlsoft::console::conformance
