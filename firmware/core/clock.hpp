@@ -1,7 +1,8 @@
 #pragma once
 // Milliseconds and microseconds since boot from a wrapping 32-bit tick
 // counter: fold each tick delta into 64-bit totals, so the clock survives the
-// counter's wrap (171 s at 25 MHz) as long as it is read at least once per wrap.
+// counter's wrap (171 s at 25 MHz) as long as it is read at least once per
+// half wrap.
 #include <cstdint>
 
 namespace nlsoft::fw {
@@ -13,8 +14,14 @@ class Clock {
     rate_ = rate_hz ? rate_hz : 1;
     total_ = 0;
   }
+  // A reading behind the last one (by less than half the counter's range)
+  // is a port's counter glitch, not 2^32 ticks of progress: the clock holds
+  // until the counter passes the last reading. So the clock must be read at
+  // least once per half wrap (86 s at 25 MHz).
   void update(uint32_t ticks) {
-    total_ += uint32_t(ticks - last_);
+    const uint32_t delta = ticks - last_;
+    if (delta > 0x80000000u) return;
+    total_ += delta;
     last_ = ticks;
   }
   uint32_t ms() const { return uint32_t(total_ * 1000u / rate_); }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <set>
 
+#include "firmware/core/clock.hpp"
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
 #include "shared/capacity.hpp"
@@ -168,6 +169,24 @@ TEST(RefSelect, TableWithoutATableIsWrongStateAndLeavesTheReference) {
   ASSERT_EQ(slot.commit_table(obj, sizeof obj, 1), proto::StatusCode::Ok);
   EXPECT_EQ(slot.select(ref(RefId::Table)).status, proto::StatusCode::Ok);
   EXPECT_EQ(slot.id(), uint8_t(RefId::Table));
+}
+
+// A tick reading a little behind the last one (a counter extension racing
+// its reload interrupt) must not count as a whole wrap: the watchdog would
+// see 172 s of silence and trip.
+TEST(Clock, AReadingBehindTheLastHoldsTheClockAndAWrapStillCounts) {
+  fw::Clock c;
+  c.start(1000, 1000);  // 1 tick = 1 ms
+  c.update(1500);
+  EXPECT_EQ(c.ms(), 500u);
+  c.update(1400);  // behind: held
+  EXPECT_EQ(c.ms(), 500u);
+  c.update(1600);
+  EXPECT_EQ(c.ms(), 600u);
+  c.update(0x7FFFFF00u);  // read at least once per half wrap, then across the wrap
+  c.update(0xFFFFFF00u);
+  c.update(0x100u);
+  EXPECT_EQ(c.total_ticks(), uint64_t(0xFFFFFF00u) - 1000u + 0x200u);
 }
 
 }  // namespace
