@@ -8,10 +8,13 @@ signature-driven field decoder, and compares with the expected events.
 Shares no code with the C++ library, so agreement means the document is
 enough to build a compatible peer.
 
-usage: check_vectors.py PROTOCOL.md golden.txt [model_file.txt]
+usage: check_vectors.py PROTOCOL.md golden.txt [model_file.txt [corpus_dir]]
 
 With a golden model file it also checks that file against the model file
 layout of PROTOCOL.md 9.4: sizes, layer chain, parameter count and CRC-32.
+With the fuzzer's seed corpus it checks that every vector is there, as its
+wire bytes after one chunk-size byte (PROTOCOL.md 14), so the fuzzer starts
+from the frames of today's layouts.
 """
 import math
 import re
@@ -281,6 +284,14 @@ def main():
     print(f"{len(vectors)} vectors, {len(table)} message types, {failures} mismatches")
     if len(sys.argv) > 3:
         failures += check_model(sys.argv[3])
+    if len(sys.argv) > 4:
+        import os
+        stale = [name for name, wire, _ in vectors
+                 if not os.path.exists(os.path.join(sys.argv[4], name)) or
+                 open(os.path.join(sys.argv[4], name), "rb").read()[1:] != bytes(wire)]
+        print(f"seed corpus: {len(vectors) - len(stale)} of {len(vectors)} vectors current"
+              + (f"; stale or missing: {' '.join(stale)}" if stale else ""))
+        failures += len(stale)
     return 1 if failures else 0
 
 
