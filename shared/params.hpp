@@ -194,23 +194,4 @@ ParamResult set_param(Params<Cap>& P, ParamId id, const float* v, int count, int
   return {Status::Ok, -1};
 }
 
-// Hash of the table's shape (ids, names, types, sizes, bounds): INFO reports
-// it so a console can tell whether its cached parameter list is still valid.
-inline uint32_t param_table_hash() {
-  uint32_t h = 2166136261u;  // FNV-1a: a fingerprint, not an integrity check
-  auto mix = [&](const void* p, size_t len) {
-    const uint8_t* b = static_cast<const uint8_t*>(p);
-    for (size_t i = 0; i < len; ++i) h = (h ^ b[i]) * 16777619u;
-  };
-  for (const ParamDesc& d : kParamTable) {
-    mix(&d.id, 1);
-    mix(d.name, std::strlen(d.name));
-    mix(&d.type, 1);
-    mix(&d.size, 1);
-    mix(&d.min, 4);
-    mix(&d.max, 4);
-  }
-  return h;
-}
-
 }  // namespace nlsoft

@@ -76,7 +76,3 @@ TEST_F(ParamTable, RefusesWithReasonAndIndexAndChangesNothing) {
   EXPECT_TRUE(unchanged());
 }
 
-TEST_F(ParamTable, HashChangesWithTheTable) {
-  EXPECT_EQ(param_table_hash(), param_table_hash());
-  EXPECT_NE(param_table_hash(), 0u);
-}
