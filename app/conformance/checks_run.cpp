@@ -153,6 +153,25 @@ void check_telemetry_rate(Suite& s) {
   s.check("telemetry_accounting", lost == dropped && gaps <= lost,
           fmt::format("{} steps: {} frames generated, {} received, {} missing ({} inside tseq gaps); tx_dropped +{}",
                       after->step, generated, t.size(), lost, gaps, dropped));
+  // tseq runs on across runs (9.6): the next run's first frame carries the
+  // tseq after the last one generated, whatever was dropped.
+  {
+    start.run_id ^= 1;
+    s.pr.record_telemetry(true);
+    const Frame again = s.pr.request(start);
+    const auto until2 = Clock::now() + Ms(300);
+    while (Clock::now() < until2 && s.pr.telemetry().empty()) std::this_thread::sleep_for(Ms(20));
+    s.pr.request(p::RunStop{});
+    s.pr.record_telemetry(false);
+    const auto t2 = s.pr.telemetry();
+    const uint16_t expected = uint16_t(t.front().tseq + generated);
+    const bool ok = acked(again, p::MsgType::RunStart) && !t2.empty() && t2.front().step == 0 &&
+                    t2.front().tseq == expected;
+    s.check("tseq_across_runs", ok,
+            t2.empty() ? "RUN_START again: " + describe(again) + ", no TELEMETRY"
+                       : fmt::format("next run's first frame: step {} tseq {} (the previous run generated tseq {}..{})",
+                                     t2.front().step, t2.front().tseq, t.front().tseq, uint16_t(expected - 1)));
+  }
   // Back to the mask in force before, every control step.
   configure_telemetry(s, s.telemetry_mask, 1, why);
 }
