@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "app/cli_error.hpp"
+#include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
 #include "app/output_file.hpp"
@@ -357,11 +358,11 @@ std::vector<double> LiveConsole::set_param(const std::string& name, const std::v
   if (element >= 0) {
     ParamInfo one = *info;
     one.size = 1;
-    const std::vector<double> x = parse_param_values(one, values);
+    const std::vector<double> x = parse_param_values(one, expand_param_tokens(one, values));
     v = device_->get(*info);
     v[size_t(element)] = x[0];
   } else {
-    v = parse_param_values(*info, values);
+    v = parse_param_values(*info, expand_param_tokens(*info, values));
   }
   return apply_param(*info, v);
 }
@@ -423,7 +424,7 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
     std::string t;
     while (ls >> t) tokens.push_back(t);
     try {
-      wanted.emplace_back(info, parse_param_values(*info, tokens), lineno);
+      wanted.emplace_back(info, parse_param_values(*info, expand_param_tokens(*info, tokens)), lineno);
     } catch (const CliError& e) {
       throw CliError(fmt::format("{}:{}: {}", path, lineno, e.what()));
     }

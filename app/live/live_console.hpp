@@ -70,6 +70,9 @@ class LiveConsole {
   Device& device() { return *device_; }
   Session& session() { return *session_; }
   Recorder& recorder() { return *recorder_; }
+  // The newest samples for the live plots (what a paused plot can scroll
+  // back through): 30 s at 500 Hz, ~4 MB.
+  static constexpr size_t kLiveSamples = 16384;
   LiveBuffer& live() { return live_; }
   const std::string& db_path() const { return db_path_; }
   PlatformId platform() const;
@@ -171,7 +174,7 @@ class LiveConsole {
   std::unique_ptr<Session> session_;
   std::unique_ptr<Device> device_;
   std::unique_ptr<Recorder> recorder_;
-  LiveBuffer live_;
+  LiveBuffer live_{kLiveSamples};
   Notify notify_;
   std::mutex notify_mu_;
 

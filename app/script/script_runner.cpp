@@ -6,6 +6,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/link/link_error.hpp"
+#include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/run_store.hpp"
@@ -79,12 +80,12 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
       case K::Set: {
         const auto v = console_.set_param(c.name, c.values);
         const ParamInfo info = console_.resolve_param(c.name).first;
-        out_(fmt::format("{} = {}", info.name, format_param_values(info, v)));
+        out_(fmt::format("{} = {}", info.name, format_param_named(info, v)));
         break;
       }
       case K::Get: {
         const auto [info, v] = console_.get_param(c.name);
-        out_(fmt::format("{} = {}{}", info.name, format_param_values(info, v), info.unit.empty() ? "" : " " + info.unit));
+        out_(fmt::format("{} = {}{}", info.name, format_param_named(info, v), info.unit.empty() ? "" : " " + info.unit));
         break;
       }
       case K::ParamsSave:

@@ -35,7 +35,9 @@ const char* const kHelp[] = {
     "  F5        start a run (recorded)     F6  stop the run",
     "  F7        hold / resume              F8  actuators neutral",
     "  v         time plots <-> 2-D path    x   change the path's axes",
-    "  + -       longer / shorter time window",
+    "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
+    "  + -       zoom in (shorter window) / out",
+    "  Space     pause the plot (recording goes on)   [ ]  scroll back / forward",
     "  :         command line: the script commands (set, get, ref, run, expect, ...)",
     "  q F10     quit (asks first while a run is active)",
     "",
@@ -104,6 +106,11 @@ class App : public Ui {
   void start_run();
   void stop_run();
   void command(const std::string& line);
+  void plot_command(const std::string& args);
+  void pause_plot(bool on);
+  void scroll_plot(double windows);
+  void draw_plot_status(int y, int w);
+  double step_rate();  // control steps per second, measured when known
   void shutdown();
 
   LiveConsole& console_;
@@ -120,6 +127,13 @@ class App : public Ui {
   bool path_view_ = false, help_ = false;
   int ax_ = 0, ay_ = 1;
   double window_s_ = 10;
+  PlotSignal signal_ = PlotSignal::Y;
+  // A paused plot draws from a copy taken at the pause, so the view holds
+  // still while telemetry (and the recording) goes on; end_step_ is its
+  // right edge, moved by [ and ].
+  bool paused_ = false;
+  std::vector<Sample> frozen_;
+  int64_t end_step_ = -1;
   LineEdit cmd_;  // ':' line and prompts share the message row
   std::vector<std::string> history_;
   std::function<void(const std::string&)> prompt_done_;
@@ -196,6 +210,10 @@ void App::command(const std::string& line) {
     help_ = true;
     return;
   }
+  if (line == "plot" || line.rfind("plot ", 0) == 0) {
+    plot_command(line.substr(4));
+    return;
+  }
   if (line == "q" || line == "quit") {
     handle('q');
     return;
@@ -215,6 +233,46 @@ void App::command(const std::string& line) {
   } catch (const ScriptError& e) {
     message(e.message, Role::Error);
   }
+}
+
+void App::plot_command(const std::string& args) {
+  const size_t a = args.find_first_not_of(' ');
+  const std::string name = a == std::string::npos ? "" : args.substr(a, args.find_last_not_of(' ') - a + 1);
+  PlotSignal s;
+  if (name.empty()) {
+    message(fmt::format("plot SIGNAL: {} (now {}; p cycles)", plot_signal_names(), plot_signal_name(signal_)), Role::Warn);
+  } else if (!plot_signal_from_name(name, &s)) {
+    message(fmt::format("plot: '{}' is not a signal; use {}", name, plot_signal_names()), Role::Error);
+  } else {
+    signal_ = s;
+    path_view_ = false;
+  }
+}
+
+double App::step_rate() {
+  const double r = console_.session().stats().loop_rate_hz;
+  return r > 0 ? r : std::max(1.0, console_.loop_rate_hz());
+}
+
+void App::pause_plot(bool on) {
+  paused_ = on;
+  if (on) {
+    frozen_ = console_.live().snapshot(LiveConsole::kLiveSamples);
+    end_step_ = frozen_.empty() ? -1 : int64_t(frozen_.back().step);
+  } else {
+    frozen_.clear();
+    end_step_ = -1;
+  }
+}
+
+// Moves the paused view by a number of windows, within what was kept.
+void App::scroll_plot(double windows) {
+  if (!paused_) pause_plot(true);
+  if (frozen_.empty()) return;
+  const double window = window_s_ * step_rate();
+  const int64_t first = int64_t(frozen_.front().step), last = int64_t(frozen_.back().step);
+  const int64_t lo = std::min(last, first + int64_t(window));
+  end_step_ = std::max(lo, std::min(last, end_step_ + int64_t(std::llround(windows * window))));
 }
 
 bool App::handle(int ch) {
@@ -322,8 +380,15 @@ bool App::handle(int ch) {
       if (ay_ == ax_) ax_ = (ax_ + 1) % n, ay_ = (ax_ + 1) % n;
       return true;
     }
-    case '+': window_s_ = std::min(120.0, window_s_ * 2); return true;
-    case '-': window_s_ = std::max(0.25, window_s_ / 2); return true;
+    case '+': window_s_ = std::max(0.25, window_s_ / 2); return true;
+    case '-': window_s_ = std::min(120.0, window_s_ * 2); return true;
+    case 'p':
+      signal_ = next_plot_signal(signal_);
+      path_view_ = false;
+      return true;
+    case ' ': pause_plot(!paused_); return true;
+    case '[': scroll_plot(-0.5); return true;
+    case ']': scroll_plot(0.5); return true;
   }
   switch (focus_) {
     case Focus::Params: params_.key(ch); break;
@@ -393,6 +458,15 @@ void App::draw_help(int rows, int cols) {
   for (size_t i = 0; i < script.size() && y < y0 + h; ++i) put(y++, x0 + 3, script[i], w - 4, screen_.attr(Role::Selected));
 }
 
+void App::draw_plot_status(int y, int w) {
+  std::string text = fmt::format(" {} | window {:g} s | ", plot_signal_name(signal_), window_s_);
+  if (paused_ && end_step_ >= 0)
+    text += fmt::format("PAUSED at {:.2f} s  (Space live, [ ] scroll, +/- zoom)", double(end_step_) / step_rate());
+  else
+    text += "live  (p signal, Space pause, +/- zoom, v path)";
+  put(y, 0, text, w, screen_.attr(paused_ ? Role::Warn : Role::Dim));
+}
+
 void App::draw() {
   erase();
   const int rows = screen_.rows(), cols = screen_.cols();
@@ -407,12 +481,23 @@ void App::draw() {
   const int right_w = std::max(40, cols * 2 / 5);
   const int left_w = cols - right_w - 1;
   const int main_h = rows - 4;
-  const double rate = console_.session().stats().loop_rate_hz > 0 ? console_.session().stats().loop_rate_hz
-                                                                   : console_.loop_rate_hz();
-  const auto samples = console_.live().snapshot(16384);
-  if (path_view_) draw_path_view(screen_, 1, 0, main_h, left_w, samples, ax_, ay_);
-  else draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, window_s_ * std::max(1.0, rate));
-  if (!path_view_) put(rows - 4, 0, fmt::format(" window {:g} s  (+/- zoom, v path view)", window_s_), left_w, screen_.attr(Role::Dim));
+  const double rate = step_rate();
+  TimeView view;
+  view.signal = signal_;
+  view.window_steps = window_s_ * rate;
+  view.rate_hz = rate;
+  view.end_step = paused_ ? end_step_ : -1;
+  // Live, only the window is copied (at most one sample per step).
+  const std::vector<Sample> live =
+      paused_ ? std::vector<Sample>{} : console_.live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));
+  const std::vector<Sample>& samples = paused_ ? frozen_ : live;
+  if (path_view_) {
+    draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.live().snapshot(LiveConsole::kLiveSamples),
+                   ax_, ay_);
+  } else {
+    draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, view);
+    draw_plot_status(rows - 4, left_w);
+  }
   attrset(screen_.attr(Role::Border));
   mvvline(1, left_w, screen_.utf8() ? ACS_VLINE : '|', main_h);
   attrset(A_NORMAL);
