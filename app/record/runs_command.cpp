@@ -7,7 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli_error.hpp"
+#include "app/output_file.hpp"
 #include "app/record/csv_export.hpp"
+#include "app/record/gnuplot.hpp"
+#include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
@@ -19,7 +22,8 @@ namespace {
 struct RunsArgs {
   std::string db;
   int64_t id = 0, other = 0;
-  std::string csv;
+  std::vector<int64_t> ids;
+  std::string csv, svg, png;
   bool json = false;
 };
 
@@ -177,18 +181,39 @@ void compare(const RunsArgs& a) {
   if (!any) fmt::print("  same parameters at start\n");
 }
 
+void plot(const RunsArgs& a) {
+  if (a.svg.empty() == a.png.empty()) throw CliError("runs plot: give one of --svg FILE or --png FILE");
+  if (a.ids.empty() || a.ids.size() > 2) throw CliError("runs plot: give one run id, or two to overlay");
+  auto store = open_store(a);
+  std::vector<PlottedRun> runs;
+  for (int64_t id : a.ids) runs.push_back(load_plotted_run(*store, id));
+  const bool svg = !a.svg.empty();
+  const std::string image = run_gnuplot(run_plot_script(runs, svg ? ImageFormat::Svg : ImageFormat::Png));
+  const std::string& path = svg ? a.svg : a.png;
+  OutputFile out(path);
+  if (std::fwrite(image.data(), 1, image.size(), out.get()) != image.size())
+    throw CliError(fmt::format("cannot write {}", path));
+  out.commit();
+  if (path != "-")
+    fmt::print("{} drawn to {}\n",
+               a.ids.size() > 1 ? fmt::format("runs {} and {}", a.ids[0], a.ids[1]) : fmt::format("run {}", a.ids[0]),
+               path);
+}
+
 }  // namespace
 
 void add_runs_command(CLI::App& app) {
   auto args = std::make_shared<RunsArgs>();
-  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare");
+  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare, plot");
   runs->require_subcommand(1);
   runs->footer(
       "Examples:\n"
       "  nlsoft-console runs list\n"
       "  nlsoft-console runs show 12\n"
       "  nlsoft-console runs export 12 --csv run12.csv\n"
-      "  nlsoft-console runs compare 12 13 --json\n");
+      "  nlsoft-console runs compare 12 13 --json\n"
+      "  nlsoft-console runs plot 12 --svg run12.svg\n"
+      "  nlsoft-console runs plot 12 13 --png compare.png\n");
   auto db = [&](CLI::App* c) {
     c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
   };
@@ -212,6 +237,13 @@ void add_runs_command(CLI::App& app) {
   c->add_option("B", args->other, "Second run id")->required();
   c->add_flag("--json", args->json, "Machine-readable output");
   c->callback([args] { compare(*args); });
+  CLI::App* p = runs->add_subcommand(
+      "plot", "Draw a run (or two overlaid): y per axis against the reference, u, the x-y path; needs gnuplot");
+  db(p);
+  p->add_option("ID", args->ids, "Run id; a second id overlays that run (dashed)")->required()->expected(1, 2);
+  p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
+  p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
+  p->callback([args] { plot(*args); });
 }
 
 }  // namespace nlsoft::console
