@@ -67,6 +67,8 @@ PlatformId LiveConsole::platform() const {
 }
 
 void LiveConsole::connect(const Progress& params_progress) {
+  // A bad --udp target fails before a simulator starts or a board is touched.
+  if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp);
   std::string port = options_.port;
   if (!options_.sim_platform.empty()) {
     PlatformId id;
@@ -171,7 +173,15 @@ void LiveConsole::disconnect() {
       // Leaving anyway; the run stays open in the database (ended_at NULL).
     }
   }
+  // The session first: once it is closed no telemetry callback runs, so the
+  // UDP stream's sender thread can be stopped and joined after it.
   if (session_) session_->close();
+  if (udp_) {
+    if (udp_->dropped() > 0)
+      say(fmt::format("--udp {}: {} samples sent, {} dropped (the sender fell behind)", udp_->target(), udp_->sent(),
+                      udp_->dropped()));
+    udp_.reset();
+  }
   if (recorder_) {
     try {
       recorder_->flush();
@@ -190,7 +200,9 @@ void LiveConsole::disconnect() {
 void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
   const int64_t run = run_id_.load();
   if (run == 0) {
-    live_.push(sample_from(t, 0, tick_rate_hz_.load()));
+    const Sample s = sample_from(t, 0, tick_rate_hz_.load());
+    live_.push(s);
+    if (udp_) udp_->push(s, 0);
     return;
   }
   const uint64_t k = run_k_.fetch_add(1);
@@ -209,6 +221,7 @@ void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
   const Sample s = sample_from(t, k, tick_rate_hz_.load());
   recorder_->add_sample(run, s);
   live_.push(s);
+  if (udp_) udp_->push(s, run);
   last_step_ = t.step;
   have_last_step_ = true;
   last_sample_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();

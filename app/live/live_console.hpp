@@ -17,6 +17,7 @@
 #include "app/link/session.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/live/live_buffer.hpp"
+#include "app/live/udp_stream.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_metrics.hpp"
 #include "shared/platform_id.hpp"
@@ -37,6 +38,7 @@ struct LiveOptions {
   // being plugged in); 0: fail at once; negative: until Ctrl-C.
   std::chrono::milliseconds wait{0};
   std::string by_id_dir = kSerialByIdDir;  // where udev names USB devices (tests point it elsewhere)
+  std::string udp;  // HOST:PORT: stream every telemetry sample there as JSON (PlotJuggler)
   SessionOptions session;
 };
 
@@ -75,6 +77,7 @@ class LiveConsole {
   static constexpr size_t kLiveSamples = 16384;
   LiveBuffer& live() { return live_; }
   const std::string& db_path() const { return db_path_; }
+  const UdpStream* udp() const { return udp_.get(); }
   PlatformId platform() const;
   double loop_rate_hz() const { return double(device_->info().loop_rate_hz); }
   int n() const { return device_->info().n; }
@@ -174,6 +177,9 @@ class LiveConsole {
   std::unique_ptr<Session> session_;
   std::unique_ptr<Device> device_;
   std::unique_ptr<Recorder> recorder_;
+  // Created before the session opens and destroyed after it closes, so the
+  // link thread (on_telemetry) never sees it appear or go.
+  std::unique_ptr<UdpStream> udp_;
   LiveBuffer live_{kLiveSamples};
   Notify notify_;
   std::mutex notify_mu_;

@@ -62,6 +62,8 @@ class App : public Ui {
     console_.set_notify([this](const std::string& s) { message(s, Role::Warn); });
     params_.reload();
     runs_.reload();
+    if (const UdpStream* u = console_.udp())
+      message(fmt::format("streaming every telemetry sample to {} (UDP, JSON)", u->target()), Role::Ok);
     const auto info = console_.device().info();
     message(fmt::format("connected to {} {}.{}.{}: F5 starts a run, F1 help", info.firmware, info.fw_major,
                         info.fw_minor, info.fw_patch),
