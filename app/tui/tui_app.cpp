@@ -272,9 +272,9 @@ void App::scroll_plot(double windows) {
   if (!paused_) pause_plot(true);
   if (frozen_.empty()) return;
   const double window = window_s_ * step_rate();
+  // Back until the oldest sample kept is at the right edge.
   const int64_t first = int64_t(frozen_.front().step), last = int64_t(frozen_.back().step);
-  const int64_t lo = std::min(last, first + int64_t(window));
-  end_step_ = std::max(lo, std::min(last, end_step_ + int64_t(std::llround(windows * window))));
+  end_step_ = std::max(first, std::min(last, end_step_ + int64_t(std::llround(windows * window))));
 }
 
 bool App::handle(int ch) {
