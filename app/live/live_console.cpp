@@ -474,9 +474,21 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
 
 void LiveConsole::select_reference(const RefParams& ref) {
   device_->select_reference(ref);
-  std::lock_guard<std::mutex> lock(mu_);
-  reference_ = ref;
-  reference_table_file_.clear();
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    reference_ = ref;
+    reference_table_file_.clear();
+  }
+  log_reference_change(reference_json(ref));
+}
+
+// A reference sent during a run is part of what the run measured: it goes
+// into the run's parameter log with its time, as `reference`.
+void LiveConsole::log_reference_change(const std::string& json) {
+  if (const int64_t run = run_id_.load()) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
+    recorder_->add_param_change(run, t, "reference", json);
+  }
 }
 
 void LiveConsole::upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress) {
@@ -488,9 +500,12 @@ void LiveConsole::upload_table(const std::string& csv_path, uint16_t hold, const
   r.kind = RefKind::Table;
   r.hold = hold == 0 ? 1 : hold;
   device_->select_reference(r);
-  std::lock_guard<std::mutex> lock(mu_);
-  reference_ = r;
-  reference_table_file_ = csv_path;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    reference_ = r;
+    reference_table_file_ = csv_path;
+  }
+  log_reference_change(reference_json(r, csv_path));
 }
 
 std::optional<RefParams> LiveConsole::reference() const {
@@ -734,9 +749,9 @@ std::optional<RunSummary> LiveConsole::last_run() const {
   return last_run_;
 }
 
-RunMetrics LiveConsole::metrics_of(int64_t run_id) {
+RunMetrics LiveConsole::metrics_of(int64_t run_id, double skip_s) {
   RunStore store(db_path_);
-  return run_metrics(store, run_id);
+  return run_metrics(store, run_id, skip_s);
 }
 
 }  // namespace nlsoft::console

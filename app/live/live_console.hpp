@@ -146,7 +146,7 @@ class LiveConsole {
   // the script runner stops before its next command. Async-signal-safe.
   static void request_interrupt() { interrupted_flag() = 1; }
   static bool interrupted() { return interrupted_flag() != 0; }
-  RunMetrics metrics_of(int64_t run_id);
+  RunMetrics metrics_of(int64_t run_id, double skip_s = 0);
 
  private:
   // stop_run's body; the caller holds stop_mu_ and id is the active run.
@@ -164,6 +164,7 @@ class LiveConsole {
   // A port that may not exist yet (--wait), opened by its by-id name.
   std::string settle_port(const std::string& port);
   void say(const std::string& s);
+  void log_reference_change(const std::string& json);
   static volatile std::sig_atomic_t& interrupted_flag() {
     static volatile std::sig_atomic_t flag = 0;
     return flag;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include "app/record/gnuplot.hpp"
 #include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
+#include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
 
@@ -23,8 +25,8 @@ struct RunsArgs {
   std::string db;
   int64_t id = 0, other = 0;
   std::vector<int64_t> ids;
-  std::string csv, svg, png;
-  bool json = false;
+  std::string csv, svg, png, label;
+  bool json = false, force = false;
 };
 
 std::unique_ptr<RunStore> open_store(const RunsArgs& a) {
@@ -79,17 +81,56 @@ void print_metrics(const RunMetrics& m) {
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
 }
 
+// "swirl", "table", ...: the kind of the run's reference at its start.
+std::string reference_kind(const std::string& json) {
+  if (json.empty()) return "-";
+  const auto j = nlohmann::json::parse(json, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("kind") || !j["kind"].is_string()) return "?";
+  return j["kind"].get<std::string>();
+}
+
+// The reference a run started with, or, when it started without one, the
+// first one sent during it (logged as a `reference` change).
+std::string reference_of(RunStore& store, const RunRow& r) {
+  if (!r.reference.empty()) return r.reference;
+  for (const ParamRecord& p : store.params(r.id))
+    if (!p.at_start && p.name == "reference") return p.value;
+  return "";
+}
+
 void list(const RunsArgs& a) {
   auto store = open_store(a);
   const auto runs = store->list();
+  if (a.json) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const RunRow& r : runs) {
+      const RunMetrics m = run_metrics(*store, r.id);
+      const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+      nlohmann::json j = {{"id", r.id},           {"started_at", r.started_at}, {"platform", r.platform},
+                          {"label", r.label},     {"samples", r.samples},       {"lost_frames", r.lost_frames},
+                          {"ended_at", r.ended_at}, {"end_reason", r.end_reason}};
+      const std::string ref = reference_of(*store, r);
+      j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
+      j["nrmse"] = std::isfinite(t.nrmse) ? nlohmann::json(t.nrmse) : nlohmann::json();
+      out.push_back(j);
+    }
+    fmt::print("{}\n", out.dump(2));
+    return;
+  }
   if (runs.empty()) {
     fmt::print("no runs recorded yet in {}\n", a.db.empty() ? default_db_path() : a.db);
     return;
   }
-  fmt::print("{:>5}  {:<24} {:<7} {:>9} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "samples", "lost", "label", "ended");
-  for (const RunRow& r : runs)
-    fmt::print("{:>5}  {:<24} {:<7} {:>9} {:>6}  {:<20} {}\n", r.id, r.started_at, r.platform, r.samples, r.lost_frames,
-               r.label, r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+  fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "reference",
+             "samples", "nrmse", "lost", "label", "ended");
+  for (const RunRow& r : runs) {
+    const RunMetrics m = run_metrics(*store, r.id);
+    const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+    fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", r.id, r.started_at.substr(0, 19), r.platform,
+               reference_kind(reference_of(*store, r)), r.samples,
+               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames, r.label,
+               r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+  }
 }
 
 void show(const RunsArgs& a) {
@@ -204,7 +245,7 @@ void plot(const RunsArgs& a) {
 
 void add_runs_command(CLI::App& app) {
   auto args = std::make_shared<RunsArgs>();
-  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare, plot");
+  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare, plot, label, delete");
   runs->require_subcommand(1);
   runs->footer(
       "Examples:\n"
@@ -213,13 +254,16 @@ void add_runs_command(CLI::App& app) {
       "  nlsoft-console runs export 12 --csv run12.csv\n"
       "  nlsoft-console runs compare 12 13 --json\n"
       "  nlsoft-console runs plot 12 --svg run12.svg\n"
-      "  nlsoft-console runs plot 12 13 --png compare.png\n");
+      "  nlsoft-console runs plot 12 13 --png compare.png\n"
+      "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
+      "  nlsoft-console runs delete 12\n");
   auto db = [&](CLI::App* c) {
     c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
   };
   db(runs);
-  CLI::App* l = runs->add_subcommand("list", "One line per run");
+  CLI::App* l = runs->add_subcommand("list", "One line per run: rig, reference, samples, nRMSE, lost frames, label");
   db(l);
+  l->add_flag("--json", args->json, "Machine-readable output: an array of runs");
   l->callback([args] { list(*args); });
   CLI::App* s = runs->add_subcommand("show", "A run's setup, parameters, gaps and metrics");
   db(s);
@@ -244,6 +288,22 @@ void add_runs_command(CLI::App& app) {
   p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
   p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
   p->callback([args] { plot(*args); });
+  CLI::App* d = runs->add_subcommand("delete", "Delete a run with its samples, parameters, gaps and link events");
+  db(d);
+  d->add_option("ID", args->id, "Run id")->required();
+  d->add_flag("--force", args->force, "Delete an unfinished run too (one a crashed console left open)");
+  d->callback([args] {
+    delete_run(args->db.empty() ? default_db_path() : args->db, args->id, args->force);
+    fmt::print("run {} deleted\n", args->id);
+  });
+  CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
+  db(lb);
+  lb->add_option("ID", args->id, "Run id")->required();
+  lb->add_option("TEXT", args->label, "The label (quote it if it has blanks; \"\" clears it)")->required();
+  lb->callback([args] {
+    label_run(args->db.empty() ? default_db_path() : args->db, args->id, args->label);
+    fmt::print("run {} labelled \"{}\"\n", args->id, args->label);
+  });
 }
 
 }  // namespace nlsoft::console
