@@ -46,9 +46,39 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
   return m;
 }
 
-RunMetrics run_metrics(RunStore& store, int64_t run_id) {
+namespace {
+
+// The series without its first `rows` samples.
+RunSeries drop_first(RunSeries s, size_t rows) {
+  rows = std::min(rows, s.rows());
+  auto cut = [rows](auto& v, size_t per_row) {
+    v.erase(v.begin(), v.begin() + std::min(v.size(), rows * per_row));
+  };
+  cut(s.step, 1);
+  cut(s.time_us, 1);
+  cut(s.y_ref, size_t(s.n));
+  cut(s.y_hat, size_t(s.n));
+  cut(s.y_true, size_t(s.n));
+  cut(s.u, size_t(s.m));
+  cut(s.cost, 1);
+  cut(s.compute_us, 1);
+  cut(s.iterations, 1);
+  return s;
+}
+
+}  // namespace
+
+RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s) {
   const RunRow run = store.run(run_id);
-  const RunSeries s = store.series(run_id);
+  RunSeries s = store.series(run_id);
+  if (skip_s > 0 && s.rows() > 0) {
+    // By the firmware's step count, so decimation and gaps do not shift it.
+    const double rate = run.loop_rate_hz > 0 ? run.loop_rate_hz : 1.0;
+    const uint64_t first = s.step[0] + uint64_t(std::llround(skip_s * rate));
+    size_t rows = 0;
+    while (rows < s.rows() && s.step[rows] < first) ++rows;
+    s = drop_first(std::move(s), rows);
+  }
   std::vector<float> q;
   for (const ParamRecord& p : store.params(run_id)) {
     if (!p.at_start || p.name != "Q") continue;

@@ -28,8 +28,10 @@ struct RunMetrics {
 // axes weighted ~0 relative to the largest are left out of nrmse/max_error.
 RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps);
 
-// Loads and computes in one go.
-RunMetrics run_metrics(RunStore& store, int64_t run_id);
+// Loads and computes in one go; skip_s leaves out the run's first seconds
+// (a sweep row's settling time) from every figure but the totals of lost
+// frames and gaps.
+RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0);
 
 // The names `expect` and `sweep` accept, and a metric's value by name:
 // rmse (worst axis), rmse0.., nrmse, max_error, rmse_hat, nrmse_hat, lost,
