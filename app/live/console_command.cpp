@@ -157,9 +157,9 @@ void add_console_commands(CLI::App& app) {
       "\nScript commands (also at the TUI's ':' prompt):\n";
   for (const auto& h : script_help()) footer += "  " + h + "\n";
   footer +=
-      "\nExample script:\n"
+      "\nExample script (hold=1: the whole Swirl, 1230 points, in 9.5 s at 130 Hz):\n"
       "  set Q 1e6 2e6 1e6\n"
-      "  ref swirl scale=1 hold=10\n"
+      "  ref swirl scale=1 hold=1\n"
       "  run 10s label=baseline\n"
       "  expect nrmse < 0.05\n"
       "  expect lost == 0\n"

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "app/record/recorder.hpp"
@@ -111,6 +112,52 @@ TEST_F(RunsCommands, AnUnfinishedRunIsDeletedOnlyWithForce) {
   r = runs("delete --force " + std::to_string(id));
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(RunStore(db()).list().empty());
+}
+
+// The examples `runs --help` gives, as printed, against two recorded runs
+// (its ids 12 and 13 mapped to 1 and 2), in order: the last deletes one.
+TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
+  record();
+  const auto help = console("runs --help");
+  ASSERT_EQ(help.code, 0) << help.output;
+  std::istringstream lines(help.output);
+  int ran = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const std::string prefix = "  nlsoft-console runs ";
+    if (line.rfind(prefix, 0) != 0) continue;
+    std::string args = line.substr(prefix.size());
+    for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{{" 12 13", " 1 2"}, {" 12", " 1"}}) {
+      const size_t at = args.find(from);
+      if (at != std::string::npos) args.replace(at, from.size(), to);
+    }
+    if (args.rfind("plot", 0) == 0 && run_process("command -v gnuplot").code != 0) continue;
+    const auto r = run_process("cd " + shell_quote(dir_.path) + " && " + std::string(NLSOFT_CONSOLE_BIN) + " runs " +
+                               args + " --db " + shell_quote(db()));
+    EXPECT_EQ(r.code, 0) << line << "\n" << r.output;
+    ++ran;
+  }
+  EXPECT_GE(ran, 6) << help.output;
+}
+
+// The example script of `nlsoft-console --help`, as printed, passes against
+// the simulated HASEL rig: its expects hold.
+TEST(ConsoleExamples, TheHelpExampleScriptPassesOnTheSimulatedRig) {
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  const auto help = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --help");
+  ASSERT_EQ(help.code, 0) << help.output;
+  const size_t at = help.output.find("Example script");
+  ASSERT_NE(at, std::string::npos) << help.output;
+  std::istringstream lines(help.output.substr(help.output.find('\n', at) + 1));
+  std::string script;
+  for (std::string line; std::getline(lines, line) && line.rfind("  ", 0) == 0;) script += line.substr(2) + "\n";
+  ASSERT_NE(script.find("expect nrmse < 0.05"), std::string::npos) << script;
+  test::TempDir dir;
+  const std::string file = dir.file("example.nls");
+  std::ofstream(file) << script;
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record --script " + shell_quote(file));
+  EXPECT_EQ(r.code, 0) << script << r.output;
+  EXPECT_NE(r.output.find("ok: nrmse = "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("2 expects held, 0 failed"), std::string::npos) << r.output;
 }
 
 TEST(ConsoleCli, VersionAndUsageErrorsExitTwo) {
