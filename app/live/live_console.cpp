@@ -20,6 +20,7 @@
 #include "app/live/reference_table.hpp"
 #include "app/output_file.hpp"
 #include "app/record/run_store.hpp"
+#include "shared/reference_presets.hpp"
 
 namespace nlsoft::console {
 
@@ -513,6 +514,25 @@ std::optional<RefParams> LiveConsole::reference() const {
   return reference_;
 }
 
+// What a run follows when this console sent no reference: the firmware's
+// own choice, named as such. At boot that is the rig's paper task with its
+// preset parameters; another kind was selected by someone else, with
+// parameters this console cannot read back.
+std::string LiveConsole::firmware_reference_json() {
+  const uint8_t pl = device_->info().platform;
+  if (pl > uint8_t(PlatformId::Tendon)) return "";
+  const PlatformId platform = PlatformId(pl);
+  const uint8_t id = device_->status().ref_id;
+  if (id == uint8_t(default_reference_kind(platform))) {
+    std::string j = reference_json(reference_preset(platform, default_reference_kind(platform)));
+    j.pop_back();
+    return j + ",\"source\":\"the firmware's start-up reference (the rig's paper task)\"}";
+  }
+  if (id >= kRefKindCount) return "";
+  return fmt::format("{{\"kind\":\"{}\",\"source\":\"selected before this console connected; parameters not known\"}}",
+                     reference_kind_name(RefKind(id)));
+}
+
 int64_t LiveConsole::start_run(const std::string& label) {
   if (running()) throw CliError(fmt::format("run {} is already active; stop it first", run_id_.load()));
   if (const std::string err = recorder_->error(); !err.empty()) throw CliError("recording has stopped: " + err);
@@ -531,6 +551,7 @@ int64_t LiveConsole::start_run(const std::string& label) {
     std::lock_guard<std::mutex> lock(mu_);
     ri.reference = reference_ ? reference_json(*reference_, reference_table_file_) : "";
   }
+  if (ri.reference.empty()) ri.reference = firmware_reference_json();
   for (const auto& [pi, v] : device_->get_all()) ri.params.emplace_back(pi.name, format_param_values(pi, v));
   const int64_t id = recorder_->begin_run(ri);
   run_k_ = 0;

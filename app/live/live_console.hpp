@@ -165,6 +165,7 @@ class LiveConsole {
   std::string settle_port(const std::string& port);
   void say(const std::string& s);
   void log_reference_change(const std::string& json);
+  std::string firmware_reference_json();
   static volatile std::sig_atomic_t& interrupted_flag() {
     static volatile std::sig_atomic_t flag = 0;
     return flag;
