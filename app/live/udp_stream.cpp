@@ -38,7 +38,7 @@ std::pair<std::string, uint16_t> parse_udp_target(const std::string& text) {
 std::string sample_json(const Sample& s, double timestamp, int64_t run) {
   std::string j = fmt::format("{{\"timestamp\":{:.6f},\"run\":{},\"step\":{}", timestamp, run, s.step);
   auto field = [&](const char* name, int i, float v) {
-    if (std::isfinite(v)) j += fmt::format(",\"{}_{}\":{:.7g}", name, i, v);
+    if (std::isfinite(v)) j += fmt::format(",\"{}_{}\":{}", name, i, v);  // shortest text that reads back the same float
   };
   if (s.has(tf::kYRef))
     for (int i = 0; i < s.n; ++i) field("y_ref", i, s.y_ref()[i]);
@@ -48,8 +48,8 @@ std::string sample_json(const Sample& s, double timestamp, int64_t run) {
     for (int i = 0; i < s.n; ++i) field("y_true", i, s.y_true()[i]);
   if (s.has(tf::kU))
     for (int i = 0; i < s.m; ++i) field("u", i, s.u()[i]);
-  if (s.has(tf::kCost) && std::isfinite(s.cost)) j += fmt::format(",\"cost\":{:.7g}", s.cost);
-  if (s.has(tf::kSolver)) j += fmt::format(",\"iterations\":{},\"compute_us\":{:.7g}", s.iterations, s.compute_us);
+  if (s.has(tf::kCost) && std::isfinite(s.cost)) j += fmt::format(",\"cost\":{}", s.cost);
+  if (s.has(tf::kSolver)) j += fmt::format(",\"iterations\":{},\"compute_us\":{}", s.iterations, s.compute_us);
   return j + "}";
 }
 
