@@ -37,6 +37,9 @@ std::unique_ptr<RunStore> open_store(const RunsArgs& a) {
   }
 }
 
+// Draws a.ids (one run, or two overlaid) to a.svg or a.png with gnuplot.
+void draw(const RunsArgs& a);
+
 std::string rmse_list(const TrackingMetrics& t) {
   std::string s;
   for (double r : t.rmse) s += (s.empty() ? "" : " ") + fmt::format("{:.4g}", r);
@@ -178,11 +181,19 @@ void show(const RunsArgs& a) {
 
 void export_csv(const RunsArgs& a) {
   auto store = open_store(a);
-  const size_t rows = export_run_csv(*store, a.id, a.csv);
-  fmt::print("run {}: {} samples written to {}\n", a.id, rows, a.csv);
+  const std::string path = a.csv.empty() ? "-" : a.csv;
+  const size_t rows = export_run_csv(*store, a.id, path);
+  // The CSV may be standard output: the report goes where it cannot mix in.
+  fmt::print(stderr, "run {}: {} samples written to {}\n", a.id, rows, path == "-" ? "standard output" : path);
 }
 
 void compare(const RunsArgs& a) {
+  if (!a.svg.empty() && !a.png.empty()) throw CliError("runs compare: give --svg FILE or --png FILE, not both");
+  if (!a.svg.empty() || !a.png.empty()) {
+    RunsArgs both = a;
+    both.ids = {a.id, a.other};
+    draw(both);
+  }
   auto store = open_store(a);
   const RunRow ra = store->run(a.id), rb = store->run(a.other);
   const RunMetrics ma = run_metrics(*store, a.id), mb = run_metrics(*store, a.other);
@@ -225,6 +236,10 @@ void compare(const RunsArgs& a) {
 void plot(const RunsArgs& a) {
   if (a.svg.empty() == a.png.empty()) throw CliError("runs plot: give one of --svg FILE or --png FILE");
   if (a.ids.empty() || a.ids.size() > 2) throw CliError("runs plot: give one run id, or two to overlay");
+  draw(a);
+}
+
+void draw(const RunsArgs& a) {
   auto store = open_store(a);
   std::vector<PlottedRun> runs;
   for (int64_t id : a.ids) runs.push_back(load_plotted_run(*store, id));
@@ -236,7 +251,7 @@ void plot(const RunsArgs& a) {
     throw CliError(fmt::format("cannot write {}", path));
   out.commit();
   if (path != "-")
-    fmt::print("{} drawn to {}\n",
+    fmt::print(stderr, "{} drawn to {}\n",
                a.ids.size() > 1 ? fmt::format("runs {} and {}", a.ids[0], a.ids[1]) : fmt::format("run {}", a.ids[0]),
                path);
 }
@@ -253,6 +268,8 @@ void add_runs_command(CLI::App& app) {
       "  nlsoft-console runs show 12\n"
       "  nlsoft-console runs export 12 --csv run12.csv\n"
       "  nlsoft-console runs compare 12 13 --json\n"
+      "  nlsoft-console runs compare 12 13 --svg compare.svg\n"
+      "  nlsoft-console runs export 12 > run12.csv\n"
       "  nlsoft-console runs plot 12 --svg run12.svg\n"
       "  nlsoft-console runs plot 12 13 --png compare.png\n"
       "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
@@ -273,13 +290,15 @@ void add_runs_command(CLI::App& app) {
   CLI::App* e = runs->add_subcommand("export", "A run's samples as CSV");
   db(e);
   e->add_option("ID", args->id, "Run id")->required();
-  e->add_option("--csv", args->csv, "Output file")->required();
+  e->add_option("--csv", args->csv, "Output file ('-' or none: standard output)");
   e->callback([args] { export_csv(*args); });
   CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
   db(c);
   c->add_option("A", args->id, "First run id")->required();
   c->add_option("B", args->other, "Second run id")->required();
   c->add_flag("--json", args->json, "Machine-readable output");
+  c->add_option("--svg", args->svg, "Also draw both runs overlaid, as runs plot A B does");
+  c->add_option("--png", args->png, "Also draw both runs overlaid, as a PNG");
   c->callback([args] { compare(*args); });
   CLI::App* p = runs->add_subcommand(
       "plot", "Draw a run (or two overlaid): y per axis against the reference, u, the x-y path; needs gnuplot");

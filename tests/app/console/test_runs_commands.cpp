@@ -96,6 +96,19 @@ TEST_F(RunsCommands, LabelAndDeleteChangeOneRunWhole) {
   EXPECT_EQ(r.code, 2) << r.output;
 }
 
+// Without --csv (or with -) the CSV goes to standard output, the report to
+// standard error, so `runs export 1 > run.csv` and pipes work.
+TEST_F(RunsCommands, ExportWritesToStandardOutputByDefault) {
+  record();
+  const auto r = run_process("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " runs export 2 --db " +
+                                                    shell_quote(db()) + " 2>/dev/null"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind("k,", 0), 0u) << r.output.substr(0, 200);
+  size_t rows = 0;
+  for (char c : r.output) rows += c == '\n';
+  EXPECT_EQ(rows, RunStore(db()).run(2).samples + 1) << "a header and one line per sample, nothing else";
+}
+
 TEST_F(RunsCommands, AnUnfinishedRunIsDeletedOnlyWithForce) {
   int64_t id = 0;
   {
@@ -132,7 +145,8 @@ TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
       const size_t at = args.find(from);
       if (at != std::string::npos) args.replace(at, from.size(), to);
     }
-    if (args.rfind("plot", 0) == 0 && run_process("command -v gnuplot").code != 0) continue;
+    const bool draws = args.find("--svg") != std::string::npos || args.find("--png") != std::string::npos;
+    if (draws && run_process("command -v gnuplot").code != 0) continue;
     const auto r = run_process("cd " + shell_quote(dir_.path) + " && " + std::string(NLSOFT_CONSOLE_BIN) + " runs " +
                                args + " --db " + shell_quote(db()));
     EXPECT_EQ(r.code, 0) << line << "\n" << r.output;

@@ -72,6 +72,12 @@ TEST_F(RunsPlot, TwoRunsOverlayAndPngWorksToo) {
   EXPECT_TRUE(contains(s, ">run 2 y_true<"));
   EXPECT_TRUE(contains(s, ">run 2 u5<"));
   EXPECT_TRUE(contains(s, "Lambda=4 4 4 4 4 4")) << "the second run's parameters are in the caption";
+  // runs compare draws them too, beside its table.
+  const std::string cmp = dir_.file("compare.svg");
+  r = console("runs compare 1 2 --svg " + shell_quote(cmp) + " --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "parameters that differ")) << r.output;
+  EXPECT_TRUE(contains(slurp(cmp), ">run 2 y_true<"));
   r = console("runs plot 1 2 --png " + shell_quote(png) + " --db " + shell_quote(db()));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(slurp(png).substr(0, 4), "\x89PNG");
