@@ -30,7 +30,7 @@ constexpr int kMinCols = 60, kMinRows = 16;
 const char* const kHelp[] = {
     "nlsoft-console keys",
     "",
-    "  F1 ?      this help (any key closes it)",
+    "  F1 ?      this help (any key closes it; Esc, ?, F1, q, Enter or Space only close)",
     "  F2 F3 F4  focus parameters / reference / runs (Tab cycles)",
     "  F5        start a run (recorded)     F6  stop the run",
     "  F7        hold / resume              F8  actuators neutral",
@@ -295,8 +295,10 @@ bool App::handle(int ch) {
     }
   }
   if (help_) {
+    // Any key closes the help; one that means something else is then
+    // handled as if the help had not been open.
     help_ = false;
-    return true;
+    if (ch == 27 || ch == '?' || ch == KEY_F(1) || ch == 'q' || ch == '\n' || ch == '\r' || ch == ' ') return true;
   }
   if (cmd_.active()) {
     const auto r = cmd_.key(ch);
@@ -447,17 +449,40 @@ void App::draw_confirm(int rows, int cols) {
   put(y0 + h - 1, x0 + 1, "y: yes   n/Esc: no", w - 2, screen_.attr(Role::Selected) | A_BOLD);
 }
 
+namespace {
+
+// A help line in pieces of at most `width` columns; continuations are
+// indented to `indent` (the column where the line's description starts).
+std::vector<std::string> wrap_help(const std::string& line, int width, size_t indent) {
+  std::vector<std::string> out;
+  std::string rest = line;
+  while (int(rest.size()) > width && width > int(indent) + 10) {
+    size_t cut = rest.rfind(' ', size_t(width));
+    if (cut == std::string::npos || cut <= indent) cut = size_t(width);
+    out.push_back(rest.substr(0, cut));
+    const size_t next = rest.find_first_not_of(' ', cut);
+    rest = std::string(indent, ' ') + (next == std::string::npos ? "" : rest.substr(next));
+  }
+  out.push_back(rest);
+  return out;
+}
+
+}  // namespace
+
+// Long lines wrap to the overlay's width, so it reads on 80 columns.
 void App::draw_help(int rows, int cols) {
-  const int n = int(sizeof(kHelp) / sizeof(kHelp[0]));
-  const auto& script = script_help();
-  const int h = std::min(rows - 2, n + int(script.size()) + 3);
   const int w = std::min(cols - 2, 100);
+  std::vector<std::pair<std::string, bool>> lines;  // text, bold
+  for (const char* l : kHelp)
+    for (const auto& piece : wrap_help(l, w - 2, 12)) lines.emplace_back(piece, false);
+  lines.emplace_back("Commands (':' line and --script files):", true);
+  for (const auto& l : script_help())
+    for (const auto& piece : wrap_help("  " + l, w - 2, 30)) lines.emplace_back(piece, false);
+  const int h = std::min(rows - 2, int(lines.size()));
   const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
   for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
-  int y = y0;
-  for (int i = 0; i < n && y < y0 + h; ++i) put(y++, x0 + 1, kHelp[i], w - 2, screen_.attr(Role::Selected));
-  if (y < y0 + h) put(y++, x0 + 1, "Commands (':' line and --script files):", w - 2, screen_.attr(Role::Selected) | A_BOLD);
-  for (size_t i = 0; i < script.size() && y < y0 + h; ++i) put(y++, x0 + 3, script[i], w - 4, screen_.attr(Role::Selected));
+  for (int i = 0; i < h; ++i)
+    put(y0 + i, x0 + 1, lines[size_t(i)].first, w - 2, screen_.attr(Role::Selected) | (lines[size_t(i)].second ? A_BOLD : 0));
 }
 
 void App::draw_plot_status(int y, int w) {

@@ -358,3 +358,36 @@ TEST(ConsoleTui, ParametersExplainThemselvesAndTakeNamesAndOneValueForAll) {
 
 }  // namespace
 }  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// The help overlay wraps to an 80-column terminal, and the key that closes
+// it still does its job (p changes the plot) unless it only means "close".
+TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record",
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 40");
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
+  // The reference line's end, past column 80 unwrapped, is on screen.
+  EXPECT_TRUE(contains(s, "hold levels")) << s;
+  t.keys("Escape");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys"); }, s)) << s;
+  EXPECT_TRUE(contains(s, " y | window")) << "Escape only closes\n" << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
+  t.keys("p");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && contains(x, " u | window"); },
+                         s))
+      << s;
+  t.keys("q");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
