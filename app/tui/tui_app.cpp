@@ -8,6 +8,7 @@
 #include <mutex>
 
 #include "app/script/script_runner.hpp"
+#include "app/tui/completion.hpp"
 #include "app/tui/curses.hpp"
 #include "app/tui/line_edit.hpp"
 #include "app/tui/param_panel.hpp"
@@ -38,7 +39,8 @@ const char* const kHelp[] = {
     "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
     "  + -       zoom in (shorter window) / out",
     "  Space     pause the plot (recording goes on)   [ ]  scroll back / forward",
-    "  :         command line: the script commands (set, get, ref, run, expect, ...)",
+    "  :         command line: the script commands (set, get, ref, run, expect, ...);",
+    "            Tab completes commands, parameter names and options",
     "  q F10     quit (asks first while a run is active)",
     "",
     "Parameters: Up/Down select, Enter edit in place (Esc cancels), u undo,",
@@ -59,6 +61,14 @@ class App : public Ui {
         runs_(console, worker_, *this),
         runner_(console, [this](const std::string& s) { message(s); }) {
     cmd_.set_history(&history_);
+    cmd_.set_completer([this](const std::string& left) {
+      // The same editor asks for file names (S, L): those are not commands.
+      if (cmd_.prompt() != ":") return std::make_pair(left, std::vector<std::string>{});
+      std::vector<std::string> names;
+      for (const ParamInfo& p : console_.device().catalog()->all()) names.push_back(p.name);
+      Completion c = complete_command(left, names);
+      return std::make_pair(c.text, c.candidates);
+    });
     console_.set_notify([this](const std::string& s) { message(s, Role::Warn); });
     params_.reload();
     runs_.reload();
@@ -519,8 +529,9 @@ void App::draw() {
       paused_ ? std::vector<Sample>{} : console_.live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));
   const std::vector<Sample>& samples = paused_ ? frozen_ : live;
   if (path_view_) {
-    draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.live().snapshot(LiveConsole::kLiveSamples),
-                   ax_, ay_);
+    // The newest 4096 samples make the shape; copying all that is kept
+    // 25 times a second would cost 100 MB/s for nothing visible.
+    draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.live().snapshot(4096), ax_, ay_);
   } else {
     draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, view);
     draw_plot_status(rows - 4, left_w);

@@ -383,6 +383,13 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   t.keys("?");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
   t.keys("p");
+  // Tab at the ':' line: a parameter completed, an ambiguous command listed.
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " u | window"); }, s)) << s;
+  t.keys(shell_quote(":set Lam") + " Tab");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":set Lambda"); }, s)) << s;
+  t.keys("C-u s Tab");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":s   [set start stop sweep]"); }, s)) << s;
+  t.keys("Escape");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && contains(x, " u | window"); },
                          s))
       << s;
