@@ -11,6 +11,7 @@
 #include "app/tui/completion.hpp"
 #include "app/tui/curses.hpp"
 #include "app/tui/line_edit.hpp"
+#include "app/tui/message_log.hpp"
 #include "app/tui/param_panel.hpp"
 #include "app/tui/plot_view.hpp"
 #include "app/tui/ref_panel.hpp"
@@ -33,6 +34,7 @@ const char* const kHelp[] = {
     "",
     "  F1 ?      this help (any key closes it; Esc, ?, F1, q, Enter or Space only close)",
     "  F2 F3 F4  focus parameters / reference / runs (Tab cycles)",
+    "  F9        messages with their times (Up/Down/PgUp scroll back); also in <db>.session.log",
     "  F5        start a run (recorded)     F6  stop the run",
     "  F7        hold / resume              F8  actuators neutral",
     "  v         time plots <-> 2-D path    x   change the path's axes",
@@ -55,6 +57,7 @@ class App : public Ui {
   App(LiveConsole& console, Screen& screen)
       : console_(console),
         screen_(screen),
+        log_(session_log_path(console.db_path())),
         worker_([this](const std::string& s) { message(s, Role::Error); }),
         params_(console, worker_, *this),
         refs_(console, worker_, *this),
@@ -83,11 +86,7 @@ class App : public Ui {
 
   int loop();
 
-  void message(const std::string& text, Role role = Role::Normal) override {
-    std::lock_guard<std::mutex> lock(log_mu_);
-    log_.push_back({text, role});
-    if (log_.size() > 200) log_.pop_front();
-  }
+  void message(const std::string& text, Role role = Role::Normal) override { log_.add(text, role); }
   void prompt(const std::string& label, const std::string& initial,
               std::function<void(const std::string&)> done) override {
     std::lock_guard<std::mutex> lock(ui_mu_);
@@ -103,7 +102,7 @@ class App : public Ui {
   }
 
  private:
-  enum class Focus { Params, Ref, Runs };
+  enum class Focus { Params, Ref, Runs, Log };
   struct PromptRequest {
     std::string label, initial;
     std::function<void(const std::string&)> done;
@@ -127,6 +126,10 @@ class App : public Ui {
 
   LiveConsole& console_;
   Screen& screen_;
+  // Before the worker: its error reports are messages. Any thread may add
+  // to it until shutdown() has joined the worker and detached the notify.
+  MessageLog log_;
+  size_t log_back_ = 0;  // log pane: entries scrolled back from the newest
   // Worker tasks use every member below and message() (log_); the worker
   // is therefore stopped and joined in shutdown(), before any member is
   // destroyed, whatever the declaration order.
@@ -150,8 +153,6 @@ class App : public Ui {
   std::vector<std::string> history_;
   std::function<void(const std::string&)> prompt_done_;
 
-  std::mutex log_mu_;
-  std::deque<std::pair<std::string, Role>> log_;
   std::mutex ui_mu_;
   bool has_pending_prompt_ = false;
   PromptRequest pending_prompt_;
@@ -346,6 +347,10 @@ bool App::handle(int ch) {
       focus_ = Focus::Runs;
       runs_.reload();
       return true;
+    case KEY_F(9):
+      focus_ = Focus::Log;
+      log_back_ = 0;
+      return true;
     case '\t':
       if (focus_ != Focus::Ref) {
         focus_ = focus_ == Focus::Params ? Focus::Ref : Focus::Params;
@@ -408,6 +413,16 @@ bool App::handle(int ch) {
     case Focus::Params: params_.key(ch); break;
     case Focus::Ref: refs_.key(ch); break;
     case Focus::Runs: runs_.key(ch); break;
+    case Focus::Log: {
+      const size_t page = size_t(std::max(1, screen_.rows() - 8));
+      if (ch == KEY_UP || ch == 'k') ++log_back_;
+      else if (ch == KEY_DOWN || ch == 'j') log_back_ = log_back_ > 0 ? log_back_ - 1 : 0;
+      else if (ch == KEY_PPAGE) log_back_ += page;
+      else if (ch == KEY_NPAGE) log_back_ = log_back_ > page ? log_back_ - page : 0;
+      else if (ch == KEY_END) log_back_ = 0;
+      log_back_ = std::min(log_back_, log_.size());
+      break;
+    }
   }
   return true;
 }
@@ -434,11 +449,8 @@ void App::draw_message_line(int y, int w) {
     return;
   }
   fill_row(y, 0, w, 0);
-  std::pair<std::string, Role> last{"", Role::Normal};
-  {
-    std::lock_guard<std::mutex> lock(log_mu_);
-    if (!log_.empty()) last = log_.back();
-  }
+  const MessageLog::Entry e = log_.last();
+  const std::pair<std::string, Role> last{e.text, e.role};
   const std::string busy = worker_.busy();
   const std::string right = busy.empty() ? "" : "[" + busy + "...]";
   put(y, 0, last.first, w - int(right.size()) - 1, screen_.attr(last.second));
@@ -544,6 +556,7 @@ void App::draw() {
     case Focus::Params: params_.draw(screen_, 1, rx, main_h, right_w, true); break;
     case Focus::Ref: refs_.draw(screen_, 1, rx, main_h, right_w, true); break;
     case Focus::Runs: runs_.draw(screen_, 1, rx, main_h, right_w, true); break;
+    case Focus::Log: log_.draw(screen_, 1, rx, main_h, right_w, true, log_back_); break;
   }
   draw_message_line(rows - 3, cols);
   draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());

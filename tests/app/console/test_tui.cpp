@@ -353,7 +353,21 @@ TEST(ConsoleTui, ParametersExplainThemselvesAndTakeNamesAndOneValueForAll) {
   ASSERT_TRUE(t.wait_for([](const std::string& x) {
     return contains(x, "refused: r = -1 is out of range [1e-06, 1e+07]") && contains(param_row(x, "r"), "refused");
   }, s)) << s;
+
+  // F9: every message of the session with its time, and the same in a log
+  // file beside the database.
+  t.keys("F9");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Messages (") && contains(x, "connected to nlsoft-posix"); },
+                         s))
+      << s;
+  const std::string connected = line_with(s, "connected to nlsoft-posix");
+  EXPECT_EQ(connected.find(':', connected.find("connected") - 9), connected.find("connected") - 7) << connected;
+  EXPECT_TRUE(contains(s, "Lambda = 0.5 0.5 0.5 0.5 0.5 0.5")) << s;
   t.keys("q");
+  for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const std::string log = read_file(dir.file("runs.session.log"));
+  EXPECT_TRUE(contains(log, "connected to nlsoft-posix")) << log;
+  EXPECT_TRUE(contains(log, "error r: r = -1 is out of range")) << log;
 }
 
 }  // namespace
