@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "app/record/task_space.hpp"
 #include "app/record/utc_time.hpp"
 
 namespace nlsoft::console {
@@ -29,6 +30,19 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
     double it = 0;
     for (uint8_t i : s.iterations) it += i;
     m.mean_iterations = it / double(s.iterations.size());
+  }
+  {
+    const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+    const std::vector<double> space = task_space(run.platform);
+    std::vector<int> axes = t.tracked;
+    if (axes.empty())
+      for (int a = 0; a < int(t.rmse.size()); ++a) axes.push_back(a);
+    if (!t.rmse.empty() && space.size() == t.rmse.size()) {
+      double worst = 0;
+      for (int a : axes)
+        if (a >= 0 && size_t(a) < t.rmse.size()) worst = std::max(worst, t.rmse[size_t(a)] / space[size_t(a)]);
+      m.nrmse_space = worst;
+    }
   }
   m.loop_rate_hz = run.loop_rate_hz;
   // A run whose firmware died half-way spans less in samples than it lasted:
@@ -91,7 +105,7 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s) {
 
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names = {
-      "rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
+      "rmse", "nrmse", "nrmse_space", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
       "iterations", "samples", "duration", "wall", "gaps", "rmse0", "rmse1", "rmse2"};
   return names;
 }
@@ -105,6 +119,7 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& name)
   };
   if (name == "rmse") return worst(t);
   if (name == "nrmse") return t.nrmse;
+  if (name == "nrmse_space") return m.nrmse_space;
   if (name == "max_error") return t.max_error;
   if (name == "rmse_hat") return worst(m.predicted);
   if (name == "nrmse_hat") return m.predicted.nrmse;

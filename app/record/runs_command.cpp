@@ -59,6 +59,7 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["tracked"] = m.has_true ? "y_true" : "y_hat";
   j["rmse"] = t.rmse;
   j["nrmse"] = t.nrmse;
+  j["nrmse_space"] = std::isfinite(m.nrmse_space) ? nlohmann::json(m.nrmse_space) : nlohmann::json();
   j["max_error"] = t.max_error;
   j["rmse_hat"] = m.predicted.rmse;
   j["nrmse_hat"] = m.predicted.nrmse;
@@ -76,6 +77,7 @@ void print_metrics(const RunMetrics& m) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
   fmt::print("  tracking ({}): rmse {} nrmse {:.4f} ({:.2f} %) max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
              rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
+  fmt::print("  nrmse_space {:.4f} (worst axis over the rig's task space; defined for holds and steps)\n", m.nrmse_space);
   if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
   fmt::print("  loop {:.1f} Hz, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", m.loop_rate_hz,
              m.compute_p50_us, m.compute_p99_us, m.mean_iterations);

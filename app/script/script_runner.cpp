@@ -187,7 +187,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {
   const auto [info, original] = console_.get_param(c.name);
-  std::vector<std::string> header = {c.name, "run", "samples", "rmse", "nrmse", "max_error", "lost", "p99_us"};
+  std::vector<std::string> header = {c.name, "run", "samples", "rmse", "nrmse", "nrmse_space", "max_error", "lost", "p99_us"};
   std::vector<std::vector<std::string>> rows;
   std::exception_ptr failure;
   for (const std::string& v : c.values) {
@@ -205,7 +205,7 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
           &cancelled_);
       const RunMetrics measured = c.settle_s > 0 ? console_.metrics_of(s.run_id, c.settle_s) : s.metrics;
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(measured, m).value_or(0)); };
-      rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"),
+      rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"), f("nrmse_space"),
                       f("max_error"), f("lost"), f("compute_p99")});
       check_completed(s, c, file);
     } catch (...) {
