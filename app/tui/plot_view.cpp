@@ -27,7 +27,51 @@ struct Trace {
   char glyph;
   int attr;
   std::function<double(const Sample&)> value;  // NaN when the sample lacks it
+  // A recorded run's column instead (the overlay): row r's value is
+  // column[r * stride + offset] at step[r].
+  const RunSeries* series = nullptr;
+  const std::vector<float>* column = nullptr;
+  size_t stride = 1, offset = 0;
 };
+
+// The overlay's trace for y axis `a` or actuator `i`; none if the run
+// lacks it.
+void add_overlay(std::vector<Trace>& traces, const Screen& screen, const TimeView& view, bool y, int index) {
+  const RunSeries* r = view.overlay;
+  if (!r) return;
+  Trace t{fmt::format("run {}", view.overlay_id), 'o', screen.series_attr(3), {}};
+  t.series = r;
+  if (y && (r->has_y_true || r->has_y_hat) && index < r->n) {
+    t.column = r->has_y_true ? &r->y_true : &r->y_hat;
+    t.stride = size_t(r->n);
+  } else if (!y && r->has_u && index < r->m) {
+    t.column = &r->u;
+    t.stride = size_t(r->m);
+  } else {
+    return;
+  }
+  t.offset = size_t(index);
+  traces.push_back(std::move(t));
+}
+
+// Calls f(step, value) for every finite point of the trace in [t0, t1].
+template <class F>
+void for_each_point(const Trace& t, const std::vector<Sample>& samples, double t0, double t1, F&& f) {
+  if (t.series) {
+    const RunSeries& r = *t.series;
+    for (size_t i = 0; i < r.rows(); ++i) {
+      if (r.step[i] < t0 || r.step[i] > t1) continue;
+      const double v = double((*t.column)[i * t.stride + t.offset]);
+      if (std::isfinite(v)) f(double(r.step[i]), v);
+    }
+    return;
+  }
+  for (const Sample& s : samples) {
+    if (s.step < t0 || s.step > t1) continue;
+    const double v = t.value(s);
+    if (std::isfinite(v)) f(double(s.step), v);
+  }
+}
 
 struct Strip {
   std::string title;
@@ -55,21 +99,26 @@ Trace y_trace(const Screen& screen, uint8_t field, int axis) {
 
 char index_glyph(int i) { return i < 10 ? char('0' + i) : char('a' + (i - 10)); }
 
-std::vector<Strip> strips_for(const Screen& screen, PlotSignal signal, const Sample& last, int plot_rows) {
+std::vector<Strip> strips_for(const Screen& screen, const TimeView& view, const Sample& last, int plot_rows) {
+  const PlotSignal signal = view.signal;
   std::vector<Strip> out;
   switch (signal) {
     case PlotSignal::Y:
-      for (int a = 0; a < last.n; ++a)
+      for (int a = 0; a < last.n; ++a) {
         out.push_back({fmt::format("y{}", a),
                        {y_trace(screen, tf::kYRef, a), y_trace(screen, tf::kYHat, a), y_trace(screen, tf::kYTrue, a)},
                        a});
+        add_overlay(out.back().traces, screen, view, true, a);
+      }
       break;
     case PlotSignal::U:
       // A strip per actuator when they fit, else all in one with a glyph each.
       if (plot_rows >= 3 * last.m) {
-        for (int i = 0; i < last.m; ++i)
+        for (int i = 0; i < last.m; ++i) {
           out.push_back({"", {{fmt::format("u{}", i), index_glyph(i), screen.series_attr(i),
                                [i](const Sample& s) { return field_value(s, tf::kU, i); }}}});
+          add_overlay(out.back().traces, screen, view, false, i);
+        }
       } else {
         Strip st{"u", {}};
         for (int i = 0; i < last.m && i < kMaxTraces; ++i)
@@ -115,7 +164,7 @@ void legend(const Screen& screen, int y, int x, int w, const Strip& st, const Sa
   for (const Trace& t : st.traces) {
     if (cx >= x + w) return;
     std::string item = fmt::format("{} {}", braille ? "\u2501" : std::string(1, t.glyph), t.name);
-    if (at) item += " " + number(t.value(*at));
+    if (at && !t.series) item += " " + number(t.value(*at));
     put(y, cx, item, x + w - cx, t.attr);
     cx += int(item.size()) - (braille ? 2 : 0) + 2;  // the bar is three bytes, one column
   }
@@ -213,7 +262,7 @@ void draw_time_plots(const Screen& screen, int y, int x, int h, int w, const std
   const Sample* at = last_it == samples.begin() ? nullptr : &*(last_it - 1);
   const Sample& shape = at ? *at : samples.back();
   const int plot_rows = h - 1;  // the last row is the time axis
-  const std::vector<Strip> strips = strips_for(screen, view.signal, shape, plot_rows);
+  const std::vector<Strip> strips = strips_for(screen, view, shape, plot_rows);
   const int count = int(strips.size());
   if (count <= 0 || plot_rows < 3 * count) {
     put(y, x, "window too small for the plots", w, screen.attr(Role::Warn));
@@ -229,13 +278,8 @@ void draw_time_plots(const Screen& screen, int y, int x, int h, int w, const std
     const int ph = strip_h - 1;
     if (ph < 2 || pw < 8) continue;
     double lo = INFINITY, hi = -INFINITY;
-    for (const Sample& s : samples) {
-      if (s.step < t0 || s.step > t1) continue;
-      for (const Trace& t : st.traces) {
-        const double v = t.value(s);
-        if (std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-      }
-    }
+    for (const Trace& t : st.traces)
+      for_each_point(t, samples, t0, t1, [&](double, double v) { lo = std::min(lo, v), hi = std::max(hi, v); });
     pad_range(lo, hi);
     legend(screen, sy, x, w, st, at);
     put(sy + 1, x, fmt::format("{:>8.4g}", hi), kLabelWidth - 1, screen.attr(Role::Dim));
@@ -254,16 +298,13 @@ void draw_time_plots(const Screen& screen, int y, int x, int h, int w, const std
     for (size_t ti = 0; ti < nt; ++ti) {
       bool have = false;
       int px = 0, py = 0;
-      for (const Sample& s : samples) {
-        if (s.step < t0 || s.step > t1) continue;
-        const double v = st.traces[ti].value(s);
-        if (!std::isfinite(v)) continue;
-        const int cx = int(std::lround((double(s.step) - t0) / window * (c.width() - 1)));
+      for_each_point(st.traces[ti], samples, t0, t1, [&](double step, double v) {
+        const int cx = int(std::lround((step - t0) / window * (c.width() - 1)));
         const int cy = int(std::lround((hi - v) / (hi - lo) * (c.height() - 1)));
         if (have) c.line(px, py, cx, cy, uint8_t(ti + 1));
         else c.dot(cx, cy, uint8_t(ti + 1));
         px = cx, py = cy, have = true;
-      }
+      });
     }
     c.draw(sy + 1, x + kLabelWidth, attrs, glyphs);
   }

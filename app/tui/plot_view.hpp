@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/record/run_store.hpp"
 #include "app/record/sample.hpp"
 #include "app/tui/screen.hpp"
 
@@ -30,6 +31,11 @@ struct TimeView {
   // The step at the right edge: a paused or scrolled view shows what came
   // before it. Negative: the newest sample (live).
   int64_t end_step = -1;
+  // A recorded run drawn under the live one (`:overlay ID`), step for step:
+  // both count steps from their RUN_START. Its y_true (or y_hat) on the y
+  // strips, its u on the u strips.
+  const RunSeries* overlay = nullptr;
+  int64_t overlay_id = 0;
 };
 
 // One strip per axis (or actuator; the scalar signals get one), stacked in

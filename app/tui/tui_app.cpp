@@ -7,6 +7,7 @@
 #include <deque>
 #include <mutex>
 
+#include "app/record/run_store.hpp"
 #include "app/script/script_runner.hpp"
 #include "app/tui/completion.hpp"
 #include "app/tui/curses.hpp"
@@ -39,6 +40,7 @@ const char* const kHelp[] = {
     "  F7        hold / resume              F8  actuators neutral",
     "  v         time plots <-> 2-D path    x   change the path's axes",
     "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
+    "  :overlay ID  a recorded run under the live plot ('o'); :overlay off",
     "  + -       zoom in (shorter window) / out",
     "  Space     pause the plot (recording goes on)   [ ]  scroll back / forward",
     "  :         command line: the script commands (set, get, ref, run, expect, ...);",
@@ -118,6 +120,7 @@ class App : public Ui {
   void stop_run();
   void command(const std::string& line);
   void plot_command(const std::string& args);
+  void overlay_command(const std::string& args);
   void pause_plot(bool on);
   void scroll_plot(double windows);
   void draw_plot_status(int y, int w);
@@ -146,6 +149,9 @@ class App : public Ui {
   // A paused plot draws from a copy taken at the pause, so the view holds
   // still while telemetry (and the recording) goes on; end_step_ is its
   // right edge, moved by [ and ].
+  // `:overlay ID`: a recorded run under the live plot, loaded by the worker.
+  std::shared_ptr<const RunSeries> overlay_;  // under ui_mu_
+  int64_t overlay_id_ = 0;                    // under ui_mu_
   bool paused_ = false;
   std::vector<Sample> frozen_;
   int64_t end_step_ = -1;
@@ -227,6 +233,10 @@ void App::command(const std::string& line) {
     plot_command(line.substr(4));
     return;
   }
+  if (line == "overlay" || line.rfind("overlay ", 0) == 0) {
+    overlay_command(line.substr(7));
+    return;
+  }
   if (line == "q" || line == "quit") {
     handle('q');
     return;
@@ -260,6 +270,42 @@ void App::plot_command(const std::string& args) {
     signal_ = s;
     path_view_ = false;
   }
+}
+
+void App::overlay_command(const std::string& args) {
+  const size_t a = args.find_first_not_of(' ');
+  const std::string arg = a == std::string::npos ? "" : args.substr(a, args.find_last_not_of(' ') - a + 1);
+  if (arg == "off") {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    overlay_.reset();
+    overlay_id_ = 0;
+    message("overlay removed");
+    return;
+  }
+  char* end = nullptr;
+  const long long id = std::strtoll(arg.c_str(), &end, 10);
+  if (arg.empty() || *end != '\0' || id <= 0) {
+    message("overlay ID: a recorded run under the live plot (F4 lists them); overlay off removes it", Role::Error);
+    return;
+  }
+  worker_.post(fmt::format("loading run {}", id), [this, id] {
+    try {
+      RunStore store(console_.db_path());
+      const RunRow row = store.run(id);
+      auto series = std::make_shared<const RunSeries>(store.series(id));
+      {
+        std::lock_guard<std::mutex> lock(ui_mu_);
+        overlay_ = std::move(series);
+        overlay_id_ = id;
+      }
+      message(fmt::format("overlay: run {}{} under the live plot, step for step from its start ('o'); overlay off "
+                          "removes it",
+                          id, row.label.empty() ? "" : " (" + row.label + ")"),
+              Role::Ok);
+    } catch (const std::exception& e) {
+      message(std::string("overlay: ") + e.what(), Role::Error);
+    }
+  });
 }
 
 double App::step_rate() {
@@ -536,6 +582,13 @@ void App::draw() {
   view.window_steps = window_s_ * rate;
   view.rate_hz = rate;
   view.end_step = paused_ ? end_step_ : -1;
+  std::shared_ptr<const RunSeries> overlay;
+  {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    overlay = overlay_;
+    view.overlay_id = overlay_id_;
+  }
+  view.overlay = overlay.get();
   // Live, only the window is copied (at most one sample per step).
   const std::vector<Sample> live =
       paused_ ? std::vector<Sample>{} : console_.live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));

@@ -412,3 +412,39 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
 
 }  // namespace
 }  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// A recorded run under the live one: `:overlay 1` adds it to each y strip
+// as its own trace, named in the legend; `:overlay off` removes it.
+TEST(ConsoleTui, ARecordedRunOverlaysTheLivePlot) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + dir.file("runs.db"),
+         "LANG=C LC_ALL=C NO_COLOR=1 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  t.keys(shell_quote(":run 1s") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s)) << s;
+  t.keys(shell_quote(":overlay 9") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "overlay: no run 9"); }, s)) << s;
+  t.keys(shell_quote(":overlay 1") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "overlay: run 1 under the live plot"); }, s)) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "run 2 RUNNING") && contains(line_with(x, "y0  . ref"), "o run 1");
+  }, s)) << s;
+  t.keys(shell_quote(":overlay off") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "overlay removed") && !contains(line_with(x, "y0  . ref"), "o run 1");
+  }, s)) << s;
+  t.keys("F6");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
+  t.keys("q");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
