@@ -21,3 +21,4 @@ target_link_libraries(nlsoft_console_live
   PRIVATE ${CURSES_LIBRARIES} nlsoft_warnings)
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)
+target_compile_definitions(nlsoft-console PRIVATE NLSOFT_VERSION="${PROJECT_VERSION}")

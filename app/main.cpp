@@ -7,6 +7,7 @@
 #include "app/conformance/command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/simulate.hpp"
+#include "protocol/frame.hpp"
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
 #include "app/model/commands.hpp"
 #endif
@@ -17,6 +18,8 @@ int main(int argc, char** argv) {
       "nlsoft-console: tune a learned model-predictive controller running on a microcontroller,\n"
       "or run it offline against a simulated rig."};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("nlsoft-console " NLSOFT_VERSION ", wire protocol ") +
+                                        std::to_string(nlsoft::protocol::kProtocolVersion));
   add_simulate_command(app);
   add_console_commands(app);
   add_conformance_command(app);
@@ -26,7 +29,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // CLI11 prints the message (or the help); a usage error is exit 2, as
+    // for every other bad input, not CLI11's own codes.
+    return app.exit(e) == 0 ? 0 : 2;
   } catch (const CliExit& e) {
     return e.code;
   } catch (const CliError& e) {

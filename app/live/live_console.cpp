@@ -15,10 +15,12 @@
 #include <thread>
 
 #include "app/cli_error.hpp"
+#include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
 #include "app/output_file.hpp"
 #include "app/record/run_store.hpp"
+#include "shared/reference_presets.hpp"
 
 namespace nlsoft::console {
 
@@ -66,6 +68,8 @@ PlatformId LiveConsole::platform() const {
 }
 
 void LiveConsole::connect(const Progress& params_progress) {
+  // A bad --udp target fails before a simulator starts or a board is touched.
+  if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp);
   std::string port = options_.port;
   if (!options_.sim_platform.empty()) {
     PlatformId id;
@@ -170,7 +174,15 @@ void LiveConsole::disconnect() {
       // Leaving anyway; the run stays open in the database (ended_at NULL).
     }
   }
+  // The session first: once it is closed no telemetry callback runs, so the
+  // UDP stream's sender thread can be stopped and joined after it.
   if (session_) session_->close();
+  if (udp_) {
+    if (udp_->dropped() > 0)
+      say(fmt::format("--udp {}: {} samples sent, {} dropped (the sender fell behind)", udp_->target(), udp_->sent(),
+                      udp_->dropped()));
+    udp_.reset();
+  }
   if (recorder_) {
     try {
       recorder_->flush();
@@ -189,7 +201,9 @@ void LiveConsole::disconnect() {
 void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
   const int64_t run = run_id_.load();
   if (run == 0) {
-    live_.push(sample_from(t, 0, tick_rate_hz_.load()));
+    const Sample s = sample_from(t, 0, tick_rate_hz_.load());
+    live_.push(s);
+    if (udp_) udp_->push(s, 0);
     return;
   }
   const uint64_t k = run_k_.fetch_add(1);
@@ -208,6 +222,7 @@ void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
   const Sample s = sample_from(t, k, tick_rate_hz_.load());
   recorder_->add_sample(run, s);
   live_.push(s);
+  if (udp_) udp_->push(s, run);
   last_step_ = t.step;
   have_last_step_ = true;
   last_sample_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
@@ -357,11 +372,11 @@ std::vector<double> LiveConsole::set_param(const std::string& name, const std::v
   if (element >= 0) {
     ParamInfo one = *info;
     one.size = 1;
-    const std::vector<double> x = parse_param_values(one, values);
+    const std::vector<double> x = parse_param_values(one, expand_param_tokens(one, values));
     v = device_->get(*info);
     v[size_t(element)] = x[0];
   } else {
-    v = parse_param_values(*info, values);
+    v = parse_param_values(*info, expand_param_tokens(*info, values));
   }
   return apply_param(*info, v);
 }
@@ -423,7 +438,7 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
     std::string t;
     while (ls >> t) tokens.push_back(t);
     try {
-      wanted.emplace_back(info, parse_param_values(*info, tokens), lineno);
+      wanted.emplace_back(info, parse_param_values(*info, expand_param_tokens(*info, tokens)), lineno);
     } catch (const CliError& e) {
       throw CliError(fmt::format("{}:{}: {}", path, lineno, e.what()));
     }
@@ -460,9 +475,21 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
 
 void LiveConsole::select_reference(const RefParams& ref) {
   device_->select_reference(ref);
-  std::lock_guard<std::mutex> lock(mu_);
-  reference_ = ref;
-  reference_table_file_.clear();
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    reference_ = ref;
+    reference_table_file_.clear();
+  }
+  log_reference_change(reference_json(ref));
+}
+
+// A reference sent during a run is part of what the run measured: it goes
+// into the run's parameter log with its time, as `reference`.
+void LiveConsole::log_reference_change(const std::string& json) {
+  if (const int64_t run = run_id_.load()) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
+    recorder_->add_param_change(run, t, "reference", json);
+  }
 }
 
 void LiveConsole::upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress) {
@@ -474,14 +501,36 @@ void LiveConsole::upload_table(const std::string& csv_path, uint16_t hold, const
   r.kind = RefKind::Table;
   r.hold = hold == 0 ? 1 : hold;
   device_->select_reference(r);
-  std::lock_guard<std::mutex> lock(mu_);
-  reference_ = r;
-  reference_table_file_ = csv_path;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    reference_ = r;
+    reference_table_file_ = csv_path;
+  }
+  log_reference_change(reference_json(r, csv_path));
 }
 
 std::optional<RefParams> LiveConsole::reference() const {
   std::lock_guard<std::mutex> lock(mu_);
   return reference_;
+}
+
+// What a run follows when this console sent no reference: the firmware's
+// own choice, named as such. At boot that is the rig's paper task with its
+// preset parameters; another kind was selected by someone else, with
+// parameters this console cannot read back.
+std::string LiveConsole::firmware_reference_json() {
+  const uint8_t pl = device_->info().platform;
+  if (pl > uint8_t(PlatformId::Tendon)) return "";
+  const PlatformId platform = PlatformId(pl);
+  const uint8_t id = device_->status().ref_id;
+  if (id == uint8_t(default_reference_kind(platform))) {
+    std::string j = reference_json(reference_preset(platform, default_reference_kind(platform)));
+    j.pop_back();
+    return j + ",\"source\":\"the firmware's start-up reference (the rig's paper task)\"}";
+  }
+  if (id >= kRefKindCount) return "";
+  return fmt::format("{{\"kind\":\"{}\",\"source\":\"selected before this console connected; parameters not known\"}}",
+                     reference_kind_name(RefKind(id)));
 }
 
 int64_t LiveConsole::start_run(const std::string& label) {
@@ -502,6 +551,7 @@ int64_t LiveConsole::start_run(const std::string& label) {
     std::lock_guard<std::mutex> lock(mu_);
     ri.reference = reference_ ? reference_json(*reference_, reference_table_file_) : "";
   }
+  if (ri.reference.empty()) ri.reference = firmware_reference_json();
   for (const auto& [pi, v] : device_->get_all()) ri.params.emplace_back(pi.name, format_param_values(pi, v));
   const int64_t id = recorder_->begin_run(ri);
   run_k_ = 0;
@@ -720,9 +770,9 @@ std::optional<RunSummary> LiveConsole::last_run() const {
   return last_run_;
 }
 
-RunMetrics LiveConsole::metrics_of(int64_t run_id) {
+RunMetrics LiveConsole::metrics_of(int64_t run_id, double skip_s) {
   RunStore store(db_path_);
-  return run_metrics(store, run_id);
+  return run_metrics(store, run_id, skip_s);
 }
 
 }  // namespace nlsoft::console

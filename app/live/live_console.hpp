@@ -17,6 +17,7 @@
 #include "app/link/session.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/live/live_buffer.hpp"
+#include "app/live/udp_stream.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_metrics.hpp"
 #include "shared/platform_id.hpp"
@@ -37,6 +38,7 @@ struct LiveOptions {
   // being plugged in); 0: fail at once; negative: until Ctrl-C.
   std::chrono::milliseconds wait{0};
   std::string by_id_dir = kSerialByIdDir;  // where udev names USB devices (tests point it elsewhere)
+  std::string udp;  // HOST:PORT: stream every telemetry sample there as JSON (PlotJuggler)
   SessionOptions session;
 };
 
@@ -70,8 +72,12 @@ class LiveConsole {
   Device& device() { return *device_; }
   Session& session() { return *session_; }
   Recorder& recorder() { return *recorder_; }
+  // The newest samples for the live plots (what a paused plot can scroll
+  // back through): 30 s at 500 Hz, ~4 MB.
+  static constexpr size_t kLiveSamples = 16384;
   LiveBuffer& live() { return live_; }
   const std::string& db_path() const { return db_path_; }
+  const UdpStream* udp() const { return udp_.get(); }
   PlatformId platform() const;
   double loop_rate_hz() const { return double(device_->info().loop_rate_hz); }
   int n() const { return device_->info().n; }
@@ -140,7 +146,7 @@ class LiveConsole {
   // the script runner stops before its next command. Async-signal-safe.
   static void request_interrupt() { interrupted_flag() = 1; }
   static bool interrupted() { return interrupted_flag() != 0; }
-  RunMetrics metrics_of(int64_t run_id);
+  RunMetrics metrics_of(int64_t run_id, double skip_s = 0);
 
  private:
   // stop_run's body; the caller holds stop_mu_ and id is the active run.
@@ -158,6 +164,8 @@ class LiveConsole {
   // A port that may not exist yet (--wait), opened by its by-id name.
   std::string settle_port(const std::string& port);
   void say(const std::string& s);
+  void log_reference_change(const std::string& json);
+  std::string firmware_reference_json();
   static volatile std::sig_atomic_t& interrupted_flag() {
     static volatile std::sig_atomic_t flag = 0;
     return flag;
@@ -171,7 +179,10 @@ class LiveConsole {
   std::unique_ptr<Session> session_;
   std::unique_ptr<Device> device_;
   std::unique_ptr<Recorder> recorder_;
-  LiveBuffer live_;
+  // Created before the session opens and destroyed after it closes, so the
+  // link thread (on_telemetry) never sees it appear or go.
+  std::unique_ptr<UdpStream> udp_;
+  LiveBuffer live_{kLiveSamples};
   Notify notify_;
   std::mutex notify_mu_;
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "app/record/task_space.hpp"
 #include "app/record/utc_time.hpp"
 
 namespace nlsoft::console {
@@ -30,6 +31,19 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
     for (uint8_t i : s.iterations) it += i;
     m.mean_iterations = it / double(s.iterations.size());
   }
+  {
+    const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+    const std::vector<double> space = task_space(run.platform);
+    std::vector<int> axes = t.tracked;
+    if (axes.empty())
+      for (int a = 0; a < int(t.rmse.size()); ++a) axes.push_back(a);
+    if (!t.rmse.empty() && space.size() == t.rmse.size()) {
+      double worst = 0;
+      for (int a : axes)
+        if (a >= 0 && size_t(a) < t.rmse.size()) worst = std::max(worst, t.rmse[size_t(a)] / space[size_t(a)]);
+      m.nrmse_space = worst;
+    }
+  }
   m.loop_rate_hz = run.loop_rate_hz;
   // A run whose firmware died half-way spans less in samples than it lasted:
   // both are reported, so neither passes for the other.
@@ -46,9 +60,39 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
   return m;
 }
 
-RunMetrics run_metrics(RunStore& store, int64_t run_id) {
+namespace {
+
+// The series without its first `rows` samples.
+RunSeries drop_first(RunSeries s, size_t rows) {
+  rows = std::min(rows, s.rows());
+  auto cut = [rows](auto& v, size_t per_row) {
+    v.erase(v.begin(), v.begin() + std::min(v.size(), rows * per_row));
+  };
+  cut(s.step, 1);
+  cut(s.time_us, 1);
+  cut(s.y_ref, size_t(s.n));
+  cut(s.y_hat, size_t(s.n));
+  cut(s.y_true, size_t(s.n));
+  cut(s.u, size_t(s.m));
+  cut(s.cost, 1);
+  cut(s.compute_us, 1);
+  cut(s.iterations, 1);
+  return s;
+}
+
+}  // namespace
+
+RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s) {
   const RunRow run = store.run(run_id);
-  const RunSeries s = store.series(run_id);
+  RunSeries s = store.series(run_id);
+  if (skip_s > 0 && s.rows() > 0) {
+    // By the firmware's step count, so decimation and gaps do not shift it.
+    const double rate = run.loop_rate_hz > 0 ? run.loop_rate_hz : 1.0;
+    const uint64_t first = s.step[0] + uint64_t(std::llround(skip_s * rate));
+    size_t rows = 0;
+    while (rows < s.rows() && s.step[rows] < first) ++rows;
+    s = drop_first(std::move(s), rows);
+  }
   std::vector<float> q;
   for (const ParamRecord& p : store.params(run_id)) {
     if (!p.at_start || p.name != "Q") continue;
@@ -61,7 +105,7 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id) {
 
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names = {
-      "rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
+      "rmse", "nrmse", "nrmse_space", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
       "iterations", "samples", "duration", "wall", "gaps", "rmse0", "rmse1", "rmse2"};
   return names;
 }
@@ -75,6 +119,7 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& name)
   };
   if (name == "rmse") return worst(t);
   if (name == "nrmse") return t.nrmse;
+  if (name == "nrmse_space") return m.nrmse_space;
   if (name == "max_error") return t.max_error;
   if (name == "rmse_hat") return worst(m.predicted);
   if (name == "nrmse_hat") return m.predicted.nrmse;

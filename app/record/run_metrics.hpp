@@ -1,6 +1,7 @@
 #pragma once
 // Per-run figures (what `runs show`, `runs compare`, `expect` and `sweep`
 // speak of), computed from recorded samples with app/metrics.
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,6 +18,10 @@ struct RunMetrics {
   bool has_true = false;
   TrackingMetrics truth;      // y_true vs y_ref (when the firmware sends y_true)
   TrackingMetrics predicted;  // y_hat vs y_ref
+  // Worst tracked axis's RMSE over that axis's task-space size (true output
+  // when sent, else predicted): defined for holds and steps too. NaN on a
+  // platform whose task space the console does not know.
+  double nrmse_space = std::numeric_limits<double>::quiet_NaN();
   double loop_rate_hz = 0;    // from step and time stamps; nominal if those are missing
   double compute_p50_us = 0, compute_p99_us = 0;
   double mean_iterations = 0;
@@ -28,11 +33,13 @@ struct RunMetrics {
 // axes weighted ~0 relative to the largest are left out of nrmse/max_error.
 RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps);
 
-// Loads and computes in one go.
-RunMetrics run_metrics(RunStore& store, int64_t run_id);
+// Loads and computes in one go; skip_s leaves out the run's first seconds
+// (a sweep row's settling time) from every figure but the totals of lost
+// frames and gaps.
+RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0);
 
 // The names `expect` and `sweep` accept, and a metric's value by name:
-// rmse (worst axis), rmse0.., nrmse, max_error, rmse_hat, nrmse_hat, lost,
+// rmse (worst axis), rmse0.., nrmse, nrmse_space, max_error, rmse_hat, nrmse_hat, lost,
 // loop_rate, compute_p50, compute_p99, iterations, samples, duration, wall,
 // gaps.
 const std::vector<std::string>& metric_names();

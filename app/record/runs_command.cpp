@@ -2,13 +2,18 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "app/cli_error.hpp"
+#include "app/output_file.hpp"
 #include "app/record/csv_export.hpp"
+#include "app/record/gnuplot.hpp"
+#include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
+#include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
 
@@ -19,8 +24,9 @@ namespace {
 struct RunsArgs {
   std::string db;
   int64_t id = 0, other = 0;
-  std::string csv;
-  bool json = false;
+  std::vector<int64_t> ids;
+  std::string csv, svg, png, label;
+  bool json = false, force = false;
 };
 
 std::unique_ptr<RunStore> open_store(const RunsArgs& a) {
@@ -30,6 +36,9 @@ std::unique_ptr<RunStore> open_store(const RunsArgs& a) {
     throw CliError(e.what());
   }
 }
+
+// Draws a.ids (one run, or two overlaid) to a.svg or a.png with gnuplot.
+void draw(const RunsArgs& a);
 
 std::string rmse_list(const TrackingMetrics& t) {
   std::string s;
@@ -50,6 +59,7 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["tracked"] = m.has_true ? "y_true" : "y_hat";
   j["rmse"] = t.rmse;
   j["nrmse"] = t.nrmse;
+  j["nrmse_space"] = std::isfinite(m.nrmse_space) ? nlohmann::json(m.nrmse_space) : nlohmann::json();
   j["max_error"] = t.max_error;
   j["rmse_hat"] = m.predicted.rmse;
   j["nrmse_hat"] = m.predicted.nrmse;
@@ -67,6 +77,7 @@ void print_metrics(const RunMetrics& m) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
   fmt::print("  tracking ({}): rmse {} nrmse {:.4f} ({:.2f} %) max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
              rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
+  fmt::print("  nrmse_space {:.4f} (worst axis over the rig's task space; defined for holds and steps)\n", m.nrmse_space);
   if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
   fmt::print("  loop {:.1f} Hz, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", m.loop_rate_hz,
              m.compute_p50_us, m.compute_p99_us, m.mean_iterations);
@@ -75,17 +86,56 @@ void print_metrics(const RunMetrics& m) {
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
 }
 
+// "swirl", "table", ...: the kind of the run's reference at its start.
+std::string reference_kind(const std::string& json) {
+  if (json.empty()) return "-";
+  const auto j = nlohmann::json::parse(json, nullptr, false);
+  if (j.is_discarded() || !j.is_object() || !j.contains("kind") || !j["kind"].is_string()) return "?";
+  return j["kind"].get<std::string>();
+}
+
+// The reference a run started with, or, when it started without one, the
+// first one sent during it (logged as a `reference` change).
+std::string reference_of(RunStore& store, const RunRow& r) {
+  if (!r.reference.empty()) return r.reference;
+  for (const ParamRecord& p : store.params(r.id))
+    if (!p.at_start && p.name == "reference") return p.value;
+  return "";
+}
+
 void list(const RunsArgs& a) {
   auto store = open_store(a);
   const auto runs = store->list();
+  if (a.json) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const RunRow& r : runs) {
+      const RunMetrics m = run_metrics(*store, r.id);
+      const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+      nlohmann::json j = {{"id", r.id},           {"started_at", r.started_at}, {"platform", r.platform},
+                          {"label", r.label},     {"samples", r.samples},       {"lost_frames", r.lost_frames},
+                          {"ended_at", r.ended_at}, {"end_reason", r.end_reason}};
+      const std::string ref = reference_of(*store, r);
+      j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
+      j["nrmse"] = std::isfinite(t.nrmse) ? nlohmann::json(t.nrmse) : nlohmann::json();
+      out.push_back(j);
+    }
+    fmt::print("{}\n", out.dump(2));
+    return;
+  }
   if (runs.empty()) {
     fmt::print("no runs recorded yet in {}\n", a.db.empty() ? default_db_path() : a.db);
     return;
   }
-  fmt::print("{:>5}  {:<24} {:<7} {:>9} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "samples", "lost", "label", "ended");
-  for (const RunRow& r : runs)
-    fmt::print("{:>5}  {:<24} {:<7} {:>9} {:>6}  {:<20} {}\n", r.id, r.started_at, r.platform, r.samples, r.lost_frames,
-               r.label, r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+  fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "reference",
+             "samples", "nrmse", "lost", "label", "ended");
+  for (const RunRow& r : runs) {
+    const RunMetrics m = run_metrics(*store, r.id);
+    const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+    fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", r.id, r.started_at.substr(0, 19), r.platform,
+               reference_kind(reference_of(*store, r)), r.samples,
+               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames, r.label,
+               r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+  }
 }
 
 void show(const RunsArgs& a) {
@@ -133,11 +183,19 @@ void show(const RunsArgs& a) {
 
 void export_csv(const RunsArgs& a) {
   auto store = open_store(a);
-  const size_t rows = export_run_csv(*store, a.id, a.csv);
-  fmt::print("run {}: {} samples written to {}\n", a.id, rows, a.csv);
+  const std::string path = a.csv.empty() ? "-" : a.csv;
+  const size_t rows = export_run_csv(*store, a.id, path);
+  // The CSV may be standard output: the report goes where it cannot mix in.
+  fmt::print(stderr, "run {}: {} samples written to {}\n", a.id, rows, path == "-" ? "standard output" : path);
 }
 
 void compare(const RunsArgs& a) {
+  if (!a.svg.empty() && !a.png.empty()) throw CliError("runs compare: give --svg FILE or --png FILE, not both");
+  if (!a.svg.empty() || !a.png.empty()) {
+    RunsArgs both = a;
+    both.ids = {a.id, a.other};
+    draw(both);
+  }
   auto store = open_store(a);
   const RunRow ra = store->run(a.id), rb = store->run(a.other);
   const RunMetrics ma = run_metrics(*store, a.id), mb = run_metrics(*store, a.other);
@@ -177,24 +235,54 @@ void compare(const RunsArgs& a) {
   if (!any) fmt::print("  same parameters at start\n");
 }
 
+void plot(const RunsArgs& a) {
+  if (a.svg.empty() == a.png.empty()) throw CliError("runs plot: give one of --svg FILE or --png FILE");
+  if (a.ids.empty() || a.ids.size() > 2) throw CliError("runs plot: give one run id, or two to overlay");
+  draw(a);
+}
+
+void draw(const RunsArgs& a) {
+  auto store = open_store(a);
+  std::vector<PlottedRun> runs;
+  for (int64_t id : a.ids) runs.push_back(load_plotted_run(*store, id));
+  const bool svg = !a.svg.empty();
+  const std::string image = run_gnuplot(run_plot_script(runs, svg ? ImageFormat::Svg : ImageFormat::Png));
+  const std::string& path = svg ? a.svg : a.png;
+  OutputFile out(path);
+  if (std::fwrite(image.data(), 1, image.size(), out.get()) != image.size())
+    throw CliError(fmt::format("cannot write {}", path));
+  out.commit();
+  if (path != "-")
+    fmt::print(stderr, "{} drawn to {}\n",
+               a.ids.size() > 1 ? fmt::format("runs {} and {}", a.ids[0], a.ids[1]) : fmt::format("run {}", a.ids[0]),
+               path);
+}
+
 }  // namespace
 
 void add_runs_command(CLI::App& app) {
   auto args = std::make_shared<RunsArgs>();
-  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare");
+  CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare, plot, label, delete");
   runs->require_subcommand(1);
   runs->footer(
       "Examples:\n"
       "  nlsoft-console runs list\n"
       "  nlsoft-console runs show 12\n"
       "  nlsoft-console runs export 12 --csv run12.csv\n"
-      "  nlsoft-console runs compare 12 13 --json\n");
+      "  nlsoft-console runs compare 12 13 --json\n"
+      "  nlsoft-console runs compare 12 13 --svg compare.svg\n"
+      "  nlsoft-console runs export 12 > run12.csv\n"
+      "  nlsoft-console runs plot 12 --svg run12.svg\n"
+      "  nlsoft-console runs plot 12 13 --png compare.png\n"
+      "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
+      "  nlsoft-console runs delete 12\n");
   auto db = [&](CLI::App* c) {
     c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
   };
   db(runs);
-  CLI::App* l = runs->add_subcommand("list", "One line per run");
+  CLI::App* l = runs->add_subcommand("list", "One line per run: rig, reference, samples, nRMSE, lost frames, label");
   db(l);
+  l->add_flag("--json", args->json, "Machine-readable output: an array of runs");
   l->callback([args] { list(*args); });
   CLI::App* s = runs->add_subcommand("show", "A run's setup, parameters, gaps and metrics");
   db(s);
@@ -204,14 +292,39 @@ void add_runs_command(CLI::App& app) {
   CLI::App* e = runs->add_subcommand("export", "A run's samples as CSV");
   db(e);
   e->add_option("ID", args->id, "Run id")->required();
-  e->add_option("--csv", args->csv, "Output file")->required();
+  e->add_option("--csv", args->csv, "Output file ('-' or none: standard output)");
   e->callback([args] { export_csv(*args); });
   CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
   db(c);
   c->add_option("A", args->id, "First run id")->required();
   c->add_option("B", args->other, "Second run id")->required();
   c->add_flag("--json", args->json, "Machine-readable output");
+  c->add_option("--svg", args->svg, "Also draw both runs overlaid, as runs plot A B does");
+  c->add_option("--png", args->png, "Also draw both runs overlaid, as a PNG");
   c->callback([args] { compare(*args); });
+  CLI::App* p = runs->add_subcommand(
+      "plot", "Draw a run (or two overlaid): y per axis against the reference, u, the x-y path; needs gnuplot");
+  db(p);
+  p->add_option("ID", args->ids, "Run id; a second id overlays that run (dashed)")->required()->expected(1, 2);
+  p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
+  p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
+  p->callback([args] { plot(*args); });
+  CLI::App* d = runs->add_subcommand("delete", "Delete a run with its samples, parameters, gaps and link events");
+  db(d);
+  d->add_option("ID", args->id, "Run id")->required();
+  d->add_flag("--force", args->force, "Delete an unfinished run too (one a crashed console left open)");
+  d->callback([args] {
+    delete_run(args->db.empty() ? default_db_path() : args->db, args->id, args->force);
+    fmt::print("run {} deleted\n", args->id);
+  });
+  CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
+  db(lb);
+  lb->add_option("ID", args->id, "Run id")->required();
+  lb->add_option("TEXT", args->label, "The label (quote it if it has blanks; \"\" clears it)")->required();
+  lb->callback([args] {
+    label_run(args->db.empty() ? default_db_path() : args->db, args->id, args->label);
+    fmt::print("run {} labelled \"{}\"\n", args->id, args->label);
+  });
 }
 
 }  // namespace nlsoft::console

@@ -145,12 +145,15 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
   };
   // label=TEXT everywhere; early=ok on timed runs, where a run that ends
   // before its duration is otherwise a failure.
-  auto label_options = [&](size_t from, const char* usage, bool timed = false) {
+  auto label_options = [&](size_t from, const char* usage, bool timed = false, bool settles = false) {
     for (size_t i = from; i < t.size(); ++i) {
       std::pair<std::string, std::string> kv;
-      const bool ok = split_option(t[i], kv) && (kv.first == "label" || (timed && kv.first == "early"));
+      const bool ok = split_option(t[i], kv) && (kv.first == "label" || (timed && kv.first == "early") ||
+                                                 (settles && kv.first == "settle"));
       if (!ok) throw fail(fmt::format("'{}': unexpected '{}'; usage: {}", verb, t[i], usage));
-      if (kv.first == "label") {
+      if (kv.first == "settle") {
+        c.settle_s = kv.second == "0" ? 0.0 : duration(kv.second);
+      } else if (kv.first == "label") {
         c.label = kv.second;
       } else if (kv.second == "ok") {
         c.allow_early = true;
@@ -266,7 +269,8 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     c.name = t[1];
     c.values.assign(t.begin() + 2, t.begin() + long(run_at));
     c.seconds = duration(t[run_at + 1]);
-    label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [label=TEXT] [early=ok]", true);
+    label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]", true,
+                  true);
   } else {
     throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
                            "wait expect export echo note sweep",
@@ -312,11 +316,14 @@ const std::vector<std::string>& script_help() {
       "start [label=TEXT] | stop   start or stop a run without a duration",
       "hold | neutral | resume     pause the run, actuators to neutral, continue",
       "wait DURATION               sleep, e.g. wait 500ms",
-      "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost == 0",
+      "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost == 0;",
+      "                            nrmse_space (over the rig's task space) also for holds and steps",
       "export csv FILE             the last run's samples as CSV",
       "echo TEXT                   print TEXT",
       "note TEXT                   attach notes to the current (or last) run",
-      "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics",
+      "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics; each row",
+      "  [settle=DURATION]         restarts the reference from its first point with the actuators",
+      "                            neutral, and is measured after settle (default 1s)",
   };
   return h;
 }

@@ -19,7 +19,7 @@
 //   export csv FILE
 //   echo TEXT
 //   note TEXT                 notes on the current (or last) run
-//   sweep PARAM V1 V2 ... run DURATION [label=TEXT] [early=ok]
+//   sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -55,6 +55,7 @@ struct Command {
   double value = 0;                 // expect
   std::string label;                // run / start / sweep
   bool allow_early = false;         // run / sweep: early=ok
+  double settle_s = 1.0;            // sweep: seconds each row runs before it is measured
 };
 
 struct Script {

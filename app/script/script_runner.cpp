@@ -6,6 +6,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/link/link_error.hpp"
+#include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/run_store.hpp"
@@ -79,12 +80,12 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
       case K::Set: {
         const auto v = console_.set_param(c.name, c.values);
         const ParamInfo info = console_.resolve_param(c.name).first;
-        out_(fmt::format("{} = {}", info.name, format_param_values(info, v)));
+        out_(fmt::format("{} = {}", info.name, format_param_named(info, v)));
         break;
       }
       case K::Get: {
         const auto [info, v] = console_.get_param(c.name);
-        out_(fmt::format("{} = {}{}", info.name, format_param_values(info, v), info.unit.empty() ? "" : " " + info.unit));
+        out_(fmt::format("{} = {}{}", info.name, format_param_named(info, v), info.unit.empty() ? "" : " " + info.unit));
         break;
       }
       case K::ParamsSave:
@@ -186,21 +187,25 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {
   const auto [info, original] = console_.get_param(c.name);
-  std::vector<std::string> header = {c.name, "run", "rmse", "nrmse", "max_error", "lost", "p99_us"};
+  std::vector<std::string> header = {c.name, "run", "samples", "rmse", "nrmse", "nrmse_space", "max_error", "lost", "p99_us"};
   std::vector<std::vector<std::string>> rows;
   std::exception_ptr failure;
   for (const std::string& v : c.values) {
     if (cancelled_.load()) break;
     try {
       console_.set_param(c.name, {v});
+      // RUN_START restarts the reference from its first point with the
+      // actuators neutral, so rows start alike; each runs `settle` longer
+      // and is measured without it.
       const RunSummary s = console_.run_for(
-          c.seconds, c.label.empty() ? fmt::format("sweep {}={}", c.name, v) : c.label,
+          c.settle_s + c.seconds, c.label.empty() ? fmt::format("sweep {}={}", c.name, v) : c.label,
           [&](size_t d, size_t t) {
             if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
           },
           &cancelled_);
-      auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(s.metrics, m).value_or(0)); };
-      rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("rmse"), f("nrmse"),
+      const RunMetrics measured = c.settle_s > 0 ? console_.metrics_of(s.run_id, c.settle_s) : s.metrics;
+      auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(measured, m).value_or(0)); };
+      rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"), f("nrmse_space"),
                       f("max_error"), f("lost"), f("compute_p99")});
       check_completed(s, c, file);
     } catch (...) {
@@ -223,6 +228,9 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
     for (size_t i = 0; i < r.size(); ++i) s += fmt::format("{:>{}}  ", r[i], w[i]);
     out_(s);
   };
+  out_(fmt::format("each row: the reference restarted from its first point, actuators from neutral; {}",
+                   c.settle_s > 0 ? fmt::format("measured over {:g} s after {:g} s to settle", c.seconds, c.settle_s)
+                                  : fmt::format("measured over all {:g} s", c.seconds)));
   line(header);
   for (const auto& r : rows) line(r);
   out_(fmt::format("{} restored to {}", info.name, format_param_values(info, original)));

@@ -14,7 +14,16 @@ void LineEdit::start(std::string prompt, std::string initial) {
 }
 
 LineEdit::Result LineEdit::key(int ch) {
+  choices_.clear();
   switch (ch) {
+    case '\t':
+      if (completer_) {
+        auto [done, choices] = completer_(text_.substr(0, cursor_));
+        text_ = done + text_.substr(cursor_);
+        cursor_ = done.size();
+        for (const std::string& c : choices) choices_ += (choices_.empty() ? "" : " ") + c;
+      }
+      break;
     case '\n':
     case '\r':
     case KEY_ENTER:
@@ -76,7 +85,7 @@ LineEdit::Result LineEdit::key(int ch) {
 
 void LineEdit::draw(int y, int x, int width, int attr) const {
   fill_row(y, x, width, attr);
-  const std::string all = prompt_ + text_;
+  const std::string all = prompt_ + text_ + (choices_.empty() ? "" : "   [" + choices_ + "]");
   const size_t cur = prompt_.size() + cursor_;
   // Scroll so the cursor stays in view.
   const size_t first = cur >= size_t(width) ? cur - size_t(width) + 1 : 0;

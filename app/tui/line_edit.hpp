@@ -1,6 +1,8 @@
 #pragma once
 // A one-line editor for the `:` prompt and in-place edits: arrows, Home/End,
-// Backspace/Delete, Ctrl-U (clear), Ctrl-W (word), history with Up/Down.
+// Backspace/Delete, Ctrl-U (clear), Ctrl-W (word), history with Up/Down,
+// Tab completion when given a completer.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,10 @@ class LineEdit {
   // Draws prompt + text on row y, cursor visible.
   void draw(int y, int x, int width, int attr) const;
   void set_history(std::vector<std::string>* h) { history_ = h; }
+  // Tab: given the text left of the cursor, returns it completed and, when
+  // the word is still ambiguous, the choices (shown after the text).
+  using Completer = std::function<std::pair<std::string, std::vector<std::string>>(const std::string&)>;
+  void set_completer(Completer c) { completer_ = std::move(c); }
 
  private:
   std::string prompt_, text_;
@@ -25,6 +31,8 @@ class LineEdit {
   bool active_ = false;
   std::vector<std::string>* history_ = nullptr;
   size_t hist_pos_ = 0;
+  Completer completer_;
+  std::string choices_;  // after an ambiguous Tab, until the next key
 };
 
 }  // namespace nlsoft::console::tui

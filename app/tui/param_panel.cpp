@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include "app/cli_error.hpp"
+#include "app/link/link_error.hpp"
+#include "app/live/param_text.hpp"
 #include "app/tui/curses.hpp"
 
 namespace nlsoft::console::tui {
@@ -66,6 +68,9 @@ void ParamPanel::send(size_t row, const std::vector<double>& values, bool record
       bool same = true;
       for (size_t i = 0; i < now.size() && i < values.size(); ++i) same &= float(now[i]) == float(values[i]);
       note = same ? "applied" : "applied as " + format_param_values(info, now);
+    } catch (const LinkError& e) {
+      state = State::Unconfirmed;
+      note = std::string("not confirmed, R rereads: ") + e.what();
     } catch (const std::exception& e) {
       state = State::Refused;
       note = e.what();
@@ -76,7 +81,8 @@ void ParamPanel::send(size_t row, const std::vector<double>& values, bool record
     rows_[row].state = state;
     rows_[row].note = note;
     if (state == State::Applied && record_undo) undo_.emplace_back(row, before);
-    ui_.message(fmt::format("{}: {}", info.name, note), state == State::Applied ? Role::Ok : Role::Error);
+    ui_.message(fmt::format("{}: {}", info.name, note),
+                state == State::Applied ? Role::Ok : state == State::Unconfirmed ? Role::Warn : Role::Error);
   });
 }
 
@@ -162,7 +168,7 @@ bool ParamPanel::key(int ch) {
         info = rows_[selected_].info;
       }
       try {
-        send(selected_, parse_param_values(info, tokens), true);
+        send(selected_, parse_param_values(info, expand_param_tokens(info, tokens)), true);
       } catch (const CliError& e) {
         std::lock_guard<std::mutex> lock(mu_);
         rows_[selected_].state = State::Refused;
@@ -218,6 +224,47 @@ bool ParamPanel::key(int ch) {
   return false;
 }
 
+namespace {
+
+// Words of `text` in lines of at most `w` columns (ASCII text).
+std::vector<std::string> wrap(const std::string& text, int w) {
+  std::vector<std::string> lines;
+  std::string line, word;
+  auto flush_word = [&] {
+    if (word.empty()) return;
+    if (!line.empty() && int(line.size() + 1 + word.size()) > w) lines.push_back(line), line.clear();
+    line += (line.empty() ? "" : " ") + word;
+    word.clear();
+  };
+  for (char c : text) {
+    if (c == ' ') flush_word();
+    else word += c;
+  }
+  flush_word();
+  if (!line.empty()) lines.push_back(line);
+  return lines;
+}
+
+}  // namespace
+
+void ParamPanel::draw_details(const Screen& screen, const Row& r, int y, int x, int h, int w) {
+  std::vector<std::pair<std::string, Role>> lines;
+  const std::string what = param_description(r.info.name);
+  for (const auto& l : wrap(r.info.name + ": " + (what.empty() ? "(no description for this parameter)" : what), w - 2))
+    lines.emplace_back(l, Role::Normal);
+  for (const auto& l : wrap(param_range_text(r.info), w - 2)) lines.emplace_back(l, Role::Dim);
+  if (r.state == State::Refused || r.state == State::Unconfirmed || r.state == State::Reset) {
+    const std::string head = r.state == State::Refused ? "refused: " : "";
+    for (const auto& l : wrap(head + r.note, w - 2))
+      lines.emplace_back(l, r.state == State::Refused ? Role::Error : Role::Warn);
+  }
+  attrset(screen.attr(Role::Border));
+  mvhline(y, x, screen.utf8() ? ACS_HLINE : '-', w);
+  attrset(A_NORMAL);
+  for (int i = 0; i + 1 < h && size_t(i) < lines.size(); ++i)
+    put(y + 1 + i, x + 1, lines[size_t(i)].first, w - 2, screen.attr(lines[size_t(i)].second));
+}
+
 void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focused) {
   std::lock_guard<std::mutex> lock(mu_);
   put(y, x, fmt::format(" Parameters ({}) ", rows_.size()), w, screen.attr(focused ? Role::Title : Role::KeyName));
@@ -226,7 +273,10 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
     put(y + 2, x + 1, "reading the firmware's parameter list...", w - 2, screen.attr(Role::Dim));
     return;
   }
-  const int body = h - 3;  // title, hint line, one spare for the edit
+  // The selected row's details take the lines above the hint when there is
+  // room for them and a few rows of the list.
+  const int details = h >= 14 ? 6 : 0;
+  const int body = h - 3 - details;  // title, hint line, one spare for the edit
   if (body <= 0) return;
   if (selected_ < top_) top_ = selected_;
   if (selected_ >= top_ + size_t(body)) top_ = selected_ - size_t(body) + 1;
@@ -242,7 +292,7 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
       edit_.draw(ry, x + 1 + name_w, w - 2 - name_w, screen.attr(Role::Selected));
       continue;
     }
-    std::string value = format_param_values(r.info, r.value);
+    std::string value = format_param_named(r.info, r.value);
     if (!r.info.unit.empty()) value += " " + r.info.unit;
     std::string mark;
     Role role = Role::Normal;
@@ -251,6 +301,7 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
       case State::Pending: mark = " pending " + r.note; role = Role::Pending; break;
       case State::Applied: mark = " " + r.note; role = Role::Ok; break;
       case State::Refused: mark = " refused: " + r.note; role = Role::Error; break;
+      case State::Unconfirmed: mark = " not confirmed (no reply)"; role = Role::Warn; break;
       case State::Reset: mark = " " + r.note; role = Role::Warn; break;
     }
     const int vw = std::max(0, w - 2 - name_w);
@@ -258,6 +309,7 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
     const int used = std::min(vw, int(value.size()));
     if (!mark.empty()) put(ry, x + 1 + name_w + used, mark, vw - used, screen.attr(role));
   }
+  if (details > 0 && selected_ < rows_.size()) draw_details(screen, rows_[selected_], y + h - 1 - details, x, details, w);
   put(y + h - 1, x, "Enter edit  u undo  S/L save/load  R reread  A reapply", w, screen.attr(Role::Dim));
 }
 

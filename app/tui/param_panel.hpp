@@ -4,6 +4,8 @@
 // value the firmware echoed) or refused (its reason); u undoes the last
 // applied edit; S saves the set to a file, L loads one after showing the diff;
 // after a firmware reset the rows it changed are marked and A re-applies.
+// Below the list, the selected parameter explains itself: what it does, its
+// range and unit (or its options), and the whole of a refusal.
 #include <mutex>
 #include <string>
 #include <vector>
@@ -30,13 +32,16 @@ class ParamPanel {
   bool editing() const { return edit_.active(); }
 
  private:
-  enum class State { Idle, Pending, Applied, Refused, Reset };
+  // Unconfirmed: no reply (a timeout, the link down): the firmware may or
+  // may not have taken the value, so it is not called a refusal.
+  enum class State { Idle, Pending, Applied, Refused, Unconfirmed, Reset };
   struct Row {
     ParamInfo info;
     std::vector<double> value;
     State state = State::Idle;
     std::string note;  // refusal reason, or what was sent while pending
   };
+  void draw_details(const Screen& screen, const Row& r, int y, int x, int h, int w);
   void send(size_t row, const std::vector<double>& values, bool record_undo);
   void fetch(bool after_reset);
   void reapply();

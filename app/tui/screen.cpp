@@ -78,6 +78,12 @@ int Screen::attr(Role r) const {
   return A_NORMAL;
 }
 
+int Screen::series_attr(int i) const {
+  if (!colour_) return A_NORMAL;
+  static const short kPairs[] = {3, 4, 2, 9, 6, 8};
+  return int(COLOR_PAIR(kPairs[size_t(i) % (sizeof(kPairs) / sizeof(kPairs[0]))]));
+}
+
 int Screen::rows() const { return LINES; }
 int Screen::cols() const { return COLS; }
 

@@ -21,6 +21,9 @@ class Screen {
   bool colour() const { return colour_; }
   // Attribute for a role: a colour pair, or bold/reverse/dim in monochrome.
   int attr(Role r) const;
+  // Attribute of the i-th trace of a plot with several of one kind (u0, u1,
+  // ...): colours in turn; plain in monochrome, where glyphs tell them apart.
+  int series_attr(int i) const;
   int rows() const;
   int cols() const;
 

@@ -7,9 +7,12 @@
 #include <deque>
 #include <mutex>
 
+#include "app/record/run_store.hpp"
 #include "app/script/script_runner.hpp"
+#include "app/tui/completion.hpp"
 #include "app/tui/curses.hpp"
 #include "app/tui/line_edit.hpp"
+#include "app/tui/message_log.hpp"
 #include "app/tui/param_panel.hpp"
 #include "app/tui/plot_view.hpp"
 #include "app/tui/ref_panel.hpp"
@@ -30,13 +33,18 @@ constexpr int kMinCols = 60, kMinRows = 16;
 const char* const kHelp[] = {
     "nlsoft-console keys",
     "",
-    "  F1 ?      this help (any key closes it)",
+    "  F1 ?      this help (any key closes it; Esc, ?, F1, q, Enter or Space only close)",
     "  F2 F3 F4  focus parameters / reference / runs (Tab cycles)",
+    "  F9        messages with their times (Up/Down/PgUp scroll back); also in <db>.session.log",
     "  F5        start a run (recorded)     F6  stop the run",
     "  F7        hold / resume              F8  actuators neutral",
     "  v         time plots <-> 2-D path    x   change the path's axes",
-    "  + -       longer / shorter time window",
-    "  :         command line: the script commands (set, get, ref, run, expect, ...)",
+    "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
+    "  :overlay ID  a recorded run under the live plot ('o'); :overlay off",
+    "  + -       zoom in (shorter window) / out",
+    "  Space     pause the plot (recording goes on)   [ ]  scroll back / forward",
+    "  :         command line: the script commands (set, get, ref, run, expect, ...);",
+    "            Tab completes commands, parameter names and options",
     "  q F10     quit (asks first while a run is active)",
     "",
     "Parameters: Up/Down select, Enter edit in place (Esc cancels), u undo,",
@@ -51,15 +59,26 @@ class App : public Ui {
   App(LiveConsole& console, Screen& screen)
       : console_(console),
         screen_(screen),
+        log_(session_log_path(console.db_path())),
         worker_([this](const std::string& s) { message(s, Role::Error); }),
         params_(console, worker_, *this),
         refs_(console, worker_, *this),
         runs_(console, worker_, *this),
         runner_(console, [this](const std::string& s) { message(s); }) {
     cmd_.set_history(&history_);
+    cmd_.set_completer([this](const std::string& left) {
+      // The same editor asks for file names (S, L): those are not commands.
+      if (cmd_.prompt() != ":") return std::make_pair(left, std::vector<std::string>{});
+      std::vector<std::string> names;
+      for (const ParamInfo& p : console_.device().catalog()->all()) names.push_back(p.name);
+      Completion c = complete_command(left, names);
+      return std::make_pair(c.text, c.candidates);
+    });
     console_.set_notify([this](const std::string& s) { message(s, Role::Warn); });
     params_.reload();
     runs_.reload();
+    if (const UdpStream* u = console_.udp())
+      message(fmt::format("streaming every telemetry sample to {} (UDP, JSON)", u->target()), Role::Ok);
     const auto info = console_.device().info();
     message(fmt::format("connected to {} {}.{}.{}: F5 starts a run, F1 help", info.firmware, info.fw_major,
                         info.fw_minor, info.fw_patch),
@@ -69,11 +88,7 @@ class App : public Ui {
 
   int loop();
 
-  void message(const std::string& text, Role role = Role::Normal) override {
-    std::lock_guard<std::mutex> lock(log_mu_);
-    log_.push_back({text, role});
-    if (log_.size() > 200) log_.pop_front();
-  }
+  void message(const std::string& text, Role role = Role::Normal) override { log_.add(text, role); }
   void prompt(const std::string& label, const std::string& initial,
               std::function<void(const std::string&)> done) override {
     std::lock_guard<std::mutex> lock(ui_mu_);
@@ -89,7 +104,7 @@ class App : public Ui {
   }
 
  private:
-  enum class Focus { Params, Ref, Runs };
+  enum class Focus { Params, Ref, Runs, Log };
   struct PromptRequest {
     std::string label, initial;
     std::function<void(const std::string&)> done;
@@ -104,10 +119,20 @@ class App : public Ui {
   void start_run();
   void stop_run();
   void command(const std::string& line);
+  void plot_command(const std::string& args);
+  void overlay_command(const std::string& args);
+  void pause_plot(bool on);
+  void scroll_plot(double windows);
+  void draw_plot_status(int y, int w);
+  double step_rate();  // control steps per second, measured when known
   void shutdown();
 
   LiveConsole& console_;
   Screen& screen_;
+  // Before the worker: its error reports are messages. Any thread may add
+  // to it until shutdown() has joined the worker and detached the notify.
+  MessageLog log_;
+  size_t log_back_ = 0;  // log pane: entries scrolled back from the newest
   // Worker tasks use every member below and message() (log_); the worker
   // is therefore stopped and joined in shutdown(), before any member is
   // destroyed, whatever the declaration order.
@@ -120,12 +145,20 @@ class App : public Ui {
   bool path_view_ = false, help_ = false;
   int ax_ = 0, ay_ = 1;
   double window_s_ = 10;
+  PlotSignal signal_ = PlotSignal::Y;
+  // A paused plot draws from a copy taken at the pause, so the view holds
+  // still while telemetry (and the recording) goes on; end_step_ is its
+  // right edge, moved by [ and ].
+  // `:overlay ID`: a recorded run under the live plot, loaded by the worker.
+  std::shared_ptr<const RunSeries> overlay_;  // under ui_mu_
+  int64_t overlay_id_ = 0;                    // under ui_mu_
+  bool paused_ = false;
+  std::vector<Sample> frozen_;
+  int64_t end_step_ = -1;
   LineEdit cmd_;  // ':' line and prompts share the message row
   std::vector<std::string> history_;
   std::function<void(const std::string&)> prompt_done_;
 
-  std::mutex log_mu_;
-  std::deque<std::pair<std::string, Role>> log_;
   std::mutex ui_mu_;
   bool has_pending_prompt_ = false;
   PromptRequest pending_prompt_;
@@ -196,6 +229,14 @@ void App::command(const std::string& line) {
     help_ = true;
     return;
   }
+  if (line == "plot" || line.rfind("plot ", 0) == 0) {
+    plot_command(line.substr(4));
+    return;
+  }
+  if (line == "overlay" || line.rfind("overlay ", 0) == 0) {
+    overlay_command(line.substr(7));
+    return;
+  }
   if (line == "q" || line == "quit") {
     handle('q');
     return;
@@ -217,6 +258,82 @@ void App::command(const std::string& line) {
   }
 }
 
+void App::plot_command(const std::string& args) {
+  const size_t a = args.find_first_not_of(' ');
+  const std::string name = a == std::string::npos ? "" : args.substr(a, args.find_last_not_of(' ') - a + 1);
+  PlotSignal s;
+  if (name.empty()) {
+    message(fmt::format("plot SIGNAL: {} (now {}; p cycles)", plot_signal_names(), plot_signal_name(signal_)), Role::Warn);
+  } else if (!plot_signal_from_name(name, &s)) {
+    message(fmt::format("plot: '{}' is not a signal; use {}", name, plot_signal_names()), Role::Error);
+  } else {
+    signal_ = s;
+    path_view_ = false;
+  }
+}
+
+void App::overlay_command(const std::string& args) {
+  const size_t a = args.find_first_not_of(' ');
+  const std::string arg = a == std::string::npos ? "" : args.substr(a, args.find_last_not_of(' ') - a + 1);
+  if (arg == "off") {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    overlay_.reset();
+    overlay_id_ = 0;
+    message("overlay removed");
+    return;
+  }
+  char* end = nullptr;
+  const long long id = std::strtoll(arg.c_str(), &end, 10);
+  if (arg.empty() || *end != '\0' || id <= 0) {
+    message("overlay ID: a recorded run under the live plot (F4 lists them); overlay off removes it", Role::Error);
+    return;
+  }
+  worker_.post(fmt::format("loading run {}", id), [this, id] {
+    try {
+      RunStore store(console_.db_path());
+      const RunRow row = store.run(id);
+      auto series = std::make_shared<const RunSeries>(store.series(id));
+      {
+        std::lock_guard<std::mutex> lock(ui_mu_);
+        overlay_ = std::move(series);
+        overlay_id_ = id;
+      }
+      message(fmt::format("overlay: run {}{} under the live plot, step for step from its start ('o'); overlay off "
+                          "removes it",
+                          id, row.label.empty() ? "" : " (" + row.label + ")"),
+              Role::Ok);
+    } catch (const std::exception& e) {
+      message(std::string("overlay: ") + e.what(), Role::Error);
+    }
+  });
+}
+
+double App::step_rate() {
+  const double r = console_.session().stats().loop_rate_hz;
+  return r > 0 ? r : std::max(1.0, console_.loop_rate_hz());
+}
+
+void App::pause_plot(bool on) {
+  paused_ = on;
+  if (on) {
+    frozen_ = console_.live().snapshot(LiveConsole::kLiveSamples);
+    end_step_ = frozen_.empty() ? -1 : int64_t(frozen_.back().step);
+  } else {
+    frozen_.clear();
+    end_step_ = -1;
+  }
+}
+
+// Moves the paused view by a number of windows, within what was kept.
+void App::scroll_plot(double windows) {
+  if (!paused_) pause_plot(true);
+  if (frozen_.empty()) return;
+  const double window = window_s_ * step_rate();
+  // Back until the oldest sample kept is at the right edge.
+  const int64_t first = int64_t(frozen_.front().step), last = int64_t(frozen_.back().step);
+  end_step_ = std::max(first, std::min(last, end_step_ + int64_t(std::llround(windows * window))));
+}
+
 bool App::handle(int ch) {
   if (ch == KEY_RESIZE) return true;
   {
@@ -235,8 +352,10 @@ bool App::handle(int ch) {
     }
   }
   if (help_) {
+    // Any key closes the help; one that means something else is then
+    // handled as if the help had not been open.
     help_ = false;
-    return true;
+    if (ch == 27 || ch == '?' || ch == KEY_F(1) || ch == 'q' || ch == '\n' || ch == '\r' || ch == ' ') return true;
   }
   if (cmd_.active()) {
     const auto r = cmd_.key(ch);
@@ -273,6 +392,10 @@ bool App::handle(int ch) {
     case KEY_F(4):
       focus_ = Focus::Runs;
       runs_.reload();
+      return true;
+    case KEY_F(9):
+      focus_ = Focus::Log;
+      log_back_ = 0;
       return true;
     case '\t':
       if (focus_ != Focus::Ref) {
@@ -322,13 +445,30 @@ bool App::handle(int ch) {
       if (ay_ == ax_) ax_ = (ax_ + 1) % n, ay_ = (ax_ + 1) % n;
       return true;
     }
-    case '+': window_s_ = std::min(120.0, window_s_ * 2); return true;
-    case '-': window_s_ = std::max(0.25, window_s_ / 2); return true;
+    case '+': window_s_ = std::max(0.25, window_s_ / 2); return true;
+    case '-': window_s_ = std::min(120.0, window_s_ * 2); return true;
+    case 'p':
+      signal_ = next_plot_signal(signal_);
+      path_view_ = false;
+      return true;
+    case ' ': pause_plot(!paused_); return true;
+    case '[': scroll_plot(-0.5); return true;
+    case ']': scroll_plot(0.5); return true;
   }
   switch (focus_) {
     case Focus::Params: params_.key(ch); break;
     case Focus::Ref: refs_.key(ch); break;
     case Focus::Runs: runs_.key(ch); break;
+    case Focus::Log: {
+      const size_t page = size_t(std::max(1, screen_.rows() - 8));
+      if (ch == KEY_UP || ch == 'k') ++log_back_;
+      else if (ch == KEY_DOWN || ch == 'j') log_back_ = log_back_ > 0 ? log_back_ - 1 : 0;
+      else if (ch == KEY_PPAGE) log_back_ += page;
+      else if (ch == KEY_NPAGE) log_back_ = log_back_ > page ? log_back_ - page : 0;
+      else if (ch == KEY_END) log_back_ = 0;
+      log_back_ = std::min(log_back_, log_.size());
+      break;
+    }
   }
   return true;
 }
@@ -355,11 +495,8 @@ void App::draw_message_line(int y, int w) {
     return;
   }
   fill_row(y, 0, w, 0);
-  std::pair<std::string, Role> last{"", Role::Normal};
-  {
-    std::lock_guard<std::mutex> lock(log_mu_);
-    if (!log_.empty()) last = log_.back();
-  }
+  const MessageLog::Entry e = log_.last();
+  const std::pair<std::string, Role> last{e.text, e.role};
   const std::string busy = worker_.busy();
   const std::string right = busy.empty() ? "" : "[" + busy + "...]";
   put(y, 0, last.first, w - int(right.size()) - 1, screen_.attr(last.second));
@@ -380,17 +517,49 @@ void App::draw_confirm(int rows, int cols) {
   put(y0 + h - 1, x0 + 1, "y: yes   n/Esc: no", w - 2, screen_.attr(Role::Selected) | A_BOLD);
 }
 
+namespace {
+
+// A help line in pieces of at most `width` columns; continuations are
+// indented to `indent` (the column where the line's description starts).
+std::vector<std::string> wrap_help(const std::string& line, int width, size_t indent) {
+  std::vector<std::string> out;
+  std::string rest = line;
+  while (int(rest.size()) > width && width > int(indent) + 10) {
+    size_t cut = rest.rfind(' ', size_t(width));
+    if (cut == std::string::npos || cut <= indent) cut = size_t(width);
+    out.push_back(rest.substr(0, cut));
+    const size_t next = rest.find_first_not_of(' ', cut);
+    rest = std::string(indent, ' ') + (next == std::string::npos ? "" : rest.substr(next));
+  }
+  out.push_back(rest);
+  return out;
+}
+
+}  // namespace
+
+// Long lines wrap to the overlay's width, so it reads on 80 columns.
 void App::draw_help(int rows, int cols) {
-  const int n = int(sizeof(kHelp) / sizeof(kHelp[0]));
-  const auto& script = script_help();
-  const int h = std::min(rows - 2, n + int(script.size()) + 3);
   const int w = std::min(cols - 2, 100);
+  std::vector<std::pair<std::string, bool>> lines;  // text, bold
+  for (const char* l : kHelp)
+    for (const auto& piece : wrap_help(l, w - 2, 12)) lines.emplace_back(piece, false);
+  lines.emplace_back("Commands (':' line and --script files):", true);
+  for (const auto& l : script_help())
+    for (const auto& piece : wrap_help("  " + l, w - 2, 30)) lines.emplace_back(piece, false);
+  const int h = std::min(rows - 2, int(lines.size()));
   const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
   for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
-  int y = y0;
-  for (int i = 0; i < n && y < y0 + h; ++i) put(y++, x0 + 1, kHelp[i], w - 2, screen_.attr(Role::Selected));
-  if (y < y0 + h) put(y++, x0 + 1, "Commands (':' line and --script files):", w - 2, screen_.attr(Role::Selected) | A_BOLD);
-  for (size_t i = 0; i < script.size() && y < y0 + h; ++i) put(y++, x0 + 3, script[i], w - 4, screen_.attr(Role::Selected));
+  for (int i = 0; i < h; ++i)
+    put(y0 + i, x0 + 1, lines[size_t(i)].first, w - 2, screen_.attr(Role::Selected) | (lines[size_t(i)].second ? A_BOLD : 0));
+}
+
+void App::draw_plot_status(int y, int w) {
+  std::string text = fmt::format(" {} | window {:g} s | ", plot_signal_name(signal_), window_s_);
+  if (paused_ && end_step_ >= 0)
+    text += fmt::format("PAUSED at {:.2f} s  (Space live, [ ] scroll, +/- zoom)", double(end_step_) / step_rate());
+  else
+    text += "live  (p signal, Space pause, +/- zoom, v path)";
+  put(y, 0, text, w, screen_.attr(paused_ ? Role::Warn : Role::Dim));
 }
 
 void App::draw() {
@@ -407,12 +576,31 @@ void App::draw() {
   const int right_w = std::max(40, cols * 2 / 5);
   const int left_w = cols - right_w - 1;
   const int main_h = rows - 4;
-  const double rate = console_.session().stats().loop_rate_hz > 0 ? console_.session().stats().loop_rate_hz
-                                                                   : console_.loop_rate_hz();
-  const auto samples = console_.live().snapshot(16384);
-  if (path_view_) draw_path_view(screen_, 1, 0, main_h, left_w, samples, ax_, ay_);
-  else draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, window_s_ * std::max(1.0, rate));
-  if (!path_view_) put(rows - 4, 0, fmt::format(" window {:g} s  (+/- zoom, v path view)", window_s_), left_w, screen_.attr(Role::Dim));
+  const double rate = step_rate();
+  TimeView view;
+  view.signal = signal_;
+  view.window_steps = window_s_ * rate;
+  view.rate_hz = rate;
+  view.end_step = paused_ ? end_step_ : -1;
+  std::shared_ptr<const RunSeries> overlay;
+  {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    overlay = overlay_;
+    view.overlay_id = overlay_id_;
+  }
+  view.overlay = overlay.get();
+  // Live, only the window is copied (at most one sample per step).
+  const std::vector<Sample> live =
+      paused_ ? std::vector<Sample>{} : console_.live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));
+  const std::vector<Sample>& samples = paused_ ? frozen_ : live;
+  if (path_view_) {
+    // The newest 4096 samples make the shape; copying all that is kept
+    // 25 times a second would cost 100 MB/s for nothing visible.
+    draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.live().snapshot(4096), ax_, ay_);
+  } else {
+    draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, view);
+    draw_plot_status(rows - 4, left_w);
+  }
   attrset(screen_.attr(Role::Border));
   mvvline(1, left_w, screen_.utf8() ? ACS_VLINE : '|', main_h);
   attrset(A_NORMAL);
@@ -421,6 +609,7 @@ void App::draw() {
     case Focus::Params: params_.draw(screen_, 1, rx, main_h, right_w, true); break;
     case Focus::Ref: refs_.draw(screen_, 1, rx, main_h, right_w, true); break;
     case Focus::Runs: runs_.draw(screen_, 1, rx, main_h, right_w, true); break;
+    case Focus::Log: log_.draw(screen_, 1, rx, main_h, right_w, true, log_back_); break;
   }
   draw_message_line(rows - 3, cols);
   draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());

@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "app/link/sim_launcher.hpp"
 #include "app/live/reference_table.hpp"
@@ -122,6 +123,35 @@ TEST_F(ConsoleE2E, SweepPrintsATablePerSetting) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("Q0  run"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("Q restored to 1"), std::string::npos) << r.output;
+}
+
+// Rows are comparable: each starts the reference over with the actuators
+// neutral and is measured after a stated settling time, which the table says.
+TEST_F(ConsoleE2E, SweepRowsSettleBeforeTheyAreMeasured) {
+  const auto r = run_script("ref steps\nsweep Q0 1 1000 run 300ms settle=200ms\n", "msd");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("each row: the reference restarted from its first point, actuators from neutral; measured "
+                          "over 0.3 s after 0.2 s to settle"),
+            std::string::npos)
+      << r.output;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 2u);
+  for (const RunRow& run : runs) {
+    EXPECT_GE(run.samples, 500u) << "settle + measured time recorded";
+    // The table's samples column counts only the measured part (~300 at 1 kHz).
+    long measured = -1;
+    std::istringstream lines(r.output);
+    for (std::string line; std::getline(lines, line);) {
+      std::istringstream words(line);
+      std::string value, id, samples;
+      if (words >> value >> id >> samples && id == std::to_string(run.id)) measured = std::atol(samples.c_str());
+    }
+    EXPECT_GT(measured, 250) << r.output;
+    EXPECT_LT(measured, 400) << r.output;
+  }
+  EXPECT_NE(run_script("sweep Q0 1 2 run 1s settle=soon\n", "msd").output.find("'soon' is not a duration"),
+            std::string::npos);
 }
 
 // Disk full, as a file-size limit makes it (SIGXFSZ ignored, so writes fail

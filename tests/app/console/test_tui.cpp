@@ -61,6 +61,15 @@ class Tmux {
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
+// The line of the screen that holds `what` ("" if none).
+std::string line_with(const std::string& screen, const std::string& what) {
+  const size_t at = screen.find(what);
+  if (at == std::string::npos) return "";
+  const size_t start = screen.rfind('\n', at);
+  const size_t b = start == std::string::npos ? 0 : start + 1;
+  return screen.substr(b, screen.find('\n', at) - b);
+}
+
 // A row of the parameter panel: the name is printed padded to 12 columns.
 std::string param_row(const std::string& screen, const std::string& name) {
   std::string padded = name;
@@ -93,7 +102,9 @@ TEST(ConsoleTui, PlotsDrawAndAnEditedParameterShowsApplied) {
 
   t.keys("F5");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && has_braille(x); }, s)) << s;
-  EXPECT_TRUE(contains(s, "y0  \u2501 ref \u2501 hat \u2501 true")) << s;
+  EXPECT_TRUE(contains(s, "y0  \u2501 ref ")) << s;
+  EXPECT_TRUE(contains(line_with(s, "y0  \u2501 ref "), "\u2501 hat ")) << s;
+  EXPECT_TRUE(contains(line_with(s, "y0  \u2501 ref "), "\u2501 true ")) << s;
 
   // Down to r (Q, Lambda, s, b, r), edit in place, type 500.
   t.keys("Down Down Down Down Enter C-u 500 Enter");
@@ -131,7 +142,7 @@ TEST(ConsoleTui, AsciiFallbackAndResize) {
   std::string s;
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters ("); }, s)) << s;
   t.keys("F5");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && contains(x, "y0  . ref + hat * true"); }, s)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && contains(x, "y0  . ref ") && contains(x, " + hat ") && contains(x, " * true "); }, s)) << s;
   EXPECT_FALSE(has_braille(s)) << s;
   run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 50 -y 12");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "terminal too small"); }, s)) << s;
@@ -231,6 +242,208 @@ TEST(ConsoleTui, AFirmwareResetIsMarkedInThePanelAndAReappliesTheEdits) {
                                                            !contains(param_row(x, "r"), "reset, was"); },
                          s))
       << s;
+  t.keys("q");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// Tuning needs the quantities the knobs act on: u for every actuator, the
+// cost, the Newton iterations and the compute time, chosen with p or :plot;
+// without colour each trace has its own glyph, named in a legend that reads
+// out its value; the time axis is labelled in seconds; Space freezes the
+// view while the run records on, [ scrolls back, + zooms in.
+TEST(ConsoleTui, PlotSignalsWithoutColourPauseScrollAndZoom) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + dir.file("runs.db"),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NO_COLOR=1 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  t.keys("F5");
+  // Monochrome: glyphs, not look-alike braille, and each with its value.
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "RUNNING") && contains(x, "y0  . ref ") && contains(x, " + hat ") && contains(x, " * true ") &&
+           contains(line_with(x, "y0  . ref"), "err ");
+  }, s)) << s;
+  EXPECT_TRUE(contains(s, " y | window 10 s | live")) << s;
+  // The time axis: seconds of the run under the plots.
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "0s") && contains(x, "2s"); }, s)) << s;
+
+  t.keys("p");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " u | window") && contains(x, "u5 "); }, s)) << s;
+  EXPECT_TRUE(contains(s, "u0 ")) << s;
+  for (const auto& [name, legend] : std::vector<std::pair<std::string, std::string>>{
+           {"cost", "cost  "}, {"iter", "iterations "}, {"compute", "us/step "}}) {
+    t.keys(shell_quote(":plot " + name) + " Enter");
+    const std::string status = " " + name + " | window";
+    ASSERT_TRUE(t.wait_for([&](const std::string& x) { return contains(x, status) && contains(x, legend); }, s))
+        << name << "\n" << s;
+  }
+  t.keys(shell_quote(":plot J") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "plot: 'J' is not a signal; use y, u, cost, iter or compute");
+  }, s)) << s;
+  t.keys(shell_quote(":plot y") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " y | window 10 s"); }, s)) << s;
+
+  t.keys("+");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "window 5 s"); }, s)) << s;
+
+  // Paused: the readout holds still while the run goes on recording.
+  t.keys("Space");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "PAUSED at "); }, s)) << s;
+  const std::string frozen = line_with(s, "y0  . ref");
+  const std::string paused_at = line_with(s, "PAUSED at ");
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  s = t.screen();
+  EXPECT_EQ(line_with(s, "y0  . ref"), frozen) << s;
+  EXPECT_TRUE(contains(s, "RUNNING")) << s;
+  t.keys("[");
+  ASSERT_TRUE(t.wait_for([&](const std::string& x) {
+    return contains(x, "PAUSED at ") && line_with(x, "PAUSED at ") != paused_at;
+  }, s)) << s;
+  t.keys("Space");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "| live"); }, s)) << s;
+  t.keys("F6");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
+  t.keys("q");
+}
+
+// The selected parameter explains itself before anything is sent: what it
+// does, its range and unit, or its options; options go by name, one value
+// sets every element, and a refusal is shown whole.
+TEST(ConsoleTui, ParametersExplainThemselvesAndTakeNamesAndOneValueForAll) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + dir.file("runs.db"),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Q: tracking weight per output"); }, s)) << s;
+  t.keys("Down");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "Lambda: weight on input changes") && contains(x, "range [0, 1e+12] 1/u^2, 6 values");
+  }, s)) << s;
+
+  t.keys(shell_quote(":set Lambda 0.5") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(param_row(x, "Lambda"), "0.5 0.5 0.5 0.5 0.5 0.5");
+  }, s)) << s;
+  t.keys(shell_quote(":set mode fd") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "mode"), "1 (fd)"); }, s)) << s;
+  t.keys(shell_quote(":set safe_state hold") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "safe_state"), "0 (hold)"); }, s))
+      << s;
+  t.keys(shell_quote(":set feedback sideways") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "feedback: 'sideways' is not an option; use predicted (0), measured (1)");
+  }, s)) << s;
+
+  // Down to r; the range is on screen before anything is typed.
+  t.keys("Down Down Down");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "range [1e-06, 1e+07] u"); }, s)) << s;
+  t.keys("Enter C-u -1 Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "refused: r = -1 is out of range [1e-06, 1e+07]") && contains(param_row(x, "r"), "refused");
+  }, s)) << s;
+
+  // F9: every message of the session with its time, and the same in a log
+  // file beside the database.
+  t.keys("F9");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Messages (") && contains(x, "connected to nlsoft-posix"); },
+                         s))
+      << s;
+  const std::string connected = line_with(s, "connected to nlsoft-posix");
+  EXPECT_EQ(connected.find(':', connected.find("connected") - 9), connected.find("connected") - 7) << connected;
+  EXPECT_TRUE(contains(s, "Lambda = 0.5 0.5 0.5 0.5 0.5 0.5")) << s;
+  t.keys("q");
+  for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const std::string log = read_file(dir.file("runs.session.log"));
+  EXPECT_TRUE(contains(log, "connected to nlsoft-posix")) << log;
+  EXPECT_TRUE(contains(log, "error r: r = -1 is out of range")) << log;
+}
+
+}  // namespace
+}  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// The help overlay wraps to an 80-column terminal, and the key that closes
+// it still does its job (p changes the plot) unless it only means "close".
+TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record",
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 40");
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
+  // The reference line's end, past column 80 unwrapped, is on screen.
+  EXPECT_TRUE(contains(s, "hold levels")) << s;
+  t.keys("Escape");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys"); }, s)) << s;
+  EXPECT_TRUE(contains(s, " y | window")) << "Escape only closes\n" << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
+  t.keys("p");
+  // Tab at the ':' line: a parameter completed, an ambiguous command listed.
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " u | window"); }, s)) << s;
+  t.keys(shell_quote(":set Lam") + " Tab");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":set Lambda"); }, s)) << s;
+  t.keys("C-u s Tab");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":s   [set start stop sweep]"); }, s)) << s;
+  t.keys("Escape");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && contains(x, " u | window"); },
+                         s))
+      << s;
+  t.keys("q");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// A recorded run under the live one: `:overlay 1` adds it to each y strip
+// as its own trace, named in the legend; `:overlay off` removes it.
+TEST(ConsoleTui, ARecordedRunOverlaysTheLivePlot) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + dir.file("runs.db"),
+         "LANG=C LC_ALL=C NO_COLOR=1 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
+      << s;
+  t.keys(shell_quote(":run 1s") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s)) << s;
+  t.keys(shell_quote(":overlay 9") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "overlay: no run 9"); }, s)) << s;
+  t.keys(shell_quote(":overlay 1") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "overlay: run 1 under the live plot"); }, s)) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "run 2 RUNNING") && contains(line_with(x, "y0  . ref"), "o run 1");
+  }, s)) << s;
+  t.keys(shell_quote(":overlay off") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "overlay removed") && !contains(line_with(x, "y0  . ref"), "o run 1");
+  }, s)) << s;
+  t.keys("F6");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
   t.keys("q");
 }
 

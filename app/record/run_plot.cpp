@@ -1,0 +1,190 @@
+#include "app/record/run_plot.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "app/cli_error.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+// A double-quoted gnuplot string: backslash and quote escaped; "\n" stays a
+// line break there.
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string run_name(const PlottedRun& r) {
+  return r.row.label.empty() ? fmt::format("run {}", r.row.id) : fmt::format("run {} ({})", r.row.id, r.row.label);
+}
+
+// Lines of at most `width` characters, broken at blanks where there are
+// some (a reference's JSON has none, and is cut where it must be).
+std::vector<std::string> wrap(const std::string& text, size_t width, const std::string& indent) {
+  std::vector<std::string> out;
+  std::string rest = text;
+  while (rest.size() > width) {
+    // Between items (two blanks) first, so "Lambda=1 1 1" stays whole.
+    size_t cut = rest.rfind("  ", width);
+    if (cut == std::string::npos || cut < width / 2) cut = rest.rfind(' ', width);
+    if (cut == std::string::npos || cut < width / 2) cut = width;
+    out.push_back(rest.substr(0, cut));
+    const size_t next = rest.find_first_not_of(' ', cut);
+    rest = indent + (next == std::string::npos ? "" : rest.substr(next));
+  }
+  out.push_back(rest);
+  return out;
+}
+
+// The run's identity, tracking figure, reference and parameters at start.
+std::vector<std::string> caption_lines(const PlottedRun& r) {
+  constexpr size_t kWidth = 140;
+  const TrackingMetrics& t = r.metrics.has_true ? r.metrics.truth : r.metrics.predicted;
+  std::vector<std::string> lines = {fmt::format("{}: {} {}, {} samples over {:.2f} s, nrmse {:.4f} ({})", run_name(r),
+                                                r.row.platform, r.row.firmware, r.metrics.samples,
+                                                r.metrics.duration_s, t.nrmse, r.metrics.has_true ? "y_true" : "y_hat")};
+  if (!r.row.reference.empty())
+    for (const std::string& l : wrap("  reference " + r.row.reference, kWidth, "    ")) lines.push_back(l);
+  std::string params;
+  for (const ParamRecord& p : r.params)
+    if (p.at_start) params += (params.empty() ? "" : "  ") + p.name + "=" + p.value;
+  if (!params.empty())
+    for (const std::string& l : wrap("  " + params, kWidth, "  ")) lines.push_back(l);
+  return lines;
+}
+
+// Columns of a run's data block: t, y_ref[n], y_hat[n], y_true[n], u[m].
+struct Columns {
+  int n, m;
+  int ref(int a) const { return 2 + a; }
+  int hat(int a) const { return 2 + n + a; }
+  int truth(int a) const { return 2 + 2 * n + a; }
+  int u(int i) const { return 2 + 3 * n + i; }
+};
+
+std::string data_block(const PlottedRun& r, int index, size_t max_points) {
+  const RunSeries& s = r.series;
+  const size_t rows = s.rows();
+  const size_t stride = std::max<size_t>(1, (rows + max_points - 1) / std::max<size_t>(1, max_points));
+  const double rate = r.row.loop_rate_hz > 0 ? r.row.loop_rate_hz : 1.0;
+  const uint32_t step0 = rows ? s.step[0] : 0;
+  std::string out = fmt::format("$run{} << EOD\n", index);
+  auto cell = [&](bool have, float v) { return have ? fmt::format(" {:.7g}", v) : std::string(" NaN"); };
+  for (size_t i = 0; i < rows; i += stride) {
+    out += fmt::format("{:.6f}", double(s.step[i] - step0) / rate);
+    for (int a = 0; a < s.n; ++a) out += cell(s.has_y_ref, s.y_ref[i * size_t(s.n) + size_t(a)]);
+    for (int a = 0; a < s.n; ++a) out += cell(s.has_y_hat, s.y_hat[i * size_t(s.n) + size_t(a)]);
+    for (int a = 0; a < s.n; ++a) out += cell(s.has_y_true, s.y_true[i * size_t(s.n) + size_t(a)]);
+    for (int a = 0; a < s.m; ++a) out += cell(s.has_u, s.u[i * size_t(s.m) + size_t(a)]);
+    out += '\n';
+  }
+  return out + "EOD\n";
+}
+
+// One series of one run: the second run of an overlay is dashed and named.
+std::string series(const std::vector<PlottedRun>& runs, size_t k, const std::string& using_, const std::string& title,
+                   const std::string& colour) {
+  const std::string name = runs.size() > 1 ? fmt::format("run {} {}", runs[k].row.id, title) : title;
+  return fmt::format("$run{} using {} with lines lw 1.2 dt {} lc rgb {} title {}", k, using_, k == 0 ? 1 : 2,
+                     quoted(colour), quoted(name));
+}
+
+}  // namespace
+
+PlottedRun load_plotted_run(RunStore& store, int64_t id) {
+  PlottedRun r;
+  r.row = store.run(id);
+  r.series = store.series(id);
+  if (r.series.rows() == 0) throw CliError(fmt::format("run {} has no samples to plot", id));
+  r.metrics = run_metrics(store, id);
+  r.params = store.params(id);
+  return r;
+}
+
+std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat format, size_t max_points) {
+  if (runs.empty()) throw CliError("runs plot: no run given");
+  const int n = runs[0].series.n;
+  const int m = runs[0].series.m;
+  for (const PlottedRun& r : runs)
+    if (r.series.n != n || r.series.m != m)
+      throw CliError(fmt::format("runs plot: run {} has n={} m={}, run {} has n={} m={}: overlays need one rig",
+                                 runs[0].row.id, n, m, r.row.id, r.series.n, r.series.m));
+  const bool path = n >= 2;
+  const int panels = n + (m > 0 ? 1 : 0) + (path ? 1 : 0);
+  std::vector<std::string> caption;
+  for (const PlottedRun& r : runs)
+    for (const std::string& l : caption_lines(r)) caption.push_back(l);
+  const int width = 1100, height = 260 * panels + 18 * int(caption.size()) + 40;
+
+  std::string s = "# nlsoft-console runs plot\n";
+  // noenhanced: names like y_ref are text, not subscripts.
+  s += format == ImageFormat::Svg
+           ? fmt::format("set terminal svg size {},{} noenhanced font \"sans,10\" background \"white\"\n", width, height)
+           : fmt::format("set terminal pngcairo size {},{} noenhanced font \"sans,9\" background \"white\"\n", width,
+                         height);
+  s += "set encoding utf8\nset grid\nset key outside right top\nset datafile missing NaN\n";
+  for (size_t k = 0; k < runs.size(); ++k) s += data_block(runs[k], int(k), max_points);
+  std::string title;
+  for (const std::string& l : caption) title += (title.empty() ? "" : "\n") + l;
+  s += fmt::format("set multiplot layout {},1 title {} font \"monospace,8\"\n", panels, quoted(title));
+  const Columns c{n, m};
+  for (int a = 0; a < n; ++a) {
+    s += fmt::format("set title {}\nset xlabel \"t (s)\"\nset ylabel \"y{}\"\n", quoted(fmt::format("output y{}", a)), a);
+    std::vector<std::string> parts;
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const RunSeries& rs = runs[k].series;
+      if (rs.has_y_ref) parts.push_back(series(runs, k, fmt::format("1:{}", c.ref(a)), "y_ref", "#000000"));
+      if (rs.has_y_hat) parts.push_back(series(runs, k, fmt::format("1:{}", c.hat(a)), "y_hat", "#1f77b4"));
+      if (rs.has_y_true) parts.push_back(series(runs, k, fmt::format("1:{}", c.truth(a)), "y_true", "#d62728"));
+    }
+    if (parts.empty()) parts.push_back("NaN notitle");
+    s += "plot ";
+    for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", \\\n     " : "") + parts[i];
+    s += "\n";
+  }
+  if (m > 0) {
+    static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
+                                     "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+    s += "set title \"actuator inputs u\"\nset xlabel \"t (s)\"\nset ylabel \"u\"\nplot ";
+    bool first = true;
+    for (size_t k = 0; k < runs.size(); ++k) {
+      if (!runs[k].series.has_u) continue;
+      for (int i = 0; i < m; ++i) {
+        s += (first ? "" : ", \\\n     ") +
+             series(runs, k, fmt::format("1:{}", c.u(i)), fmt::format("u{}", i), kColours[size_t(i) % 10]);
+        first = false;
+      }
+    }
+    if (first) s += "NaN notitle";
+    s += "\n";
+  }
+  if (path) {
+    s += "set title \"x-y path (y0 across, y1 up)\"\nset xlabel \"y0\"\nset ylabel \"y1\"\nset size ratio -1\nplot ";
+    std::vector<std::string> parts;
+    for (size_t k = 0; k < runs.size(); ++k) {
+      const RunSeries& rs = runs[k].series;
+      if (rs.has_y_ref) parts.push_back(series(runs, k, fmt::format("{}:{}", c.ref(0), c.ref(1)), "y_ref path", "#000000"));
+      if (rs.has_y_hat) parts.push_back(series(runs, k, fmt::format("{}:{}", c.hat(0), c.hat(1)), "y_hat path", "#1f77b4"));
+      if (rs.has_y_true)
+        parts.push_back(series(runs, k, fmt::format("{}:{}", c.truth(0), c.truth(1)), "y_true path", "#d62728"));
+    }
+    if (parts.empty()) parts.push_back("NaN notitle");
+    for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", \\\n     " : "") + parts[i];
+    s += "\nset size noratio\n";
+  }
+  s += "unset multiplot\n";
+  return s;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,72 @@
+#include "app/tui/completion.hpp"
+
+#include <algorithm>
+
+#include "app/live/param_text.hpp"
+
+namespace nlsoft::console::tui {
+
+namespace {
+
+const std::vector<std::string>& commands() {
+  static const std::vector<std::string> c = {"set",  "get",    "params", "ref",  "run",    "start", "stop",
+                                             "hold", "neutral", "resume", "wait", "expect", "export", "echo",
+                                             "note", "sweep",  "plot",   "overlay", "help", "quit"};
+  return c;
+}
+
+std::vector<std::string> words_of(const std::string& line) {
+  std::vector<std::string> w;
+  std::string cur;
+  for (char c : line) {
+    if (c == ' ') {
+      if (!cur.empty()) w.push_back(cur), cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  w.push_back(cur);  // the word being typed, maybe empty
+  return w;
+}
+
+}  // namespace
+
+Completion complete_command(const std::string& line, const std::vector<std::string>& params) {
+  const std::vector<std::string> w = words_of(line);
+  const std::string& word = w.back();
+  std::vector<std::string> pool;
+  if (w.size() == 1) {
+    pool = commands();
+  } else if (w.size() == 2 && (w[0] == "set" || w[0] == "get" || w[0] == "sweep")) {
+    pool = params;
+  } else if (w.size() == 3 && w[0] == "set") {
+    for (const ParamOption& o : param_options(w[1])) pool.push_back(o.name);
+  } else if (w.size() == 2 && w[0] == "plot") {
+    pool = {"y", "u", "cost", "iter", "compute"};
+  } else if (w.size() == 2 && w[0] == "ref") {
+    pool = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold", "load"};
+  } else if (w.size() == 2 && w[0] == "params") {
+    pool = {"save", "load", "reapply"};
+  }
+  Completion c;
+  for (const std::string& p : pool)
+    if (p.compare(0, word.size(), word) == 0) c.candidates.push_back(p);
+  c.text = line;
+  if (c.candidates.empty()) return c;
+  // The longest prefix every candidate shares; a single one is finished
+  // with a blank, ready for the next word.
+  std::string common = c.candidates[0];
+  for (const std::string& s : c.candidates) {
+    size_t i = 0;
+    while (i < common.size() && i < s.size() && common[i] == s[i]) ++i;
+    common.resize(i);
+  }
+  c.text = line.substr(0, line.size() - word.size()) + common;
+  if (c.candidates.size() == 1) {
+    c.text += ' ';
+    c.candidates.clear();
+  }
+  return c;
+}
+
+}  // namespace nlsoft::console::tui

@@ -1,0 +1,37 @@
+// Tab at the `:` line completes commands, parameter names, options,
+// plot signals and reference kinds; an ambiguous word lists its choices.
+#include <gtest/gtest.h>
+
+#include "app/tui/completion.hpp"
+
+namespace nlsoft::console::tui {
+namespace {
+
+const std::vector<std::string> kParams = {"Q", "Lambda", "s", "b", "r", "N", "N1", "Nc", "mode", "feedback", "safe_state"};
+
+TEST(Completion, CommandsParametersOptionsSignals) {
+  EXPECT_EQ(complete_command("swe", kParams).text, "sweep ");
+  EXPECT_EQ(complete_command("set Lam", kParams).text, "set Lambda ");
+  EXPECT_EQ(complete_command("get saf", kParams).text, "get safe_state ");
+  EXPECT_EQ(complete_command("set mode f", kParams).text, "set mode fd ");
+  EXPECT_EQ(complete_command("set safe_state n", kParams).text, "set safe_state neutral ");
+  EXPECT_EQ(complete_command("plot co", kParams).text, "plot co");  // cost or compute
+  EXPECT_EQ(complete_command("plot co", kParams).candidates, (std::vector<std::string>{"cost", "compute"}));
+  EXPECT_EQ(complete_command("ref sw", kParams).text, "ref swirl ");
+}
+
+TEST(Completion, AmbiguousWordsExtendToWhatTheyShareAndListTheChoices) {
+  const Completion c = complete_command("s", kParams);
+  EXPECT_EQ(c.text, "s");
+  EXPECT_EQ(c.candidates, (std::vector<std::string>{"set", "start", "stop", "sweep"}));
+  const Completion n = complete_command("set N", kParams);
+  EXPECT_EQ(n.text, "set N");
+  EXPECT_EQ(n.candidates, (std::vector<std::string>{"N", "N1", "Nc"}));
+  const Completion none = complete_command("set zz", kParams);
+  EXPECT_EQ(none.text, "set zz");
+  EXPECT_TRUE(none.candidates.empty());
+  EXPECT_EQ(complete_command("run 10s ", kParams).text, "run 10s ");  // nothing to offer
+}
+
+}  // namespace
+}  // namespace nlsoft::console::tui

@@ -1,0 +1,191 @@
+// The session around the runs: `runs list` with reference and nRMSE (and
+// --json), `runs label`, `runs delete`, a reference sent mid-run recorded,
+// and the CLI's contract (--version; usage errors exit 2).
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <fstream>
+#include <sstream>
+#include <nlohmann/json.hpp>
+
+#include "app/record/recorder.hpp"
+#include "app/record/run_store.hpp"
+#include "app/record/sqlite.hpp"
+#include "run_process.hpp"
+#include "temp_dir.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+using test::run_process;
+using test::shell_quote;
+
+bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+class RunsCommands : public ::testing::Test {
+ protected:
+  void SetUp() override { ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1); }
+  test::ProcessResult console(const std::string& args) const {
+    return run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
+  }
+  test::ProcessResult runs(const std::string& args) const { return console("runs " + args + " --db " + shell_quote(db())); }
+  // Run 1 starts with no reference and gets Infinity during it; run 2 is a
+  // Swirl from the start.
+  void record() {
+    const std::string script = dir_.file("s.nls");
+    std::ofstream(script) << "start\nwait 500ms\nref infinity\nwait 500ms\nstop\nref swirl\nrun 1s label=swirl\n";
+    const auto r = console("--sim hasel --db " + shell_quote(db()) + " --script " + shell_quote(script));
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  std::string db() const { return dir_.file("runs.db"); }
+  test::TempDir dir_;
+};
+
+TEST_F(RunsCommands, ListShowsReferenceAndNrmseAndAMidRunReferenceIsRecorded) {
+  record();
+  auto r = runs("list");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "reference")) << r.output;
+  EXPECT_TRUE(contains(r.output, "nrmse")) << r.output;
+  EXPECT_TRUE(contains(r.output, "swirl")) << r.output;
+
+  r = runs("list --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 2u);
+  // Run 1 started on the firmware's own reference (the rig's paper task),
+  // named as such, not an empty one.
+  EXPECT_EQ(j[0]["reference"]["kind"], "swirl") << j.dump();
+  EXPECT_TRUE(contains(j[0]["reference"].value("source", ""), "start-up reference")) << j.dump();
+  EXPECT_EQ(j[1]["reference"]["kind"], "swirl");
+  EXPECT_EQ(j[1]["label"], "swirl");
+  EXPECT_TRUE(j[0]["nrmse"].is_number()) << j.dump();
+
+  // Infinity, sent during run 1: the change, with its time, in the run's log.
+  r = runs("show 1");
+  EXPECT_TRUE(contains(r.output, "reference = {")) << r.output;
+  EXPECT_TRUE(contains(r.output, "\"kind\":\"infinity\"")) << r.output;
+}
+
+TEST_F(RunsCommands, LabelAndDeleteChangeOneRunWhole) {
+  record();
+  auto r = runs("label 2 " + shell_quote("Lambda 4, smoother"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(RunStore(db()).run(2).label, "Lambda 4, smoother");
+  r = runs("delete 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 1 deleted")) << r.output;
+  {
+    RunStore store(db());
+    const auto list = store.list();
+    ASSERT_EQ(list.size(), 1u);
+    EXPECT_EQ(list[0].id, 2);
+    EXPECT_TRUE(store.params(1).empty());
+    EXPECT_GT(store.series(2).rows(), 0u) << "the other run keeps its samples";
+    Db raw(db(), Db::Access::ReadOnly);
+    Stmt c = raw.prepare("SELECT count(*) FROM samples WHERE id < ?");
+    c.bind(1, sample_key(2, 0));
+    ASSERT_TRUE(c.step());
+    EXPECT_EQ(c.int64(0), 0) << "the run's samples go with it";
+  }
+  r = runs("delete 9");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "no run 9")) << r.output;
+  r = runs("label 9 x");
+  EXPECT_EQ(r.code, 2) << r.output;
+}
+
+// Without --csv (or with -) the CSV goes to standard output, the report to
+// standard error, so `runs export 1 > run.csv` and pipes work.
+TEST_F(RunsCommands, ExportWritesToStandardOutputByDefault) {
+  record();
+  const auto r = run_process("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " runs export 2 --db " +
+                                                    shell_quote(db()) + " 2>/dev/null"));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind("k,", 0), 0u) << r.output.substr(0, 200);
+  size_t rows = 0;
+  for (char c : r.output) rows += c == '\n';
+  EXPECT_EQ(rows, RunStore(db()).run(2).samples + 1) << "a header and one line per sample, nothing else";
+}
+
+TEST_F(RunsCommands, AnUnfinishedRunIsDeletedOnlyWithForce) {
+  int64_t id = 0;
+  {
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "hasel";
+    ri.n = 3;
+    ri.m = 6;
+    id = rec.begin_run(ri);
+    rec.flush();
+  }
+  auto r = runs("delete " + std::to_string(id));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "unfinished")) << r.output;
+  EXPECT_EQ(RunStore(db()).list().size(), 1u) << "nothing deleted";
+  r = runs("delete --force " + std::to_string(id));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(RunStore(db()).list().empty());
+}
+
+// The examples `runs --help` gives, as printed, against two recorded runs
+// (its ids 12 and 13 mapped to 1 and 2), in order: the last deletes one.
+TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
+  record();
+  const auto help = console("runs --help");
+  ASSERT_EQ(help.code, 0) << help.output;
+  std::istringstream lines(help.output);
+  int ran = 0;
+  for (std::string line; std::getline(lines, line);) {
+    const std::string prefix = "  nlsoft-console runs ";
+    if (line.rfind(prefix, 0) != 0) continue;
+    std::string args = line.substr(prefix.size());
+    for (const auto& [from, to] : std::vector<std::pair<std::string, std::string>>{{" 12 13", " 1 2"}, {" 12", " 1"}}) {
+      const size_t at = args.find(from);
+      if (at != std::string::npos) args.replace(at, from.size(), to);
+    }
+    const bool draws = args.find("--svg") != std::string::npos || args.find("--png") != std::string::npos;
+    if (draws && run_process("command -v gnuplot").code != 0) continue;
+    const auto r = run_process("cd " + shell_quote(dir_.path) + " && " + std::string(NLSOFT_CONSOLE_BIN) + " runs " +
+                               args + " --db " + shell_quote(db()));
+    EXPECT_EQ(r.code, 0) << line << "\n" << r.output;
+    ++ran;
+  }
+  EXPECT_GE(ran, 6) << help.output;
+}
+
+// The example script of `nlsoft-console --help`, as printed, passes against
+// the simulated HASEL rig: its expects hold.
+TEST(ConsoleExamples, TheHelpExampleScriptPassesOnTheSimulatedRig) {
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  const auto help = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --help");
+  ASSERT_EQ(help.code, 0) << help.output;
+  const size_t at = help.output.find("Example script");
+  ASSERT_NE(at, std::string::npos) << help.output;
+  std::istringstream lines(help.output.substr(help.output.find('\n', at) + 1));
+  std::string script;
+  for (std::string line; std::getline(lines, line) && line.rfind("  ", 0) == 0;) script += line.substr(2) + "\n";
+  ASSERT_NE(script.find("expect nrmse < 0.05"), std::string::npos) << script;
+  test::TempDir dir;
+  const std::string file = dir.file("example.nls");
+  std::ofstream(file) << script;
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record --script " + shell_quote(file));
+  EXPECT_EQ(r.code, 0) << script << r.output;
+  EXPECT_NE(r.output.find("ok: nrmse = "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("2 expects held, 0 failed"), std::string::npos) << r.output;
+}
+
+TEST(ConsoleCli, VersionAndUsageErrorsExitTwo) {
+  auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --version");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "nlsoft-console 0.1.0, wire protocol 1")) << r.output;
+  for (const char* args : {"--no-such-option", "runs show", "runs show notanumber", "--sim nowhere",
+                           "runs plot 1 2 3 --svg x.svg"}) {
+    r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
+    EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+  }
+}
+
+}  // namespace
+}  // namespace nlsoft::console
