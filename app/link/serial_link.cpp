@@ -48,6 +48,7 @@ void SerialLink::open(const std::string& path, unsigned baud, Handlers handlers)
   closing_ = false;
   path_ = path;
   baud_ = baud;
+  will_reopen_ = true;
   handlers_ = std::move(handlers);
   io_.restart();
   ++generation_;  // writes posted while closed (still queued in io_) never reach this port
@@ -117,8 +118,11 @@ void SerialLink::port_failed(const std::string& why) {
   boost::system::error_code ignore;
   port_.close(ignore);
   write_queue_.clear();
-  if (handlers_.on_down) handlers_.on_down(why);
-  schedule_reopen();
+  const bool pty_by_number = path_.rfind("/dev/pts/", 0) == 0;
+  will_reopen_ = !pty_by_number;
+  if (handlers_.on_down)
+    handlers_.on_down(pty_by_number ? why + "; a pseudo-terminal does not come back, so it is not reopened" : why);
+  if (!pty_by_number) schedule_reopen();
 }
 
 void SerialLink::schedule_reopen() {

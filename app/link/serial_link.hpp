@@ -2,7 +2,11 @@
 // The byte pipe: one serial port (or pty) driven by Boost.Asio on a single
 // I/O thread. It reads continuously, writes in order, and when the port
 // vanishes (cable pulled, board reset, simulator gone) it closes, reports
-// the loss and keeps trying to reopen the same path until told to stop.
+// the loss and keeps trying to reopen the same path until told to stop --
+// except a pseudo-terminal named by its own /dev/pts/N: one whose other end
+// closed never comes back, and the next program to open a pty may get the
+// same number (a shell, another console's simulator). A link to a pty (a
+// socat link, a test's own name) is reopened: whoever made it can re-point it.
 // It knows nothing about frames; Session does.
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/serial_port.hpp>
@@ -48,6 +52,8 @@ class SerialLink {
   bool is_up() const { return up_.load(); }
   const std::string& path() const { return path_; }
   void set_reconnect_interval(std::chrono::milliseconds ms) { reconnect_interval_ = ms; }
+  // False once a port that cannot come back (a hung-up /dev/pts/N) is lost.
+  bool will_reopen() const { return will_reopen_.load(); }
 
  private:
   std::string open_port();  // "" or why the port cannot serve
@@ -66,6 +72,7 @@ class SerialLink {
   std::atomic<bool> up_{false};
   std::atomic<bool> closing_{false};
   std::chrono::milliseconds reconnect_interval_{300};
+  std::atomic<bool> will_reopen_{true};
   uint8_t read_buf_[4096] = {};
   std::deque<std::vector<uint8_t>> write_queue_;  // I/O thread only
   std::atomic<unsigned> generation_{0};            // one per open(): stale writes are dropped

@@ -501,7 +501,8 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
                          "firmware?)", bytes, link_.path());
   }
   if (!link_.is_up()) {
-    why += fmt::format("; {} is down, reconnecting", link_.path());
+    why += link_.will_reopen() ? fmt::format("; {} is down, reconnecting", link_.path())
+                               : fmt::format("; {} is down for good (a pseudo-terminal does not come back)", link_.path());
   } else if (peer_ == Peer::Unchecked) {
     why += fmt::format("; {} reopened, waiting for the device to identify itself", link_.path());
   } else if (peer_ == Peer::Foreign) {

@@ -135,6 +135,7 @@ class Session {
   // The port is open and leads to the device identified before (if any).
   bool connected() const { return link_.is_up() && peer_.load() == Peer::Known; }
   const std::string& port() const { return link_.path(); }
+  bool will_reopen() const { return link_.will_reopen(); }  // false: the port is gone for good (a hung-up pty)
   const SessionOptions& options() const { return options_; }
   // Protocol version byte of frames dropped as wrong_version, 0 if none.
   uint8_t foreign_version() const { return foreign_version_.load(); }

@@ -248,7 +248,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
     case LinkEvent::Kind::Down:
       boot_at_down_ns_ = boot_ns_.load();
       resync_after_gap_ = true;
-      say("link down: " + e.detail + " (reconnecting)");
+      say("link down: " + e.detail + (session_->will_reopen() ? " (reconnecting)" : ""));
       break;
     case LinkEvent::Kind::Silent: say("link silent: " + e.detail); break;
     case LinkEvent::Kind::Resumed: say("link: " + e.detail); break;

@@ -375,6 +375,33 @@ TEST(Session, LostPortIsReportedAndReopenedWhenItReturns) {
   EXPECT_EQ(s.stats().reconnects, 1u);
 }
 
+// A pty opened by its own /dev/pts/N whose other end closed never comes
+// back: the number goes to the next pty anyone opens, so the session says
+// so and does not reopen it.
+TEST(Session, AHungUpPtyIsNotReopened) {
+  const p::Info hasel = board_info(p::Platform::Hasel, "nlsoft-fake", 1);
+  auto peer = std::make_unique<FakePeer>(board(hasel, 5000));
+  ASSERT_EQ(peer->path().rfind("/dev/pts/", 0), 0u);
+  SessionOptions o = fast_options();
+  o.reconnect_interval = 20ms;
+  Events events;
+  Session s(o);
+  s.on_event(events.handler());
+  s.open(peer->path(), 115200);
+  EXPECT_EQ(ping(s, 1).nonce, 1u);
+  EXPECT_TRUE(s.will_reopen());
+  peer.reset();
+  ASSERT_TRUE(events.wait_for(LinkEvent::Kind::Down)) << events.all();
+  EXPECT_NE(events.all().find("a pseudo-terminal does not come back"), std::string::npos) << events.all();
+  EXPECT_FALSE(s.will_reopen());
+  try {
+    ping(s, 2);
+    FAIL() << "a request on a dead link must fail";
+  } catch (const LinkError& e) {
+    EXPECT_NE(std::string(e.what()).find("is down for good"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Session, AnotherDeviceOnTheSamePortIsRefusedOnReconnect) {
   PrivatePort port;
   auto peer = std::make_unique<FakePeer>(board(board_info(p::Platform::Hasel, "nlsoft-fake", 1), 5000));
