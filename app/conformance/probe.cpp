@@ -56,7 +56,8 @@ Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
       if (first_foreign_.empty())
         first_foreign_ = fmt::format("{} with seq {}", p::message_name(f.header.type), f.header.seq);
     }
-    if (listening_) heard_.push_back({f.header.type, f.header.seq, {f.payload, f.payload + f.header.length}});
+    if (listening_ && !listen_ignores_.count(f.header.seq))
+      heard_.push_back({f.header.type, f.header.seq, {f.payload, f.payload + f.header.length}});
   });
   session_.on_telemetry([this](const p::Telemetry& t, uint32_t) {
     std::lock_guard<std::mutex> lock(mu_);
@@ -122,9 +123,11 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
 
 std::optional<Frame> Probe::done(uint8_t type, const std::optional<Reply>& r) {
   if (!r) return std::nullopt;
-  if (r->type != uint8_t(p::MsgType::Nack)) {
+  {
     std::lock_guard<std::mutex> lock(mu_);
-    answered_.insert(type);
+    if (r->type != uint8_t(p::MsgType::Nack)) answered_.insert(type);
+    taken_seqs_.push_back(r->seq);
+    if (taken_seqs_.size() > 32) taken_seqs_.pop_front();
   }
   return Frame{r->type, r->seq, {r->payload, r->payload + r->length}};
 }
@@ -148,6 +151,7 @@ std::vector<Frame> Probe::send_and_listen(const std::vector<uint8_t>& bytes, Ms 
   {
     std::lock_guard<std::mutex> lock(mu_);
     heard_.clear();
+    listen_ignores_ = std::set<uint8_t>(taken_seqs_.begin(), taken_seqs_.end());
     listening_ = true;
   }
   session_.write_raw(bytes);

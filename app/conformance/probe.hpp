@@ -112,6 +112,11 @@ class Probe {
   std::set<uint8_t> answered_;
   std::optional<Frame> done(uint8_t type, const std::optional<Reply>& r);
   std::vector<Frame> heard_;  // replies collected by send_and_listen
+  // Seqs whose reply was already taken, and a snapshot of them while
+  // listening: a late copy of such a reply (the answer to a retry, on a slow
+  // host) is not an answer to the bytes being listened after.
+  std::deque<uint8_t> taken_seqs_;
+  std::set<uint8_t> listen_ignores_;
   bool listening_ = false;
   unsigned replies_ = 0, foreign_ = 0;
   std::string first_foreign_;
