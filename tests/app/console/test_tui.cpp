@@ -51,6 +51,8 @@ class Tmux {
     }
     return false;
   }
+  // Connected and the parameter list read: the panel shows its last row.
+  bool wait_until_connected(std::string& last) const;
 
  private:
   std::string tmux() const { return "tmux -L " + socket_; }
@@ -60,6 +62,10 @@ class Tmux {
 };
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+bool Tmux::wait_until_connected(std::string& last) const {
+  return wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, last);
+}
 
 // The line of the screen that holds `what` ("" if none).
 std::string line_with(const std::string& screen, const std::string& what) {
@@ -95,8 +101,7 @@ TEST(ConsoleTui, PlotsDrawAndAnEditedParameterShowsApplied) {
          "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   EXPECT_TRUE(contains(s, "F1Help")) << s;
   EXPECT_TRUE(contains(s, "link up")) << s;
 
@@ -177,8 +182,7 @@ TEST(ConsoleTui, QuitDuringATimedRunExitsCleanlyAndKeepsTheRun) {
          "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   // A run far longer than the test: it can only end through the quit.
   t.keys(shell_quote(":run 60s") + " Enter");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && contains(x, "[run 60s"); }, s))
@@ -219,8 +223,7 @@ TEST(ConsoleTui, AFirmwareResetIsMarkedInThePanelAndAReappliesTheEdits) {
   Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " " + board + " --db " + dir.file("runs.db"), "LANG=C.UTF-8 LC_ALL=C.UTF-8");
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   t.keys("Down Down Down Down Enter C-u 500 Enter");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(param_row(x, "r"), "500 u applied"); }, s)) << s;
   // The second firmware boots well after the first (the console allows
@@ -245,11 +248,6 @@ TEST(ConsoleTui, AFirmwareResetIsMarkedInThePanelAndAReappliesTheEdits) {
   t.keys("q");
 }
 
-}  // namespace
-}  // namespace nlsoft::console
-
-namespace nlsoft::console {
-namespace {
 
 // Tuning needs the quantities the knobs act on: u for every actuator, the
 // cost, the Newton iterations and the compute time, chosen with p or :plot;
@@ -263,8 +261,7 @@ TEST(ConsoleTui, PlotSignalsWithoutColourPauseScrollAndZoom) {
          "LANG=C.UTF-8 LC_ALL=C.UTF-8 NO_COLOR=1 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   t.keys("F5");
   // Monochrome: glyphs, not look-alike braille, and each with its value.
   ASSERT_TRUE(t.wait_for([](const std::string& x) {
@@ -325,8 +322,7 @@ TEST(ConsoleTui, ParametersExplainThemselvesAndTakeNamesAndOneValueForAll) {
          "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Q: tracking weight per output"); }, s)) << s;
   t.keys("Down");
   ASSERT_TRUE(t.wait_for([](const std::string& x) {
@@ -371,11 +367,6 @@ TEST(ConsoleTui, ParametersExplainThemselvesAndTakeNamesAndOneValueForAll) {
   EXPECT_TRUE(contains(log, "error r: r = -1 is out of range")) << log;
 }
 
-}  // namespace
-}  // namespace nlsoft::console
-
-namespace nlsoft::console {
-namespace {
 
 // The help overlay wraps to an 80-column terminal, and the key that closes
 // it still does its job (p changes the plot) unless it only means "close".
@@ -386,8 +377,7 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   ASSERT_TRUE(t.started()) << t.error();
   run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 40");
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   t.keys("?");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
   // The reference line's end, past column 80 unwrapped, is on screen.
@@ -411,11 +401,6 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   t.keys("q");
 }
 
-}  // namespace
-}  // namespace nlsoft::console
-
-namespace nlsoft::console {
-namespace {
 
 // A recorded run under the live one: `:overlay 1` adds it to each y strip
 // as its own trace, named in the legend; `:overlay off` removes it.
@@ -426,8 +411,7 @@ TEST(ConsoleTui, ARecordedRunOverlaysTheLivePlot) {
          "LANG=C LC_ALL=C NO_COLOR=1 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
   t.keys(shell_quote(":run 1s") + " Enter");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s)) << s;
   t.keys(shell_quote(":overlay 9") + " Enter");
