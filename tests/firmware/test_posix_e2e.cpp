@@ -39,6 +39,22 @@ std::string model_path() {
 }
 
 
+// The three messages of a model transfer that fits one chunk.
+struct ModelXfer {
+  proto::XferBegin begin;
+  proto::XferChunk chunk;
+  proto::XferCommit commit;
+};
+ModelXfer model_xfer(const std::vector<uint8_t>& file) {
+  ModelXfer x;
+  x.begin.kind = x.chunk.kind = x.commit.kind = uint8_t(proto::XferKind::Model);
+  x.begin.total_size = uint32_t(file.size());
+  x.begin.crc32 = crc32(file.data(), file.size());
+  x.chunk.size = uint8_t(file.size());
+  std::memcpy(x.chunk.data, file.data(), file.size());
+  return x;
+}
+
 class PosixFirmware : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -306,21 +322,13 @@ TEST_F(PosixFirmware, InterruptedTableUploadKeepsThePreviousTable) {
 
 TEST_F(PosixFirmware, ModelUploadOnlyWhileStopped) {
   const auto file = msd_arx_model_file();
-  proto::XferBegin b;
-  b.kind = uint8_t(proto::XferKind::Model);
-  b.total_size = uint32_t(file.size());
-  b.crc32 = crc32(file.data(), file.size());
-  ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
-  proto::XferChunk c;
-  c.kind = b.kind;
-  c.size = uint8_t(file.size());
-  std::memcpy(c.data, file.data(), file.size());
-  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, file.size());
+  const ModelXfer x = model_xfer(file);
+  ASSERT_EQ(must(peer_->request(x.begin), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(x.chunk), "XFER_CHUNK")).next_offset, file.size());
   proto::RunStart start;
   start.run_id = 3;
   ASSERT_EQ(must(peer_->request(start), "RUN_START").header.type, uint8_t(proto::MsgType::Ack));
-  proto::XferCommit cm;
-  cm.kind = b.kind;
+  const proto::XferCommit cm = x.commit;
   const auto busy = must(peer_->request(cm), "XFER_COMMIT while running");
   ASSERT_EQ(busy.header.type, uint8_t(proto::MsgType::Nack));
   EXPECT_EQ(as<proto::Nack>(busy).status, uint8_t(proto::StatusCode::WrongState));
@@ -342,16 +350,10 @@ TEST_F(PosixFirmware, ANewModelTransferPutsTheBuiltInModelBackUntilCommitted) {
   const uint32_t builtin_hash = crc32(builtin.data(), builtin.size() - 4);
   ASSERT_EQ(model_hash(), builtin_hash);
 
-  proto::XferBegin b;
-  b.kind = uint8_t(proto::XferKind::Model);
-  b.total_size = uint32_t(other.size());
-  b.crc32 = crc32(other.data(), other.size());
-  proto::XferChunk c;
-  c.kind = b.kind;
-  c.size = uint8_t(other.size());
-  std::memcpy(c.data, other.data(), other.size());
-  proto::XferCommit cm;
-  cm.kind = b.kind;
+  const ModelXfer x = model_xfer(other);
+  const proto::XferBegin& b = x.begin;
+  const proto::XferChunk& c = x.chunk;
+  const proto::XferCommit& cm = x.commit;
   auto upload = [&] {
     ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
     ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, other.size());
@@ -429,16 +431,10 @@ TEST_F(PosixFirmware, TheGoldenModelFileUploadsAndRefusedBeginsChangeNothing) {
   EXPECT_EQ(as<proto::Nack>(must(peer_->request(b), "XFER_BEGIN too large")).status, uint8_t(proto::StatusCode::TooLarge));
   EXPECT_EQ(info().info.model_hash, builtin);
 
-  b.total_size = uint32_t(file.size());
-  b.crc32 = crc32(file.data(), file.size());
-  ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
-  proto::XferChunk c;
-  c.kind = b.kind;
-  c.size = uint8_t(file.size());
-  std::memcpy(c.data, file.data(), file.size());
-  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(c), "XFER_CHUNK")).next_offset, file.size());
-  proto::XferCommit cm;
-  cm.kind = b.kind;
-  ASSERT_EQ(must(peer_->request(cm), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
+  ModelXfer x = model_xfer(file);
+  x.begin.options = b.options;
+  ASSERT_EQ(must(peer_->request(x.begin), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+  ASSERT_EQ(as<proto::XferAck>(must(peer_->request(x.chunk), "XFER_CHUNK")).next_offset, file.size());
+  ASSERT_EQ(must(peer_->request(x.commit), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
   EXPECT_EQ(info().info.model_hash, crc);
 }
