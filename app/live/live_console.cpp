@@ -20,6 +20,9 @@
 #include "app/live/reference_table.hpp"
 #include "app/output_file.hpp"
 #include "app/record/run_store.hpp"
+#include "shared/capacity.hpp"
+#include "shared/model_file.hpp"
+#include "shared/platform_id.hpp"
 #include "shared/reference_presets.hpp"
 
 namespace nlsoft::console {
@@ -507,6 +510,43 @@ void LiveConsole::upload_table(const std::string& csv_path, uint16_t hold, const
     reference_table_file_ = csv_path;
   }
   log_reference_change(reference_json(r, csv_path));
+}
+
+LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, const Progress& progress) {
+  if (!device_->has(p::capability::kXferModel))
+    throw CliError("this firmware does not accept models (no XFER_MODEL capability)");
+  if (running()) throw CliError("a model cannot change during a run: stop the run first");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw CliError(fmt::format("{}: cannot read: {}", path, std::strerror(errno)));
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Parsed with copies of the weights, so the check does not depend on the
+  // vector's alignment; the same checks the firmware makes at commit.
+  std::vector<float> weights(HostCapacity::weights + 2u * Dims<HostCapacity>::p + 2u * HostCapacity::n);
+  Model<HostCapacity> m;
+  uint8_t file_platform = 255;
+  const Status st = parse_model(bytes.data(), bytes.size(), m, weights.data(), uint32_t(weights.size()), &file_platform);
+  if (st != Status::Ok) throw CliError(fmt::format("{}: not a usable model file: {}", path, status_name(st)));
+  const p::Info info = device_->info();
+  if (m.m != info.m || m.n != info.n || m.w != info.w)
+    throw CliError(fmt::format("{}: the model has m={} n={} w={}, the firmware's plant m={} n={} w={}", path, m.m, m.n,
+                               m.w, info.m, info.n, info.w));
+  if (file_platform != 255 && file_platform != info.platform)
+    throw CliError(fmt::format("{}: a model of the {} platform; the firmware runs {}", path,
+                               platform_name(PlatformId(file_platform)), platform_name(PlatformId(info.platform))));
+  const uint32_t limit = device_->transfer_limit(p::XferKind::Model);
+  if (limit != 0 && bytes.size() > limit)
+    throw CliError(fmt::format("{}: {} bytes; this firmware takes models of at most {} bytes", path, bytes.size(), limit));
+
+  ModelUpload r;
+  r.previous_hash = info.model_hash;
+  r.bytes = bytes.size();
+  r.params = m.param_count;
+  device_->upload(p::XferKind::Model, bytes, progress);
+  r.hash = device_->handshake().model_hash;
+  if (r.hash != m.hash)
+    throw CliError(fmt::format("the firmware accepted the model but reports hash {:08x}, the file's is {:08x}", r.hash,
+                               m.hash));
+  return r;
 }
 
 std::optional<RefParams> LiveConsole::reference() const {

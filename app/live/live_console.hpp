@@ -110,6 +110,18 @@ class LiveConsole {
   void upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress = {});
   std::optional<RefParams> reference() const;
 
+  // A new forward model without a reflash (transfer kind 2). The file is
+  // checked here with the firmware's own parser, against the firmware's
+  // dimensions, platform and transfer limit, before a byte is sent; refused
+  // during a run (the firmware would refuse the commit). Afterwards INFO is
+  // read again and the model hash it reports must be the file's CRC-32.
+  struct ModelUpload {
+    uint32_t previous_hash = 0, hash = 0;
+    size_t bytes = 0;
+    uint32_t params = 0;
+  };
+  ModelUpload upload_model(const std::string& path, const Progress& progress = {});
+
   // Run control. start_run records the run (when recording) and sends
   // RUN_START; stop_run sends RUN_STOP and closes the run with its metrics.
   int64_t start_run(const std::string& label);

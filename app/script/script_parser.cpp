@@ -187,6 +187,12 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
       else throw fail(fmt::format("params {}: expected 'save', 'load' or 'reapply'", t[1]));
       c.name = t[2];
     }
+  } else if (verb == "model") {
+    need(3, "model upload FILE.nlsm");
+    at_most(3, "model upload FILE.nlsm");
+    if (t[1] != "upload") throw fail(fmt::format("model {}: expected 'upload' (model upload FILE.nlsm)", t[1]));
+    c.kind = Command::Kind::ModelUpload;
+    c.name = t[2];
   } else if (verb == "ref") {
     need(2, "ref NAME key=value...  or  ref load FILE.csv [hold=N]");
     if (t[1] == "load") {
@@ -311,6 +317,7 @@ const std::vector<std::string>& script_help() {
       "params reapply              send this session's edits again (after a firmware reset)",
       "ref NAME key=value...       infinity|pringle|diagonal|swirl|steps|hold; keys a b c c0 c1 c2 period omega lambda scale hold levels",
       "ref load FILE.csv [hold=N]  upload a table of points and select it",
+      "model upload FILE.nlsm      send a new forward model (not during a run); its hash is checked",
       "run DURATION [label=TEXT]   record a run, e.g. run 10s label=baseline; a run that ends",
       "                            before DURATION fails the script unless early=ok is given",
       "start [label=TEXT] | stop   start or stop a run without a duration",

@@ -9,6 +9,7 @@
 //   params save FILE | params load FILE | params reapply
 //   ref NAME key=value...     ref infinity period=8 a=4
 //   ref load FILE.csv [hold=N]
+//   model upload FILE.nlsm
 //   run DURATION [label=TEXT] [early=ok]
 //                             run 10s label="baseline"; a run that ends before
 //                             DURATION (firmware stopped, watchdog) fails the
@@ -41,7 +42,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 
 struct Command {
   enum class Kind {
-    Set, Get, ParamsSave, ParamsLoad, ParamsReapply, Ref, RefLoad, Run, Start, Stop, Hold, Neutral, Resume,
+    Set, Get, ParamsSave, ParamsLoad, ParamsReapply, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
     Wait, Expect, ExportCsv, Echo, Sweep, Note,
   };
   Kind kind = Kind::Echo;

@@ -123,6 +123,14 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         out_(fmt::format("reference table {} uploaded and selected (hold {})", c.name, hold));
         break;
       }
+      case K::ModelUpload: {
+        const auto r = console_.upload_model(c.name, [&](size_t d, size_t t) {
+          if (progress_) progress_("model " + c.name, d, t);
+        });
+        out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {} weights", c.name, r.hash,
+                         r.previous_hash, r.bytes, r.params));
+        break;
+      }
       case K::Run: {
         const RunSummary s = console_.run_for(
             c.seconds, c.label,

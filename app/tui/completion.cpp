@@ -1,6 +1,8 @@
 #include "app/tui/completion.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <system_error>
 
 #include "app/live/param_text.hpp"
 
@@ -11,7 +13,7 @@ namespace {
 const std::vector<std::string>& commands() {
   static const std::vector<std::string> c = {"set",  "get",    "params", "ref",  "run",    "start", "stop",
                                              "hold", "neutral", "resume", "wait", "expect", "export", "echo",
-                                             "note", "sweep",  "plot",   "overlay", "help", "quit"};
+                                             "note", "sweep",  "plot",   "overlay", "model", "help", "quit"};
   return c;
 }
 
@@ -27,6 +29,25 @@ std::vector<std::string> words_of(const std::string& line) {
   }
   w.push_back(cur);  // the word being typed, maybe empty
   return w;
+}
+
+// Entries of the folder the word names, as the word would spell them
+// (folders end in '/', so Tab goes on into them). Hidden files only when
+// the word starts with a dot, as in a shell.
+std::vector<std::string> paths_for(const std::string& word) {
+  namespace fs = std::filesystem;
+  const size_t slash = word.rfind('/');
+  const std::string dir = slash == std::string::npos ? "" : word.substr(0, slash + 1);
+  const std::string base = slash == std::string::npos ? word : word.substr(slash + 1);
+  std::vector<std::string> out;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir.empty() ? "." : dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name[0] == '.' && (base.empty() || base[0] != '.')) continue;
+    out.push_back(dir + name + (it->is_directory(ec) ? "/" : ""));
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace
@@ -47,6 +68,12 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
     pool = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold", "load"};
   } else if (w.size() == 2 && w[0] == "params") {
     pool = {"save", "load", "reapply"};
+  } else if (w.size() == 2 && w[0] == "model") {
+    pool = {"upload"};
+  } else if (w.size() == 3 && ((w[0] == "model" && w[1] == "upload") || (w[0] == "ref" && w[1] == "load") ||
+                               (w[0] == "params" && (w[1] == "save" || w[1] == "load")) ||
+                               (w[0] == "export" && w[1] == "csv"))) {
+    pool = paths_for(word);
   }
   Completion c;
   for (const std::string& p : pool)
@@ -63,7 +90,7 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
   }
   c.text = line.substr(0, line.size() - word.size()) + common;
   if (c.candidates.size() == 1) {
-    c.text += ' ';
+    if (common.empty() || common.back() != '/') c.text += ' ';
     c.candidates.clear();
   }
   return c;

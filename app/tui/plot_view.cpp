@@ -16,7 +16,7 @@ namespace tf = protocol::telemetry_field;
 
 namespace {
 
-constexpr int kLabelWidth = 9;
+constexpr int kLabelWidth = kTimePlotLabelWidth;
 constexpr int kMaxTraces = 16;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -255,9 +255,12 @@ void draw_time_plots(const Screen& screen, int y, int x, int h, int w, const std
         screen.attr(Role::Dim));
     return;
   }
-  // The newest sample at or before the view's right edge.
+  // The newest sample at or before the cursor, or the view's right edge.
   const int64_t end = view.end_step < 0 ? int64_t(samples.back().step) : view.end_step;
-  auto last_it = std::upper_bound(samples.begin(), samples.end(), end,
+  const double window = std::max(1.0, view.window_steps);
+  const bool cursor = view.cursor_step >= 0 && view.cursor_step <= end && double(end - view.cursor_step) <= window;
+  const int64_t read = cursor ? view.cursor_step : end;
+  auto last_it = std::upper_bound(samples.begin(), samples.end(), read,
                                   [](int64_t e, const Sample& s) { return e < int64_t(s.step); });
   const Sample* at = last_it == samples.begin() ? nullptr : &*(last_it - 1);
   const Sample& shape = at ? *at : samples.back();
@@ -268,7 +271,6 @@ void draw_time_plots(const Screen& screen, int y, int x, int h, int w, const std
     put(y, x, "window too small for the plots", w, screen.attr(Role::Warn));
     return;
   }
-  const double window = std::max(1.0, view.window_steps);
   const double t1 = double(end), t0 = t1 - window;
   const int strip_h = plot_rows / count;
   const int pw = w - kLabelWidth;
@@ -307,9 +309,26 @@ void draw_time_plots(const Screen& screen, int y, int x, int h, int w, const std
       });
     }
     c.draw(sy + 1, x + kLabelWidth, attrs, glyphs);
+    if (cursor) {
+      const int cx = x + kLabelWidth + int(std::lround((double(read) - t0) / window * (pw - 1)));
+      attrset(screen.attr(Role::KeyName));
+      mvvline(sy + 1, cx, screen.utf8() ? ACS_VLINE : '|', ph);
+      attrset(A_NORMAL);
+    }
   }
   const double rate = view.rate_hz > 0 ? view.rate_hz : 1.0;
   draw_time_axis(screen, y + h - 1, x + kLabelWidth, pw, t0 / rate, t1 / rate);
+}
+
+int64_t move_time_cursor(int64_t cursor, int64_t end_step, double window_steps, int plot_columns, int columns) {
+  const double window = std::max(1.0, window_steps);
+  const double t0 = double(end_step) - window;
+  const double per_column = window / std::max(1, plot_columns - 1);
+  const double lo = std::max(0.0, t0), hi = double(end_step);
+  if (cursor < 0 || double(cursor) > hi || double(cursor) < lo) return int64_t(std::llround(0.5 * (lo + hi)));
+  // At least one step per key, so a cursor on a zoomed-in view still moves.
+  const double by = columns * std::max(1.0, per_column);
+  return int64_t(std::llround(std::min(hi, std::max(lo, double(cursor) + by))));
 }
 
 void draw_path_view(const Screen& screen, int y, int x, int h, int w, const std::vector<Sample>& samples, int ax,

@@ -33,7 +33,8 @@ constexpr int kMinCols = 60, kMinRows = 16;
 const char* const kHelp[] = {
     "nlsoft-console keys",
     "",
-    "  F1 ?      this help (any key closes it; Esc, ?, F1, q, Enter or Space only close)",
+    "  F1 ?      this help: Up/Down/PgUp/PgDn scroll it, any other key closes it",
+    "            (Esc, ?, F1, q, Enter or Space only close)",
     "  F2 F3 F4  focus parameters / reference / runs (Tab cycles)",
     "  F9        messages with their times (Up/Down/PgUp scroll back); also in <db>.session.log",
     "  F5        start a run (recorded)     F6  stop the run",
@@ -43,6 +44,7 @@ const char* const kHelp[] = {
     "  :overlay ID  a recorded run under the live plot ('o'); :overlay off",
     "  + -       zoom in (shorter window) / out",
     "  Space     pause the plot (recording goes on)   [ ]  scroll back / forward",
+    "  < >       time cursor on a paused plot: the readout gives the values at it",
     "  :         command line: the script commands (set, get, ref, run, expect, ...);",
     "            Tab completes commands, parameter names and options",
     "  q F10     quit (asks first while a run is active)",
@@ -123,6 +125,7 @@ class App : public Ui {
   void overlay_command(const std::string& args);
   void pause_plot(bool on);
   void scroll_plot(double windows);
+  void move_cursor(int columns);
   void draw_plot_status(int y, int w);
   double step_rate();  // control steps per second, measured when known
   void shutdown();
@@ -155,6 +158,9 @@ class App : public Ui {
   bool paused_ = false;
   std::vector<Sample> frozen_;
   int64_t end_step_ = -1;
+  int64_t cursor_step_ = -1;  // < >: the time the paused plot's readout reads
+  int plot_columns_ = 80;     // of the last drawn time plot, for the cursor's step
+  int help_top_ = 0;          // first help line shown (a short terminal scrolls it)
   LineEdit cmd_;  // ':' line and prompts share the message row
   std::vector<std::string> history_;
   std::function<void(const std::string&)> prompt_done_;
@@ -321,7 +327,14 @@ void App::pause_plot(bool on) {
   } else {
     frozen_.clear();
     end_step_ = -1;
+    cursor_step_ = -1;
   }
+}
+
+void App::move_cursor(int columns) {
+  if (!paused_) pause_plot(true);
+  if (frozen_.empty()) return;
+  cursor_step_ = move_time_cursor(cursor_step_, end_step_, window_s_ * step_rate(), plot_columns_, columns);
 }
 
 // Moves the paused view by a number of windows, within what was kept.
@@ -332,6 +345,8 @@ void App::scroll_plot(double windows) {
   // Back until the oldest sample kept is at the right edge.
   const int64_t first = int64_t(frozen_.front().step), last = int64_t(frozen_.back().step);
   end_step_ = std::max(first, std::min(last, end_step_ + int64_t(std::llround(windows * window))));
+  if (cursor_step_ >= 0)  // the cursor stays on screen, at the same time when it can
+    cursor_step_ = std::max(end_step_ - int64_t(window), std::min(end_step_, cursor_step_));
 }
 
 bool App::handle(int ch) {
@@ -352,8 +367,15 @@ bool App::handle(int ch) {
     }
   }
   if (help_) {
-    // Any key closes the help; one that means something else is then
-    // handled as if the help had not been open.
+    // Scroll keys move a help taller than the terminal; any other key
+    // closes it, and one that means something else is then handled as if
+    // the help had not been open.
+    const int page = std::max(1, screen_.rows() - 4);
+    if (ch == KEY_UP || ch == KEY_DOWN || ch == KEY_PPAGE || ch == KEY_NPAGE || ch == KEY_HOME || ch == KEY_END) {
+      help_top_ = ch == KEY_UP ? help_top_ - 1 : ch == KEY_DOWN ? help_top_ + 1 : ch == KEY_PPAGE ? help_top_ - page
+                : ch == KEY_NPAGE ? help_top_ + page : ch == KEY_HOME ? 0 : 1 << 20;
+      return true;  // draw_help clamps
+    }
     help_ = false;
     if (ch == 27 || ch == '?' || ch == KEY_F(1) || ch == 'q' || ch == '\n' || ch == '\r' || ch == ' ') return true;
   }
@@ -386,7 +408,10 @@ bool App::handle(int ch) {
       }
       return false;
     case KEY_F(1):
-    case '?': help_ = true; return true;
+    case '?':
+      help_ = true;
+      help_top_ = 0;
+      return true;
     case KEY_F(2): focus_ = Focus::Params; return true;
     case KEY_F(3): focus_ = Focus::Ref; return true;
     case KEY_F(4):
@@ -454,6 +479,10 @@ bool App::handle(int ch) {
     case ' ': pause_plot(!paused_); return true;
     case '[': scroll_plot(-0.5); return true;
     case ']': scroll_plot(0.5); return true;
+    case '<':
+    case ',': move_cursor(-1); return true;
+    case '>':
+    case '.': move_cursor(1); return true;
   }
   switch (focus_) {
     case Focus::Params: params_.key(ch); break;
@@ -546,17 +575,34 @@ void App::draw_help(int rows, int cols) {
   lines.emplace_back("Commands (':' line and --script files):", true);
   for (const auto& l : script_help())
     for (const auto& piece : wrap_help("  " + l, w - 2, 30)) lines.emplace_back(piece, false);
-  const int h = std::min(rows - 2, int(lines.size()));
+  const int total = int(lines.size());
+  int h = std::min(rows - 2, total);
+  // Taller than the terminal: the last row says where the view is and how
+  // to move it, so nothing is silently cut.
+  const bool scrolls = h < total;
+  const int body = scrolls ? h - 1 : h;
+  help_top_ = std::max(0, std::min(help_top_, total - body));
   const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
   for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
-  for (int i = 0; i < h; ++i)
-    put(y0 + i, x0 + 1, lines[size_t(i)].first, w - 2, screen_.attr(Role::Selected) | (lines[size_t(i)].second ? A_BOLD : 0));
+  for (int i = 0; i < body; ++i) {
+    const auto& [text, bold] = lines[size_t(help_top_ + i)];
+    put(y0 + i, x0 + 1, text, w - 2, screen_.attr(Role::Selected) | (bold ? A_BOLD : 0));
+  }
+  if (scrolls)
+    put(y0 + body, x0 + 1,
+        fmt::format("-- lines {}-{} of {}: Up/Down, PgUp/PgDn scroll; any other key closes --", help_top_ + 1,
+                    help_top_ + body, total),
+        w - 2, screen_.attr(Role::Selected) | A_BOLD);
 }
 
 void App::draw_plot_status(int y, int w) {
   std::string text = fmt::format(" {} | window {:g} s | ", plot_signal_name(signal_), window_s_);
-  if (paused_ && end_step_ >= 0)
-    text += fmt::format("PAUSED at {:.2f} s  (Space live, [ ] scroll, +/- zoom)", double(end_step_) / step_rate());
+  if (paused_ && end_step_ >= 0 && cursor_step_ >= 0)
+    text += fmt::format("PAUSED at {:.2f} s, cursor {:.2f} s  (< > move, Space live)", double(end_step_) / step_rate(),
+                        double(cursor_step_) / step_rate());
+  else if (paused_ && end_step_ >= 0)
+    text += fmt::format("PAUSED at {:.2f} s  (Space live, [ ] scroll, < > cursor, +/- zoom)",
+                        double(end_step_) / step_rate());
   else
     text += "live  (p signal, Space pause, +/- zoom, v path)";
   put(y, 0, text, w, screen_.attr(paused_ ? Role::Warn : Role::Dim));
@@ -582,6 +628,8 @@ void App::draw() {
   view.window_steps = window_s_ * rate;
   view.rate_hz = rate;
   view.end_step = paused_ ? end_step_ : -1;
+  view.cursor_step = paused_ ? cursor_step_ : -1;
+  plot_columns_ = std::max(2, left_w - kTimePlotLabelWidth);
   std::shared_ptr<const RunSeries> overlay;
   {
     std::lock_guard<std::mutex> lock(ui_mu_);

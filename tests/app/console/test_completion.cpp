@@ -2,7 +2,11 @@
 // plot signals and reference kinds; an ambiguous word lists its choices.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include "app/tui/completion.hpp"
+#include "temp_dir.hpp"
 
 namespace nlsoft::console::tui {
 namespace {
@@ -31,6 +35,25 @@ TEST(Completion, AmbiguousWordsExtendToWhatTheyShareAndListTheChoices) {
   EXPECT_EQ(none.text, "set zz");
   EXPECT_TRUE(none.candidates.empty());
   EXPECT_EQ(complete_command("run 10s ", kParams).text, "run 10s ");  // nothing to offer
+}
+
+// File arguments complete from the folder the word names, as in a shell:
+// a folder ends in '/' and takes no blank, so Tab goes on into it.
+TEST(Completion, FileArgumentsCompleteFromTheFolderTheyName) {
+  test::TempDir dir;
+  std::ofstream(dir.file("hasel-v2.nlsm")) << "x";
+  std::ofstream(dir.file("hasel-v3.nlsm")) << "x";
+  std::ofstream(dir.file(".hidden.nlsm")) << "x";
+  std::filesystem::create_directory(dir.file("runs"));
+  const std::string d = dir.path + "/";
+  const Completion two = complete_command("model upload " + d + "h", kParams);
+  EXPECT_EQ(two.text, "model upload " + d + "hasel-v");
+  EXPECT_EQ(two.candidates, (std::vector<std::string>{d + "hasel-v2.nlsm", d + "hasel-v3.nlsm"}));
+  EXPECT_EQ(complete_command("model upload " + d + "hasel-v3", kParams).text, "model upload " + d + "hasel-v3.nlsm ");
+  EXPECT_EQ(complete_command("params save " + d + "r", kParams).text, "params save " + d + "runs/");
+  EXPECT_EQ(complete_command("ref load " + d + ".h", kParams).text, "ref load " + d + ".hidden.nlsm ");
+  EXPECT_EQ(complete_command("mod", kParams).text, "model ");
+  EXPECT_EQ(complete_command("model up", kParams).text, "model upload ");
 }
 
 }  // namespace

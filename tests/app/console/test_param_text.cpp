@@ -76,6 +76,20 @@ TEST(PlotView, TimeTicksAreRoundAndInsideTheWindow) {
   EXPECT_TRUE(tui::time_ticks(3, 3, 4).empty());
 }
 
+// A view of steps 1000..2000 on 101 columns: 10 steps a column.
+TEST(PlotView, TheTimeCursorStartsMidViewMovesByColumnsAndStaysInside) {
+  const int64_t mid = tui::move_time_cursor(-1, 2000, 1000, 101, 1);
+  EXPECT_EQ(mid, 1500) << "the first key puts the cursor mid-view";
+  EXPECT_EQ(tui::move_time_cursor(mid, 2000, 1000, 101, 1), 1510);
+  EXPECT_EQ(tui::move_time_cursor(mid, 2000, 1000, 101, -3), 1470);
+  EXPECT_EQ(tui::move_time_cursor(1995, 2000, 1000, 101, 1), 2000) << "not past the right edge";
+  EXPECT_EQ(tui::move_time_cursor(1005, 2000, 1000, 101, -1), 1000) << "not past the left edge";
+  EXPECT_EQ(tui::move_time_cursor(500, 2000, 1000, 101, 1), 1500) << "a cursor the view left restarts mid-view";
+  EXPECT_EQ(tui::move_time_cursor(150, 200, 1000, 101, -100), 0) << "a view longer than the run stops at step 0";
+  EXPECT_EQ(tui::move_time_cursor(-1, 300, 1000, 101, 1), 150) << "mid-way through what the view shows";
+  EXPECT_EQ(tui::move_time_cursor(1500, 1520, 50, 101, 1), 1501) << "zoomed in: one step a key at least";
+}
+
 TEST(PlotView, SignalNamesRoundTripAndTheKeyCyclesThroughAll) {
   tui::PlotSignal s = tui::PlotSignal::Y;
   std::vector<std::string> seen;

@@ -301,9 +301,24 @@ TEST(ConsoleTui, PlotSignalsWithoutColourPauseScrollAndZoom) {
   s = t.screen();
   EXPECT_EQ(line_with(s, "y0  . ref"), frozen) << s;
   EXPECT_TRUE(contains(s, "RUNNING")) << s;
+  // The time cursor: the readout follows it, the status line says where.
+  const std::string edge_readout = line_with(s, "y0  . ref");
+  t.keys("'<'");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ", cursor "); }, s)) << s;
+  const std::string first_cursor = line_with(s, ", cursor ");
+  t.keys("'<' '<' '<' '<' '<' '<' '<' '<' '<' '<'");
+  ASSERT_TRUE(t.wait_for([&](const std::string& x) {
+    return contains(x, ", cursor ") && line_with(x, ", cursor ") != first_cursor;
+  }, s)) << s;
+  EXPECT_NE(line_with(s, "y0  . ref"), edge_readout) << "the readout reads at the cursor\n" << s;
+  // "PAUSED at 3.99 s": the right edge's time.
+  auto edge = [](const std::string& x) {
+    const std::string l = line_with(x, "PAUSED at ");
+    return l.substr(l.find("PAUSED at "), l.find(" s") - l.find("PAUSED at "));
+  };
   t.keys("[");
   ASSERT_TRUE(t.wait_for([&](const std::string& x) {
-    return contains(x, "PAUSED at ") && line_with(x, "PAUSED at ") != paused_at;
+    return contains(x, "PAUSED at ") && edge(x) != edge(paused_at);
   }, s)) << s;
   t.keys("Space");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "| live"); }, s)) << s;
@@ -380,10 +395,11 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   ASSERT_TRUE(t.wait_until_connected(s)) << s;
   t.keys("?");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
-  // The reference line's end, past column 80 unwrapped, is on screen.
-  EXPECT_TRUE(contains(s, "hold levels")) << s;
+  // The reference line's end, past column 80 unwrapped, is on the next page.
+  t.keys("PageDown");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "hold levels"); }, s)) << s;
   t.keys("Escape");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys"); }, s)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "-- lines "); }, s)) << s;
   EXPECT_TRUE(contains(s, " y | window")) << "Escape only closes\n" << s;
   t.keys("?");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
@@ -398,6 +414,41 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && contains(x, " u | window"); },
                          s))
       << s;
+  // 24 rows: the help does not fit; it says so and scrolls to its last line.
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 24");
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys") && contains(x, "-- lines 1-"); },
+                         s))
+      << s;
+  EXPECT_FALSE(contains(s, "measured after settle")) << s;
+  t.keys("End");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "measured after settle"); }, s)) << s;
+  EXPECT_FALSE(contains(s, "nlsoft-console keys")) << "scrolled past the title\n" << s;
+  t.keys("PageUp");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "measured after settle") && contains(x, "-- lines "); },
+                         s))
+      << s;
+  t.keys("Escape");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "-- lines "); }, s)) << s;
+  t.keys("q");
+}
+
+// `:model upload FILE` from the TUI: the new model is confirmed by its hash
+// on the message line; a file the firmware could not run is refused there.
+TEST(ConsoleTui, AModelUploadedFromTheCommandLineIsConfirmedByItsHash) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string model = dir.file("hasel.nlsm");
+  std::filesystem::copy_file(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/hasel.nlsm", model);
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record",
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys(shell_quote(":model upload " + model) + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " confirmed (was "); }, s)) << s;
+  t.keys(shell_quote(":model upload " + dir.file("none.nlsm")) + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "none.nlsm: cannot read"); }, s)) << s;
   t.keys("q");
 }
 
