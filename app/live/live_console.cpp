@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "app/cli_error.hpp"
+#include "app/live/param_defaults.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
@@ -419,17 +420,10 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
   std::ifstream in(path);
   if (!in) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
   const auto cat = device_->catalog();
-  struct Change {
-    const ParamInfo* info;
-    std::vector<double> from, to;
-    int line;
-  };
-  std::vector<Change> changes;
-  std::vector<std::string> diff;
   std::string line;
   int lineno = 0;
   // Parse and check the whole file before sending anything.
-  std::vector<std::tuple<const ParamInfo*, std::vector<double>, int>> wanted;
+  std::vector<WantedValue> wanted;
   while (std::getline(in, line)) {
     ++lineno;
     std::istringstream ls(line);
@@ -441,35 +435,77 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
     std::string t;
     while (ls >> t) tokens.push_back(t);
     try {
-      wanted.emplace_back(info, parse_param_values(*info, expand_param_tokens(*info, tokens)), lineno);
+      wanted.push_back({*info, parse_param_values(*info, expand_param_tokens(*info, tokens)), fmt::format("{}:{}", path, lineno)});
     } catch (const CliError& e) {
       throw CliError(fmt::format("{}:{}: {}", path, lineno, e.what()));
     }
   }
-  for (auto& [info, to, ln] : wanted) {
-    const std::vector<double> from = device_->get(*info);
-    bool same = true;
-    for (size_t i = 0; i < to.size(); ++i)
-      if (float(to[i]) != float(from[i])) same = false;
-    if (same) continue;
-    diff.push_back(fmt::format("{}: {} -> {}", info->name, format_param_values(*info, from), format_param_values(*info, to)));
-    changes.push_back({info, from, to, ln});
+  return apply_values(wanted, dry_run);
+}
+
+std::vector<LiveConsole::WantedValue> LiveConsole::defaults_wanted() const {
+  const p::Info info = device_->info();
+  const auto defaults = firmware_defaults(info.platform, info.m, info.n);
+  if (defaults.empty())
+    throw CliError(fmt::format("the console knows no defaults for platform {} with m={} n={}", int(info.platform), info.m, info.n));
+  std::vector<WantedValue> wanted;
+  for (const ParamInfo& pi : device_->catalog()->all()) {
+    const auto d = defaults.find(pi.id);
+    if (d == defaults.end() || pi.read_only() || d->second.size() != pi.size) continue;
+    wanted.push_back({pi, d->second, "default"});
+  }
+  return wanted;
+}
+
+std::vector<std::string> LiveConsole::params_diff() {
+  std::vector<std::string> lines;
+  for (const WantedValue& w : defaults_wanted()) {
+    const std::vector<double> now = device_->get(w.info);
+    if (same_values(now, w.values)) continue;
+    lines.push_back(fmt::format("{}: {} (default {})", w.info.name, format_param_named(w.info, now),
+                                format_param_named(w.info, w.values)));
+  }
+  return lines;
+}
+
+std::vector<std::string> LiveConsole::reset_params() { return apply_values(defaults_wanted(), false); }
+
+bool LiveConsole::same_values(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (float(a[i]) != float(b[i])) return false;
+  return true;
+}
+
+std::vector<std::string> LiveConsole::apply_values(const std::vector<WantedValue>& wanted, bool dry_run) {
+  struct Change {
+    const WantedValue* want;
+    std::vector<double> from;
+  };
+  std::vector<Change> changes;
+  std::vector<std::string> diff;
+  for (const WantedValue& w : wanted) {
+    const std::vector<double> from = device_->get(w.info);
+    if (same_values(from, w.values)) continue;
+    diff.push_back(fmt::format("{}: {} -> {}", w.info.name, format_param_values(w.info, from),
+                               format_param_values(w.info, w.values)));
+    changes.push_back({&w, from});
   }
   if (dry_run) return diff;
   for (size_t i = 0; i < changes.size(); ++i) {
     try {
-      apply_param(*changes[i].info, changes[i].to);
+      apply_param(changes[i].want->info, changes[i].want->values);
     } catch (const std::exception& e) {
       // All or nothing, like PARAM_SET itself: put back what went through.
       size_t restored = 0;
       for (size_t j = i; j-- > 0;) {
         try {
-          apply_param(*changes[j].info, changes[j].from);
+          apply_param(changes[j].want->info, changes[j].from);
           ++restored;
         } catch (...) {
         }
       }
-      throw CliError(fmt::format("{}:{}: {}; {} earlier change{} rolled back, nothing changed", path, changes[i].line,
+      throw CliError(fmt::format("{}: {}; {} earlier change{} rolled back, nothing changed", changes[i].want->origin,
                                  e.what(), restored, restored == 1 ? "" : "s"));
     }
   }

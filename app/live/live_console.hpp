@@ -105,6 +105,11 @@ class LiveConsole {
   // rolls back what was applied and throws.
   std::vector<std::string> load_params(const std::string& path, bool dry_run = false);
   void save_params(const std::string& path);
+  // Against the values the firmware boots with (param_defaults.hpp): every
+  // parameter that differs, "Q: 2e+06 2e+06 1e+06 (default 1e+06 2e+06 1e+06)";
+  // and all of them put back, all or nothing, returning what changed.
+  std::vector<std::string> params_diff();
+  std::vector<std::string> reset_params();
 
   void select_reference(const RefParams& ref);
   void upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress = {});
@@ -161,6 +166,16 @@ class LiveConsole {
   RunMetrics metrics_of(int64_t run_id, double skip_s = 0);
 
  private:
+  struct WantedValue {
+    ParamInfo info;  // a copy: the catalog may be reread meanwhile
+    std::vector<double> values;
+    std::string origin;  // "file:line" or "default", for a refusal's message
+  };
+  // Sends every value that differs from the one in force, all or nothing
+  // (a refusal puts back what went through); returns "name: from -> to".
+  std::vector<std::string> apply_values(const std::vector<WantedValue>& wanted, bool dry_run);
+  std::vector<WantedValue> defaults_wanted() const;
+  static bool same_values(const std::vector<double>& a, const std::vector<double>& b);
   // stop_run's body; the caller holds stop_mu_ and id is the active run.
   RunSummary stop_run_locked(int64_t id, const std::string& reason);
   // Stops run `id` if it is still the active one, else returns the summary

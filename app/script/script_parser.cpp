@@ -175,17 +175,21 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     c.kind = Command::Kind::Get;
     c.name = t[1];
   } else if (verb == "params") {
-    need(2, "params save FILE | params load FILE | params reapply");
-    if (t[1] == "reapply") {
-      at_most(2, "params reapply");
-      c.kind = Command::Kind::ParamsReapply;
-    } else {
-      need(3, "params save FILE | params load FILE | params reapply");
-      at_most(3, "params save FILE | params load FILE | params reapply");
-      if (t[1] == "save") c.kind = Command::Kind::ParamsSave;
-      else if (t[1] == "load") c.kind = Command::Kind::ParamsLoad;
-      else throw fail(fmt::format("params {}: expected 'save', 'load' or 'reapply'", t[1]));
+    need(2, "params save FILE | params load FILE | params reapply | params diff | params reset");
+    const std::string& sub = t[1];
+    if (sub == "reapply" || sub == "diff" || sub == "reset") {
+      at_most(2, ("params " + sub).c_str());
+      c.kind = sub == "reapply" ? Command::Kind::ParamsReapply
+             : sub == "diff"    ? Command::Kind::ParamsDiff
+                                : Command::Kind::ParamsReset;
+    } else if (sub == "save" || sub == "load") {
+      const std::string usage = "params " + sub + " FILE";
+      need(3, usage.c_str());
+      at_most(3, usage.c_str());
+      c.kind = sub == "save" ? Command::Kind::ParamsSave : Command::Kind::ParamsLoad;
       c.name = t[2];
+    } else {
+      throw fail(fmt::format("params {}: expected save, load, reapply, diff or reset", sub));
     }
   } else if (verb == "model") {
     need(3, "model upload FILE.nlsm");
@@ -315,6 +319,8 @@ const std::vector<std::string>& script_help() {
       "params save FILE            write every parameter to FILE",
       "params load FILE            show the diff and apply it (all or nothing)",
       "params reapply              send this session's edits again (after a firmware reset)",
+      "params diff                 what differs from the values the firmware boots with",
+      "params reset                put every parameter back to those values (all or nothing)",
       "ref NAME key=value...       infinity|pringle|diagonal|swirl|steps|hold; keys a b c c0 c1 c2 period omega lambda scale hold levels",
       "ref load FILE.csv [hold=N]  upload a table of points and select it",
       "model upload FILE.nlsm      send a new forward model (not during a run); its hash is checked",

@@ -6,7 +6,7 @@
 //   # comment
 //   set NAME VALUES...        set Q 1e6 2e6 1e6   |  set Q[1] 2e6
 //   get NAME
-//   params save FILE | params load FILE | params reapply
+//   params save FILE | params load FILE | params reapply | params diff | params reset
 //   ref NAME key=value...     ref infinity period=8 a=4
 //   ref load FILE.csv [hold=N]
 //   model upload FILE.nlsm
@@ -42,7 +42,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 
 struct Command {
   enum class Kind {
-    Set, Get, ParamsSave, ParamsLoad, ParamsReapply, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
+    Set, Get, ParamsSave, ParamsLoad, ParamsReapply, ParamsDiff, ParamsReset, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
     Wait, Expect, ExportCsv, Echo, Sweep, Note,
   };
   Kind kind = Kind::Echo;

@@ -104,6 +104,18 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         for (const auto& l : sent) out_("  " + l);
         break;
       }
+      case K::ParamsDiff: {
+        const auto diff = console_.params_diff();
+        if (diff.empty()) out_("every parameter has the value the firmware boots with");
+        for (const auto& d : diff) out_("  " + d);
+        break;
+      }
+      case K::ParamsReset: {
+        const auto changed = console_.reset_params();
+        if (changed.empty()) out_("every parameter already has the value the firmware boots with");
+        for (const auto& d : changed) out_("  " + d);
+        break;
+      }
       case K::Ref: {
         const RefParams r = reference_from_spec(console_.platform(), console_.loop_rate_hz(), c.name, c.options);
         console_.select_reference(r);

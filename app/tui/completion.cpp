@@ -67,7 +67,7 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
   } else if (w.size() == 2 && w[0] == "ref") {
     pool = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold", "load"};
   } else if (w.size() == 2 && w[0] == "params") {
-    pool = {"save", "load", "reapply"};
+    pool = {"save", "load", "reapply", "diff", "reset"};
   } else if (w.size() == 2 && w[0] == "model") {
     pool = {"upload"};
   } else if (w.size() == 3 && ((w[0] == "model" && w[1] == "upload") || (w[0] == "ref" && w[1] == "load") ||

@@ -9,22 +9,15 @@
 
 #include "protocol/crc.hpp"
 #include "protocol/messages.hpp"
+#include "shared/firmware_settings.hpp"
 #include "shared/params.hpp"
 
 namespace nlsoft::fw {
 
 namespace proto = nlsoft::protocol;
 
-// Firmware settings, listed after the controller's table.
-enum class FwParamId : uint16_t {
-  WatchdogMs = 100,  // link silence during a run before the safe state, 0 = off
-  SafeState = 101,   // 0 hold the last command, 1 actuators to neutral
-};
-
-struct FwSettings {
-  uint16_t watchdog_ms = 1000;
-  uint8_t safe_state = 1;
-};
+using nlsoft::FwParamId;
+using nlsoft::FwSettings;
 
 struct ParamReply {
   proto::StatusCode status = proto::StatusCode::Ok;

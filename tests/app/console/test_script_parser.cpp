@@ -88,7 +88,7 @@ TEST(ScriptParser, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("echo \"unterminated\n"), "");  // echo takes the raw rest of the line
   EXPECT_EQ(error_of("run 5s label=\"open\n"), "tune.nls:1: unterminated \"quote\"");
   EXPECT_EQ(error_of("run 5s colour=red\n"), "tune.nls:1: 'run': unexpected 'colour=red'; usage: run DURATION [label=TEXT] [early=ok]");
-  EXPECT_EQ(error_of("params edit x\n"), "tune.nls:1: params edit: expected 'save', 'load' or 'reapply'");
+  EXPECT_EQ(error_of("params edit x\n"), "tune.nls:1: params edit: expected save, load, reapply, diff or reset");
   EXPECT_EQ(error_of("export json x\n"), "tune.nls:1: export json: only 'export csv FILE' is supported");
   EXPECT_EQ(error_of("ref swirl scale\n"), "tune.nls:1: ref swirl: 'scale' is not key=value");
   EXPECT_EQ(error_of("get\n"), "tune.nls:1: 'get' needs more: get NAME");

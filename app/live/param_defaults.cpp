@@ -1,0 +1,27 @@
+#include "app/live/param_defaults.hpp"
+
+#include "shared/capacity.hpp"
+#include "shared/firmware_settings.hpp"
+#include "shared/params.hpp"
+#include "shared/platform.hpp"
+
+namespace nlsoft::console {
+
+std::map<uint16_t, std::vector<double>> firmware_defaults(uint8_t platform, int m, int n) {
+  std::map<uint16_t, std::vector<double>> out;
+  if (platform >= sizeof(kPresets) / sizeof(kPresets[0]) || m < 1 || n < 1 || m > HostCapacity::m || n > HostCapacity::n)
+    return out;
+  Params<HostCapacity> P;
+  if (preset_params(preset(PlatformId(platform)), P) != Status::Ok) return out;
+  for (uint16_t id = 0; id < uint16_t(ParamId::Count); ++id) {
+    float v[HostCapacity::m > HostCapacity::n ? HostCapacity::m : HostCapacity::n];
+    const int count = get_param(P, ParamId(id), m, n, v);
+    if (count > 0) out[id].assign(v, v + count);
+  }
+  const FwSettings fw{};
+  out[uint16_t(FwParamId::WatchdogMs)] = {double(fw.watchdog_ms)};
+  out[uint16_t(FwParamId::SafeState)] = {double(fw.safe_state)};
+  return out;
+}
+
+}  // namespace nlsoft::console
