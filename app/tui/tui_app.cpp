@@ -126,6 +126,8 @@ class App : public Ui {
   void pause_plot(bool on);
   void scroll_plot(double windows);
   void move_cursor(int columns);
+  void load_older_samples();
+  void merge_older_samples();
   void draw_plot_status(int y, int w);
   double step_rate();  // control steps per second, measured when known
   void shutdown();
@@ -158,6 +160,14 @@ class App : public Ui {
   bool paused_ = false;
   std::vector<Sample> frozen_;
   int64_t end_step_ = -1;
+  // Scrolling back past the oldest sample kept in memory reads the run's
+  // older samples from the database, a live buffer's worth at a time: the
+  // worker loads them into older_ (under ui_mu_), the UI thread prepends
+  // them to frozen_, which only it touches.
+  int64_t frozen_run_ = 0;  // the run the paused samples belong to; 0: none
+  bool loading_older_ = false;
+  bool older_ready_ = false;        // under ui_mu_
+  std::vector<Sample> older_;       // under ui_mu_
   int64_t cursor_step_ = -1;  // < >: the time the paused plot's readout reads
   int plot_columns_ = 80;     // of the last drawn time plot, for the cursor's step
   int help_top_ = 0;          // first help line shown (a short terminal scrolls it)
@@ -324,11 +334,61 @@ void App::pause_plot(bool on) {
   if (on) {
     frozen_ = console_.live().snapshot(LiveConsole::kLiveSamples);
     end_step_ = frozen_.empty() ? -1 : int64_t(frozen_.back().step);
+    const auto last = console_.last_run();
+    frozen_run_ = console_.running() ? console_.current_run() : last ? last->run_id : 0;
   } else {
     frozen_.clear();
     end_step_ = -1;
     cursor_step_ = -1;
+    frozen_run_ = 0;
   }
+}
+
+void App::load_older_samples() {
+  if (loading_older_ || frozen_run_ == 0) return;
+  loading_older_ = true;
+  const int64_t run = frozen_run_;
+  const uint64_t before = frozen_.front().k;
+  message(fmt::format("reading run {}'s samples before #{} from the database...", run, before));
+  worker_.post("loading older samples", [this, run, before] {
+    std::deque<Sample> chunk;
+    try {
+      RunStore store(console_.db_path());
+      store.for_each_sample(run, [&](const Sample& smp) {
+        if (smp.k >= before) return;
+        chunk.push_back(smp);
+        if (chunk.size() > LiveConsole::kLiveSamples) chunk.pop_front();
+      });
+    } catch (const std::exception& e) {
+      message(std::string("older samples: ") + e.what(), Role::Error);
+    }
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    older_.assign(chunk.begin(), chunk.end());
+    older_ready_ = true;
+  });
+}
+
+// On the UI thread: what the worker read goes in front of the paused
+// samples, if the view is still paused on the same run.
+void App::merge_older_samples() {
+  std::vector<Sample> older;
+  {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    if (!older_ready_) return;
+    older_ready_ = false;
+    older.swap(older_);
+  }
+  loading_older_ = false;
+  if (!paused_ || frozen_.empty()) return;
+  const uint64_t before = frozen_.front().k;
+  while (!older.empty() && older.back().k >= before) older.pop_back();
+  if (older.empty()) {
+    message(fmt::format("run {} has no samples before those shown", frozen_run_));
+    return;
+  }
+  message(fmt::format("{} older samples of run {} read from the database: [ scrolls on", older.size(), frozen_run_),
+          Role::Ok);
+  frozen_.insert(frozen_.begin(), older.begin(), older.end());
 }
 
 void App::move_cursor(int columns) {
@@ -344,7 +404,9 @@ void App::scroll_plot(double windows) {
   const double window = window_s_ * step_rate();
   // Back until the oldest sample kept is at the right edge.
   const int64_t first = int64_t(frozen_.front().step), last = int64_t(frozen_.back().step);
-  end_step_ = std::max(first, std::min(last, end_step_ + int64_t(std::llround(windows * window))));
+  const int64_t want = end_step_ + int64_t(std::llround(windows * window));
+  if (want - int64_t(window) < first && frozen_.front().k > 0) load_older_samples();
+  end_step_ = std::max(first, std::min(last, want));
   if (cursor_step_ >= 0)  // the cursor stays on screen, at the same time when it can
     cursor_step_ = std::max(end_step_ - int64_t(window), std::min(end_step_, cursor_step_));
 }
@@ -681,6 +743,7 @@ int App::loop() {
         cmd_.start(pending_prompt_.label, pending_prompt_.initial);
       }
     }
+    merge_older_samples();
     const int ch = getch();
     if (ch != ERR && !handle(ch)) break;
     // A firmware that reset behind a reconnect: old values must not stay on

@@ -327,6 +327,41 @@ TEST(ConsoleTui, PlotSignalsWithoutColourPauseScrollAndZoom) {
   t.keys("q");
 }
 
+// A run longer than the console keeps in memory (16384 samples) can be
+// scrolled through whole: going back past the oldest sample kept reads the
+// earlier ones from the database.
+TEST(ConsoleTui, ScrollingBackPastMemoryReadsTheRunFromTheDatabase) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --sim-fast --db " + dir.file("runs.db"),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  // 300 s of 130 Hz steps: 39000 samples, the first 22616 only on disk.
+  t.keys(shell_quote(":run 300s") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1: ") && contains(x, " samples"); }, s, 60))
+      << s;
+  t.keys("Space");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "PAUSED at "); }, s)) << s;
+  // Half a window a key: 40 keys cover 20 windows, past the 16384 kept.
+  for (int i = 0; i < 4; ++i) t.keys("'[' '[' '[' '[' '[' '[' '[' '[' '[' '['");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "older samples of run 1 read from the database"); },
+                         s))
+      << s;
+  // The first read is a memory's worth; the rest of the run comes with more keys.
+  t.keys("F9");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "16384 older samples of run 1"); }, s)) << s;
+  auto reads = [](const std::string& x) {
+    size_t n = 0;
+    for (size_t at = x.find("older samples of run 1"); at != std::string::npos; at = x.find("older samples of run 1", at + 1)) ++n;
+    return n;
+  };
+  for (int i = 0; i < 6; ++i) t.keys("'[' '[' '[' '[' '[' '[' '[' '[' '[' '['");
+  ASSERT_TRUE(t.wait_for([&](const std::string& x) { return reads(x) >= 2; }, s)) << s;
+  t.keys("q");
+}
+
 // The selected parameter explains itself before anything is sent: what it
 // does, its range and unit, or its options; options go by name, one value
 // sets every element, and a refusal is shown whole.
