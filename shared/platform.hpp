@@ -40,14 +40,59 @@ struct Preset {
 // "Hessian" turned Newton into a huge gradient step). A 100 ms horizon
 // (N = 100, a third of the plant's period) and Lambda = 4e-2 give rise
 // 0.34-0.41 s and 2.1-2.5 % overshoot on a perfect model, the paper's figures.
-inline constexpr Preset kPresets[] = {
-    {PlatformId::Msd, 1, 1, 0, 2, 2, 1000.0f, {1.0f, 0, 0}, {4e-2f}, 1e-20f, 1e-5f, 4e2f, 1e-3f, 100, 1,
-     -2000.0f, 2000.0f, Feedback::Measured, 1},
-    {PlatformId::Hasel, 6, 3, 18, 2, 2, 130.0f, {1e6f, 2e6f, 1e6f}, {1, 1, 1, 1, 1, 1}, 1e-25f, 1e-5f, 4e2f,
-     1.0f / 130.0f, 3, 1, 0.0f, 1.0f, Feedback::Predicted, 1},
-    {PlatformId::Tendon, 2, 3, 11, 2, 2, 120.0f, {1e-3f, 5e3f, 2e3f}, {1, 1}, 1e-20f, 1e-10f, 4e5f,
-     1.0f / 120.0f, 3, 3, -1.2f, 1.2f, Feedback::Predicted, 1},
-};
+// Each preset by field name (C++17 has no designated initialisers): a
+// positional list of 18 values per rig hid which number was which.
+constexpr Preset msd_preset() {
+  Preset p{};
+  p.id = PlatformId::Msd;
+  p.m = 1, p.n = 1, p.w = 0, p.nd = 2, p.dd = 2;
+  p.rate_hz = 1000.0f;
+  p.Q[0] = 1.0f;
+  p.Lambda[0] = 4e-2f;
+  p.s = 1e-20f, p.b = 1e-5f, p.r = 4e2f, p.eps = 1e-3f;
+  p.N = 100, p.Nc = 1;
+  p.u_min = -2000.0f, p.u_max = 2000.0f;
+  p.feedback = Feedback::Measured;
+  p.nr_max_iter = 1;
+  return p;
+}
+
+constexpr Preset hasel_preset() {
+  Preset p{};
+  p.id = PlatformId::Hasel;
+  p.m = 6, p.n = 3, p.w = 18, p.nd = 2, p.dd = 2;
+  p.rate_hz = 130.0f;
+  p.Q[0] = 1e6f, p.Q[1] = 2e6f, p.Q[2] = 1e6f;
+  for (int i = 0; i < 6; ++i) p.Lambda[i] = 1.0f;
+  p.s = 1e-25f, p.b = 1e-5f, p.r = 4e2f, p.eps = 1.0f / 130.0f;
+  p.N = 3, p.Nc = 1;
+  p.u_min = 0.0f, p.u_max = 1.0f;
+  p.feedback = Feedback::Predicted;
+  p.nr_max_iter = 1;
+  return p;
+}
+
+constexpr Preset tendon_preset() {
+  Preset p{};
+  p.id = PlatformId::Tendon;
+  p.m = 2, p.n = 3, p.w = 11, p.nd = 2, p.dd = 2;
+  p.rate_hz = 120.0f;
+  p.Q[0] = 1e-3f, p.Q[1] = 5e3f, p.Q[2] = 2e3f;
+  p.Lambda[0] = 1.0f, p.Lambda[1] = 1.0f;
+  p.s = 1e-20f, p.b = 1e-10f, p.r = 4e5f, p.eps = 1.0f / 120.0f;
+  p.N = 3, p.Nc = 3;
+  p.u_min = -1.2f, p.u_max = 1.2f;
+  p.feedback = Feedback::Predicted;
+  p.nr_max_iter = 1;
+  return p;
+}
+
+// Indexed by PlatformId.
+inline constexpr Preset kPresets[] = {msd_preset(), hasel_preset(), tendon_preset()};
+static_assert(kPresets[uint8_t(PlatformId::Msd)].id == PlatformId::Msd &&
+                  kPresets[uint8_t(PlatformId::Hasel)].id == PlatformId::Hasel &&
+                  kPresets[uint8_t(PlatformId::Tendon)].id == PlatformId::Tendon,
+              "kPresets is indexed by PlatformId");
 
 inline const Preset& preset(PlatformId id) { return kPresets[uint8_t(id)]; }
 
