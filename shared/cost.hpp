@@ -1,6 +1,6 @@
 #pragma once
-// The cost J (paper eq. "cost"), its gradient dJ/dU (eq. cost1) and its
-// Hessian d2J/dU2 (eq. cost2) in the Gauss-Newton form, a full
+// The cost J (the paper's eq. 2), its gradient dJ/dU (eq. 4) and its
+// Hessian d2J/dU2 (eq. 5) in the Gauss-Newton form, a full
 // (Nc m) x (Nc m) matrix:
 //
 //   J = sum_{j=N1..N} ||y_ref,j - y_hat,j||^2_Q            tracking
@@ -12,7 +12,7 @@
 //
 // The Lambda term runs over time steps j (each du_j is an m-vector), and H
 // couples every pair of unknowns; the published firmware collapsed both to a
-// per-actuator scalar. H leaves out eq. cost2's second-order network term
+// per-actuator scalar. H leaves out eq. 5's second-order network term
 // -2 e' Q d2y/dU2: it costs more than the rest of the step to compute, makes
 // H indefinite where the prediction misses the reference, and vanishes where
 // it meets it; measured with it on the shipped models, tracking was the same

@@ -4,7 +4,7 @@
 // the controller's fast rollout (rollout.hpp) to them:
 //   jets     forward-mode chain rule through the layers (jet.hpp): one
 //            rollout with K directions per value, std::tanh / std::exp;
-//   stencil  the paper's central difference (eq. first_derivative1)
+//   stencil  the paper's central difference (eq. 7)
 //            applied to U directly: 2K + 1 horizon rollouts.
 // Both differentiate the recursion itself; the paper's X_j = X shortcut is
 // not taken, so both see the same function.

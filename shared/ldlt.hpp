@@ -2,7 +2,7 @@
 // A = L D L^T of a symmetric positive-definite k x k matrix (row-major,
 // leading dimension ld), in place: L's strict lower triangle below the
 // diagonal, D on it; the upper triangle is not read. The Gauss-Newton matrix
-// of eq. cost2 plus damping is symmetric positive definite, so this needs
+// of eq. 5 plus damping is symmetric positive definite, so this needs
 // half the work of pivoted LU and no square roots. Hand-written because
 // Eigen's fixed-size LDLT costs more flash than the whole solver on an MCU;
 // tests hold it against Eigen::LDLT.

@@ -1,5 +1,5 @@
 #pragma once
-// The learned forward model g(x) -> y_hat(k+1) (paper eq. "model"), as data.
+// The learned forward model g(x) -> y_hat(k+1) (the paper's eq. 1), as data.
 //
 // A Model is a view: the layer table and dimensions live in it, the numbers
 // (normalisation + weights) in one caller-owned float block, so the same code

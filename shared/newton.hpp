@@ -1,6 +1,6 @@
 #pragma once
-// Newton-Raphson on U (paper eq. NR): H (U+ - U) = -dJ/dU with H the full
-// Gauss-Newton Hessian of eq. cost2 (cost.hpp), solved by LDL^T, iterated to
+// Newton-Raphson on U (the paper's eq. 3): H (U+ - U) = -dJ/dU with H the full
+// Gauss-Newton Hessian of eq. 5 (cost.hpp), solved by LDL^T, iterated to
 // a tolerance or a cap, each iterate kept inside the input limits.
 //
 // Globalisation, because the plain Newton step is only as good as the local

@@ -11,9 +11,9 @@
 namespace nlsoft {
 
 enum class ParamId : uint8_t {
-  Q = 0,       // output weights, diag(Q)            eq. cost, term 1
-  Lambda,      // input-change weights, diag(Lambda) eq. cost, term 2
-  S,           // barrier scale s                    eq. cost, term 3
+  Q = 0,       // output weights, diag(Q)            eq. 2, term 1
+  Lambda,      // input-change weights, diag(Lambda) eq. 2, term 2
+  S,           // barrier scale s                    eq. 2, term 3
   B,           // barrier centre b
   R,           // barrier range r
   N,           // prediction horizon

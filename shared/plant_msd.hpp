@@ -1,5 +1,5 @@
 // Mass-spring-damper, the paper's linear baseline (section "Mass-spring-damper",
-// equation "spring-mass-damper"):
+// eq. 13):
 //
 //   x0' = x1
 //   x1' = u - (k/m) x0 - (c/m) x1,      u = F_external / m  [N/kg]

@@ -1,5 +1,5 @@
 #pragma once
-// Preprocessing of the paper's eq. "data": a logged series becomes rows
+// Preprocessing of the paper's eq. 14: a logged series becomes rows
 //   x(k) = [u(k) .. u(k-nd+1) | y(k) .. y(k-dd+1) | l(k)]  ->  label y(k+1)
 // in exactly the order the controller builds x at run time
 // (shared/input_vector.hpp), then min-max normalisation and the ten-fold

@@ -1,4 +1,4 @@
-// Preprocessing (paper eq. "data"), normalisation, split, CSV and excitation.
+// Preprocessing (the paper's eq. 14), normalisation, split, CSV and excitation.
 #include <gtest/gtest.h>
 
 #include <sstream>
