@@ -27,8 +27,27 @@ constexpr uint8_t kModelFormatVersion = 1;
 constexpr size_t kModelHeaderSize = 24;
 constexpr size_t kModelLayerSize = 8;
 
-inline size_t model_file_size(int layers, uint32_t params) {
+// Header fields by name, for code that reads a file's shape before
+// parsing it (the firmware refusing a model for another plant).
+namespace model_offset {
+constexpr size_t kMagic = 0, kVersion = 4, kFlags = 5, kM = 6, kN = 7, kW = 8, kNd = 9, kDd = 10, kLayers = 11,
+                 kParams = 12, kPlatform = 16, kLayerTable = 24;
+}  // namespace model_offset
+
+constexpr size_t model_file_size(int layers, uint32_t params) {
   return kModelHeaderSize + kModelLayerSize * size_t(layers) + 4 * size_t(params) + 4;
+}
+
+// The most parameters a model within capacity Cap can hold (normalisation,
+// then weights; model.hpp), and the size of its file: what a transfer
+// buffer must take.
+template <class Cap>
+constexpr uint32_t model_params_max() {
+  return uint32_t(Cap::weights) + 2u * uint32_t(Dims<Cap>::p) + 2u * uint32_t(Cap::n);
+}
+template <class Cap>
+constexpr size_t model_file_max() {
+  return model_file_size(Cap::layers, model_params_max<Cap>());
 }
 
 namespace detail {
@@ -56,22 +75,22 @@ Status parse_model(const uint8_t* buf, size_t len, Model<Cap>& M, float* storage
                    uint8_t* platform = nullptr) {
   using namespace detail;
   if (buf == nullptr || len < kModelHeaderSize + 4) return Status::BadFormat;
-  if (std::memcmp(buf, "NLSM", 4) != 0 || buf[4] != kModelFormatVersion) return Status::BadFormat;
-  const int L = buf[11];
-  const uint32_t P = rd32(buf + 12);
+  if (std::memcmp(buf, "NLSM", 4) != 0 || buf[model_offset::kVersion] != kModelFormatVersion) return Status::BadFormat;
+  const int L = buf[model_offset::kLayers];
+  const uint32_t P = rd32(buf + model_offset::kParams);
   if (L > Cap::layers) return Status::TooLarge;
-  if (storage ? P > storage_cap : P > uint32_t(Cap::weights) + 2u * Dims<Cap>::p + 2u * Cap::n) return Status::TooLarge;
+  if (storage ? P > storage_cap : P > model_params_max<Cap>()) return Status::TooLarge;
   if (len != model_file_size(L, P)) return Status::WrongSize;
   const uint32_t crc = rd32(buf + len - 4);
   if (crc32(buf, len - 4) != crc) return Status::BadChecksum;
 
   Model<Cap> c;
-  c.residual = (buf[5] & 1u) != 0;
-  c.m = buf[6];
-  c.n = buf[7];
-  c.w = buf[8];
-  c.nd = buf[9];
-  c.dd = buf[10];
+  c.residual = (buf[model_offset::kFlags] & 1u) != 0;
+  c.m = buf[model_offset::kM];
+  c.n = buf[model_offset::kN];
+  c.w = buf[model_offset::kW];
+  c.nd = buf[model_offset::kNd];
+  c.dd = buf[model_offset::kDd];
   c.layer_count = uint8_t(L);
   const uint8_t* lp = buf + kModelHeaderSize;
   for (int i = 0; i < L; ++i, lp += kModelLayerSize) {
@@ -110,7 +129,7 @@ Status parse_model(const uint8_t* buf, size_t len, Model<Cap>& M, float* storage
   }
   c.hash = crc;
   M = c;
-  if (platform) *platform = buf[16];
+  if (platform) *platform = buf[model_offset::kPlatform];
   return Status::Ok;
 }
 
@@ -123,16 +142,17 @@ size_t write_model(const Model<Cap>& M, uint8_t platform, uint8_t* out, size_t c
   if (out == nullptr || size > cap) return 0;
   std::memset(out, 0, kModelHeaderSize);
   std::memcpy(out, "NLSM", 4);
-  out[4] = kModelFormatVersion;
-  out[5] = M.residual ? 1 : 0;
-  out[6] = M.m;
-  out[7] = M.n;
-  out[8] = M.w;
-  out[9] = M.nd;
-  out[10] = M.dd;
-  out[11] = M.layer_count;
-  wr32(out + 12, M.param_count);
-  out[16] = platform;
+  namespace at = model_offset;
+  out[at::kVersion] = kModelFormatVersion;
+  out[at::kFlags] = M.residual ? 1 : 0;
+  out[at::kM] = M.m;
+  out[at::kN] = M.n;
+  out[at::kW] = M.w;
+  out[at::kNd] = M.nd;
+  out[at::kDd] = M.dd;
+  out[at::kLayers] = M.layer_count;
+  wr32(out + at::kParams, M.param_count);
+  out[at::kPlatform] = platform;
   uint8_t* lp = out + kModelHeaderSize;
   for (int i = 0; i < M.layer_count; ++i, lp += kModelLayerSize) {
     const Layer& l = M.layer[i];

@@ -557,7 +557,7 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   // Parsed with copies of the weights, so the check does not depend on the
   // vector's alignment; the same checks the firmware makes at commit.
-  std::vector<float> weights(HostCapacity::weights + 2u * Dims<HostCapacity>::p + 2u * HostCapacity::n);
+  std::vector<float> weights(model_params_max<HostCapacity>());
   Model<HostCapacity> m;
   uint8_t file_platform = 255;
   const Status st = parse_model(bytes.data(), bytes.size(), m, weights.data(), uint32_t(weights.size()), &file_platform);

@@ -191,7 +191,8 @@ class Firmware {
     Model<Cap> probe;
     const uint8_t* f = model_rx_.data();
     const size_t len = model_rx_.size();
-    if (len < kModelHeaderSize || f[6] != preset_.m || f[7] != preset_.n || f[8] != preset_.w)
+    namespace at = model_offset;
+    if (len < kModelHeaderSize || f[at::kM] != preset_.m || f[at::kN] != preset_.n || f[at::kW] != preset_.w)
       return proto::StatusCode::Inconsistent;
     const Status s = parse_model(f, len, probe, nullptr, 0);
     if (s != Status::Ok) return proto::StatusCode(uint8_t(s));

@@ -19,6 +19,7 @@
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
+#include "shared/model_file.hpp"
 
 namespace {
 
@@ -29,8 +30,9 @@ using Fw = fw::Firmware<Cap, 16384>;
 volatile sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
-// Port memory: generous on a host.
-alignas(4) uint8_t g_model_staging[64 * 1024];
+// Port memory: generous on a host; room for the largest model the host
+// capacity runs.
+alignas(4) uint8_t g_model_staging[model_file_max<Cap>()];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
 

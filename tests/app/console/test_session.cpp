@@ -74,14 +74,17 @@ TEST(Session, RetriesWithTheSameSequence) {
     if (++seen <= 2) return;  // the first two copies are "lost"
     pong(pe, f);
   });
-  Session s(fast_options());
+  // Spare tries: on a loaded machine the answer to the third copy may come
+  // after a fourth went out; every copy must still carry the same seq.
+  SessionOptions o = fast_options();
+  o.tries = 8;
+  Session s(o);
   s.open(peer.path(), 115200);
   EXPECT_EQ(ping(s, 42).nonce, 42u);
   const auto seqs = peer.seqs_seen();
-  ASSERT_EQ(seqs.size(), 3u);
-  EXPECT_EQ(seqs[0], seqs[1]);
-  EXPECT_EQ(seqs[1], seqs[2]);
-  EXPECT_EQ(s.stats().retransmits, 2u);
+  ASSERT_GE(seqs.size(), 3u);
+  for (size_t i = 1; i < seqs.size(); ++i) EXPECT_EQ(seqs[i], seqs[0]) << "copy " << i;
+  EXPECT_EQ(s.stats().retransmits, seqs.size() - 1);
 }
 
 // The error a PARAM_SET that gets no reply ends with.
