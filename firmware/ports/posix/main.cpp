@@ -20,6 +20,7 @@
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
 #include "shared/model_file.hpp"
+#include "shared/version.hpp"
 
 namespace {
 
@@ -111,7 +112,7 @@ int main(int argc, char** argv) {
 
   static fw::posix::SimHal hal(pty.master, platform, seed);
   hal.set_period(float(1.0 / rate));
-  const fw::Identity id{platform, "nlsoft-posix", 0, 1, 0, uint32_t(rate + 0.5), true};
+  const fw::Identity id{platform, "nlsoft-posix", kVersionMajor, kVersionMinor, kVersionPatch, uint32_t(rate + 0.5), true};
   const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                          g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
   static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
