@@ -11,7 +11,9 @@
 
 #include "firmware/core/firmware.hpp"
 #include "peer.hpp"
+#include "shared/capacity.hpp"
 #include "shared/crc32.hpp"
+#include "shared/model_file.hpp"
 #include "shared/params.hpp"
 #include "sim_process.hpp"
 #include "support/msd_arx_model.hpp"
@@ -88,9 +90,10 @@ TEST_F(PosixFirmware, HandshakeReportsPlatformModelAndTable) {
   const auto file = msd_arx_model_file();
   EXPECT_EQ(info.model_hash, crc32(file.data(), file.size() - 4));
   EXPECT_TRUE(info.capabilities & proto::capability::kYTrue);
-  // The posix port's buffers: 20000 points of 3 floats, 64 KiB of model.
+  // The posix port's buffers: 20000 points of 3 floats, the largest model
+  // of the host capacity.
   EXPECT_EQ(ex.table_max, 8u + 4u * 3u * 20000u);
-  EXPECT_EQ(ex.model_max, 64u * 1024u);
+  EXPECT_EQ(ex.model_max, model_file_max<HostCapacity>());
 
   // param_hash is the CRC-32 of the PARAM_DESC payloads as they arrive.
   Crc32 crc;
