@@ -7,10 +7,8 @@
 #include "app/conformance/command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/simulate.hpp"
-#include "protocol/frame.hpp"
-#ifdef NLSOFT_HAVE_MODEL_PIPELINE
 #include "app/model/commands.hpp"
-#endif
+#include "protocol/frame.hpp"
 
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
@@ -23,9 +21,7 @@ int main(int argc, char** argv) {
   add_simulate_command(app);
   add_console_commands(app);
   add_conformance_command(app);
-#ifdef NLSOFT_HAVE_MODEL_PIPELINE
   add_model_commands(app);
-#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

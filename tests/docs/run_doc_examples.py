@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""Runs every command example in the user documents, as a reader would type it.
+
+Each line of a fenced code block in the given Markdown files that starts, at
+its left edge, with `nlsoft-console` or `nlsoft-firmware-sim` is an example. Synopsis notation is
+resolved the way a reader would first try it: an optional `[...]` group is
+left out and `a|b|c` takes its first choice. Examples run in document order
+in one scratch folder whose recording database is private ($XDG_DATA_HOME),
+so `runs show 12` finds the runs recorded before it. Fixtures a reader would
+have made first (a script named tune.nls, a dozen recorded runs) are made
+here and named in the output.
+
+Each example must exit 0, except that a board example (a /dev/tty* port)
+cannot run here and is listed as skipped with the reason, as are QEMU
+examples when the images were not built. Interactive examples (the TUI) run
+in tmux until the parameter panel is drawn, then get `q`.
+
+Python rather than C++: it drives whole command lines and tmux, nothing else.
+"""
+import argparse
+import os
+import re
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune"}
+
+
+def examples(path):
+    out, fenced = [], False
+    with open(path, encoding="utf-8") as f:
+        for n, line in enumerate(f, 1):
+            if line.startswith("```"):
+                fenced = not fenced
+                continue
+            # At the block's left edge: an indented "nlsoft-console | ..." is a captured screen.
+            if fenced and (line.startswith("nlsoft-console ") or line.startswith("nlsoft-firmware-sim ")):
+                out.append((f"{os.path.basename(path)}:{n}", line.strip()))
+    return out
+
+
+def resolve(text):
+    """The command line a reader would type first: comments off, optional groups out, first choices."""
+    text = re.sub(r"\s+#\s.*$", "", text)
+    while True:
+        stripped = re.sub(r"\s*\[[^\[\]]*\]", "", text)
+        if stripped == text:
+            break
+        text = stripped
+    words = shlex.split(text)
+    return [w.split("|")[0] if "|" in w and not w.startswith("-") else w for w in words]
+
+
+def run(cmd, env, cwd, timeout):
+    p = subprocess.run(cmd, env=env, cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, timeout=timeout)
+    return p.returncode, p.stdout.decode(errors="replace")
+
+
+def run_interactive(cmd, env, cwd, timeout):
+    sock = f"nlsoft-doc-{os.getpid()}"
+    tmux = ["tmux", "-L", sock]
+    line = " ".join(shlex.quote(c) for c in cmd)
+    envs = " ".join(f"{k}={shlex.quote(env[k])}" for k in ("NLSOFT_FIRMWARE_SIM", "XDG_DATA_HOME", "LANG") if k in env)
+    subprocess.run(tmux + ["new-session", "-d", "-s", "doc", "-x", "120", "-y", "40", "-c", cwd,
+                           f"env {envs} {line}; echo EXIT=$?; sleep 30"], check=True)
+    try:
+        end, screen = time.time() + timeout, ""
+        while time.time() < end:
+            screen = subprocess.run(tmux + ["capture-pane", "-p", "-t", "doc"], stdout=subprocess.PIPE).stdout.decode()
+            if "Parameters (" in screen or "EXIT=" in screen:
+                break
+            time.sleep(0.2)
+        if "Parameters (" not in screen:
+            return 1, screen
+        subprocess.run(tmux + ["send-keys", "-t", "doc", "q"])
+        while time.time() < end:
+            screen = subprocess.run(tmux + ["capture-pane", "-p", "-t", "doc"], stdout=subprocess.PIPE).stdout.decode()
+            m = re.search(r"EXIT=(\d+)", screen)
+            if m:
+                return int(m.group(1)), screen
+            time.sleep(0.2)
+        return 1, screen + "\n(did not exit after q)"
+    finally:
+        subprocess.run(tmux + ["kill-server"], stderr=subprocess.DEVNULL)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--console", required=True)
+    ap.add_argument("--firmware-sim", required=True)
+    ap.add_argument("--no-qemu", action="store_true", help="the Cortex-M images were not built: skip QEMU examples")
+    ap.add_argument("docs", nargs="+")
+    a = ap.parse_args()
+    a.console, a.firmware_sim = os.path.abspath(a.console), os.path.abspath(a.firmware_sim)
+
+    work = tempfile.mkdtemp(prefix="nlsoft-doc-examples-")
+    env = dict(os.environ, XDG_DATA_HOME=os.path.join(work, "data"), NLSOFT_FIRMWARE_SIM=a.firmware_sim,
+               LANG="C.UTF-8")
+    binaries = {"nlsoft-console": a.console, "nlsoft-firmware-sim": a.firmware_sim}
+    failed = ran = skipped = 0
+    try:
+        # Fixtures: the script the examples name, and runs 1..13 to show, export and compare.
+        with open(os.path.join(work, "tune.nls"), "w") as f:
+            f.write("# made by the documentation test: a short tuning session\n"
+                    "ref swirl scale=1 hold=1\nset Lambda 1\nrun 3s label=baseline\nexpect nrmse < 0.2\n")
+        with open(os.path.join(work, "runs.nls"), "w") as f:
+            f.write("".join(f"run 200ms label=fixture{i}\n" for i in range(1, 14)))
+        code, out = run([a.console, "--sim", "msd", "--sim-fast", "--script", "runs.nls"], env, work, 120)
+        print(f"fixture: tune.nls, and 13 runs recorded ({'ok' if code == 0 else 'FAILED'})")
+        if code != 0:
+            print(out)
+            return 1
+
+        for doc in a.docs:
+            for where, text in examples(doc):
+                cmd = resolve(text)
+                cmd[0] = binaries[cmd[0]]
+                shown = " ".join(resolve(text))
+                if any(w.startswith("/dev/tty") for w in cmd):
+                    print(f"SKIP {where}: {shown}  (needs a board on a serial port)")
+                    skipped += 1
+                    continue
+                if a.no_qemu and "--qemu" in cmd:
+                    print(f"SKIP {where}: {shown}  (the Cortex-M images were not built)")
+                    skipped += 1
+                    continue
+                started = time.time()
+                if cmd[0] == a.firmware_sim:
+                    p = subprocess.Popen(cmd, env=env, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+                    first = p.stdout.readline().decode().strip()
+                    p.terminate()
+                    p.wait(timeout=10)
+                    code, out = (0, first) if first.startswith("/dev/pts/") else (1, first)
+                elif len(cmd) > 1 and cmd[1] not in SUBCOMMANDS and "--script" not in cmd:
+                    code, out = run_interactive(cmd, env, work, 60)
+                else:
+                    code, out = run(cmd, env, work, 600)
+                ran += 1
+                verdict = "PASS" if code == 0 else "FAIL"
+                print(f"{verdict} {where}: {shown}  ({time.time() - started:.1f} s)")
+                if code != 0:
+                    failed += 1
+                    print("  exit", code, "\n  " + "\n  ".join(out.strip().splitlines()[-15:]))
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    print(f"{ran} examples run, {failed} failed, {skipped} skipped")
+    return 1 if failed or ran == 0 else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
