@@ -12,7 +12,7 @@
 #include "shared/plant_msd.hpp"
 #include "shared/plant_tendon.hpp"
 
-namespace nlsoft::fw::an386 {
+namespace nlsoft::fw::cortex_m {
 
 #if defined(NLSOFT_PLATFORM_HASEL)
 using Cap = HaselCapacity;
@@ -45,4 +45,4 @@ constexpr uint32_t kTablePoints = 64;
 constexpr uint32_t kTableFloats = kTablePoints * uint32_t(Cap::n);
 constexpr size_t kTableFileMax = 8 + 4 * size_t(kTableFloats);
 
-}  // namespace nlsoft::fw::an386
+}  // namespace nlsoft::fw::cortex_m
