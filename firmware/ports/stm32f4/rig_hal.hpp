@@ -6,8 +6,10 @@
 // table reads 0).
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
+#include "firmware/ports/cortex-m/platform_config.hpp"
 #include "firmware/ports/stm32f4/clock_tree.hpp"
 #include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "shared/platform.hpp"
 
 namespace nlsoft::fw::cortex_m {
 
@@ -25,7 +27,7 @@ class RigHal final : public Hal {
   void actuate(const float* u, int m) override {
     for (int i = 0; i < m && i < M; ++i) {
       const stm32f4::PwmOutput& o = stm32f4::kPwm[i];
-      float duty = (u[i] - o.u_at_0) / (o.u_at_1 - o.u_at_0);
+      float duty = (u[i] - kUMin) / (kUMax - kUMin);
       duty = duty < 0.0f ? 0.0f : duty > 1.0f ? 1.0f : duty;
       stm32f4::reg(o.timer + 0x30u + 4u * o.channel) = uint32_t(duty * float(period_) + 0.5f);
     }
@@ -55,6 +57,7 @@ class RigHal final : public Hal {
   void advance() {}
 
  private:
+  static constexpr float kUMin = kPresets[uint8_t(kPlatform)].u_min, kUMax = kPresets[uint8_t(kPlatform)].u_max;
   static constexpr uint32_t kDma2En = 1u << 22, kTim3En = 1u << 1, kTim4En = 1u << 2, kAdc1En = 1u << 8;
 
   void start_pwm() {
@@ -71,7 +74,7 @@ class RigHal final : public Hal {
       const uint32_t at = o.channel % 2 ? 0u : 8u;
       // PWM mode 1 with preload: a new duty starts with the next PWM period.
       reg(ccmr) = (reg(ccmr) & ~(0xFFu << at)) | ((6u << 4 | 1u << 3) << at);
-      reg(o.timer + 0x30u + 4u * o.channel) = uint32_t(0.0f);
+      reg(o.timer + 0x30u + 4u * o.channel) = 0;  // until the first actuate(): off
       reg(o.timer + 0x20) = reg(o.timer + 0x20) | (1u << (4u * (o.channel - 1u)));  // CCER: output on
     }
     for (uint32_t tim : kTimers) {

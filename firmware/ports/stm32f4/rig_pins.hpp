@@ -3,9 +3,11 @@
 // channel drives each actuator and which ADC channel reads each sensor, with
 // their scaling. README.md prints the same table for whoever wires the rig.
 //
-// Actuators: 20 kHz PWM, duty = (u - u_at_0) / (u_at_1 - u_at_0) clamped to
-// 0..1; a driver stage (MOSFET, HV amplifier, servo driver) turns the duty
-// into the actuator's input. Sensors: ADC1, 12 bits over 0..3.3 V, read
+// Actuators: 20 kHz PWM over the platform's whole input range, duty =
+// (u - u_min) / (u_max - u_min) with the preset's limits (shared/platform.hpp:
+// hasel 0..1, tendon -1.2..1.2, msd -2000..2000 N), so a bidirectional input
+// puts u = 0 at 50 %; a driver stage (MOSFET, HV amplifier, H-bridge) turns
+// the duty into the actuator's input. Sensors: ADC1, 12 bits over 0..3.3 V, read
 // continuously by DMA2 stream 0; l = offset + gain * volts.
 #include <cstdint>
 
@@ -17,7 +19,6 @@ struct PwmOutput {
   Pin pin;
   uint32_t timer;    // TIM3 or TIM4 base (APB1, AF2 on these pins)
   uint8_t channel;   // 1..4
-  float u_at_0, u_at_1;
 };
 
 struct AnalogueInput {
@@ -34,9 +35,8 @@ constexpr float kAdcVref = 3.3f;
 // PWM on TIM3 CH1-4 (PC6-PC9) and TIM4 CH1-2 (PB6-PB7): none of them is an
 // ADC input, USART2, or the Nucleo's LED (PA5) and button (PC13).
 constexpr PwmOutput kPwm[] = {
-    {{kGpioC, 6}, kTim3, 1, 0.0f, 1.0f}, {{kGpioC, 7}, kTim3, 2, 0.0f, 1.0f},
-    {{kGpioC, 8}, kTim3, 3, 0.0f, 1.0f}, {{kGpioC, 9}, kTim3, 4, 0.0f, 1.0f},
-    {{kGpioB, 6}, kTim4, 1, 0.0f, 1.0f}, {{kGpioB, 7}, kTim4, 2, 0.0f, 1.0f},
+    {{kGpioC, 6}, kTim3, 1}, {{kGpioC, 7}, kTim3, 2}, {{kGpioC, 8}, kTim3, 3},
+    {{kGpioC, 9}, kTim3, 4}, {{kGpioB, 6}, kTim4, 1}, {{kGpioB, 7}, kTim4, 2},
 };
 
 // The sixteen ADC1 inputs a Nucleo-64 brings out, in sensor order. PA2/PA3
