@@ -11,9 +11,13 @@ constexpr uint32_t kStart = 0xCCCCu, kUnlock = 0x5555u, kReload = 0xAAAAu;
 // temperature, so 500 counts is 340-940 ms: far above the longest turn of
 // the loop (a control step and a reply, a few ms) even at the fastest.
 constexpr uint32_t kDiv32 = 3u, kCounts = 500u;
+// DBGMCU_APB1_FZ.DBG_IWDG_STOP: the watchdog pauses while a debugger halts
+// the core, so a breakpoint does not reset the part under the debugger.
+constexpr uint32_t kDbgmcuApb1Fz = 0xE0042008u, kDbgIwdgStop = 1u << 12;
 }  // namespace
 
 void watchdog_start() {
+  reg(kDbgmcuApb1Fz) = reg(kDbgmcuApb1Fz) | kDbgIwdgStop;
   reg(kKr) = kStart;  // also starts the LSI
   reg(kKr) = kUnlock;
   reg(kPr) = kDiv32;
