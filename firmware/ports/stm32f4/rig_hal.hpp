@@ -28,7 +28,7 @@ class RigHal final : public Hal {
     for (int i = 0; i < m && i < M; ++i) {
       const stm32f4::PwmOutput& o = stm32f4::kPwm[i];
       float duty = (u[i] - kUMin) / (kUMax - kUMin);
-      duty = duty < 0.0f ? 0.0f : duty > 1.0f ? 1.0f : duty;
+      duty = duty > 0.0f ? (duty < 1.0f ? duty : 1.0f) : 0.0f;  // a NaN too: off, never an undefined cast
       stm32f4::reg(o.timer + 0x30u + 4u * o.channel) = uint32_t(duty * float(period_) + 0.5f);
     }
   }
@@ -116,6 +116,11 @@ class RigHal final : public Hal {
 
     // ADON, continuous, DMA with DDS (requests keep coming in circular mode).
     reg(kAdc + 0x08) = 1u | (1u << 1) | (1u << 8) | (1u << 9);
+    // The converter needs t_STAB (3 us, 540 cycles at 180 MHz) after ADON
+    // before a start is taken: 2000 turns of a volatile loop are several
+    // times that on every part, and no timer is free here to wait on.
+    for (volatile uint32_t i = 0; i < 2000u; i = i + 1) {
+    }
     reg(kAdc + 0x08) = reg(kAdc + 0x08) | (1u << 30);  // SWSTART
   }
 
