@@ -8,17 +8,19 @@
 #include "firmware/ports/stm32f4/usart2.hpp"
 #include "firmware/ports/stm32f4/watchdog.hpp"
 
-namespace nlsoft::fw::board {
+namespace nlsoft::fw::stm32f4 {
 
 namespace {
-stm32f4::Clocks g_clocks{};
+Clocks g_clocks{};
 }
 
-}  // namespace nlsoft::fw::board
+const Clocks& board_clocks() { return g_clocks; }
 
-const nlsoft::fw::stm32f4::Clocks& nlsoft::fw::stm32f4::board_clocks() { return board::g_clocks; }
+}  // namespace nlsoft::fw::stm32f4
 
 namespace nlsoft::fw::board {
+
+using stm32f4::g_clocks;
 
 void start(uint32_t baud) {
   g_clocks = stm32f4::start_clock_tree();
