@@ -6,6 +6,7 @@
 #include "app/cli_error.hpp"
 #include "app/conformance/command.hpp"
 #include "app/live/console_command.hpp"
+#include "app/live/flash_command.hpp"
 #include "app/simulate.hpp"
 #include "app/model/commands.hpp"
 #include "protocol/frame.hpp"
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   add_simulate_command(app);
   add_console_commands(app);
   add_conformance_command(app);
+  add_flash_command(app);
   add_model_commands(app);
   try {
     app.parse(argc, argv);

@@ -18,7 +18,7 @@ namespace {
 using namespace conformance;
 
 struct ConformanceArgs {
-  std::string port, sim, qemu;
+  std::string port, sim, qemu, board = "mps2-an386";
   unsigned baud = 115200;
   bool json = false;
   int timeout_ms = 250;
@@ -28,6 +28,7 @@ int run_conformance(const ConformanceArgs& a) {
   if (int(!a.port.empty()) + int(!a.sim.empty()) + int(!a.qemu.empty()) != 1)
     throw CliError(
         "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim PLATFORM or --qemu PLATFORM");
+  if (a.qemu.empty() && a.board != "mps2-an386") throw CliError("--board names the image --qemu boots; give --qemu too");
   SimLauncher launcher;
   Summary summary;
   summary.port = a.port;
@@ -36,8 +37,8 @@ int run_conformance(const ConformanceArgs& a) {
     summary.port = launcher.start(a.sim);
     summary.target = "sim " + a.sim;
   } else if (!a.qemu.empty()) {
-    summary.port = launcher.start_qemu(a.qemu);
-    summary.target = "qemu " + a.qemu;
+    summary.port = launcher.start_qemu(a.qemu, a.board);
+    summary.target = "qemu " + a.qemu + (a.board == "mps2-an386" ? "" : " on " + a.board);
   }
   // An emulated MCU answers a few times slower than the host simulator.
   const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));
@@ -71,6 +72,10 @@ void add_conformance_command(CLI::App& app) {
   c->add_option("--qemu", a->qemu,
                 "Boot this platform's Cortex-M4F image (simulated plant in the loop) in qemu-system-arm and test it")
       ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  c->add_option("--board", a->board,
+                "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
+                "image in -M netduinoplus2)")
+      ->check(CLI::IsMember(qemu_boards()));
   c->add_option("--baud", a->baud, "Baud rate (default 115200)")->check(CLI::Range(50u, 20000000u));
   c->add_option("--timeout", a->timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
   c->add_flag("--json", a->json, "One JSON object instead of PASS/FAIL lines");
@@ -91,6 +96,7 @@ void add_conformance_command(CLI::App& app) {
       "Examples:\n"
       "  nlsoft-console conformance --sim hasel\n"
       "  nlsoft-console conformance --qemu msd --json\n"
+      "  nlsoft-console conformance --qemu hasel --board stm32f4\n"
       "  nlsoft-console conformance /dev/ttyACM0 --baud 1000000\n");
   c->callback([a] { throw CliExit{run_conformance(*a)}; });
 }

@@ -49,33 +49,50 @@ std::string find_firmware_sim() {
     if (executable(cand)) return cand;
     tried.push_back(cand);
   }
-  if (const char* path = std::getenv("PATH")) {
-    std::string all = path;
-    size_t pos = 0;
-    while (pos <= all.size()) {
-      const size_t colon = all.find(':', pos);
-      const std::string d = all.substr(pos, colon == std::string::npos ? std::string::npos : colon - pos);
-      pos = colon == std::string::npos ? all.size() + 1 : colon + 1;
-      if (!d.empty() && executable(d + "/nlsoft-firmware-sim")) return d + "/nlsoft-firmware-sim";
-    }
-    tried.push_back("PATH");
-  }
+  if (std::string found = find_on_path("nlsoft-firmware-sim"); !found.empty()) return found;
+  tried.push_back("PATH");
   std::string list;
   for (const auto& t : tried) list += "\n  " + t;
   throw CliError("cannot find nlsoft-firmware-sim; tried:" + list +
                  "\nbuild it (cmake --build build --target nlsoft-firmware-sim) or set NLSOFT_FIRMWARE_SIM");
 }
 
-std::string find_m4_image(const std::string& platform) {
+std::string find_on_path(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  if (!path) return {};
+  const std::string all = path;
+  size_t pos = 0;
+  while (pos <= all.size()) {
+    const size_t colon = all.find(':', pos);
+    const std::string d = all.substr(pos, colon == std::string::npos ? std::string::npos : colon - pos);
+    pos = colon == std::string::npos ? all.size() + 1 : colon + 1;
+    if (!d.empty() && executable(d + "/" + name)) return d + "/" + name;
+  }
+  return {};
+}
+
+const std::vector<std::string>& qemu_boards() {
+  static const std::vector<std::string> boards = {"mps2-an386", "stm32f4"};
+  return boards;
+}
+
+std::string find_built_image(const std::string& rel) {
+  const std::string cand = exe_dir() + "/../firmware/" + rel;
+  if (::access(cand.c_str(), R_OK) == 0) return cand;
+  throw CliError(fmt::format("cannot find the firmware image {}; build it (needs arm-none-eabi-g++)", cand));
+}
+
+std::string find_m4_image(const std::string& platform, const std::string& board) {
   if (const char* env = std::getenv("NLSOFT_M4_IMAGE"); env && *env) {
     if (::access(env, R_OK) == 0) return env;
     throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
   }
-  const std::string cand = exe_dir() + "/../firmware/m4/nlsoft-m4-" + platform + "-hil.elf";
-  if (::access(cand.c_str(), R_OK) == 0) return cand;
-  throw CliError(fmt::format("cannot find the Cortex-M4F image {}; build it (needs arm-none-eabi-g++) or set "
-                             "NLSOFT_M4_IMAGE",
-                             cand));
+  try {
+    return board == "stm32f4" ? find_built_image("stm32f4/nlsoft-stm32f4-" + platform + "-hil.elf")
+                              : find_built_image("m4/nlsoft-m4-" + platform + "-hil.elf");
+  } catch (const CliError& e) {
+    throw CliError(std::string(e.what()) + " or set NLSOFT_M4_IMAGE");
+  }
 }
 
 namespace {
@@ -100,12 +117,21 @@ std::string SimLauncher::start(const std::string& platform, const std::vector<st
   return spawn(args, args[0], &first_line_path);
 }
 
-std::string SimLauncher::start_qemu(const std::string& platform) {
-  const std::string elf = find_m4_image(platform);
+std::string SimLauncher::start_qemu(const std::string& platform, const std::string& board) {
+  if (board != "mps2-an386" && board != "stm32f4")
+    throw CliError(fmt::format("--board {}: QEMU runs mps2-an386 or stm32f4", board));
+  const std::string elf = find_m4_image(platform, board);
   if (!executable("/usr/bin/qemu-system-arm") && !executable("/usr/local/bin/qemu-system-arm"))
     throw CliError("qemu-system-arm is not installed (apt-get install qemu-system-arm)");
-  return spawn({"qemu-system-arm", "-M", "mps2-an386", "-nographic", "-monitor", "none", "-serial", "pty", "-kernel", elf},
-               "qemu-system-arm", &qemu_pty);
+  std::vector<std::string> argv = {"qemu-system-arm", "-nographic", "-monitor", "none"};
+  if (board == "stm32f4") {
+    // USART2 is the STM32F405's second serial port; the first (USART1) goes nowhere.
+    argv.insert(argv.end(), {"-M", "netduinoplus2", "-serial", "null", "-serial", "pty"});
+  } else {
+    argv.insert(argv.end(), {"-M", "mps2-an386", "-serial", "pty"});
+  }
+  argv.insert(argv.end(), {"-kernel", elf});
+  return spawn(argv, "qemu-system-arm", &qemu_pty);
 }
 
 std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const std::string& what,

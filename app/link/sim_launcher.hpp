@@ -16,9 +16,22 @@ namespace nlsoft::console {
 // CliError listing what was tried.
 std::string find_firmware_sim();
 
-// The Cortex-M4F image with the simulated plant in the loop for `platform`:
-// $NLSOFT_M4_IMAGE, else <exe_dir>/../firmware/m4/nlsoft-m4-<platform>-hil.elf.
-std::string find_m4_image(const std::string& platform);
+// The boards whose Cortex-M4F images QEMU runs: "mps2-an386" (the default)
+// and "stm32f4" (a Nucleo-64 image in QEMU's netduinoplus2, an STM32F405).
+const std::vector<std::string>& qemu_boards();
+
+// The Cortex-M4F image with the simulated plant in the loop for `platform`
+// on `board`: $NLSOFT_M4_IMAGE, else, next to the console,
+// ../firmware/m4/nlsoft-m4-<platform>-hil.elf (mps2-an386) or
+// ../firmware/stm32f4/nlsoft-stm32f4-<platform>-hil.elf (stm32f4).
+std::string find_m4_image(const std::string& platform, const std::string& board = "mps2-an386");
+
+// A built firmware image next to the console: <exe_dir>/../firmware/<rel>.
+// Throws CliError naming the path when it is not there.
+std::string find_built_image(const std::string& rel);
+
+// `name` in a folder of $PATH, or empty.
+std::string find_on_path(const std::string& name);
 
 class SimLauncher {
  public:
@@ -29,8 +42,10 @@ class SimLauncher {
 
   // Returns the pty path. extra_args go after --platform (e.g. --rate 10000).
   std::string start(const std::string& platform, const std::vector<std::string>& extra_args = {});
-  // Boots the M4 image in qemu-system-arm (mps2-an386) with UART0 on a pty.
-  std::string start_qemu(const std::string& platform);
+  // Boots the board's HIL image in qemu-system-arm with the link's UART on a
+  // pty (mps2-an386: UART0, the first serial port; stm32f4: USART2, the
+  // second, on -M netduinoplus2).
+  std::string start_qemu(const std::string& platform, const std::string& board = "mps2-an386");
   void stop();
   pid_t pid() const { return pid_; }
   // The child's stderr, in a folder of our own (mode 0700) that goes with

@@ -9,6 +9,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/link/link_error.hpp"
+#include "app/link/sim_launcher.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
 #include "app/record/runs_command.hpp"
@@ -21,7 +22,7 @@ namespace nlsoft::console {
 namespace {
 
 struct ConsoleArgs {
-  std::string port, sim, qemu, script, db, udp;
+  std::string port, sim, qemu, script, db, udp, board = "mps2-an386";
   unsigned baud = 115200;
   bool no_record = false;
   int decimation = 0;
@@ -40,6 +41,7 @@ int run_console(const ConsoleArgs& a) {
                    "see nlsoft-console --help");
   if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
     throw CliError("give either a PORT or --sim/--qemu, not both");
+  if (a.qemu.empty() && a.board != "mps2-an386") throw CliError("--board names the image --qemu boots; give --qemu too");
   Script script;
   if (!a.script.empty()) {
     // Parse everything before connecting: a typo on line 40 should not cost
@@ -57,6 +59,7 @@ int run_console(const ConsoleArgs& a) {
   o.baud = a.baud;
   o.sim_platform = a.qemu.empty() ? a.sim : a.qemu;
   o.sim_in_qemu = !a.qemu.empty();
+  o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");
   o.db_path = a.db;
@@ -127,6 +130,10 @@ void add_console_commands(CLI::App& app) {
   app.add_option("--qemu", a->qemu,
                  "Boot the Cortex-M4F image (plant in the loop) in qemu-system-arm and connect to its UART")
       ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  app.add_option("--board", a->board,
+                 "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
+                 "image in -M netduinoplus2)")
+      ->check(CLI::IsMember(qemu_boards()));
   app.add_option("--baud", a->baud, "Baud rate, any integer the port supports (default 115200)")
       ->check(CLI::Range(50u, 20000000u));
   app.add_option("--script", a->script, "Run a script headless (no terminal needed); exit 0/1/2");
@@ -147,6 +154,7 @@ void add_console_commands(CLI::App& app) {
       "Connect and tune:\n"
       "  nlsoft-console --sim hasel              # no hardware: firmware simulator on a pty\n"
       "  nlsoft-console --qemu hasel             # the Cortex-M4F image in QEMU, UART on a pty\n"
+      "  nlsoft-console --qemu hasel --board stm32f4   # the Nucleo-64 image in QEMU\n"
       "  nlsoft-console /dev/ttyACM0 --baud 1000000\n"
       "  nlsoft-console /dev/ttyACM0 --wait -1     # wait for the board to be plugged in\n"
       "Headless (CI): exit 0 when every expect held, 1 when one failed, 2 on an error\n"

@@ -80,7 +80,7 @@ void LiveConsole::connect(const Progress& params_progress) {
     if (!platform_from_name(options_.sim_platform.c_str(), &id))
       throw CliError(fmt::format("--sim {}: unknown platform; use msd, hasel or tendon", options_.sim_platform));
     sim_ = std::make_unique<SimLauncher>();
-    port = options_.sim_in_qemu ? sim_->start_qemu(options_.sim_platform)
+    port = options_.sim_in_qemu ? sim_->start_qemu(options_.sim_platform, options_.qemu_board)
                                 : sim_->start(options_.sim_platform, options_.sim_args);
   }
   if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");

@@ -30,6 +30,7 @@ struct LiveOptions {
   unsigned baud = 115200;
   std::string sim_platform;  // msd|hasel|tendon: start nlsoft-firmware-sim
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
+  std::string qemu_board = "mps2-an386";  // whose image: mps2-an386 or stm32f4
   std::vector<std::string> sim_args;
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit

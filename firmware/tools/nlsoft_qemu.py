@@ -1,6 +1,7 @@
-"""Boots an nlsoft Cortex-M4F image in qemu-system-arm (mps2-an386) with its
-UART0 on a pseudo-terminal and -icount shift=0 (1 ns of virtual time per
-instruction), and finds the pty QEMU reports."""
+"""Boots an nlsoft Cortex-M4F image in qemu-system-arm with its link's UART
+on a pseudo-terminal and -icount shift=0 (1 ns of virtual time per
+instruction), and finds the pty QEMU reports. Boards: mps2-an386 (UART0, the
+first serial port) and stm32f4 (USART2 of -M netduinoplus2, the second)."""
 import re
 import shutil
 import subprocess
@@ -16,10 +17,11 @@ def available():
 
 
 class Qemu:
-    def __init__(self, elf, timeout=10.0):
+    def __init__(self, elf, timeout=10.0, board="mps2-an386"):
+        machine = (["-M", "netduinoplus2", "-serial", "null", "-serial", "pty"] if board == "stm32f4"
+                   else ["-M", "mps2-an386", "-serial", "pty"])
         self.proc = subprocess.Popen(
-            [QEMU, "-M", "mps2-an386", "-nographic", "-monitor", "none", "-serial", "pty",
-             "-icount", ICOUNT, "-kernel", elf],
+            [QEMU] + machine + ["-nographic", "-monitor", "none", "-icount", ICOUNT, "-kernel", elf],
             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
         self.pty = None
         deadline = time.monotonic() + timeout

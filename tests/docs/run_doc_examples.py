@@ -10,8 +10,8 @@ so `runs show 12` finds the runs recorded before it. Fixtures a reader would
 have made first (a script named tune.nls, a dozen recorded runs) are made
 here and named in the output.
 
-Each example must exit 0, except that a board example (a /dev/tty* port)
-cannot run here and is listed as skipped with the reason, as are QEMU
+Each example must exit 0, except that a board example (a /dev/tty* port,
+`flash`) cannot run here and is listed as skipped with the reason, as are QEMU
 examples when the images were not built. Interactive examples (the TUI) run
 in tmux until the parameter panel is drawn, then get `q`.
 
@@ -60,13 +60,22 @@ def run(cmd, env, cwd, timeout):
     return p.returncode, p.stdout.decode(errors="replace")
 
 
+_sessions = 0
+
+
 def run_interactive(cmd, env, cwd, timeout):
-    sock = f"nlsoft-doc-{os.getpid()}"
+    # A socket per example: a server being killed is never the next one's.
+    global _sessions
+    _sessions += 1
+    sock = f"nlsoft-doc-{os.getpid()}-{_sessions}"
     tmux = ["tmux", "-L", sock]
     line = " ".join(shlex.quote(c) for c in cmd)
     envs = " ".join(f"{k}={shlex.quote(env[k])}" for k in ("NLSOFT_FIRMWARE_SIM", "XDG_DATA_HOME", "LANG") if k in env)
-    subprocess.run(tmux + ["new-session", "-d", "-s", "doc", "-x", "120", "-y", "40", "-c", cwd,
-                           f"env {envs} {line}; echo EXIT=$?; sleep 30"], check=True)
+    started = subprocess.run(tmux + ["new-session", "-d", "-s", "doc", "-x", "120", "-y", "40", "-c", cwd,
+                                     f"env {envs} {line}; echo EXIT=$?; sleep 30"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    if started.returncode != 0:
+        return 1, "tmux did not start: " + started.stdout.decode(errors="replace")
     try:
         end, screen = time.time() + timeout, ""
         while time.time() < end:
@@ -120,7 +129,7 @@ def main():
                 cmd = resolve(text)
                 cmd[0] = binaries[cmd[0]]
                 shown = " ".join(resolve(text))
-                if any(w.startswith("/dev/tty") for w in cmd):
+                if any(w.startswith("/dev/tty") for w in cmd) or (len(cmd) > 1 and cmd[1] == "flash"):
                     print(f"SKIP {where}: {shown}  (needs a board on a serial port)")
                     skipped += 1
                     continue

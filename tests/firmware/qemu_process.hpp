@@ -1,7 +1,8 @@
 #pragma once
-// Test support: boots a Cortex-M4F image in qemu-system-arm (mps2-an386) with
-// UART0 on a pseudo-terminal and reads the pty path QEMU reports; kills QEMU
-// when the test ends.
+// Test support: boots a Cortex-M4F image in qemu-system-arm with the link's
+// UART on a pseudo-terminal and reads the pty path QEMU reports; kills QEMU
+// when the test ends. Boards: mps2-an386 (UART0, the first serial port) and
+// stm32f4 (USART2 of -M netduinoplus2, the second).
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/wait.h>
@@ -18,7 +19,13 @@ inline bool qemu_arm_available() {
 
 class QemuProcess {
  public:
-  explicit QemuProcess(const std::string& elf) {
+  explicit QemuProcess(const std::string& elf, const std::string& board = "mps2-an386") {
+    std::vector<const char*> argv = {"qemu-system-arm", "-nographic", "-monitor", "none", "-icount", "shift=0"};
+    if (board == "stm32f4")
+      argv.insert(argv.end(), {"-M", "netduinoplus2", "-serial", "null", "-serial", "pty"});
+    else
+      argv.insert(argv.end(), {"-M", "mps2-an386", "-serial", "pty"});
+    argv.insert(argv.end(), {"-kernel", elf.c_str(), nullptr});
     int out[2];
     if (pipe(out) != 0) return;
     pid_ = fork();
@@ -27,8 +34,7 @@ class QemuProcess {
       dup2(out[1], STDERR_FILENO);
       close(out[0]);
       close(out[1]);
-      execlp("qemu-system-arm", "qemu-system-arm", "-M", "mps2-an386", "-nographic", "-monitor", "none",
-             "-serial", "pty", "-icount", "shift=0", "-kernel", elf.c_str(), static_cast<char*>(nullptr));
+      execvp(argv[0], const_cast<char* const*>(argv.data()));
       _exit(127);
     }
     close(out[1]);

@@ -1,6 +1,8 @@
 #include "firmware/ports/mps2-an386/cmsdk_uart.hpp"
 
-#include "firmware/ports/mps2-an386/systick.hpp"
+#include <cstddef>
+
+#include "firmware/ports/cortex-m/board.hpp"
 
 namespace {
 
@@ -49,14 +51,20 @@ extern "C" void Uart0Rx_Handler() {
 
 namespace nlsoft::fw::an386 {
 
-void uart_start(uint32_t baud) {
+void uart_start(uint32_t clock_hz, uint32_t baud) {
   UartRegs& u = uart0();
-  u.bauddiv = kCoreClockHz / baud;
+  u.bauddiv = clock_hz / baud;
   u.ctrl = kTxEnable | kRxEnable | kRxIntEnable;
   nvic_iser0() = 1u << kUart0RxIrq;
 }
 
-size_t uart_read(uint8_t* buf, size_t cap) {
+uint32_t uart_rx_overruns() { return g_lost; }
+
+}  // namespace nlsoft::fw::an386
+
+namespace nlsoft::fw::board {
+
+size_t serial_read(uint8_t* buf, size_t cap) {
   const uint32_t h = g_head;
   uint32_t t = g_tail;
   size_t n = 0;
@@ -66,7 +74,7 @@ size_t uart_read(uint8_t* buf, size_t cap) {
   return n;
 }
 
-size_t uart_write(const uint8_t* data, size_t len) {
+size_t serial_write(const uint8_t* data, size_t len) {
   UartRegs& u = uart0();
   size_t n = 0;
   while (n < len && !(u.state & kTxFull)) u.data = data[n++];
@@ -74,8 +82,6 @@ size_t uart_write(const uint8_t* data, size_t len) {
   return n;
 }
 
-bool uart_busy() { return g_head != g_tail || g_tx_short; }
+bool serial_busy() { return g_head != g_tail || g_tx_short; }
 
-uint32_t uart_rx_overruns() { return g_lost; }
-
-}  // namespace nlsoft::fw::an386
+}  // namespace nlsoft::fw::board

@@ -58,6 +58,15 @@ TEST_F(Conformance, QemuWithoutItsImageIsAClearError) {
   EXPECT_EQ(r.output.find("passed"), std::string::npos) << r.output;
 }
 
+TEST_F(Conformance, ABoardWithoutQemuOrAnUnknownBoardIsAUsageError) {
+  auto r = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance /dev/null --board stm32f4");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("give --qemu too"), std::string::npos) << r.output;
+  r = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance --qemu hasel --board nucleo");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_EQ(r.output.find("passed"), std::string::npos) << r.output;
+}
+
 TEST_F(Conformance, NoPortIsAUsageError) {
   const auto r = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance");
   EXPECT_EQ(r.code, 2) << r.output;

@@ -13,7 +13,9 @@
 // late steps as overruns. No heap: every buffer below is static.
 #include "firmware/core/firmware.hpp"
 #include "model_data.h"  // unsigned char nlsoft_model[]; unsigned int nlsoft_model_len;
+#include "shared/model_file.hpp"
 #include "shared/platform.hpp"
+#include "shared/version.hpp"
 #include "teensy_hal.hpp"
 
 namespace {
@@ -27,14 +29,14 @@ const uint32_t kRateHz = uint32_t(kPreset.rate_hz);
 
 // An upload in transit (then the uploaded model in force), and an uploaded
 // reference table.
-constexpr uint32_t kModelParams = Cap::weights + 2 * nlsoft::Dims<Cap>::p + 2 * Cap::n;
-alignas(4) uint8_t g_model_staging[24 + 8 * Cap::layers + 4 * kModelParams + 4];
+alignas(4) uint8_t g_model_staging[nlsoft::model_file_max<Cap>()];
 constexpr uint32_t kTableFloats = 512 * Cap::n;
 float g_table_points[kTableFloats];
 uint8_t g_table_staging[8 + 4 * kTableFloats];
 
 TeensyHal g_hal;
-Fw g_fw(g_hal, nlsoft::fw::Identity{kPlatform, "nlsoft-teensy", 0, 1, 0, kRateHz, false},
+Fw g_fw(g_hal, nlsoft::fw::Identity{kPlatform, "nlsoft-teensy", nlsoft::kVersionMajor, nlsoft::kVersionMinor,
+                                            nlsoft::kVersionPatch, kRateHz, false},
         nlsoft::fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                             g_table_points, kTableFloats});
 uint32_t g_next_us = 0;

@@ -5,10 +5,9 @@
 // plant moves while the MCU waits, so the compute time the firmware measures
 // is the controller's alone, not the simulation's.
 #include "firmware/core/hal.hpp"
-#include "firmware/ports/mps2-an386/cmsdk_uart.hpp"
-#include "firmware/ports/mps2-an386/systick.hpp"
+#include "firmware/ports/cortex-m/board.hpp"
 
-namespace nlsoft::fw::an386 {
+namespace nlsoft::fw::cortex_m {
 
 template <class Plant>
 class HilHal final : public Hal {
@@ -19,10 +18,10 @@ class HilHal final : public Hal {
     sample();
   }
 
-  size_t serial_read(uint8_t* buf, size_t cap) override { return uart_read(buf, cap); }
-  size_t serial_write(const uint8_t* data, size_t len) override { return uart_write(data, len); }
-  uint32_t ticks() override { return systick_ticks(); }
-  uint32_t tick_rate_hz() const override { return kCoreClockHz; }
+  size_t serial_read(uint8_t* buf, size_t cap) override { return board::serial_read(buf, cap); }
+  size_t serial_write(const uint8_t* data, size_t len) override { return board::serial_write(data, len); }
+  uint32_t ticks() override { return board::ticks(); }
+  uint32_t tick_rate_hz() const override { return board::core_clock_hz(); }
   void actuate(const float* u, int m) override {
     for (int i = 0; i < m && i < Plant::m; ++i) u_[i] = u[i];
   }
@@ -33,6 +32,8 @@ class HilHal final : public Hal {
     for (int j = 0; j < n && j < Plant::n; ++j) y[j] = y_[j];
     return true;
   }
+
+  void start() {}
 
   // One period of the plant under the last command, then the sensors and
   // the true output the next step will read.
@@ -54,4 +55,4 @@ class HilHal final : public Hal {
   float y_[Plant::n] = {};
 };
 
-}  // namespace nlsoft::fw::an386
+}  // namespace nlsoft::fw::cortex_m

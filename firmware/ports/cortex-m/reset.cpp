@@ -1,6 +1,7 @@
-// Reset and exception vectors for the Cortex-M4F: the vector table, the reset
-// handler that makes C++ usable (FPU on, .data copied, .bss zeroed, static
-// constructors run), and the traps a bare-metal C++ image needs.
+// Reset for any Cortex-M4F image: the handler that makes C++ usable (FPU on,
+// .data copied, .bss zeroed, static constructors run) and the traps a
+// bare-metal C++ image needs. Each port's vectors.cpp places them in its
+// vector table, with the interrupts its peripherals raise.
 #include <cstdint>
 #include <cstring>
 
@@ -11,8 +12,8 @@ int main();
 
 void Reset_Handler();
 void Default_Handler();
-// Weak so that the drivers that need them (systick.cpp, cmsdk_uart.cpp)
-// override them and the rest trap in Default_Handler.
+// Weak so that the drivers that need them (systick.cpp) override them and
+// the rest trap in Default_Handler.
 void NMI_Handler() __attribute__((weak, alias("Default_Handler")));
 void HardFault_Handler() __attribute__((weak, alias("Default_Handler")));
 void MemManage_Handler() __attribute__((weak, alias("Default_Handler")));
@@ -22,34 +23,7 @@ void SVC_Handler() __attribute__((weak, alias("Default_Handler")));
 void DebugMon_Handler() __attribute__((weak, alias("Default_Handler")));
 void PendSV_Handler() __attribute__((weak, alias("Default_Handler")));
 void SysTick_Handler() __attribute__((weak, alias("Default_Handler")));
-void Uart0Rx_Handler() __attribute__((weak, alias("Default_Handler")));
 }
-
-namespace {
-
-using Vector = void (*)();
-constexpr int kIrqCount = 32;  // CMSDK peripherals on AN386 use IRQ 0..31
-
-struct VectorTable {
-  uint32_t* initial_sp;
-  Vector system[15];
-  Vector irq[kIrqCount];
-};
-
-}  // namespace
-
-__attribute__((section(".isr_vector"), used)) const VectorTable g_vectors = {
-    &__stack_top__,
-    {Reset_Handler, NMI_Handler, HardFault_Handler, MemManage_Handler, BusFault_Handler, UsageFault_Handler,
-     nullptr, nullptr, nullptr, nullptr, SVC_Handler, DebugMon_Handler, nullptr, PendSV_Handler,
-     SysTick_Handler},
-    {Uart0Rx_Handler,  // IRQ 0: UART0 receive
-     Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler,
-     Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler,
-     Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler,
-     Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler,
-     Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler, Default_Handler,
-     Default_Handler}};
 
 extern "C" {
 

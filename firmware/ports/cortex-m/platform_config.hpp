@@ -7,12 +7,13 @@
 #include <cstdint>
 
 #include "shared/capacity.hpp"
+#include "shared/model_file.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/plant_hasel.hpp"
 #include "shared/plant_msd.hpp"
 #include "shared/plant_tendon.hpp"
 
-namespace nlsoft::fw::an386 {
+namespace nlsoft::fw::cortex_m {
 
 #if defined(NLSOFT_PLATFORM_HASEL)
 using Cap = HaselCapacity;
@@ -33,11 +34,10 @@ constexpr PlatformId kPlatform = PlatformId::Msd;
 // Transmit ring: one full telemetry frame above the reserve for replies.
 constexpr size_t kTxCapacity = 512;
 
-// A model file of the largest size the capacity admits: normalisation
-// (2p + 2n) plus its weights. An upload is staged whole before it replaces
-// the built-in model, and then runs where it lies (firmware.hpp).
-constexpr uint32_t kModelParams = uint32_t(Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n);
-constexpr size_t kModelFileMax = 24 + 8 * size_t(Cap::layers) + 4 * size_t(kModelParams) + 4;
+// A model file of the largest size the capacity admits. An upload is staged
+// whole before it replaces the built-in model, and then runs where it lies
+// (firmware.hpp).
+constexpr size_t kModelFileMax = model_file_max<Cap>();
 
 // Uploaded reference tables: a short path of points (the built-in references
 // are computed on the fly and need none of this).
@@ -45,4 +45,4 @@ constexpr uint32_t kTablePoints = 64;
 constexpr uint32_t kTableFloats = kTablePoints * uint32_t(Cap::n);
 constexpr size_t kTableFileMax = 8 + 4 * size_t(kTableFloats);
 
-}  // namespace nlsoft::fw::an386
+}  // namespace nlsoft::fw::cortex_m

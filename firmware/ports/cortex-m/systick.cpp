@@ -1,7 +1,7 @@
 // ticks = base + elapsed in the current period, base advanced by one period
 // in the interrupt; unsigned arithmetic makes the sum wrap at 2^32 whatever
 // the period.
-#include "firmware/ports/mps2-an386/systick.hpp"
+#include "firmware/ports/cortex-m/systick.hpp"
 
 namespace {
 
@@ -23,7 +23,7 @@ extern "C" void SysTick_Handler() {
   g_periods = g_periods + 1;
 }
 
-namespace nlsoft::fw::an386 {
+namespace nlsoft::fw::cortex_m {
 
 void systick_start(uint32_t period_ticks) {
   SysTickRegs& s = systick();
@@ -52,4 +52,4 @@ uint32_t systick_ticks() {
 
 uint32_t systick_periods() { return g_periods; }
 
-}  // namespace nlsoft::fw::an386
+}  // namespace nlsoft::fw::cortex_m

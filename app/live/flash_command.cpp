@@ -1,0 +1,106 @@
+#include "app/live/flash_command.hpp"
+
+#include <fmt/format.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <climits>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/cli_error.hpp"
+#include "app/link/sim_launcher.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+struct FlashArgs {
+  std::string board = "stm32f4", platform, image, port = "/dev/ttyACM0", script;
+  bool hil = false, no_connect = false;
+};
+
+// openocd's own description of every ST Nucleo-64 with an F4: ST-LINK/V2-1
+// over SWD, target stm32f4x; the same file serves the F401, F411 and F446.
+constexpr const char* kOpenocdBoard = "board/st_nucleo_f4.cfg";
+
+int run_child(const std::vector<std::string>& args) {
+  std::vector<char*> argv;
+  std::vector<std::string> copy = args;
+  for (auto& s : copy) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw CliError(fmt::format("fork: {}", std::strerror(errno)));
+  if (pid == 0) {
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+int run_flash(const FlashArgs& a) {
+  // Before anything else: without the flasher nothing below can help.
+  const std::string openocd = find_on_path("openocd");
+  if (openocd.empty())
+    throw CliError(
+        "openocd is not installed or not on PATH: apt-get install openocd (or write the .bin yourself with st-flash "
+        "from stlink-tools; see firmware/ports/stm32f4/README.md)");
+  const std::string image =
+      !a.image.empty() ? a.image
+                       : find_built_image(fmt::format("stm32f4/nlsoft-stm32f4-{}{}.elf", a.platform, a.hil ? "-hil" : ""));
+  if (::access(image.c_str(), R_OK) != 0) throw CliError(fmt::format("cannot read the image {}", image));
+  std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), kOpenocdBoard);
+  const int rc = run_child({openocd, "-f", kOpenocdBoard, "-c", fmt::format("program {{{}}} verify reset exit", image)});
+  if (rc != 0)
+    throw CliError(fmt::format("openocd failed (exit status {}): is the Nucleo plugged in by its ST-LINK USB port, "
+                               "and may you use it (the udev rules of the openocd package, group plugdev)?",
+                               rc));
+  if (a.no_connect) return 0;
+  // The console proper, as `nlsoft-console PORT --wait 10`: the ST-LINK's
+  // serial port may re-enumerate after the reset.
+  char self[PATH_MAX];
+  const ssize_t n = ::readlink("/proc/self/exe", self, sizeof self - 1);
+  if (n <= 0) throw CliError("cannot find the console's own executable to connect");
+  self[n] = '\0';
+  std::vector<std::string> args = {self, a.port, "--wait", "10"};
+  if (!a.script.empty()) args.insert(args.end(), {"--script", a.script});
+  std::fprintf(stderr, "flashed; connecting to %s\n", a.port.c_str());
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  ::execv(self, argv.data());
+  throw CliError(fmt::format("cannot start the console: {}", std::strerror(errno)));
+}
+
+}  // namespace
+
+void add_flash_command(CLI::App& app) {
+  auto a = std::make_shared<FlashArgs>();
+  CLI::App* c = app.add_subcommand("flash", "Write the firmware to a board with openocd, then connect to it");
+  c->add_option("--board", a->board, "The board: stm32f4 (a Nucleo-64 through its on-board ST-LINK)")
+      ->check(CLI::IsMember({"stm32f4"}));
+  c->add_option("--platform", a->platform, "Whose image: msd, hasel or tendon")
+      ->required()
+      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  c->add_flag("--hil", a->hil, "The image with the simulated plant on the MCU (a bare board, nothing wired)");
+  c->add_option("--image", a->image, "Flash this ELF instead of the built one");
+  c->add_option("--port", a->port, "The board's serial port to connect to afterwards (default /dev/ttyACM0)");
+  c->add_option("--script", a->script, "Run this script headless once connected");
+  c->add_flag("--no-connect", a->no_connect, "Flash only");
+  c->footer(
+      "Runs: openocd -f board/st_nucleo_f4.cfg -c \"program IMAGE verify reset exit\"\n"
+      "then: nlsoft-console PORT --wait 10\n"
+      "Images: build/firmware/stm32f4/nlsoft-stm32f4-<platform>[-hil].elf (bash cmake/dev build).\n"
+      "Examples:\n"
+      "  nlsoft-console flash --board stm32f4 --platform hasel --hil\n"
+      "  nlsoft-console flash --board stm32f4 --platform tendon --port /dev/ttyACM1\n");
+  c->callback([a] { throw CliExit{run_flash(*a)}; });
+}
+
+}  // namespace nlsoft::console

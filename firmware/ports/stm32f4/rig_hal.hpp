@@ -1,0 +1,131 @@
+#pragma once
+// The real-board build: the link and the tick as on the HIL image; the
+// actuators are timer PWM outputs and the sensors ADC1 inputs read by DMA,
+// wired and scaled as rig_pins.hpp says. M actuators, W sensors: the first
+// M PWM rows and the first W analogue rows of the table (a sensor beyond the
+// table reads 0).
+#include "firmware/core/hal.hpp"
+#include "firmware/ports/cortex-m/board.hpp"
+#include "firmware/ports/cortex-m/platform_config.hpp"
+#include "firmware/ports/stm32f4/clock_tree.hpp"
+#include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "shared/platform.hpp"
+
+namespace nlsoft::fw::cortex_m {
+
+template <int M, int W>
+class RigHal final : public Hal {
+  static_assert(M <= stm32f4::kPwmCount, "more actuators than PWM rows in rig_pins.hpp");
+  static constexpr int kAdcCount = W < stm32f4::kAnalogueCount ? W : stm32f4::kAnalogueCount;
+
+ public:
+  size_t serial_read(uint8_t* buf, size_t cap) override { return board::serial_read(buf, cap); }
+  size_t serial_write(const uint8_t* data, size_t len) override { return board::serial_write(data, len); }
+  uint32_t ticks() override { return board::ticks(); }
+  uint32_t tick_rate_hz() const override { return board::core_clock_hz(); }
+
+  void actuate(const float* u, int m) override {
+    for (int i = 0; i < m && i < M; ++i) {
+      const stm32f4::PwmOutput& o = stm32f4::kPwm[i];
+      float duty = (u[i] - kUMin) / (kUMax - kUMin);
+      duty = duty > 0.0f ? (duty < 1.0f ? duty : 1.0f) : 0.0f;  // a NaN too: off, never an undefined cast
+      stm32f4::reg(o.timer + 0x30u + 4u * o.channel) = uint32_t(duty * float(period_) + 0.5f);
+    }
+  }
+  void read_sensors(float* l, int w) override {
+    for (int i = 0; i < w; ++i) {
+      if (i >= kAdcCount) {
+        l[i] = 0.0f;
+        continue;
+      }
+      const stm32f4::AnalogueInput& a = stm32f4::kAnalogue[i];
+      l[i] = a.offset + a.gain * float(raw_[i]) * (stm32f4::kAdcVref / 4095.0f);
+    }
+  }
+  bool read_output(float*, int) override { return false; }  // no observer of y on a plain board
+
+  void start() {
+    using namespace stm32f4;
+    reg(rcc::kAhb1Enr) = reg(rcc::kAhb1Enr) | gpio_clock_bit(kGpioA) | gpio_clock_bit(kGpioB) |
+                         gpio_clock_bit(kGpioC) | kDma2En;
+    reg(rcc::kApb1Enr) = reg(rcc::kApb1Enr) | kTim3En | kTim4En;
+    reg(rcc::kApb2Enr) = reg(rcc::kApb2Enr) | kAdc1En;
+    settle(rcc::kApb2Enr);
+    start_pwm();
+    if (kAdcCount > 0) start_adc();
+  }
+  void advance() {}
+
+ private:
+  static constexpr float kUMin = kPresets[uint8_t(kPlatform)].u_min, kUMax = kPresets[uint8_t(kPlatform)].u_max;
+  static constexpr uint32_t kDma2En = 1u << 22, kTim3En = 1u << 1, kTim4En = 1u << 2, kAdc1En = 1u << 8;
+
+  void start_pwm() {
+    using namespace stm32f4;
+    period_ = board_clocks().apb1_timer_hz / kPwmHz;
+    for (uint32_t tim : kTimers) {
+      reg(tim + 0x28) = 0;             // PSC: the timer clock itself
+      reg(tim + 0x2C) = period_ - 1u;  // ARR
+    }
+    for (int i = 0; i < M; ++i) {
+      const PwmOutput& o = kPwm[i];
+      gpio_alternate(o.pin, 2);  // AF2: TIM3/TIM4
+      const uint32_t ccmr = o.timer + (o.channel <= 2 ? 0x18u : 0x1Cu);
+      const uint32_t at = o.channel % 2 ? 0u : 8u;
+      // PWM mode 1 with preload: a new duty starts with the next PWM period.
+      reg(ccmr) = (reg(ccmr) & ~(0xFFu << at)) | ((6u << 4 | 1u << 3) << at);
+      reg(o.timer + 0x30u + 4u * o.channel) = 0;  // until the first actuate(): off
+      reg(o.timer + 0x20) = reg(o.timer + 0x20) | (1u << (4u * (o.channel - 1u)));  // CCER: output on
+    }
+    for (uint32_t tim : kTimers) {
+      reg(tim + 0x14) = 1u;                  // EGR UG: load PSC/ARR now
+      reg(tim + 0x00) = (1u << 7) | 1u;      // CR1: ARPE, counter on
+    }
+  }
+
+  void start_adc() {
+    using namespace stm32f4;
+    constexpr uint32_t kAdc = 0x40012000u, kAdcCcr = 0x40012304u;
+    constexpr uint32_t kDma = 0x40026400u, kS0Cr = kDma + 0x10, kS0Ndtr = kDma + 0x14, kS0Par = kDma + 0x18,
+                       kS0M0ar = kDma + 0x1C, kLifcr = kDma + 0x08;
+    uint32_t smpr1 = 0, smpr2 = 0, sq[3] = {0, 0, 0};
+    for (int i = 0; i < kAdcCount; ++i) {
+      const AnalogueInput& a = kAnalogue[i];
+      gpio_analogue(a.pin);
+      // 84 cycles per sample: source impedances up to ~20 kOhm settle.
+      if (a.adc_channel < 10) smpr2 |= 4u << (3u * a.adc_channel);
+      else smpr1 |= 4u << (3u * (a.adc_channel - 10u));
+      sq[i / 6] |= uint32_t(a.adc_channel) << (5u * uint32_t(i % 6));
+    }
+    reg(kAdcCcr) = 1u << 16;  // ADCCLK = APB2 / 4: <= 36 MHz on all three parts
+    reg(kAdc + 0x0C) = smpr1;
+    reg(kAdc + 0x10) = smpr2;
+    reg(kAdc + 0x34) = sq[0];                                     // SQR3: SQ1..6
+    reg(kAdc + 0x30) = sq[1];                                     // SQR2: SQ7..12
+    reg(kAdc + 0x2C) = sq[2] | (uint32_t(kAdcCount - 1) << 20);  // SQR1: SQ13..16, length
+    reg(kAdc + 0x04) = 1u << 8;                                   // CR1: scan
+
+    // DMA2 stream 0, channel 0 (ADC1): circular, 16-bit, into raw_.
+    reg(kS0Cr) = 0;
+    (void)wait_for([] { return (reg(kDma + 0x10) & 1u) == 0; });
+    reg(kLifcr) = 0x3Du;
+    reg(kS0Par) = kAdc + 0x4C;  // ADC1 DR
+    reg(kS0M0ar) = uint32_t(reinterpret_cast<uintptr_t>(raw_));
+    reg(kS0Ndtr) = uint32_t(kAdcCount);
+    reg(kS0Cr) = (1u << 13) | (1u << 11) | (1u << 10) | (1u << 8) | 1u;  // MSIZE/PSIZE 16, MINC, CIRC, EN
+
+    // ADON, continuous, DMA with DDS (requests keep coming in circular mode).
+    reg(kAdc + 0x08) = 1u | (1u << 1) | (1u << 8) | (1u << 9);
+    // The converter needs t_STAB (3 us, 540 cycles at 180 MHz) after ADON
+    // before a start is taken: 2000 turns of a volatile loop are several
+    // times that on every part, and no timer is free here to wait on.
+    for (volatile uint32_t i = 0; i < 2000u; i = i + 1) {
+    }
+    reg(kAdc + 0x08) = reg(kAdc + 0x08) | (1u << 30);  // SWSTART
+  }
+
+  uint32_t period_ = 1;
+  volatile uint16_t raw_[kAdcCount > 0 ? kAdcCount : 1] = {};
+};
+
+}  // namespace nlsoft::fw::cortex_m

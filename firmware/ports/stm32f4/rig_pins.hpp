@@ -1,0 +1,55 @@
+#pragma once
+// The rig's wiring on a Nucleo-64, in one table per platform: which timer
+// channel drives each actuator and which ADC channel reads each sensor, with
+// their scaling. README.md prints the same table for whoever wires the rig.
+//
+// Actuators: 20 kHz PWM over the platform's whole input range, duty =
+// (u - u_min) / (u_max - u_min) with the preset's limits (shared/platform.hpp:
+// hasel 0..1, tendon -1.2..1.2, msd -2000..2000 N), so a bidirectional input
+// puts u = 0 at 50 %; a driver stage (MOSFET, HV amplifier, H-bridge) turns
+// the duty into the actuator's input. Sensors: ADC1, 12 bits over 0..3.3 V, read
+// continuously by DMA2 stream 0; l = offset + gain * volts.
+#include <cstdint>
+
+#include "firmware/ports/stm32f4/gpio.hpp"
+
+namespace nlsoft::fw::stm32f4 {
+
+struct PwmOutput {
+  Pin pin;
+  uint32_t timer;    // TIM3 or TIM4 base (APB1, AF2 on these pins)
+  uint8_t channel;   // 1..4
+};
+
+struct AnalogueInput {
+  Pin pin;
+  uint8_t adc_channel;  // ADC1_IN<n>
+  float offset, gain;   // sensor units = offset + gain * volts
+};
+
+constexpr uint32_t kTim3 = 0x40000400u, kTim4 = 0x40000800u;
+constexpr uint32_t kTimers[] = {kTim3, kTim4};
+constexpr uint32_t kPwmHz = 20000u;
+constexpr float kAdcVref = 3.3f;
+
+// PWM on TIM3 CH1-4 (PC6-PC9) and TIM4 CH1-2 (PB6-PB7): none of them is an
+// ADC input, USART2, or the Nucleo's LED (PA5) and button (PC13).
+constexpr PwmOutput kPwm[] = {
+    {{kGpioC, 6}, kTim3, 1}, {{kGpioC, 7}, kTim3, 2}, {{kGpioC, 8}, kTim3, 3},
+    {{kGpioC, 9}, kTim3, 4}, {{kGpioB, 6}, kTim4, 1}, {{kGpioB, 7}, kTim4, 2},
+};
+
+// The sixteen ADC1 inputs a Nucleo-64 brings out, in sensor order. PA2/PA3
+// (IN2/IN3) carry USART2 and PA5 (IN5) the LED, so those three are absent.
+constexpr AnalogueInput kAnalogue[] = {
+    {{kGpioA, 0}, 0, 0.0f, 1.0f},   {{kGpioA, 1}, 1, 0.0f, 1.0f},   {{kGpioA, 4}, 4, 0.0f, 1.0f},
+    {{kGpioA, 6}, 6, 0.0f, 1.0f},   {{kGpioA, 7}, 7, 0.0f, 1.0f},   {{kGpioB, 0}, 8, 0.0f, 1.0f},
+    {{kGpioB, 1}, 9, 0.0f, 1.0f},   {{kGpioC, 0}, 10, 0.0f, 1.0f},  {{kGpioC, 1}, 11, 0.0f, 1.0f},
+    {{kGpioC, 2}, 12, 0.0f, 1.0f},  {{kGpioC, 3}, 13, 0.0f, 1.0f},  {{kGpioC, 4}, 14, 0.0f, 1.0f},
+    {{kGpioC, 5}, 15, 0.0f, 1.0f},
+};
+
+constexpr int kPwmCount = int(sizeof kPwm / sizeof kPwm[0]);
+constexpr int kAnalogueCount = int(sizeof kAnalogue / sizeof kAnalogue[0]);
+
+}  // namespace nlsoft::fw::stm32f4

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Compiles the Teensy sketch (nlsoft.ino with teensy_hal.hpp and the portable
+# core) for the Teensy 3.6 (Cortex-M4F, MK66FX1M0) and 4.1 (Cortex-M7,
+# IMXRT1062) with Debian's arm-none-eabi-g++ and the stand-in Arduino.h of
+# this folder: the port keeps up with the core's interface. Compile only:
+# without Teensyduino's core nothing links, so this does not show the sketch
+# runs. Exit 77 (ctest: skipped) without arm-none-eabi-g++.
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(cd "$here/../../../.." && pwd)
+command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+common=(-std=gnu++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -Os -Wall -Wextra -Werror
+  -I"$here" -I"$root" -x c++ -c "$root/firmware/ports/teensy/nlsoft/nlsoft.ino")
+arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -D__MK66FX1M0__ -DF_CPU=180000000 \
+  "${common[@]}" -o "$out/teensy36.o"
+echo "teensy 3.6 (cortex-m4f): compiled"
+arm-none-eabi-g++ -mcpu=cortex-m7 -mthumb -mfpu=fpv5-d16 -mfloat-abi=hard -D__IMXRT1062__ -DF_CPU=600000000 \
+  "${common[@]}" -o "$out/teensy41.o"
+echo "teensy 4.1 (cortex-m7): compiled"
