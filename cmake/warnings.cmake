@@ -1,14 +1,16 @@
-# Flags shared by every nlsoft target.
-add_library(nlsoft_warnings INTERFACE)
-target_compile_options(nlsoft_warnings INTERFACE
-  -Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion -Wdouble-promotion)
+# One warnings list (cmake/warning_flags.txt) for every host target, set for
+# the whole tree so no target can be added without it.
+file(STRINGS ${CMAKE_CURRENT_LIST_DIR}/warning_flags.txt NLSOFT_WARNING_FLAGS REGEX "^-")
+add_compile_options(${NLSOFT_WARNING_FLAGS})
 
 # CI builds fail on any warning (.ci/run through cmake/dev). Off by default
 # so a newer compiler's new warning never stops someone building the demo.
 option(NLSOFT_WERROR "Treat warnings as errors (CI)" OFF)
 if(NLSOFT_WERROR)
-  target_compile_options(nlsoft_warnings INTERFACE -Werror)
+  add_compile_options(-Werror)
 endif()
+# Targets still name it; the flags above already reach them.
+add_library(nlsoft_warnings INTERFACE)
 
 # Sanitizer builds (CI: `bash cmake/dev sanitize`): NLSOFT_SANITIZE is
 # "address,undefined" or "thread" (TSan cannot share a process with ASan).

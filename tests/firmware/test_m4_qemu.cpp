@@ -98,7 +98,9 @@ class M4Image : public ::testing::Test {
         EXPECT_GE(t[i].u[a], 0.0f);
         EXPECT_LE(t[i].u[a], 1.0f);
       }
-      if (i > 0) EXPECT_EQ(t[i].step, t[i - 1].step + 1);
+      if (i > 0) {
+        EXPECT_EQ(t[i].step, t[i - 1].step + 1);
+      }
     }
     const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
     EXPECT_EQ(st.tick_rate_hz, tick_rate_hz);

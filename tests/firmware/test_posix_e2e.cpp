@@ -173,7 +173,9 @@ TEST_F(PosixFirmware, ParameterRoundTripAndRefusals) {
     l.index = i;
     const auto d = as<proto::ParamDesc>(must(peer_->request(l), "PARAM_LIST"));
     EXPECT_EQ(d.count, count);
-    if (i < uint16_t(ParamId::Count)) EXPECT_STREQ(d.name, kParamTable[i].name);
+    if (i < uint16_t(ParamId::Count)) {
+      EXPECT_STREQ(d.name, kParamTable[i].name);
+    }
   }
   proto::ParamList past;
   past.index = count;

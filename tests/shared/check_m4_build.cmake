@@ -1,9 +1,10 @@
 # Compiles the controller for Cortex-M4F and fails if the object references
 # any allocation function.
 file(MAKE_DIRECTORY ${OUT})
+file(STRINGS ${ROOT}/cmake/warning_flags.txt warnings REGEX "^-")
 execute_process(
   COMMAND ${GXX} -std=c++17 -Os -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard
-          -fno-exceptions -fno-rtti -Wall -Wextra -Werror -Wdouble-promotion -I${ROOT} -c ${SRC} -o ${OUT}/controller.o
+          -fno-exceptions -fno-rtti ${warnings} -Werror -I${ROOT} -c ${SRC} -o ${OUT}/controller.o
   RESULT_VARIABLE rc ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "Cortex-M4F compile failed:\n${err}")

@@ -24,13 +24,16 @@ find_program(NLSOFT_ARM_NM arm-none-eabi-nm REQUIRED)
 find_program(NLSOFT_ARM_SIZE arm-none-eabi-size REQUIRED)
 find_program(NLSOFT_ARM_OBJCOPY arm-none-eabi-objcopy REQUIRED)
 
+# The host build's warnings list, the one list (cmake/warning_flags.txt).
+file(STRINGS ${NLSOFT_ROOT}/cmake/warning_flags.txt NLSOFT_WARNING_FLAGS REGEX "^-")
+
 function(nlsoft_cortex_m_images)
   cmake_parse_arguments(A "BIN" "PREFIX;NAME;LINKER_SCRIPT" "BOARD_SOURCES;DEFINITIONS" ${ARGN})
   set(cpu -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard)
   add_library(m4_flags INTERFACE)
   target_compile_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -g -ffunction-sections -fdata-sections
     $<$<COMPILE_LANGUAGE:CXX>:-std=c++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit
-      -Wall -Wextra -Wshadow -Wconversion -Wno-sign-conversion -Wdouble-promotion>)
+      ${NLSOFT_WARNING_FLAGS}>)
   target_include_directories(m4_flags INTERFACE ${NLSOFT_ROOT})
   target_compile_definitions(m4_flags INTERFACE ${A_DEFINITIONS})
   # newlib objects lack .note.GNU-stack; an execstack note means nothing on an MPU-less image.

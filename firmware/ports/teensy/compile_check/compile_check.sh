@@ -11,7 +11,8 @@ root=$(cd "$here/../../../.." && pwd)
 command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
-common=(-std=gnu++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -Os -Wall -Wextra -Werror
+mapfile -t warnings < <(grep '^-' "$root/cmake/warning_flags.txt")  # the one warnings list
+common=(-std=gnu++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -Os "${warnings[@]}" -Werror
   -I"$here" -I"$root" -x c++ -c "$root/firmware/ports/teensy/nlsoft/nlsoft.ino")
 arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -D__MK66FX1M0__ -DF_CPU=180000000 \
   "${common[@]}" -o "$out/teensy36.o"

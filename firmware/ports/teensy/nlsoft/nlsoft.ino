@@ -51,7 +51,7 @@ void board_actuate(const float* u, int m) {
 }
 // l[i]: the w proprioceptive channels, in the units the model was trained on.
 void board_read_sensors(float* l, int w) {
-  for (int i = 0; i < w; ++i) l[i] = float(analogRead(A0 + i)) * (1.0f / 1023.0f);
+  for (int i = 0; i < w; ++i) l[i] = float(analogRead(uint8_t(A0 + i))) * (1.0f / 1023.0f);
 }
 
 void setup() {
