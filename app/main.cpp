@@ -7,6 +7,7 @@
 #include "app/conformance/command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/simulate.hpp"
+#include "app/tune/tune_command.hpp"
 #include "protocol/frame.hpp"
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
 #include "app/model/commands.hpp"
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   add_simulate_command(app);
   add_console_commands(app);
   add_conformance_command(app);
+  add_tune_command(app);
 #ifdef NLSOFT_HAVE_MODEL_PIPELINE
   add_model_commands(app);
 #endif

@@ -177,12 +177,24 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Sweep: sweep(c, file); break;
+      case K::Tune: tune(c); break;
     }
   } catch (const ScriptError&) {
     throw;
   } catch (const std::exception& e) {
     throw ScriptError(file, c.line, e.what());
   }
+}
+
+// A session where every evaluation failed found nothing: the script fails,
+// as for a failed expect.
+void ScriptRunner::tune(const Command& c) {
+  TuneCallbacks cb;
+  cb.out = out_;
+  cb.progress = progress_;
+  cb.evaluated = tune_observer_;
+  const TuneResult r = run_tuning(console_, parse_tune_words(c.values), cb, &cancelled_);
+  if (!r.have_best && !cancelled_.load()) ++failed_;
 }
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {

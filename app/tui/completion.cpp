@@ -11,7 +11,7 @@ namespace {
 const std::vector<std::string>& commands() {
   static const std::vector<std::string> c = {"set",  "get",    "params", "ref",  "run",    "start", "stop",
                                              "hold", "neutral", "resume", "wait", "expect", "export", "echo",
-                                             "note", "sweep",  "plot",   "overlay", "help", "quit"};
+                                             "note", "sweep",  "tune",   "plot",   "overlay", "help", "quit"};
   return c;
 }
 
