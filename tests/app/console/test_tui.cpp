@@ -433,3 +433,33 @@ TEST(ConsoleTui, ARecordedRunOverlaysTheLivePlot) {
 
 }  // namespace
 }  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// `:tune` from the command line: the convergence view appears under the
+// plot with the evaluation count and the best so far, the best set is
+// saved, and t hides the view.
+TEST(ConsoleTui, TuneShowsItsConvergenceUnderThePlot) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string saved = dir.file("tui.params");
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + dir.file("runs.db"),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys(shell_quote(":tune Lambda=0.1..10:log budget=3 settle=0 window=1s reference=\"swirl hold=1\" save=" + saved) +
+         " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " tune: eval 1/3"); }, s, 30)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "best set saved to"); }, s, 60)) << s;
+  EXPECT_TRUE(contains(s, " tune: eval 3/3  best ")) << s;
+  EXPECT_TRUE(contains(line_with(s, " tune: eval 3/3"), "Lambda=")) << s;
+  EXPECT_TRUE(std::ifstream(saved).good());
+  t.keys("t");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, " tune: eval"); }, s)) << s;
+  t.keys("q");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
