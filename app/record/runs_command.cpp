@@ -337,7 +337,6 @@ void add_runs_command(CLI::App& app) {
       "  nlsoft-console runs export 12 > run12.csv\n"
       "  nlsoft-console runs plot 12 --svg run12.svg\n"
       "  nlsoft-console runs plot 12 13 --png compare.png\n"
-      "  nlsoft-console runs plot --tune 3 --svg tune3.svg   # a tuning session's convergence\n"
       "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
       "  nlsoft-console runs delete 12\n");
   auto db = [&](CLI::App* c) {

@@ -139,7 +139,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
       }
     } catch (const nlopt::forced_stop&) {
       throw;
-    } catch (const CliError& ce) {
+    } catch (const CliError&) {
       if (LiveConsole::interrupted()) {
         stop = Stop::Interrupted;  // the run was stopped and kept; not scored
       } else {
