@@ -57,7 +57,7 @@ int ScriptRunner::run(const Script& script) {
       return 2;
     }
   }
-  return failed_ > 0 || incomplete_runs_ > 0 ? 1 : 0;
+  return failed_ > 0 || incomplete_runs_ > 0 || fruitless_tunes_ > 0 ? 1 : 0;
 }
 
 void ScriptRunner::cancel() {
@@ -194,7 +194,7 @@ void ScriptRunner::tune(const Command& c) {
   cb.progress = progress_;
   cb.evaluated = tune_observer_;
   const TuneResult r = run_tuning(console_, parse_tune_words(c.values), cb, &cancelled_);
-  if (!r.have_best && !cancelled_.load()) ++failed_;
+  if (!r.have_best && !cancelled_.load()) ++fruitless_tunes_;
 }
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {

@@ -174,6 +174,33 @@ TEST_F(TuneE2E, ARunThatSaturatesScoresAsFailedNeverAsGood) {
   EXPECT_FALSE(std::ifstream(dir_.file("none.params")).good());
 }
 
+// From a script: apply leaves the best in force (get reads it back, the
+// saved file has it); a candidate the firmware's cross-parameter rules
+// refuse (Nc > N) scores as failed, with the firmware's reason, and is
+// never applied.
+TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
+  const std::string saved = dir_.file("applied.params");
+  const auto r = script("hasel",
+                        "ref swirl hold=1\n"
+                        "set Lambda 1e8\n"
+                        "tune Lambda=0.01..1e10:log budget=6 settle=500ms window=9s apply save=" + saved + "\n"
+                        "get Lambda\n"
+                        "get N\n"
+                        "tune Nc=4..8 budget=2 settle=0 window=1s\n"
+                        "get Nc\n");
+  EXPECT_EQ(r.code, 1) << "the second session found nothing: the script fails\n" << r.output;
+  EXPECT_TRUE(contains(r.output, "it is in force now (apply)")) << r.output;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(\nLambda = ([0-9.e+]+) [^\n]*1/u\^2)"))) << r.output;
+  EXPECT_NE(m[1].str(), "1e+08") << "the best, not the start, is in force\n" << r.output;
+  EXPECT_TRUE(contains(read(saved), "Lambda " + m[1].str())) << read(saved) << r.output;
+  EXPECT_TRUE(contains(r.output, "N = 3")) << r.output;
+  EXPECT_TRUE(contains(r.output, "Nc is 1, outside 4..8; the search starts at 4")) << r.output;
+  EXPECT_TRUE(contains(r.output, "FAILED: the firmware refused it")) << r.output;
+  EXPECT_TRUE(contains(r.output, "Nc = 1")) << "the refused values never stayed\n" << r.output;
+  EXPECT_TRUE(contains(r.output, "0 expects held, 0 failed; 1 tuning session found nothing")) << r.output;
+}
+
 // Ctrl-C once the second evaluation has been reported: the run in progress
 // is stopped and kept, the session ends, the best so far is printed and
 // saved, exit 0. In real time (no --sim-fast), so 40 runs of 2 s cannot all
