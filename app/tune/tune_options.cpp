@@ -10,7 +10,11 @@
 
 namespace nlsoft::console {
 
-bool set_budget(TuneOptions& o, const std::string& text) {
+bool set_budget(TuneOptions& o, const std::string& written) {
+  // "40 runs" and "10 min" as the words come, quoted or not.
+  std::string text;
+  for (char c : written)
+    if (c != ' ' && c != '\t') text += c;
   char* end = nullptr;
   const double v = std::strtod(text.c_str(), &end);
   const std::string unit = end ? std::string(end) : "";

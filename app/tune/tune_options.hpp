@@ -30,7 +30,7 @@ struct TuneOptions {
   bool apply = false;
 };
 
-// Budget text: "40" or "40runs" (evaluations), "10min", "90s" (wall time).
+// Budget text: "40", "40 runs" (evaluations), "10min", "10 min", "90s" (wall time).
 // Returns true for a number of runs. Throws std::invalid_argument.
 bool set_budget(TuneOptions& o, const std::string& text);
 

@@ -201,6 +201,18 @@ TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
   EXPECT_TRUE(contains(r.output, "0 expects held, 0 failed; 1 tuning session found nothing")) << r.output;
 }
 
+// A wall-time budget alone: as many runs as fit, then the session ends
+// saying so, with its best saved. In real time: the first run's 2 s of
+// control steps cannot take less than 2 s, past the 1 s budget.
+TEST_F(TuneE2E, ATimeBudgetEndsTheSession) {
+  const auto r = console("tune --sim hasel --no-record --param Lambda=0.01..1e10:log --budget \"1 s\" "
+                         "--reference 'swirl hold=1' --settle 0 --window 2s --save " + shell_quote(dir_.file("t.params")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "budget 1 s;")) << r.output;
+  EXPECT_TRUE(contains(r.output, "ended: time budget of 1 s used")) << r.output;
+  EXPECT_TRUE(contains(read(dir_.file("t.params")), "Lambda ")) << r.output;
+}
+
 // Ctrl-C once the second evaluation has been reported: the run in progress
 // is stopped and kept, the session ends, the best so far is printed and
 // saved, exit 0. In real time (no --sim-fast), so 40 runs of 2 s cannot all

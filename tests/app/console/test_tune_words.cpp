@@ -103,6 +103,11 @@ TEST(TuneWords, TheScriptFormCarriesEveryOption) {
   EXPECT_TRUE(o.apply);
   EXPECT_EQ(parse_tune_words({"Lambda=1..2", "budget=90s"}).budget_runs, 0) << "a time budget alone: as many runs as fit";
   EXPECT_EQ(parse_tune_words({"Lambda=1..2"}).budget_runs, 40);
+  TuneOptions spaced;
+  EXPECT_TRUE(set_budget(spaced, "25 runs"));
+  EXPECT_FALSE(set_budget(spaced, "10 min"));
+  EXPECT_EQ(spaced.budget_runs, 25);
+  EXPECT_DOUBLE_EQ(spaced.budget_s, 600);
 }
 
 TEST(TuneWords, ScriptLinesAreCheckedBeforeAnythingRuns) {
