@@ -15,6 +15,7 @@ namespace {
 void input_metrics(const RunSeries& s, const InputLimits& limits, RunMetrics& m) {
   if (!s.has_u || s.m <= 0 || s.rows() == 0) return;
   const size_t mm = size_t(s.m), rows = s.rows();
+  if (s.u.size() < rows * mm) return;  // a series built by hand without every row's u
   const bool known = limits.lo.size() == mm && limits.hi.size() == mm;
   auto range = [&](size_t i) {
     const double r = known ? double(limits.hi[i]) - double(limits.lo[i]) : 1.0;
