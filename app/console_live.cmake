@@ -5,6 +5,10 @@ find_package(SQLite3 REQUIRED)
 set(CURSES_NEED_WIDE TRUE)
 set(CURSES_NEED_NCURSES TRUE)
 find_package(Curses REQUIRED)
+# The tuner's derivative-free optimisers (BOBYQA, Nelder-Mead): Debian's
+# libnlopt-cxx-dev, found through its pkg-config file.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(NLOPT REQUIRED IMPORTED_TARGET nlopt)
 
 file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/link/*.cpp
@@ -12,13 +16,14 @@ file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/record/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/script/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/tui/*.cpp
+  ${CMAKE_CURRENT_SOURCE_DIR}/tune/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/live/*.cpp)
 add_library(nlsoft_console_live STATIC ${NLSOFT_CONSOLE_LIVE_SOURCES})
 target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_ROOT} PRIVATE ${CURSES_INCLUDE_DIRS})
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
   PUBLIC nlsoft_console_core nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
-  PRIVATE ${CURSES_LIBRARIES} nlsoft_warnings)
+  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT nlsoft_warnings)
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)
 target_compile_definitions(nlsoft-console PRIVATE NLSOFT_VERSION="${PROJECT_VERSION}")

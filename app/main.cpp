@@ -7,8 +7,9 @@
 #include "app/conformance/command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
-#include "app/simulate.hpp"
 #include "app/model/commands.hpp"
+#include "app/simulate.hpp"
+#include "app/tune/tune_command.hpp"
 #include "protocol/frame.hpp"
 
 int main(int argc, char** argv) {
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   add_console_commands(app);
   add_conformance_command(app);
   add_flash_command(app);
+  add_tune_command(app);
   add_model_commands(app);
   try {
     app.parse(argc, argv);

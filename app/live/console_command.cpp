@@ -113,6 +113,9 @@ int run_console(const ConsoleArgs& a) {
                runner.failed_expects());
   if (runner.incomplete_runs() > 0)
     std::fprintf(stderr, "; %d run%s ended early", runner.incomplete_runs(), runner.incomplete_runs() == 1 ? "" : "s");
+  if (runner.fruitless_tunes() > 0)
+    std::fprintf(stderr, "; %d tuning session%s found nothing (every evaluation failed)", runner.fruitless_tunes(),
+                 runner.fruitless_tunes() == 1 ? "" : "s");
   std::fprintf(stderr, "\n");
   return rc;
 }

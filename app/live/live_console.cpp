@@ -846,9 +846,9 @@ std::optional<RunSummary> LiveConsole::last_run() const {
   return last_run_;
 }
 
-RunMetrics LiveConsole::metrics_of(int64_t run_id, double skip_s) {
+RunMetrics LiveConsole::metrics_of(int64_t run_id, double skip_s, double window_s) {
   RunStore store(db_path_);
-  return run_metrics(store, run_id, skip_s);
+  return run_metrics(store, run_id, skip_s, window_s);
 }
 
 }  // namespace nlsoft::console

@@ -164,7 +164,7 @@ class LiveConsole {
   // the script runner stops before its next command. Async-signal-safe.
   static void request_interrupt() { interrupted_flag() = 1; }
   static bool interrupted() { return interrupted_flag() != 0; }
-  RunMetrics metrics_of(int64_t run_id, double skip_s = 0);
+  RunMetrics metrics_of(int64_t run_id, double skip_s = 0, double window_s = 0);
 
  private:
   struct WantedValue {

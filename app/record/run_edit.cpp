@@ -41,7 +41,8 @@ void delete_run(const std::string& db_path, int64_t id, bool force) {
       s.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
       s.step();
       for (const char* sql : {"DELETE FROM params WHERE run_id=?", "DELETE FROM gaps WHERE run_id=?",
-                              "DELETE FROM link_events WHERE run_id=?", "DELETE FROM runs WHERE id=?"}) {
+                              "DELETE FROM link_events WHERE run_id=?", "DELETE FROM tune_evals WHERE run_id=?",
+                              "DELETE FROM runs WHERE id=?"}) {
         Stmt d = db.prepare(sql);
         d.bind(1, id);
         d.step();

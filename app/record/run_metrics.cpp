@@ -10,7 +10,48 @@
 
 namespace nlsoft::console {
 
-RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps) {
+namespace {
+
+void input_metrics(const RunSeries& s, const InputLimits& limits, RunMetrics& m) {
+  if (!s.has_u || s.m <= 0 || s.rows() == 0) return;
+  const size_t mm = size_t(s.m), rows = s.rows();
+  if (s.u.size() < rows * mm) return;  // a series built by hand without every row's u
+  const bool known = limits.lo.size() == mm && limits.hi.size() == mm;
+  auto range = [&](size_t i) {
+    const double r = known ? double(limits.hi[i]) - double(limits.lo[i]) : 1.0;
+    return r > 0 ? r : 1.0;
+  };
+  double sum = 0;
+  size_t count = 0;
+  for (size_t k = 1; k < rows; ++k)
+    for (size_t i = 0; i < mm; ++i) {
+      const double d = (double(s.u[k * mm + i]) - double(s.u[(k - 1) * mm + i])) / range(i);
+      sum += d * d;
+      ++count;
+    }
+  m.u_effort = count > 0 ? std::sqrt(sum / double(count)) : 0.0;
+  if (!known) return;
+  size_t pinned = 0;
+  for (size_t k = 0; k < rows; ++k)
+    for (size_t i = 0; i < mm; ++i) {
+      const double tol = 0.01 * range(i), u = s.u[k * mm + i];
+      pinned += u <= double(limits.lo[i]) + tol || u >= double(limits.hi[i]) - tol ? 1 : 0;
+    }
+  m.u_saturated = double(pinned) / double(rows * mm);
+}
+
+std::vector<float> floats(const std::string& text) {
+  std::vector<float> out;
+  std::istringstream in(text);
+  float v;
+  while (in >> v) out.push_back(v);
+  return out;
+}
+
+}  // namespace
+
+RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps,
+                       const InputLimits& limits) {
   RunMetrics m;
   m.samples = s.rows();
   m.lost_frames = run.lost_frames;
@@ -44,6 +85,7 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
       m.nrmse_space = worst;
     }
   }
+  input_metrics(s, limits, m);
   m.loop_rate_hz = run.loop_rate_hz;
   // A run whose firmware died half-way spans less in samples than it lasted:
   // both are reported, so neither passes for the other.
@@ -80,33 +122,57 @@ RunSeries drop_first(RunSeries s, size_t rows) {
   return s;
 }
 
+// The series without what follows its first `rows` samples.
+RunSeries keep_first(RunSeries s, size_t rows) {
+  rows = std::min(rows, s.rows());
+  auto keep = [rows](auto& v, size_t per_row) { v.resize(std::min(v.size(), rows * per_row)); };
+  keep(s.step, 1);
+  keep(s.time_us, 1);
+  keep(s.y_ref, size_t(s.n));
+  keep(s.y_hat, size_t(s.n));
+  keep(s.y_true, size_t(s.n));
+  keep(s.u, size_t(s.m));
+  keep(s.cost, 1);
+  keep(s.compute_us, 1);
+  keep(s.iterations, 1);
+  return s;
+}
+
 }  // namespace
 
-RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s) {
+RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s, double window_s) {
   const RunRow run = store.run(run_id);
   RunSeries s = store.series(run_id);
+  // By the firmware's step count, so decimation and gaps do not shift it.
+  const double rate = run.loop_rate_hz > 0 ? run.loop_rate_hz : 1.0;
+  const uint64_t step0 = s.rows() > 0 ? s.step[0] : 0;
   if (skip_s > 0 && s.rows() > 0) {
-    // By the firmware's step count, so decimation and gaps do not shift it.
-    const double rate = run.loop_rate_hz > 0 ? run.loop_rate_hz : 1.0;
-    const uint64_t first = s.step[0] + uint64_t(std::llround(skip_s * rate));
+    const uint64_t first = step0 + uint64_t(std::llround(skip_s * rate));
     size_t rows = 0;
     while (rows < s.rows() && s.step[rows] < first) ++rows;
     s = drop_first(std::move(s), rows);
   }
-  std::vector<float> q;
-  for (const ParamRecord& p : store.params(run_id)) {
-    if (!p.at_start || p.name != "Q") continue;
-    std::istringstream in(p.value);
-    float v;
-    while (in >> v) q.push_back(v);
+  if (window_s > 0 && s.rows() > 0) {
+    const uint64_t end = step0 + uint64_t(std::llround((std::max(0.0, skip_s) + window_s) * rate));
+    size_t rows = 0;
+    while (rows < s.rows() && s.step[rows] < end) ++rows;
+    s = keep_first(std::move(s), rows);
   }
-  return run_metrics(run, s, q, store.gaps(run_id).size());
+  std::vector<float> q;
+  InputLimits limits;
+  for (const ParamRecord& p : store.params(run_id)) {
+    if (!p.at_start) continue;
+    if (p.name == "Q") q = floats(p.value);
+    else if (p.name == "u_min") limits.lo = floats(p.value);
+    else if (p.name == "u_max") limits.hi = floats(p.value);
+  }
+  return run_metrics(run, s, q, store.gaps(run_id).size(), limits);
 }
 
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names = {
       "rmse", "nrmse", "nrmse_space", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
-      "iterations", "samples", "duration", "wall", "gaps", "rmse0", "rmse1", "rmse2"};
+      "iterations", "samples", "duration", "wall", "gaps", "u_effort", "u_saturated", "rmse0", "rmse1", "rmse2"};
   return names;
 }
 
@@ -132,6 +198,8 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& name)
   if (name == "duration") return m.duration_s;
   if (name == "wall") return m.wall_s;
   if (name == "gaps") return double(m.gaps);
+  if (name == "u_effort") return m.u_effort;
+  if (name == "u_saturated") return m.u_saturated;
   if (name.size() > 4 && name.compare(0, 4, "rmse") == 0) {
     char* end = nullptr;
     const long i = std::strtol(name.c_str() + 4, &end, 10);

@@ -27,21 +27,40 @@ struct RunMetrics {
   double mean_iterations = 0;
   uint64_t lost_frames = 0;
   uint64_t gaps = 0;
+  // How hard the actuators worked: the RMS of the per-step input change,
+  // each actuator over its range u_max - u_min (what Lambda penalises; raw
+  // units when the limits are not known). 0 without u.
+  double u_effort = 0;
+  // Share of actuator-time spent within 1 % of its range of a limit (the
+  // mean over actuators of each one's share of samples there): a controller
+  // pinned against its limits is clipping, not tracking. Per actuator, not
+  // "any actuator", since an antagonistic pair (HASEL) keeps one side at
+  // its lower limit, off, by design. NaN when the limits are not known.
+  double u_saturated = std::numeric_limits<double>::quiet_NaN();
+};
+
+// The input limits in force at a run's start (u_min, u_max per actuator);
+// empty when not recorded.
+struct InputLimits {
+  std::vector<float> lo, hi;
 };
 
 // weights: per-axis Q at the start of the run (empty: every axis counts);
 // axes weighted ~0 relative to the largest are left out of nrmse/max_error.
-RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps);
+RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<float>& weights, uint64_t gaps,
+                       const InputLimits& limits = {});
 
 // Loads and computes in one go; skip_s leaves out the run's first seconds
 // (a sweep row's settling time) from every figure but the totals of lost
-// frames and gaps.
-RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0);
+// frames and gaps; window_s > 0 ends the figures that long after skip_s, so
+// runs that overshot their duration (a fast simulator outruns the console's
+// polling) are measured over the same span.
+RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0, double window_s = 0);
 
 // The names `expect` and `sweep` accept, and a metric's value by name:
 // rmse (worst axis), rmse0.., nrmse, nrmse_space, max_error, rmse_hat, nrmse_hat, lost,
 // loop_rate, compute_p50, compute_p99, iterations, samples, duration, wall,
-// gaps.
+// gaps, u_effort, u_saturated.
 const std::vector<std::string>& metric_names();
 std::optional<double> metric_value(const RunMetrics& m, const std::string& name);
 

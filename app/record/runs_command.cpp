@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
 
@@ -16,6 +17,7 @@
 #include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
+#include "app/record/tune_log.hpp"
 
 namespace nlsoft::console {
 
@@ -25,6 +27,7 @@ struct RunsArgs {
   std::string db;
   int64_t id = 0, other = 0;
   std::vector<int64_t> ids;
+  int64_t tune = 0;  // runs plot --tune S
   std::string csv, svg, png, label;
   bool json = false, force = false;
 };
@@ -106,6 +109,20 @@ std::string reference_of(RunStore& store, const RunRow& r) {
 void list(const RunsArgs& a) {
   auto store = open_store(a);
   const auto runs = store->list();
+  const std::string path = a.db.empty() ? default_db_path() : a.db;
+  // The runs of a tuning session: its header goes before its first run, its
+  // evaluations follow indented with their objective, and a session's later
+  // runs stay with it even when other runs came between.
+  std::map<int64_t, TuneEvalRow> eval_of;
+  std::map<int64_t, std::vector<int64_t>> session_runs;
+  std::map<int64_t, TuneSessionRow> sessions;
+  for (const TuneSessionRow& s : tune_sessions(path)) {
+    sessions[s.id] = s;
+    for (const TuneEvalRow& e : tune_evals(path, s.id)) {
+      eval_of[e.run_id] = e;
+      session_runs[s.id].push_back(e.run_id);
+    }
+  }
   if (a.json) {
     nlohmann::json out = nlohmann::json::array();
     for (const RunRow& r : runs) {
@@ -117,6 +134,12 @@ void list(const RunsArgs& a) {
       const std::string ref = reference_of(*store, r);
       j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
       j["nrmse"] = std::isfinite(t.nrmse) ? nlohmann::json(t.nrmse) : nlohmann::json();
+      if (const auto e = eval_of.find(r.id); e != eval_of.end()) {
+        nlohmann::json tj = {{"session", e->second.session_id}, {"eval", e->second.eval}, {"point", e->second.point}};
+        tj["objective"] = e->second.objective ? nlohmann::json(*e->second.objective) : nlohmann::json();
+        if (!e->second.failed.empty()) tj["failed"] = e->second.failed;
+        j["tune"] = tj;
+      }
       out.push_back(j);
     }
     fmt::print("{}\n", out.dump(2));
@@ -128,13 +151,37 @@ void list(const RunsArgs& a) {
   }
   fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "reference",
              "samples", "nrmse", "lost", "label", "ended");
-  for (const RunRow& r : runs) {
+  std::map<int64_t, const RunRow*> by_id;
+  for (const RunRow& r : runs) by_id[r.id] = &r;
+  auto line = [&](const RunRow& r, const std::string& indent, const std::string& ended) {
     const RunMetrics m = run_metrics(*store, r.id);
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
-    fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", r.id, r.started_at.substr(0, 19), r.platform,
-               reference_kind(reference_of(*store, r)), r.samples,
+    fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
+               r.platform, reference_kind(reference_of(*store, r)), r.samples,
                m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames, r.label,
-               r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+               ended);
+  };
+  for (const RunRow& r : runs) {
+    const auto e = eval_of.find(r.id);
+    if (e == eval_of.end()) {
+      line(r, "", r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+      continue;
+    }
+    const auto& members = session_runs[e->second.session_id];
+    if (members.front() != r.id) continue;  // printed with its session
+    const TuneSessionRow& s = sessions[e->second.session_id];
+    fmt::print("tuning session {}: minimise {} over {} ({}), {} evaluation{}, {}{}\n", s.id, s.objective, s.space, s.method,
+               members.size(), members.size() == 1 ? "" : "s",
+               s.ended_at.empty() ? "unfinished" : s.end_reason,
+               s.best_run > 0 ? fmt::format("; best run {}", s.best_run) : "");
+    for (int64_t id : members) {
+      const auto row = by_id.find(id);
+      if (row == by_id.end()) continue;  // deleted
+      const TuneEvalRow& ev = eval_of[id];
+      line(*row->second, "  ",
+           ev.objective ? fmt::format("objective {:.5g}{}", *ev.objective, id == s.best_run ? " (best)" : "")
+                        : "failed: " + ev.failed);
+    }
   }
 }
 
@@ -237,7 +284,23 @@ void compare(const RunsArgs& a) {
 
 void plot(const RunsArgs& a) {
   if (a.svg.empty() == a.png.empty()) throw CliError("runs plot: give one of --svg FILE or --png FILE");
-  if (a.ids.empty() || a.ids.size() > 2) throw CliError("runs plot: give one run id, or two to overlay");
+  if (a.tune > 0) {
+    if (!a.ids.empty()) throw CliError("runs plot: give run ids or --tune SESSION, not both");
+    open_store(a);  // the file's existence and schema, in the store's words
+    const std::string path = a.db.empty() ? default_db_path() : a.db;
+    const TuneSessionRow s = tune_session(path, a.tune);
+    const bool svg = !a.svg.empty();
+    const std::string image =
+        run_gnuplot(tune_plot_script(s, tune_evals(path, a.tune), svg ? ImageFormat::Svg : ImageFormat::Png));
+    const std::string& file = svg ? a.svg : a.png;
+    OutputFile out(file);
+    if (std::fwrite(image.data(), 1, image.size(), out.get()) != image.size())
+      throw CliError(fmt::format("cannot write {}", file));
+    out.commit();
+    if (file != "-") fmt::print(stderr, "tuning session {} drawn to {}\n", a.tune, file);
+    return;
+  }
+  if (a.ids.empty() || a.ids.size() > 2) throw CliError("runs plot: give one run id, two to overlay, or --tune SESSION");
   draw(a);
 }
 
@@ -305,7 +368,9 @@ void add_runs_command(CLI::App& app) {
   CLI::App* p = runs->add_subcommand(
       "plot", "Draw a run (or two overlaid): y per axis against the reference, u, the x-y path; needs gnuplot");
   db(p);
-  p->add_option("ID", args->ids, "Run id; a second id overlays that run (dashed)")->required()->expected(1, 2);
+  p->add_option("ID", args->ids, "Run id; a second id overlays that run (dashed)")->expected(1, 2);
+  p->add_option("--tune", args->tune, "A tuning session instead: its objective against the evaluation, best so far")
+      ->check(CLI::PositiveNumber);
   p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
   p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
   p->callback([args] { plot(*args); });

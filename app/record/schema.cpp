@@ -78,6 +78,31 @@ CREATE INDEX gaps_run ON gaps(run_id);
     R"sql(
 ALTER TABLE gaps ADD COLUMN duration_s REAL;
 )sql",
+    // v4: tuning sessions. Each evaluation is an ordinary run; these rows
+    // say which session it belongs to, in which order, and what it scored,
+    // so the session can be listed and plotted without re-deriving the
+    // objective.
+    R"sql(
+CREATE TABLE tune_sessions(
+  id INTEGER PRIMARY KEY,
+  started_at TEXT NOT NULL,            -- UTC, ISO 8601
+  ended_at TEXT,                       -- NULL while tuning or after a crash
+  objective TEXT NOT NULL,             -- the expression minimised
+  space TEXT NOT NULL,                 -- the searched parameters, as given
+  method TEXT NOT NULL,                -- the NLopt algorithm
+  end_reason TEXT,
+  best_run INTEGER                     -- NULL until one evaluation succeeded
+);
+CREATE TABLE tune_evals(
+  run_id INTEGER PRIMARY KEY,
+  session_id INTEGER NOT NULL,
+  eval INTEGER NOT NULL,               -- 1, 2, ... in the order they ran
+  objective REAL,                      -- NULL: the evaluation failed
+  failed TEXT NOT NULL DEFAULT '',     -- why it scored as failed
+  point TEXT NOT NULL                  -- the candidate, NAME=VALUE ...
+);
+CREATE INDEX tune_evals_session ON tune_evals(session_id);
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "one migration per version");
 

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "app/record/run_metrics.hpp"
+#include "app/tune/tune_options.hpp"
 
 namespace nlsoft::console {
 
@@ -281,9 +282,18 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     c.seconds = duration(t[run_at + 1]);
     label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]", true,
                   true);
+  } else if (verb == "tune") {
+    c.kind = Command::Kind::Tune;
+    c.values.assign(t.begin() + 1, t.end());
+    // Every word is checked now; the names against the firmware when it runs.
+    try {
+      parse_tune_words(c.values);
+    } catch (const std::invalid_argument& e) {
+      throw fail(e.what());
+    }
   } else {
     throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
-                           "wait expect export echo note sweep",
+                           "wait expect export echo note sweep tune",
                            verb));
   }
   return c;
@@ -313,7 +323,8 @@ Script parse_script_file(const std::string& path) {
 }
 
 const std::vector<std::string>& script_help() {
-  static const std::vector<std::string> h = {
+  static const std::vector<std::string> h = [] {
+    std::vector<std::string> lines = {
       "set NAME VALUES...          set a parameter (all elements), or one: set Q[1] 2e6",
       "get NAME                    print a parameter's value in force",
       "params save FILE            write every parameter to FILE",
@@ -337,7 +348,10 @@ const std::vector<std::string>& script_help() {
       "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics; each row",
       "  [settle=DURATION]         restarts the reference from its first point with the actuators",
       "                            neutral, and is measured after settle (default 1s)",
-  };
+    };
+    for (const std::string& l : tune_help()) lines.push_back(l);
+    return lines;
+  }();
   return h;
 }
 

@@ -21,6 +21,8 @@
 //   echo TEXT
 //   note TEXT                 notes on the current (or last) run
 //   sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]
+//   tune NAME=LO..HI[:log]... [objective=EXPR] [budget=N|DURATION] [apply] ...
+//                             (app/tune/tune_options.hpp)
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -43,13 +45,13 @@ bool compare(double lhs, CmpOp op, double rhs);
 struct Command {
   enum class Kind {
     Set, Get, ParamsSave, ParamsLoad, ParamsReapply, ParamsDiff, ParamsReset, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
-    Wait, Expect, ExportCsv, Echo, Sweep, Note,
+    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune,
   };
   Kind kind = Kind::Echo;
   int line = 0;
   std::string text;                 // the source line, trimmed
   std::string name;                 // parameter, reference, metric, file or echo text
-  std::vector<std::string> values;  // set / sweep values
+  std::vector<std::string> values;  // set / sweep values; tune's words
   std::vector<std::pair<std::string, std::string>> options;  // key=value
   double seconds = 0;               // run / wait / sweep duration
   CmpOp op = CmpOp::Lt;

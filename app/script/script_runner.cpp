@@ -57,7 +57,7 @@ int ScriptRunner::run(const Script& script) {
       return 2;
     }
   }
-  return failed_ > 0 || incomplete_runs_ > 0 ? 1 : 0;
+  return failed_ > 0 || incomplete_runs_ > 0 || fruitless_tunes_ > 0 ? 1 : 0;
 }
 
 void ScriptRunner::cancel() {
@@ -197,12 +197,24 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Sweep: sweep(c, file); break;
+      case K::Tune: tune(c); break;
     }
   } catch (const ScriptError&) {
     throw;
   } catch (const std::exception& e) {
     throw ScriptError(file, c.line, e.what());
   }
+}
+
+// A session where every evaluation failed found nothing: the script fails,
+// as for a failed expect.
+void ScriptRunner::tune(const Command& c) {
+  TuneCallbacks cb;
+  cb.out = out_;
+  cb.progress = progress_;
+  cb.evaluated = tune_observer_;
+  const TuneResult r = run_tuning(console_, parse_tune_words(c.values), cb, &cancelled_);
+  if (!r.have_best && !cancelled_.load()) ++fruitless_tunes_;
 }
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {
@@ -223,7 +235,9 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
             if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
           },
           &cancelled_);
-      const RunMetrics measured = c.settle_s > 0 ? console_.metrics_of(s.run_id, c.settle_s) : s.metrics;
+      // Over exactly the window asked for: a fast simulator runs past it
+      // before the run is stopped, by a different amount each row.
+      const RunMetrics measured = console_.metrics_of(s.run_id, c.settle_s, c.seconds);
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(measured, m).value_or(0)); };
       rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"), f("nrmse_space"),
                       f("max_error"), f("lost"), f("compute_p99")});

@@ -9,6 +9,7 @@
 
 #include "app/live/live_console.hpp"
 #include "app/script/script_parser.hpp"
+#include "app/tune/tuner.hpp"
 
 namespace nlsoft::console {
 
@@ -20,8 +21,12 @@ class ScriptRunner {
   ScriptRunner(LiveConsole& console, Output out, Progress progress = {})
       : console_(console), out_(std::move(out)), progress_(std::move(progress)) {}
 
-  // Runs every command in order. Returns 0 when every expect held and every
-  // timed run completed, 1 when one did not, 2 on a script, link or
+  // Told of each evaluation of a `tune` (the TUI's convergence view). Set
+  // before commands run; called on the thread that executes them.
+  void set_tune_observer(std::function<void(const TuneEvaluation&)> f) { tune_observer_ = std::move(f); }
+
+  // Runs every command in order. Returns 0 when every expect held, every
+  // timed run completed and every tune found a set, 1 when one did not, 2 on a script, link or
   // recording error (the message names file:line; an active run is stopped
   // first).
   int run(const Script& script);
@@ -41,15 +46,18 @@ class ScriptRunner {
   int failed_expects() const { return failed_; }
   int passed_expects() const { return passed_; }
   int incomplete_runs() const { return incomplete_runs_; }  // ended early without early=ok
+  int fruitless_tunes() const { return fruitless_tunes_; }  // tune sessions where every evaluation failed
 
  private:
   void sweep(const Command& c, const std::string& file);
+  void tune(const Command& c);
   void check_completed(const RunSummary& s, const Command& c, const std::string& file);
   void throw_if_cancelled(const Command& c, const std::string& file) const;
   LiveConsole& console_;
   Output out_;
   Progress progress_;
-  int failed_ = 0, passed_ = 0, incomplete_runs_ = 0;
+  std::function<void(const TuneEvaluation&)> tune_observer_;
+  int failed_ = 0, passed_ = 0, incomplete_runs_ = 0, fruitless_tunes_ = 0;
   std::atomic<bool> cancelled_{false};
   std::mutex cancel_mu_;  // with cancel_cv_: a `wait` ends at cancel()
   std::condition_variable cancel_cv_;

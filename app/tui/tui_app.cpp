@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <deque>
@@ -19,6 +20,7 @@
 #include "app/tui/runs_panel.hpp"
 #include "app/tui/screen.hpp"
 #include "app/tui/status_bar.hpp"
+#include "app/tui/tune_view.hpp"
 #include "app/tui/ui.hpp"
 #include "app/tui/worker.hpp"
 
@@ -43,6 +45,7 @@ const char* const kHelp[] = {
     "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
     "  :overlay ID  a recorded run under the live plot ('o'); :overlay off",
     "  + -       zoom in (shorter window) / out",
+    "  t         the tuning view under the plot on/off (:tune shows it)",
     "  Space     pause the plot (recording goes on)   [ ]  scroll back / forward",
     "  < >       time cursor on a paused plot: the readout gives the values at it",
     "  :         command line: the script commands (set, get, ref, run, expect, ...);",
@@ -67,6 +70,12 @@ class App : public Ui {
         refs_(console, worker_, *this),
         runs_(console, worker_, *this),
         runner_(console, [this](const std::string& s) { message(s); }) {
+    // Before any command runs: the worker reports each evaluation of a
+    // `:tune` here, the UI thread draws a copy.
+    runner_.set_tune_observer([this](const TuneEvaluation& e) {
+      tune_.add(e);
+      show_tune_ = true;
+    });
     cmd_.set_history(&history_);
     cmd_.set_completer([this](const std::string& left) {
       // The same editor asks for file names (S, L): those are not commands.
@@ -146,6 +155,8 @@ class App : public Ui {
   RefPanel refs_;
   RunsPanel runs_;
   ScriptRunner runner_;
+  TuneTrace tune_;
+  std::atomic<bool> show_tune_{false};
   Focus focus_ = Focus::Params;
   bool path_view_ = false, help_ = false;
   int ax_ = 0, ay_ = 1;
@@ -189,7 +200,8 @@ class App : public Ui {
 
 // The shutdown order, on quit (q, F10, SIGTERM) and in ~App if loop() threw:
 //  1. cancel the `:` command in progress: a timed run is stopped and kept, a
-//     wait or sweep returns (ScriptRunner::cancel);
+//     wait, sweep or tune returns (ScriptRunner::cancel; a tune still puts
+//     the parameters back and saves its best, bounded by the link's timeouts);
 //  2. stop and join the worker: the task running finishes (bounded by the
 //     link's timeouts), queued ones are dropped; afterwards no other thread
 //     touches the panels, the runner or the message log;
@@ -265,9 +277,10 @@ void App::command(const std::string& line) {
       } catch (const ScriptError& e) {
         message(e.message, Role::Error);
       }
-      if (c.kind == Command::Kind::Set || c.kind == Command::Kind::ParamsLoad || c.kind == Command::Kind::ParamsReapply || c.kind == Command::Kind::Sweep)
+      const bool many = c.kind == Command::Kind::Sweep || c.kind == Command::Kind::Tune;
+      if (c.kind == Command::Kind::Set || c.kind == Command::Kind::ParamsLoad || c.kind == Command::Kind::ParamsReapply || many)
         params_.reload();
-      if (c.kind == Command::Kind::Run || c.kind == Command::Kind::Stop || c.kind == Command::Kind::Sweep) runs_.reload();
+      if (c.kind == Command::Kind::Run || c.kind == Command::Kind::Stop || many) runs_.reload();
     });
   } catch (const ScriptError& e) {
     message(e.message, Role::Error);
@@ -526,6 +539,10 @@ bool App::handle(int ch) {
       cmd_.start(":");
       return true;
     case 'v': path_view_ = !path_view_; return true;
+    case 't':
+      if (tune_.empty()) message("no tuning session yet: :tune NAME=LO..HI[:log] ... (F1 for the options)", Role::Warn);
+      else show_tune_ = !show_tune_;
+      return true;
     case 'x': {
       const int n = std::max(2, console_.n());
       ay_ = (ay_ + 1) % n;
@@ -708,7 +725,10 @@ void App::draw() {
     // 25 times a second would cost 100 MB/s for nothing visible.
     draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.live().snapshot(4096), ax_, ay_);
   } else {
-    draw_time_plots(screen_, 1, 0, main_h - 1, left_w, samples, view);
+    // The convergence view takes the bottom of the plot pane while shown.
+    const int tune_h = show_tune_ && !tune_.empty() ? std::min(10, (main_h - 1) / 3) : 0;
+    draw_time_plots(screen_, 1, 0, main_h - 1 - tune_h, left_w, samples, view);
+    if (tune_h > 0) draw_tune_view(screen_, main_h - tune_h, 0, tune_h, left_w, tune_.snapshot());
     draw_plot_status(rows - 4, left_w);
   }
   attrset(screen_.attr(Role::Border));

@@ -10,6 +10,8 @@ so `runs show 12` finds the runs recorded before it. Fixtures a reader would
 have made first (a script named tune.nls, a dozen recorded runs) are made
 here and named in the output.
 
+A line ending in a backslash continues on the next. A synopsis, a line
+with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
 `flash`) cannot run here and is listed as skipped with the reason, as are QEMU
 examples when the images were not built. Interactive examples (the TUI) run
@@ -31,16 +33,32 @@ SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "
 
 
 def examples(path):
-    out, fenced = [], False
+    out, fenced, pending = [], False, None
     with open(path, encoding="utf-8") as f:
         for n, line in enumerate(f, 1):
+            if pending is not None:  # a line ending in a backslash goes on here
+                where, text = pending
+                text = text[:-1].rstrip() + " " + line.strip()
+                pending = (where, text) if text.endswith("\\") else None
+                if pending is None:
+                    out.append((where, text))
+                continue
             if line.startswith("```"):
                 fenced = not fenced
                 continue
             # At the block's left edge: an indented "nlsoft-console | ..." is a captured screen.
             if fenced and (line.startswith("nlsoft-console ") or line.startswith("nlsoft-firmware-sim ")):
-                out.append((f"{os.path.basename(path)}:{n}", line.strip()))
+                where, text = f"{os.path.basename(path)}:{n}", line.strip()
+                if re.sub(r"\s+#\s.*$", "", text).endswith("\\"):
+                    pending = (where, re.sub(r"\s+#\s.*$", "", text))
+                else:
+                    out.append((where, text))
     return out
+
+
+def placeholders(words):
+    """Metavariables a reader must fill in (NAME, LO, PORT): the line is a synopsis."""
+    return [p for w in words for p in re.split(r"[=.,:]+", w) if re.fullmatch(r"[A-Z][A-Z0-9_]*[A-Z][A-Z0-9_]*", p)]
 
 
 def resolve(text):
@@ -131,6 +149,10 @@ def main():
                 shown = " ".join(resolve(text))
                 if any(w.startswith("/dev/tty") for w in cmd) or (len(cmd) > 1 and cmd[1] == "flash"):
                     print(f"SKIP {where}: {shown}  (needs a board on a serial port)")
+                    skipped += 1
+                    continue
+                if placeholders(cmd[1:]):
+                    print(f"SKIP {where}: {shown}  (a synopsis: {', '.join(placeholders(cmd[1:]))} to fill in)")
                     skipped += 1
                     continue
                 if a.no_qemu and "--qemu" in cmd:

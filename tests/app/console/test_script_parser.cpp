@@ -76,7 +76,7 @@ TEST(ScriptParser, ParsesEveryCommand) {
 TEST(ScriptParser, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("echo ok\n\nfly 3\n"),
             "tune.nls:3: unknown command 'fly'; commands: set get params ref run start stop hold neutral resume wait "
-            "expect export echo note sweep");
+            "expect export echo note sweep tune");
   EXPECT_EQ(error_of("run 10\n"), "tune.nls:1: '10' needs a unit: 10s, 10ms or 10min");
   EXPECT_EQ(error_of("# c\nrun 5parsecs\n"), "tune.nls:2: '5parsecs': unknown unit 'parsecs' (use ms, s, min or h)");
   EXPECT_EQ(error_of("wait -1s\n"), "tune.nls:1: '-1s': a duration must be > 0");

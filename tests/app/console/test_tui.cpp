@@ -14,6 +14,7 @@
 
 #include "app/link/sim_launcher.hpp"
 #include "app/record/run_store.hpp"
+#include "app/record/tune_log.hpp"
 #include "run_process.hpp"
 #include "temp_dir.hpp"
 
@@ -515,6 +516,74 @@ TEST(ConsoleTui, ARecordedRunOverlaysTheLivePlot) {
   t.keys("F6");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
   t.keys("q");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// `:tune` from the command line: the convergence view appears under the
+// plot with the evaluation count and the best so far, the best set is
+// saved, and t hides the view.
+TEST(ConsoleTui, TuneShowsItsConvergenceUnderThePlot) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string saved = dir.file("tui.params");
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + dir.file("runs.db"),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys(shell_quote(":tune Lambda=0.1..10:log budget=3 settle=0 window=1s reference=\"swirl hold=1\" save=" + saved) +
+         " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " tune: eval 1/3"); }, s, 30)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "best set saved to"); }, s, 60)) << s;
+  EXPECT_TRUE(contains(s, " tune: eval 3/3  best ")) << s;
+  EXPECT_TRUE(contains(line_with(s, " tune: eval 3/3"), "Lambda=")) << s;
+  EXPECT_TRUE(std::ifstream(saved).good());
+  t.keys("t");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, " tune: eval"); }, s)) << s;
+  t.keys("q");
+}
+
+
+// Quitting during a :tune: the worker's session is cancelled (the run in
+// progress stopped and kept), the parameters are put back, the best so far
+// is saved, and the console exits 0 with the session closed in the database.
+TEST(ConsoleTui, QuitDuringATuneSavesTheBestAndExitsCleanly) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db"), status = dir.file("status"), err = dir.file("stderr"),
+                    saved = dir.file("q.params");
+  Tmux t("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db) + " 2>" +
+                                shell_quote(err) + "; echo $? >" + shell_quote(status)),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys(shell_quote(":tune Lambda=0.1..10:log budget=40 settle=0 window=1s reference=\"swirl hold=1\" save=" + saved) +
+         " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " tune: eval 1/40"); }, s, 30)) << s;
+  t.keys("q");
+  // Between two runs q quits at once; during one it asks first.
+  for (int i = 0; i < 300 && !std::filesystem::exists(status); ++i) {
+    if (contains(t.screen(), "stop it and quit?")) t.keys("y");
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after q during a tune\n"
+                                               << t.screen() << read_file(err);
+  std::string code;
+  for (int i = 0; i < 100 && (code = read_file(status)).find('\n') == std::string::npos; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(code, "0\n") << read_file(err);
+  EXPECT_TRUE(contains(read_file(saved), "Lambda ")) << "the best so far is saved";
+  const auto sessions = tune_sessions(db);
+  ASSERT_EQ(sessions.size(), 1u);
+  EXPECT_EQ(sessions[0].end_reason, "cancelled");
+  RunStore store(db);
+  for (const RunRow& r : store.list()) EXPECT_FALSE(r.ended_at.empty()) << "run " << r.id << " left open";
 }
 
 }  // namespace

@@ -1,0 +1,176 @@
+// What `tune` checks before it connects: the objective expression, the
+// ranges, the budget and the options; the input metrics the objective can
+// read; the convergence plot's script.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/record/run_metrics.hpp"
+#include "app/record/tune_log.hpp"
+#include "app/script/script_parser.hpp"
+#include "app/tune/objective.hpp"
+#include "app/tune/search_space.hpp"
+#include "app/tune/tune_options.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+RunMetrics metrics(double nrmse, double u_effort) {
+  RunMetrics m;
+  m.has_true = true;
+  m.truth.nrmse = nrmse;
+  m.u_effort = u_effort;
+  return m;
+}
+
+std::string error_of(const std::string& objective) {
+  try {
+    Objective o(objective);
+  } catch (const ObjectiveError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(TuneObjective, ArithmeticOverMetricsWithPrecedenceAndParentheses) {
+  EXPECT_DOUBLE_EQ(Objective("nrmse + 0.1*u_effort")(metrics(0.05, 0.2)), 0.07);
+  EXPECT_DOUBLE_EQ(Objective("(nrmse + 1) * 2 - -u_effort / 4")(metrics(0.5, 2)), 3.5);
+  EXPECT_EQ(Objective("nrmse + 0.1*u_effort + nrmse").metrics(), (std::vector<std::string>{"nrmse", "u_effort"}));
+  EXPECT_TRUE(std::isnan(Objective("rmse1")(metrics(0, 0)))) << "a run without axis 1 cannot be scored on it";
+}
+
+TEST(TuneObjective, AMissingMetricMakesTheScoreUndefinedNotZero) {
+  RunMetrics m = metrics(0.05, 0);
+  m.nrmse_space = std::nan("");
+  EXPECT_TRUE(std::isnan(Objective("nrmse + nrmse_space")(m)));
+  EXPECT_TRUE(std::isnan(Objective("nrmse / 0 ")(m))) << "an infinite score is no score";
+}
+
+TEST(TuneObjective, BadExpressionsSayWhatAndWhere) {
+  EXPECT_NE(error_of("nrmse + * 2").find("column 9"), std::string::npos) << error_of("nrmse + * 2");
+  EXPECT_NE(error_of("nrmse + effort").find("unknown metric 'effort'"), std::string::npos);
+  EXPECT_NE(error_of("nrmse + effort").find("u_effort"), std::string::npos) << "lists the known metrics";
+  EXPECT_NE(error_of("(nrmse").find("expected ')'"), std::string::npos);
+  EXPECT_NE(error_of("nrmse 2").find("unexpected '2'"), std::string::npos);
+  EXPECT_NE(error_of("  ").find("empty"), std::string::npos);
+}
+
+TEST(TuneSpace, RangesParseLinearOrLog) {
+  const Dimension d = parse_dimension("Lambda=0.01..100:log");
+  EXPECT_EQ(d.name, "Lambda");
+  EXPECT_DOUBLE_EQ(d.lo, 0.01);
+  EXPECT_DOUBLE_EQ(d.hi, 100);
+  EXPECT_TRUE(d.log);
+  const Dimension q = parse_dimension("Q*=-1..1");
+  EXPECT_EQ(q.name, "Q*");
+  EXPECT_FALSE(q.log);
+  EXPECT_DOUBLE_EQ(q.lo, -1);
+}
+
+TEST(TuneSpace, BadRangesAreRefusedInWords) {
+  auto error = [](const std::string& s) -> std::string {
+    try {
+      parse_dimension(s);
+    } catch (const std::invalid_argument& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(error("Lambda").find("expected NAME=LO..HI"), std::string::npos);
+  EXPECT_NE(error("Lambda=5..1").find("LO must be below HI"), std::string::npos);
+  EXPECT_NE(error("Lambda=0..1:log").find("LO > 0"), std::string::npos);
+  EXPECT_NE(error("Lambda=1..x").find("'x' is not a number"), std::string::npos);
+  EXPECT_NE(error("Lambda=1..10:ln").find("use :log or :lin"), std::string::npos);
+  EXPECT_NE(error("Lambda=1-10").find("LO..HI"), std::string::npos);
+}
+
+TEST(TuneWords, TheScriptFormCarriesEveryOption) {
+  const TuneOptions o = parse_tune_words({"Lambda=0.01..100:log", "Q1=1e5..1e7:log", "objective=nrmse + 0.1*u_effort",
+                                          "budget=12", "budget=2min", "reference=swirl", "settle=500ms", "window=3s",
+                                          "seed=7", "method=neldermead", "max_saturated=0.25", "save=best.params", "apply"});
+  ASSERT_EQ(o.dims.size(), 2u);
+  EXPECT_EQ(o.dims[1].name, "Q1");
+  EXPECT_EQ(o.objective, "nrmse + 0.1*u_effort");
+  EXPECT_EQ(o.budget_runs, 12);
+  EXPECT_DOUBLE_EQ(o.budget_s, 120);
+  EXPECT_EQ(o.reference, "swirl");
+  EXPECT_DOUBLE_EQ(o.settle_s, 0.5);
+  EXPECT_DOUBLE_EQ(o.window_s, 3);
+  EXPECT_EQ(o.seed, 7u);
+  EXPECT_EQ(o.method, "neldermead");
+  EXPECT_DOUBLE_EQ(o.max_saturated, 0.25);
+  EXPECT_EQ(o.save, "best.params");
+  EXPECT_TRUE(o.apply);
+  EXPECT_EQ(parse_tune_words({"Lambda=1..2", "budget=90s"}).budget_runs, 0) << "a time budget alone: as many runs as fit";
+  EXPECT_EQ(parse_tune_words({"Lambda=1..2"}).budget_runs, 40);
+  TuneOptions spaced;
+  EXPECT_TRUE(set_budget(spaced, "25 runs"));
+  EXPECT_FALSE(set_budget(spaced, "10 min"));
+  EXPECT_EQ(spaced.budget_runs, 25);
+  EXPECT_DOUBLE_EQ(spaced.budget_s, 600);
+}
+
+TEST(TuneWords, ScriptLinesAreCheckedBeforeAnythingRuns) {
+  auto error = [](const std::string& line) -> std::string {
+    try {
+      parse_command(line, "t.nls", 3);
+    } catch (const ScriptError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(parse_command("tune Lambda=0.01..100:log objective=\"nrmse + 0.1*u_effort\"", "t.nls", 1).kind,
+            Command::Kind::Tune);
+  EXPECT_NE(error("tune").find("t.nls:3: tune: nothing to search"), std::string::npos) << error("tune");
+  EXPECT_NE(error("tune Lambda=1..2 objective=\"nrmse +\"").find("column"), std::string::npos);
+  EXPECT_NE(error("tune Lambda=1..2 budget=soon").find("budget 'soon'"), std::string::npos);
+  EXPECT_NE(error("tune Lambda=1..2 budget=2.5").find("whole number"), std::string::npos);
+  EXPECT_NE(error("tune Lambda=1..2 method=cmaes").find("bobyqa or neldermead"), std::string::npos);
+  EXPECT_NE(error("tune Lambda=1..2 colour=red").find("unknown option 'colour'"), std::string::npos);
+  EXPECT_NE(error("tune Lambda=1..2 fast").find("'fast' is neither"), std::string::npos);
+  EXPECT_NE(error("tune Lambda=1..2 max_saturated=2").find("between 0 and 1"), std::string::npos);
+}
+
+TEST(TuneMetrics, InputEffortAndSaturationOverTheInputRange) {
+  RunSeries s;
+  s.n = 1;
+  s.m = 2;
+  s.has_u = true;
+  // u0 steps 0 -> 0.5 -> 0 -> 0.5 on a range of 1; u1 sits at its upper limit.
+  for (uint32_t k = 0; k < 4; ++k) {
+    s.step.push_back(k);
+    s.time_us.push_back(k * 1000);
+    s.u.push_back(k % 2 ? 0.5f : 0.0f);
+    s.u.push_back(2.0f);
+  }
+  RunRow run;
+  run.loop_rate_hz = 1000;
+  const RunMetrics m = run_metrics(run, s, {}, 0, InputLimits{{0.0f, -2.0f}, {1.0f, 2.0f}});
+  // Changes: u0 0.5 each step over range 1, u1 none: RMS = sqrt(0.25 / 2).
+  EXPECT_NEAR(m.u_effort, std::sqrt(0.125), 1e-9);
+  // u0 at its lower limit half the time, u1 at its upper limit throughout.
+  EXPECT_DOUBLE_EQ(m.u_saturated, 0.75);
+  EXPECT_NEAR(*metric_value(m, "u_effort"), std::sqrt(0.125), 1e-9);
+  EXPECT_TRUE(std::isnan(run_metrics(run, s, {}, 0).u_saturated)) << "no limits recorded: not known";
+}
+
+TEST(TunePlot, ObjectivePerEvaluationBestSoFarAndFailures) {
+  TuneSessionRow s;
+  s.id = 3;
+  s.objective = "nrmse";
+  s.space = "Lambda=0.01..100:log";
+  s.method = "bobyqa";
+  std::vector<TuneEvalRow> e(3);
+  e[0].eval = 1, e[0].objective = 0.2;
+  e[1].eval = 2, e[1].failed = "lost frames";
+  e[2].eval = 3, e[2].objective = 0.05;
+  const std::string g = tune_plot_script(s, e, ImageFormat::Svg);
+  EXPECT_NE(g.find("1 0.2 0.2 NaN\n2 NaN 0.2 0\n3 0.05 0.05 NaN\n"), std::string::npos) << g;
+  EXPECT_NE(g.find("best so far"), std::string::npos);
+  EXPECT_NE(g.find("set logscale y"), std::string::npos);
+  EXPECT_NE(g.find("tuning session 3: minimise nrmse"), std::string::npos);
+  EXPECT_THROW(tune_plot_script(s, {}, ImageFormat::Svg), std::exception);
+}
+
+}  // namespace
+}  // namespace nlsoft::console
