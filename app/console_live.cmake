@@ -1,4 +1,4 @@
-# The live console (issue 6): link and session over Boost.Asio, SQLite
+# The live console: link and session over Boost.Asio, SQLite
 # recording, scripts and the ncurses TUI. Included from app/CMakeLists.txt.
 find_package(Boost REQUIRED COMPONENTS system)
 find_package(SQLite3 REQUIRED)
@@ -23,7 +23,7 @@ target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_ROOT} PRIVATE ${C
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
   PUBLIC nlsoft_console_core nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
-  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT nlsoft_warnings)
+  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT)
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)
 target_compile_definitions(nlsoft-console PRIVATE NLSOFT_VERSION="${PROJECT_VERSION}")

@@ -9,14 +9,12 @@ option(NLSOFT_WERROR "Treat warnings as errors (CI)" OFF)
 if(NLSOFT_WERROR)
   add_compile_options(-Werror)
 endif()
-# Targets still name it; the flags above already reach them.
-add_library(nlsoft_warnings INTERFACE)
 
 # Sanitizer builds (CI: `bash cmake/dev sanitize`): NLSOFT_SANITIZE is
 # "address,undefined" or "thread" (TSan cannot share a process with ASan).
-# Set at directory scope, not on nlsoft_warnings, because several host
-# targets (tests, tools) do not link nlsoft_warnings, and an instrumented
-# object linked without the runtime fails to link. The Cortex-M4F images are
+# Set at directory scope, like the warnings, so no host target is left
+# uninstrumented (an instrumented object linked without the runtime fails
+# to link). The Cortex-M4F images are
 # a separate configure (ExternalProject) and stay uninstrumented.
 set(NLSOFT_SANITIZE "" CACHE STRING "Sanitizers for every host target: address,undefined | thread | empty")
 if(NLSOFT_SANITIZE)
