@@ -8,7 +8,8 @@
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
 #include "app/model/commands.hpp"
-#include "app/simulate.hpp"
+#include "app/record/runs_command.hpp"
+#include "app/simulate/simulate_command.hpp"
 #include "app/tune/tune_command.hpp"
 #include "protocol/frame.hpp"
 
@@ -17,15 +18,20 @@ int main(int argc, char** argv) {
   CLI::App app{
       "nlsoft-console: tune a learned model-predictive controller running on a microcontroller,\n"
       "or run it offline against a simulated rig."};
-  app.require_subcommand(1);
   app.set_version_flag("--version", std::string("nlsoft-console " NLSOFT_VERSION ", wire protocol ") +
                                         std::to_string(nlsoft::protocol::kProtocolVersion));
-  add_simulate_command(app);
-  add_console_commands(app);
+  // Every command, in one place. Without a subcommand the live console runs
+  // (its options sit on the main app); at most one subcommand per call.
+  app.require_subcommand(0, 1);
+  add_live_console(app);
+  add_runs_command(app);
+  add_tune_command(app);
   add_conformance_command(app);
   add_flash_command(app);
-  add_tune_command(app);
-  add_model_commands(app);
+  add_simulate_command(app);
+  add_dataset_command(app);
+  add_train_command(app);
+  add_model_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -12,7 +12,6 @@
 #include "app/link/sim_launcher.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
-#include "app/record/runs_command.hpp"
 #include "app/record/sqlite.hpp"
 #include "app/script/script_runner.hpp"
 #include "app/tui/tui_app.hpp"
@@ -122,11 +121,8 @@ int run_console(const ConsoleArgs& a) {
 
 }  // namespace
 
-void add_console_commands(CLI::App& app) {
+void add_live_console(CLI::App& app) {
   auto a = std::make_shared<ConsoleArgs>();
-  // The console itself runs without a subcommand; `runs`, `simulate`, ...
-  // stay subcommands.
-  app.require_subcommand(0, 1);
   app.add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
   app.add_option("--sim", a->sim, "Start nlsoft-firmware-sim for this platform and connect to it")
       ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
@@ -176,7 +172,6 @@ void add_console_commands(CLI::App& app) {
       "  expect lost == 0\n"
       "  sweep Q0 1e5 1e6 1e7 run 5s\n";
   app.footer(footer);
-  add_runs_command(app);
   app.callback([&app, a] {
     if (!app.get_subcommands().empty()) return;
     throw CliExit{run_console(*a)};

@@ -1,10 +1,11 @@
 #pragma once
-// The top-level console invocation: `nlsoft-console PORT`, `--sim PLATFORM`,
-// `--script FILE`, plus the `runs` subcommand. Registered on the main app.
+// The console itself, what `nlsoft-console` runs without a subcommand:
+// `nlsoft-console PORT`, `--sim PLATFORM`, `--script FILE`. Its options and
+// its callback go on the main app (main.cpp).
 #include <CLI/CLI.hpp>
 
 namespace nlsoft::console {
 
-void add_console_commands(CLI::App& app);
+void add_live_console(CLI::App& app);
 
 }  // namespace nlsoft::console

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli_error.hpp"
-#include "app/reference_presets.hpp"
+#include "app/reference_names.hpp"
 
 namespace nlsoft::console {
 

@@ -1,6 +1,6 @@
 #pragma once
 // `ref NAME key=value...`: a named preset for the connected platform
-// (app/reference_presets) with any of its parameters overridden, and the
+// (app/reference_names) with any of its parameters overridden, and the
 // reverse, a RefParams as JSON for the runs table.
 #include <string>
 #include <utility>

@@ -297,7 +297,7 @@ void run_codegen(const std::string& model, const std::string& out, const std::st
 
 }  // namespace
 
-void add_model_commands(CLI::App& app) {
+void add_dataset_command(CLI::App& app) {
   auto dataset_args = std::make_shared<DatasetArgs>();
   CLI::App* ds = app.add_subcommand(
       "dataset",
@@ -310,7 +310,9 @@ void add_model_commands(CLI::App& app) {
   ds->add_option("--steps", dataset_args->steps, "number of samples (default 120000)")->type_name("K");
   ds->add_option("--seed", dataset_args->seed, "seed of the excitation and the sensor noise (default 1)")->type_name("S");
   ds->callback([dataset_args] { run_dataset(*dataset_args); });
+}
 
+void add_train_command(CLI::App& app) {
   auto train_args = std::make_shared<TrainArgs>();
   CLI::App* tr = app.add_subcommand(
       "train",
@@ -337,7 +339,9 @@ void add_model_commands(CLI::App& app) {
   tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd)");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");
   tr->callback([train_args] { run_train(*train_args); });
+}
 
+void add_model_command(CLI::App& app) {
   CLI::App* model = app.add_subcommand("model", "Inspect, evaluate, import and compile model files (.nlsm).");
   model->require_subcommand(1);
 

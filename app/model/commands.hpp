@@ -7,6 +7,8 @@
 
 namespace nlsoft::console {
 
-void add_model_commands(CLI::App& app);
+void add_dataset_command(CLI::App& app);
+void add_train_command(CLI::App& app);
+void add_model_command(CLI::App& app);  // model import|eval|info|codegen
 
 }  // namespace nlsoft::console

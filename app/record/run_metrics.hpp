@@ -1,12 +1,12 @@
 #pragma once
 // Per-run figures (what `runs show`, `runs compare`, `expect` and `sweep`
-// speak of), computed from recorded samples with app/metrics.
+// speak of), computed from recorded samples with app/metrics/tracking_metrics.
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "app/metrics.hpp"
+#include "app/metrics/tracking_metrics.hpp"
 #include "app/record/run_store.hpp"
 
 namespace nlsoft::console {

@@ -2,7 +2,7 @@
 // the simulated plant, with the firmware's capacity (the MCU code path), for
 // instruction counting under valgrind (see instructions-per-step). Prints the
 // mean Newton iterations and the tracking nRMSE of the true plant output
-// (app/metrics.hpp) over the K steps. Usage: nlsoft-step-driver PLATFORM exact|fd K [MODEL]
+// (app/metrics/tracking_metrics.hpp) over the K steps. Usage: nlsoft-step-driver PLATFORM exact|fd K [MODEL]
 // MODEL: a model file of the platform's dimensions (default: the shipped one),
 // e.g. one imported from Keras with `nlsoft-console model import`.
 #include <cstdio>
@@ -19,7 +19,7 @@
 #include "shared/plant_tendon.hpp"
 #include "shared/reference.hpp"
 #include "shared/sim_plant.hpp"
-#include "app/metrics.hpp"
+#include "app/metrics/tracking_metrics.hpp"
 
 namespace {
 

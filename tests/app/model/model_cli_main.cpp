@@ -9,7 +9,9 @@
 int main(int argc, char** argv) {
   CLI::App app{"nlsoft model pipeline (test driver)"};
   app.require_subcommand(1);
-  nlsoft::console::add_model_commands(app);
+  nlsoft::console::add_dataset_command(app);
+  nlsoft::console::add_train_command(app);
+  nlsoft::console::add_model_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -3,10 +3,10 @@
 #include <gtest/gtest.h>
 
 #include "app/cli_error.hpp"
-#include "app/closed_loop.hpp"
-#include "app/metrics.hpp"
-#include "app/model_store.hpp"
-#include "app/reference_presets.hpp"
+#include "app/simulate/closed_loop.hpp"
+#include "app/metrics/tracking_metrics.hpp"
+#include "app/simulate/model_loader.hpp"
+#include "app/reference_names.hpp"
 #include "shared/platform.hpp"
 #include "shared/sim_plant.hpp"
 

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "app/metrics.hpp"
+#include "app/metrics/tracking_metrics.hpp"
 
 using namespace nlsoft;
 using namespace nlsoft::console;

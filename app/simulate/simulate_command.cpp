@@ -1,4 +1,4 @@
-#include "app/simulate.hpp"
+#include "app/simulate/simulate_command.hpp"
 
 #include <fmt/format.h>
 
@@ -8,13 +8,13 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli_error.hpp"
-#include "app/closed_loop.hpp"
-#include "app/metrics.hpp"
+#include "app/simulate/closed_loop.hpp"
+#include "app/metrics/tracking_metrics.hpp"
 #include "app/output_file.hpp"
-#include "app/model_store.hpp"
-#include "app/param_args.hpp"
+#include "app/simulate/model_loader.hpp"
+#include "app/simulate/param_args.hpp"
 #include "app/progress_bar.hpp"
-#include "app/reference_presets.hpp"
+#include "app/reference_names.hpp"
 #include "shared/platform.hpp"
 #include "shared/sim_plant.hpp"
 

@@ -1,4 +1,4 @@
-#include "app/closed_loop.hpp"
+#include "app/simulate/closed_loop.hpp"
 
 #include <fmt/format.h>
 

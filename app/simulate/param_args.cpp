@@ -1,4 +1,4 @@
-#include "app/param_args.hpp"
+#include "app/simulate/param_args.hpp"
 
 #include <fmt/format.h>
 

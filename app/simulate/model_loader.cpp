@@ -1,4 +1,4 @@
-#include "app/model_store.hpp"
+#include "app/simulate/model_loader.hpp"
 
 #include <fmt/format.h>
 

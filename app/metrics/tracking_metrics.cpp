@@ -1,4 +1,4 @@
-#include "app/metrics.hpp"
+#include "app/metrics/tracking_metrics.hpp"
 
 #include <algorithm>
 #include <cmath>

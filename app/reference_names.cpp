@@ -1,4 +1,4 @@
-#include "app/reference_presets.hpp"
+#include "app/reference_names.hpp"
 
 #include <fmt/format.h>
 
