@@ -171,12 +171,32 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s, double wi
 
 const std::vector<std::string>& metric_names() {
   static const std::vector<std::string> names = {
-      "rmse", "nrmse", "nrmse_space", "max_error", "rmse_hat", "nrmse_hat", "lost", "loop_rate", "compute_p50", "compute_p99",
-      "iterations", "samples", "duration", "wall", "gaps", "u_effort", "u_saturated", "rmse0", "rmse1", "rmse2"};
+      "rmse",       "nrmse",    "nrmse_space", "max_error", "rmse_hat", "nrmse_hat", "lost_frames",
+      "loop_rate_hz", "compute_p50_us", "compute_p99_us", "iterations", "samples", "duration_s", "wall_s",
+      "gaps",       "u_effort", "u_saturated", "rmse0",     "rmse1",    "rmse2"};
   return names;
 }
 
-std::optional<double> metric_value(const RunMetrics& m, const std::string& name) {
+std::string canonical_metric_name(const std::string& name) {
+  // The short spellings scripts used before the names carried their units.
+  static const std::pair<const char*, const char*> kAliases[] = {
+      {"lost", "lost_frames"},          {"loop_rate", "loop_rate_hz"}, {"compute_p50", "compute_p50_us"},
+      {"compute_p99", "compute_p99_us"}, {"duration", "duration_s"},    {"wall", "wall_s"}};
+  for (const auto& [alias, canonical] : kAliases)
+    if (name == alias) return canonical;
+  return name;
+}
+
+bool known_metric(const std::string& metric) {
+  const std::string name = canonical_metric_name(metric);
+  for (const auto& m : metric_names())
+    if (m == name) return true;
+  return name.size() > 4 && name.compare(0, 4, "rmse") == 0 &&
+         name.find_first_not_of("0123456789", 4) == std::string::npos;
+}
+
+std::optional<double> metric_value(const RunMetrics& m, const std::string& metric) {
+  const std::string name = canonical_metric_name(metric);
   // Tracking is judged on the true plant output when the firmware sends it,
   // on the model's prediction otherwise.
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
@@ -189,14 +209,14 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& name)
   if (name == "max_error") return t.max_error;
   if (name == "rmse_hat") return worst(m.predicted);
   if (name == "nrmse_hat") return m.predicted.nrmse;
-  if (name == "lost") return double(m.lost_frames);
-  if (name == "loop_rate") return m.loop_rate_hz;
-  if (name == "compute_p50") return m.compute_p50_us;
-  if (name == "compute_p99") return m.compute_p99_us;
+  if (name == "lost_frames") return double(m.lost_frames);
+  if (name == "loop_rate_hz") return m.loop_rate_hz;
+  if (name == "compute_p50_us") return m.compute_p50_us;
+  if (name == "compute_p99_us") return m.compute_p99_us;
   if (name == "iterations") return m.mean_iterations;
   if (name == "samples") return double(m.samples);
-  if (name == "duration") return m.duration_s;
-  if (name == "wall") return m.wall_s;
+  if (name == "duration_s") return m.duration_s;
+  if (name == "wall_s") return m.wall_s;
   if (name == "gaps") return double(m.gaps);
   if (name == "u_effort") return m.u_effort;
   if (name == "u_saturated") return m.u_saturated;

@@ -57,11 +57,19 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
 // polling) are measured over the same span.
 RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0, double window_s = 0);
 
-// The names `expect` and `sweep` accept, and a metric's value by name:
-// rmse (worst axis), rmse0.., nrmse, nrmse_space, max_error, rmse_hat, nrmse_hat, lost,
-// loop_rate, compute_p50, compute_p99, iterations, samples, duration, wall,
-// gaps, u_effort, u_saturated.
+// One vocabulary for every metric the console prints (CONSOLE.md,
+// "Metrics"): the names `expect`, `sweep` and `tune` accept and the keys of
+// `runs ... --json` and `simulate --json`. A name carries its unit when it
+// has one: rmse (worst axis), rmse0.., nrmse, nrmse_space, max_error,
+// rmse_hat, nrmse_hat, lost_frames, loop_rate_hz, compute_p50_us,
+// compute_p99_us, iterations, samples, duration_s, wall_s, gaps, u_effort,
+// u_saturated.
 const std::vector<std::string>& metric_names();
+// The short spellings (lost, loop_rate, compute_p50, compute_p99, duration,
+// wall) are read as the names above, so older scripts keep working.
+std::string canonical_metric_name(const std::string& name);
+// A name metric_value() knows (any rmseK included), in either spelling.
+bool known_metric(const std::string& name);
 std::optional<double> metric_value(const RunMetrics& m, const std::string& name);
 
 }  // namespace nlsoft::console

@@ -59,7 +59,9 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["firmware"] = r.firmware;
   j["samples"] = m.samples;
   j["duration_s"] = m.duration_s;
-  j["tracked"] = m.has_true ? "y_true" : "y_hat";
+  j["tracking_signal"] = m.has_true ? "y_true" : "y_hat";
+  j["tracked_axes"] = t.tracked;
+  j["nrmse_all_axes"] = t.nrmse_all;
   j["rmse"] = t.rmse;
   j["nrmse"] = t.nrmse;
   j["nrmse_space"] = std::isfinite(m.nrmse_space) ? nlohmann::json(m.nrmse_space) : nlohmann::json();
@@ -73,6 +75,8 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["lost_frames"] = m.lost_frames;
   j["gaps"] = m.gaps;
   j["wall_s"] = m.wall_s;
+  j["u_effort"] = m.u_effort;
+  j["u_saturated"] = m.u_saturated;
   return j;
 }
 
@@ -269,8 +273,8 @@ void compare(const RunsArgs& a) {
   row("label", ra.label, rb.label);
   row("platform", ra.platform, rb.platform);
   auto num = [](double v) { return fmt::format("{:.5g}", v); };
-  for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "loop_rate", "compute_p50", "compute_p99",
-                        "iterations", "lost", "gaps", "samples", "duration"})
+  for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "loop_rate_hz", "compute_p50_us",
+                        "compute_p99_us", "iterations", "lost_frames", "gaps", "samples", "duration_s"})
     row(m, num(metric_value(ma, m).value_or(0)), num(metric_value(mb, m).value_or(0)));
   bool any = false;
   for (const auto& [name, v] : pdiff) {

@@ -243,10 +243,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     at_most(4, "expect METRIC OP VALUE");
     c.kind = Command::Kind::Expect;
     c.name = t[1];
-    bool known = false;
-    for (const auto& m : metric_names()) known |= m == c.name;
-    if (!known && !(c.name.rfind("rmse", 0) == 0 && c.name.size() > 4 &&
-                    c.name.find_first_not_of("0123456789", 4) == std::string::npos))
+    if (!known_metric(c.name))
       throw fail(fmt::format("unknown metric '{}'; known: {}", c.name, metric_list()));
     const std::string& op = t[2];
     if (op == "<") c.op = CmpOp::Lt;
@@ -340,7 +337,7 @@ const std::vector<std::string>& script_help() {
       "start [label=TEXT] | stop   start or stop a run without a duration",
       "hold | neutral | resume     pause the run, actuators to neutral, continue",
       "wait DURATION               sleep, e.g. wait 500ms",
-      "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost == 0;",
+      "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost_frames == 0;",
       "                            nrmse_space (over the rig's task space) also for holds and steps",
       "export csv FILE             the last run's samples as CSV",
       "echo TEXT                   print TEXT",

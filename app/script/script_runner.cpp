@@ -240,7 +240,7 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
       const RunMetrics measured = console_.metrics_of(s.run_id, c.settle_s, c.seconds);
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(measured, m).value_or(0)); };
       rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"), f("nrmse_space"),
-                      f("max_error"), f("lost"), f("compute_p99")});
+                      f("max_error"), f("lost_frames"), f("compute_p99_us")});
       check_completed(s, c, file);
     } catch (...) {
       failure = std::current_exception();

@@ -118,17 +118,19 @@ int run_simulate(const SimulateOptions& o) {
     j["reference"] = ref_name;
     j["controller"] = o.controller;
     j["mode"] = o.mode;
-    j["steps"] = t.rows();
+    j["samples"] = t.rows();
+    j["duration_s"] = double(t.rows()) * double(t.dt);
     j["model"] = setup.model ? model->path : "";
     j["rmse"] = tm.rmse;
     j["nrmse"] = tm.nrmse;
     j["nrmse_all_axes"] = tm.nrmse_all;
     j["tracked_axes"] = tm.tracked;
+    j["tracking_signal"] = "y_true";
     j["max_error"] = tm.max_error;
-    j["predicted_nrmse"] = pm.nrmse;
-    j["mean_iterations"] = tm.mean_iterations;
-    j["solve_us_p50"] = tm.solve_p50_us;
-    j["solve_us_p99"] = tm.solve_p99_us;
+    j["nrmse_hat"] = pm.nrmse;
+    j["iterations"] = tm.mean_iterations;
+    j["compute_p50_us"] = tm.solve_p50_us;
+    j["compute_p99_us"] = tm.solve_p99_us;
     if (!steps.empty()) {
       j["step_response"] = nlohmann::json::array();
       for (const auto& s : steps)

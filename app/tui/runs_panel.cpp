@@ -79,7 +79,7 @@ bool RunsPanel::key(int ch) {
             const RunMetrics ma = run_metrics(store, a), mb = run_metrics(store, b);
             std::vector<std::string> lines = {fmt::format("{:<12} {:>12} {:>12}", "", "run " + std::to_string(a),
                                                           "run " + std::to_string(b))};
-            for (const char* k : {"rmse", "nrmse", "max_error", "loop_rate", "compute_p99", "lost", "samples"})
+            for (const char* k : {"rmse", "nrmse", "max_error", "loop_rate_hz", "compute_p99_us", "lost_frames", "samples"})
               lines.push_back(fmt::format("{:<12} {:>12.5g} {:>12.5g}", k, metric_value(ma, k).value_or(0),
                                           metric_value(mb, k).value_or(0)));
             std::lock_guard<std::mutex> l(mu_);

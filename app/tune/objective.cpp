@@ -20,13 +20,6 @@ namespace {
 
 using NodeP = std::shared_ptr<const Objective::Node>;
 
-bool known_metric(const std::string& name) {
-  for (const auto& m : metric_names())
-    if (m == name) return true;
-  return name.size() > 4 && name.compare(0, 4, "rmse") == 0 &&
-         name.find_first_not_of("0123456789", 4) == std::string::npos;
-}
-
 // Recursive descent over: expr = term {(+|-) term}; term = unary {(*|/) unary};
 // unary = - unary | primary; primary = number | metric | ( expr ).
 class Parser {
