@@ -19,7 +19,7 @@ file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/tune/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/live/*.cpp)
 add_library(nlsoft_console_live STATIC ${NLSOFT_CONSOLE_LIVE_SOURCES})
-target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_ROOT} PRIVATE ${CURSES_INCLUDE_DIRS})
+target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_APP_INCLUDE} PRIVATE ${CURSES_INCLUDE_DIRS})
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
   PUBLIC nlsoft_console_core nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
