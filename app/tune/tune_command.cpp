@@ -2,16 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <csignal>
 #include <cstdio>
 #include <memory>
 
 #include "app/cli_error.hpp"
 #include "app/link/device.hpp"
-#include "app/link/link_error.hpp"
+#include "app/live/connect_args.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
-#include "app/record/sqlite.hpp"
 #include "app/script/script_parser.hpp"
 #include "app/tune/tuner.hpp"
 
@@ -20,18 +18,13 @@ namespace nlsoft::console {
 namespace {
 
 struct TuneArgs {
-  std::string port, sim, qemu, db;
-  unsigned baud = 115200;
-  bool no_record = false, sim_fast = false, apply = false;
-  double sim_rate = 0;
-  int timeout_ms = 250;
+  ConnectArgs link;
+  bool apply = false;
   std::vector<std::string> params, budget;
   std::string objective = "nrmse", reference, settle = "1s", window = "5s", method = "bobyqa", save;
   unsigned long seed = 1;
   double max_saturated = 0.5;
 };
-
-void on_interrupt(int) { LiveConsole::request_interrupt(); }
 
 TuneOptions options_from(const TuneArgs& a) {
   TuneOptions o;
@@ -60,40 +53,13 @@ int run_tune(const TuneArgs& a) {
   // Everything the words can tell is checked before a simulator starts or
   // a board is touched.
   const TuneOptions o = options_from(a);
-  if (!a.qemu.empty() && !a.sim.empty()) throw CliError("tune: give either --sim or --qemu, not both");
-  if (a.port.empty() && a.sim.empty() && a.qemu.empty())
-    throw CliError("tune: nothing to connect to: give a serial port or --sim hasel; see nlsoft-console tune --help");
-  if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
-    throw CliError("tune: give either a PORT or --sim/--qemu, not both");
-  LiveOptions lo;
-  lo.port = a.port;
-  lo.baud = a.baud;
-  lo.sim_platform = a.qemu.empty() ? a.sim : a.qemu;
-  lo.sim_in_qemu = !a.qemu.empty();
-  if (a.sim_rate > 0) lo.sim_args.insert(lo.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
-  if (a.sim_fast) lo.sim_args.push_back("--fast");
-  lo.db_path = a.db;
-  lo.record = !a.no_record;
-  lo.session.timeout = std::chrono::milliseconds(a.timeout_ms);
+  const LiveOptions lo = live_options(a.link, "tune");
   LiveConsole console(lo);
   // Ctrl-C ends the run in progress (kept, not scored) and the session,
   // which still saves the best set found so far.
-  struct sigaction sa {};
-  sa.sa_handler = on_interrupt;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  install_interrupt_handlers();
   console.set_notify([](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
-  try {
-    ProgressBar bar("parameters");
-    console.connect([&](size_t d, size_t t) { bar.update(long(d), long(t)); });
-  } catch (const LinkError& e) {
-    throw CliError(e.what());
-  } catch (const NackError& e) {
-    throw CliError(e.what());
-  } catch (const DbError& e) {
-    throw CliError(e.what());
-  }
+  connect_with_progress(console);
   const auto info = console.device().info();
   std::fprintf(stderr, "connected: %s %u.%u.%u, %u Hz; recording to %s\n", info.firmware, info.fw_major, info.fw_minor,
                info.fw_patch, info.loop_rate_hz, console.db_path().c_str());
@@ -129,16 +95,7 @@ void add_tune_command(CLI::App& app) {
   CLI::App* t = app.add_subcommand(
       "tune", "Search controller parameters (Q, Lambda, s, b, r, ...) for the lowest objective, one real run per "
               "evaluation; print and save the best set");
-  t->add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
-  t->add_option("--sim", a->sim, "Tune nlsoft-firmware-sim for this platform")->check(CLI::IsMember({"msd", "hasel", "tendon"}));
-  t->add_option("--qemu", a->qemu, "Tune the Cortex-M4F image in qemu-system-arm")
-      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
-  t->add_option("--baud", a->baud, "Baud rate (default 115200)")->check(CLI::Range(50u, 20000000u));
-  t->add_flag("--sim-fast", a->sim_fast, "Let the simulator run faster than real time");
-  t->add_option("--sim-rate", a->sim_rate, "Control loop rate of the simulator, Hz")->check(CLI::PositiveNumber);
-  t->add_option("--db", a->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
-  t->add_flag("--no-record", a->no_record, "Keep the runs in a temporary database, deleted on exit");
-  t->add_option("--timeout", a->timeout_ms, "Reply timeout per try, ms")->check(CLI::Range(10, 60000));
+  add_connect_options(*t, a->link, "tune");
   t->add_option("--param", a->params,
                 "NAME=LO..HI[:log], once per searched dimension: Lambda=0.01..100:log (every element), Q1=1e5..1e7:log "
                 "(one element), Q*=0.1..1000:log (a factor on all of Q, keeping its proportions)")
