@@ -34,7 +34,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db"
 
-complete_is "conformance dataset flash model runs simulate train" nlsoft-console ""
+complete_is "conformance dataset flash model runs simulate train tune" nlsoft-console ""
 complete_is "simulate" nlsoft-console si
 complete_is "hasel msd tendon" nlsoft-console --sim ""
 complete_is "hasel" nlsoft-console --qemu h
@@ -53,6 +53,8 @@ complete_is "N1= N= Nc=" nlsoft-console simulate --set N
 complete_is "nr_max_iter= nr_tol=" nlsoft-console simulate --set nr
 complete_is "u_max= u_min=" nlsoft-console simulate --set u_
 complete_is "safe_state=" nlsoft-console simulate --set sa
+complete_is "Q=" nlsoft-console tune --sim hasel --param Q
+complete_is "neldermead" nlsoft-console tune --method n
 complete_is "watchdog_ms=" nlsoft-console simulate --set w
 complete_is "infinity" nlsoft-console simulate --reference inf
 complete_is "exact fd" nlsoft-console simulate --mode ""
@@ -92,7 +94,7 @@ check_against_help() {
   done
 }
 check_against_help nlsoft-console
-for c in simulate conformance flash dataset train runs model; do check_against_help nlsoft-console "$c"; done
+for c in simulate conformance flash dataset train tune runs model; do check_against_help nlsoft-console "$c"; done
 for c in list show export compare plot label delete; do check_against_help nlsoft-console runs "$c"; done
 for c in import eval info codegen; do check_against_help nlsoft-console model "$c"; done
 
