@@ -55,6 +55,7 @@ complete_is "u_max= u_min=" nlsoft-console simulate --set u_
 complete_is "safe_state=" nlsoft-console simulate --set sa
 complete_is "Q=" nlsoft-console tune --sim hasel --param Q
 complete_is "neldermead" nlsoft-console tune --method n
+complete_is "stm32f4" nlsoft-console tune --qemu hasel --board s
 complete_is "watchdog_ms=" nlsoft-console simulate --set w
 complete_is "infinity" nlsoft-console simulate --reference inf
 complete_is "exact fd" nlsoft-console simulate --mode ""
