@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "app/cli_error.hpp"
+#include "app/paths/install_paths.hpp"
 
 namespace nlsoft::console {
 
@@ -27,48 +28,13 @@ bool executable(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
 }
 
-std::string exe_dir() {
-  char buf[PATH_MAX];
-  const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  if (n <= 0) return {};
-  std::string p(buf, size_t(n));
-  return p.substr(0, p.rfind('/'));
-}
-
 }  // namespace
 
 std::string find_firmware_sim() {
-  std::vector<std::string> tried;
-  if (const char* env = std::getenv("NLSOFT_FIRMWARE_SIM"); env && *env) {
-    if (executable(env)) return env;
-    tried.push_back(fmt::format("$NLSOFT_FIRMWARE_SIM={}", env));
-  }
-  const std::string dir = exe_dir();
-  for (const char* rel : {"/../firmware/nlsoft-firmware-sim", "/nlsoft-firmware-sim"}) {
-    const std::string cand = dir + rel;
-    if (executable(cand)) return cand;
-    tried.push_back(cand);
-  }
-  if (std::string found = find_on_path("nlsoft-firmware-sim"); !found.empty()) return found;
-  tried.push_back("PATH");
-  std::string list;
-  for (const auto& t : tried) list += "\n  " + t;
-  throw CliError("cannot find nlsoft-firmware-sim; tried:" + list +
-                 "\nbuild it (cmake --build build --target nlsoft-firmware-sim) or set NLSOFT_FIRMWARE_SIM");
-}
-
-std::string find_on_path(const std::string& name) {
-  const char* path = std::getenv("PATH");
-  if (!path) return {};
-  const std::string all = path;
-  size_t pos = 0;
-  while (pos <= all.size()) {
-    const size_t colon = all.find(':', pos);
-    const std::string d = all.substr(pos, colon == std::string::npos ? std::string::npos : colon - pos);
-    pos = colon == std::string::npos ? all.size() + 1 : colon + 1;
-    if (!d.empty() && executable(d + "/" + name)) return d + "/" + name;
-  }
-  return {};
+  const Lookup l = find_firmware_sim_file();
+  if (!l.found.empty()) return l.found;
+  throw CliError("cannot find nlsoft-firmware-sim; tried:" + l.tried_lines() +
+                 "\nbuild it (cmake --build build --target nlsoft-firmware-sim), install it, or set NLSOFT_FIRMWARE_SIM");
 }
 
 const std::vector<std::string>& qemu_boards() {
@@ -77,9 +43,10 @@ const std::vector<std::string>& qemu_boards() {
 }
 
 std::string find_built_image(const std::string& rel) {
-  const std::string cand = exe_dir() + "/../firmware/" + rel;
-  if (::access(cand.c_str(), R_OK) == 0) return cand;
-  throw CliError(fmt::format("cannot find the firmware image {}; build it (needs arm-none-eabi-g++)", cand));
+  const Lookup l = find_image_file(rel);
+  if (!l.found.empty()) return l.found;
+  throw CliError(fmt::format("cannot find the firmware image {}; tried:{}\nbuild it (needs arm-none-eabi-g++)", rel,
+                             l.tried_lines()));
 }
 
 std::string find_m4_image(const std::string& platform, const std::string& board) {

@@ -9,11 +9,13 @@
 #include <thread>
 #include <vector>
 
+#include "app/paths/install_paths.hpp"
+
 namespace nlsoft::console {
 
-// Where the simulator binary is: $NLSOFT_FIRMWARE_SIM, then next to the
-// console (<exe_dir>/../firmware/nlsoft-firmware-sim), then PATH. Throws
-// CliError listing what was tried.
+// Where the simulator binary is (find_firmware_sim_file: the environment,
+// the build tree, the install prefix, PATH). Throws CliError listing every
+// place tried.
 std::string find_firmware_sim();
 
 // The boards whose Cortex-M4F images QEMU runs: "mps2-an386" (the default)
@@ -21,17 +23,14 @@ std::string find_firmware_sim();
 const std::vector<std::string>& qemu_boards();
 
 // The Cortex-M4F image with the simulated plant in the loop for `platform`
-// on `board`: $NLSOFT_M4_IMAGE, else, next to the console,
-// ../firmware/m4/nlsoft-m4-<platform>-hil.elf (mps2-an386) or
-// ../firmware/stm32f4/nlsoft-stm32f4-<platform>-hil.elf (stm32f4).
+// on `board`: $NLSOFT_M4_IMAGE, else find_built_image of
+// m4/nlsoft-m4-<platform>-hil.elf (mps2-an386) or
+// stm32f4/nlsoft-stm32f4-<platform>-hil.elf (stm32f4).
 std::string find_m4_image(const std::string& platform, const std::string& board = "mps2-an386");
 
-// A built firmware image next to the console: <exe_dir>/../firmware/<rel>.
-// Throws CliError naming the path when it is not there.
+// A firmware image, `rel` under the build tree's firmware/ or the install
+// prefix's share/nlsoft/firmware/. Throws CliError naming every place tried.
 std::string find_built_image(const std::string& rel);
-
-// `name` in a folder of $PATH, or empty.
-std::string find_on_path(const std::string& name);
 
 class SimLauncher {
  public:

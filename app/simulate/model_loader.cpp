@@ -2,12 +2,11 @@
 
 #include <fmt/format.h>
 
-#include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <iterator>
 
 #include "app/cli_error.hpp"
+#include "app/paths/install_paths.hpp"
 #include "shared/model_file.hpp"
 
 namespace nlsoft::console {
@@ -33,17 +32,11 @@ void load_model(const std::string& path, LoadedModel& out) {
 }
 
 std::string default_model_path(PlatformId id) {
-  namespace fs = std::filesystem;
-  const std::string name = std::string(platform_name(id)) + ".nlsm";
-  std::vector<fs::path> dirs;
-  if (const char* env = std::getenv("NLSOFT_MODELS")) dirs.emplace_back(env);
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) dirs.push_back(exe.parent_path() / ".." / "share" / "nlsoft" / "models");
-  dirs.emplace_back(NLSOFT_SOURCE_MODELS_DIR);
-  for (const fs::path& d : dirs)
-    if (fs::exists(d / name, ec)) return (d / name).string();
-  return {};
+  return find_model_file(std::string(platform_name(id)) + ".nlsm").found;
+}
+
+std::string default_model_places(PlatformId id) {
+  return find_model_file(std::string(platform_name(id)) + ".nlsm").tried_lines();
 }
 
 }  // namespace nlsoft::console

@@ -37,15 +37,27 @@ alignas(4) uint8_t g_model_staging[model_file_max<Cap>()];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
 
-std::string find_default_model(PlatformId id) {
+// The shipped model: $NLSOFT_MODELS, then the build tree's
+// <build>/share/nlsoft/models (the simulator is built in <build>/firmware),
+// then the install prefix's (NLSOFT_LIBEXEC_TO_DATA: share/nlsoft relative to
+// libexec/nlsoft, cmake/layout.cmake). Relative to this binary, never a path
+// compiled in, so a moved prefix works. `tried` gets every place looked at.
+// Not the console's lookup (app/paths): the firmware does not link the console.
+std::string find_default_model(PlatformId id, std::string& tried) {
   namespace fs = std::filesystem;
   const std::string name = std::string(platform_name(id)) + ".nlsm";
   std::vector<fs::path> dirs;
-  if (const char* env = std::getenv("NLSOFT_MODELS")) dirs.emplace_back(env);
-  dirs.emplace_back(NLSOFT_SOURCE_MODELS_DIR);
+  if (const char* env = std::getenv("NLSOFT_MODELS"); env && *env) dirs.emplace_back(env);
   std::error_code ec;
-  for (const auto& d : dirs)
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (!ec) {
+    dirs.push_back(exe.parent_path() / ".." / "share" / "nlsoft" / "models");
+    dirs.push_back(exe.parent_path() / NLSOFT_LIBEXEC_TO_DATA / "models");
+  }
+  for (const auto& d : dirs) {
     if (fs::exists(d / name, ec)) return (d / name).string();
+    tried += "\n  " + (d / name).string();
+  }
   return {};
 }
 
@@ -90,7 +102,8 @@ int main(int argc, char** argv) {
   if (rate <= 0) rate = pr.rate_hz;
 
   std::vector<uint8_t> model;
-  if (model_path.empty()) model_path = find_default_model(platform);
+  std::string model_tried;
+  if (model_path.empty()) model_path = find_default_model(platform, model_tried);
   if (!model_path.empty()) {
     std::ifstream in(model_path, std::ios::binary);
     if (!in) {
@@ -124,8 +137,10 @@ int main(int argc, char** argv) {
   std::printf("%s\n", pty.path.c_str());
   std::fflush(stdout);
   if (model.empty())
-    std::fprintf(stderr, "nlsoft-firmware-sim: no model for %s: runs are refused until one is uploaded\n",
-                 platform_name_arg.c_str());
+    std::fprintf(stderr,
+                 "nlsoft-firmware-sim: no model for %s: runs are refused until one is uploaded (--model FILE "
+                 "or $NLSOFT_MODELS names one); looked for it in:%s\n",
+                 platform_name_arg.c_str(), model_tried.c_str());
 
   const uint64_t period = uint64_t(1e6 / rate);
   uint64_t next = now_us();

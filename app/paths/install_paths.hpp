@@ -1,0 +1,45 @@
+#pragma once
+// Where the console's companion files are: nlsoft-firmware-sim, the
+// Cortex-M images and the shipped models. Each is looked up relative to the
+// running binary (/proc/self/exe), never through a path compiled in, so the
+// build tree, an install prefix and a prefix moved elsewhere all work; an
+// environment variable, when set, comes first.
+//
+//                    build tree                        install prefix
+//   nlsoft-console   <build>/app/                      bin/
+//   simulator        <build>/firmware/                 libexec/nlsoft/
+//   images           <build>/firmware/{m4,stm32f4}/    share/nlsoft/firmware/{m4,stm32f4}/
+//   models           <build>/share/nlsoft/models/      share/nlsoft/models/
+#include <string>
+#include <vector>
+
+namespace nlsoft::console {
+
+// The folder of the running executable; empty when /proc does not say.
+std::string exe_dir();
+
+// What a lookup found, or, when nothing, every place it looked, in order,
+// so the error can name them all.
+struct Lookup {
+  std::string found;
+  std::vector<std::string> tried;
+  // "\n  <place>" per place tried.
+  std::string tried_lines() const;
+};
+
+// nlsoft-firmware-sim: $NLSOFT_FIRMWARE_SIM, the build tree, beside the
+// console, the install prefix's libexec/nlsoft/, then PATH.
+Lookup find_firmware_sim_file();
+
+// A Cortex-M image, `rel` as in "m4/nlsoft-m4-hasel-hil.elf": the build
+// tree's firmware/<rel>, then the install prefix's share/nlsoft/firmware/<rel>.
+Lookup find_image_file(const std::string& rel);
+
+// A shipped model, `name` as in "hasel.nlsm": in $NLSOFT_MODELS, then the
+// build tree's and the install prefix's share/nlsoft/models/.
+Lookup find_model_file(const std::string& name);
+
+// `name` in a folder of $PATH, or empty.
+std::string find_on_path(const std::string& name);
+
+}  // namespace nlsoft::console
