@@ -85,8 +85,9 @@ int run_simulate(const SimulateOptions& o) {
   if (setup.controller == ControllerKind::Mpc) {
     std::string path = o.model.empty() ? default_model_path(platform) : o.model;
     if (path.empty())
-      throw CliError(fmt::format("no model for '{}': pass --model FILE (a model file from `nlsoft-console train`)",
-                                 o.platform));
+      throw CliError(fmt::format("no model for '{}'; looked in:{}\npass --model FILE (a model file from "
+                                 "`nlsoft-console train`) or set NLSOFT_MODELS",
+                                 o.platform, default_model_places(platform)));
     load_model(path, *model);
     setup.model = &model->model;
   }
