@@ -104,11 +104,13 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
 
 namespace {
 
-// The series without its first `rows` samples.
-RunSeries drop_first(RunSeries s, size_t rows) {
-  rows = std::min(rows, s.rows());
-  auto cut = [rows](auto& v, size_t per_row) {
-    v.erase(v.begin(), v.begin() + std::min(v.size(), rows * per_row));
+// Rows [begin, end) of the series, every field cut the same way.
+RunSeries slice_rows(RunSeries s, size_t begin, size_t end) {
+  end = std::min(end, s.rows());
+  begin = std::min(begin, end);
+  auto cut = [begin, end](auto& v, size_t per_row) {
+    v.resize(std::min(v.size(), end * per_row));
+    v.erase(v.begin(), v.begin() + std::min(v.size(), begin * per_row));
   };
   cut(s.step, 1);
   cut(s.time_us, 1);
@@ -119,22 +121,6 @@ RunSeries drop_first(RunSeries s, size_t rows) {
   cut(s.cost, 1);
   cut(s.compute_us, 1);
   cut(s.iterations, 1);
-  return s;
-}
-
-// The series without what follows its first `rows` samples.
-RunSeries keep_first(RunSeries s, size_t rows) {
-  rows = std::min(rows, s.rows());
-  auto keep = [rows](auto& v, size_t per_row) { v.resize(std::min(v.size(), rows * per_row)); };
-  keep(s.step, 1);
-  keep(s.time_us, 1);
-  keep(s.y_ref, size_t(s.n));
-  keep(s.y_hat, size_t(s.n));
-  keep(s.y_true, size_t(s.n));
-  keep(s.u, size_t(s.m));
-  keep(s.cost, 1);
-  keep(s.compute_us, 1);
-  keep(s.iterations, 1);
   return s;
 }
 
@@ -150,13 +136,14 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s, double wi
     const uint64_t first = step0 + uint64_t(std::llround(skip_s * rate));
     size_t rows = 0;
     while (rows < s.rows() && s.step[rows] < first) ++rows;
-    s = drop_first(std::move(s), rows);
+    const size_t total = s.rows();  // read before s is moved from
+    s = slice_rows(std::move(s), rows, total);
   }
   if (window_s > 0 && s.rows() > 0) {
     const uint64_t end = step0 + uint64_t(std::llround((std::max(0.0, skip_s) + window_s) * rate));
     size_t rows = 0;
     while (rows < s.rows() && s.step[rows] < end) ++rows;
-    s = keep_first(std::move(s), rows);
+    s = slice_rows(std::move(s), 0, rows);
   }
   std::vector<float> q;
   InputLimits limits;
