@@ -18,6 +18,7 @@
 #include "app/live/live_console.hpp"
 #include "app/record/run_store.hpp"
 #include "app/script/script_runner.hpp"
+#include "sim_console.hpp"
 #include "temp_dir.hpp"
 
 namespace nlsoft::console {
@@ -25,14 +26,7 @@ namespace {
 
 class LiveConsoleRun : public ::testing::Test {
  protected:
-  void SetUp() override {
-    ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
-    LiveOptions o;
-    o.sim_platform = "msd";
-    o.db_path = dir_.file("runs.db");
-    console_ = std::make_unique<LiveConsole>(o);
-    console_->connect();
-  }
+  void SetUp() override { console_ = test_support::connected_sim_console("msd", dir_); }
   // Bounded poll: the run starts on another thread.
   bool wait_until_running() {
     for (int i = 0; i < 3000; ++i) {

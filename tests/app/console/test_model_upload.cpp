@@ -16,6 +16,7 @@
 #include "app/script/script_parser.hpp"
 #include "app/script/script_runner.hpp"
 #include "shared/crc32.hpp"
+#include "sim_console.hpp"
 #include "temp_dir.hpp"
 
 namespace nlsoft::console {
@@ -52,14 +53,7 @@ std::vector<uint8_t> retrained(const std::string& platform) {
 
 class ModelUpload : public ::testing::Test {
  protected:
-  void SetUp() override {
-    ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
-    LiveOptions o;
-    o.sim_platform = "msd";
-    o.db_path = dir_.file("runs.db");
-    console_ = std::make_unique<LiveConsole>(o);
-    console_->connect();
-  }
+  void SetUp() override { console_ = test_support::connected_sim_console("msd", dir_); }
   uint32_t hash_in_force() { return console_->device().handshake().model_hash; }
   // The refusal's words, and proof the firmware still runs what it ran.
   std::string refusal(const std::string& path) {

@@ -10,26 +10,19 @@
 
 #include "app/live/live_console.hpp"
 #include "app/script/script_parser.hpp"
+#include "sim_console.hpp"
 #include "temp_dir.hpp"
 
 namespace nlsoft::console {
 namespace {
 
-std::unique_ptr<LiveConsole> connect(const std::string& platform, const test::TempDir& dir) {
-  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
-  LiveOptions o;
-  o.sim_platform = platform;
-  o.db_path = dir.file("runs.db");
-  auto c = std::make_unique<LiveConsole>(o);
-  c->connect();
-  return c;
-}
+using test_support::connected_sim_console;
 
 class ParamsDefaults : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ParamsDefaults, AFreshFirmwareHoldsExactlyTheDefaultsTheConsoleKnows) {
   test::TempDir dir;
-  auto c = connect(GetParam(), dir);
+  auto c = connected_sim_console(GetParam(), dir);
   const std::vector<std::string> diff = c->params_diff();
   EXPECT_TRUE(diff.empty()) << diff.front();
 }
@@ -38,7 +31,7 @@ INSTANTIATE_TEST_SUITE_P(EveryPlatform, ParamsDefaults, ::testing::Values("msd",
 
 TEST(ParamsDiffReset, EditsShowAgainstTheirDefaultsAndAResetPutsThemBack) {
   test::TempDir dir;
-  auto c = connect("hasel", dir);
+  auto c = connected_sim_console("hasel", dir);
   c->set_param("Lambda", {"0.5"});
   c->set_param("watchdog_ms", {"500"});
   c->set_param("mode", {"fd"});

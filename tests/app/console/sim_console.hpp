@@ -1,0 +1,24 @@
+#pragma once
+// A LiveConsole connected to nlsoft-firmware-sim for `platform`, recording
+// into the test's own folder: what the in-process e2e tests start from.
+#include <stdlib.h>
+
+#include <memory>
+#include <string>
+
+#include "app/live/live_console.hpp"
+#include "temp_dir.hpp"
+
+namespace nlsoft::console::test_support {
+
+inline std::unique_ptr<LiveConsole> connected_sim_console(const std::string& platform, const test::TempDir& dir) {
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  LiveOptions o;
+  o.sim_platform = platform;
+  o.db_path = dir.file("runs.db");
+  auto c = std::make_unique<LiveConsole>(o);
+  c->connect();
+  return c;
+}
+
+}  // namespace nlsoft::console::test_support
