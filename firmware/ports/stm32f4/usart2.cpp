@@ -3,6 +3,7 @@
 #include <cstddef>
 
 #include "firmware/ports/cortex-m/board.hpp"
+#include "firmware/ports/cortex-m/rx_ring.hpp"
 #include "firmware/ports/stm32f4/gpio.hpp"
 #include "firmware/ports/stm32f4/regs.hpp"
 
@@ -18,13 +19,11 @@ constexpr uint32_t kUsart2Irq = 38;
 constexpr uint32_t kUsart2En = 1u << 17;
 constexpr uint32_t kAf7 = 7;
 
-// Each ring has one writer per index: receive head in the interrupt, tail
-// in the loop; transmit head in the loop, tail in the interrupt (or the
-// loop with interrupts masked).
-constexpr uint32_t kRxRing = 512, kTxRing = 256;  // powers of two: indices wrap by masking
-uint8_t g_rx[kRxRing];
+cortex_m::RxRing<512> g_rx;
+// The transmit ring has one writer per index too: head in the loop, tail in
+// the interrupt (or the loop with interrupts masked).
+constexpr uint32_t kTxRing = 256;  // a power of two: indices wrap by masking
 uint8_t g_tx[kTxRing];
-volatile uint32_t g_rx_head = 0, g_rx_tail = 0, g_lost = 0;
 volatile uint32_t g_tx_head = 0, g_tx_tail = 0;
 bool g_tx_short = false;
 
@@ -53,24 +52,14 @@ void usart2_start(uint32_t apb1_hz, uint32_t baud) {
   nvic_enable(kUsart2Irq);
 }
 
-uint32_t usart2_rx_overruns() { return g_lost; }
+uint32_t usart2_rx_overruns() { return g_rx.lost(); }
 
 }  // namespace nlsoft::fw::stm32f4
 
 extern "C" void USART2_IRQHandler() {
   using namespace nlsoft::fw::stm32f4;
   // Reading SR then DR clears RXNE and an overrun alike.
-  while (reg(kSr) & (kRxne | kOre)) {
-    const uint8_t b = uint8_t(reg(kDr));
-    const uint32_t h = g_rx_head;
-    if (h - g_rx_tail < kRxRing) {
-      g_rx[h & (kRxRing - 1)] = b;
-      __asm volatile("" ::: "memory");  // the byte is in before the index moves
-      g_rx_head = h + 1;
-    } else {
-      g_lost = g_lost + 1;
-    }
-  }
+  while (reg(kSr) & (kRxne | kOre)) g_rx.push(uint8_t(reg(kDr)));
   if (reg(kCr1) & kTxeIe) pump_tx();
 }
 
@@ -78,15 +67,7 @@ namespace nlsoft::fw::board {
 
 using namespace stm32f4;
 
-size_t serial_read(uint8_t* buf, size_t cap) {
-  const uint32_t h = g_rx_head;
-  uint32_t t = g_rx_tail;
-  size_t n = 0;
-  while (t != h && n < cap) buf[n++] = g_rx[t++ & (kRxRing - 1)];
-  __asm volatile("" ::: "memory");  // bytes copied out before the slot is freed
-  g_rx_tail = t;
-  return n;
-}
+size_t serial_read(uint8_t* buf, size_t cap) { return g_rx.read(buf, cap); }
 
 size_t serial_write(const uint8_t* data, size_t len) {
   uint32_t h = g_tx_head;
@@ -103,6 +84,6 @@ size_t serial_write(const uint8_t* data, size_t len) {
   return n;
 }
 
-bool serial_busy() { return g_rx_head != g_rx_tail || g_tx_short; }
+bool serial_busy() { return !g_rx.empty() || g_tx_short; }
 
 }  // namespace nlsoft::fw::board
