@@ -650,6 +650,10 @@ int64_t LiveConsole::start_run(const std::string& label) {
       throw CliError("the firmware is already running another run; stop it first");
     throw;
   }
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    session_runs_.push_back(id);
+  }
   return id;
 }
 
@@ -844,6 +848,11 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
 std::optional<RunSummary> LiveConsole::last_run() const {
   std::lock_guard<std::mutex> lock(mu_);
   return last_run_;
+}
+
+std::vector<int64_t> LiveConsole::session_runs() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return session_runs_;
 }
 
 RunMetrics LiveConsole::metrics_of(int64_t run_id, double skip_s, double window_s) {

@@ -151,6 +151,9 @@ class LiveConsole {
                      const std::atomic<bool>* cancel = nullptr);
 
   std::optional<RunSummary> last_run() const;
+  // Every run this console started, in order (the TUI names them at exit).
+  std::vector<int64_t> session_runs() const;
+  bool recording() const { return options_.record; }  // false: --no-record, the database goes at exit
 
   // Ends a run_for() early from another thread (the TUI's stop key while a
   // `run 10s` from the command line is going). Returns false if none is.
@@ -231,6 +234,7 @@ class LiveConsole {
   std::atomic<int64_t> boot_at_down_ns_{0};
   std::string reference_table_file_;
   std::optional<RunSummary> last_run_;
+  std::vector<int64_t> session_runs_;  // under mu_
   std::atomic<int64_t> run_id_{0};
   std::atomic<uint64_t> run_k_{0};
   std::atomic<uint64_t> run_lost_{0};
