@@ -61,8 +61,9 @@ class LiveConsole {
   explicit LiveConsole(LiveOptions options);
   ~LiveConsole();
 
-  // Messages the user should see (link events, firmware LOG lines). Set
-  // before connect(); may be called from any thread.
+  // Messages the user should see (link events, firmware LOG lines, the
+  // UDP stream's). May be called from any thread; what was said while none
+  // was set (up to 32 messages) goes to the next one set.
   void set_notify(Notify n);
 
   // Starts the simulator if asked, opens the port, handshakes, reads the
@@ -215,6 +216,7 @@ class LiveConsole {
   std::unique_ptr<UdpStream> udp_;
   LiveBuffer live_{kLiveSamples};
   Notify notify_;
+  std::vector<std::string> unheard_;  // said while notify_ was empty, for the next one set
   std::mutex notify_mu_;
 
   // Held across a whole stop_run, so two threads stopping the same run (the
