@@ -680,19 +680,22 @@ std::string quit_status(const std::string& screen) {
 
 const char* const kUtf8Env = "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN;
 
+// A console in tmux at cols x rows whose exit status shows on the pane.
+Tmux console_in(const std::string& args, int cols, int rows) {
+  return Tmux("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " " + args + "; echo EXIT=$?; sleep 30"),
+              kUtf8Env, cols, rows);
+}
+
+bool panel_read(const std::string& x) { return contains(x, "Parameters (") && contains(x, "Lambda"); }
+
 // 80x24, the size a terminal opens at: the plot gets most of the width (a
-// narrow parameter panel), every key of the key bar shows, w hides the
-// panel for a plot across the whole width, the help and the quit dialog
-// hide the plot under them, F3 shows the reference in force, and the exit
-// says what became of the session's runs.
-TEST(ConsoleTui, AtEightyByTwentyFourThePlotHasTheWidthAndEveryKeyShows) {
+// narrow parameter panel) and every key of the key bar shows.
+TEST(ConsoleTui, AtEightyByTwentyFourThePlotHasMostOfTheWidthAndEveryKeyShows) {
   if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
-  Tmux t("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record; echo EXIT=$?; sleep 30"),
-         kUtf8Env, 80, 24);
+  Tmux t = console_in("--sim hasel --no-record", 80, 24);
   ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "Lambda"); }, s))
-      << s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
   const auto lines = screen_lines(s);
   ASSERT_EQ(lines.size(), 24u) << s;
   for (const char* key : {"F1Help", "F2Par", "F3Ref", "F4Runs", "F5Start", "F6Stop", "F7Hold", "F8Neut", ":Cmd",
@@ -701,32 +704,96 @@ TEST(ConsoleTui, AtEightyByTwentyFourThePlotHasTheWidthAndEveryKeyShows) {
   // The panel starts right of column 48: the plot pane has 3/5 of the width.
   const int panel = column_of(line_with(s, " Parameters ("), " Parameters (");
   EXPECT_GE(panel, 48) << s;
+  EXPECT_TRUE(contains(s, " Lambda  1 1 1 1 1 1")) << "a short name, then the values\n" << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && rightmost_braille(x, 1, 20) >= 44; },
+                         s))
+      << s;
+  EXPECT_LT(rightmost_braille(s, 1, 20), panel) << s;
+  t.keys("q y");
+}
 
+// 160x48: the htop-style key bar with whole labels, the wide panel with
+// whole names.
+TEST(ConsoleTui, AtOneSixtyByFortyEightTheKeyBarAndThePanelHaveWholeWords) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 160, 48);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  const auto lines = screen_lines(s);
+  ASSERT_EQ(lines.size(), 48u) << s;
+  for (const char* key : {"F1Help   ", "F2Params ", "F8Neutral", ":Cmd    ", "vView   ", "wPanel  ", "qQuit"})
+    EXPECT_TRUE(contains(lines[47], key)) << key << "\n" << s;
+  EXPECT_GE(column_of(line_with(s, " Parameters ("), " Parameters ("), 90) << s;
+  EXPECT_TRUE(contains(param_row(s, "nr_max_iter"), "nr_max_iter")) << "whole names in the wide panel\n" << s;
+  t.keys("q");
+}
+
+// w hides the side panel, the plot then takes the whole width; w again, or
+// a panel's key, brings it back. The help names the key.
+TEST(ConsoleTui, WHidesTheSidePanelForAPlotAcrossTheWholeWidth) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
   t.keys("F5");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && has_braille(x); }, s)) << s;
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return rightmost_braille(x, 1, 20) >= 44; }, s)) << s;
-  EXPECT_LT(rightmost_braille(s, 1, 20), panel) << s;
-
-  // w: no panel, the plot across the whole width; w again brings it back.
   t.keys("w");
   ASSERT_TRUE(t.wait_for([](const std::string& x) {
     return !contains(x, "Parameters (") && rightmost_braille(x, 1, 20) >= 72;
   }, s)) << s;
   t.keys("w");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters ("); }, s)) << s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
+  t.keys("w");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "Parameters ("); }, s)) << s;
+  t.keys("F4");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Runs ("); }, s)) << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "hide / show the side panel"); }, s)) << s;
+  t.keys("Escape q y");
+}
 
-  // The help covers the plot whole, and names the panel key.
+// The help and the quit dialog hide the plot under them: the help is drawn
+// over nothing (no plot beside it either, on a wide terminal), the dialog
+// with a blank row above and below.
+TEST(ConsoleTui, TheHelpAndTheQuitDialogShowNoPlotThroughThem) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 160, 48);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1 RUNNING") && has_braille(x); }, s)) << s;
   t.keys("?");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));  // several redraws with the plot moving under it
   s = t.screen();
-  EXPECT_EQ(rows_with_dots_between(s, "nlsoft-console keys", "-- lines "), std::vector<std::string>{}) << s;
-  EXPECT_TRUE(contains(s, "hide / show the side panel")) << s;
+  EXPECT_FALSE(has_braille(s)) << s;
   t.keys("Escape");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys"); }, s)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && has_braille(x); }, s))
+      << s;
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 24");
+  t.keys("q");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  s = t.screen();
+  EXPECT_EQ(screen_lines(s).size(), 24u) << s;
+  EXPECT_EQ(rows_with_dots_between(s, "stop it and quit?", "y: yes", 1), std::vector<std::string>{}) << s;
+  t.keys("y");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
+  EXPECT_EQ(quit_status(s), "EXIT=0") << s;
+}
 
-  // F3: the hasel firmware starts on its paper task, Swirl, and the panel
-  // opens on it; a reference sent from the ':' line is the one shown next.
+// F3 opens on the reference in force: the hasel firmware starts on its
+// paper task, Swirl; after `:ref diagonal` it is Diagonal.
+TEST(ConsoleTui, F3OpensOnTheReferenceInForce) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
   t.keys("F3");
   ASSERT_TRUE(t.wait_for([&](const std::string& x) {
     return contains(x, "in force: swirl") && highlighted(t.screen_with_attributes(), " Swirl ");
@@ -738,81 +805,55 @@ TEST(ConsoleTui, AtEightyByTwentyFourThePlotHasTheWidthAndEveryKeyShows) {
   ASSERT_TRUE(t.wait_for([&](const std::string& x) {
     return contains(x, "in force: diagonal") && highlighted(t.screen_with_attributes(), " Diagonal ");
   }, s)) << t.screen_with_attributes();
-
-  // The quit dialog is opaque too, with a blank row above and below.
+  EXPECT_FALSE(highlighted(t.screen_with_attributes(), " Swirl ")) << t.screen_with_attributes();
   t.keys("q");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  s = t.screen();
-  EXPECT_EQ(rows_with_dots_between(s, "stop it and quit?", "y: yes", 1), std::vector<std::string>{}) << s;
-  t.keys("y");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
-  EXPECT_EQ(quit_status(s), "EXIT=0") << s;
-  EXPECT_TRUE(contains(s, "nlsoft-console: 1 run this session, not kept (--no-record")) << s;
 }
 
-// 160x48: the htop-style key bar with whole labels, the wide panel, and at
-// exit the runs this session recorded, with the command that shows them.
-TEST(ConsoleTui, AtOneSixtyByFortyEightTheExitNamesTheSessionsRuns) {
+// On exit, on the normal screen: the runs this session recorded, each with
+// how long it lasted and its samples, the database, and the command that
+// shows one (which works as printed); with --no-record, that nothing was kept.
+TEST(ConsoleTui, OnExitTheSessionsRunsAreNamedWithTheCommandThatShowsThem) {
   if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
   test::TempDir dir;
   const std::string db = dir.file("runs.db");
-  Tmux t("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db) +
-                                "; echo EXIT=$?; sleep 30"),
-         kUtf8Env, 160, 48);
-  ASSERT_TRUE(t.started()) << t.error();
   std::string s;
-  ASSERT_TRUE(t.wait_until_connected(s)) << s;
-  const auto lines = screen_lines(s);
-  ASSERT_EQ(lines.size(), 48u) << s;
-  for (const char* key : {"F1Help   ", "F2Params ", "F8Neutral", ":Cmd    ", "vView   ", "wPanel  ", "qQuit"})
-    EXPECT_TRUE(contains(lines[47], key)) << key << "\n" << s;
-  EXPECT_GE(column_of(line_with(s, " Parameters ("), " Parameters ("), 90) << s;
-  EXPECT_TRUE(contains(param_row(s, "nr_max_iter"), "nr_max_iter")) << "whole names in the wide panel\n" << s;
-
-  t.keys("F3");
-  ASSERT_TRUE(t.wait_for([&](const std::string& x) {
-    return contains(x, "in force: swirl (the firmware's own)") && highlighted(t.screen_with_attributes(), " Swirl ");
-  }, s)) << t.screen_with_attributes();
-
-  // The help, 100 columns wide in the middle: no plot beside it either.
-  t.keys("F5");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1 RUNNING") && has_braille(x); }, s)) << s;
-  t.keys("?");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  s = t.screen();
-  EXPECT_FALSE(has_braille(s)) << s;
-  t.keys("Escape F6");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
-
-  t.keys(shell_quote(":run 1s") + " Enter");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 2: ") && !contains(x, "RUNNING"); }, s))
-      << s;
-  t.keys("F5");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 3 RUNNING"); }, s)) << s;
-  t.keys("w");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) {
-    return !contains(x, "Parameters (") && !contains(x, " Reference ") && rightmost_braille(x, 1, 44) >= 140;
-  }, s)) << s;
-  t.keys("F6");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
-  t.keys("q");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
-  EXPECT_EQ(quit_status(s), "EXIT=0") << s;
+  {
+    Tmux t = console_in("--sim hasel --db " + shell_quote(db), 160, 48);
+    ASSERT_TRUE(t.started()) << t.error();
+    ASSERT_TRUE(t.wait_until_connected(s)) << s;
+    t.keys(shell_quote(":run 1s") + " Enter");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s))
+        << s;
+    t.keys("F5");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 2 RUNNING"); }, s)) << s;
+    t.keys("F6");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
+    t.keys("q");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
+    EXPECT_EQ(quit_status(s), "EXIT=0") << s;
+  }  // one tmux server at a time
 
   RunStore store(db);
-  EXPECT_TRUE(contains(s, "nlsoft-console: 3 runs recorded this session in " + db)) << s;
-  for (int id : {1, 2, 3}) {
+  EXPECT_TRUE(contains(s, "nlsoft-console: 2 runs recorded this session in " + db)) << s;
+  for (int id : {1, 2}) {
     const std::string row = line_with(s, "  run " + std::to_string(id) + "  ");
     EXPECT_TRUE(contains(row, " s  " + std::to_string(store.run(id).samples) + " samples")) << s;
   }
-  const std::string see = "nlsoft-console runs show 3 --db " + db;
+  const std::string see = "nlsoft-console runs show 2 --db " + db;
   ASSERT_TRUE(contains(s, "see one: " + see)) << s;
-  // The command printed works as typed.
   const auto shown = run_process(std::string(NLSOFT_CONSOLE_BIN) + see.substr(std::string("nlsoft-console").size()));
   EXPECT_EQ(shown.code, 0) << shown.output;
-  EXPECT_TRUE(contains(shown.output, std::to_string(store.run(3).samples) + " samples")) << shown.output;
+  EXPECT_TRUE(contains(shown.output, std::to_string(store.run(2).samples) + " samples")) << shown.output;
+
+  Tmux u = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(u.started()) << u.error();
+  ASSERT_TRUE(u.wait_for(panel_read, s)) << s;
+  u.keys(shell_quote(":run 300ms") + " Enter");
+  ASSERT_TRUE(u.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s))
+      << s;
+  u.keys("q");
+  ASSERT_TRUE(u.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
+  EXPECT_TRUE(contains(s, "nlsoft-console: 1 run this session, not kept (--no-record)")) << s;
 }
 
 }  // namespace
