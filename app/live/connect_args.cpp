@@ -44,7 +44,9 @@ std::string pick_port(const std::string& who, const std::string& cmd) {
 }  // namespace
 
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what) {
-  app.add_option("PORT", a.port, "Serial device of the board, e.g. /dev/ttyACM0");
+  app.add_option("PORT", a.port,
+                 "Serial device of the board, e.g. /dev/ttyACM0; without PORT, --sim or --qemu: the one board "
+                 "`nlsoft-console ports` finds");
   app.add_option("--sim", a.sim, fmt::format("Start nlsoft-firmware-sim for this platform and {} it", what))
       ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
   app.add_option("--qemu", a.qemu,
