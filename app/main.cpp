@@ -5,6 +5,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/conformance/command.hpp"
+#include "app/link/ports_command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
 #include "app/model/commands.hpp"
@@ -25,6 +26,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(0, 1);
   add_live_console(app);
   add_runs_command(app);
+  add_ports_command(app);
   add_tune_command(app);
   add_conformance_command(app);
   add_flash_command(app);

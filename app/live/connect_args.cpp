@@ -3,9 +3,11 @@
 #include <fmt/format.h>
 
 #include <csignal>
+#include <cstdio>
 
 #include "app/cli_error.hpp"
 #include "app/link/link_error.hpp"
+#include "app/link/serial_ports.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/progress_bar.hpp"
 #include "app/record/sqlite.hpp"
@@ -16,10 +18,35 @@ namespace {
 
 void on_interrupt(int) { LiveConsole::request_interrupt(); }
 
+// No PORT, --sim or --qemu: the one port that looks like a board (or the
+// only port there is) is taken, and named; none or several is an error
+// that lists what was found.
+std::string pick_port(const std::string& who, const std::string& cmd) {
+  const PortRoots roots = PortRoots::from_environment();
+  const std::vector<SerialPort> found = list_serial_ports(roots);
+  const std::vector<SerialPort> c = candidate_ports(found);
+  if (c.size() == 1) {
+    std::fprintf(stderr, "nlsoft-console: no port given; connecting to the only %s: %s (%s)\n",
+                 c.front().board.empty() ? "serial port" : "board found", c.front().path.c_str(),
+                 describe_port(c.front()).c_str());
+    return c.front().path;
+  }
+  if (c.empty())
+    throw CliError(fmt::format("{}nothing to connect to: no serial port found (looked in {} and {}/class/tty); give a "
+                               "serial port (nlsoft-console {}/dev/ttyACM0) or --sim hasel; see nlsoft-console {}--help",
+                               who, roots.by_id, roots.sysfs, cmd, cmd));
+  std::string list;
+  for (const SerialPort& p : c) list += fmt::format("\n  {}  ({})", p.path, describe_port(p));
+  throw CliError(fmt::format("{}nothing to connect to: {} ports could be the board, give one (nlsoft-console {}PORT):{}",
+                             who, c.size(), cmd, list));
+}
+
 }  // namespace
 
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what) {
-  app.add_option("PORT", a.port, "Serial device of the board, e.g. /dev/ttyACM0");
+  app.add_option("PORT", a.port,
+                 "Serial device of the board, e.g. /dev/ttyACM0; without PORT, --sim or --qemu: the one board "
+                 "`nlsoft-console ports` finds");
   app.add_option("--sim", a.sim, fmt::format("Start nlsoft-firmware-sim for this platform and {} it", what))
       ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
   app.add_option("--qemu", a.qemu,
@@ -42,16 +69,14 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   const std::string who = command.empty() ? "" : command + ": ";
   const std::string cmd = command.empty() ? "" : command + " ";
   if (!a.qemu.empty() && !a.sim.empty()) throw CliError(who + "give either --sim or --qemu, not both");
-  if (a.port.empty() && a.sim.empty() && a.qemu.empty())
-    throw CliError(fmt::format("{}nothing to connect to: give a serial port (nlsoft-console {}/dev/ttyACM0) or --sim "
-                               "hasel; see nlsoft-console {}--help",
-                               who, cmd, cmd));
+  std::string port = a.port;
+  if (port.empty() && a.sim.empty() && a.qemu.empty()) port = pick_port(who, cmd);
   if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
     throw CliError(who + "give either a PORT or --sim/--qemu, not both");
   if (a.qemu.empty() && a.board != "mps2-an386")
     throw CliError(who + "--board names the image --qemu boots; give --qemu too");
   LiveOptions o;
-  o.port = a.port;
+  o.port = port;
   o.baud = a.baud;
   o.sim_platform = a.qemu.empty() ? a.sim : a.qemu;
   o.sim_in_qemu = !a.qemu.empty();

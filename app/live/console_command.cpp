@@ -100,6 +100,7 @@ void add_live_console(CLI::App& app) {
       "  nlsoft-console --qemu hasel --board stm32f4   # the Nucleo-64 image in QEMU\n"
       "  nlsoft-console /dev/ttyACM0 --baud 1000000\n"
       "  nlsoft-console /dev/ttyACM0 --wait -1     # wait for the board to be plugged in\n"
+      "  nlsoft-console ports                      # which port is the board; without a PORT the lone one is taken\n"
       "Headless (CI): exit 0 when every expect held, 1 when one failed, 2 on an error\n"
       "  nlsoft-console --sim hasel --script tune.nls\n"
       "Recorded runs:\n"

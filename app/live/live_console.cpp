@@ -57,11 +57,17 @@ LiveConsole::~LiveConsole() { disconnect(); }
 void LiveConsole::set_notify(Notify n) {
   std::lock_guard<std::mutex> lock(notify_mu_);
   notify_ = std::move(n);
+  if (!notify_) return;
+  for (const std::string& s : unheard_) notify_(s);
+  unheard_.clear();
 }
 
+// What is said before anyone listens (the TUI listens from its start, after
+// connect()) waits for the first listener.
 void LiveConsole::say(const std::string& s) {
   std::lock_guard<std::mutex> lock(notify_mu_);
   if (notify_) notify_(s);
+  else if (unheard_.size() < 32) unheard_.push_back(s);
 }
 
 PlatformId LiveConsole::platform() const {
@@ -73,7 +79,7 @@ PlatformId LiveConsole::platform() const {
 
 void LiveConsole::connect(const Progress& params_progress) {
   // A bad --udp target fails before a simulator starts or a board is touched.
-  if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp);
+  if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, [this](const std::string& s) { say(s); });
   std::string port = options_.port;
   if (!options_.sim_platform.empty()) {
     PlatformId id;
@@ -650,6 +656,10 @@ int64_t LiveConsole::start_run(const std::string& label) {
       throw CliError("the firmware is already running another run; stop it first");
     throw;
   }
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    session_runs_.push_back(id);
+  }
   return id;
 }
 
@@ -844,6 +854,11 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
 std::optional<RunSummary> LiveConsole::last_run() const {
   std::lock_guard<std::mutex> lock(mu_);
   return last_run_;
+}
+
+std::vector<int64_t> LiveConsole::session_runs() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return session_runs_;
 }
 
 RunMetrics LiveConsole::metrics_of(int64_t run_id, double skip_s, double window_s) {

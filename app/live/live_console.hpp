@@ -61,8 +61,9 @@ class LiveConsole {
   explicit LiveConsole(LiveOptions options);
   ~LiveConsole();
 
-  // Messages the user should see (link events, firmware LOG lines). Set
-  // before connect(); may be called from any thread.
+  // Messages the user should see (link events, firmware LOG lines, the
+  // UDP stream's). May be called from any thread; what was said while none
+  // was set (up to 32 messages) goes to the next one set.
   void set_notify(Notify n);
 
   // Starts the simulator if asked, opens the port, handshakes, reads the
@@ -151,6 +152,9 @@ class LiveConsole {
                      const std::atomic<bool>* cancel = nullptr);
 
   std::optional<RunSummary> last_run() const;
+  // Every run this console started, in order (the TUI names them at exit).
+  std::vector<int64_t> session_runs() const;
+  bool recording() const { return options_.record; }  // false: --no-record, the database goes at exit
 
   // Ends a run_for() early from another thread (the TUI's stop key while a
   // `run 10s` from the command line is going). Returns false if none is.
@@ -212,6 +216,7 @@ class LiveConsole {
   std::unique_ptr<UdpStream> udp_;
   LiveBuffer live_{kLiveSamples};
   Notify notify_;
+  std::vector<std::string> unheard_;  // said while notify_ was empty, for the next one set
   std::mutex notify_mu_;
 
   // Held across a whole stop_run, so two threads stopping the same run (the
@@ -231,6 +236,7 @@ class LiveConsole {
   std::atomic<int64_t> boot_at_down_ns_{0};
   std::string reference_table_file_;
   std::optional<RunSummary> last_run_;
+  std::vector<int64_t> session_runs_;  // under mu_
   std::atomic<int64_t> run_id_{0};
   std::atomic<uint64_t> run_k_{0};
   std::atomic<uint64_t> run_lost_{0};

@@ -53,8 +53,8 @@ std::string sample_json(const Sample& s, double timestamp, int64_t run) {
   return j + "}";
 }
 
-UdpStream::UdpStream(const std::string& target, size_t queue)
-    : socket_(std::make_unique<Socket>()), target_(target), capacity_(queue ? queue : 1) {
+UdpStream::UdpStream(const std::string& target, Notify notify, size_t queue)
+    : socket_(std::make_unique<Socket>()), target_(target), capacity_(queue ? queue : 1), notify_(std::move(notify)) {
   const auto [host, port] = parse_udp_target(target);
   boost::system::error_code ec;
   ip::udp::resolver resolver(socket_->io);
@@ -63,6 +63,9 @@ UdpStream::UdpStream(const std::string& target, size_t queue)
   socket_->to = *found.begin();
   socket_->socket.open(socket_->to.protocol(), ec);
   if (ec) throw CliError(fmt::format("--udp {}: cannot open a UDP socket: {}", target, ec.message()));
+  // Connected, a UDP socket is told of ICMP errors from its peer.
+  socket_->socket.connect(socket_->to, ec);
+  if (ec) throw CliError(fmt::format("--udp {}: cannot send to {}: {}", target, host, ec.message()));
   thread_ = std::thread([this] { loop(); });
 }
 
@@ -98,10 +101,18 @@ void UdpStream::loop() {
     lock.unlock();
     const std::string text = sample_json(item.sample, item.timestamp, item.run);
     boost::system::error_code ec;
-    // Nobody listening (ICMP port unreachable) shows up as an error on a
-    // later send: a view with no viewer, not a fault.
-    socket_->socket.send_to(boost::asio::buffer(text), socket_->to, 0, ec);
-    if (!ec) ++sent_;
+    // Nobody listening (ICMP port unreachable) shows up as ECONNREFUSED on
+    // the next send, which is itself not sent: a view with no viewer, not
+    // a fault, said once.
+    socket_->socket.send(boost::asio::buffer(text), 0, ec);
+    if (ec == boost::asio::error::connection_refused) {
+      if (refused_++ == 0 && notify_)
+        notify_(fmt::format("--udp {}: nothing is listening there (the port is closed); sending on, so a plotter "
+                            "started now still gets the samples",
+                            target_));
+    } else if (!ec) {
+      ++sent_;
+    }
     lock.lock();
   }
 }

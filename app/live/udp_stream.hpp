@@ -10,10 +10,16 @@
 // receiver never delays the link or the recording. A full queue drops the
 // oldest samples and counts them (the stream is a view, the database is the
 // record).
+//
+// The socket is connected to the target, so the kernel hands back the ICMP
+// "port unreachable" a target with nobody listening answers with, as
+// ECONNREFUSED on a later send: the stream says once that nothing is
+// listening (and sends on: PlotJuggler may be started later).
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -34,9 +40,11 @@ std::string sample_json(const Sample& s, double timestamp, int64_t run);
 
 class UdpStream {
  public:
+  using Notify = std::function<void(const std::string&)>;
   // Resolves the target at once, so a bad host fails before anything starts.
-  // Throws CliError.
-  explicit UdpStream(const std::string& target, size_t queue = 8192);
+  // Throws CliError. `notify` hears, from the sender thread, that nobody
+  // listens at the target (once).
+  explicit UdpStream(const std::string& target, Notify notify = {}, size_t queue = 8192);
   // Stops and joins the sender thread; samples still queued are dropped.
   ~UdpStream();
   UdpStream(const UdpStream&) = delete;
@@ -47,6 +55,7 @@ class UdpStream {
 
   uint64_t sent() const { return sent_.load(); }
   uint64_t dropped() const { return dropped_.load(); }
+  uint64_t refused() const { return refused_.load(); }  // sends the target refused (nobody listening)
   const std::string& target() const { return target_; }
 
  private:
@@ -65,7 +74,8 @@ class UdpStream {
   std::condition_variable cv_;
   std::deque<Item> queue_;
   bool stop_ = false;
-  std::atomic<uint64_t> sent_{0}, dropped_{0};
+  Notify notify_;
+  std::atomic<uint64_t> sent_{0}, dropped_{0}, refused_{0};
   std::thread thread_;  // last: starts once everything above exists
 };
 

@@ -280,14 +280,20 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
   if (body <= 0) return;
   if (selected_ < top_) top_ = selected_;
   if (selected_ >= top_ + size_t(body)) top_ = selected_ - size_t(body) + 1;
-  const int name_w = 12;
+  // A narrow panel (an 80-column terminal) abbreviates the long names; the
+  // details below the list and the edit line give the whole name.
+  const bool narrow = w < 36;
+  const int name_w = narrow ? 8 : 12;
+  const char* more = screen.utf8() ? "\u2026" : "~";
   for (int i = 0; i < body && top_ + size_t(i) < rows_.size(); ++i) {
     const size_t idx = top_ + size_t(i);
     const Row& r = rows_[idx];
     const int ry = y + 1 + i;
     const bool sel = focused && idx == selected_;
     fill_row(ry, x, w, sel ? screen.attr(Role::Selected) : 0);
-    put(ry, x + 1, r.info.name, name_w, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
+    const std::string name =
+        int(r.info.name.size()) < name_w ? r.info.name : r.info.name.substr(0, size_t(name_w - 2)) + more;
+    put(ry, x + 1, name, name_w, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
     if (sel && edit_.active()) {
       edit_.draw(ry, x + 1 + name_w, w - 2 - name_w, screen.attr(Role::Selected));
       continue;
@@ -305,12 +311,14 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
       case State::Reset: mark = " " + r.note; role = Role::Warn; break;
     }
     const int vw = std::max(0, w - 2 - name_w);
+    if (narrow && int(value.size()) > vw && vw > 1) value = value.substr(0, size_t(vw - 1)) + more;
     put(ry, x + 1 + name_w, value, vw, sel ? screen.attr(Role::Selected) : 0);
     const int used = std::min(vw, int(value.size()));
     if (!mark.empty()) put(ry, x + 1 + name_w + used, mark, vw - used, screen.attr(role));
   }
   if (details > 0 && selected_ < rows_.size()) draw_details(screen, rows_[selected_], y + h - 1 - details, x, details, w);
-  put(y + h - 1, x, "Enter edit  u undo  S/L save/load  R reread  A reapply", w, screen.attr(Role::Dim));
+  put(y + h - 1, x, narrow ? "Enter u S L R A (F1)" : "Enter edit  u undo  S/L save/load  R reread  A reapply", w,
+      screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

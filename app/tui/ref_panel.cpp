@@ -32,6 +32,42 @@ void RefPanel::reset_kind() {
   }
 }
 
+void RefPanel::select_kind(size_t kind) {
+  if (kind == kind_) return;
+  kind_ = kind;
+  reset_kind();
+}
+
+void RefPanel::show_in_force() {
+  if (const auto cur = console_.reference()) {
+    const bool table = cur->kind == RefKind::Table;
+    for (size_t i = 0; i < kKindCount; ++i) {
+      const bool match = table ? kKinds[i].preset == nullptr
+                               : kKinds[i].preset && std::string(kKinds[i].preset) == reference_kind_name(cur->kind);
+      if (!match) continue;
+      kind_ = i;
+      selected_ = 0;
+      if (!table) ref_ = *cur;
+      return;
+    }
+    return;  // a kind the panel has no page for (hold): leave it as it was
+  }
+  // Sent by nobody here: the firmware's start-up reference (the rig's paper
+  // task) or one selected before this console connected.
+  worker_.post("reading the reference in force", [this] {
+    try {
+      const uint8_t id = console_.device().status().ref_id;
+      firmware_ref_id_ = id;
+      for (size_t i = 0; i < kKindCount; ++i)
+        if (kKinds[i].preset && id < kRefKindCount && RefKind(id) != RefKind::Table &&
+            std::string(kKinds[i].preset) == reference_kind_name(RefKind(id)))
+          firmware_kind_ = int(i);
+    } catch (const std::exception& e) {
+      ui_.message(std::string("reference in force: ") + e.what(), Role::Error);
+    }
+  });
+}
+
 std::vector<std::string> RefPanel::keys() const {
   if (!kKinds[kind_].preset) return {"file", "hold"};
   return reference_keys_for(ref_.kind);
@@ -74,6 +110,7 @@ void RefPanel::send() {
 }
 
 bool RefPanel::key(int ch) {
+  if (const int k = firmware_kind_.exchange(-1); k >= 0) select_kind(size_t(k));
   const auto ks = keys();
   if (edit_.active()) {
     if (edit_.key(ch) == LineEdit::Result::Done && selected_ < ks.size()) {
@@ -128,16 +165,21 @@ bool RefPanel::key(int ch) {
 }
 
 void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focused) {
+  if (const int k = firmware_kind_.exchange(-1); k >= 0) select_kind(size_t(k));
   put(y, x, " Reference ", w, screen.attr(focused ? Role::Title : Role::KeyName));
-  int cx = x + 1;
+  // The kinds wrap onto more rows in a narrow panel, so the one selected
+  // is always on screen.
+  int cx = x + 1, ky = y + 1;
   for (size_t i = 0; i < kKindCount; ++i) {
     const std::string label = fmt::format(" {} ", kKinds[i].label);
-    put(y + 1, cx, label, x + w - cx, i == kind_ ? screen.attr(Role::Selected) : 0);
+    if (cx > x + 1 && cx + int(label.size()) > x + w) cx = x + 1, ++ky;
+    put(ky, cx, label, x + w - cx, i == kind_ ? screen.attr(Role::Selected) : 0);
     cx += int(label.size()) + 1;
   }
+  const int top = ky + 2 - y;  // first row of the values
   const auto ks = keys();
-  for (size_t i = 0; i < ks.size() && int(i) + 3 < h - 3; ++i) {
-    const int ry = y + 3 + int(i);
+  for (size_t i = 0; i < ks.size() && int(i) + top < h - 3; ++i) {
+    const int ry = y + top + int(i);
     const bool sel = focused && i == selected_;
     fill_row(ry, x, w, sel ? screen.attr(Role::Selected) : 0);
     put(ry, x + 1, ks[i], 8, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
@@ -160,8 +202,12 @@ void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focus
         w - 2, screen.attr(Role::Pending));
   }
   const auto cur = console_.reference();
-  put(y + h - 2, x + 1, cur ? fmt::format("in force: {}", reference_kind_name(cur->kind)) : "in force: firmware default", w - 2,
-      screen.attr(Role::Dim));
+  const int fw = firmware_ref_id_.load();
+  put(y + h - 2, x + 1,
+      cur                                    ? fmt::format("in force: {}", reference_kind_name(cur->kind))
+      : fw >= 0 && fw < int(kRefKindCount) ? fmt::format("in force: {} (the firmware's own)", reference_kind_name(RefKind(fw)))
+                                           : "in force: firmware default",
+      w - 2, screen.attr(Role::Dim));
   put(y + h - 1, x, "\u2190\u2192 kind  Enter edit  a send/upload", w, screen.attr(Role::Dim));
 }
 

@@ -30,19 +30,59 @@ void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, con
   put(y, 0, " " + status_text(s, port), w, screen.attr(role));
 }
 
+namespace {
+
+struct Key {
+  const char* key;
+  const char* label;  // on a wide bar
+  const char* brief;  // when the wide labels do not fit
+  int keep;           // labels go lowest first when even the brief ones do not fit
+};
+
+// In bar order; `keep`: 11 is the last label to go.
+constexpr Key kKeys[] = {
+    {"F1", "Help", "Help", 10},    {"F2", "Params", "Par", 2}, {"F3", "Ref", "Ref", 1},    {"F4", "Runs", "Runs", 0},
+    {"F5", "Start", "Start", 9},   {"F6", "Stop", "Stop", 8},  {"F7", "Hold", "Hold", 4},  {"F8", "Neutral", "Neut", 3},
+    {":", "Cmd", "Cmd", 5},        {"v", "View", "View", 6},   {"w", "Panel", "Panel", 7}, {"q", "Quit", "Quit", 11}};
+constexpr size_t kKeyCount = sizeof(kKeys) / sizeof(kKeys[0]);
+
+}  // namespace
+
+std::vector<std::pair<std::string, std::string>> key_bar_items(int w) {
+  std::vector<std::pair<std::string, std::string>> items;
+  // htop's look when it fits: each label padded to 7 columns.
+  int width = 0;
+  for (const Key& k : kKeys) width += int(std::string(k.key).size()) + 7;
+  if (width <= w) {
+    for (const Key& k : kKeys) items.emplace_back(k.key, fmt::format("{:<7}", k.label));
+    return items;
+  }
+  // Narrower: every key stays; brief labels one space apart, and where even
+  // those do not fit the least needed labels go, so the keys never do.
+  std::vector<std::string> labels;
+  for (const Key& k : kKeys) labels.emplace_back(k.brief);
+  auto total = [&] {
+    int t = 0;
+    for (size_t i = 0; i < kKeyCount; ++i) t += int(std::string(kKeys[i].key).size() + labels[i].size()) + 1;
+    return t - 1;
+  };
+  for (int keep = 0; keep <= 11 && total() > w; ++keep)
+    for (size_t i = 0; i < kKeyCount; ++i)
+      if (kKeys[i].keep == keep) labels[i].clear();
+  for (size_t i = 0; i < kKeyCount; ++i)
+    items.emplace_back(kKeys[i].key, i + 1 < kKeyCount ? labels[i] + " " : labels[i]);
+  return items;
+}
+
 void draw_key_bar(const Screen& screen, int y, int w) {
-  static const std::pair<const char*, const char*> keys[] = {
-      {"F1", "Help"}, {"F2", "Params"}, {"F3", "Ref"}, {"F4", "Runs"}, {"F5", "Start"},
-      {"F6", "Stop"}, {"F7", "Hold"},   {"F8", "Neutral"}, {":", "Cmd"}, {"v", "View"}, {"q", "Quit"}};
   fill_row(y, 0, w, 0);
   int x = 0;
-  for (const auto& [k, label] : keys) {
+  for (const auto& [k, label] : key_bar_items(w)) {
     if (x >= w) break;
     put(y, x, k, w - x, screen.attr(Role::KeyName));
-    x += int(std::string(k).size());
-    const std::string l = fmt::format("{:<7}", label);
-    put(y, x, l, w - x, screen.attr(Role::KeyLabel));
-    x += int(l.size());
+    x += int(k.size());
+    put(y, x, label, w - x, screen.attr(Role::KeyLabel));
+    x += int(label.size());
   }
 }
 

@@ -2,6 +2,8 @@
 // The bottom lines that are always visible: link statistics, and the
 // function-key bar (htop style).
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app/link/link_stats.hpp"
 #include "app/tui/screen.hpp"
@@ -11,6 +13,10 @@ namespace nlsoft::console::tui {
 // "link up /dev/pts/3 | 2.6k fr/s 92 kB/s | crc 0 err 0 | lost 0 | loop 130.0 Hz | step 55 us (max 329)"
 std::string status_text(const LinkStats& s, const std::string& port);
 void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port);
+// The function-key bar: every key on any width the console draws on (60
+// columns up), with its label where there is room.
 void draw_key_bar(const Screen& screen, int y, int w);
+// (key, label) in bar order for a bar w columns wide.
+std::vector<std::pair<std::string, std::string>> key_bar_items(int w);
 
 }  // namespace nlsoft::console::tui

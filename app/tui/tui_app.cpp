@@ -5,12 +5,14 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <deque>
 #include <mutex>
 
 #include "app/record/run_store.hpp"
 #include "app/script/script_runner.hpp"
 #include "app/tui/completion.hpp"
+#include "app/tui/exit_summary.hpp"
 #include "app/tui/curses.hpp"
 #include "app/tui/line_edit.hpp"
 #include "app/tui/message_log.hpp"
@@ -31,6 +33,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr int kMinCols = 60, kMinRows = 16;
+// From this width the side panel takes two fifths (at least 40 columns);
+// below it a narrow one, so an 80-column terminal keeps most of its width
+// for the plot.
+constexpr int kWideCols = 100;
 
 const char* const kHelp[] = {
     "nlsoft-console keys",
@@ -42,6 +48,8 @@ const char* const kHelp[] = {
     "  F5        start a run (recorded)     F6  stop the run",
     "  F7        hold / resume              F8  actuators neutral",
     "  v         time plots <-> 2-D path    x   change the path's axes",
+    "  w         hide / show the side panel (the plot takes the whole width);",
+    "            F2 F3 F4 F9 show it again",
     "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
     "  :overlay ID  a recorded run under the live plot ('o'); :overlay off",
     "  + -       zoom in (shorter window) / out",
@@ -122,6 +130,7 @@ class App : public Ui {
   };
 
   bool handle(int ch);  // false: quit
+  void focus(Focus f);
   void draw();
   void draw_title(int w);
   void draw_message_line(int y, int w);
@@ -159,6 +168,7 @@ class App : public Ui {
   std::atomic<bool> show_tune_{false};
   Focus focus_ = Focus::Params;
   bool path_view_ = false, help_ = false;
+  bool panel_ = true;  // w: the side panel (parameters, reference, runs, messages) shown
   int ax_ = 0, ay_ = 1;
   double window_s_ = 10;
   PlotSignal signal_ = PlotSignal::Y;
@@ -487,23 +497,24 @@ bool App::handle(int ch) {
       help_ = true;
       help_top_ = 0;
       return true;
-    case KEY_F(2): focus_ = Focus::Params; return true;
-    case KEY_F(3): focus_ = Focus::Ref; return true;
+    case KEY_F(2): focus(Focus::Params); return true;
+    case KEY_F(3): focus(Focus::Ref); return true;
     case KEY_F(4):
-      focus_ = Focus::Runs;
+      focus(Focus::Runs);
       runs_.reload();
       return true;
     case KEY_F(9):
-      focus_ = Focus::Log;
+      focus(Focus::Log);
       log_back_ = 0;
       return true;
     case '\t':
       if (focus_ != Focus::Ref) {
-        focus_ = focus_ == Focus::Params ? Focus::Ref : Focus::Params;
+        focus(focus_ == Focus::Params ? Focus::Ref : Focus::Params);
         return true;
       }
       break;
-    case KEY_BTAB: focus_ = focus_ == Focus::Params ? Focus::Runs : focus_ == Focus::Ref ? Focus::Params : Focus::Ref; return true;
+    case KEY_BTAB: focus(focus_ == Focus::Params ? Focus::Runs : focus_ == Focus::Ref ? Focus::Params : Focus::Ref); return true;
+    case 'w': panel_ = !panel_; return true;
     case KEY_F(5): start_run(); return true;
     case KEY_F(6):
       // A timed run from the ':' line is ended where it waits; otherwise
@@ -563,6 +574,7 @@ bool App::handle(int ch) {
     case '>':
     case '.': move_cursor(1); return true;
   }
+  if (!panel_) return true;  // a hidden panel takes no keys: nothing changes out of sight
   switch (focus_) {
     case Focus::Params: params_.key(ch); break;
     case Focus::Ref: refs_.key(ch); break;
@@ -579,6 +591,14 @@ bool App::handle(int ch) {
     }
   }
   return true;
+}
+
+// A panel given the keys is shown; the reference panel opens on the
+// reference in force, not on whatever it showed last.
+void App::focus(Focus f) {
+  if (f == Focus::Ref && (focus_ != Focus::Ref || !panel_)) refs_.show_in_force();
+  focus_ = f;
+  panel_ = true;
 }
 
 void App::draw_title(int w) {
@@ -615,6 +635,9 @@ void App::draw_confirm(int rows, int cols) {
   const int w = std::min(cols - 4, 90);
   const int h = std::min(rows - 4, int(confirm_lines_.size()) + 4);
   const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
+  // A blank margin round the box: no plot dot touches it, so it reads as a
+  // box over the screen, not as more lines of the plot.
+  for (int r = -1; r <= h; ++r) fill_row(y0 + r, std::max(0, x0 - 1), std::min(cols, w + 2), 0);
   for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
   put(y0, x0 + 1, confirm_title_, w - 2, screen_.attr(Role::Selected) | A_BOLD);
   for (int i = 0; i < h - 4 && size_t(i) < confirm_lines_.size(); ++i)
@@ -698,8 +721,8 @@ void App::draw() {
     return;
   }
   draw_title(cols);
-  const int right_w = std::max(40, cols * 2 / 5);
-  const int left_w = cols - right_w - 1;
+  const int right_w = !panel_ ? 0 : cols >= kWideCols ? std::max(40, cols * 2 / 5) : std::max(24, cols * 7 / 20);
+  const int left_w = panel_ ? cols - right_w - 1 : cols;
   const int main_h = rows - 4;
   const double rate = step_rate();
   TimeView view;
@@ -720,6 +743,18 @@ void App::draw() {
   const std::vector<Sample> live =
       paused_ ? std::vector<Sample>{} : console_.live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));
   const std::vector<Sample>& samples = paused_ ? frozen_ : live;
+  // The help covers the screen: nothing is drawn under it, so no plot dot
+  // shows beside or through it (and no time goes into plots nobody sees).
+  if (help_) {
+    draw_message_line(rows - 3, cols);
+    draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());
+    draw_key_bar(screen_, rows - 1, cols);
+    draw_help(rows, cols);
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    if (confirming_) draw_confirm(rows, cols);  // it takes the keys: it shows
+    refresh();
+    return;
+  }
   if (path_view_) {
     // The newest 4096 samples make the shape; copying all that is kept
     // 25 times a second would cost 100 MB/s for nothing visible.
@@ -731,15 +766,17 @@ void App::draw() {
     if (tune_h > 0) draw_tune_view(screen_, main_h - tune_h, 0, tune_h, left_w, tune_.snapshot());
     draw_plot_status(rows - 4, left_w);
   }
-  attrset(screen_.attr(Role::Border));
-  mvvline(1, left_w, screen_.utf8() ? ACS_VLINE : '|', main_h);
-  attrset(A_NORMAL);
-  const int rx = left_w + 1;
-  switch (focus_) {
-    case Focus::Params: params_.draw(screen_, 1, rx, main_h, right_w, true); break;
-    case Focus::Ref: refs_.draw(screen_, 1, rx, main_h, right_w, true); break;
-    case Focus::Runs: runs_.draw(screen_, 1, rx, main_h, right_w, true); break;
-    case Focus::Log: log_.draw(screen_, 1, rx, main_h, right_w, true, log_back_); break;
+  if (panel_) {
+    attrset(screen_.attr(Role::Border));
+    mvvline(1, left_w, screen_.utf8() ? ACS_VLINE : '|', main_h);
+    attrset(A_NORMAL);
+    const int rx = left_w + 1;
+    switch (focus_) {
+      case Focus::Params: params_.draw(screen_, 1, rx, main_h, right_w, true); break;
+      case Focus::Ref: refs_.draw(screen_, 1, rx, main_h, right_w, true); break;
+      case Focus::Runs: runs_.draw(screen_, 1, rx, main_h, right_w, true); break;
+      case Focus::Log: log_.draw(screen_, 1, rx, main_h, right_w, true, log_back_); break;
+    }
   }
   draw_message_line(rows - 3, cols);
   draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());
@@ -748,7 +785,6 @@ void App::draw() {
     std::lock_guard<std::mutex> lock(ui_mu_);
     if (confirming_) draw_confirm(rows, cols);
   }
-  if (help_) draw_help(rows, cols);
   refresh();
 }
 
@@ -794,6 +830,9 @@ int run_tui(LiveConsole& console) {
     rc = app.loop();
   }
   console.set_notify({});
+  // On the normal screen again (endwin): what stays after the TUI is gone.
+  std::fputs(tui::exit_summary(console).c_str(), stdout);
+  std::fflush(stdout);
   return rc;
 }
 

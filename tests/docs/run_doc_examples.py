@@ -29,7 +29,7 @@ import sys
 import tempfile
 import time
 
-SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune"}
+SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports"}
 
 
 def examples(path):

@@ -34,7 +34,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db"
 
-complete_is "conformance dataset flash model runs simulate train tune" nlsoft-console ""
+complete_is "conformance dataset flash model ports runs simulate train tune" nlsoft-console ""
+complete_is "ports" nlsoft-console po
+complete_is "--json" nlsoft-console ports --j
 complete_is "simulate" nlsoft-console si
 complete_is "hasel msd tendon" nlsoft-console --sim ""
 complete_is "hasel" nlsoft-console --qemu h
@@ -95,7 +97,7 @@ check_against_help() {
   done
 }
 check_against_help nlsoft-console
-for c in simulate conformance flash dataset train tune runs model; do check_against_help nlsoft-console "$c"; done
+for c in simulate conformance flash dataset train tune runs model ports; do check_against_help nlsoft-console "$c"; done
 for c in list show export compare plot label delete; do check_against_help nlsoft-console runs "$c"; done
 for c in import eval info codegen; do check_against_help nlsoft-console model "$c"; done
 

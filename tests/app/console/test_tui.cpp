@@ -28,8 +28,10 @@ bool have_tmux() { return run_process("command -v tmux").code == 0; }
 
 class Tmux {
  public:
-  Tmux(const std::string& command, const std::string& env) : socket_("nlsoft-tui-test-" + std::to_string(::getpid())) {
-    const auto r = run_process(tmux() + " new-session -d -s ui -x 120 -y 40 " + shell_quote("env " + env + " " + command));
+  Tmux(const std::string& command, const std::string& env, int cols = 120, int rows = 40)
+      : socket_("nlsoft-tui-test-" + std::to_string(::getpid())) {
+    const auto r = run_process(tmux() + " new-session -d -s ui -x " + std::to_string(cols) + " -y " +
+                               std::to_string(rows) + " " + shell_quote("env " + env + " " + command));
     started_ = r.code == 0;
     if (!started_) error_ = r.output;
   }
@@ -38,6 +40,8 @@ class Tmux {
   const std::string& error() const { return error_; }
 
   std::string screen() const { return run_process(tmux() + " capture-pane -p -t ui").output; }
+  // With the attributes as escape sequences (reverse video: ESC [7m).
+  std::string screen_with_attributes() const { return run_process(tmux() + " capture-pane -e -p -t ui").output; }
   void keys(const std::string& keys) const { run_process(tmux() + " send-keys -t ui " + keys); }
   bool alive() const { return run_process(tmux() + " has-session -t ui").code == 0; }
 
@@ -65,7 +69,10 @@ class Tmux {
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 bool Tmux::wait_until_connected(std::string& last) const {
-  return wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "safe_state"); }, last);
+  // Below 100 columns the panel abbreviates the longer names.
+  return wait_for([](const std::string& x) {
+    return contains(x, "Parameters (") && (contains(x, "safe_state") || contains(x, "safe_s\u2026"));
+  }, last);
 }
 
 // The line of the screen that holds `what` ("" if none).
@@ -584,6 +591,269 @@ TEST(ConsoleTui, QuitDuringATuneSavesTheBestAndExitsCleanly) {
   EXPECT_EQ(sessions[0].end_reason, "cancelled");
   RunStore store(db);
   for (const RunRow& r : store.list()) EXPECT_FALSE(r.ended_at.empty()) << "run " << r.id << " left open";
+}
+
+}  // namespace
+}  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+std::vector<std::string> screen_lines(const std::string& s) {
+  std::vector<std::string> out;
+  std::istringstream in(s);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+// A line's cells: one UTF-8 code point each (the screen has no wide ones).
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  for (size_t i = 0; i < line.size();) {
+    const unsigned char c = static_cast<unsigned char>(line[i]);
+    const size_t len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : 4;
+    out.push_back(line.substr(i, len));
+    i += len;
+  }
+  return out;
+}
+
+// The column where `what` starts on the line, or -1.
+int column_of(const std::string& line, const std::string& what) {
+  const size_t at = line.find(what);
+  return at == std::string::npos ? -1 : int(cells(line.substr(0, at)).size());
+}
+
+// The rightmost column holding a braille dot on any of the lines [from, to).
+int rightmost_braille(const std::string& screen, size_t from, size_t to) {
+  const auto lines = screen_lines(screen);
+  int right = -1;
+  for (size_t r = from; r < to && r < lines.size(); ++r) {
+    const auto cs = cells(lines[r]);
+    for (size_t c = 0; c < cs.size(); ++c)
+      if (has_braille(cs[c] + "  ")) right = std::max(right, int(c));
+  }
+  return right;
+}
+
+// Rows of the screen, from `margin` rows above the one holding `first` to
+// `margin` rows below the one holding `last`, that show a braille dot (a
+// plot drawn through or against an overlay).
+std::vector<std::string> rows_with_dots_between(const std::string& screen, const std::string& first,
+                                                const std::string& last, int margin = 0) {
+  const auto lines = screen_lines(screen);
+  int top = -1, bottom = -1;
+  for (int i = 0; i < int(lines.size()); ++i) {
+    if (top < 0 && contains(lines[size_t(i)], first)) top = i;
+    if (top >= 0 && contains(lines[size_t(i)], last)) {
+      bottom = i;
+      break;
+    }
+  }
+  if (top < 0 || bottom < 0) return {"(no overlay from '" + first + "' to '" + last + "')"};
+  std::vector<std::string> out;
+  for (int i = std::max(0, top - margin); i <= bottom + margin && i < int(lines.size()); ++i)
+    if (has_braille(lines[size_t(i)] + "  ")) out.push_back(lines[size_t(i)]);
+  return out;
+}
+
+// Whether `word` on the screen (captured with its attributes) is drawn as
+// the selection: the last attribute set before it is reverse video (7) or
+// the selection's blue background (44).
+bool highlighted(const std::string& escaped, const std::string& word) {
+  const size_t at = escaped.find(word);
+  if (at == std::string::npos) return false;
+  const size_t esc = escaped.rfind("\x1b[", at);
+  const size_t line = escaped.rfind('\n', at);
+  if (esc == std::string::npos || (line != std::string::npos && esc < line)) return false;
+  const std::string params = escaped.substr(esc + 2, escaped.find('m', esc) - esc - 2);
+  std::istringstream in(params);
+  for (std::string p; std::getline(in, p, ';');)
+    if (p == "7" || p == "44") return true;
+  return false;
+}
+
+std::string quit_status(const std::string& screen) {
+  const size_t at = screen.find("EXIT=");
+  return at == std::string::npos ? "" : screen.substr(at, screen.find('\n', at) - at);
+}
+
+const char* const kUtf8Env = "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN;
+
+// A console in tmux at cols x rows whose exit status shows on the pane.
+Tmux console_in(const std::string& args, int cols, int rows) {
+  return Tmux("sh -c " + shell_quote(std::string(NLSOFT_CONSOLE_BIN) + " " + args + "; echo EXIT=$?; sleep 30"),
+              kUtf8Env, cols, rows);
+}
+
+bool panel_read(const std::string& x) { return contains(x, "Parameters (") && contains(x, "Lambda"); }
+
+// 80x24, the size a terminal opens at: the plot gets most of the width (a
+// narrow parameter panel) and every key of the key bar shows.
+TEST(ConsoleTui, AtEightyByTwentyFourThePlotHasMostOfTheWidthAndEveryKeyShows) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
+  const auto lines = screen_lines(s);
+  ASSERT_EQ(lines.size(), 24u) << s;
+  for (const char* key : {"F1Help", "F2Par", "F3Ref", "F4Runs", "F5Start", "F6Stop", "F7Hold", "F8Neut", ":Cmd",
+                          "vView", "wPanel", "qQuit"})
+    EXPECT_TRUE(contains(lines[23], key)) << key << " is not on the key bar\n" << s;
+  // The panel starts right of column 48: the plot pane has 3/5 of the width.
+  const int panel = column_of(line_with(s, " Parameters ("), " Parameters (");
+  EXPECT_GE(panel, 48) << s;
+  EXPECT_TRUE(contains(s, " Lambda  1 1 1 1 1 1")) << "a short name, then the values\n" << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && rightmost_braille(x, 1, 20) >= 44; },
+                         s))
+      << s;
+  EXPECT_LT(rightmost_braille(s, 1, 20), panel) << s;
+  t.keys("q y");
+}
+
+// 160x48: the htop-style key bar with whole labels, the wide panel with
+// whole names.
+TEST(ConsoleTui, AtOneSixtyByFortyEightTheKeyBarAndThePanelHaveWholeWords) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 160, 48);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  const auto lines = screen_lines(s);
+  ASSERT_EQ(lines.size(), 48u) << s;
+  for (const char* key : {"F1Help   ", "F2Params ", "F8Neutral", ":Cmd    ", "vView   ", "wPanel  ", "qQuit"})
+    EXPECT_TRUE(contains(lines[47], key)) << key << "\n" << s;
+  EXPECT_GE(column_of(line_with(s, " Parameters ("), " Parameters ("), 90) << s;
+  EXPECT_TRUE(contains(param_row(s, "nr_max_iter"), "nr_max_iter")) << "whole names in the wide panel\n" << s;
+  t.keys("q");
+}
+
+// w hides the side panel, the plot then takes the whole width; w again, or
+// a panel's key, brings it back. The help names the key.
+TEST(ConsoleTui, WHidesTheSidePanelForAPlotAcrossTheWholeWidth) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && has_braille(x); }, s)) << s;
+  t.keys("w");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return !contains(x, "Parameters (") && rightmost_braille(x, 1, 20) >= 72;
+  }, s)) << s;
+  t.keys("w");
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
+  t.keys("w");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "Parameters ("); }, s)) << s;
+  t.keys("F4");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Runs ("); }, s)) << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "hide / show the side panel"); }, s)) << s;
+  t.keys("Escape q y");
+}
+
+// The help and the quit dialog hide the plot under them: the help is drawn
+// over nothing (no plot beside it either, on a wide terminal), the dialog
+// with a blank row above and below.
+TEST(ConsoleTui, TheHelpAndTheQuitDialogShowNoPlotThroughThem) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 160, 48);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1 RUNNING") && has_braille(x); }, s)) << s;
+  t.keys("?");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys"); }, s)) << s;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // several redraws with the plot moving under it
+  s = t.screen();
+  EXPECT_FALSE(has_braille(s)) << s;
+  t.keys("Escape");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && has_braille(x); }, s))
+      << s;
+  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 24");
+  t.keys("q");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  s = t.screen();
+  EXPECT_EQ(screen_lines(s).size(), 24u) << s;
+  EXPECT_EQ(rows_with_dots_between(s, "stop it and quit?", "y: yes", 1), std::vector<std::string>{}) << s;
+  t.keys("y");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
+  EXPECT_EQ(quit_status(s), "EXIT=0") << s;
+}
+
+// F3 opens on the reference in force: the hasel firmware starts on its
+// paper task, Swirl; after `:ref diagonal` it is Diagonal.
+TEST(ConsoleTui, F3OpensOnTheReferenceInForce) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  Tmux t = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_for(panel_read, s)) << s;
+  t.keys("F3");
+  ASSERT_TRUE(t.wait_for([&](const std::string& x) {
+    return contains(x, "in force: swirl") && highlighted(t.screen_with_attributes(), " Swirl ");
+  }, s)) << t.screen_with_attributes();
+  EXPECT_FALSE(highlighted(t.screen_with_attributes(), " Infinity ")) << t.screen_with_attributes();
+  t.keys("F2 " + shell_quote(":ref diagonal") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "reference {") && contains(x, "\"kind\":\"diag"); }, s)) << s;
+  t.keys("F3");
+  ASSERT_TRUE(t.wait_for([&](const std::string& x) {
+    return contains(x, "in force: diagonal") && highlighted(t.screen_with_attributes(), " Diagonal ");
+  }, s)) << t.screen_with_attributes();
+  EXPECT_FALSE(highlighted(t.screen_with_attributes(), " Swirl ")) << t.screen_with_attributes();
+  t.keys("q");
+}
+
+// On exit, on the normal screen: the runs this session recorded, each with
+// how long it lasted and its samples, the database, and the command that
+// shows one (which works as printed); with --no-record, that nothing was kept.
+TEST(ConsoleTui, OnExitTheSessionsRunsAreNamedWithTheCommandThatShowsThem) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db");
+  std::string s;
+  {
+    Tmux t = console_in("--sim hasel --db " + shell_quote(db), 160, 48);
+    ASSERT_TRUE(t.started()) << t.error();
+    ASSERT_TRUE(t.wait_until_connected(s)) << s;
+    t.keys(shell_quote(":run 1s") + " Enter");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s))
+        << s;
+    t.keys("F5");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 2 RUNNING"); }, s)) << s;
+    t.keys("F6");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stopped:"); }, s)) << s;
+    t.keys("q");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
+    EXPECT_EQ(quit_status(s), "EXIT=0") << s;
+  }  // one tmux server at a time
+
+  RunStore store(db);
+  EXPECT_TRUE(contains(s, "nlsoft-console: 2 runs recorded this session in " + db)) << s;
+  for (int id : {1, 2}) {
+    const std::string row = line_with(s, "  run " + std::to_string(id) + "  ");
+    EXPECT_TRUE(contains(row, " s  " + std::to_string(store.run(id).samples) + " samples")) << s;
+  }
+  const std::string see = "nlsoft-console runs show 2 --db " + db;
+  ASSERT_TRUE(contains(s, "see one: " + see)) << s;
+  const auto shown = run_process(std::string(NLSOFT_CONSOLE_BIN) + see.substr(std::string("nlsoft-console").size()));
+  EXPECT_EQ(shown.code, 0) << shown.output;
+  EXPECT_TRUE(contains(shown.output, std::to_string(store.run(2).samples) + " samples")) << shown.output;
+
+  Tmux u = console_in("--sim hasel --no-record", 80, 24);
+  ASSERT_TRUE(u.started()) << u.error();
+  ASSERT_TRUE(u.wait_for(panel_read, s)) << s;
+  u.keys(shell_quote(":run 300ms") + " Enter");
+  ASSERT_TRUE(u.wait_for([](const std::string& x) { return contains(x, "run 1: ") && !contains(x, "RUNNING"); }, s))
+      << s;
+  u.keys("q");
+  ASSERT_TRUE(u.wait_for([](const std::string& x) { return contains(x, "EXIT="); }, s)) << s;
+  EXPECT_TRUE(contains(s, "nlsoft-console: 1 run this session, not kept (--no-record)")) << s;
 }
 
 }  // namespace

@@ -131,6 +131,43 @@ TEST(UdpStream, ABadTargetIsRefusedBeforeAnythingStarts) {
   EXPECT_NE(r.output.find("the port must be a number 1..65535, not '99999'"), std::string::npos) << r.output;
 }
 
+// A loopback port nobody listens on: bound to find a free one, then closed.
+uint16_t free_udp_port() {
+  const int fd = ::socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  socklen_t len = sizeof a;
+  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
+  ::close(fd);
+  return ntohs(a.sin_port);
+}
+
+size_t count(const std::string& s, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = s.find(what); at != std::string::npos; at = s.find(what, at + 1)) ++n;
+  return n;
+}
+
+// The kernel answers datagrams to a closed port with ICMP "port
+// unreachable"; the console says once that nothing listens there, and the
+// run is recorded as ever.
+TEST(UdpStream, NobodyListeningIsSaidOnce) {
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  test::TempDir dir;
+  const std::string script = dir.file("run.nls"), db = dir.file("runs.db");
+  std::ofstream(script) << "run 1s\nexpect lost == 0\n";
+  const std::string target = "127.0.0.1:" + std::to_string(free_udp_port());
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db) + " --script " +
+                             shell_quote(script) + " --udp " + target);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(count(r.output, "--udp " + target + ": nothing is listening there"), 1u) << r.output;
+  RunStore store(db);
+  ASSERT_EQ(store.list().size(), 1u);
+  EXPECT_GT(store.list()[0].samples, 100u);
+}
+
 TEST(UdpStream, SampleJsonLeavesOutWhatTheSampleLacks) {
   Sample s;
   s.n = 2;
