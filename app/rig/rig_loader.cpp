@@ -512,6 +512,12 @@ void read_plant(const std::string& file, const Section& root, const toml::table&
   same("m", plant.m(), rig.m(), "[[input]] tables");
   same("n", plant.n(), rig.n(), "[[output]] tables");
   same("w", plant.w(), rig.w(), "[[sensor]] tables");
+  // The plant steps at its own period: a file at another rate would be
+  // simulated at the plant's, not its own.
+  if (float(1.0 / rig.rate_hz) != plant.dt())
+    s.fail(s.line("kind"), "kind",
+           "plant '" + rig.plant.kind + "' runs at " + num(std::round(1000.0 / double(plant.dt())) / 1000.0) + " Hz, but rate_hz = " +
+               num(rig.rate_hz) + " (line " + std::to_string(root.line("rate_hz")) + ")");
 }
 
 void read_reference(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {

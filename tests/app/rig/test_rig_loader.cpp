@@ -287,6 +287,8 @@ TEST(RigLoader, PlantMustHaveTheFilesDimensions) {
   const std::string t = std::string(kBase) + "\n[plant]\nkind = \"tendon\"\n";
   expect_error(t, line_of(t, "kind = \"tendon\""), "[plant] kind",
                "plant 'tendon' has n = 3, but the file has 1 [[output]] tables");
+  const std::string msd = rig_of(1, 1, 0) + "\n[plant]\nkind = \"msd\"\n";
+  expect_error(msd, line_of(msd, "kind = \"msd\""), "[plant] kind", "plant 'msd' runs at 1000 Hz, but rate_hz = 50 (line 2)");
   const std::string k = std::string(kBase) + "\n[plant]\nkind = \"robot\"\n";
   expect_error(k, line_of(k, "kind = \"robot\""), "[plant] kind", "'robot' is not one of: msd, hasel, tendon");
 }
