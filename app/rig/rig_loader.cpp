@@ -386,8 +386,8 @@ void read_controller(const std::string& file, const Section& root, const toml::t
       case Status::NotFinite: at.fail(line, k, "must be finite, not " + num(x));
       case Status::OutOfRange:
         at.fail(line, k,
-                "out of range: " + num(x) + " is not " + (d.type == ParamType::F32 ? "" : "a whole number ") + "in [" +
-                    num(d.min) + ", " + num(d.max) + "] (the range PARAM_SET accepts)");
+                "out of range: " + num(x) + " is not in [" + num(d.min) + ", " + num(d.max) + "]" +
+                    (d.type == ParamType::F32 ? "" : ", a whole number") + " (the range PARAM_SET accepts)");
       case Status::TooLarge:
         at.fail(line, k,
                 "over capacity: " + num(x) + " exceeds the controller's " +

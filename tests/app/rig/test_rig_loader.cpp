@@ -276,7 +276,8 @@ TEST(RigLoader, ControllerDefaultsTakeTheParameterChecks) {
   const std::string r = edit("r = 400.0", "r = 0.0");
   expect_error(r, line_of(r, "r = 0.0"), "[controller] r", "out of range: 0 is not in [1e-06, 1e+07]");
   const std::string it = edit("eps = 0.01", "eps = 0.01\nnr_max_iter = 21");
-  expect_error(it, line_of(it, "nr_max_iter"), "[controller] nr_max_iter", "is not a whole number in [1, 20]");
+  expect_error(it, line_of(it, "nr_max_iter"), "[controller] nr_max_iter",
+               "out of range: 21 is not in [1, 20], a whole number");
   const std::string mode = edit("eps = 0.01", "eps = 0.01\nmode = \"newton\"");
   expect_error(mode, line_of(mode, "mode ="), "[controller] mode", "'newton' is not one of: exact, fd");
   const std::string u = edit("max = 1.0", "max = 2e6");
