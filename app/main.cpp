@@ -10,6 +10,7 @@
 #include "app/live/flash_command.hpp"
 #include "app/model/commands.hpp"
 #include "app/record/runs_command.hpp"
+#include "app/rig/rig_command.hpp"
 #include "app/simulate/simulate_command.hpp"
 #include "app/tune/tune_command.hpp"
 #include "protocol/frame.hpp"
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   add_dataset_command(app);
   add_train_command(app);
   add_model_command(app);
+  add_rig_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

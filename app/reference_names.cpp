@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "app/cli_error.hpp"
+#include "app/rig/rig_reference.hpp"
 #include "shared/reference_presets.hpp"
 
 namespace nlsoft::console {
@@ -35,12 +36,28 @@ std::string default_reference(PlatformId platform) {
   return "hold";
 }
 
-RefParams reference_preset(PlatformId platform, const std::string& name) {
+namespace {
+
+RefKind kind_of(const std::string& name) {
   for (const Named& n : kNames)
-    if (name == n.name) return nlsoft::reference_preset(platform, n.kind);
+    if (name == n.name) return n.kind;
   std::string known;
   for (const auto& n : reference_names()) known += (known.empty() ? "" : ", ") + n;
   throw CliError(fmt::format("unknown reference '{}'; known: {}", name, known));
+}
+
+}  // namespace
+
+RefParams reference_preset(PlatformId platform, const std::string& name) {
+  return nlsoft::reference_preset(platform, kind_of(name));
+}
+
+RefParams reference_preset(const Rig& rig, const std::string& name) { return rig_reference(rig, kind_of(name)); }
+
+std::string default_reference(const Rig& rig) {
+  for (const Named& n : kNames)
+    if (n.kind == rig.reference.kind) return n.name;
+  return "hold";
 }
 
 }  // namespace nlsoft::console

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "app/rig/rig.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
 
@@ -16,5 +17,9 @@ RefParams reference_preset(PlatformId platform, const std::string& name);
 
 // The platform's default task (paper): msd steps, hasel swirl, tendon infinity.
 std::string default_reference(PlatformId platform);
+
+// The same for a rig file: its [reference] geometry and default kind.
+RefParams reference_preset(const Rig& rig, const std::string& name);
+std::string default_reference(const Rig& rig);
 
 }  // namespace nlsoft::console

@@ -10,6 +10,8 @@
 #include "app/conformance/report.hpp"
 #include "app/conformance/suite.hpp"
 #include "app/link/sim_launcher.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_firmware.hpp"
 
 namespace nlsoft::console {
 
@@ -27,18 +29,20 @@ struct ConformanceArgs {
 int run_conformance(const ConformanceArgs& a) {
   if (int(!a.port.empty()) + int(!a.sim.empty()) + int(!a.qemu.empty()) != 1)
     throw CliError(
-        "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim PLATFORM or --qemu PLATFORM");
+        "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim RIG or --qemu RIG");
   if (a.qemu.empty() && a.board != "mps2-an386") throw CliError("--board names the image --qemu boots; give --qemu too");
   SimLauncher launcher;
   Summary summary;
   summary.port = a.port;
   summary.target = a.port;
   if (!a.sim.empty()) {
-    summary.port = launcher.start(a.sim);
-    summary.target = "sim " + a.sim;
+    const std::string platform = firmware_platform_name(a.sim, "--sim");
+    summary.port = launcher.start(platform);
+    summary.target = "sim " + platform;
   } else if (!a.qemu.empty()) {
-    summary.port = launcher.start_qemu(a.qemu, a.board);
-    summary.target = "qemu " + a.qemu + (a.board == "mps2-an386" ? "" : " on " + a.board);
+    const std::string platform = firmware_platform_name(a.qemu, "--qemu");
+    summary.port = launcher.start_qemu(platform, a.board);
+    summary.target = "qemu " + platform + (a.board == "mps2-an386" ? "" : " on " + a.board);
   }
   // An emulated MCU answers a few times slower than the host simulator.
   const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));
@@ -67,11 +71,11 @@ void add_conformance_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand(
       "conformance", "Run the protocol conformance suite (PROTOCOL.md) against a board, the simulator or QEMU");
   c->add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
-  c->add_option("--sim", a->sim, "Start nlsoft-firmware-sim for this platform and test it")
-      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  c->add_option("--sim", a->sim, "Start nlsoft-firmware-sim for this rig, " + rig_arg_help() + ", and test it")
+      ->check(rig_arg_validator());
   c->add_option("--qemu", a->qemu,
-                "Boot this platform's Cortex-M4F image (simulated plant in the loop) in qemu-system-arm and test it")
-      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+                "Boot this rig's Cortex-M4F image (simulated plant in the loop) in qemu-system-arm and test it")
+      ->check(rig_arg_validator());
   c->add_option("--board", a->board,
                 "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                 "image in -M netduinoplus2)")

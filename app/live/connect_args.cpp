@@ -11,6 +11,8 @@
 #include "app/link/sim_launcher.hpp"
 #include "app/progress_bar.hpp"
 #include "app/record/sqlite.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_firmware.hpp"
 
 namespace nlsoft::console {
 
@@ -47,11 +49,13 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
   app.add_option("PORT", a.port,
                  "Serial device of the board, e.g. /dev/ttyACM0; without PORT, --sim or --qemu: the one board "
                  "`nlsoft-console ports` finds");
-  app.add_option("--sim", a.sim, fmt::format("Start nlsoft-firmware-sim for this platform and {} it", what))
-      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+  app.add_option("--sim", a.sim,
+                 fmt::format("Start nlsoft-firmware-sim for this rig, {}, and {} it", rig_arg_help(), what))
+      ->check(rig_arg_validator());
   app.add_option("--qemu", a.qemu,
-                 fmt::format("Boot the Cortex-M4F image (plant in the loop) in qemu-system-arm and {} it", what))
-      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+                 fmt::format("Boot this rig's Cortex-M4F image (plant in the loop) in qemu-system-arm and {} it",
+                             what))
+      ->check(rig_arg_validator());
   app.add_option("--board", a.board,
                  "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                  "image in -M netduinoplus2)")
@@ -78,7 +82,9 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   LiveOptions o;
   o.port = port;
   o.baud = a.baud;
-  o.sim_platform = a.qemu.empty() ? a.sim : a.qemu;
+  // The rig file, then the compiled-in firmware that is that rig.
+  o.sim_platform = a.qemu.empty() ? firmware_platform_name(a.sim, who + "--sim")
+                                  : firmware_platform_name(a.qemu, who + "--qemu");
   o.sim_in_qemu = !a.qemu.empty();
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});

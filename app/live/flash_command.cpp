@@ -13,6 +13,8 @@
 
 #include "app/cli_error.hpp"
 #include "app/link/sim_launcher.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_firmware.hpp"
 
 namespace nlsoft::console {
 
@@ -51,9 +53,11 @@ int run_flash(const FlashArgs& a) {
     throw CliError(
         "openocd is not installed or not on PATH: apt-get install openocd (or write the .bin yourself with st-flash "
         "from stlink-tools; see firmware/ports/stm32f4/README.md)");
+  // The rig whose image this is: one the images carry compiled in.
+  const std::string platform = firmware_platform_name(a.platform, "--platform");
   const std::string image =
       !a.image.empty() ? a.image
-                       : find_built_image(fmt::format("stm32f4/nlsoft-stm32f4-{}{}.elf", a.platform, a.hil ? "-hil" : ""));
+                       : find_built_image(fmt::format("stm32f4/nlsoft-stm32f4-{}{}.elf", platform, a.hil ? "-hil" : ""));
   if (::access(image.c_str(), R_OK) != 0) throw CliError(fmt::format("cannot read the image {}", image));
   std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), kOpenocdBoard);
   const int rc = run_child({openocd, "-f", kOpenocdBoard, "-c", fmt::format("program {{{}}} verify reset exit", image)});
@@ -85,9 +89,9 @@ void add_flash_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("flash", "Write the firmware to a board with openocd, then connect to it");
   c->add_option("--board", a->board, "The board: stm32f4 (a Nucleo-64 through its on-board ST-LINK)")
       ->check(CLI::IsMember({"stm32f4"}));
-  c->add_option("--platform", a->platform, "Whose image: msd, hasel or tendon")
+  c->add_option("--platform,--rig", a->platform, "Whose image: the rig, " + rig_arg_help())
       ->required()
-      ->check(CLI::IsMember({"msd", "hasel", "tendon"}));
+      ->check(rig_arg_validator());
   c->add_flag("--hil", a->hil, "The image with the simulated plant on the MCU (a bare board, nothing wired)");
   c->add_option("--image", a->image, "Flash this ELF instead of the built one");
   c->add_option("--port", a->port, "The board's serial port to connect to afterwards (default /dev/ttyACM0)");

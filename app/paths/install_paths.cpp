@@ -24,6 +24,11 @@ bool executable(const std::string& path) {
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
 }
 
+bool directory(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
+}
+
 bool readable(const std::string& path) {
   struct stat st {};
   return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), R_OK) == 0;
@@ -95,6 +100,14 @@ Lookup find_model_file(const std::string& name) {
   if (!dir.empty())
     first_of(l, {dir + "/" + kBuildData + "/models/" + name, dir + "/" NLSOFT_BIN_TO_DATA "/models/" + name},
              &readable);
+  return l;
+}
+
+Lookup find_rigs_dir() {
+  const std::string dir = exe_dir();
+  Lookup l;
+  if (const char* e = env("NLSOFT_RIGS")) first_of(l, {e}, &directory);
+  if (!dir.empty()) first_of(l, {dir + "/" + kBuildData + "/rigs", dir + "/" NLSOFT_BIN_TO_DATA "/rigs"}, &directory);
   return l;
 }
 

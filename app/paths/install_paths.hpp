@@ -10,6 +10,7 @@
 //   simulator        <build>/firmware/                 libexec/nlsoft/
 //   images           <build>/firmware/{m4,stm32f4}/    share/nlsoft/firmware/{m4,stm32f4}/
 //   models           <build>/share/nlsoft/models/      share/nlsoft/models/
+//   rig files        <build>/share/nlsoft/rigs/        share/nlsoft/rigs/
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ Lookup find_image_file(const std::string& rel);
 // A shipped model, `name` as in "hasel.nlsm": in $NLSOFT_MODELS, then the
 // build tree's and the install prefix's share/nlsoft/models/.
 Lookup find_model_file(const std::string& name);
+
+// The shipped rig files' folder: $NLSOFT_RIGS, then the build tree's and the
+// install prefix's share/nlsoft/rigs/.
+Lookup find_rigs_dir();
 
 // `name` in a folder of $PATH, or empty.
 std::string find_on_path(const std::string& name);

@@ -9,8 +9,10 @@
 
 namespace nlsoft::console {
 
-// hasel 23.0 x 20.2 x 19.2 mm and tendon 40.4 x 28.3 x 35.0 mm (the paper's
-// rigs); msd 2 m (the largest step of its task). Empty for another platform.
+// The `span` of each [[output]] of the installed rig file of that name
+// (rigs/hasel.toml: 23.0 x 20.2 x 19.2 mm, tendon 40.4 x 28.3 x 35.0 mm, the
+// paper's; msd 2 m, the largest step of its task). Empty for a platform
+// without one.
 std::vector<double> task_space(const std::string& platform);
 
 }  // namespace nlsoft::console

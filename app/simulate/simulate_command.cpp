@@ -14,9 +14,11 @@
 #include "app/simulate/model_loader.hpp"
 #include "app/simulate/param_args.hpp"
 #include "app/progress_bar.hpp"
+#include "app/paths/install_paths.hpp"
 #include "app/reference_names.hpp"
-#include "shared/platform.hpp"
-#include "shared/sim_plant.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_firmware.hpp"
+#include "app/rig/rig_params.hpp"
 
 namespace nlsoft::console {
 
@@ -54,47 +56,57 @@ void write_trace_csv(const std::string& path, const Trace& t) {
 }
 
 int run_simulate(const SimulateOptions& o) {
-  PlatformId platform;
-  if (!platform_from_name(o.platform.c_str(), &platform))
-    throw CliError(fmt::format("unknown platform '{}'; known: msd, hasel, tendon", o.platform));
-  const std::string ref_name = o.reference.empty() ? default_reference(platform) : o.reference;
+  // The rig by name or file: its plant, controller defaults, references,
+  // model and rate.
+  const Rig rig = load_rig_arg(o.platform);
+  const PlatformId platform = simulated_plant(rig, "simulate");
+  const std::string ref_name = o.reference.empty() ? default_reference(rig) : o.reference;
 
   LoopSetup setup;
   setup.platform = platform;
-  setup.reference = reference_preset(platform, ref_name);
+  setup.reference = reference_preset(rig, ref_name);
   setup.seed = o.seed;
   if (o.controller == "pid")
     setup.controller = ControllerKind::Pid;
   else if (o.controller != "mpc")
     throw CliError(fmt::format("unknown controller '{}'; use mpc or pid", o.controller));
 
-  const Preset& pr = preset(platform);
-  if (preset_params(pr, setup.params) != Status::Ok) throw CliError("preset does not fit this build");
-  SimPlant plant;
-  plant.select(platform);
-  plant.input_limits(setup.params.u_min, setup.params.u_max);
+  if (rig_params(rig, setup.params) != Status::Ok)
+    throw CliError(fmt::format("rig '{}' ({}): m = {}, n = {}, N = {}, Nc = {} exceed the console's controller "
+                               "(m <= {}, n <= {}, N <= {}, Nc <= {})",
+                               rig.name, rig.file, rig.m(), rig.n(), rig.controller.N, rig.controller.Nc,
+                               HostCapacity::m, HostCapacity::n, HostCapacity::N, HostCapacity::Nc));
   if (o.mode == "fd")
     setup.params.mode = DerivMode::Fd;
   else if (o.mode != "exact")
     throw CliError(fmt::format("unknown derivative mode '{}'; use exact or fd", o.mode));
   std::vector<ParamWrite> writes;
   for (const std::string& s : o.sets) writes.push_back(parse_param_write(s));
-  apply_param_writes(setup.params, writes, pr.m, pr.n);
+  apply_param_writes(setup.params, writes, rig.m(), rig.n());
 
   auto model = std::make_unique<LoadedModel>();
   if (setup.controller == ControllerKind::Mpc) {
-    std::string path = o.model.empty() ? default_model_path(platform) : o.model;
-    if (path.empty())
-      throw CliError(fmt::format("no model for '{}'; looked in:{}\npass --model FILE (a model file from "
-                                 "`nlsoft-console train`) or set NLSOFT_MODELS",
-                                 o.platform, default_model_places(platform)));
+    std::string path = o.model;
+    if (path.empty()) {
+      if (rig.model.file.empty())
+        throw CliError(fmt::format("rig '{}' ({}) names no [model] file; pass --model FILE (a model file from "
+                                   "`nlsoft-console train`)",
+                                   rig.name, rig.file));
+      const Lookup found = find_model_file(rig.model.file);
+      if (found.found.empty())
+        throw CliError(fmt::format("no model for '{}'; looked in:{}\npass --model FILE (a model file from "
+                                   "`nlsoft-console train`) or set NLSOFT_MODELS",
+                                   o.platform, found.tried_lines()));
+      path = found.found;
+    }
     load_model(path, *model);
     setup.model = &model->model;
   }
 
+  const float rate_hz = float(rig.rate_hz);
   const uint32_t len = reference_length(setup.reference);
-  setup.steps = o.steps > 0 ? o.steps : (len > 0 ? long(len) : long(20.0f * pr.rate_hz));
-  setup.settle_steps = long(2.0f * pr.rate_hz);
+  setup.steps = o.steps > 0 ? o.steps : (len > 0 ? long(len) : long(20.0f * rate_hz));
+  setup.settle_steps = long(2.0f * rate_hz);
 
   Trace t;
   {
@@ -175,16 +187,19 @@ void add_simulate_command(CLI::App& app) {
       "Examples:\n"
       "  nlsoft-console simulate --platform hasel                 (Swirl, default model)\n"
       "  nlsoft-console simulate --platform msd --controller pid  (the paper's baseline)\n"
-      "  nlsoft-console simulate --platform tendon --set Q=0,5e3,2e3 --mode fd --json");
-  sub->add_option("--platform", o->platform, "msd, hasel or tendon")->capture_default_str();
+      "  nlsoft-console simulate --platform tendon --set Q=0,5e3,2e3 --mode fd --json\n"
+      "  nlsoft-console simulate --rig my-hasel.toml              (a rig file: docs/rig-file.md)");
+  sub->add_option("--platform,--rig", o->platform, "the rig: " + rig_arg_help() + "; it needs a [plant]")
+      ->check(rig_arg_validator())
+      ->capture_default_str();
   sub->add_option("--reference", o->reference,
-                  "infinity, pringle, diagonal, swirl, steps or hold (default: the platform's paper task)");
+                  "infinity, pringle, diagonal, swirl, steps or hold (default: the rig's [reference] kind)");
   sub->add_option("--controller", o->controller, "mpc or pid (pid: msd only)")->capture_default_str();
   sub->add_option("--mode", o->mode, "derivatives: exact (chain rule) or fd (central differences)")
       ->capture_default_str();
   sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)");
   sub->add_option("--set", o->sets, "override a parameter, NAME=V[,V...], e.g. --set Q=1e6,2e6,1e6 (repeatable)");
-  sub->add_option("--model", o->model, "model file (default: the shipped model of the platform)");
+  sub->add_option("--model", o->model, "model file (default: the rig's [model] file, among the shipped models)");
   sub->add_option("--csv", o->csv, "also write the whole trace to this CSV file");
   sub->add_option("--seed", o->seed, "plant noise seed")->capture_default_str();
   sub->add_flag("--json", o->json, "print one JSON object instead of the table");

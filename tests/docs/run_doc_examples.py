@@ -8,7 +8,9 @@ left out and `a|b|c` takes its first choice. Examples run in document order
 in one scratch folder whose recording database is private ($XDG_DATA_HOME),
 so `runs show 12` finds the runs recorded before it. Fixtures a reader would
 have made first (a script named tune.nls, a dozen recorded runs) are made
-here and named in the output.
+here and named in the output; a fenced `toml` block whose first line is
+`# file: NAME.toml` is written to NAME.toml first, so the examples check
+the very rig file the document shows.
 
 A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
@@ -29,7 +31,22 @@ import sys
 import tempfile
 import time
 
-SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports"}
+SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig"}
+
+
+def toml_files(path):
+    """The fenced toml blocks that name their file: {NAME.toml: text}."""
+    files, block, inside = {}, None, False
+    with open(path, encoding="utf-8") as f:
+        for line in f:
+            if line.startswith("```"):
+                if inside and block and block[0].startswith("# file: "):
+                    files[block[0][len("# file: "):].strip()] = "".join(block)
+                inside, block = line.strip() == "```toml", []
+                continue
+            if inside:
+                block.append(line)
+    return files
 
 
 def examples(path):
@@ -142,6 +159,11 @@ def main():
             print(out)
             return 1
 
+        for doc in a.docs:
+            for name, text in toml_files(doc).items():
+                with open(os.path.join(work, name), "w") as f:
+                    f.write(text)
+                print(f"fixture: {name} from {os.path.basename(doc)}")
         for doc in a.docs:
             for where, text in examples(doc):
                 cmd = resolve(text)

@@ -30,11 +30,13 @@ complete_is() {
   fi
 }
 
+# The console on PATH, as installed: the completion asks it for the rigs.
+PATH=$(dirname "$console"):$PATH
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db"
 
-complete_is "conformance dataset flash model ports runs simulate train tune" nlsoft-console ""
+complete_is "conformance dataset flash model ports rig runs simulate train tune" nlsoft-console ""
 complete_is "ports" nlsoft-console po
 complete_is "--json" nlsoft-console ports --j
 complete_is "simulate" nlsoft-console si
@@ -50,6 +52,9 @@ complete_is "label list" nlsoft-console runs l
 complete_is "compare" nlsoft-console --db runs.db runs c
 complete_is "--json" nlsoft-console runs show 12 --j
 complete_is "codegen eval import info" nlsoft-console model ""
+complete_is "check list" nlsoft-console rig ""
+complete_is "hasel" nlsoft-console rig check ha
+complete_is "--json" nlsoft-console rig check hasel --j
 complete_is "Lambda=" nlsoft-console simulate --set La
 complete_is "N1= N= Nc=" nlsoft-console simulate --set N
 complete_is "nr_max_iter= nr_tol=" nlsoft-console simulate --set nr
@@ -71,12 +76,15 @@ complete_is "$want" nlsoft-console simulate --set ""
 
 # The word lists against --help: each command's subcommands and options.
 # CLI11 lists subcommands under "Subcommands:" at an indent of two, and
-# options under "Options:" as "  --name" or "  -h,--help".
+# options under "Options:" as "  --name", "  -h,--help" or "  --name,--alias".
 help_words() {
   "$console" "$@" --help 2>&1 | awk '
     /^[^ ]/ { section = $0; next }
     section == "Subcommands:" && /^  [a-z]/ { print $1 }
-    section == "Options:" && /^  +(-[a-z], *)?--/ { sub(/^ +(-[a-z], *)?/, ""); sub(/[ :=].*/, ""); print }'
+    section == "Options:" && /^  +(-[a-z], *)?--/ {
+      sub(/^ +(-[a-z], *)?/, ""); sub(/[ :=].*/, "")
+      n = split($0, names, ","); for (i = 1; i <= n; i++) print names[i]  # aliases: --platform,--rig
+    }'
 }
 check_against_help() {
   local typed=("$@")
@@ -97,9 +105,10 @@ check_against_help() {
   done
 }
 check_against_help nlsoft-console
-for c in simulate conformance flash dataset train tune runs model ports; do check_against_help nlsoft-console "$c"; done
+for c in simulate conformance flash dataset train tune runs model ports rig; do check_against_help nlsoft-console "$c"; done
 for c in list show export compare plot label delete; do check_against_help nlsoft-console runs "$c"; done
 for c in import eval info codegen; do check_against_help nlsoft-console model "$c"; done
+for c in check list; do check_against_help nlsoft-console rig "$c"; done
 
 [ "$(help_words | wc -l)" -gt 10 ] || { echo "FAIL: could not read the console's --help"; failures=$((failures + 1)); }
 if [ $failures -gt 0 ]; then

@@ -36,6 +36,7 @@ dpkg-deb -I "$deb"
 
 dpkg-deb -c "$deb" | awk '{print $NF}' >"$work/files"
 for f in ./usr/bin/nlsoft-console ./usr/libexec/nlsoft/nlsoft-firmware-sim ./usr/share/nlsoft/models/hasel.nlsm \
+  ./usr/share/nlsoft/rigs/hasel.toml \
   ./usr/share/doc/nlsoft/README.md ./usr/share/bash-completion/completions/nlsoft-console; do
   grep -qxF "$f" "$work/files" || fail "$f not in the package"
 done

@@ -11,7 +11,7 @@ expect_error() {  # expect_error "pattern" args...
     echo "FAIL: '$*' gave rc=$rc: $out"; fail=1
   fi
 }
-expect_error "unknown platform 'nope'" simulate --platform nope
+expect_error "unknown rig 'nope'; rigs in" simulate --platform nope
 expect_error "Q takes 1 value" simulate --platform msd --set Q=1,2
 expect_error "Q\[0\] = -1 is out of range" simulate --platform msd --set Q=-1
 expect_error "unknown parameter 'Qx'" simulate --platform msd --set Qx=1

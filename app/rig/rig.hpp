@@ -1,0 +1,127 @@
+#pragma once
+// A rig as data: everything that makes hasel a hasel (dimensions, rate,
+// actuator limits, outputs and their task space, sensors and their pins,
+// controller defaults, model shape, simulated stand-in, default reference),
+// read from a TOML rig file (docs/rig-file.md). A plain value: rig_loader.cpp
+// alone reads TOML, everything else takes a `const Rig&`.
+#include <array>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "shared/params.hpp"
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+// What a rig file may describe. The loader refuses more; the controllers the
+// console and the firmware build today hold less (HostCapacity: n <= 3,
+// w <= 24), and each says so when handed a rig that does not fit.
+struct RigCapacity {
+  static constexpr int m = 8, n = 6, w = 32, nd = 4;
+  // The horizons the console's controller holds (HostCapacity).
+  static constexpr int N = HostCapacity::N, Nc = HostCapacity::Nc;
+};
+
+// A bad rig file: the message starts with "file:line: " and names the key.
+struct RigError : std::runtime_error {
+  RigError(const std::string& message, std::string in_file, int at_line, std::string at_key)
+      : std::runtime_error(message), file(std::move(in_file)), line(at_line), key(std::move(at_key)) {}
+  std::string file;
+  int line;
+  std::string key;
+};
+
+struct RigInput {
+  std::string name, unit;
+  double min = 0, max = 0, neutral = 0;
+  std::string pwm;  // the board's PWM pin ("PC6"); empty when not wired
+};
+
+// How an output reaches the console: an ADC channel on the board, an
+// external observer (a position sensor on the plant, the simulator), or
+// not at all (the controller runs on its own predictions).
+enum class OutputSource { None, Adc, External };
+// Where a sensor channel is read: an ADC channel on the board, or nowhere on
+// this board (declared so the network input keeps its place; reads 0).
+enum class SensorSource { None, Adc };
+
+struct RigOutput {
+  std::string name, unit;
+  double min = 0, max = 0;  // where the output can be (the plant's reach)
+  double span = 0;          // the task space's extent: tracking errors are relative to it
+  OutputSource source = OutputSource::None;
+  int adc = -1;
+  double gain = 1, offset = 0;
+};
+
+struct RigSensor {
+  std::string name, unit;
+  SensorSource source = SensorSource::None;
+  int adc = -1;  // ADC1 channel
+  double gain = 1, offset = 0;  // value = offset + gain * volts
+};
+
+// The controller's defaults, as PARAM_SET would hold them.
+struct RigController {
+  std::vector<double> Q, Lambda;
+  double s = 0, b = 0, r = 1, eps = 1e-3, nr_tol = 1e-4;
+  int N = 1, N1 = 1, Nc = 1, nr_max_iter = 3;
+  DerivMode mode = DerivMode::Exact;
+  Feedback feedback = Feedback::Predicted;
+};
+
+struct RigLayer {
+  std::string kind;  // "dense" or "gru"
+  int units = 0;
+  std::string activation;  // dense: relu, tanh, sigmoid, linear; gru: empty
+};
+
+struct RigModel {
+  std::string file;  // a shipped model ("hasel.nlsm"); empty: none named
+  std::vector<RigLayer> layers;
+};
+
+struct RigPlant {
+  std::string kind;  // a simulated plant the console carries; empty: none
+  int line = 0;
+};
+
+// The default task and the reference paths' geometry (shared/reference.hpp).
+struct RigReference {
+  RefKind kind = RefKind::Infinity;
+  std::array<double, 3> centre{}, amplitude{}, pringle_amplitude{}, swirl_centre{};
+  double swirl_scale = 1;
+  std::vector<double> step_levels;
+};
+
+struct Rig {
+  std::string file;  // as given to load_rig
+  std::string name, description;
+  double rate_hz = 0;
+  int nd = 0, dd = 0;
+  std::string board;
+  std::vector<RigInput> inputs;
+  std::vector<RigOutput> outputs;
+  std::vector<RigSensor> sensors;
+  RigController controller;
+  RigModel model;
+  RigPlant plant;
+  RigReference reference;
+
+  int m() const { return int(inputs.size()); }
+  int n() const { return int(outputs.size()); }
+  int w() const { return int(sensors.size()); }
+};
+
+// Reads and validates a rig file; throws RigError naming the file, the line
+// and the key of the first fault.
+Rig load_rig(const std::string& path);
+// The same from text; `file` names it in errors.
+Rig parse_rig(const std::string& text, const std::string& file);
+
+// Lower-case names as rig files write them.
+const char* output_source_name(OutputSource s);
+const char* sensor_source_name(SensorSource s);
+
+}  // namespace nlsoft::console

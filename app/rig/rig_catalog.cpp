@@ -1,0 +1,80 @@
+#include "app/rig/rig_catalog.hpp"
+
+#include <algorithm>
+#include <filesystem>
+
+#include "app/cli_error.hpp"
+#include "app/paths/install_paths.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+bool names_a_file(const std::string& arg) {
+  return arg.find('/') != std::string::npos ||
+         (arg.size() > 5 && arg.compare(arg.size() - 5, 5, ".toml") == 0);
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const std::string& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> rig_names() {
+  const Lookup dir = find_rigs_dir();
+  std::vector<std::string> names;
+  if (dir.found.empty()) return names;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir.found, ec))
+    if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+std::string rig_path(const std::string& arg) {
+  if (names_a_file(arg)) {
+    if (!std::filesystem::is_regular_file(arg)) throw CliError("rig file '" + arg + "' does not exist");
+    return arg;
+  }
+  const Lookup dir = find_rigs_dir();
+  if (dir.found.empty())
+    throw CliError("unknown rig '" + arg + "': no rigs folder found; looked in:" + dir.tried_lines() +
+                   "\n(give a rig file's path, or set NLSOFT_RIGS)");
+  const std::string path = dir.found + "/" + arg + ".toml";
+  if (!std::filesystem::is_regular_file(path))
+    throw CliError("unknown rig '" + arg + "'; rigs in " + dir.found + ": " + joined(rig_names()) +
+                   " (or give a rig file's path)");
+  return path;
+}
+
+Rig load_rig_arg(const std::string& arg) {
+  const std::string path = rig_path(arg);
+  try {
+    return load_rig(path);
+  } catch (const RigError& e) {
+    throw CliError(e.what());
+  }
+}
+
+CLI::Validator rig_arg_validator() {
+  return CLI::Validator(
+      [](std::string& arg) -> std::string {
+        try {
+          rig_path(arg);
+        } catch (const CliError& e) {
+          return e.what();
+        }
+        return {};
+      },
+      "RIG");
+}
+
+std::string rig_arg_help() {
+  const std::vector<std::string> names = rig_names();
+  return "NAME|PATH" + (names.empty() ? std::string() : " (" + joined(names) + ")");
+}
+
+}  // namespace nlsoft::console

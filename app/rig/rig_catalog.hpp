@@ -1,0 +1,32 @@
+#pragma once
+// Rigs by name or path: `--rig hasel` is the shipped rigs folder's
+// hasel.toml (app/paths: $NLSOFT_RIGS, the build tree, the install prefix),
+// `--rig my.toml` or `--rig ./lab/arm.toml` a file.
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+#include "app/rig/rig.hpp"
+
+namespace nlsoft::console {
+
+// The shipped rigs' names, sorted; empty when the folder is missing.
+std::vector<std::string> rig_names();
+
+// A file for `arg`: a path when it names one (holds '/' or ends in .toml),
+// else the rigs folder's <arg>.toml. Throws CliError (exit 2) listing the
+// names, or the folders looked in.
+std::string rig_path(const std::string& arg);
+
+// rig_path then load_rig; a bad file is a CliError with the loader's
+// file:line message.
+Rig load_rig_arg(const std::string& arg);
+
+// For CLI options taking NAME|PATH: refuses what rig_path refuses, with its
+// message, before the command runs.
+CLI::Validator rig_arg_validator();
+
+// "NAME|PATH (hasel, msd, tendon)" for option help.
+std::string rig_arg_help();
+
+}  // namespace nlsoft::console

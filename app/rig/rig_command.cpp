@@ -1,0 +1,154 @@
+#include "app/rig/rig_command.hpp"
+
+#include <fmt/format.h>
+
+#include <nlohmann/json.hpp>
+
+#include "app/cli_error.hpp"
+#include "app/rig/rig_catalog.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+const char* ref_kind_name(RefKind k) {
+  switch (k) {
+    case RefKind::Infinity: return "infinity";
+    case RefKind::Pringle: return "pringle";
+    case RefKind::Diagonal: return "diagonal";
+    case RefKind::Swirl: return "swirl";
+    case RefKind::Step: return "steps";
+    default: return "?";
+  }
+}
+
+nlohmann::json to_json(const Rig& r) {
+  using nlohmann::json;
+  json j;
+  j["file"] = r.file;
+  j["name"] = r.name;
+  j["description"] = r.description;
+  j["rate_hz"] = r.rate_hz;
+  j["nd"] = r.nd;
+  j["dd"] = r.dd;
+  j["board"] = r.board;
+  j["m"] = r.m();
+  j["n"] = r.n();
+  j["w"] = r.w();
+  j["inputs"] = json::array();
+  for (const RigInput& i : r.inputs)
+    j["inputs"].push_back({{"name", i.name}, {"unit", i.unit}, {"min", i.min}, {"max", i.max}, {"neutral", i.neutral},
+                           {"pwm", i.pwm}});
+  j["outputs"] = json::array();
+  for (const RigOutput& o : r.outputs) {
+    json e = {{"name", o.name}, {"unit", o.unit}, {"min", o.min}, {"max", o.max}, {"span", o.span},
+              {"source", output_source_name(o.source)}};
+    if (o.source == OutputSource::Adc) e["adc"] = o.adc, e["gain"] = o.gain, e["offset"] = o.offset;
+    j["outputs"].push_back(e);
+  }
+  j["sensors"] = json::array();
+  for (const RigSensor& s : r.sensors) {
+    json e = {{"name", s.name}, {"unit", s.unit}, {"source", sensor_source_name(s.source)}};
+    if (s.source == SensorSource::Adc) e["adc"] = s.adc, e["gain"] = s.gain, e["offset"] = s.offset;
+    j["sensors"].push_back(e);
+  }
+  const RigController& c = r.controller;
+  j["controller"] = {{"Q", c.Q},     {"Lambda", c.Lambda}, {"s", c.s},         {"b", c.b},
+                     {"r", c.r},     {"N", c.N},           {"N1", c.N1},       {"Nc", c.Nc},
+                     {"eps", c.eps}, {"nr_tol", c.nr_tol}, {"nr_max_iter", c.nr_max_iter},
+                     {"mode", c.mode == DerivMode::Fd ? "fd" : "exact"},
+                     {"feedback", c.feedback == Feedback::Measured ? "measured" : "predicted"}};
+  json layers = json::array();
+  for (const RigLayer& L : r.model.layers) {
+    json e = {{"kind", L.kind}, {"units", L.units}};
+    if (!L.activation.empty()) e["activation"] = L.activation;
+    layers.push_back(e);
+  }
+  j["model"] = {{"file", r.model.file}, {"layers", layers}};
+  j["plant"] = r.plant.kind.empty() ? json(nullptr) : json(r.plant.kind);
+  const RigReference& g = r.reference;
+  j["reference"] = {{"kind", ref_kind_name(g.kind)},
+                    {"centre", g.centre},
+                    {"amplitude", g.amplitude},
+                    {"pringle_amplitude", g.pringle_amplitude},
+                    {"swirl_centre", g.swirl_centre},
+                    {"swirl_scale", g.swirl_scale},
+                    {"step_levels", g.step_levels}};
+  return j;
+}
+
+std::string unit(const std::string& u) { return u.empty() ? "" : " " + u; }
+
+void print_summary(const Rig& r) {
+  fmt::print("{}: rig '{}'{}\n", r.file, r.name, r.description.empty() ? "" : " - " + r.description);
+  fmt::print("  {} Hz, nd = dd = {}, board {}\n", r.rate_hz, r.nd, r.board);
+  fmt::print("  m = {} inputs:\n", r.m());
+  for (const RigInput& i : r.inputs)
+    fmt::print("    {:<10} [{}, {}]{}, neutral {}{}\n", i.name, i.min, i.max, unit(i.unit), i.neutral,
+               i.pwm.empty() ? ", not wired" : ", PWM " + i.pwm);
+  fmt::print("  n = {} outputs:\n", r.n());
+  for (const RigOutput& o : r.outputs)
+    fmt::print("    {:<10} [{}, {}]{}, span {}, {}\n", o.name, o.min, o.max, unit(o.unit), o.span,
+               o.source == OutputSource::Adc ? fmt::format("ADC1 channel {}", o.adc)
+               : o.source == OutputSource::External ? std::string("measured outside the board")
+                                                    : std::string("predicted only"));
+  int adc = 0;
+  std::string unwired;
+  for (const RigSensor& s : r.sensors) {
+    if (s.source == SensorSource::Adc) ++adc;
+    else unwired += (unwired.empty() ? "" : ", ") + s.name;
+  }
+  fmt::print("  w = {} sensors: {} on ADC1{}\n", r.w(), adc, unwired.empty() ? "" : ", not wired: " + unwired);
+  const RigController& c = r.controller;
+  fmt::print("  controller: N {}, Nc {}, s {}, b {}, r {}, eps {}, {}, feedback {}\n", c.N, c.Nc, c.s, c.b, c.r, c.eps,
+             c.mode == DerivMode::Fd ? "fd" : "exact", c.feedback == Feedback::Measured ? "measured" : "predicted");
+  std::string layers;
+  for (const RigLayer& L : r.model.layers)
+    layers += (layers.empty() ? "" : " -> ") + L.kind + " " + std::to_string(L.units) +
+              (L.activation.empty() ? "" : " " + L.activation);
+  fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : r.model.file,
+             layers.empty() ? "" : " (" + layers + ")");
+  fmt::print("  simulated plant: {}\n", r.plant.kind.empty() ? "none" : r.plant.kind);
+  fmt::print("  default reference: {}\n", ref_kind_name(r.reference.kind));
+}
+
+}  // namespace
+
+void add_rig_command(CLI::App& app) {
+  CLI::App* rig = app.add_subcommand("rig", "Rig files (docs/rig-file.md): check one, list the shipped ones");
+  rig->require_subcommand(1);
+
+  struct CheckOptions {
+    std::string rig;
+    bool json = false;
+  };
+  auto check_opts = std::make_shared<CheckOptions>();
+  CLI::App* check = rig->add_subcommand(
+      "check", "Load and validate a rig file; print what it describes (exit 2 and file:line: key on a fault)");
+  check->add_option("rig", check_opts->rig, "rig file, or a shipped rig's name: " + rig_arg_help())->required();
+  check->add_flag("--json", check_opts->json, "the loaded rig as JSON on stdout");
+  check->callback([check_opts] {
+    const Rig r = load_rig_arg(check_opts->rig);
+    if (check_opts->json)
+      fmt::print("{}\n", to_json(r).dump(2));
+    else
+      print_summary(r);
+  });
+
+  auto list_json = std::make_shared<bool>(false);
+  CLI::App* list = rig->add_subcommand("list", "The shipped rigs (the names --rig, --sim and --platform take)");
+  list->add_flag("--json", *list_json, "as JSON: [{name, file}]");
+  list->callback([list_json] {
+    nlohmann::json j = nlohmann::json::array();
+    for (const std::string& n : rig_names()) {
+      const std::string path = rig_path(n);
+      if (*list_json)
+        j.push_back({{"name", n}, {"file", path}});
+      else
+        fmt::print("{:<10} {}\n", n, path);
+    }
+    if (*list_json) fmt::print("{}\n", j.dump(2));
+  });
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,619 @@
+// The one reader of rig files: TOML in, a validated Rig out. The only file
+// that includes toml++; every error names the file, the line and the key.
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "app/model/model_store.hpp"
+#include "app/rig/board_pins.hpp"
+#include "app/rig/rig.hpp"
+#include "shared/platform_id.hpp"
+#include "shared/sim_plant.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+std::string join(const std::vector<std::string>& items) {
+  std::string s;
+  for (const std::string& i : items) s += (s.empty() ? "" : ", ") + i;
+  return s;
+}
+
+// Shortest text that reads back as the same double (errors quote values).
+std::string num(double v) {
+  std::ostringstream o;
+  o.precision(15);
+  o << v;
+  return o.str();
+}
+
+// A float bound as the parameter table states it (1e+12, not 999999995904).
+std::string num(float v) {
+  std::ostringstream o;
+  o.precision(7);
+  o << v;
+  return o.str();
+}
+
+int line_of(const toml::node& n) { return int(n.source().begin.line); }
+
+const char* type_name(const toml::node& n) {
+  switch (n.type()) {
+    case toml::node_type::string: return "a string";
+    case toml::node_type::integer: return "an integer";
+    case toml::node_type::floating_point: return "a number";
+    case toml::node_type::boolean: return "a boolean";
+    case toml::node_type::array: return "an array";
+    case toml::node_type::table: return "a table";
+    default: return "a date or time";
+  }
+}
+
+// One table of the file and where it is, with typed getters. Every key it
+// holds must be one of `known` (a misspelt key is an error, not ignored).
+class Section {
+ public:
+  Section(const std::string& file, const toml::table& t, std::string where, int line,
+          std::vector<std::string> known)
+      : file_(file), t_(t), where_(std::move(where)), line_(line), known_(std::move(known)) {
+    for (const auto& [k, v] : t_) {
+      bool ok = false;
+      for (const std::string& n : known_) ok = ok || n == k.str();
+      if (!ok)
+        fail(line_of(v), std::string(k.str()),
+             std::string("unknown ") + (v.is_table() || v.is_array_of_tables() ? "table" : "key") +
+                 " (known: " + join(known_) + ")");
+    }
+  }
+
+  [[noreturn]] void fail(int line, const std::string& key, const std::string& what) const {
+    const std::string label = where_.empty() ? key : (key.empty() ? where_ : where_ + " " + key);
+    throw RigError(file_ + ":" + std::to_string(line) + ": " + label + ": " + what, file_, line, key);
+  }
+
+  bool has(const std::string& key) const { return t_.contains(key); }
+  int line() const { return line_; }
+  int line(const std::string& key) const {
+    const toml::node* n = t_.get(key);
+    return n ? line_of(*n) : line_;
+  }
+  const std::string& where() const { return where_; }
+
+  const toml::node& node(const std::string& key) const {
+    const toml::node* n = t_.get(key);
+    if (!n) fail(line_, key, "missing key");
+    return *n;
+  }
+
+  // Any number as written (integers too), finite or not: the controller's
+  // defaults go to the parameter checks as they are.
+  double raw_number(const std::string& key) const { return as_number(node(key), key); }
+
+  double number(const std::string& key) const {
+    const double v = raw_number(key);
+    if (!std::isfinite(v)) fail(line(key), key, "must be finite, not " + num(v));
+    return v;
+  }
+  double number(const std::string& key, double fallback) const { return has(key) ? number(key) : fallback; }
+  double positive(const std::string& key) const {
+    const double v = number(key);
+    if (!(v > 0)) fail(line(key), key, "must be > 0, not " + num(v));
+    return v;
+  }
+
+  long long integer(const std::string& key, long long lo, long long hi, const std::string& why = "") const {
+    const toml::node& n = node(key);
+    if (!n.is_integer()) fail(line_of(n), key, std::string("expected an integer, got ") + type_name(n));
+    const long long v = n.as_integer()->get();
+    if (v < lo || v > hi)
+      fail(line_of(n), key, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]" + why +
+                                 ", not " + std::to_string(v));
+    return v;
+  }
+
+  std::string text(const std::string& key) const {
+    const toml::node& n = node(key);
+    if (!n.is_string()) fail(line_of(n), key, std::string("expected a string, got ") + type_name(n));
+    return n.as_string()->get();
+  }
+  std::string text(const std::string& key, const std::string& fallback) const {
+    return has(key) ? text(key) : fallback;
+  }
+  // One of `names`; the error lists them.
+  std::string choice(const std::string& key, const std::vector<std::string>& names) const {
+    const std::string v = text(key);
+    for (const std::string& n : names)
+      if (n == v) return v;
+    fail(line(key), key, "'" + v + "' is not one of: " + join(names));
+  }
+
+  const toml::array& array(const std::string& key) const {
+    const toml::node& n = node(key);
+    if (!n.is_array()) fail(line_of(n), key, std::string("expected an array, got ") + type_name(n));
+    return *n.as_array();
+  }
+  // An array of numbers; `finite`: each must be.
+  std::vector<double> numbers(const std::string& key, bool finite = true) const {
+    std::vector<double> out;
+    const toml::array& a = array(key);
+    for (size_t i = 0; i < a.size(); ++i) {
+      const std::string at = key + "[" + std::to_string(i) + "]";
+      const double v = as_number(a[i], at);
+      if (finite && !std::isfinite(v)) fail(line_of(a[i]), at, "must be finite, not " + num(v));
+      out.push_back(v);
+    }
+    return out;
+  }
+  std::array<double, 3> triple(const std::string& key) const {
+    const std::vector<double> v = numbers(key);
+    if (v.size() != 3) fail(line(key), key, "expected 3 numbers, got " + std::to_string(v.size()));
+    return {v[0], v[1], v[2]};
+  }
+  // Line of element i of an array key (arrays may span lines).
+  int element_line(const std::string& key, int i) const {
+    const toml::node* n = t_.get(key);
+    if (n && n->is_array() && i >= 0 && size_t(i) < n->as_array()->size()) return line_of((*n->as_array())[size_t(i)]);
+    return line(key);
+  }
+
+ private:
+  double as_number(const toml::node& n, const std::string& key) const {
+    if (n.is_integer()) return double(n.as_integer()->get());
+    if (n.is_floating_point()) return n.as_floating_point()->get();
+    fail(line_of(n), key, std::string("expected a number, got ") + type_name(n));
+  }
+
+  const std::string& file_;
+  const toml::table& t_;
+  std::string where_;
+  int line_;
+  std::vector<std::string> known_;
+};
+
+// Optional sub-table (`[controller]`) or nullptr.
+const toml::table* sub_table(const Section& root, const toml::table& t, const std::string& key) {
+  const toml::node* n = t.get(key);
+  if (!n) return nullptr;
+  if (!n->is_table()) root.fail(line_of(*n), key, std::string("expected a table [") + key + "], got " + type_name(*n));
+  return n->as_table();
+}
+
+// The tables of `[[key]]`, each with its header line.
+std::vector<const toml::table*> table_array(const Section& root, const toml::table& t, const std::string& key) {
+  std::vector<const toml::table*> out;
+  const toml::node* n = t.get(key);
+  if (!n) return out;
+  if (!n->is_array_of_tables())
+    root.fail(line_of(*n), key, "expected tables [[" + key + "]], got " + type_name(*n));
+  for (const toml::node& e : *n->as_array()) out.push_back(e.as_table());
+  return out;
+}
+
+std::string nth(const std::string& table, size_t i) { return "[[" + table + "]] #" + std::to_string(i + 1); }
+
+// Names label recorded columns and the console's plots: one name, one thing.
+struct NameBook {
+  std::map<std::string, std::pair<std::string, int>> seen;  // name -> (where, line)
+  void add(const Section& s, const std::string& name) {
+    const auto it = seen.find(name);
+    if (it != seen.end())
+      s.fail(s.line("name"), "name",
+             "'" + name + "' is already the name of " + it->second.first + " (line " +
+                 std::to_string(it->second.second) + ")");
+    seen[name] = {s.where(), s.line("name")};
+  }
+};
+
+// Pins and channels used once each, on a board that has them.
+struct PinBook {
+  const BoardPins* board = nullptr;
+  std::string board_name;
+  int board_line = 0;
+  std::map<std::string, std::pair<std::string, int>> used;  // pin -> (where, line)
+
+  void pwm(const Section& s, const std::string& pin) {
+    const std::vector<std::string>& known = board->pwm;
+    bool ok = false;
+    for (const std::string& k : known) ok = ok || k == pin;
+    if (!ok)
+      s.fail(s.line("pwm"), "pwm",
+             "unknown pin '" + pin + "' on board " + board_name + " (PWM pins: " + join(known) + ")");
+    take(s, "pwm", pin);
+  }
+  void adc(const Section& s, int channel) {
+    bool ok = false;
+    std::vector<std::string> known;
+    for (int c : board->adc) {
+      ok = ok || c == channel;
+      known.push_back(std::to_string(c));
+    }
+    if (!ok)
+      s.fail(s.line("adc"), "adc",
+             "unknown pin: ADC1 channel " + std::to_string(channel) + " is not wired on board " + board_name +
+                 " (channels: " + join(known) + ")");
+    take(s, "adc", "ADC1 channel " + std::to_string(channel));
+  }
+  void take(const Section& s, const std::string& key, const std::string& pin) {
+    const auto it = used.find(pin);
+    if (it != used.end())
+      s.fail(s.line(key), key,
+             pin + " is already used by " + it->second.first + " (line " + std::to_string(it->second.second) + ")");
+    used[pin] = {s.where(), s.line(key)};
+  }
+};
+
+// Lines of each input's min and max, for the parameter checks' errors.
+using LimitLines = std::vector<std::array<int, 2>>;
+
+void read_inputs(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
+                 PinBook& pins, LimitLines& lines) {
+  const auto tables = table_array(root, t, "input");
+  for (size_t i = 0; i < tables.size(); ++i) {
+    const Section s(file, *tables[i], nth("input", i), line_of(*tables[i]),
+                    {"name", "unit", "min", "max", "neutral", "pwm"});
+    if (i >= size_t(RigCapacity::m))
+      s.fail(s.line(), "", "over capacity: at most m = " + std::to_string(RigCapacity::m) + " inputs");
+    RigInput in;
+    in.name = s.text("name");
+    names.add(s, in.name);
+    in.unit = s.text("unit", "");
+    in.min = s.number("min");
+    in.max = s.number("max");
+    if (!(in.min < in.max))
+      s.fail(s.line("max"), "max", "must be > min (" + num(in.min) + " at line " + std::to_string(s.line("min")) + ")");
+    in.neutral = s.number("neutral");
+    if (in.neutral < in.min || in.neutral > in.max)
+      s.fail(s.line("neutral"), "neutral",
+             "must lie in [min, max] = [" + num(in.min) + ", " + num(in.max) + "] (lines " +
+                 std::to_string(s.line("min")) + ", " + std::to_string(s.line("max")) + "), not " + num(in.neutral));
+    if (s.has("pwm")) {
+      in.pwm = s.text("pwm");
+      pins.pwm(s, in.pwm);
+    }
+    rig.inputs.push_back(in);
+    lines.push_back({s.line("min"), s.line("max")});
+  }
+  if (rig.inputs.empty())
+    root.fail(root.line(), "[[input]]", "none given: a rig drives 1 to " + std::to_string(RigCapacity::m) +
+                                            " inputs (m = 0)");
+}
+
+// An ADC channel with its scaling: value = offset + gain * volts.
+void read_adc(const Section& s, PinBook& pins, int& adc, double& gain, double& offset) {
+  adc = int(s.integer("adc", 0, 31));
+  pins.adc(s, adc);
+  gain = s.number("gain", 1.0);
+  if (gain == 0.0) s.fail(s.line("gain"), "gain", "must not be 0");
+  offset = s.number("offset", 0.0);
+}
+
+// Keys that only an ADC source has.
+void refuse_adc_keys(const Section& s, const std::string& source) {
+  for (const char* k : {"adc", "gain", "offset"})
+    if (s.has(k)) s.fail(s.line(k), k, "only with source = \"adc\" (source is \"" + source + "\" at line " +
+                                          std::to_string(s.line("source")) + ")");
+}
+
+void read_outputs(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
+                  PinBook& pins) {
+  const auto tables = table_array(root, t, "output");
+  for (size_t i = 0; i < tables.size(); ++i) {
+    const Section s(file, *tables[i], nth("output", i), line_of(*tables[i]),
+                    {"name", "unit", "min", "max", "span", "source", "adc", "gain", "offset"});
+    if (i >= size_t(RigCapacity::n))
+      s.fail(s.line(), "", "over capacity: at most n = " + std::to_string(RigCapacity::n) + " outputs");
+    RigOutput out;
+    out.name = s.text("name");
+    names.add(s, out.name);
+    out.unit = s.text("unit", "");
+    out.min = s.number("min");
+    out.max = s.number("max");
+    if (!(out.min < out.max))
+      s.fail(s.line("max"), "max", "must be > min (" + num(out.min) + " at line " + std::to_string(s.line("min")) + ")");
+    out.span = s.has("span") ? s.positive("span") : out.max - out.min;
+    const std::string source = s.has("source") ? s.choice("source", {"none", "adc", "external"}) : "none";
+    if (source == "adc") {
+      out.source = OutputSource::Adc;
+      read_adc(s, pins, out.adc, out.gain, out.offset);
+    } else {
+      out.source = source == "external" ? OutputSource::External : OutputSource::None;
+      refuse_adc_keys(s, source);
+    }
+    rig.outputs.push_back(out);
+  }
+  if (rig.outputs.empty())
+    root.fail(root.line(), "[[output]]", "none given: a rig controls 1 to " + std::to_string(RigCapacity::n) +
+                                             " outputs (n = 0)");
+}
+
+void read_sensors(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
+                  PinBook& pins) {
+  const auto tables = table_array(root, t, "sensor");
+  for (size_t i = 0; i < tables.size(); ++i) {
+    const Section s(file, *tables[i], nth("sensor", i), line_of(*tables[i]),
+                    {"name", "unit", "source", "adc", "gain", "offset"});
+    if (i >= size_t(RigCapacity::w))
+      s.fail(s.line(), "", "over capacity: at most w = " + std::to_string(RigCapacity::w) + " sensors");
+    RigSensor sen;
+    sen.name = s.text("name");
+    names.add(s, sen.name);
+    sen.unit = s.text("unit", "");
+    const std::string source = s.choice("source", {"adc", "none"});
+    if (source == "adc") {
+      sen.source = SensorSource::Adc;
+      read_adc(s, pins, sen.adc, sen.gain, sen.offset);
+    } else {
+      refuse_adc_keys(s, source);
+    }
+    rig.sensors.push_back(sen);
+  }
+}
+
+// The controller's defaults go through the very checks a PARAM_SET does
+// (shared/params.hpp set_param), in an order where each write is valid on
+// its own (horizons before the control horizon), so the file and the wire
+// refuse the same values.
+void read_controller(const std::string& file, const Section& root, const toml::table& t, Rig& rig,
+                     const LimitLines& limit_lines) {
+  const toml::table* ct = sub_table(root, t, "controller");
+  if (!ct) root.fail(root.line(), "[controller]", "missing table (the controller's defaults: Q, Lambda, s, b, r, N, Nc, eps)");
+  const Section s(file, *ct, "[controller]", line_of(*ct),
+                  {"Q", "Lambda", "s", "b", "r", "N", "N1", "Nc", "eps", "nr_tol", "nr_max_iter", "mode", "feedback"});
+  const int m = rig.m(), n = rig.n();
+  Params<RigCapacity> P;
+  // u_min/u_max come from the [[input]] tables (already min < max).
+  for (int i = 0; i < m; ++i) P.u_max[i] = kParamTable[uint8_t(ParamId::UMax)].max;
+  auto set = [&](ParamId id, const std::vector<double>& v, const std::string& key, const Section& at,
+                 const std::string& count_why) {
+    const ParamDesc& d = kParamTable[uint8_t(id)];
+    std::vector<float> f(v.begin(), v.end());
+    const ParamResult r = set_param(P, id, f.data(), int(f.size()), m, n);
+    if (r.status == Status::Ok) return;
+    const bool per = d.size != ParamSize::Scalar;
+    const std::string k = per && r.index >= 0 ? key + "[" + std::to_string(r.index) + "]" : key;
+    const int line = per ? at.element_line(key, r.index) : at.line(key);
+    const double x = r.index >= 0 && size_t(r.index) < v.size() ? v[size_t(r.index)] : (v.empty() ? 0 : v[0]);
+    switch (r.status) {
+      case Status::WrongSize:
+        at.fail(at.line(key), key,
+                "expects " + std::to_string(param_count(d, m, n)) + " values " + count_why + ", got " +
+                    std::to_string(v.size()));
+      case Status::NotFinite: at.fail(line, k, "must be finite, not " + num(x));
+      case Status::OutOfRange:
+        at.fail(line, k,
+                "out of range: " + num(x) + " is not in [" + num(d.min) + ", " + num(d.max) + "]" +
+                    (d.type == ParamType::F32 ? "" : ", a whole number") + " (the range PARAM_SET accepts)");
+      case Status::TooLarge:
+        at.fail(line, k,
+                "over capacity: " + num(x) + " exceeds the controller's " +
+                    (id == ParamId::N ? "N <= " + std::to_string(RigCapacity::N)
+                                      : "Nc <= " + std::to_string(RigCapacity::Nc)));
+      case Status::Inconsistent:
+        if (id == ParamId::Nc || id == ParamId::N1)
+          at.fail(line, k, "must be <= N (" + std::to_string(int(P.N)) + " at line " + std::to_string(s.line("N")) + ")");
+        if (id == ParamId::N)
+          at.fail(line, k, "must be >= Nc and N1 (" + std::to_string(int(P.Nc)) + ", " + std::to_string(int(P.N1)) + ")");
+        at.fail(line, k, "must keep every input's min < max");
+      default: at.fail(line, k, std::string("refused (") + status_name(r.status) + ")");
+    }
+  };
+
+  // The input limits, element by element from their own tables.
+  {
+    std::vector<double> lo, hi;
+    for (const RigInput& in : rig.inputs) lo.push_back(in.min), hi.push_back(in.max);
+    const ParamResult a = set_param(P, ParamId::UMin, std::vector<float>(lo.begin(), lo.end()).data(), m, m, n);
+    const ParamResult b = a.status == Status::Ok
+                              ? set_param(P, ParamId::UMax, std::vector<float>(hi.begin(), hi.end()).data(), m, m, n)
+                              : a;
+    if (b.status != Status::Ok) {
+      const ParamDesc& d = kParamTable[uint8_t(ParamId::UMin)];
+      const int i = b.index < 0 ? 0 : b.index;
+      const std::string key = a.status != Status::Ok ? "min" : "max";
+      const double x = key == "min" ? lo[size_t(i)] : hi[size_t(i)];
+      const int line = limit_lines[size_t(i)][key == "min" ? 0 : 1];
+      throw RigError(file + ":" + std::to_string(line) + ": [[input]] #" + std::to_string(i + 1) + " " + key +
+                         ": out of range: " + num(x) + " is not in [" + num(d.min) + ", " + num(d.max) +
+                         "] (the range PARAM_SET accepts)",
+                     file, line, key);
+    }
+  }
+
+  const std::string per_out = "(one per [[output]])", per_in = "(one per [[input]])";
+  RigController& c = rig.controller;
+  c.Q = s.numbers("Q", false);
+  set(ParamId::Q, c.Q, "Q", s, per_out);
+  c.Lambda = s.numbers("Lambda", false);
+  set(ParamId::Lambda, c.Lambda, "Lambda", s, per_in);
+  c.s = s.raw_number("s");
+  set(ParamId::S, {c.s}, "s", s, "");
+  c.b = s.raw_number("b");
+  set(ParamId::B, {c.b}, "b", s, "");
+  c.r = s.raw_number("r");
+  set(ParamId::R, {c.r}, "r", s, "");
+  c.N = int(s.integer("N", 1, 255));
+  set(ParamId::N, {double(c.N)}, "N", s, "");
+  if (s.has("N1")) c.N1 = int(s.integer("N1", 1, 255));
+  set(ParamId::N1, {double(c.N1)}, "N1", s, "");
+  c.Nc = int(s.integer("Nc", 1, 255));
+  set(ParamId::Nc, {double(c.Nc)}, "Nc", s, "");
+  c.eps = s.raw_number("eps");
+  set(ParamId::Eps, {c.eps}, "eps", s, "");
+  if (s.has("nr_tol")) c.nr_tol = s.raw_number("nr_tol");
+  set(ParamId::NrTol, {c.nr_tol}, "nr_tol", s, "");
+  if (s.has("nr_max_iter")) c.nr_max_iter = int(s.integer("nr_max_iter", 0, 255));
+  set(ParamId::NrMaxIter, {double(c.nr_max_iter)}, "nr_max_iter", s, "");
+  if (s.has("mode")) c.mode = s.choice("mode", {"exact", "fd"}) == "fd" ? DerivMode::Fd : DerivMode::Exact;
+  set(ParamId::Mode, {double(uint8_t(c.mode))}, "mode", s, "");
+  if (s.has("feedback"))
+    c.feedback = s.choice("feedback", {"predicted", "measured"}) == "measured" ? Feedback::Measured : Feedback::Predicted;
+  set(ParamId::Feedback, {double(uint8_t(c.feedback))}, "feedback", s, "");
+}
+
+void read_model(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
+  const toml::table* mt = sub_table(root, t, "model");
+  if (!mt) return;
+  const Section s(file, *mt, "[model]", line_of(*mt), {"file", "layer"});
+  rig.model.file = s.text("file", "");
+  const auto layers = table_array(s, *mt, "layer");
+  for (size_t i = 0; i < layers.size(); ++i) {
+    const Section l(file, *layers[i], nth("model.layer", i), line_of(*layers[i]), {"kind", "units", "activation"});
+    if (i >= size_t(HostCapacity::layers))
+      l.fail(l.line(), "", "over capacity: at most " + std::to_string(HostCapacity::layers) + " layers");
+    RigLayer L;
+    L.kind = l.choice("kind", {"dense", "gru"});
+    // A GRU's gates are 3 x units wide; the widest layer the console holds.
+    const int cols = L.kind == "gru" ? 3 : 1;
+    L.units = int(l.integer("units", 1, HostCapacity::width / cols,
+                            cols == 3 ? " (a GRU is 3 x units wide, at most " + std::to_string(HostCapacity::width) + ")"
+                                      : ""));
+    if (L.kind == "dense") {
+      std::vector<std::string> acts;
+      for (uint8_t a = 0; activation_valid(a); ++a) acts.push_back(pipeline::activation_name(Activation(a)));
+      L.activation = l.has("activation") ? l.choice("activation", acts) : "linear";
+    } else if (l.has("activation")) {
+      l.fail(l.line("activation"), "activation", "only for kind = \"dense\" (a GRU's activations are fixed)");
+    }
+    rig.model.layers.push_back(L);
+  }
+  if (!layers.empty() && rig.model.layers.back().units != rig.n()) {
+    const Section last(file, *layers.back(), nth("model.layer", layers.size() - 1), line_of(*layers.back()),
+                       {"kind", "units", "activation"});
+    last.fail(last.line("units"), "units",
+              "the last layer predicts the outputs: must be n = " + std::to_string(rig.n()) + " (the [[output]] tables), not " +
+                  std::to_string(rig.model.layers.back().units));
+  }
+}
+
+// The simulated stand-in: one of the plants the console carries, whose
+// dimensions must be the file's.
+void read_plant(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
+  const toml::table* pt = sub_table(root, t, "plant");
+  if (!pt) return;
+  const Section s(file, *pt, "[plant]", line_of(*pt), {"kind"});
+  std::vector<std::string> kinds;
+  for (int i = 0; i < kPlatformCount; ++i) kinds.push_back(platform_name(PlatformId(i)));
+  rig.plant.kind = s.choice("kind", kinds);
+  rig.plant.line = s.line("kind");
+  PlatformId id = PlatformId::Msd;
+  platform_from_name(rig.plant.kind.c_str(), &id);
+  const SimPlant plant(id);
+  auto same = [&](const char* dim, int plant_dim, int file_dim, const char* tables) {
+    if (plant_dim != file_dim)
+      s.fail(s.line("kind"), "kind",
+             "plant '" + rig.plant.kind + "' has " + dim + " = " + std::to_string(plant_dim) + ", but the file has " +
+                 std::to_string(file_dim) + " " + tables);
+  };
+  same("m", plant.m(), rig.m(), "[[input]] tables");
+  same("n", plant.n(), rig.n(), "[[output]] tables");
+  same("w", plant.w(), rig.w(), "[[sensor]] tables");
+  // The plant steps at its own period: a file at another rate would be
+  // simulated at the plant's, not its own.
+  if (float(1.0 / rig.rate_hz) != plant.dt())
+    s.fail(s.line("kind"), "kind",
+           "plant '" + rig.plant.kind + "' runs at " + num(std::round(1000.0 / double(plant.dt())) / 1000.0) + " Hz, but rate_hz = " +
+               num(rig.rate_hz) + " (line " + std::to_string(root.line("rate_hz")) + ")");
+}
+
+void read_reference(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
+  RigReference& r = rig.reference;
+  // Without a [reference] table: an Infinity path around the middle of the
+  // outputs' ranges, a quarter of each span wide.
+  for (int i = 0; i < 3 && i < rig.n(); ++i) {
+    r.centre[size_t(i)] = 0.5 * (rig.outputs[size_t(i)].min + rig.outputs[size_t(i)].max);
+    r.amplitude[size_t(i)] = 0.25 * rig.outputs[size_t(i)].span;
+  }
+  const double span0 = rig.outputs[0].span;
+  r.step_levels = {span0 / 4, span0 / 2, span0};
+  const toml::table* rt = sub_table(root, t, "reference");
+  if (rt) {
+    const Section s(file, *rt, "[reference]", line_of(*rt),
+                    {"kind", "centre", "amplitude", "pringle_amplitude", "swirl_centre", "swirl_scale", "step_levels"});
+    if (s.has("kind")) {
+      const std::string k = s.choice("kind", {"infinity", "pringle", "diagonal", "swirl", "steps"});
+      r.kind = k == "infinity" ? RefKind::Infinity
+               : k == "pringle" ? RefKind::Pringle
+               : k == "diagonal" ? RefKind::Diagonal
+               : k == "swirl"    ? RefKind::Swirl
+                                 : RefKind::Step;
+    }
+    if (s.has("centre")) r.centre = s.triple("centre");
+    if (s.has("amplitude")) r.amplitude = s.triple("amplitude");
+    r.pringle_amplitude = s.has("pringle_amplitude") ? s.triple("pringle_amplitude") : r.amplitude;
+    r.swirl_centre = s.has("swirl_centre") ? s.triple("swirl_centre") : r.centre;
+    if (s.has("swirl_scale")) r.swirl_scale = s.positive("swirl_scale");
+    if (s.has("step_levels")) {
+      r.step_levels = s.numbers("step_levels");
+      if (r.step_levels.empty() || r.step_levels.size() > size_t(kRefMaxLevels))
+        s.fail(s.line("step_levels"), "step_levels",
+               "expected 1 to " + std::to_string(kRefMaxLevels) + " levels, got " + std::to_string(r.step_levels.size()));
+    }
+    return;
+  }
+  r.pringle_amplitude = r.amplitude;
+  r.swirl_centre = r.centre;
+}
+
+}  // namespace
+
+const char* output_source_name(OutputSource s) {
+  return s == OutputSource::Adc ? "adc" : (s == OutputSource::External ? "external" : "none");
+}
+const char* sensor_source_name(SensorSource s) { return s == SensorSource::Adc ? "adc" : "none"; }
+
+Rig parse_rig(const std::string& text, const std::string& file) {
+  toml::table t;
+  try {
+    t = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    const int line = int(e.source().begin.line);
+    throw RigError(file + ":" + std::to_string(line) + ": " + std::string(e.description()), file, line, "");
+  }
+  const Section root(file, t, "", 1,
+                     {"name", "description", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "controller",
+                      "model", "plant", "reference"});
+  Rig rig;
+  rig.file = file;
+  rig.name = root.text("name");
+  if (rig.name.empty() || rig.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
+    root.fail(root.line("name"), "name", "'" + rig.name + "' is not a command-line name (a-z, 0-9, '-', '_')");
+  rig.description = root.text("description", "");
+  rig.rate_hz = root.positive("rate_hz");
+  // The controller keeps one history length for u and y (paper: n_d = d_d).
+  rig.nd = int(root.integer("nd", 1, RigCapacity::nd));
+  rig.dd = int(root.integer("dd", 1, RigCapacity::nd));
+  if (rig.dd != rig.nd)
+    root.fail(root.line("dd"), "dd",
+              "must equal nd (" + std::to_string(rig.nd) + " at line " + std::to_string(root.line("nd")) +
+                  "): the controller keeps one history length");
+
+  PinBook pins;
+  pins.board_name = root.has("board") ? root.choice("board", board_names()) : "stm32f4";
+  pins.board = find_board(pins.board_name);
+  rig.board = pins.board_name;
+  NameBook names;
+  LimitLines limit_lines;
+  read_inputs(file, root, t, rig, names, pins, limit_lines);
+  read_outputs(file, root, t, rig, names, pins);
+  read_sensors(file, root, t, rig, names, pins);
+  read_controller(file, root, t, rig, limit_lines);
+  read_model(file, root, t, rig);
+  read_plant(file, root, t, rig);
+  read_reference(file, root, t, rig);
+  return rig;
+}
+
+Rig load_rig(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw RigError(path + ": cannot read the rig file", path, 0, "");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_rig(text.str(), path);
+}
+
+}  // namespace nlsoft::console

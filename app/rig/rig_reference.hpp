@@ -1,0 +1,14 @@
+#pragma once
+// A rig's reference paths: the kind and geometry of its [reference] table
+// as the parameters the MCU computes the path from (shared/reference.hpp).
+#include "app/rig/rig.hpp"
+#include "shared/reference.hpp"
+
+namespace nlsoft::console {
+
+// Periodic paths take 8 s per lap at the rig's rate, Swirl holds each point
+// 10 steps, Step holds each level 10 s: as shared/reference_presets.hpp
+// sizes the compiled-in rigs.
+RefParams rig_reference(const Rig& rig, RefKind kind);
+
+}  // namespace nlsoft::console

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Rig files as a user meets them, through the real console: `rig check` and
+# `rig list`, a bad file's one line with file:line and key, `--rig`/`--sim`
+# taking a name or a path, and a rig the firmware or the simulator does not
+# carry refused with what is missing.
+#   test_rig_cli.sh CONSOLE SOURCE_DIR
+set -u
+console=$1 src=$2
+fail=0
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+
+expect_error() {  # expect_error "pattern" args...: exit 2 and the pattern in the output
+  local pattern=$1
+  shift
+  out=$("$console" "$@" 2>&1)
+  rc=$?
+  if [ $rc -ne 2 ] || ! grep -qF -- "$pattern" <<<"$out"; then
+    echo "FAIL: '$*' gave rc=$rc: $out"
+    fail=1
+  fi
+}
+field() {  # field FILE KEY: a top-level value of a JSON object
+  python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$1" "$2"
+}
+
+# The shipped rigs, by name.
+[ "$("$console" rig list | cut -d' ' -f1 | tr '\n' ' ')" = "hasel msd tendon " ] ||
+  { echo "FAIL: rig list: $("$console" rig list)"; fail=1; }
+"$console" rig check hasel >out.txt || { echo "FAIL: rig check hasel"; fail=1; }
+grep -qF "w = 18 sensors: 13 on ADC1, not wired: b5y, b5z, b6x, b6y, b6z" out.txt ||
+  { echo "FAIL: hasel summary: $(cat out.txt)"; fail=1; }
+"$console" rig check --json "$src/rigs/tendon.toml" >tendon.json || { echo "FAIL: rig check --json"; fail=1; }
+[ "$(field tendon.json m) $(field tendon.json n) $(field tendon.json w)" = "2 3 11" ] ||
+  { echo "FAIL: tendon dims: $(cat tendon.json)"; fail=1; }
+
+# A bad file: one line, file:line and key, exit 2.
+sed 's/^max = 1.0$/max = 0.0/' "$src/rigs/hasel.toml" >bad.toml
+line=$(grep -n '^max = 0.0$' bad.toml | head -1 | cut -d: -f1)
+expect_error "bad.toml:$line: [[input]] #1 max: must be > min (0 at line $((line - 1)))" rig check bad.toml
+expect_error "unknown rig 'nope'; rigs in" rig check nope
+expect_error "rig file './none.toml' does not exist" rig check ./none.toml
+
+# A rig with no [plant] and no firmware: checked, but neither simulated nor
+# run on the firmware simulator.
+sed -e 's/^name = "hasel"/name = "arm"/' -e '/^\[plant\]/,/^kind/d' "$src/rigs/hasel.toml" >arm.toml
+"$console" rig check arm.toml >/dev/null || { echo "FAIL: arm.toml does not load"; fail=1; }
+expect_error "simulate: rig 'arm' (arm.toml) has no [plant]: nothing simulates it" simulate --rig arm.toml
+expect_error "--sim: rig 'arm' (arm.toml) has no firmware" --sim arm.toml
+expect_error "--qemu: rig 'arm' (arm.toml) has no firmware" conformance --qemu arm.toml
+
+# A copy of hasel with another tuning: simulated offline with the file's
+# values, refused by the firmware, which would run its own.
+sed 's/^Q = \[1e6, 2e6, 1e6\]/Q = [1e6, 2e6, 1e3]/' "$src/rigs/hasel.toml" >soft.toml
+expect_error "--sim: rig file soft.toml is not the firmware's compiled-in 'hasel' (it differs in [controller] Q)" \
+  --sim soft.toml
+
+# `--rig FILE` is `--platform NAME` when the file is the shipped one, and a
+# changed file changes the run.
+"$console" simulate --platform hasel --steps 400 --json >by_name.json || { echo "FAIL: simulate hasel"; fail=1; }
+"$console" simulate --rig "$src/rigs/hasel.toml" --steps 400 --json >by_path.json || { echo "FAIL: --rig path"; fail=1; }
+"$console" simulate --rig soft.toml --steps 400 --json >soft.json || { echo "FAIL: --rig soft.toml"; fail=1; }
+[ "$(field by_name.json rmse)" = "$(field by_path.json rmse)" ] ||
+  { echo "FAIL: by name $(field by_name.json rmse), by path $(field by_path.json rmse)"; fail=1; }
+[ "$(field by_name.json rmse)" != "$(field soft.json rmse)" ] || { echo "FAIL: soft.toml's Q changed nothing"; fail=1; }
+
+# --sim takes a path to a shipped rig as it takes the name.
+printf 'run 200ms label=by-path\n' >run.nls
+"$console" --sim "$src/rigs/msd.toml" --sim-fast --no-record --script run.nls >sim.txt 2>&1 ||
+  { echo "FAIL: --sim path: $(tail -5 sim.txt)"; fail=1; }
+
+[ $fail -eq 0 ] && echo "rig CLI: all checks passed"
+exit $fail

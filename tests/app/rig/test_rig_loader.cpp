@@ -1,0 +1,329 @@
+// The rig loader: one test per class of bad file, each asserting the exact
+// file:line and key of the message, and good files up to the largest rig.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "app/rig/rig.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+const char* kBase = R"(name = "probe"
+rate_hz = 100.0
+nd = 2
+dd = 2
+
+[[input]]
+name = "u1"
+unit = "V"
+min = 0.0
+max = 1.0
+neutral = 0.5
+pwm = "PC6"
+
+[[input]]
+name = "u2"
+min = -1.0
+max = 1.0
+neutral = 0.0
+pwm = "PC7"
+
+[[output]]
+name = "x"
+unit = "mm"
+min = -10.0
+max = 10.0
+
+[[sensor]]
+name = "l1"
+source = "adc"
+adc = 0
+gain = 2.0
+offset = 0.1
+
+[controller]
+Q = [1.0]
+Lambda = [1.0, 1.0]
+s = 1e-20
+b = 1e-5
+r = 400.0
+N = 3
+Nc = 1
+eps = 0.01
+)";
+
+// The 1-based line of the n-th (1-based) occurrence of `needle` in `text`.
+int line_of(const std::string& text, const std::string& needle, int nth = 1) {
+  size_t at = std::string::npos, from = 0;
+  for (int i = 0; i < nth; ++i) {
+    at = text.find(needle, from);
+    if (at == std::string::npos) return -1;
+    from = at + 1;
+  }
+  int line = 1;
+  for (size_t i = 0; i < at; ++i) line += text[i] == '\n';
+  return line;
+}
+
+// kBase with the nth occurrence of `from` replaced by `to`.
+std::string edit(const std::string& from, const std::string& to, int nth = 1, std::string text = kBase) {
+  size_t at = std::string::npos, pos = 0;
+  for (int i = 0; i < nth; ++i) {
+    at = text.find(from, pos);
+    pos = at + 1;
+  }
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+// The error parse_rig throws for `text`, or "" if it loads.
+RigError error_of(const std::string& text) {
+  try {
+    parse_rig(text, "my.toml");
+  } catch (const RigError& e) {
+    return e;
+  }
+  return RigError("", "", 0, "");
+}
+
+// The message is exactly "my.toml:<line>: <label>: <what...>".
+void expect_error(const std::string& text, int line, const std::string& label, const std::string& what) {
+  const RigError e = error_of(text);
+  const std::string head = "my.toml:" + std::to_string(line) + ": " + label + ": ";
+  EXPECT_EQ(std::string(e.what()).substr(0, head.size()), head) << e.what();
+  EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+  EXPECT_EQ(e.file, "my.toml");
+  EXPECT_EQ(e.line, line) << e.what();
+}
+
+TEST(RigLoader, BaseFileLoadsWithEveryValue) {
+  const Rig r = parse_rig(kBase, "my.toml");
+  EXPECT_EQ(r.name, "probe");
+  EXPECT_EQ(r.rate_hz, 100.0);
+  EXPECT_EQ(r.m(), 2);
+  EXPECT_EQ(r.n(), 1);
+  EXPECT_EQ(r.w(), 1);
+  EXPECT_EQ(r.inputs[0].pwm, "PC6");
+  EXPECT_EQ(r.inputs[1].min, -1.0);
+  EXPECT_EQ(r.outputs[0].span, 20.0);  // max - min when not given
+  EXPECT_EQ(r.outputs[0].source, OutputSource::None);
+  EXPECT_EQ(r.sensors[0].source, SensorSource::Adc);
+  EXPECT_EQ(r.sensors[0].gain, 2.0);
+  EXPECT_EQ(r.controller.N, 3);
+  EXPECT_EQ(r.controller.N1, 1);  // default
+  EXPECT_EQ(r.controller.mode, DerivMode::Exact);
+  EXPECT_EQ(r.board, "stm32f4");
+  EXPECT_TRUE(r.plant.kind.empty());
+}
+
+TEST(RigLoader, MissingKeyNamesTheTableLine) {
+  expect_error(edit("max = 1.0\n", "", 1), line_of(kBase, "[[input]]", 1), "[[input]] #1 max", "missing key");
+  expect_error(edit("rate_hz = 100.0\n", ""), 1, "rate_hz", "missing key");
+  expect_error(edit("eps = 0.01\n", ""), line_of(kBase, "[controller]"), "[controller] eps", "missing key");
+}
+
+TEST(RigLoader, NanIsRefusedWhereverItIs) {
+  expect_error(edit("min = 0.0", "min = nan"), line_of(kBase, "min = 0.0"), "[[input]] #1 min", "must be finite, not nan");
+  expect_error(edit("rate_hz = 100.0", "rate_hz = inf"), 2, "rate_hz", "must be finite, not inf");
+  // The controller's defaults take PARAM_SET's own finiteness check.
+  expect_error(edit("s = 1e-20", "s = nan"), line_of(kBase, "s = 1e-20"), "[controller] s", "must be finite");
+  expect_error(edit("Q = [1.0]", "Q = [-nan]"), line_of(kBase, "Q = [1.0]"), "[controller] Q[0]", "must be finite");
+}
+
+TEST(RigLoader, MinNotBelowMaxNamesBothLines) {
+  const std::string t = edit("max = 1.0", "max = -1.0", 2);
+  expect_error(t, line_of(t, "max = -1.0"), "[[input]] #2 max",
+               "must be > min (-1 at line " + std::to_string(line_of(t, "min = -1.0")) + ")");
+  const std::string o = edit("max = 10.0", "max = -10.0");
+  expect_error(o, line_of(o, "max = -10.0"), "[[output]] #1 max",
+               "must be > min (-10 at line " + std::to_string(line_of(o, "min = -10.0")) + ")");
+  const std::string nz = edit("neutral = 0.5", "neutral = 1.5");
+  expect_error(nz, line_of(nz, "neutral = 1.5"), "[[input]] #1 neutral", "must lie in [min, max] = [0, 1]");
+}
+
+TEST(RigLoader, NoOutputsIsNEqualsZero) {
+  const std::string t = edit("[[output]]\nname = \"x\"\nunit = \"mm\"\nmin = -10.0\nmax = 10.0\n", "");
+  expect_error(t, 1, "[[output]]", "none given: a rig controls 1 to 6 outputs (n = 0)");
+  // Q has no element to weigh then, but the count of outputs is what is wrong.
+}
+
+TEST(RigLoader, NoInputsIsMEqualsZero) {
+  std::string t = kBase;
+  t = edit("[[input]]\nname = \"u1\"\nunit = \"V\"\nmin = 0.0\nmax = 1.0\nneutral = 0.5\npwm = \"PC6\"\n", "", 1, t);
+  t = edit("[[input]]\nname = \"u2\"\nmin = -1.0\nmax = 1.0\nneutral = 0.0\npwm = \"PC7\"\n", "", 1, t);
+  expect_error(t, 1, "[[input]]", "(m = 0)");
+}
+
+std::string input_table(int i, const std::string& pin) {
+  std::string s = "[[input]]\nname = \"u" + std::to_string(i) + "\"\nmin = 0.0\nmax = 1.0\nneutral = 0.0\n";
+  if (!pin.empty()) s += "pwm = \"" + pin + "\"\n";
+  return s + "\n";
+}
+std::string output_table(int i) {
+  return "[[output]]\nname = \"y" + std::to_string(i) + "\"\nunit = \"mm\"\nmin = -1.0\nmax = 1.0\n\n";
+}
+std::string sensor_table(int i, int adc) {
+  std::string s = "[[sensor]]\nname = \"l" + std::to_string(i) + "\"\n";
+  return s + (adc >= 0 ? "source = \"adc\"\nadc = " + std::to_string(adc) + "\n\n" : "source = \"none\"\n\n");
+}
+
+// A rig of m inputs, n outputs, w sensors: PWM and ADC pins while the board
+// has them, then none.
+std::string rig_of(int m, int n, int w, int N = 128, int Nc = 4) {
+  const char* pwm[] = {"PC6", "PC7", "PC8", "PC9", "PB6", "PB7"};
+  const int adc[] = {0, 1, 4, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
+  std::string s = "name = \"big\"\nrate_hz = 50\nnd = 4\ndd = 4\n\n";
+  for (int i = 0; i < m; ++i) s += input_table(i, i < 6 ? pwm[i] : "");
+  for (int i = 0; i < n; ++i) s += output_table(i);
+  for (int i = 0; i < w; ++i) s += sensor_table(i, i < 13 ? adc[i] : -1);
+  s += "[controller]\nQ = [";
+  for (int i = 0; i < n; ++i) s += std::string(i ? ", " : "") + "1.0";
+  s += "]\nLambda = [";
+  for (int i = 0; i < m; ++i) s += std::string(i ? ", " : "") + "1.0";
+  s += "]\ns = 1e-20\nb = 0.5\nr = 1.0\nN = " + std::to_string(N) + "\nNc = " + std::to_string(Nc) + "\neps = 1e-3\n";
+  return s;
+}
+
+TEST(RigLoader, LargestRigLoads) {
+  const Rig r = parse_rig(rig_of(8, 6, 32), "big.toml");
+  EXPECT_EQ(r.m(), 8);
+  EXPECT_EQ(r.n(), 6);
+  EXPECT_EQ(r.w(), 32);
+  EXPECT_EQ(r.nd, 4);
+  EXPECT_EQ(r.controller.N, 128);
+  EXPECT_EQ(r.controller.Nc, 4);
+  EXPECT_EQ(r.controller.Q.size(), 6u);
+  EXPECT_EQ(r.sensors[12].adc, 15);
+  EXPECT_EQ(r.sensors[13].source, SensorSource::None);
+  EXPECT_EQ(r.inputs[7].pwm, "");
+}
+
+TEST(RigLoader, OverCapacityNamesTheFirstTableTooMany) {
+  const std::string m9 = rig_of(9, 1, 0);
+  expect_error(m9, line_of(m9, "[[input]]", 9), "[[input]] #9", "over capacity: at most m = 8 inputs");
+  const std::string n7 = rig_of(1, 7, 0);
+  expect_error(n7, line_of(n7, "[[output]]", 7), "[[output]] #7", "over capacity: at most n = 6 outputs");
+  const std::string w33 = rig_of(1, 1, 33);
+  expect_error(w33, line_of(w33, "[[sensor]]", 33), "[[sensor]] #33", "over capacity: at most w = 32 sensors");
+  const std::string nc5 = rig_of(1, 1, 0, 128, 5);
+  expect_error(nc5, line_of(nc5, "Nc = 5"), "[controller] Nc", "over capacity: 5 exceeds the controller's Nc <= 4");
+  const std::string nd5 = edit("nd = 2", "nd = 5");
+  expect_error(nd5, 3, "nd", "must be in [1, 4]");
+}
+
+TEST(RigLoader, UnknownPinListsTheBoardsPins) {
+  const std::string t = edit("pwm = \"PC7\"", "pwm = \"PA9\"");
+  expect_error(t, line_of(t, "pwm = \"PA9\""), "[[input]] #2 pwm",
+               "unknown pin 'PA9' on board stm32f4 (PWM pins: PC6, PC7, PC8, PC9, PB6, PB7)");
+  // ADC1 channel 2 carries USART2 on a Nucleo-64: not in the table.
+  const std::string a = edit("adc = 0", "adc = 2");
+  expect_error(a, line_of(a, "adc = 2"), "[[sensor]] #1 adc",
+               "unknown pin: ADC1 channel 2 is not wired on board stm32f4 (channels: 0, 1, 4, 6, 7, 8, 9, 10, 11, 12, 13, "
+               "14, 15)");
+  // More analogue sensors than the board has channels: the 14th must say
+  // where it is read, and any channel it names is taken or absent.
+  const std::string w14 = rig_of(1, 1, 14) + "";
+  std::string over = w14;
+  over = edit("name = \"l13\"\nsource = \"none\"", "name = \"l13\"\nsource = \"adc\"\nadc = 0", 1, over);
+  expect_error(over, line_of(over, "adc = 0", 2), "[[sensor]] #14 adc",
+               "ADC1 channel 0 is already used by [[sensor]] #1 (line " + std::to_string(line_of(over, "adc = 0")) + ")");
+}
+
+TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
+  const std::string t = edit("pwm = \"PC6\"", "pmw = \"PC6\"");
+  expect_error(t, line_of(t, "pmw"), "[[input]] #1 pmw", "unknown key (known: name, unit, min, max, neutral, pwm)");
+  const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
+  expect_error(tab, line_of(tab, "[plnt]"), "plnt",
+               "unknown table (known: name, description, rate_hz, nd, dd, board, input, output, sensor, controller, "
+               "model, plant, reference)");
+  const std::string c = edit("eps = 0.01", "eps = 0.01\nlambda = [1.0, 1.0]");
+  expect_error(c, line_of(c, "lambda ="), "[controller] lambda", "unknown key (known: Q, Lambda, s, b, r, N, N1, Nc, eps,");
+}
+
+TEST(RigLoader, WrongTypeSaysWhatWasExpected) {
+  expect_error(edit("rate_hz = 100.0", "rate_hz = \"fast\""), 2, "rate_hz", "expected a number, got a string");
+  const std::string n = edit("N = 3", "N = 3.5");
+  expect_error(n, line_of(n, "N = 3.5"), "[controller] N", "expected an integer, got a number");
+  const std::string q = edit("Q = [1.0]", "Q = 1.0");
+  expect_error(q, line_of(q, "Q = 1.0"), "[controller] Q", "expected an array, got a number");
+  const std::string nm = edit("name = \"u1\"", "name = 1");
+  expect_error(nm, line_of(nm, "name = 1"), "[[input]] #1 name", "expected a string, got an integer");
+  const std::string tbl = edit("nd = 2", "plant = \"hasel\"\nnd = 2");
+  expect_error(tbl, 3, "plant", "expected a table [plant], got a string");
+}
+
+TEST(RigLoader, DuplicateNamesAndPinsNameTheFirstUse) {
+  const std::string t = edit("name = \"l1\"", "name = \"x\"");
+  expect_error(t, line_of(t, "name = \"x\"", 2), "[[sensor]] #1 name",
+               "'x' is already the name of [[output]] #1 (line " + std::to_string(line_of(t, "name = \"x\"")) + ")");
+  const std::string p = edit("pwm = \"PC7\"", "pwm = \"PC6\"");
+  expect_error(p, line_of(p, "pwm = \"PC6\"", 2), "[[input]] #2 pwm",
+               "PC6 is already used by [[input]] #1 (line " + std::to_string(line_of(p, "pwm = \"PC6\"")) + ")");
+}
+
+// The controller's defaults meet PARAM_SET's checks (shared/params.hpp).
+TEST(RigLoader, ControllerDefaultsTakeTheParameterChecks) {
+  const std::string q = edit("Q = [1.0]", "Q = [-1.0]");
+  expect_error(q, line_of(q, "Q = [-1.0]"), "[controller] Q[0]", "out of range: -1 is not in [0, 1e+12] (the range PARAM_SET accepts)");
+  const std::string qn = edit("Q = [1.0]", "Q = [1.0, 2.0]");
+  expect_error(qn, line_of(qn, "Q = [1.0, 2.0]"), "[controller] Q", "expects 1 values (one per [[output]]), got 2");
+  const std::string nc = edit("Nc = 1", "Nc = 4");
+  expect_error(nc, line_of(nc, "Nc = 4"), "[controller] Nc",
+               "must be <= N (3 at line " + std::to_string(line_of(nc, "N = 3")) + ")");
+  const std::string r = edit("r = 400.0", "r = 0.0");
+  expect_error(r, line_of(r, "r = 0.0"), "[controller] r", "out of range: 0 is not in [1e-06, 1e+07]");
+  const std::string it = edit("eps = 0.01", "eps = 0.01\nnr_max_iter = 21");
+  expect_error(it, line_of(it, "nr_max_iter"), "[controller] nr_max_iter",
+               "out of range: 21 is not in [1, 20], a whole number");
+  const std::string mode = edit("eps = 0.01", "eps = 0.01\nmode = \"newton\"");
+  expect_error(mode, line_of(mode, "mode ="), "[controller] mode", "'newton' is not one of: exact, fd");
+  const std::string u = edit("max = 1.0", "max = 2e6");
+  expect_error(u, line_of(u, "max = 2e6"), "[[input]] #1 max", "out of range: 2000000 is not in [-1000000, 1000000]");
+}
+
+TEST(RigLoader, PlantMustHaveTheFilesDimensions) {
+  const std::string t = std::string(kBase) + "\n[plant]\nkind = \"tendon\"\n";
+  expect_error(t, line_of(t, "kind = \"tendon\""), "[plant] kind",
+               "plant 'tendon' has n = 3, but the file has 1 [[output]] tables");
+  const std::string msd = rig_of(1, 1, 0) + "\n[plant]\nkind = \"msd\"\n";
+  expect_error(msd, line_of(msd, "kind = \"msd\""), "[plant] kind", "plant 'msd' runs at 1000 Hz, but rate_hz = 50 (line 2)");
+  const std::string k = std::string(kBase) + "\n[plant]\nkind = \"robot\"\n";
+  expect_error(k, line_of(k, "kind = \"robot\""), "[plant] kind", "'robot' is not one of: msd, hasel, tendon");
+}
+
+TEST(RigLoader, ModelLayersEndInTheOutputs) {
+  const std::string t = std::string(kBase) +
+                        "\n[model]\n[[model.layer]]\nkind = \"gru\"\nunits = 5\n[[model.layer]]\nkind = \"dense\"\n"
+                        "units = 3\nactivation = \"tanh\"\n";
+  expect_error(t, line_of(t, "units = 3"), "[[model.layer]] #2 units",
+               "the last layer predicts the outputs: must be n = 1");
+  const std::string g = std::string(kBase) + "\n[model]\n[[model.layer]]\nkind = \"gru\"\nunits = 17\n";
+  expect_error(g, line_of(g, "units = 17"), "[[model.layer]] #1 units", "must be in [1, 16] (a GRU is 3 x units wide");
+}
+
+TEST(RigLoader, HistoryLengthsMustAgree) {
+  const std::string t = edit("dd = 2", "dd = 3");
+  expect_error(t, 4, "dd", "must equal nd (2 at line 3)");
+}
+
+TEST(RigLoader, TomlSyntaxErrorNamesItsLine) {
+  const std::string t = edit("unit = \"mm\"", "unit = \"mm");
+  const RigError e = error_of(t);
+  EXPECT_EQ(e.line, line_of(t, "unit = \"mm"));
+  EXPECT_EQ(std::string(e.what()).rfind("my.toml:" + std::to_string(e.line) + ": ", 0), 0u) << e.what();
+}
+
+TEST(RigLoader, UnreadableFileIsNamed) {
+  try {
+    load_rig("/nonexistent/rig.toml");
+    FAIL() << "loaded a missing file";
+  } catch (const RigError& e) {
+    EXPECT_EQ(std::string(e.what()), "/nonexistent/rig.toml: cannot read the rig file");
+  }
+}
+
+}  // namespace
+}  // namespace nlsoft::console
