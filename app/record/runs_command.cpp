@@ -93,6 +93,18 @@ void print_metrics(const RunMetrics& m) {
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
 }
 
+// "gap after sample 383: 3516 frames lost (27.0 s at 130 Hz); telemetry
+// silent for 3.00 s". The frames are the steps the run did not get, at the
+// run's telemetry rate; the silence is how long nothing came before the run
+// gave up: two different times, each named for what it is.
+std::string gap_words(const RunRow& r, const GapRecord& g) {
+  std::string s = fmt::format("gap after sample {}: {} frame{} lost", g.after_k, g.lost_frames, g.lost_frames == 1 ? "" : "s");
+  const double rate = r.loop_rate_hz / double(r.decimation > 0 ? r.decimation : 1);
+  if (rate > 0) s += fmt::format(" ({:.1f} s at {:g} Hz)", double(g.lost_frames) / rate, rate);
+  if (g.duration_s >= 0) s += fmt::format("; telemetry silent for {:.2f} s", g.duration_s);
+  return s;
+}
+
 // "swirl", "table", ...: the kind of the run's reference at its start.
 std::string reference_kind(const std::string& json) {
   if (json.empty()) return "-";
@@ -225,10 +237,7 @@ void show(const RunsArgs& a) {
     if (p.at_start) fmt::print("    {:<12} {}\n", p.name, p.value);
   for (const auto& p : store->params(a.id))
     if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, p.name, p.value);
-  for (const auto& g : store->gaps(a.id))
-    fmt::print("  gap after sample {}: {} frame{} lost{} ({}, {})\n", g.after_k, g.lost_frames,
-               g.lost_frames == 1 ? "" : "s", g.duration_s >= 0 ? fmt::format(" over {:.2f} s", g.duration_s) : "",
-               g.reason, g.t);
+  for (const auto& g : store->gaps(a.id)) fmt::print("  {} ({}, {})\n", gap_words(r, g), g.reason, g.t);
   for (const auto& [when, detail] : store->link_events(a.id)) fmt::print("  link {}: {}\n", when, detail);
 }
 

@@ -8,6 +8,7 @@
 #include "app/link/link_error.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
+#include "app/model/model_size_words.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/run_store.hpp"
 
@@ -139,8 +140,8 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         const auto r = console_.upload_model(c.name, [&](size_t d, size_t t) {
           if (progress_) progress_("model " + c.name, d, t);
         });
-        out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {} weights", c.name, r.hash,
-                         r.previous_hash, r.bytes, r.params));
+        out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {}", c.name, r.hash,
+                         r.previous_hash, r.bytes, model_size_words(r.params, r.normalisation)));
         break;
       }
       case K::Run: {

@@ -81,7 +81,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
                   "over {:g} s; failed if the watchdog trips, a frame is lost or the inputs sit at a limit over {:g} % of it",
                   o.settle_s, o.window_s, 100 * o.max_saturated));
   std::string budget;
-  if (o.budget_runs > 0) budget = fmt::format("{} runs", o.budget_runs);
+  if (o.budget_runs > 0) budget = fmt::format("{} run{}", o.budget_runs, o.budget_runs == 1 ? "" : "s");
   if (o.budget_s > 0) budget += fmt::format("{}{:g} s", budget.empty() ? "" : " or ", o.budget_s);
   out(fmt::format("budget {}; start {}; Ctrl-C stops and keeps the best", budget, space.describe(space.start())));
   for (const std::string& c : space.clamped()) out("  " + c);
@@ -234,7 +234,9 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   }
   r.wall_s = std::chrono::duration<double>(clock::now() - started).count();
   switch (stop) {
-    case Stop::Budget: r.end_reason = fmt::format("budget of {} runs used", o.budget_runs); break;
+    case Stop::Budget:
+      r.end_reason = fmt::format("budget of {} run{} used", o.budget_runs, o.budget_runs == 1 ? "" : "s");
+      break;
     case Stop::Interrupted: r.end_reason = "interrupted (Ctrl-C)"; break;
     case Stop::Cancelled: r.end_reason = "cancelled"; break;
     case Stop::Time: r.end_reason = fmt::format("time budget of {:g} s used", o.budget_s); break;

@@ -129,6 +129,30 @@ TEST_F(RunsCommands, AnUnfinishedRunIsDeletedOnlyWithForce) {
   EXPECT_TRUE(RunStore(db()).list().empty());
 }
 
+// A firmware that died 3 s into a 30 s run at 130 Hz: the steps the run did
+// not get are 27 s of frames, the telemetry was silent for 3 s before the
+// run gave up. Each time is named for what it is, and the frames' time is
+// what they are at the run's rate.
+TEST_F(RunsCommands, AGapSaysItsFramesTimeAtTheRunsRateAndTheSilenceApart) {
+  int64_t id = 0;
+  {
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "hasel";
+    ri.n = 3;
+    ri.m = 6;
+    ri.loop_rate_hz = 130;
+    id = rec.begin_run(ri);
+    rec.add_gap(id, 383, 3510, "run ended early: telemetry stopped arriving", 3.0);
+    rec.end_run(id, "ended early: telemetry stopped arriving (none for 3.0 s: firmware stopped or link lost)", 384, 3510);
+  }
+  const auto r = runs("show " + std::to_string(id));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "gap after sample 383: 3510 frames lost (27.0 s at 130 Hz); telemetry silent for 3.00 s"))
+      << r.output;
+  EXPECT_FALSE(contains(r.output, "lost over")) << r.output;
+}
+
 // The examples `runs --help` gives, as printed, against two recorded runs
 // (its ids 12 and 13 mapped to 1 and 2), in order: the last deletes one.
 TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
@@ -179,11 +203,31 @@ TEST(ConsoleExamples, TheHelpExampleScriptPassesOnTheSimulatedRig) {
 TEST(ConsoleCli, VersionAndUsageErrorsExitTwo) {
   auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --version");
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(contains(r.output, "nlsoft-console 0.1.0, wire protocol 1")) << r.output;
+  // The protocol as its specification names it, on its title line.
+  std::ifstream spec(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/../../protocol/PROTOCOL.md");
+  std::string title;
+  std::getline(spec, title);
+  const std::string version = title.substr(title.rfind(' ') + 1);
+  EXPECT_EQ(title, "# nlsoft wire protocol, version " + version);
+  EXPECT_TRUE(contains(r.output, "nlsoft-console 0.1.0, wire protocol " + version + " ")) << r.output << title;
   for (const char* args : {"--no-such-option", "runs show", "runs show notanumber", "--sim nowhere",
                            "runs plot 1 2 3 --svg x.svg"}) {
     r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+  }
+}
+
+// The live console's footer (its examples, the script commands) belongs to
+// `nlsoft-console --help` only; a command's help ends with its own words.
+TEST(ConsoleCli, ACommandsHelpDoesNotRepeatTheConsolesFooter) {
+  const auto main_help = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --help");
+  ASSERT_TRUE(contains(main_help.output, "Script commands")) << main_help.output;
+  for (const char* command : {"model", "model info", "simulate", "dataset", "train", "tune", "runs", "runs list",
+                              "conformance", "flash"}) {
+    const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + command + " --help");
+    EXPECT_EQ(r.code, 0) << command << ": " << r.output;
+    EXPECT_FALSE(contains(r.output, "Script commands")) << command << ":\n" << r.output;
+    EXPECT_FALSE(contains(r.output, "Example script")) << command << ":\n" << r.output;
   }
 }
 

@@ -65,6 +65,45 @@ TEST(TuneSpace, RangesParseLinearOrLog) {
   EXPECT_EQ(q.name, "Q*");
   EXPECT_FALSE(q.log);
   EXPECT_DOUBLE_EQ(q.lo, -1);
+  // :lin is the default written out: valid, and linear.
+  const Dimension lin = parse_dimension("Lambda=0.5..2:lin");
+  EXPECT_FALSE(lin.log);
+  EXPECT_DOUBLE_EQ(lin.hi, 2);
+}
+
+// Every place that teaches the range syntax names both scales, so :lin is
+// known to be valid before it is tried.
+TEST(TuneSpace, TheHelpNamesBothScales) {
+  std::string help;
+  for (const std::string& line : tune_help()) help += line + "\n";
+  EXPECT_NE(help.find("[:log|:lin]"), std::string::npos) << help;
+  EXPECT_NE(help.find(":lin (the default)"), std::string::npos) << help;
+  try {
+    parse_dimension("Lambda=1..10:LOG");
+    ADD_FAILURE() << "an unknown scale is refused";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("':LOG' is not a scale; use :log or :lin"), std::string::npos) << e.what();
+  }
+}
+
+// A time budget of nothing is refused as such, not as an unreadable budget.
+TEST(TuneWords, AZeroTimeBudgetMustBePositive) {
+  for (const char* zero : {"0s", "0min", "0 ms"}) {
+    TuneOptions o;
+    try {
+      set_budget(o, zero);
+      ADD_FAILURE() << zero << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("a time budget must be positive"), std::string::npos) << e.what();
+    }
+  }
+  TuneOptions o;
+  try {
+    set_budget(o, "0lightyears");
+    ADD_FAILURE() << "an unknown unit was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("give runs (40) or wall time"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TuneSpace, BadRangesAreRefusedInWords) {
