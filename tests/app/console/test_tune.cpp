@@ -205,6 +205,23 @@ TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
   EXPECT_TRUE(contains(r.output, "0 expects held, 0 failed; 1 tuning session found nothing")) << r.output;
 }
 
+// The defaults (settle 1 s, window 5 s) on the rig's start-up Swirl (hold
+// 10) see its flat start only: the session says so after the first run and
+// what to change; the same session over the whole Swirl at hold=1 does not.
+TEST_F(TuneE2E, AWindowWhereTheReferenceBarelyMovesIsWarnedAbout) {
+  auto r = console("tune --sim hasel --sim-fast --no-record --param 'Lambda=0.5..2:log' --budget 2 --save " +
+                   shell_quote(dir_.file("still.params")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "warning: the reference barely moves in the scored window (1 s to 6 s of each run)"))
+      << r.output;
+  EXPECT_TRUE(contains(r.output, "--reference \"swirl hold=1\"")) << r.output;
+  r = console("tune --sim hasel --sim-fast --no-record --param 'Lambda=0.5..2:log' --budget 2 --reference 'swirl "
+              "hold=1' --settle 500ms --window 9s --save " + shell_quote(dir_.file("moving.params")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "best: ")) << r.output;
+  EXPECT_FALSE(contains(r.output, "barely moves")) << r.output;
+}
+
 // One run is one run: the budget and the end say it in the singular.
 TEST_F(TuneE2E, ABudgetOfOneRunSaysOneRun) {
   const auto r = console("tune --sim hasel --sim-fast --no-record --param 'Lambda=0.5..2:lin' --budget 1 --reference "
