@@ -203,13 +203,16 @@ void Session::supervise() {
     // Silence: the port is open but nothing valid arrives (board hung,
     // wrong baud, firmware of another protocol version).
     const int64_t quiet_ns = now_ns() - last_frame_ns_.load();
-    const bool now_silent =
-        connected() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+    const bool quiet = quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+    const bool now_silent = connected() && quiet;
     if (now_silent != silent) {
       silent = now_silent;
-      batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed,
-                       silent ? fmt::format("no valid frame for {} ms", options_.silence_limit.count())
-                              : "frames arriving again"});
+      // Resumed only when a frame came: a link that closed or went down is
+      // no longer silent either, and says so itself.
+      if (silent)
+        batch.push_back({LinkEvent::Kind::Silent, fmt::format("no valid frame for {} ms", options_.silence_limit.count())});
+      else if (!quiet)
+        batch.push_back({LinkEvent::Kind::Resumed, "frames arriving again"});
     }
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last_rate).count();

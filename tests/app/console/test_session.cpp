@@ -124,6 +124,34 @@ TEST(Session, TimeoutSaysWhatFailedAfterHowManyTries) {
   EXPECT_EQ(s.stats().timeouts, 1u);
 }
 
+// A silent line is reported silent; closing the session ends the silence
+// without a frame, which is not "frames arriving again".
+TEST(Session, ClosingASilentLinkIsNotTakenForFramesArriving) {
+  FakePeer peer([](FakePeer&, const p::FrameView&) {});
+  SessionOptions o = fast_options();
+  o.silence_limit = 200ms;
+  Session s(o);
+  std::mutex mu;
+  std::vector<LinkEvent::Kind> kinds;
+  s.on_event([&](const LinkEvent& e) {
+    std::lock_guard<std::mutex> lock(mu);
+    kinds.push_back(e.kind);
+  });
+  s.open(peer.path(), 115200);
+  for (int i = 0; i < 300; ++i) {
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      if (!kinds.empty()) break;
+    }
+    std::this_thread::sleep_for(10ms);
+  }
+  s.close();
+  std::lock_guard<std::mutex> lock(mu);
+  ASSERT_FALSE(kinds.empty()) << "the silence was reported";
+  EXPECT_EQ(kinds[0], LinkEvent::Kind::Silent);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), LinkEvent::Kind::Resumed), 0) << "no frame ever came";
+}
+
 // A line that gives back what is written (a loopback plug, a device that
 // echoes): the frames that arrive are the console's own requests, named as
 // such rather than taken for a firmware that does not answer.
