@@ -13,7 +13,7 @@
 #include "app/rig/rig_command.hpp"
 #include "app/simulate/simulate_command.hpp"
 #include "app/tune/tune_command.hpp"
-#include "protocol/frame.hpp"
+#include "app/link/protocol_version.hpp"
 
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
@@ -21,11 +21,10 @@ int main(int argc, char** argv) {
       "nlsoft-console: tune a learned model-predictive controller running on a microcontroller,\n"
       "or run it offline against a simulated rig."};
   app.set_version_flag("--version", std::string("nlsoft-console " NLSOFT_VERSION ", wire protocol ") +
-                                        std::to_string(nlsoft::protocol::kProtocolVersion));
+                                        protocol_version_text() + " (protocol/PROTOCOL.md)");
   // Every command, in one place. Without a subcommand the live console runs
   // (its options sit on the main app); at most one subcommand per call.
   app.require_subcommand(0, 1);
-  add_live_console(app);
   add_runs_command(app);
   add_ports_command(app);
   add_tune_command(app);
@@ -36,6 +35,10 @@ int main(int argc, char** argv) {
   add_train_command(app);
   add_model_command(app);
   add_rig_command(app);
+  // Last: CLI11 copies the main app's footer into every subcommand made
+  // after it is set, and the live console's footer (its examples and script
+  // commands) is about the live console, not about `model` or `simulate`.
+  add_live_console(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

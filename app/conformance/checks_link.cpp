@@ -11,15 +11,17 @@ using Clock = std::chrono::steady_clock;
 }
 
 void check_handshake(Suite& s, std::chrono::seconds patience) {
-  const auto give_up = Clock::now() + patience;
+  const auto asked = Clock::now();
+  const LinkStats before = s.pr.stats();
   Frame f;
   while (true) {
     try {
       f = s.pr.request(p::InfoGet{}, 1);
       break;
     } catch (const LinkError&) {
-      if (Clock::now() >= give_up)
-        throw LinkError(fmt::format("no INFO for {} s: is the firmware running at this baud rate?", patience.count()));
+      // The console's own diagnosis: a silent line, noise, an echo.
+      const auto waited = Clock::now() - asked;
+      if (waited >= patience) throw LinkError(s.pr.no_info_words(before, waited));
     }
   }
   if (!as_info(f, s.info)) {

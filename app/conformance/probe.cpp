@@ -80,6 +80,7 @@ Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
 Probe::~Probe() { session_.close(); }
 
 void Probe::open(const std::string& path, unsigned baud) {
+  baud_ = baud;
   session_.open(path, baud);
   session_.write_raw({p::kDelimiter});  // ends whatever partial frame the peer holds
 }

@@ -57,6 +57,11 @@ class Probe {
 
   void open(const std::string& path, unsigned baud);
   Ms timeout() const { return timeout_; }
+  LinkStats stats() const { return session_.stats(); }
+  // Why no INFO came since `before` (a stats() snapshot), in the console's words.
+  std::string no_info_words(const LinkStats& before, std::chrono::steady_clock::duration waited) const {
+    return session_.no_info_words(before, waited, baud_);
+  }
   uint8_t next_seq();
 
   static std::vector<uint8_t> wire(uint8_t type, uint8_t seq, const uint8_t* payload, size_t len, uint8_t flags = 0);
@@ -104,6 +109,7 @@ class Probe {
 
  private:
   Ms timeout_;
+  unsigned baud_ = 0;
   Session session_;
   mutable std::mutex mu_;
   std::deque<uint8_t> recent_seqs_;  // a reply to none of these answers nothing we sent lately

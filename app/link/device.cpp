@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "app/cli_error.hpp"
+#include "app/link/protocol_version.hpp"
 #include "protocol/crc.hpp"
 
 namespace nlsoft::console {
@@ -16,8 +17,8 @@ p::Info Device::handshake() {
   const p::InfoEx ex = session_.call<p::InfoEx>(p::InfoGet{});
   const p::Info& info = ex.info;
   if (info.protocol_version != p::kProtocolVersion)
-    throw LinkError(fmt::format("the firmware speaks protocol v{}, this console v{}", info.protocol_version,
-                                p::kProtocolVersion));
+    throw LinkError(fmt::format("the firmware speaks protocol v{}, this console {}", info.protocol_version,
+                                protocol_version_text()));
   if (info.n == 0 || info.n > p::kMaxTelemetryDim || info.m == 0 || info.m > p::kMaxTelemetryDim)
     throw LinkError(fmt::format("the firmware reports impossible dimensions n={} m={}", info.n, info.m));
   {
@@ -56,6 +57,10 @@ void Device::load_params(const Progress& progress) {
       throw LinkError(fmt::format("parameter '{}' has an impossible size {}", d.name, d.size));
     list.push_back(param_info_from(d));
     if (progress) progress(size_t(i) + 1, count);
+  }
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    apply_capacity(list, info_.info.max_n, info_.info.max_nc);
   }
   auto cat = std::make_shared<const ParamCatalog>(std::move(list));
   std::lock_guard<std::mutex> lock(mu_);

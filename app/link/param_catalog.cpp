@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -26,6 +27,17 @@ ParamInfo param_info_from(const proto::ParamDesc& d) {
   i.unit = d.unit;
   i.name = d.name;
   return i;
+}
+
+void apply_capacity(std::vector<ParamInfo>& params, unsigned max_n, unsigned max_nc) {
+  for (ParamInfo& p : params) {
+    const bool horizon = p.name == "N" || p.name == "N1";
+    if (!horizon && p.name != "Nc") continue;
+    const unsigned cap = horizon ? max_n : max_nc;
+    if (cap == 0 || double(cap) >= double(p.max)) continue;
+    p.max = float(cap);
+    p.capacity = horizon ? "max_n" : "max_nc";
+  }
 }
 
 const ParamInfo* ParamCatalog::find(const std::string& name) const {
@@ -74,6 +86,10 @@ std::vector<double> parse_param_values(const ParamInfo& p, const std::vector<std
       const double v = std::strtod(t.c_str(), &end);
       if (end == t.c_str() || *end != '\0') throw CliError(fmt::format("{}: '{}' is not a number", p.name, t));
       if (!std::isfinite(v)) throw CliError(fmt::format("{}: '{}' is not a finite number", p.name, t));
+      // The firmware keeps float32: a larger value would arrive as infinity.
+      if (p.is_float() && std::fabs(v) > double(FLT_MAX))
+        throw CliError(fmt::format("{}: '{}' overflows a float32 (the firmware's number type): its magnitude must be "
+                                   "at most {:g}", p.name, t, double(FLT_MAX)));
       if (!p.is_float() && (v != std::floor(v) || v < 0))
         throw CliError(fmt::format("{}: '{}' must be a whole number >= 0", p.name, t));
       out.push_back(v);
@@ -129,18 +145,26 @@ std::string format_param_values(const ParamInfo& p, const std::vector<double>& v
 std::string describe_param_refusal(const ParamInfo& p, const proto::Nack& nack, const std::vector<double>& sent) {
   const bool has_elem = nack.element != proto::kNoField;
   const std::string elem = has_elem && p.size > 1 ? fmt::format("{}[{}]", p.name, nack.element) : p.name;
-  const double v = has_elem && nack.element < sent.size() ? sent[nack.element] : 0.0;
+  const double v = has_elem && nack.element < sent.size() ? sent[nack.element] : sent.size() == 1 ? sent[0] : 0.0;
   switch (proto::StatusCode(nack.status)) {
     case proto::StatusCode::OutOfRange:
       return fmt::format("{} = {:g} is out of range [{:g}, {:g}]", elem, v, p.min, p.max);
-    case proto::StatusCode::NotFinite: return fmt::format("{} must be a finite number", elem);
+    case proto::StatusCode::NotFinite:
+      if (std::isfinite(v) && std::fabs(v) > double(FLT_MAX))
+        return fmt::format("{} = {:g} overflows a float32 (the firmware's number type): its magnitude must be at most "
+                           "{:g}", elem, v, double(FLT_MAX));
+      return fmt::format("{} must be a finite number", elem);
     case proto::StatusCode::WrongSize: return fmt::format("{} takes {} values", p.name, p.size);
     case proto::StatusCode::ReadOnly: return fmt::format("{} is read-only", p.name);
     case proto::StatusCode::WrongState: return fmt::format("{} can only change while no run is active", p.name);
     case proto::StatusCode::Inconsistent:
       return fmt::format("{}{} = {} breaks a rule between parameters (e.g. Nc <= N, u_min < u_max)", elem,
                          has_elem ? "" : "", has_elem ? fmt::format("{:g}", v) : format_param_values(p, sent));
-    case proto::StatusCode::TooLarge: return fmt::format("{} exceeds what this firmware build can hold", elem);
+    case proto::StatusCode::TooLarge:
+      if (!p.capacity.empty())
+        return fmt::format("{} = {:g} is over this firmware build's capacity: at most {:g} ({} in INFO)", elem, v, p.max,
+                           p.capacity);
+      return fmt::format("{} = {:g} exceeds what this firmware build can hold", elem, v);
     default: return fmt::format("{} refused: {}", p.name, status_words(nack.status));
   }
 }

@@ -17,6 +17,9 @@ struct ParamInfo {
   uint8_t access = 0;
   float min = 0, max = 0;
   std::string unit, name;
+  // Set when this build holds less than the table's range (the horizons:
+  // INFO's max_n, max_nc): max is then that capacity, and this names it.
+  std::string capacity;
 
   bool read_only() const { return access & protocol::param_access::kReadOnly; }
   bool stopped_only() const { return access & protocol::param_access::kStoppedOnly; }
@@ -24,6 +27,11 @@ struct ParamInfo {
 };
 
 ParamInfo param_info_from(const protocol::ParamDesc& d);
+
+// The horizons' real range: PARAM_DESC gives the table's bound (255 steps
+// for every build), INFO the build's capacity; N and N1 go up to max_n, Nc
+// to max_nc, and the console advertises and checks that.
+void apply_capacity(std::vector<ParamInfo>& params, unsigned max_n, unsigned max_nc);
 
 class ParamCatalog {
  public:

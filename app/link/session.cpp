@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "app/link/protocol_version.hpp"
+#include "protocol/catalog.hpp"
 #include "protocol/encoder.hpp"
 #include "shared/platform_id.hpp"
 
@@ -66,6 +68,30 @@ std::string identity_change(const p::Info& was, const p::Info& now) {
 }
 
 }  // namespace
+
+std::string wait_words(Clock::duration d) {
+  const double ms = std::chrono::duration<double, std::milli>(d).count();
+  // Whole milliseconds, truncated: a wait never reads longer than it was.
+  return ms < 10000 ? fmt::format("{} ms", int64_t(ms)) : fmt::format("{:.1f} s", ms / 1000);
+}
+
+std::string heard_words(const LineHeard& h, const std::string& port) {
+  switch (h.kind) {
+    case LineHeard::Kind::Nothing: return fmt::format("nothing arrived from {}", port);
+    case LineHeard::Kind::Noise:
+      return fmt::format("{} bytes arrived from {}, none of them a valid frame (another baud rate, or not an nlsoft "
+                         "firmware?)", h.bytes, port);
+    case LineHeard::Kind::Echo:
+      return fmt::format("{} frame{} came back from {}, each a request as the console sends them: the line echoes "
+                         "what is written (a loopback, or a device that echoes), no firmware answers",
+                         h.frames, h.frames == 1 ? "" : "s", port);
+    case LineHeard::Kind::OtherVersion:
+      return fmt::format("the firmware at {} speaks protocol v{}, this console {}", port, h.version,
+                         protocol_version_text());
+    case LineHeard::Kind::Frames: break;
+  }
+  return "";
+}
 
 const char* link_event_name(LinkEvent::Kind k) {
   switch (k) {
@@ -177,13 +203,16 @@ void Session::supervise() {
     // Silence: the port is open but nothing valid arrives (board hung,
     // wrong baud, firmware of another protocol version).
     const int64_t quiet_ns = now_ns() - last_frame_ns_.load();
-    const bool now_silent =
-        connected() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+    const bool quiet = quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+    const bool now_silent = connected() && quiet;
     if (now_silent != silent) {
       silent = now_silent;
-      batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed,
-                       silent ? fmt::format("no valid frame for {} ms", options_.silence_limit.count())
-                              : "frames arriving again"});
+      // Resumed only when a frame came: a link that closed or went down is
+      // no longer silent either, and says so itself.
+      if (silent)
+        batch.push_back({LinkEvent::Kind::Silent, fmt::format("no valid frame for {} ms", options_.silence_limit.count())});
+      else if (!quiet)
+        batch.push_back({LinkEvent::Kind::Resumed, "frames arriving again"});
     }
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last_rate).count();
@@ -255,6 +284,13 @@ void Session::on_frame(const p::FrameView& f) {
   }
   const auto type = p::MsgType(f.header.type);
   if (f.is_reply()) on_reply(f);
+  if (!f.is_reply()) {
+    const p::MsgInfo* m = p::find_message(f.header.type);
+    if (m != nullptr && m->is_request) {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      ++stats_.echoed_requests;
+    }
+  }
   if (type == p::MsgType::Telemetry) {
     p::Telemetry t;
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
@@ -478,27 +514,31 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
   req.tries = options_.tries;
   req.timeout = per_try;
   int sent = 0;
+  const auto began = Clock::now();
   if (auto r = exchange_locked(req, identifying, sent)) return *r;
+  const std::string waited = wait_words(Clock::now() - began);
   {
     std::lock_guard<std::mutex> lock(stats_mu_);
     ++stats_.timeouts;
   }
-  LinkStats after;
-  {
-    std::lock_guard<std::mutex> lock(stats_mu_);
-    after = stats_;
-  }
-  std::string why = sent == 0 ? fmt::format("{} not sent in {} ms", message_name(type), per_try.count() * options_.tries)
-                              : fmt::format("no reply to {} after {} {} ({} ms)", message_name(type), sent,
-                                            sent == 1 ? "try" : "tries", per_try.count() * options_.tries);
-  const uint64_t bytes = after.bytes - before.bytes, frames = after.frames - before.frames;
-  if (link_.is_up() && peer_ == Peer::Known && foreign_version_.load() == 0) {
-    if (bytes == 0)
-      why += fmt::format("; nothing arrived from {}: is the firmware running? (a slow device needs a longer --timeout)",
-                         link_.path());
-    else if (frames == 0)
-      why += fmt::format("; {} bytes arrived from {}, none of them a valid frame (another baud rate, or not an nlsoft "
-                         "firmware?)", bytes, link_.path());
+  // The tries and the time actually waited: --timeout is per try.
+  const std::string each = fmt::format("{} ms each", per_try.count());
+  std::string why =
+      sent == 0 ? fmt::format("{} not sent: {} was down for all {} tries ({} in all)", message_name(type), link_.path(),
+                              options_.tries, waited)
+      : sent == options_.tries
+          ? fmt::format("no reply to {} after {} {}, {} ({} in all)", message_name(type), sent,
+                        sent == 1 ? "try" : "tries", each, waited)
+          : fmt::format("no reply to {}: {} of {} tries sent ({} was down for the others), {} ({} in all)",
+                        message_name(type), sent, options_.tries, link_.path(), each, waited);
+  bool said_version = false;
+  if (link_.is_up() && peer_ == Peer::Known) {
+    const LineHeard h = heard_since(before);
+    said_version = h.kind == LineHeard::Kind::OtherVersion;
+    if (h.kind == LineHeard::Kind::Nothing)
+      why += "; " + heard_words(h, link_.path()) + ": is the firmware running? (a slow device needs a longer --timeout)";
+    else if (h.kind != LineHeard::Kind::Frames)
+      why += "; " + heard_words(h, link_.path());
   }
   if (!link_.is_up()) {
     why += link_.will_reopen() ? fmt::format("; {} is down, reconnecting", link_.path())
@@ -509,8 +549,8 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     std::lock_guard<std::mutex> lock(identity_mu_);
     why += "; " + foreign_;
   }
-  if (const uint8_t v = foreign_version_.load())
-    why += fmt::format("; the firmware speaks protocol v{}, this console v{}", v, p::kProtocolVersion);
+  if (const uint8_t v = foreign_version_.load(); v != 0 && !said_version)
+    why += fmt::format("; the firmware speaks protocol v{}, this console {}", v, protocol_version_text());
   throw LinkError(why);
 }
 
@@ -523,6 +563,38 @@ void Session::throw_nack(const Reply& r) const {
 void Session::unexpected(const Reply& r, uint8_t request_type) const {
   throw LinkError(fmt::format("unexpected reply {} ({} bytes) to {}", message_name(r.type), r.length,
                               message_name(request_type)));
+}
+
+LineHeard Session::heard_since(const LinkStats& before) const {
+  const LinkStats now = stats();
+  LineHeard h;
+  h.bytes = now.bytes - before.bytes;
+  h.frames = now.frames - before.frames;
+  const uint64_t echoed = now.echoed_requests - before.echoed_requests;
+  h.version = foreign_version_.load();
+  if (h.bytes == 0) h.kind = LineHeard::Kind::Nothing;
+  else if (h.version != 0) h.kind = LineHeard::Kind::OtherVersion;
+  else if (h.frames == 0) h.kind = LineHeard::Kind::Noise;
+  else if (echoed == h.frames) h.kind = LineHeard::Kind::Echo;
+  else h.kind = LineHeard::Kind::Frames;
+  return h;
+}
+
+std::string Session::no_info_words(const LinkStats& before, Clock::duration waited, unsigned baud) const {
+  const LineHeard h = heard_since(before);
+  std::string why = fmt::format("no INFO in {} of asking: ", wait_words(waited));
+  switch (h.kind) {
+    case LineHeard::Kind::Nothing:
+      why += heard_words(h, link_.path()) + fmt::format(": is the firmware running, at {} baud?", baud);
+      break;
+    case LineHeard::Kind::Noise: why += heard_words(h, link_.path()) + fmt::format("; read at {} baud", baud); break;
+    case LineHeard::Kind::Frames:
+      why += fmt::format("{} frames arrived from {}, none of them an answer to INFO_GET", h.frames, link_.path());
+      break;
+    default: why += heard_words(h, link_.path());
+  }
+  if (!link_.is_up()) why += fmt::format("; {} is down", link_.path());
+  return why;
 }
 
 LinkStats Session::stats() const {

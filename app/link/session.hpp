@@ -42,6 +42,30 @@ struct SessionOptions {
   std::chrono::milliseconds keepalive{300};
 };
 
+// What came from the port while requests went unanswered, from two
+// snapshots of the stats: the one diagnosis behind every "no reply" and "no
+// INFO" message (the session's, the handshake's, the conformance suite's).
+struct LineHeard {
+  enum class Kind {
+    Nothing,       // a silent line: no byte at all
+    Noise,         // bytes, none of them a valid frame (another baud rate, another device)
+    Echo,          // valid frames, every one a request as the console sends them (a loopback)
+    OtherVersion,  // frames of another protocol version
+    Frames,        // the firmware's frames, but no answer to the request
+  };
+  Kind kind = Kind::Nothing;
+  uint64_t bytes = 0, frames = 0;
+  uint8_t version = 0;  // OtherVersion: the version byte the peer speaks
+};
+
+// The fact in words, naming the port: "nothing arrived from /dev/pts/3",
+// "600 bytes arrived from /dev/pts/3, none of them a valid frame (another
+// baud rate, or not an nlsoft firmware?)", ... Empty for Frames.
+std::string heard_words(const LineHeard& h, const std::string& port);
+
+// "250 ms", "1.25 s": a wait as the messages give it.
+std::string wait_words(std::chrono::steady_clock::duration d);
+
 struct Reply {
   uint8_t type = 0;
   uint8_t seq = 0;
@@ -132,6 +156,14 @@ class Session {
   }
 
   LinkStats stats() const;
+  // What arrived since `before` (a stats() snapshot), for a request or a
+  // handshake that got no answer.
+  LineHeard heard_since(const LinkStats& before) const;
+  // "no INFO from PORT in 3.0 s of asking: nothing arrived: is the firmware
+  // running, at 115200 baud?": why a device never identified itself, from
+  // what arrived since `before`. The console's handshake and the
+  // conformance suite both say it.
+  std::string no_info_words(const LinkStats& before, std::chrono::steady_clock::duration waited, unsigned baud) const;
   // The port is open and leads to the device identified before (if any).
   bool connected() const { return link_.is_up() && peer_.load() == Peer::Known; }
   const std::string& port() const { return link_.path(); }

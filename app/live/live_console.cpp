@@ -119,15 +119,20 @@ void LiveConsole::connect(const Progress& params_progress) {
   // A board may still be booting (QEMU takes a second or two; many USB
   // boards reset when the port opens): keep asking for a while.
   const auto patience = std::chrono::seconds(sim_ && !options_.sim_in_qemu ? 3 : 10);
-  const auto give_up = std::chrono::steady_clock::now() + patience;
+  const auto asked = std::chrono::steady_clock::now();
+  const LinkStats before = session_->stats();
   while (true) {
+    const uint64_t timeouts = session_->stats().timeouts;
     try {
       device_->handshake();
       break;
-    } catch (const LinkError& e) {
-      if (std::chrono::steady_clock::now() >= give_up || session_->foreign_version() != 0)
-        throw LinkError(fmt::format("{} (no INFO for {} s: is the firmware running at {} baud?)", e.what(),
-                                    patience.count(), options_.baud));
+    } catch (const LinkError&) {
+      // An INFO that arrived and was refused (another protocol, impossible
+      // dimensions) is its own error; only silence is asked again.
+      if (session_->stats().timeouts == timeouts) throw;
+      const auto waited = std::chrono::steady_clock::now() - asked;
+      if (waited >= patience || session_->foreign_version() != 0)
+        throw LinkError(session_->no_info_words(before, waited, options_.baud));
     }
   }
   device_->load_params(params_progress);
@@ -583,6 +588,7 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   r.previous_hash = info.model_hash;
   r.bytes = bytes.size();
   r.params = m.param_count;
+  r.normalisation = m.norm_count();
   device_->upload(p::XferKind::Model, bytes, progress);
   r.hash = device_->handshake().model_hash;
   if (r.hash != m.hash)

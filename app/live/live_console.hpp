@@ -125,7 +125,7 @@ class LiveConsole {
   struct ModelUpload {
     uint32_t previous_hash = 0, hash = 0;
     size_t bytes = 0;
-    uint32_t params = 0;
+    uint32_t params = 0, normalisation = 0;  // floats in the file, and how many of them normalise
   };
   ModelUpload upload_model(const std::string& path, const Progress& progress = {});
 

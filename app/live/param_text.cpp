@@ -119,6 +119,7 @@ std::string param_range_text(const ParamInfo& p) {
   std::string s = param_options(p.name).empty() ? fmt::format("range [{:g}, {:g}]", p.min, p.max)
                                                 : "options " + param_options_text(p.name);
   if (!p.unit.empty()) s += " " + p.unit;
+  if (!p.capacity.empty()) s += fmt::format(" (this build's capacity, {})", p.capacity);
   if (!p.is_float() && param_options(p.name).empty()) s += ", whole numbers";
   if (p.size > 1) s += fmt::format(", {} values (one sets all)", p.size);
   if (p.read_only()) s += ", read-only";

@@ -17,6 +17,7 @@
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
 #include "app/model/keras_import.hpp"
+#include "app/model/model_size_words.hpp"
 #include "app/model/progress.hpp"
 #include "app/model/train.hpp"
 #include "shared/forward.hpp"
@@ -137,8 +138,9 @@ void run_train(const TrainArgs& a) {
   ModelFile f = r.model;
   save_model_file(a.out, f);
   const char* unit = id == PlatformId::Msd ? "m^2" : "mm^2";
-  std::printf("trained %s model in %.1f s (%d epochs), %u parameters, rows train %ld / val %ld / test %ld\n",
-              platform_name(id), r.seconds, r.epochs_run, static_cast<unsigned>(f.params.size() - f.view().norm_count()),
+  std::printf("trained %s model in %.1f s (%d epochs), %s, rows train %ld / val %ld / test %ld\n",
+              platform_name(id), r.seconds, r.epochs_run,
+              model_size_words(uint32_t(f.params.size()), f.view().norm_count()).c_str(),
               r.split.train_end, r.split.val_end - r.split.val_begin, r.split.test_end - r.split.test_begin);
   for (size_t j = 0; j < r.test.mse.size(); ++j)
     std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit,
@@ -281,8 +283,8 @@ void run_info(const std::string& path) {
                   activation_name(L.act), layer_weight_count(L), activation_name(L.rec_act),
                   L.reset_after ? "true" : "false");
   }
-  std::printf("  parameters: %u weights + %u normalisation = %u floats\n  hash 0x%08x\n", weights, M.norm_count(),
-              M.param_count, M.hash);
+  std::printf("  parameters: %s\n  hash 0x%08x\n", model_size_words(weights + M.norm_count(), M.norm_count()).c_str(),
+              M.hash);
 }
 
 // ---------------------------------------------------------------- model codegen

@@ -85,6 +85,20 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
       m.nrmse_space = worst;
     }
   }
+  {
+    auto spans = [&](const std::vector<float>& v) {
+      std::vector<double> out;
+      if (s.n <= 0 || v.size() < size_t(s.n)) return out;
+      for (int a = 0; a < s.n; ++a) {
+        float lo = v[size_t(a)], hi = lo;
+        for (size_t i = size_t(a); i < v.size(); i += size_t(s.n)) lo = std::min(lo, v[i]), hi = std::max(hi, v[i]);
+        out.push_back(double(hi) - double(lo));
+      }
+      return out;
+    };
+    if (s.has_y_ref) m.ref_span = spans(s.y_ref);
+    m.y_span = spans(s.has_y_true ? s.y_true : s.y_hat);
+  }
   input_metrics(s, limits, m);
   m.loop_rate_hz = run.loop_rate_hz;
   // A run whose firmware died half-way spans less in samples than it lasted:

@@ -22,6 +22,10 @@ struct RunMetrics {
   // when sent, else predicted): defined for holds and steps too. NaN on a
   // platform whose task space the console does not know.
   double nrmse_space = std::numeric_limits<double>::quiet_NaN();
+  // How far the reference and the tracked output (true when sent, else
+  // predicted) move over the rows measured, per axis (max - min): a window
+  // in which the reference barely moves makes nrmse a measure of noise.
+  std::vector<double> ref_span, y_span;
   double loop_rate_hz = 0;    // from step and time stamps; nominal if those are missing
   double compute_p50_us = 0, compute_p99_us = 0;
   double mean_iterations = 0;

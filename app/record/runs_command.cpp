@@ -2,8 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <strings.h>
+
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -11,6 +16,7 @@
 #include "app/cli_error.hpp"
 #include "app/output_file.hpp"
 #include "app/record/csv_export.hpp"
+#include "app/record/end_words.hpp"
 #include "app/record/gnuplot.hpp"
 #include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
@@ -18,6 +24,8 @@
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/tune_log.hpp"
+#include "app/record/utc_time.hpp"
+#include "app/script/script_parser.hpp"
 
 namespace nlsoft::console {
 
@@ -26,6 +34,8 @@ namespace {
 struct RunsArgs {
   std::string db;
   int64_t id = 0, other = 0;
+  int64_t last = 0;          // runs list --last N
+  std::string since, match;  // runs list --since WHEN, --label TEXT
   std::vector<int64_t> ids;
   int64_t tune = 0;  // runs plot --tune S
   std::string csv, svg, png, label;
@@ -93,6 +103,18 @@ void print_metrics(const RunMetrics& m) {
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
 }
 
+// "gap after sample 383: 3516 frames lost (27.0 s at 130 Hz); telemetry
+// silent for 3.00 s". The frames are the steps the run did not get, at the
+// run's telemetry rate; the silence is how long nothing came before the run
+// gave up: two different times, each named for what it is.
+std::string gap_words(const RunRow& r, const GapRecord& g) {
+  std::string s = fmt::format("gap after sample {}: {} frame{} lost", g.after_k, g.lost_frames, g.lost_frames == 1 ? "" : "s");
+  const double rate = r.loop_rate_hz / double(r.decimation > 0 ? r.decimation : 1);
+  if (rate > 0) s += fmt::format(" ({:.1f} s at {:g} Hz)", double(g.lost_frames) / rate, rate);
+  if (g.duration_s >= 0) s += fmt::format("; telemetry silent for {:.2f} s", g.duration_s);
+  return s;
+}
+
 // "swirl", "table", ...: the kind of the run's reference at its start.
 std::string reference_kind(const std::string& json) {
   if (json.empty()) return "-";
@@ -110,9 +132,73 @@ std::string reference_of(RunStore& store, const RunRow& r) {
   return "";
 }
 
+// --since: a date ("2026-11-25", "2026-11-25T10:30", seconds optional) or
+// a time back from now ("90min", "2h", "3d"), as the ISO text the runs'
+// start times are stored in, which compares as text.
+std::string since_text(const std::string& since) {
+  int y = 0, mo = 0, d = 0, h = 0, mi = 0, sec = 0, used = 0;
+  const char* c = since.c_str();
+  if (std::sscanf(c, "%4d-%2d-%2d%n", &y, &mo, &d, &used) == 3 && used == 10) {
+    const std::string rest = since.substr(10);
+    int more = 0;
+    const bool ok = rest.empty() ||
+                    ((rest[0] == 'T' || rest[0] == ' ') &&
+                     ((std::sscanf(rest.c_str() + 1, "%2d:%2d:%2d%n", &h, &mi, &sec, &more) == 3 &&
+                       size_t(more) + 1 == rest.size()) ||
+                      (std::sscanf(rest.c_str() + 1, "%2d:%2d%n", &h, &mi, &more) == 2 && size_t(more) + 1 == rest.size())));
+    if (ok && mo >= 1 && mo <= 12 && d >= 1 && d <= 31 && h < 24 && mi < 60 && sec < 61)
+      return fmt::format("{:04d}-{:02d}-{:02d}T{:02d}:{:02d}:{:02d}.000Z", y, mo, d, h, mi, sec);
+  } else {
+    char* end = nullptr;
+    const double v = std::strtod(c, &end);
+    const std::string unit = end ? end : "";
+    double back_s = -1;
+    if (end != c && v > 0 && (unit == "d" || unit == "days" || unit == "day")) back_s = v * 86400;
+    else if (end != c && v > 0 && (unit == "w" || unit == "weeks" || unit == "week")) back_s = v * 7 * 86400;
+    else {
+      try {
+        back_s = parse_duration(since);
+      } catch (const std::invalid_argument&) {
+      }
+    }
+    if (back_s > 0) {
+      const auto now = utc_seconds(utc_now());
+      const time_t t = time_t(std::floor((now ? *now : double(std::time(nullptr))) - back_s));
+      tm u{};
+      gmtime_r(&t, &u);
+      char buf[40];
+      std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%S.000Z", &u);
+      return buf;
+    }
+  }
+  throw CliError(fmt::format("runs list --since '{}': give a date (2026-11-25, 2026-11-25T10:30, UTC) or a time back "
+                             "from now (90min, 2h, 3d)", since));
+}
+
+// The runs --last, --label and --since leave, in id order.
+std::vector<RunRow> chosen_runs(const RunsArgs& a, std::vector<RunRow> runs) {
+  if (!a.match.empty())
+    runs.erase(std::remove_if(runs.begin(), runs.end(),
+                              [&](const RunRow& r) {
+                                return std::search(r.label.begin(), r.label.end(), a.match.begin(), a.match.end(),
+                                                   [](char x, char y) { return std::tolower(x) == std::tolower(y); }) ==
+                                       r.label.end();
+                              }),
+               runs.end());
+  if (!a.since.empty()) {
+    const std::string from = since_text(a.since);
+    runs.erase(std::remove_if(runs.begin(), runs.end(), [&](const RunRow& r) { return r.started_at < from; }),
+               runs.end());
+  }
+  if (a.last > 0 && runs.size() > size_t(a.last)) runs.erase(runs.begin(), runs.end() - a.last);
+  return runs;
+}
+
 void list(const RunsArgs& a) {
   auto store = open_store(a);
-  const auto runs = store->list();
+  const auto all_runs = store->list();
+  const auto runs = chosen_runs(a, all_runs);
+  const bool filtered = !a.match.empty() || !a.since.empty() || a.last > 0;
   const std::string path = a.db.empty() ? default_db_path() : a.db;
   // The runs of a tuning session: its header goes before its first run, its
   // evaluations follow indented with their objective, and a session's later
@@ -150,28 +236,38 @@ void list(const RunsArgs& a) {
     return;
   }
   if (runs.empty()) {
-    fmt::print("no runs recorded yet in {}\n", a.db.empty() ? default_db_path() : a.db);
+    if (filtered && !all_runs.empty())
+      fmt::print("none of the {} runs in {} matches{}{}{}\n", all_runs.size(), path,
+                 a.match.empty() ? "" : fmt::format(" --label '{}'", a.match),
+                 a.since.empty() ? "" : fmt::format(" --since {}", a.since),
+                 a.last > 0 ? fmt::format(" --last {}", a.last) : "");
+    else
+      fmt::print("no runs recorded yet in {}\n", path);
     return;
   }
-  fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "reference",
-             "samples", "nrmse", "lost", "label", "ended");
-  std::map<int64_t, const RunRow*> by_id;
+  fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "reference",
+             "samples", "nrmse(run)", "lost", "label", "ended");
+  std::map<int64_t, const RunRow*> by_id;  // the runs shown
   for (const RunRow& r : runs) by_id[r.id] = &r;
   auto line = [&](const RunRow& r, const std::string& indent, const std::string& ended) {
     const RunMetrics m = run_metrics(*store, r.id);
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
-    fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
+    fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
                r.platform, reference_kind(reference_of(*store, r)), r.samples,
                m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames, r.label,
                ended);
   };
+  bool any_eval = false;
   for (const RunRow& r : runs) {
     const auto e = eval_of.find(r.id);
     if (e == eval_of.end()) {
-      line(r, "", r.ended_at.empty() ? "(unfinished)" : r.end_reason);
+      line(r, "", end_words(r.ended_at, r.end_reason));
       continue;
     }
-    const auto& members = session_runs[e->second.session_id];
+    any_eval = true;
+    std::vector<int64_t> members;  // the session's runs this listing shows
+    for (int64_t id : session_runs[e->second.session_id])
+      if (by_id.count(id)) members.push_back(id);
     if (members.front() != r.id) continue;  // printed with its session
     const TuneSessionRow& s = sessions[e->second.session_id];
     fmt::print("tuning session {}: minimise {} over {} ({}), {} evaluation{}, {}{}\n", s.id, s.objective, s.space, s.method,
@@ -184,9 +280,14 @@ void list(const RunsArgs& a) {
       const TuneEvalRow& ev = eval_of[id];
       line(*row->second, "  ",
            ev.objective ? fmt::format("objective {:.5g}{}", *ev.objective, id == s.best_run ? " (best)" : "")
-                        : "failed: " + ev.failed);
+                        : "failed: " + failure_words(ev.failed));
     }
   }
+  // What the two columns that invite questions hold.
+  fmt::print("nrmse(run): over the whole recorded run{}; ended: in a word, runs show ID says why in full\n",
+             any_eval ? ", where a tuning evaluation's objective is scored over its window after the settle: the "
+                        "two differ"
+                      : "");
 }
 
 void show(const RunsArgs& a) {
@@ -225,10 +326,7 @@ void show(const RunsArgs& a) {
     if (p.at_start) fmt::print("    {:<12} {}\n", p.name, p.value);
   for (const auto& p : store->params(a.id))
     if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, p.name, p.value);
-  for (const auto& g : store->gaps(a.id))
-    fmt::print("  gap after sample {}: {} frame{} lost{} ({}, {})\n", g.after_k, g.lost_frames,
-               g.lost_frames == 1 ? "" : "s", g.duration_s >= 0 ? fmt::format(" over {:.2f} s", g.duration_s) : "",
-               g.reason, g.t);
+  for (const auto& g : store->gaps(a.id)) fmt::print("  {} ({}, {})\n", gap_words(r, g), g.reason, g.t);
   for (const auto& [when, detail] : store->link_events(a.id)) fmt::print("  link {}: {}\n", when, detail);
 }
 
@@ -334,6 +432,7 @@ void add_runs_command(CLI::App& app) {
   runs->footer(
       "Examples:\n"
       "  nlsoft-console runs list\n"
+      "  nlsoft-console runs list --last 5 --label baseline --since 2h\n"
       "  nlsoft-console runs show 12\n"
       "  nlsoft-console runs export 12 --csv run12.csv\n"
       "  nlsoft-console runs compare 12 13 --json\n"
@@ -347,9 +446,14 @@ void add_runs_command(CLI::App& app) {
     c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
   };
   db(runs);
-  CLI::App* l = runs->add_subcommand("list", "One line per run: rig, reference, samples, nRMSE, lost frames, label");
+  CLI::App* l = runs->add_subcommand(
+      "list", "One line per run: rig, reference, samples, nRMSE over the run, lost frames, label, how it ended");
   db(l);
   l->add_flag("--json", args->json, "Machine-readable output: an array of runs");
+  l->add_option("--last", args->last, "Only the last N runs (after the other filters)")->check(CLI::PositiveNumber);
+  l->add_option("--label", args->match, "Only runs whose label contains TEXT (any case)");
+  l->add_option("--since", args->since,
+                "Only runs started since a date (2026-11-25, 2026-11-25T10:30, UTC) or a time back from now (2h, 3d)");
   l->callback([args] { list(*args); });
   CLI::App* s = runs->add_subcommand("show", "A run's setup, parameters, gaps and metrics");
   db(s);

@@ -21,7 +21,7 @@
 //   echo TEXT
 //   note TEXT                 notes on the current (or last) run
 //   sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]
-//   tune NAME=LO..HI[:log]... [objective=EXPR] [budget=N|DURATION] [apply] ...
+//   tune NAME=LO..HI[:log|:lin]... [objective=EXPR] [budget=N|DURATION] [apply] ...
 //                             (app/tune/tune_options.hpp)
 #include <stdexcept>
 #include <string>

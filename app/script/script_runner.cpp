@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <thread>
 
 #include "app/cli_error.hpp"
 #include "app/link/link_error.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
+#include "app/model/model_size_words.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/run_store.hpp"
 
@@ -25,6 +28,24 @@ std::string summary_line(const RunSummary& s) {
                      s.run_id, s.label.empty() ? "" : " (" + s.label + ")", m.samples, m.duration_s, rmse, t.nrmse,
                      t.max_error, m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us, m.lost_frames,
                      s.end_reason == "completed" ? "" : ", " + s.end_reason);
+}
+
+// What `run 1s` meant: control steps at the loop rate, the firmware's time,
+// not wall time. A --sim-fast simulator runs them far faster than the clock
+// and keeps stepping until RUN_STOP reaches it, so it records more than it
+// was asked for. A sample is `decimation` steps.
+std::string timed_run_words(double asked_s, double rate_hz, int decimation, const RunMetrics& m) {
+  if (!(rate_hz > 0)) return "";
+  const double target = std::round(asked_s * rate_hz);
+  const double steps = double(m.samples) * std::max(decimation, 1);
+  std::string s = fmt::format("; {:g} s asked = {:.0f} control steps at {:g} Hz (the firmware's time, not wall time): "
+                              "{} samples = {:.2f} s of it",
+                              asked_s, target, rate_hz, m.samples, steps / rate_hz);
+  if (m.wall_s > 0) s += fmt::format(", in {:.2f} s of wall time", m.wall_s);
+  if (steps > 1.1 * target)
+    s += " (a --sim-fast simulator runs past the end until RUN_STOP reaches it; sweep and tune measure only the "
+         "window asked for)";
+  return s;
 }
 
 }  // namespace
@@ -139,8 +160,8 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         const auto r = console_.upload_model(c.name, [&](size_t d, size_t t) {
           if (progress_) progress_("model " + c.name, d, t);
         });
-        out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {} weights", c.name, r.hash,
-                         r.previous_hash, r.bytes, r.params));
+        out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {}", c.name, r.hash,
+                         r.previous_hash, r.bytes, model_size_words(r.params, r.normalisation)));
         break;
       }
       case K::Run: {
@@ -150,7 +171,13 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
               if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
             },
             &cancelled_);
-        out_(summary_line(s));
+        int decimation = 1;
+        try {
+          decimation = RunStore(console_.db_path()).run(s.run_id).decimation;
+        } catch (const std::exception&) {
+          // The summary then counts a sample as one step.
+        }
+        out_(summary_line(s) + timed_run_words(c.seconds, console_.loop_rate_hz(), decimation, s.metrics));
         check_completed(s, c, file);
         break;
       }

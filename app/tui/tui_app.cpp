@@ -551,7 +551,7 @@ bool App::handle(int ch) {
       return true;
     case 'v': path_view_ = !path_view_; return true;
     case 't':
-      if (tune_.empty()) message("no tuning session yet: :tune NAME=LO..HI[:log] ... (F1 for the options)", Role::Warn);
+      if (tune_.empty()) message("no tuning session yet: :tune NAME=LO..HI[:log|:lin] ... (F1 for the options)", Role::Warn);
       else show_tune_ = !show_tune_;
       return true;
     case 'x': {

@@ -33,7 +33,7 @@ Dimension parse_dimension(const std::string& spec) {
   const size_t eq = spec.find('=');
   if (eq == std::string::npos || eq == 0)
     throw std::invalid_argument(
-        fmt::format("--param {}: expected NAME=LO..HI[:log], e.g. Lambda=0.01..100:log or Q1=1e5..1e7:log", spec));
+        fmt::format("--param {}: expected NAME=LO..HI[:log|:lin], e.g. Lambda=0.01..100:log or Q1=1e5..1e7:log", spec));
   d.name = spec.substr(0, eq);
   std::string range = spec.substr(eq + 1);
   const size_t colon = range.rfind(':');
@@ -56,7 +56,7 @@ Dimension parse_dimension(const std::string& spec) {
 }
 
 SearchSpace::SearchSpace(LiveConsole& console, std::vector<Dimension> dims) : dims_(std::move(dims)) {
-  if (dims_.empty()) throw CliError("tune: give at least one --param NAME=LO..HI[:log], e.g. --param Lambda=0.01..100:log");
+  if (dims_.empty()) throw CliError("tune: give at least one --param NAME=LO..HI[:log|:lin], e.g. --param Lambda=0.01..100:log");
   std::vector<std::string> seen;
   for (const Dimension& d : dims_) {
     const bool scale = !d.name.empty() && d.name.back() == '*';

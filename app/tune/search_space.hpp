@@ -14,7 +14,7 @@ namespace nlsoft::console {
 
 class LiveConsole;
 
-// One searched dimension, as written: NAME=LO..HI[:log].
+// One searched dimension, as written: NAME=LO..HI[:log|:lin].
 //   Lambda=0.01..100:log   every element of Lambda, one value
 //   Q1=1e5..1e7:log        one element (also Q[1])
 //   Q*=0.1..1e3:log        a common factor on Q as it was at the start:

@@ -97,8 +97,9 @@ void add_tune_command(CLI::App& app) {
               "evaluation; print and save the best set");
   add_connect_options(*t, a->link, "tune");
   t->add_option("--param", a->params,
-                "NAME=LO..HI[:log], once per searched dimension: Lambda=0.01..100:log (every element), Q1=1e5..1e7:log "
-                "(one element), Q*=0.1..1000:log (a factor on all of Q, keeping its proportions)")
+                "NAME=LO..HI[:log|:lin], once per searched dimension: Lambda=0.01..100:log (every element), Q1=1e5..1e7:log "
+                "(one element), Q*=0.1..1000:log (a factor on all of Q, keeping its proportions); :log searches uniformly in the "
+                "logarithm, :lin (the default) in the value; quote it in a shell: 'Q*=0.1..1000:log'")
       ->required();
   t->add_option("--objective", a->objective,
                 "Expression to minimise over run metrics, e.g. \"nrmse + 0.1*u_effort\" (default nrmse); metrics: "
@@ -121,7 +122,7 @@ void add_tune_command(CLI::App& app) {
       "Exit 0 with a best set saved, 1 when every evaluation failed, 2 on an error.\n"
       "\n"
       "Example (the simulated tendon rig, the whole Swirl per run, 12 runs, a second or two):\n"
-      "  nlsoft-console tune --sim tendon --sim-fast --param Lambda=0.01..1e10:log --param Q*=0.01..1e4:log \\\n"
+      "  nlsoft-console tune --sim tendon --sim-fast --param 'Lambda=0.01..1e10:log' --param 'Q*=0.01..1e4:log' \\\n"
       "      --objective \"nrmse + 0.1*u_effort\" --budget 12 --reference \"swirl hold=1\" --settle 500ms --window 9s\n"
       "Then:\n"
       "  nlsoft-console runs list                      # the session's runs, grouped\n"

@@ -24,6 +24,16 @@ bool set_budget(TuneOptions& o, const std::string& written) {
     o.budget_runs = int(v);
     return true;
   }
+  // A number with a unit of time: a wall-time budget, which must be positive.
+  if (end != text.c_str() && !unit.empty() && !(v > 0)) {
+    try {
+      parse_duration("1" + unit);
+    } catch (const std::invalid_argument&) {
+      throw std::invalid_argument(
+          fmt::format("budget '{}': give runs (40) or wall time (10min, 90s); both may be given", text));
+    }
+    throw std::invalid_argument(fmt::format("budget '{}': a time budget must be positive, e.g. 90s or 10min", text));
+  }
   try {
     o.budget_s = parse_duration(text);
     return false;
@@ -67,7 +77,7 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
     };
     if (eq == std::string::npos)
       throw std::invalid_argument(fmt::format(
-          "tune: '{}' is neither NAME=LO..HI[:log] nor an option (objective= budget= reference= settle= window= "
+          "tune: '{}' is neither NAME=LO..HI[:log|:lin] nor an option (objective= budget= reference= settle= window= "
           "seed= method= max_saturated= save= apply)",
           w));
     if (key == "objective") {
@@ -97,7 +107,7 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
       o.dims.push_back(parse_dimension(w));
     } else {
       throw std::invalid_argument(fmt::format(
-          "tune: unknown option '{}'; a parameter range is NAME=LO..HI[:log], e.g. Lambda=0.01..100:log", key));
+          "tune: unknown option '{}'; a parameter range is NAME=LO..HI[:log|:lin], e.g. Lambda=0.01..100:log", key));
     }
   }
   // A time budget alone means: as many runs as fit.
@@ -108,12 +118,14 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
 
 const std::vector<std::string>& tune_help() {
   static const std::vector<std::string> h = {
-      "tune NAME=LO..HI[:log] ...  search parameters for the lowest objective, one real run per",
+      "tune NAME=LO..HI[:log|:lin] ...  search parameters for the lowest objective, one real run per",
       "  [objective=EXPR]          evaluation (NLopt BOBYQA): objective=\"nrmse + 0.1*u_effort\",",
       "  [budget=40|10min]         budget=40 runs and/or wall time, reference=swirl, settle=1s",
       "  [reference=NAME] [apply]  window=5s, seed=1, method=bobyqa|neldermead, max_saturated=0.5,",
       "                            save=FILE (default tune-SESSION.params); Q1=.. one element,",
-      "                            Q*=0.1..1e3:log a factor on all of Q; apply keeps the best in force",
+      "                            Q*=0.1..1e3:log a factor on all of Q; apply keeps the best in force;",
+      "                            :log searches a range uniformly in its logarithm, :lin (the default)",
+      "                            in its value",
   };
   return h;
 }

@@ -15,7 +15,10 @@
 #include "app/live/reference_spec.hpp"
 #include "app/record/tune_log.hpp"
 #include "app/script/script_parser.hpp"
+#include "app/record/task_space.hpp"
+#include "app/tune/motion_check.hpp"
 #include "app/tune/objective.hpp"
+#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 
@@ -81,11 +84,16 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
                   "over {:g} s; failed if the watchdog trips, a frame is lost or the inputs sit at a limit over {:g} % of it",
                   o.settle_s, o.window_s, 100 * o.max_saturated));
   std::string budget;
-  if (o.budget_runs > 0) budget = fmt::format("{} runs", o.budget_runs);
+  if (o.budget_runs > 0) budget = fmt::format("{} run{}", o.budget_runs, o.budget_runs == 1 ? "" : "s");
   if (o.budget_s > 0) budget += fmt::format("{}{:g} s", budget.empty() ? "" : " or ", o.budget_s);
   out(fmt::format("budget {}; start {}; Ctrl-C stops and keeps the best", budget, space.describe(space.start())));
   for (const std::string& c : space.clamped()) out("  " + c);
 
+  // The rig's task space: what "the reference barely moves" is measured against.
+  const uint8_t platform = console.device().info().platform;
+  const std::vector<double> task =
+      platform < kPlatformCount ? task_space(platform_name(PlatformId(platform))) : std::vector<double>{};
+  bool motion_checked = false;
   Stop stop = Stop::None;
   std::exception_ptr error;
   double worst_ok = -std::numeric_limits<double>::infinity();
@@ -128,6 +136,13 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
         // end before the run is stopped, by a different amount each time.
         m = console.metrics_of(s.run_id, o.settle_s, o.window_s);
         e.nrmse = metric_value(m, "nrmse").value_or(kNaN);
+        if (!motion_checked && m.samples > 0) {
+          motion_checked = true;
+          if (const std::string w = still_reference_warning(m, task, o.settle_s, o.window_s); !w.empty()) {
+            r.warnings.push_back(w);
+            out(w);
+          }
+        }
         const double sat = std::isfinite(m.u_saturated) ? m.u_saturated : 0.0;
         if (s.ended_early) e.failed = s.end_reason;
         else if (m.lost_frames > 0) e.failed = fmt::format("{} telemetry frame{} lost", m.lost_frames, m.lost_frames == 1 ? "" : "s");
@@ -234,7 +249,9 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   }
   r.wall_s = std::chrono::duration<double>(clock::now() - started).count();
   switch (stop) {
-    case Stop::Budget: r.end_reason = fmt::format("budget of {} runs used", o.budget_runs); break;
+    case Stop::Budget:
+      r.end_reason = fmt::format("budget of {} run{} used", o.budget_runs, o.budget_runs == 1 ? "" : "s");
+      break;
     case Stop::Interrupted: r.end_reason = "interrupted (Ctrl-C)"; break;
     case Stop::Cancelled: r.end_reason = "cancelled"; break;
     case Stop::Time: r.end_reason = fmt::format("time budget of {:g} s used", o.budget_s); break;

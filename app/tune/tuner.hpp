@@ -44,6 +44,7 @@ struct TuneResult {
   std::string saved_to;    // "" when nothing was saved
   bool applied = false;
   double wall_s = 0;
+  std::vector<std::string> warnings;  // what makes the session's scores doubtful (motion_check.hpp)
 };
 
 struct TuneCallbacks {

@@ -19,6 +19,10 @@ Each example must exit 0, except that a board example (a /dev/tty* port,
 examples when the images were not built. Interactive examples (the TUI) run
 in tmux until the parameter panel is drawn, then get `q`.
 
+A `tune` example must also do what it shows: its best objective no higher
+than its start's (the values in force, the presets), and no warning that
+the reference barely moves in the window it scores.
+
 Python rather than C++: it drives whole command lines and tmux, nothing else.
 """
 import argparse
@@ -88,6 +92,22 @@ def resolve(text):
         text = stripped
     words = shlex.split(text)
     return [w.split("|")[0] if "|" in w and not w.startswith("-") else w for w in words]
+
+
+def tune_verdict(out):
+    """Why a tune example's output fails what it teaches, or None: it must
+    score a window where the reference moves and end no worse than it began."""
+    if "the reference barely moves" in out:
+        return "tune warned that the reference barely moves in its window"
+    m = re.search(r"^best: .* = ([-+0-9.eE]+) at evaluation (\d+) \(run \d+; nrmse [-+0-9.eE]+, start ([-+0-9.eE]+)\)",
+                  out, re.M)
+    if not m:
+        return "tune printed no best with its start"
+    best, at, start = float(m.group(1)), int(m.group(2)), float(m.group(3))
+    print(f"  tune: start {start:.5g}, best {best:.5g} at evaluation {at}")
+    if not best <= start:
+        return f"tune's best {best:.5g} is above its start {start:.5g}"
+    return None
 
 
 def run(cmd, env, cwd, timeout):
@@ -192,6 +212,10 @@ def main():
                     code, out = run_interactive(cmd, env, work, 60)
                 else:
                     code, out = run(cmd, env, work, 600)
+                    if code == 0 and len(cmd) > 1 and cmd[1] == "tune":
+                        why = tune_verdict(out)
+                        if why:
+                            code, out = 1, out + "\n" + why
                 ran += 1
                 verdict = "PASS" if code == 0 else "FAIL"
                 print(f"{verdict} {where}: {shown}  ({time.time() - started:.1f} s)")

@@ -16,6 +16,7 @@
 #include "app/script/script_parser.hpp"
 #include "app/script/script_runner.hpp"
 #include "shared/crc32.hpp"
+#include "run_process.hpp"
 #include "sim_console.hpp"
 #include "temp_dir.hpp"
 
@@ -115,6 +116,15 @@ TEST_F(ModelUpload, TheScriptCommandUploadsAndSaysTheConfirmedHash) {
   std::snprintf(hex, sizeof hex, "%08x", trailing_crc(model));
   EXPECT_NE(out[0].find(std::string("hash ") + hex + " confirmed"), std::string::npos) << out[0];
   EXPECT_GT(progress_calls, 0u);
+  // The model's size in the words `model info` gives it, weights and
+  // normalisation apart: one wording, not two counts that disagree.
+  const auto info = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " model info " + path);
+  ASSERT_EQ(info.code, 0) << info.output;
+  const size_t at = info.output.find("parameters: ");
+  ASSERT_NE(at, std::string::npos) << info.output;
+  const std::string size = info.output.substr(at + 12, info.output.find('\n', at) - at - 12);
+  EXPECT_NE(size.find(" weights + "), std::string::npos) << size;
+  EXPECT_EQ(out[0].substr(out[0].size() - std::min(out[0].size(), size.size())), size) << out[0] << "\n" << info.output;
 }
 
 TEST_F(ModelUpload, FilesTheFirmwareCouldNotRunAreRefusedBeforeAnythingIsSent) {

@@ -65,6 +65,9 @@ TEST(ParamText, DescriptionRangeAndUnitForThePanel) {
             "range [0, 1e+12] 1/u^2, 6 values (one sets all)");
   EXPECT_EQ(param_range_text(param("N", protocol::ParamType::U8, 1, 1, 255, "steps")),
             "range [1, 255] steps, whole numbers");
+  ParamInfo capped = param("N", protocol::ParamType::U8, 1, 1, 12, "steps");
+  capped.capacity = "max_n";
+  EXPECT_EQ(param_range_text(capped), "range [1, 12] steps (this build's capacity, max_n), whole numbers");
   EXPECT_EQ(param_range_text(param("mode", protocol::ParamType::Enum, 1, 0, 1)), "options exact (0), fd (1)");
 }
 

@@ -63,6 +63,37 @@ TEST(ParamValues, RefusesBadTextInWords) {
   EXPECT_EQ(error_of([&] { parse_param_values(q, {"1,,2"}); }), "Q: empty value in '1,,2'");
 }
 
+// 1e40 is a finite double but no float32: it is refused as an overflow,
+// with the limit, before anything is sent (the firmware would see infinity).
+TEST(ParamValues, AValueBeyondFloat32IsAnOverflowWithTheLimit) {
+  const ParamInfo q = param("Q", protocol::ParamType::F32, 3);
+  EXPECT_EQ(error_of([&] { parse_param_values(q, {"1e40", "1", "1"}); }),
+            "Q: '1e40' overflows a float32 (the firmware's number type): its magnitude must be at most 3.40282e+38");
+  EXPECT_EQ(error_of([&] { parse_param_values(q, {"1", "-1e39", "1"}); }).find("'-1e39' overflows a float32"), 3u);
+  EXPECT_EQ(parse_param_values(q, {"3.4e38", "1", "1"}).front(), 3.4e38) << "the largest floats still go through";
+}
+
+// PARAM_DESC gives the horizons the table's bound, 255 for every build; the
+// build's capacity (INFO's max_n, max_nc) is what it really takes.
+TEST(ParamCatalog, TheHorizonsRangeIsTheBuildsCapacity) {
+  std::vector<ParamInfo> list = {param("N", protocol::ParamType::U8, 1), param("N1", protocol::ParamType::U8, 1),
+                                 param("Nc", protocol::ParamType::U8, 1), param("Q", protocol::ParamType::F32, 3)};
+  for (ParamInfo& p : list) p.min = 1, p.max = p.name == "Q" ? 1e12f : 255;
+  apply_capacity(list, 12, 6);
+  EXPECT_EQ(list[0].max, 12);
+  EXPECT_EQ(list[0].capacity, "max_n");
+  EXPECT_EQ(list[1].max, 12);
+  EXPECT_EQ(list[2].max, 6);
+  EXPECT_EQ(list[2].capacity, "max_nc");
+  EXPECT_EQ(list[3].max, 1e12f);
+  EXPECT_EQ(list[3].capacity, "");
+  protocol::Nack nack;
+  nack.request_type = uint8_t(protocol::MsgType::ParamSet);
+  nack.status = uint8_t(protocol::StatusCode::TooLarge);
+  EXPECT_EQ(describe_param_refusal(list[0], nack, {255}),
+            "N = 255 is over this firmware build's capacity: at most 12 (max_n in INFO)");
+}
+
 TEST(ParamCatalog, FindsByNameAndListsTheKnownOnes) {
   ParamCatalog cat({param("Q", protocol::ParamType::F32, 3), param("Lambda", protocol::ParamType::F32, 6)});
   EXPECT_EQ(cat.find("lambda")->name, "Lambda");

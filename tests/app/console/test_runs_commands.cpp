@@ -129,6 +129,130 @@ TEST_F(RunsCommands, AnUnfinishedRunIsDeletedOnlyWithForce) {
   EXPECT_TRUE(RunStore(db()).list().empty());
 }
 
+// A firmware that died 3 s into a 30 s run at 130 Hz: the steps the run did
+// not get are 27 s of frames, the telemetry was silent for 3 s before the
+// run gave up. Each time is named for what it is, and the frames' time is
+// what they are at the run's rate.
+TEST_F(RunsCommands, AGapSaysItsFramesTimeAtTheRunsRateAndTheSilenceApart) {
+  int64_t id = 0;
+  {
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "hasel";
+    ri.n = 3;
+    ri.m = 6;
+    ri.loop_rate_hz = 130;
+    id = rec.begin_run(ri);
+    rec.add_gap(id, 383, 3510, "run ended early: telemetry stopped arriving", 3.0);
+    rec.end_run(id, "ended early: telemetry stopped arriving (none for 3.0 s: firmware stopped or link lost)", 384, 3510);
+  }
+  const auto r = runs("show " + std::to_string(id));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "gap after sample 383: 3510 frames lost (27.0 s at 130 Hz); telemetry silent for 3.00 s"))
+      << r.output;
+  EXPECT_FALSE(contains(r.output, "lost over")) << r.output;
+}
+
+// Runs recorded straight into the database: label, how they ended.
+int64_t recorded_run(const std::string& db, const std::string& label, const std::string& reason) {
+  Recorder rec(db);
+  RunInfo ri;
+  ri.label = label;
+  ri.platform = "hasel";
+  ri.n = 3;
+  ri.m = 6;
+  ri.loop_rate_hz = 130;
+  const int64_t id = rec.begin_run(ri);
+  if (!reason.empty()) rec.end_run(id, reason, 0, 0);
+  rec.flush();
+  return id;
+}
+
+// The ids a `runs list` prints, in order.
+std::vector<int64_t> listed_ids(const std::string& out) {
+  std::vector<int64_t> ids;
+  std::istringstream lines(out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    int64_t id = 0;
+    std::string started;
+    if (words >> id >> started && started.size() >= 10 && started[4] == '-') ids.push_back(id);
+  }
+  return ids;
+}
+
+// The ended column holds a word or two; the sentence is in `runs show`.
+TEST_F(RunsCommands, ListSaysHowARunEndedInAWordAndShowSaysItInFull) {
+  const std::string watchdog =
+      "ended early: the firmware's link watchdog tripped (nothing from the console for watchdog_ms); it is holding";
+  recorded_run(db(), "calm", "completed");
+  const int64_t tripped = recorded_run(db(), "tripped", watchdog);
+  recorded_run(db(), "left", "stopped by the user");
+  recorded_run(db(), "crashed", "");
+  const auto r = runs("list");
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* word : {"finished", "early: watchdog", "stopped", "unfinished"})
+    EXPECT_TRUE(contains(r.output, word)) << word << "\n" << r.output;
+  EXPECT_FALSE(contains(r.output, "nothing from the console")) << r.output;
+  std::istringstream lines(r.output);
+  for (std::string line; std::getline(lines, line);) {
+    if (!listed_ids(line).empty()) {
+      EXPECT_LE(line.size(), 120u) << line;
+    }
+  }
+  EXPECT_TRUE(contains(r.output, "nrmse(run)")) << r.output;
+  EXPECT_TRUE(contains(r.output, "nrmse(run): over the whole recorded run")) << r.output;
+  const auto show = runs("show " + std::to_string(tripped));
+  EXPECT_TRUE(contains(show.output, watchdog)) << show.output;
+}
+
+TEST_F(RunsCommands, ListKeepsTheLastRunsALabelAndASinceTime) {
+  for (const char* label : {"baseline", "Lambda 4", "BASELINE again", "sweep", "baseline 3"})
+    recorded_run(db(), label, "completed");
+  auto r = runs("list --last 2");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(listed_ids(r.output), (std::vector<int64_t>{4, 5})) << r.output;
+  r = runs("list --label baseline");
+  EXPECT_EQ(listed_ids(r.output), (std::vector<int64_t>{1, 3, 5})) << "a substring, any case\n" << r.output;
+  r = runs("list --label baseline --last 1");
+  EXPECT_EQ(listed_ids(r.output), (std::vector<int64_t>{5})) << r.output;
+  r = runs("list --since 2h");
+  EXPECT_EQ(listed_ids(r.output).size(), 5u) << r.output;
+  r = runs("list --since 2000-01-01");
+  EXPECT_EQ(listed_ids(r.output).size(), 5u) << r.output;
+  r = runs("list --since 2999-01-01T10:30");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(listed_ids(r.output).empty()) << r.output;
+  EXPECT_TRUE(contains(r.output, "none of the 5 runs")) << r.output;
+  r = runs("list --json --last 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto j = nlohmann::json::parse(r.output);
+  ASSERT_EQ(j.size(), 1u);
+  EXPECT_EQ(j[0]["id"], 5);
+  for (const char* bad : {"soon", "2026-13-01", "-2h", "2h ago"}) {
+    r = runs(std::string("list --since ") + shell_quote(bad));
+    EXPECT_EQ(r.code, 2) << bad << ": " << r.output;
+    EXPECT_TRUE(contains(r.output, "give a date")) << r.output;
+  }
+}
+
+// `run 1s` is 130 control steps of the firmware's time; under --sim-fast the
+// simulator runs far ahead of the wall clock and past the end, and the
+// run's summary says all of it.
+TEST_F(RunsCommands, ARunsSummarySaysItsSecondsAreTheFirmwaresNotTheWallClocks) {
+  const std::string script = dir_.file("fast.nls");
+  std::ofstream(script) << "run 1s\n";
+  const auto r = console("--sim hasel --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "1 s asked = 130 control steps at 130 Hz (the firmware's time, not wall time): "))
+      << r.output;
+  const uint64_t samples = RunStore(db()).run(1).samples;
+  EXPECT_TRUE(contains(r.output, std::to_string(samples) + " samples = ")) << r.output;
+  if (samples > 143) {
+    EXPECT_TRUE(contains(r.output, "runs past the end until RUN_STOP reaches it")) << r.output;
+  }
+}
+
 // The examples `runs --help` gives, as printed, against two recorded runs
 // (its ids 12 and 13 mapped to 1 and 2), in order: the last deletes one.
 TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
@@ -179,11 +303,31 @@ TEST(ConsoleExamples, TheHelpExampleScriptPassesOnTheSimulatedRig) {
 TEST(ConsoleCli, VersionAndUsageErrorsExitTwo) {
   auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --version");
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(contains(r.output, "nlsoft-console 0.1.0, wire protocol 1")) << r.output;
+  // The protocol as its specification names it, on its title line.
+  std::ifstream spec(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/../../protocol/PROTOCOL.md");
+  std::string title;
+  std::getline(spec, title);
+  const std::string version = title.substr(title.rfind(' ') + 1);
+  EXPECT_EQ(title, "# nlsoft wire protocol, version " + version);
+  EXPECT_TRUE(contains(r.output, "nlsoft-console 0.1.0, wire protocol " + version + " ")) << r.output << title;
   for (const char* args : {"--no-such-option", "runs show", "runs show notanumber", "--sim nowhere",
                            "runs plot 1 2 3 --svg x.svg"}) {
     r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.output;
+  }
+}
+
+// The live console's footer (its examples, the script commands) belongs to
+// `nlsoft-console --help` only; a command's help ends with its own words.
+TEST(ConsoleCli, ACommandsHelpDoesNotRepeatTheConsolesFooter) {
+  const auto main_help = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --help");
+  ASSERT_TRUE(contains(main_help.output, "Script commands")) << main_help.output;
+  for (const char* command : {"model", "model info", "simulate", "dataset", "train", "tune", "runs", "runs list",
+                              "conformance", "flash"}) {
+    const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + command + " --help");
+    EXPECT_EQ(r.code, 0) << command << ": " << r.output;
+    EXPECT_FALSE(contains(r.output, "Script commands")) << command << ":\n" << r.output;
+    EXPECT_FALSE(contains(r.output, "Example script")) << command << ":\n" << r.output;
   }
 }
 

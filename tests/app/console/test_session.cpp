@@ -7,6 +7,7 @@
 #include <random>
 
 #include <algorithm>
+#include <cmath>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -101,14 +102,76 @@ std::string unanswered_param_set(Session& s) {
   return "";
 }
 
+// The message gives the tries, the timeout of each and the time waited in
+// all, which is what it took: never less than the tries' timeouts, never
+// more than the caller saw pass.
 TEST(Session, TimeoutSaysWhatFailedAfterHowManyTries) {
   FakePeer peer([](FakePeer&, const p::FrameView&) {});
   Session s(fast_options());
   s.open(peer.path(), 115200);
-  EXPECT_EQ(unanswered_param_set(s), "no reply to PARAM_SET after 3 tries (180 ms); nothing arrived from " +
-                                         peer.path() + ": is the firmware running? (a slow device needs a longer --timeout)");
+  const auto began = std::chrono::steady_clock::now();
+  const std::string why = unanswered_param_set(s);
+  const auto seen_ms = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - began);
+  const std::string head = "no reply to PARAM_SET after 3 tries, 60 ms each (";
+  ASSERT_EQ(why.rfind(head, 0), 0u) << why;
+  const long waited_ms = std::stol(why.substr(head.size()));
+  EXPECT_GE(waited_ms, 180) << why;
+  EXPECT_LE(waited_ms, seen_ms.count()) << why;
+  const std::string tail = " ms in all); nothing arrived from " + peer.path() +
+                           ": is the firmware running? (a slow device needs a longer --timeout)";
+  EXPECT_EQ(why.substr(why.size() - std::min(why.size(), tail.size())), tail) << why;
   EXPECT_EQ(peer.requests_seen(), 3);
   EXPECT_EQ(s.stats().timeouts, 1u);
+}
+
+// A silent line is reported silent; closing the session ends the silence
+// without a frame, which is not "frames arriving again".
+TEST(Session, ClosingASilentLinkIsNotTakenForFramesArriving) {
+  FakePeer peer([](FakePeer&, const p::FrameView&) {});
+  SessionOptions o = fast_options();
+  o.silence_limit = 200ms;
+  Session s(o);
+  std::mutex mu;
+  std::vector<LinkEvent::Kind> kinds;
+  s.on_event([&](const LinkEvent& e) {
+    std::lock_guard<std::mutex> lock(mu);
+    kinds.push_back(e.kind);
+  });
+  s.open(peer.path(), 115200);
+  for (int i = 0; i < 300; ++i) {
+    {
+      std::lock_guard<std::mutex> lock(mu);
+      if (!kinds.empty()) break;
+    }
+    std::this_thread::sleep_for(10ms);
+  }
+  s.close();
+  std::lock_guard<std::mutex> lock(mu);
+  ASSERT_FALSE(kinds.empty()) << "the silence was reported";
+  EXPECT_EQ(kinds[0], LinkEvent::Kind::Silent);
+  EXPECT_EQ(std::count(kinds.begin(), kinds.end(), LinkEvent::Kind::Resumed), 0) << "no frame ever came";
+}
+
+// A line that gives back what is written (a loopback plug, a device that
+// echoes): the frames that arrive are the console's own requests, named as
+// such rather than taken for a firmware that does not answer.
+TEST(Session, AnEchoingLineIsNamedAsSuch) {
+  FakePeer peer([](FakePeer& pe, const p::FrameView& f) {
+    uint8_t wire[p::kWireBufferSize];
+    const size_t n = p::encode_frame(f.header.type, f.header.seq, f.header.flags, f.payload, f.header.length, wire,
+                                     sizeof wire);
+    pe.write(wire, n);
+  });
+  Session s(fast_options());
+  s.open(peer.path(), 115200);
+  const std::string why = unanswered_param_set(s);
+  EXPECT_NE(why.find("3 frames came back from " + peer.path() + ", each a request as the console sends them: the "
+                     "line echoes what is written"),
+            std::string::npos)
+      << why;
+  EXPECT_EQ(why.find("nothing arrived"), std::string::npos) << why;
+  EXPECT_EQ(why.find("none of them a valid frame"), std::string::npos) << why;
+  EXPECT_EQ(s.stats().echoed_requests, 3u);
 }
 
 // Line noise (another baud rate, another device) answers with bytes that are
@@ -167,6 +230,13 @@ TEST(Session, ParamRefusalNamesElementAndRange) {
   EXPECT_EQ(describe_param_refusal(q, n, {1e6, -2, 1e6}), "Q[1] = -2 is out of range [0, 1e+12]");
   n.status = uint8_t(p::StatusCode::WrongState);
   EXPECT_EQ(describe_param_refusal(q, n, {1, 2, 3}), "Q can only change while no run is active");
+  // A value a double holds but a float32 does not arrives as infinity: the
+  // refusal says it overflowed, and the limit.
+  n.status = uint8_t(p::StatusCode::NotFinite);
+  n.element = 0;
+  EXPECT_EQ(describe_param_refusal(q, n, {1e40, 1, 1}),
+            "Q[0] = 1e+40 overflows a float32 (the firmware's number type): its magnitude must be at most 3.40282e+38");
+  EXPECT_EQ(describe_param_refusal(q, n, {std::nan(""), 1, 1}), "Q[0] must be a finite number");
   EXPECT_EQ(request_field_name(uint8_t(p::MsgType::RefSelect), 8), "lambda");
   EXPECT_EQ(status_words(200), "failed (status 200)");
 }

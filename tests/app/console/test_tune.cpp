@@ -152,6 +152,8 @@ TEST_F(TuneE2E, BadInputIsAUsageErrorInWords) {
            {"--param Q7=1..2", "Q[7]"},
            {"--param Lambda=1..1e13:log", "outside Lambda's range"},
            {"--param Lambda=1..2 --param Lambda=3..4", "already searched"},
+           {"--param Lambda=1..2 --budget 0s", "a time budget must be positive"},
+           {"--param Lambda=1..2:lg", "':lg' is not a scale; use :log or :lin"},
        }) {
     const auto r = console(base + c.args);
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
@@ -177,7 +179,8 @@ TEST_F(TuneE2E, ARunThatSaturatesScoresAsFailedNeverAsGood) {
 // From a script: apply leaves the best in force (get reads it back, the
 // saved file has it); a candidate the firmware's cross-parameter rules
 // refuse (Nc > N) scores as failed, with the firmware's reason, and is
-// never applied.
+// never applied. (Inside the build's capacity, Nc <= max_nc = 4, which a
+// range must keep to: beyond it the range is refused before any run.)
 TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
   const std::string saved = dir_.file("applied.params");
   const auto r = script("hasel",
@@ -186,7 +189,8 @@ TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
                         "tune Lambda=0.01..1e10:log budget=6 settle=500ms window=9s apply save=" + saved + "\n"
                         "get Lambda\n"
                         "get N\n"
-                        "tune Nc=4..8 budget=2 settle=0 window=1s\n"
+                        "set N 2\n"
+                        "tune Nc=3..4 budget=2 settle=0 window=1s\n"
                         "get Nc\n");
   EXPECT_EQ(r.code, 1) << "the second session found nothing: the script fails\n" << r.output;
   EXPECT_TRUE(contains(r.output, "it is in force now (apply)")) << r.output;
@@ -195,10 +199,37 @@ TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
   EXPECT_NE(m[1].str(), "1e+08") << "the best, not the start, is in force\n" << r.output;
   EXPECT_TRUE(contains(read(saved), "Lambda " + m[1].str())) << read(saved) << r.output;
   EXPECT_TRUE(contains(r.output, "N = 3")) << r.output;
-  EXPECT_TRUE(contains(r.output, "Nc is 1, outside 4..8; the search starts at 4")) << r.output;
+  EXPECT_TRUE(contains(r.output, "Nc is 1, outside 3..4; the search starts at 3")) << r.output;
   EXPECT_TRUE(contains(r.output, "FAILED: the firmware refused it")) << r.output;
   EXPECT_TRUE(contains(r.output, "Nc = 1")) << "the refused values never stayed\n" << r.output;
   EXPECT_TRUE(contains(r.output, "0 expects held, 0 failed; 1 tuning session found nothing")) << r.output;
+}
+
+// The defaults (settle 1 s, window 5 s) on the rig's start-up Swirl (hold
+// 10) see its flat start only: the session says so after the first run and
+// what to change; the same session over the whole Swirl at hold=1 does not.
+TEST_F(TuneE2E, AWindowWhereTheReferenceBarelyMovesIsWarnedAbout) {
+  auto r = console("tune --sim hasel --sim-fast --no-record --param 'Lambda=0.5..2:log' --budget 2 --save " +
+                   shell_quote(dir_.file("still.params")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "warning: the reference barely moves in the scored window (1 s to 6 s of each run)"))
+      << r.output;
+  EXPECT_TRUE(contains(r.output, "--reference \"swirl hold=1\"")) << r.output;
+  r = console("tune --sim hasel --sim-fast --no-record --param 'Lambda=0.5..2:log' --budget 2 --reference 'swirl "
+              "hold=1' --settle 500ms --window 9s --save " + shell_quote(dir_.file("moving.params")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "best: ")) << r.output;
+  EXPECT_FALSE(contains(r.output, "barely moves")) << r.output;
+}
+
+// One run is one run: the budget and the end say it in the singular.
+TEST_F(TuneE2E, ABudgetOfOneRunSaysOneRun) {
+  const auto r = console("tune --sim hasel --sim-fast --no-record --param 'Lambda=0.5..2:lin' --budget 1 --reference "
+                         "'swirl hold=1' --settle 0 --window 2s --save " + shell_quote(dir_.file("one.params")));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "budget 1 run;")) << r.output;
+  EXPECT_TRUE(contains(r.output, "ended: budget of 1 run used")) << r.output;
+  EXPECT_FALSE(contains(r.output, "1 runs")) << r.output;
 }
 
 // A wall-time budget alone: as many runs as fit, then the session ends

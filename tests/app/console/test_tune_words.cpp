@@ -8,6 +8,7 @@
 #include "app/record/run_metrics.hpp"
 #include "app/record/tune_log.hpp"
 #include "app/script/script_parser.hpp"
+#include "app/tune/motion_check.hpp"
 #include "app/tune/objective.hpp"
 #include "app/tune/search_space.hpp"
 #include "app/tune/tune_options.hpp"
@@ -65,6 +66,45 @@ TEST(TuneSpace, RangesParseLinearOrLog) {
   EXPECT_EQ(q.name, "Q*");
   EXPECT_FALSE(q.log);
   EXPECT_DOUBLE_EQ(q.lo, -1);
+  // :lin is the default written out: valid, and linear.
+  const Dimension lin = parse_dimension("Lambda=0.5..2:lin");
+  EXPECT_FALSE(lin.log);
+  EXPECT_DOUBLE_EQ(lin.hi, 2);
+}
+
+// Every place that teaches the range syntax names both scales, so :lin is
+// known to be valid before it is tried.
+TEST(TuneSpace, TheHelpNamesBothScales) {
+  std::string help;
+  for (const std::string& line : tune_help()) help += line + "\n";
+  EXPECT_NE(help.find("[:log|:lin]"), std::string::npos) << help;
+  EXPECT_NE(help.find(":lin (the default)"), std::string::npos) << help;
+  try {
+    parse_dimension("Lambda=1..10:LOG");
+    ADD_FAILURE() << "an unknown scale is refused";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("':LOG' is not a scale; use :log or :lin"), std::string::npos) << e.what();
+  }
+}
+
+// A time budget of nothing is refused as such, not as an unreadable budget.
+TEST(TuneWords, AZeroTimeBudgetMustBePositive) {
+  for (const char* zero : {"0s", "0min", "0 ms"}) {
+    TuneOptions o;
+    try {
+      set_budget(o, zero);
+      ADD_FAILURE() << zero << " was taken";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("a time budget must be positive"), std::string::npos) << e.what();
+    }
+  }
+  TuneOptions o;
+  try {
+    set_budget(o, "0lightyears");
+    ADD_FAILURE() << "an unknown unit was taken";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("give runs (40) or wall time"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TuneSpace, BadRangesAreRefusedInWords) {
@@ -129,6 +169,38 @@ TEST(TuneWords, ScriptLinesAreCheckedBeforeAnythingRuns) {
   EXPECT_NE(error("tune Lambda=1..2 colour=red").find("unknown option 'colour'"), std::string::npos);
   EXPECT_NE(error("tune Lambda=1..2 fast").find("'fast' is neither"), std::string::npos);
   EXPECT_NE(error("tune Lambda=1..2 max_saturated=2").find("between 0 and 1"), std::string::npos);
+}
+
+// nrmse divides by the reference's range in the window: a window where the
+// reference barely moves against the rig's task space is flagged, with what
+// to change; one where it moves is not.
+TEST(TuneMotion, AWindowWhereTheReferenceBarelyMovesIsFlagged) {
+  RunMetrics still;
+  still.has_true = true;
+  still.truth.tracked = {0, 1, 2};
+  still.ref_span = {0.1, 0.2, 0.3};
+  still.y_span = {2.0, 2.5, 2.7};
+  const std::vector<double> hasel = {23.0, 20.2, 19.2};
+  const std::string w = still_reference_warning(still, hasel, 1, 5);
+  EXPECT_NE(w.find("the reference barely moves in the scored window (1 s to 6 s of each run): it spans 0.3 of the "
+                   "19.2 the rig's task space spans on y2 (1.6 %), while the output spans 2.7"),
+            std::string::npos)
+      << w;
+  EXPECT_NE(w.find("--reference \"swirl hold=1\""), std::string::npos) << w;
+  EXPECT_NE(w.find("--window"), std::string::npos) << w;
+  RunMetrics moving = still;
+  moving.ref_span = {0.1, 5.0, 0.2};
+  EXPECT_EQ(still_reference_warning(moving, hasel, 0.5, 9), "");
+  // An untracked axis that moves does not make the window score anything.
+  RunMetrics untracked = still;
+  untracked.truth.tracked = {1, 2};
+  untracked.ref_span = {20.0, 0.2, 0.3};
+  EXPECT_NE(still_reference_warning(untracked, hasel, 1, 5), "");
+  // Without a task space only a reference that does not move at all is flagged.
+  RunMetrics flat = still;
+  flat.ref_span = {0, 0, 0};
+  EXPECT_NE(still_reference_warning(flat, {}, 1, 5), "");
+  EXPECT_EQ(still_reference_warning(still, {}, 1, 5), "");
 }
 
 TEST(TuneMetrics, InputEffortAndSaturationOverTheInputRange) {
