@@ -6,15 +6,16 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "app/cli_error.hpp"
+#include "app/input_file.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
 
 ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
-  std::ifstream in(path);
-  if (!in) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+  std::istringstream in(read_input_file(path, kReferenceCsv));
   ReferenceTablePoints t;
   t.n = n;
   std::string line;

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/cli_error.hpp"
+#include "app/input_file.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/tune/tune_options.hpp"
 
@@ -312,11 +314,13 @@ Script parse_script(const std::string& text, const std::string& file) {
 }
 
 Script parse_script_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ScriptError(path, 0, fmt::format("cannot read script: {}", std::strerror(errno)));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_script(ss.str(), path);
+  std::string text;
+  try {
+    text = read_input_file(path, kScriptFile);
+  } catch (const CliError& e) {
+    throw ScriptError(path, 0, e.what());
+  }
+  return parse_script(text, path);
 }
 
 const std::vector<std::string>& script_help() {
