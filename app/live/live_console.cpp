@@ -21,6 +21,8 @@
 #include "app/live/reference_table.hpp"
 #include "app/input_file.hpp"
 #include "app/output_file.hpp"
+#include "app/printable.hpp"
+#include "app/record/run_edit.hpp"
 #include "app/record/run_store.hpp"
 #include "shared/capacity.hpp"
 #include "shared/model_file.hpp"
@@ -430,7 +432,8 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
     std::string name;
     if (!(ls >> name) || name[0] == '#') continue;
     const ParamInfo* info = cat->find(name);
-    if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno, name, cat->names()));
+    if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno,
+                                            printable_excerpt(name), cat->names()));
     std::vector<std::string> tokens;
     std::string t;
     while (ls >> t) tokens.push_back(t);
@@ -616,6 +619,7 @@ std::string LiveConsole::firmware_reference_json() {
 int64_t LiveConsole::start_run(const std::string& label) {
   if (running()) throw CliError(fmt::format("run {} is already active; stop it first", run_id_.load()));
   if (const std::string err = recorder_->error(); !err.empty()) throw CliError("recording has stopped: " + err);
+  check_label(label);
   const p::Info info = device_->info();
   RunInfo ri;
   ri.label = label;

@@ -10,6 +10,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/input_file.hpp"
+#include "app/printable.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
@@ -43,7 +44,7 @@ ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
         if (bad.empty()) bad = cell;
         continue;
       }
-      if (!std::isfinite(v)) throw CliError(fmt::format("{}:{}: '{}' is not a finite number", path, lineno, cell));
+      if (!std::isfinite(v)) throw CliError(fmt::format("{}:{}: '{}' is not a finite number", path, lineno, printable_excerpt(cell)));
       cells.push_back(float(v));
     }
     if (!numeric) {
@@ -51,7 +52,7 @@ ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
         first_data = false;  // a header of column names
         continue;
       }
-      throw CliError(fmt::format("{}:{}: '{}' is not a number", path, lineno, bad));
+      throw CliError(fmt::format("{}:{}: '{}' is not a number", path, lineno, printable_excerpt(bad)));
     }
     first_data = false;
     if (int(cells.size()) != n)

@@ -11,6 +11,7 @@
 
 #include "app/model/atomic_file.hpp"
 #include "app/model/error.hpp"
+#include "app/printable.hpp"
 
 namespace nlsoft::pipeline {
 namespace {
@@ -67,8 +68,8 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header) {
       const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);
       const std::string where = name + ":" + std::to_string(lineno) + ": column " + std::to_string(c + 1) +
                                 (t.header.empty() ? std::string() : " ('" + t.header[c] + "')");
-      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + cell + "'");
-      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + cell + "'");
+      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + console::printable_excerpt(cell) + "'");
+      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + console::printable_excerpt(cell) + "'");
       t.data.push_back(v);
     }
     ++t.rows;

@@ -27,6 +27,14 @@ Db open_for_edit(const std::string& db_path, int64_t id, RunRow* row) {
 
 }  // namespace
 
+void check_label(const std::string& label) {
+  size_t chars = 0;
+  for (char c : label) chars += (static_cast<unsigned char>(c) & 0xc0) != 0x80;
+  if (chars > kMaxLabelChars)
+    throw CliError(fmt::format("a label is at most {} characters; this one has {} (put longer text in the run's notes)",
+                               kMaxLabelChars, chars));
+}
+
 void delete_run(const std::string& db_path, int64_t id, bool force) {
   RunRow row;
   Db db = open_for_edit(db_path, id, &row);
@@ -58,6 +66,7 @@ void delete_run(const std::string& db_path, int64_t id, bool force) {
 }
 
 void label_run(const std::string& db_path, int64_t id, const std::string& label) {
+  check_label(label);
   RunRow row;
   Db db = open_for_edit(db_path, id, &row);
   try {

@@ -2,10 +2,16 @@
 // The two writes `runs` makes to a recording after the fact: delete a run
 // (its samples, parameters, gaps and link events with it) and relabel one.
 // Each is one transaction: it happens whole or not at all.
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
 namespace nlsoft::console {
+
+// A run's label: one line of a listing, not a document. Longer ones are
+// refused (CliError) rather than cut, so nothing typed is silently lost.
+constexpr size_t kMaxLabelChars = 200;
+void check_label(const std::string& label);
 
 // Throws CliError: no such run; an unfinished run (a console may still be
 // recording it) unless `force`; a locked or read-only database.

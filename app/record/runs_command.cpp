@@ -10,6 +10,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/output_file.hpp"
+#include "app/printable.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/gnuplot.hpp"
 #include "app/record/run_plot.hpp"
@@ -162,8 +163,8 @@ void list(const RunsArgs& a) {
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
     fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>8} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
                r.platform, reference_kind(reference_of(*store, r)), r.samples,
-               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames, r.label,
-               ended);
+               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames,
+               printable(r.label), printable(ended));
   };
   for (const RunRow& r : runs) {
     const auto e = eval_of.find(r.id);
@@ -174,9 +175,9 @@ void list(const RunsArgs& a) {
     const auto& members = session_runs[e->second.session_id];
     if (members.front() != r.id) continue;  // printed with its session
     const TuneSessionRow& s = sessions[e->second.session_id];
-    fmt::print("tuning session {}: minimise {} over {} ({}), {} evaluation{}, {}{}\n", s.id, s.objective, s.space, s.method,
-               members.size(), members.size() == 1 ? "" : "s",
-               s.ended_at.empty() ? "unfinished" : s.end_reason,
+    fmt::print("tuning session {}: minimise {} over {} ({}), {} evaluation{}, {}{}\n", s.id, printable(s.objective),
+               printable(s.space), printable(s.method), members.size(), members.size() == 1 ? "" : "s",
+               s.ended_at.empty() ? "unfinished" : printable(s.end_reason),
                s.best_run > 0 ? fmt::format("; best run {}", s.best_run) : "");
     for (int64_t id : members) {
       const auto row = by_id.find(id);
@@ -213,23 +214,27 @@ void show(const RunsArgs& a) {
     fmt::print("{}\n", j.dump(2));
     return;
   }
-  fmt::print("run {}{}  {} .. {}  ({})\n", r.id, r.label.empty() ? "" : " \"" + r.label + "\"", r.started_at,
-             r.ended_at.empty() ? "?" : r.ended_at, r.ended_at.empty() ? "unfinished: console stopped" : r.end_reason);
-  fmt::print("  {} on {}, model {:08x}, n={} m={}, nominal {:.0f} Hz, decimation {}\n", r.firmware, r.platform, r.model_hash,
-             r.n, r.m, r.loop_rate_hz, r.decimation);
-  if (!r.reference.empty()) fmt::print("  reference {}\n", r.reference);
-  if (!r.notes.empty()) fmt::print("  notes: {}\n", r.notes);
+  // Everything read from the file is shown escaped: a shared database is
+  // anyone's text.
+  fmt::print("run {}{}  {} .. {}  ({})\n", r.id, r.label.empty() ? "" : " \"" + printable(r.label) + "\"",
+             printable(r.started_at), r.ended_at.empty() ? "?" : printable(r.ended_at),
+             r.ended_at.empty() ? "unfinished: console stopped" : printable(r.end_reason));
+  fmt::print("  {} on {}, model {:08x}, n={} m={}, nominal {:.0f} Hz, decimation {}\n", printable(r.firmware),
+             printable(r.platform), r.model_hash, r.n, r.m, r.loop_rate_hz, r.decimation);
+  if (!r.reference.empty()) fmt::print("  reference {}\n", printable(r.reference));
+  if (!r.notes.empty()) fmt::print("  notes: {}\n", printable(r.notes));
   print_metrics(m);
   fmt::print("  parameters at start:\n");
   for (const auto& p : store->params(a.id))
-    if (p.at_start) fmt::print("    {:<12} {}\n", p.name, p.value);
+    if (p.at_start) fmt::print("    {:<12} {}\n", printable(p.name), printable(p.value));
   for (const auto& p : store->params(a.id))
-    if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, p.name, p.value);
+    if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, printable(p.name), printable(p.value));
   for (const auto& g : store->gaps(a.id))
     fmt::print("  gap after sample {}: {} frame{} lost{} ({}, {})\n", g.after_k, g.lost_frames,
                g.lost_frames == 1 ? "" : "s", g.duration_s >= 0 ? fmt::format(" over {:.2f} s", g.duration_s) : "",
-               g.reason, g.t);
-  for (const auto& [when, detail] : store->link_events(a.id)) fmt::print("  link {}: {}\n", when, detail);
+               printable(g.reason), printable(g.t));
+  for (const auto& [when, detail] : store->link_events(a.id))
+    fmt::print("  link {}: {}\n", printable(when), printable(detail));
 }
 
 void export_csv(const RunsArgs& a) {
@@ -270,8 +275,8 @@ void compare(const RunsArgs& a) {
     fmt::print("  {:<16} {:>24} {:>24}\n", name, x, y);
   };
   fmt::print("  {:<16} {:>24} {:>24}\n", "", fmt::format("run {}", ra.id), fmt::format("run {}", rb.id));
-  row("label", ra.label, rb.label);
-  row("platform", ra.platform, rb.platform);
+  row("label", printable(ra.label), printable(rb.label));
+  row("platform", printable(ra.platform), printable(rb.platform));
   auto num = [](double v) { return fmt::format("{:.5g}", v); };
   for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "loop_rate_hz", "compute_p50_us",
                         "compute_p99_us", "iterations", "lost_frames", "gaps", "samples", "duration_s"})
@@ -281,7 +286,7 @@ void compare(const RunsArgs& a) {
     if (v.first == v.second) continue;
     if (!any) fmt::print("  parameters that differ:\n");
     any = true;
-    row(name.c_str(), v.first, v.second);
+    row(printable(name).c_str(), printable(v.first), printable(v.second));
   }
   if (!any) fmt::print("  same parameters at start\n");
 }
@@ -392,7 +397,7 @@ void add_runs_command(CLI::App& app) {
   lb->add_option("TEXT", args->label, "The label (quote it if it has blanks; \"\" clears it)")->required();
   lb->callback([args] {
     label_run(args->db.empty() ? default_db_path() : args->db, args->id, args->label);
-    fmt::print("run {} labelled \"{}\"\n", args->id, args->label);
+    fmt::print("run {} labelled \"{}\"\n", args->id, printable(args->label));
   });
 }
 

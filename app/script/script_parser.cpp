@@ -11,6 +11,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/input_file.hpp"
+#include "app/printable.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/tune/tune_options.hpp"
 
@@ -111,7 +112,8 @@ std::vector<std::string> tokenize(const std::string& line) {
 
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
-  auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, msg); };
+  // The message quotes the script's own tokens: shown escaped.
+  auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, printable(msg)); };
   const std::string first = line.substr(0, line.find_first_of(" \t"));
   if (first == "echo" || first == "note") {
     // Free text: quotes and all are kept as written.
