@@ -54,7 +54,8 @@ std::string byte_size(uint64_t bytes) {
 
 void check_input_file(const std::string& path, const InputKind& kind) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+  if (::stat(path.c_str(), &st) != 0)
+    throw CliError(fmt::format("{}: cannot read {}: {}", path, kind.what, std::strerror(errno)));
   check_stat(path, st, kind, false);
 }
 
@@ -62,7 +63,7 @@ std::string read_input_file(const std::string& path, const InputKind& kind) {
   // O_NONBLOCK: opening a FIFO nobody writes to, or a device, must not hang
   // before the checks below refuse it.
   Fd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
-  if (f.fd < 0) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+  if (f.fd < 0) throw CliError(fmt::format("{}: cannot read {}: {}", path, kind.what, std::strerror(errno)));
   struct stat st {};
   if (::fstat(f.fd, &st) != 0) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
   check_stat(path, st, kind, kind.stream_ok);

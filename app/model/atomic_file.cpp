@@ -56,6 +56,8 @@ void write_file_atomic(const std::string& path, const std::vector<uint8_t>& byte
 }
 
 std::string read_text_file(const std::string& path, const console::InputKind& kind) {
+  // A missing file in the pipeline's own words, as its other errors.
+  if (::access(path.c_str(), F_OK) != 0) throw PipelineError("cannot open '" + path + "': " + std::strerror(errno));
   try {
     return console::read_input_file(path, kind);
   } catch (const console::CliError& e) {

@@ -320,7 +320,9 @@ Script parse_script_file(const std::string& path) {
   try {
     text = read_input_file(path, kScriptFile);
   } catch (const CliError& e) {
-    throw ScriptError(path, 0, e.what());
+    // "PATH: cannot read script: …" without the path twice.
+    const std::string what = e.what();
+    throw ScriptError(path, 0, what.rfind(path + ": ", 0) == 0 ? what.substr(path.size() + 2) : what);
   }
   return parse_script(text, path);
 }
