@@ -383,13 +383,13 @@ void add_runs_command(CLI::App& app) {
   p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
   p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
   p->callback([args] { plot(*args); });
-  CLI::App* d = runs->add_subcommand("delete", "Delete a run with its samples, parameters, gaps and link events");
+  CLI::App* d = runs->add_subcommand("delete", "Delete runs with their samples, parameters, gaps and link events");
   db(d);
-  d->add_option("ID", args->id, "Run id")->required();
+  d->add_option("ID", args->ids, "Run ids (all are deleted, or none)")->required();
   d->add_flag("--force", args->force, "Delete an unfinished run too (one a crashed console left open)");
   d->callback([args] {
-    delete_run(args->db.empty() ? default_db_path() : args->db, args->id, args->force);
-    fmt::print("run {} deleted\n", args->id);
+    delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force);
+    for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
   });
   CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
   db(lb);
