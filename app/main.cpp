@@ -1,6 +1,7 @@
 // nlsoft-console: tune a learned model-predictive controller on a
 // microcontroller, or run it offline against simulated rigs.
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 
 #include "app/cli_error.hpp"
@@ -17,6 +18,10 @@
 
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
+  // A file-size limit (ulimit -f) must make a write fail with EFBIG, which
+  // the recorder and every file writer report, not kill the console
+  // silently in the middle of a run (SIGXFSZ's default).
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{
       "nlsoft-console: tune a learned model-predictive controller running on a microcontroller,\n"
       "or run it offline against a simulated rig."};

@@ -19,7 +19,10 @@
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/input_file.hpp"
 #include "app/output_file.hpp"
+#include "app/printable.hpp"
+#include "app/record/run_edit.hpp"
 #include "app/record/run_store.hpp"
 #include "shared/capacity.hpp"
 #include "shared/model_file.hpp"
@@ -428,8 +431,7 @@ void LiveConsole::save_params(const std::string& path) {
 }
 
 std::vector<std::string> LiveConsole::load_params(const std::string& path, bool dry_run) {
-  std::ifstream in(path);
-  if (!in) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+  std::istringstream in(read_input_file(path, kParamsFile));
   const auto cat = device_->catalog();
   std::string line;
   int lineno = 0;
@@ -441,7 +443,8 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
     std::string name;
     if (!(ls >> name) || name[0] == '#') continue;
     const ParamInfo* info = cat->find(name);
-    if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno, name, cat->names()));
+    if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno,
+                                            printable_excerpt(name), cat->names()));
     std::vector<std::string> tokens;
     std::string t;
     while (ls >> t) tokens.push_back(t);
@@ -563,9 +566,13 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   if (!device_->has(p::capability::kXferModel))
     throw CliError("this firmware does not accept models (no XFER_MODEL capability)");
   if (running()) throw CliError("a model cannot change during a run: stop the run first");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CliError(fmt::format("{}: cannot read: {}", path, std::strerror(errno)));
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // Bounded before a byte is read: the firmware's model_max, or what the
+  // file format can hold when the firmware does not say.
+  const uint32_t fw_limit = device_->transfer_limit(p::XferKind::Model);
+  InputKind kind{"model file", fw_limit ? fw_limit : model_file_max<HostCapacity>(), false};
+  if (fw_limit) kind.limit_words = "this firmware takes models of at most";
+  const std::string text = read_input_file(path, kind);
+  const std::vector<uint8_t> bytes(text.begin(), text.end());
   // Parsed with copies of the weights, so the check does not depend on the
   // vector's alignment; the same checks the firmware makes at commit.
   std::vector<float> weights(model_params_max<HostCapacity>());
@@ -624,6 +631,7 @@ std::string LiveConsole::firmware_reference_json() {
 int64_t LiveConsole::start_run(const std::string& label) {
   if (running()) throw CliError(fmt::format("run {} is already active; stop it first", run_id_.load()));
   if (const std::string err = recorder_->error(); !err.empty()) throw CliError("recording has stopped: " + err);
+  check_label(label);
   const p::Info info = device_->info();
   RunInfo ri;
   ri.label = label;

@@ -6,15 +6,17 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include "app/cli_error.hpp"
+#include "app/input_file.hpp"
+#include "app/printable.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
 
 ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
-  std::ifstream in(path);
-  if (!in) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+  std::istringstream in(read_input_file(path, kReferenceCsv));
   ReferenceTablePoints t;
   t.n = n;
   std::string line;
@@ -42,7 +44,7 @@ ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
         if (bad.empty()) bad = cell;
         continue;
       }
-      if (!std::isfinite(v)) throw CliError(fmt::format("{}:{}: '{}' is not a finite number", path, lineno, cell));
+      if (!std::isfinite(v)) throw CliError(fmt::format("{}:{}: '{}' is not a finite number", path, lineno, printable_excerpt(cell)));
       cells.push_back(float(v));
     }
     if (!numeric) {
@@ -50,7 +52,7 @@ ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
         first_data = false;  // a header of column names
         continue;
       }
-      throw CliError(fmt::format("{}:{}: '{}' is not a number", path, lineno, bad));
+      throw CliError(fmt::format("{}:{}: '{}' is not a number", path, lineno, printable_excerpt(bad)));
     }
     first_data = false;
     if (int(cells.size()) != n)

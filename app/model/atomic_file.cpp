@@ -5,12 +5,11 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "app/cli_error.hpp"
 #include "app/model/error.hpp"
 #include "app/output_file.hpp"
+#include "shared/model_file.hpp"
 
 namespace nlsoft::pipeline {
 
@@ -56,12 +55,19 @@ void write_file_atomic(const std::string& path, const std::vector<uint8_t>& byte
   });
 }
 
-std::vector<uint8_t> read_file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw PipelineError("cannot open '" + path + "': " + std::strerror(errno));
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw PipelineError("cannot read '" + path + "'");
-  return bytes;
+std::string read_text_file(const std::string& path, const console::InputKind& kind) {
+  // A missing file in the pipeline's own words, as its other errors.
+  if (::access(path.c_str(), F_OK) != 0) throw PipelineError("cannot open '" + path + "': " + std::strerror(errno));
+  try {
+    return console::read_input_file(path, kind);
+  } catch (const console::CliError& e) {
+    throw PipelineError(e.what());
+  }
+}
+
+std::vector<uint8_t> read_model_bytes(const std::string& path) {
+  const std::string text = read_text_file(path, {"model file", model_file_max<HostCapacity>(), false});
+  return std::vector<uint8_t>(text.begin(), text.end());
 }
 
 }  // namespace nlsoft::pipeline

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "app/input_file.hpp"
+
 namespace nlsoft::pipeline {
 
 // Streams into a temporary beside path, flushes, then renames over it
@@ -18,7 +20,10 @@ void write_file_atomic(const std::string& path, const std::function<void(std::os
 
 void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes);
 
-// Whole file as bytes; throws PipelineError naming the path.
-std::vector<uint8_t> read_file_bytes(const std::string& path);
+// A file the user named, whole (app/input_file.hpp: bounded, a regular
+// file or a FIFO); throws PipelineError naming the path.
+std::string read_text_file(const std::string& path, const console::InputKind& kind);
+// A model file: a regular file no larger than the format allows.
+std::vector<uint8_t> read_model_bytes(const std::string& path);
 
 }  // namespace nlsoft::pipeline

@@ -212,11 +212,10 @@ void run_import(const ImportArgs& a) {
   const size_t p = size_t(M.p()), n = size_t(M.n);
   std::vector<double> in_off(p, 0.0), in_sc(p, 1.0), out_off(n, 0.0), out_sc(n, 1.0);
   if (!a.norm.empty()) {
-    std::ifstream in(a.norm);
-    if (!in) throw PipelineError("cannot open '" + a.norm + "'");
+    const std::string text = read_text_file(a.norm, {"normalisation JSON file", 1u << 20});
     nlohmann::json j;
     try {
-      in >> j;
+      j = nlohmann::json::parse(text);
     } catch (const std::exception& e) {
       throw PipelineError(a.norm + ": not valid JSON: " + e.what());
     }

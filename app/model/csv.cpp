@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
+#include <sstream>
 #include <istream>
 #include <ostream>
 
+#include "app/model/atomic_file.hpp"
 #include "app/model/error.hpp"
+#include "app/printable.hpp"
 
 namespace nlsoft::pipeline {
 namespace {
@@ -66,8 +68,8 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header) {
       const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);
       const std::string where = name + ":" + std::to_string(lineno) + ": column " + std::to_string(c + 1) +
                                 (t.header.empty() ? std::string() : " ('" + t.header[c] + "')");
-      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + cell + "'");
-      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + cell + "'");
+      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + console::printable_excerpt(cell) + "'");
+      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + console::printable_excerpt(cell) + "'");
       t.data.push_back(v);
     }
     ++t.rows;
@@ -78,8 +80,9 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header) {
 }
 
 Table read_csv(const std::string& path, bool has_header) {
-  std::ifstream in(path);
-  if (!in) throw PipelineError("cannot open '" + path + "': " + std::strerror(errno));
+  // A dataset of a million rows is ~200 MB of text; a bound far above that
+  // still stops /dev/zero or a runaway generator before memory runs out.
+  std::istringstream in(read_text_file(path, {"CSV file", uint64_t(1) << 30}));
   return parse_csv(in, path, has_header);
 }
 

@@ -4,6 +4,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/cli_error.hpp"
+#include "app/input_file.hpp"
 #include "app/model/error.hpp"
 #include "app/model/model_store.hpp"
 
@@ -131,6 +133,11 @@ bool flag(const json& cfg, const char* key, bool fallback) {
 
 KerasNetwork read_keras_h5(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our messages, not HDF5's stack dumps
+  try {
+    console::check_input_file(path, {"Keras HDF5 file", uint64_t(4) << 30});
+  } catch (const console::CliError& e) {
+    throw PipelineError(e.what());
+  }
   if (H5Fis_hdf5(path.c_str()) <= 0) throw PipelineError("'" + path + "' is not an HDF5 file (or cannot be read)");
   Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.ok()) throw PipelineError("cannot open '" + path + "'");

@@ -41,7 +41,7 @@ ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& nam
   return f;
 }
 
-ModelFile load_model_file(const std::string& path) { return decode_model(read_file_bytes(path), path); }
+ModelFile load_model_file(const std::string& path) { return decode_model(read_model_bytes(path), path); }
 
 void save_model_file(const std::string& path, ModelFile& f) { write_file_atomic(path, encode_model(f)); }
 

@@ -87,6 +87,7 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
       "decimation,reference) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
   end_run_ = db_->prepare("UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=? WHERE id=?");
   set_notes_ = db_->prepare("UPDATE runs SET notes=? WHERE id=?");
+  run_exists_ = db_->prepare("SELECT 1 FROM runs WHERE id=?");
   // Checkpoints (copying the WAL into the database, with an fsync) would
   // stall the writer on the disk every few MB; a second connection does
   // them in the background instead, which WAL allows concurrently.
@@ -240,6 +241,13 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
   }
   std::vector<int64_t> results;
   uint64_t samples = 0;
+  // The runs this batch writes samples to: each must still exist when the
+  // batch commits (checked in the same transaction), or the samples would
+  // be orphans that the next run given the same id inherits.
+  std::vector<int64_t> sample_runs;
+  for (const Item& item : batch)
+    if (const auto* si = std::get_if<SampleItem>(&item))
+      if (sample_runs.empty() || sample_runs.back() != si->run) sample_runs.push_back(si->run);
   auto busy_waited = std::chrono::milliseconds(0);
   for (bool retry = true; retry && failed.empty();) {
     retry = false;
@@ -311,6 +319,15 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
           waiting.push_back(sy->done);
           results.push_back(result);
         }
+      }
+      for (int64_t run : sample_runs) {
+        run_exists_.bind(1, run);
+        const bool exists = run_exists_.step();
+        run_exists_.reset();
+        if (!exists)
+          throw DbError(fmt::format("run {} was deleted from {} by another process while it was being recorded", run,
+                                    path_),
+                        SQLITE_ABORT);
       }
       db_->exec("COMMIT");
       committed_ += samples;

@@ -115,7 +115,8 @@ class Recorder {
   Options options_;
   std::unique_ptr<Db> db_;
   std::unique_ptr<Db> checkpoint_db_;
-  Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_;
+  Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_,
+      run_exists_;
 
   mutable std::mutex mu_;
   std::condition_variable cv_;

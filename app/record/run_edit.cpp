@@ -1,6 +1,7 @@
 #include "app/record/run_edit.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "app/cli_error.hpp"
 #include "app/record/run_store.hpp"
@@ -27,25 +28,43 @@ Db open_for_edit(const std::string& db_path, int64_t id, RunRow* row) {
 
 }  // namespace
 
-void delete_run(const std::string& db_path, int64_t id, bool force) {
+void check_label(const std::string& label) {
+  size_t chars = 0;
+  for (char c : label) chars += (static_cast<unsigned char>(c) & 0xc0) != 0x80;
+  if (chars > kMaxLabelChars)
+    throw CliError(fmt::format("a label is at most {} characters; this one has {} (put longer text in the run's notes)",
+                               kMaxLabelChars, chars));
+}
+
+void delete_run(const std::string& db_path, int64_t id, bool force) { delete_runs(db_path, {id}, force); }
+
+void delete_runs(const std::string& db_path, const std::vector<int64_t>& ids, bool force) {
+  if (ids.empty()) throw CliError("runs delete: give at least one run id");
+  // Every id is checked before anything is deleted: all of them go, or none.
   RunRow row;
-  Db db = open_for_edit(db_path, id, &row);
-  if (row.ended_at.empty() && !force)
-    throw CliError(fmt::format("run {} is unfinished: a console may still be recording it; nothing deleted "
-                               "(--force deletes it anyway, e.g. after a crash)",
-                               id));
+  Db db = open_for_edit(db_path, ids.front(), &row);
+  for (int64_t id : ids) {
+    row = RunStore(db_path).run(id);
+    if (row.ended_at.empty() && !force)
+      throw CliError(fmt::format("run {} is unfinished: a console may still be recording it; nothing deleted "
+                                 "(--force deletes it anyway, e.g. after a crash)",
+                                 id));
+  }
+  const std::string list = fmt::format("{}", fmt::join(ids, ", "));
   try {
     db.exec("BEGIN IMMEDIATE");
     try {
-      Stmt s = db.prepare("DELETE FROM samples WHERE id BETWEEN ? AND ?");
-      s.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
-      s.step();
-      for (const char* sql : {"DELETE FROM params WHERE run_id=?", "DELETE FROM gaps WHERE run_id=?",
-                              "DELETE FROM link_events WHERE run_id=?", "DELETE FROM tune_evals WHERE run_id=?",
-                              "DELETE FROM runs WHERE id=?"}) {
-        Stmt d = db.prepare(sql);
-        d.bind(1, id);
-        d.step();
+      for (int64_t id : ids) {
+        Stmt s = db.prepare("DELETE FROM samples WHERE id BETWEEN ? AND ?");
+        s.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
+        s.step();
+        for (const char* sql : {"DELETE FROM params WHERE run_id=?", "DELETE FROM gaps WHERE run_id=?",
+                                "DELETE FROM link_events WHERE run_id=?", "DELETE FROM tune_evals WHERE run_id=?",
+                                "DELETE FROM runs WHERE id=?"}) {
+          Stmt d = db.prepare(sql);
+          d.bind(1, id);
+          d.step();
+        }
       }
       db.exec("COMMIT");
     } catch (...) {
@@ -53,11 +72,12 @@ void delete_run(const std::string& db_path, int64_t id, bool force) {
       throw;
     }
   } catch (const DbError& e) {
-    throw CliError(fmt::format("run {} not deleted: {}", id, e.what()));
+    throw CliError(fmt::format("{} {} not deleted: {}", ids.size() == 1 ? "run" : "runs", list, e.what()));
   }
 }
 
 void label_run(const std::string& db_path, int64_t id, const std::string& label) {
+  check_label(label);
   RunRow row;
   Db db = open_for_edit(db_path, id, &row);
   try {

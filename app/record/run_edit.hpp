@@ -2,14 +2,24 @@
 // The two writes `runs` makes to a recording after the fact: delete a run
 // (its samples, parameters, gaps and link events with it) and relabel one.
 // Each is one transaction: it happens whole or not at all.
+#include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace nlsoft::console {
+
+// A run's label: one line of a listing, not a document. Longer ones are
+// refused (CliError) rather than cut, so nothing typed is silently lost.
+constexpr size_t kMaxLabelChars = 200;
+void check_label(const std::string& label);
 
 // Throws CliError: no such run; an unfinished run (a console may still be
 // recording it) unless `force`; a locked or read-only database.
 void delete_run(const std::string& db_path, int64_t id, bool force);
+// Several runs in one transaction: each is checked as above first, then all
+// are deleted or none.
+void delete_runs(const std::string& db_path, const std::vector<int64_t>& ids, bool force);
 
 // Throws CliError as above (a label may change on an unfinished run).
 void label_run(const std::string& db_path, int64_t id, const std::string& label);

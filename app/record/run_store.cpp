@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <cstring>
 
@@ -66,7 +67,7 @@ RunStore::RunStore(const std::string& path) {
   // takes the one write a reader ever makes. A file we may not write (a
   // read-only copy, someone else's) is read at its own version: v2 lacks
   // only the gaps' durations.
-  if (v < kSchemaVersion) {
+  if (v < kSchemaVersion && ::access(path.c_str(), W_OK) == 0) {
     try {
       auto rw = std::make_unique<Db>(path, Db::Access::ReadWrite);
       migrate(*rw);
@@ -79,6 +80,9 @@ RunStore::RunStore(const std::string& path) {
       version_ = v;
     }
   } else {
+    if (v < 2)
+      throw CliError(fmt::format("{} has schema v{} and cannot be upgraded to v{} here (read-only)", path, v,
+                                 kSchemaVersion));
     version_ = v;
   }
   if (v > kSchemaVersion)

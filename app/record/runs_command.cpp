@@ -15,6 +15,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/output_file.hpp"
+#include "app/printable.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/end_words.hpp"
 #include "app/record/gnuplot.hpp"
@@ -254,8 +255,8 @@ void list(const RunsArgs& a) {
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
     fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
                r.platform, reference_kind(reference_of(*store, r)), r.samples,
-               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames, r.label,
-               ended);
+               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames,
+               printable(r.label), printable(ended));
   };
   bool any_eval = false;
   for (const RunRow& r : runs) {
@@ -270,9 +271,9 @@ void list(const RunsArgs& a) {
       if (by_id.count(id)) members.push_back(id);
     if (members.front() != r.id) continue;  // printed with its session
     const TuneSessionRow& s = sessions[e->second.session_id];
-    fmt::print("tuning session {}: minimise {} over {} ({}), {} evaluation{}, {}{}\n", s.id, s.objective, s.space, s.method,
-               members.size(), members.size() == 1 ? "" : "s",
-               s.ended_at.empty() ? "unfinished" : s.end_reason,
+    fmt::print("tuning session {}: minimise {} over {} ({}), {} evaluation{}, {}{}\n", s.id, printable(s.objective),
+               printable(s.space), printable(s.method), members.size(), members.size() == 1 ? "" : "s",
+               s.ended_at.empty() ? "unfinished" : printable(s.end_reason),
                s.best_run > 0 ? fmt::format("; best run {}", s.best_run) : "");
     for (int64_t id : members) {
       const auto row = by_id.find(id);
@@ -314,20 +315,25 @@ void show(const RunsArgs& a) {
     fmt::print("{}\n", j.dump(2));
     return;
   }
-  fmt::print("run {}{}  {} .. {}  ({})\n", r.id, r.label.empty() ? "" : " \"" + r.label + "\"", r.started_at,
-             r.ended_at.empty() ? "?" : r.ended_at, r.ended_at.empty() ? "unfinished: console stopped" : r.end_reason);
-  fmt::print("  {} on {}, model {:08x}, n={} m={}, nominal {:.0f} Hz, decimation {}\n", r.firmware, r.platform, r.model_hash,
-             r.n, r.m, r.loop_rate_hz, r.decimation);
-  if (!r.reference.empty()) fmt::print("  reference {}\n", r.reference);
-  if (!r.notes.empty()) fmt::print("  notes: {}\n", r.notes);
+  // Everything read from the file is shown escaped: a shared database is
+  // anyone's text.
+  fmt::print("run {}{}  {} .. {}  ({})\n", r.id, r.label.empty() ? "" : " \"" + printable(r.label) + "\"",
+             printable(r.started_at), r.ended_at.empty() ? "?" : printable(r.ended_at),
+             r.ended_at.empty() ? "unfinished: console stopped" : printable(r.end_reason));
+  fmt::print("  {} on {}, model {:08x}, n={} m={}, nominal {:.0f} Hz, decimation {}\n", printable(r.firmware),
+             printable(r.platform), r.model_hash, r.n, r.m, r.loop_rate_hz, r.decimation);
+  if (!r.reference.empty()) fmt::print("  reference {}\n", printable(r.reference));
+  if (!r.notes.empty()) fmt::print("  notes: {}\n", printable(r.notes));
   print_metrics(m);
   fmt::print("  parameters at start:\n");
   for (const auto& p : store->params(a.id))
-    if (p.at_start) fmt::print("    {:<12} {}\n", p.name, p.value);
+    if (p.at_start) fmt::print("    {:<12} {}\n", printable(p.name), printable(p.value));
   for (const auto& p : store->params(a.id))
-    if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, p.name, p.value);
-  for (const auto& g : store->gaps(a.id)) fmt::print("  {} ({}, {})\n", gap_words(r, g), g.reason, g.t);
-  for (const auto& [when, detail] : store->link_events(a.id)) fmt::print("  link {}: {}\n", when, detail);
+    if (!p.at_start) fmt::print("  at {:8.3f} s: {} = {}\n", p.t, printable(p.name), printable(p.value));
+  for (const auto& g : store->gaps(a.id))
+    fmt::print("  {} ({}, {})\n", gap_words(r, g), printable(g.reason), printable(g.t));
+  for (const auto& [when, detail] : store->link_events(a.id))
+    fmt::print("  link {}: {}\n", printable(when), printable(detail));
 }
 
 void export_csv(const RunsArgs& a) {
@@ -368,8 +374,8 @@ void compare(const RunsArgs& a) {
     fmt::print("  {:<16} {:>24} {:>24}\n", name, x, y);
   };
   fmt::print("  {:<16} {:>24} {:>24}\n", "", fmt::format("run {}", ra.id), fmt::format("run {}", rb.id));
-  row("label", ra.label, rb.label);
-  row("platform", ra.platform, rb.platform);
+  row("label", printable(ra.label), printable(rb.label));
+  row("platform", printable(ra.platform), printable(rb.platform));
   auto num = [](double v) { return fmt::format("{:.5g}", v); };
   for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "loop_rate_hz", "compute_p50_us",
                         "compute_p99_us", "iterations", "lost_frames", "gaps", "samples", "duration_s"})
@@ -379,7 +385,7 @@ void compare(const RunsArgs& a) {
     if (v.first == v.second) continue;
     if (!any) fmt::print("  parameters that differ:\n");
     any = true;
-    row(name.c_str(), v.first, v.second);
+    row(printable(name).c_str(), printable(v.first), printable(v.second));
   }
   if (!any) fmt::print("  same parameters at start\n");
 }
@@ -482,13 +488,13 @@ void add_runs_command(CLI::App& app) {
   p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
   p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
   p->callback([args] { plot(*args); });
-  CLI::App* d = runs->add_subcommand("delete", "Delete a run with its samples, parameters, gaps and link events");
+  CLI::App* d = runs->add_subcommand("delete", "Delete runs with their samples, parameters, gaps and link events");
   db(d);
-  d->add_option("ID", args->id, "Run id")->required();
+  d->add_option("ID", args->ids, "Run ids (all are deleted, or none)")->required();
   d->add_flag("--force", args->force, "Delete an unfinished run too (one a crashed console left open)");
   d->callback([args] {
-    delete_run(args->db.empty() ? default_db_path() : args->db, args->id, args->force);
-    fmt::print("run {} deleted\n", args->id);
+    delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force);
+    for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
   });
   CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
   db(lb);
@@ -496,7 +502,7 @@ void add_runs_command(CLI::App& app) {
   lb->add_option("TEXT", args->label, "The label (quote it if it has blanks; \"\" clears it)")->required();
   lb->callback([args] {
     label_run(args->db.empty() ? default_db_path() : args->db, args->id, args->label);
-    fmt::print("run {} labelled \"{}\"\n", args->id, args->label);
+    fmt::print("run {} labelled \"{}\"\n", args->id, printable(args->label));
   });
 }
 

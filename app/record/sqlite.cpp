@@ -1,6 +1,8 @@
 #include "app/record/sqlite.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 namespace nlsoft::console {
 
@@ -47,13 +49,56 @@ bool Stmt::step() {
   throw DbError(msg, rc);
 }
 
+namespace {
+
+// A path as a URI filename (https://sqlite.org/uri.html): the characters
+// that would end or escape the path part are percent-encoded.
+std::string uri_of(const std::string& path, const char* query) {
+  std::string u = "file:";
+  for (char c : path) {
+    if (c == '%' || c == '?' || c == '#') u += fmt::format("%{:02X}", static_cast<unsigned char>(c));
+    else u += c;
+  }
+  return u + "?" + query;
+}
+
+bool exists(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+}  // namespace
+
 Db::Db(const std::string& path, Access access) : path_(path) {
+  // Reading a file we may not write (another user's, a read-only folder):
+  // SQLite would create -shm/-wal beside it (owned by us, with the file's
+  // mode) or fail with "attempt to write a readonly database". mode=ro
+  // uses the -shm a writer keeps; with none there, no connection is
+  // writing, and immutable=1 reads the file as it is without creating one.
+  if (access == Access::ReadOnly && ::access(path.c_str(), W_OK) != 0 && exists(path)) {
+    if (exists(path + "-shm")) {
+      try {
+        open(path, uri_of(path, "mode=ro"), access);
+        return;
+      } catch (const DbError& e) {
+        const int code = e.sqlite_code & 0xFF;
+        if (code != SQLITE_CANTOPEN && code != SQLITE_READONLY && code != SQLITE_BUSY) throw;
+      }
+    }
+    open(path, uri_of(path, "immutable=1"), access);
+    return;
+  }
+  open(path, path, access);
+}
+
+void Db::open(const std::string& path, const std::string& name, Access access) {
   // Allocation statistics cost a global mutex per malloc; nobody reads them.
   static const int memstatus_off = sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
   (void)memstatus_off;
   const int flags = (access == Access::ReadOnly ? SQLITE_OPEN_READONLY : SQLITE_OPEN_READWRITE) |
-                    (access == Access::Create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX;
-  int rc = sqlite3_open_v2(path.c_str(), &db_, flags, nullptr);
+                    (access == Access::Create ? SQLITE_OPEN_CREATE : 0) | SQLITE_OPEN_NOMUTEX |
+                    (name != path ? SQLITE_OPEN_URI : 0);
+  int rc = sqlite3_open_v2(name.c_str(), &db_, flags, nullptr);
   if (rc != SQLITE_OK) {
     const std::string msg = db_error_words(path, rc, db_ ? sqlite3_errmsg(db_) : nullptr);
     sqlite3_close(db_);
@@ -69,6 +114,7 @@ Db::Db(const std::string& path, Access access) : path_(path) {
     // Big pages suit an append-only log of samples (a no-op on an existing file).
     if (access == Access::ReadOnly) {
       exec("PRAGMA query_only=1");
+      exec("SELECT count(*) FROM sqlite_master");  // reads the file (and its WAL) now, not at the first query
     } else {
       exec("PRAGMA page_size=16384");
       exec("PRAGMA journal_mode=WAL");

@@ -91,6 +91,7 @@ class Db {
   int64_t last_insert_id() const { return sqlite3_last_insert_rowid(db_); }
 
  private:
+  void open(const std::string& path, const std::string& name, Access access);  // name: a path or a URI
   sqlite3* db_ = nullptr;
   std::string path_;
 };

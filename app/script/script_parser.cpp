@@ -9,6 +9,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/cli_error.hpp"
+#include "app/input_file.hpp"
+#include "app/printable.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/tune/tune_options.hpp"
 
@@ -109,7 +112,8 @@ std::vector<std::string> tokenize(const std::string& line) {
 
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
-  auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, msg); };
+  // The message quotes the script's own tokens: shown escaped.
+  auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, printable(msg)); };
   const std::string first = line.substr(0, line.find_first_of(" \t"));
   if (first == "echo" || first == "note") {
     // Free text: quotes and all are kept as written.
@@ -312,11 +316,15 @@ Script parse_script(const std::string& text, const std::string& file) {
 }
 
 Script parse_script_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ScriptError(path, 0, fmt::format("cannot read script: {}", std::strerror(errno)));
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_script(ss.str(), path);
+  std::string text;
+  try {
+    text = read_input_file(path, kScriptFile);
+  } catch (const CliError& e) {
+    // "PATH: cannot read script: …" without the path twice.
+    const std::string what = e.what();
+    throw ScriptError(path, 0, what.rfind(path + ": ", 0) == 0 ? what.substr(path.size() + 2) : what);
+  }
+  return parse_script(text, path);
 }
 
 const std::vector<std::string>& script_help() {

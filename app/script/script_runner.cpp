@@ -8,6 +8,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/link/link_error.hpp"
+#include "app/printable.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/model/model_size_words.hpp"
@@ -25,7 +26,7 @@ std::string summary_line(const RunSummary& s) {
   for (double r : t.rmse) rmse += (rmse.empty() ? "" : " ") + fmt::format("{:.4g}", r);
   return fmt::format("run {}{}: {} samples, {:.2f} s, rmse [{}] nrmse {:.4f} max_error {:.4g}, loop {:.0f} Hz, "
                      "compute p50 {:.1f} us p99 {:.1f} us, lost {}{}",
-                     s.run_id, s.label.empty() ? "" : " (" + s.label + ")", m.samples, m.duration_s, rmse, t.nrmse,
+                     s.run_id, s.label.empty() ? "" : " (" + printable(s.label) + ")", m.samples, m.duration_s, rmse, t.nrmse,
                      t.max_error, m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us, m.lost_frames,
                      s.end_reason == "completed" ? "" : ", " + s.end_reason);
 }

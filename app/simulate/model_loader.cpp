@@ -2,19 +2,22 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
-#include <iterator>
 
 #include "app/cli_error.hpp"
+#include "app/input_file.hpp"
 #include "app/paths/install_paths.hpp"
 #include "shared/model_file.hpp"
 
 namespace nlsoft::console {
 
 void load_model(const std::string& path, LoadedModel& out) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw CliError(fmt::format("cannot open model file '{}'", path));
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string text;
+  try {
+    text = read_input_file(path, {"model file", model_file_max<HostCapacity>(), false});
+  } catch (const CliError& e) {
+    throw CliError(fmt::format("cannot open model file '{}': {}", path, e.what()));
+  }
+  std::vector<uint8_t> bytes(text.begin(), text.end());
   std::vector<float> storage(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);
   Model<HostCapacity> M;
   uint8_t platform = 255;

@@ -7,6 +7,7 @@
 
 #include "app/record/csv_export.hpp"
 #include "app/record/run_metrics.hpp"
+#include "app/printable.hpp"
 #include "app/tui/curses.hpp"
 
 namespace nlsoft::console::tui {
@@ -17,7 +18,8 @@ std::vector<std::string> describe(const RunRow& r, const RunMetrics& m) {
   std::string rmse;
   for (double v : t.rmse) rmse += (rmse.empty() ? "" : " ") + fmt::format("{:.4g}", v);
   return {
-      fmt::format("run {} {} {}", r.id, r.label, r.ended_at.empty() ? "(running or unfinished)" : r.end_reason),
+      fmt::format("run {} {} {}", r.id, printable(r.label),
+                  r.ended_at.empty() ? "(running or unfinished)" : printable(r.end_reason)),
       fmt::format("rmse [{}]  nrmse {:.4f}  max {:.4g}", rmse, t.nrmse, t.max_error),
       fmt::format("loop {:.1f} Hz  compute p50 {:.1f} p99 {:.1f} us", m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us),
       fmt::format("{} samples, {:.1f} s, lost {}, gaps {}", m.samples, m.duration_s, m.lost_frames, m.gaps),
@@ -128,7 +130,7 @@ void RunsPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focu
     const RunRow& r = runs_[top_ + size_t(i)];
     const bool sel = focused && top_ + size_t(i) == selected_;
     const std::string line = fmt::format("{}{:>4} {:<19.19} {:>7} lost {:<3} {}", r.id == marked_ ? '*' : ' ', r.id,
-                                         r.started_at, r.samples, r.lost_frames, r.label);
+                                         printable(r.started_at), r.samples, r.lost_frames, printable(r.label));
     fill_row(y + 1 + i, x, w, sel ? screen.attr(Role::Selected) : 0);
     put(y + 1 + i, x, line, w, sel ? screen.attr(Role::Selected) : 0);
   }

@@ -9,6 +9,7 @@
 #include <deque>
 #include <mutex>
 
+#include "app/printable.hpp"
 #include "app/record/run_store.hpp"
 #include "app/script/script_runner.hpp"
 #include "app/tui/completion.hpp"
@@ -339,7 +340,7 @@ void App::overlay_command(const std::string& args) {
       }
       message(fmt::format("overlay: run {}{} under the live plot, step for step from its start ('o'); overlay off "
                           "removes it",
-                          id, row.label.empty() ? "" : " (" + row.label + ")"),
+                          id, row.label.empty() ? "" : " (" + printable(row.label) + ")"),
               Role::Ok);
     } catch (const std::exception& e) {
       message(std::string("overlay: ") + e.what(), Role::Error);

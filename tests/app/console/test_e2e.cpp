@@ -154,16 +154,30 @@ TEST_F(ConsoleE2E, SweepRowsSettleBeforeTheyAreMeasured) {
             std::string::npos);
 }
 
-// Disk full, as a file-size limit makes it (SIGXFSZ ignored, so writes fail
-// with EFBIG): the recording fails a second or so into a ten-minute run, and
-// the console stops the run at once and says so, exit 2, instead of running
-// on unrecorded. `timeout` turns waiting out the run into a failure here.
+// Disk full, as a file-size limit makes it: the shell's `ulimit -f` only,
+// as a user would set it (the console itself must keep SIGXFSZ from killing
+// it, so the write fails with EFBIG): the recording fails a second or so
+// into a ten-minute run, and the console stops the run at once and says so,
+// exit 2, instead of dying without a word (exit 153) or running on
+// unrecorded. `timeout` turns waiting out the run into a failure here.
 TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnce) {
   script_ = dir_.file("full.nls");
   std::ofstream(script_) << "run 600s label=full\n";
-  const auto r = run_process("trap '' XFSZ; ulimit -f 600; exec timeout 80 " + fmt_command("msd", "--sim-rate 5000"));
+  const auto r = run_process("ulimit -f 600; exec timeout 80 " + fmt_command("msd", "--sim-rate 5000"));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("stopped at once: recording failed"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("samples received"), std::string::npos) << r.output;
+}
+
+// The same on the HASEL rig at its own rate, a minute's run under a smaller
+// limit: the run is not left unfinished by a killed console.
+TEST_F(ConsoleE2E, AFileSizeLimitDuringARunIsReportedNotFatal) {
+  script_ = dir_.file("r60.nls");
+  std::ofstream(script_) << "run 60s label=r60\n";
+  // dash counts 512-byte blocks: 800 is bash's `ulimit -f 400`.
+  const auto r = run_process("ulimit -f 800; exec timeout 80 " + fmt_command("hasel", ""));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("run 1 stopped at once: recording failed"), std::string::npos) << r.output;
 }
 
 // The simulator's log lives in a folder of the console's own (0700), not at

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "app/record/recorder.hpp"
+#include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/schema.hpp"
@@ -302,6 +303,33 @@ TEST(RunStore, ReadsReadOnlyAndListsACrashedRunsSamples) {
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_TRUE(runs[0].ended_at.empty());
   EXPECT_EQ(runs[0].samples, 300u);
+}
+
+// `runs delete --force` from another process while this recorder writes
+// the run: the recorder stops with an error that says so, instead of going
+// on writing samples nobody can see, which the next run given the same id
+// would inherit.
+TEST(Recorder, ARunDeletedWhileBeingRecordedStopsTheRecordingAndLeavesNoOrphans) {
+  TempDir dir;
+  const std::string db = dir.file("r.db");
+  Recorder rec(db);
+  const int64_t id = rec.begin_run(run_info());
+  for (uint64_t k = 0; k < 100; ++k) ASSERT_TRUE(rec.add_sample(id, make_sample(k)));
+  rec.flush();
+  delete_run(db, id, true);
+  for (uint64_t k = 100; k < 200; ++k) rec.add_sample(id, make_sample(k));
+  std::string error;
+  try {
+    rec.flush();
+  } catch (const DbError& e) {
+    error = e.what();
+  }
+  EXPECT_NE(error.find("run 1 was deleted"), std::string::npos) << error;
+  EXPECT_NE(rec.error().find("by another process while it was being recorded"), std::string::npos) << rec.error();
+  Db check(db, Db::Access::ReadOnly);
+  Stmt c = check.prepare("SELECT count(*) FROM samples");
+  ASSERT_TRUE(c.step());
+  EXPECT_EQ(c.int64(0), 0) << "orphan samples were written";
 }
 
 }  // namespace

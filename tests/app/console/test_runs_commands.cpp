@@ -253,6 +253,32 @@ TEST_F(RunsCommands, ARunsSummarySaysItsSecondsAreTheFirmwaresNotTheWallClocks) 
   }
 }
 
+// `runs delete 3 1`: several runs, reported in the order given; with one
+// id unknown, none is deleted.
+TEST_F(RunsCommands, DeleteTakesSeveralIdsInTheOrderGivenAllOrNothing) {
+  {
+    Recorder rec(db());
+    for (int i = 0; i < 3; ++i) {
+      RunInfo ri;
+      ri.platform = "msd";
+      ri.n = 1;
+      ri.m = 1;
+      const int64_t id = rec.begin_run(ri);
+      rec.end_run(id, "completed", 0, 0);
+    }
+  }
+  auto r = runs("delete 2 9");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "no run 9")) << r.output;
+  EXPECT_EQ(RunStore(db()).list().size(), 3u) << "nothing deleted";
+  r = runs("delete 3 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(r.output, "run 3 deleted\nrun 1 deleted\n");
+  const auto left = RunStore(db()).list();
+  ASSERT_EQ(left.size(), 1u);
+  EXPECT_EQ(left[0].id, 2);
+}
+
 // The examples `runs --help` gives, as printed, against two recorded runs
 // (its ids 12 and 13 mapped to 1 and 2), in order: the last deletes one.
 TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
