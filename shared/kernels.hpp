@@ -37,8 +37,9 @@ struct RolloutKernels {
 
 namespace detail {
 
-// activate_slopes() for a layer of a constant width: ReLU, the shipped
-// models' hidden layers, inline and unrolled; the others through the call.
+// activate_slopes() for a layer of a constant width: ReLU and tanh, the
+// shipped models' hidden and output layers, inline and unrolled; the others
+// through the call.
 template <int Count>
 __attribute__((always_inline)) inline void activate_fixed(Activation act, float* z, float* df) {
   if (act == Activation::Relu) {
@@ -47,6 +48,13 @@ __attribute__((always_inline)) inline void activate_fixed(Activation act, float*
       const bool on = z[j] > 0.0f;
       df[j] = on ? 1.0f : 0.0f;
       z[j] = on ? z[j] : 0.0f;
+    }
+  } else if (act == Activation::Tanh) {
+#pragma GCC unroll 16
+    for (int j = 0; j < Count; ++j) {
+      const float t = fast_tanh(z[j]);
+      df[j] = 1.0f - t * t;
+      z[j] = t;
     }
   } else {
     activate_slopes(act, z, df, Count);
