@@ -64,12 +64,20 @@ inline ActValue activate_d2(Activation a, float x) {
 // two so f is exact), e^f by its Taylor series to degree 6 (truncation
 // below 1.2e-7), 2^i put straight into the exponent bits. Inputs are clamped
 // to [-87, 88], where e^x is a normal float; NaN gives e^88.
+// round(x / ln2) by adding 1.5 * 2^23, whose float spacing is 1: the sum's
+// low mantissa bits hold the rounded integer, two adds and a move instead of
+// a sign test and two conversions (a fifth of the function on the M4F, and
+// the GRU's gates call it 15 times per horizon step).
 inline float fast_exp(float x) {
   x = x < 88.0f ? x : 88.0f;
   x = x > -87.0f ? x : -87.0f;
   const float t = x * 1.44269504f;
-  const int i = int(t + (t >= 0.0f ? 0.5f : -0.5f));
-  const float fi = float(i);
+  constexpr float kRound = 12582912.0f;  // 1.5 * 2^23, bits 0x4b400000
+  const float shifted = t + kRound;
+  const float fi = shifted - kRound;
+  uint32_t sbits;
+  std::memcpy(&sbits, &shifted, sizeof sbits);
+  const int i = int(sbits) - 0x4b400000;
   const float f = (x - fi * 0.693145752f) - fi * 1.42860677e-6f;
   float p = 1.0f / 720.0f;
   p = p * f + 1.0f / 120.0f;

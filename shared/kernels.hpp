@@ -9,6 +9,8 @@
 //
 // select_kernels() picks, for a model, the specialised kernel of its shape,
 // or the generic one where the capacity keeps it.
+#include <utility>
+
 #include "shared/rollout.hpp"
 
 // See rollout.hpp: the step's hot code is compiled for speed even in images
@@ -35,6 +37,30 @@ struct RolloutKernels {
 
 namespace detail {
 
+// activate_slopes() for a layer of a constant width: ReLU and tanh, the
+// shipped models' hidden and output layers, inline and unrolled; the others
+// through the call.
+template <int Count>
+__attribute__((always_inline)) inline void activate_fixed(Activation act, float* z, float* df) {
+  if (act == Activation::Relu) {
+#pragma GCC unroll 16
+    for (int j = 0; j < Count; ++j) {
+      const bool on = z[j] > 0.0f;
+      df[j] = on ? 1.0f : 0.0f;
+      z[j] = on ? z[j] : 0.0f;
+    }
+  } else if (act == Activation::Tanh) {
+#pragma GCC unroll 16
+    for (int j = 0; j < Count; ++j) {
+      const float t = fast_tanh(z[j]);
+      df[j] = 1.0f - t * t;
+      z[j] = t;
+    }
+  } else {
+    activate_slopes(act, z, df, Count);
+  }
+}
+
 // A Dense layer past the first, In inputs to Out units: y = act(x W + b)
 // and the slopes act'(.), which the Jacobian's reverse sweep needs.
 template <int In, int Out>
@@ -43,13 +69,14 @@ inline void dense_values(Activation act, const float* W, const float* x, float* 
   float z[Out];
 #pragma GCC unroll 16
   for (int j = 0; j < Out; ++j) z[j] = bias[j];
+#pragma GCC unroll 16
   for (int i = 0; i < In; ++i) {
     const float xi = x[i];
     const float* w = W + i * Out;
 #pragma GCC unroll 16
     for (int j = 0; j < Out; ++j) z[j] += xi * w[j];
   }
-  activate_slopes(act, z, df, Out);
+  activate_fixed<Out>(act, z, df);
 #pragma GCC unroll 16
   for (int j = 0; j < Out; ++j) y[j] = z[j];
 }
@@ -106,18 +133,25 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     float z[kC0];
 #pragma GCC unroll 32
     for (int q = 0; q < kC0; ++q) z[q] = bias[q];
+    // every loop here has a constant trip count: unrolled, the entries' indices are constants
+#pragma GCC unroll 32
     for (int i = S::queue; i < S::p; ++i) add_entry(z, W0, (x0[i] - off[i]) * sc[i], i);
     for (int q = 0; q < kC0; ++q) pre[ND * kC0 + q] = z[q];
+#pragma GCC unroll 4
     for (int j = 0; j < ND; ++j) {
       float r[kC0];
 #pragma GCC unroll 32
       for (int q = 0; q < kC0; ++q) r[q] = z[q];
+#pragma GCC unroll 4
       for (int t = j + 1; t < ND; ++t)  // u-slot t holds u(k+j-t), from x0
+#pragma GCC unroll 8
         for (int i = 0; i < M; ++i) {
           const int e = t * M + i, xi = (t - j - 1) * M + i;
           add_entry(r, W0, (x0[xi] - off[e]) * sc[e], e);
         }
+#pragma GCC unroll 4
       for (int t = j; t < ND; ++t)  // y-slot t holds y(k+j-t), from x0
+#pragma GCC unroll 8
         for (int i = 0; i < N; ++i) {
           const int e = ND * M + t * N + i, xi = ND * M + (t - j) * N + i;
           add_entry(r, W0, (x0[xi] - off[e]) * sc[e], e);
@@ -134,16 +168,44 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     for (int q = 0; q < kC0; ++q) z[q] += x * w[q];
   }
 
+  // A horizon as short as the MCU capacities' (hasel, tendon: N <= 4) runs
+  // unrolled: each step j is inlined with j a constant, so its slot and
+  // prediction counts, U's rows and every index into Y and G are constants
+  // and the loops over them disappear. Costs ≈ Cap::N times the step's code
+  // in flash, which an image compiling one shape has room for; msd (N up to
+  // 128) and the console keep the loop.
+  static constexpr int kUnrollHorizon = 4;
+
   static void run(const Model<Cap>& Mo, const float* x0, const float* U, int Nh, int Nc, const ConstantInputs& c,
                   float* Y, float* G, RolloutScratch<Cap>& s) {
+    // A capacity of one control row admits only Nc = 1: say so, so U's rows are constants.
+    const int nc = Cap::Nc == 1 ? 1 : Nc;
+    if constexpr (Cap::N <= kUnrollHorizon) {
+      unrolled(std::make_integer_sequence<int, Cap::N>{}, Mo, x0, U, Nh, nc, c, Y, G, s);
+    } else {
+      for (int j = 0; j < Nh; ++j) horizon_step(j, Mo, x0, U, nc, c, Y, G, s);
+    }
+  }
+
+  template <int... J>
+  __attribute__((always_inline)) static inline void unrolled(std::integer_sequence<int, J...>, const Model<Cap>& Mo,
+                                                             const float* x0, const float* U, int Nh, int Nc,
+                                                             const ConstantInputs& c, float* Y, float* G,
+                                                             RolloutScratch<Cap>& s) {
+    (void)((J < Nh && (horizon_step(J, Mo, x0, U, Nc, c, Y, G, s), true)) && ...);
+  }
+
+  // Step j of the horizon: y_hat(k+j+1) and, with tangents, its rows of G.
+  __attribute__((always_inline)) static inline void horizon_step(int j, const Model<Cap>& Mo, const float* x0,
+                                                                 const float* U, int Nc, const ConstantInputs& c,
+                                                                 float* Y, float* G, RolloutScratch<Cap>& s) {
     const float* sc = Mo.in_scale();
     const float* off = Mo.in_offset();
     const float* W0 = Mo.weights(Mo.layer[0]);
     const float* os = Mo.out_scale();
     const float* oo = Mo.out_offset();
     constexpr int kU = ND * M;  // first y-queue entry
-
-    for (int j = 0; j < Nh; ++j) {
+    {
       // ---- first layer: z = pre_j + the entries of x(k+j) that hold U or
       // a prediction (Algorithm 1; the rest is in pre_j, see constant()) ----
       const int preds = j < ND ? j : ND;          // y-slots holding predictions
@@ -153,23 +215,28 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       const float* prow = c.pre + (j < ND ? j : ND) * kC0;
 #pragma GCC unroll 32
       for (int q = 0; q < kC0; ++q) zr[q] = prow[q];
+#pragma GCC unroll 4
       for (int t = 0; t < slots; ++t) {  // u-slot t holds U's row j - t
         const float* u = U + (j - t < Nc ? j - t : Nc - 1) * M;
+#pragma GCC unroll 8
         for (int i = 0; i < M; ++i) add_entry(zr, W0, (u[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
       }
+#pragma GCC unroll 4
       for (int t = 0; t < preds; ++t) {  // y-slot t holds y_hat(k+j-t)
         const float* y = Y + (j - t - 1) * N;
         const int e0 = kU + t * N;
+#pragma GCC unroll 8
         for (int i = 0; i < N; ++i) add_entry(zr, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
       }
 #pragma GCC unroll 32
       for (int q = 0; q < kC0; ++q) z[q] = zr[q];
 
       if constexpr (kTangents) {
-        for (int q = 0; q < kC0; ++q) {
+        for (int q = 0; q < kC0; ++q) {  // a loop: unrolled, 5-15 units times K columns cost more flash than they save
           float acc[K];
           detail::tangent_zero<K>(acc);
           // a prediction enters with its row of G: dz += sc_e W1[e][q] dy
+#pragma GCC unroll 4
           for (int t = 0; t < preds; ++t) {
             const int e0 = kU + t * N;
             const float* g = G + (j - t - 1) * N * K;
@@ -180,6 +247,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
           // U itself enters through its weight, into the columns of its row
           // of U; the row is picked among the capacity's Nc blocks so every
           // index is a constant and acc stays in registers.
+#pragma GCC unroll 4
           for (int t = 0; t < slots; ++t) {
             const int row = j - t < Nc ? j - t : Nc - 1;
 #pragma GCC unroll 8
@@ -203,12 +271,13 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
         detail::gru_cell<K, kTangents>(L0, bias_rec, s.v[0], s.T[0], s.v[1], s.T[1], s.live);
         cur = 1;
       } else {
-        activate_slopes(L0.act, z, slope[0], kC0);
+        detail::activate_fixed<kC0>(L0.act, z, slope[0]);
       }
       const int t1 = cur;  // the first layer's units and their tangents: v[t1], T[t1]
       if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
 
       // ---- output: y = y_net out_scale + out_offset (+ y(k+j) if residual) ----
+#pragma GCC unroll 8
       for (int i = 0; i < N; ++i) {
         const int r = j * N + i;
         const float prev = j > 0 ? Y[r - N] : x0[kU + i];
@@ -228,8 +297,10 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       constexpr int in = units[l - 1], out = units[l];
       constexpr bool scale = !(l == 1 && First::gru);  // past a GRU, T1 is already dh
       const float* Wl = Mo.weights(Mo.layer[l]);
+#pragma GCC unroll 4
       for (int r = 0; r < N; ++r) {
         const float* rr = R + r * Cap::width;
+#pragma GCC unroll 16
         for (int i = 0; i < in; ++i) {
           float acc = 0.0f;
           const float* w = Wl + i * out;
@@ -263,6 +334,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       constexpr int in = units[kL - 2];
       constexpr bool scale = !(kL == 2 && First::gru);
       const float* Wl = Mo.weights(Mo.layer[kL - 1]);
+#pragma GCC unroll 4
       for (int r = 0; r < N; ++r) {
         const float d = os[r] * slope[kL - 1][r];
 #pragma GCC unroll 16
@@ -271,10 +343,12 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       }
       R = sweep<kL - 2>(Mo, slope, Ra, Rb);
     }
+#pragma GCC unroll 4
     for (int r = 0; r < N; ++r) {
       float acc[K];
       detail::tangent_zero<K>(acc);
       const float* rr = R + r * Cap::width;
+#pragma GCC unroll 16
       for (int q = 0; q < units[0]; ++q)
         if (rr[q] != 0.0f) detail::tangent_axpy<K>(acc, rr[q], T1[q]);
       float* g = G + r * K;

@@ -34,4 +34,35 @@ struct NetShape {
 template <class... Shapes>
 struct ShapeList {};
 
+// What a model of shape S needs of a capacity: its weight and bias count
+// (model.hpp's layer_weight_count, GRU biases reset_after) and its widest
+// layer buffer (a GRU's 3 x units), so an image built for one shape
+// reserves no RAM beyond it.
+template <class S>
+struct ShapeNeeds;
+template <int M, int N, int W, int ND, class First, class... Rest>
+struct ShapeNeeds<NetShape<M, N, W, ND, First, Rest...>> {
+ private:
+  static constexpr int sum() {
+    const int cols[] = {First::cols, Rest::cols...};
+    const int units[] = {First::units, Rest::units...};
+    const bool gru[] = {First::gru, Rest::gru...};
+    int in = ND * (M + N) + W, total = 0;
+    for (int l = 0; l < 1 + int(sizeof...(Rest)); ++l) {
+      total += gru[l] ? in * cols[l] + units[l] * cols[l] + 2 * cols[l] : in * units[l] + units[l];
+      in = units[l];
+    }
+    return total;
+  }
+  static constexpr int widest() {
+    const int cols[] = {First::cols, Rest::cols...};
+    int w = 0;
+    for (int c : cols) w = c > w ? c : w;
+    return w;
+  }
+
+ public:
+  static constexpr int weights = sum(), width = widest();
+};
+
 }  // namespace nlsoft

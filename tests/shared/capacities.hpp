@@ -8,7 +8,7 @@
 
 namespace nlsoft::test {
 
-using ShippedCapacities = ::testing::Types<HostCapacity, HaselCapacity, TendonCapacity, MsdCapacity>;
+using ShippedCapacities = ::testing::Types<HostCapacity, HaselCapacity, HaselAuthorsCapacity, TendonCapacity, MsdCapacity>;
 
 // Names the typed instances after the capacity.
 struct CapacityName {
@@ -16,6 +16,7 @@ struct CapacityName {
   static std::string GetName(int) {
     if (std::is_same_v<Cap, HostCapacity>) return "Host";
     if (std::is_same_v<Cap, HaselCapacity>) return "Hasel";
+    if (std::is_same_v<Cap, HaselAuthorsCapacity>) return "HaselAuthors";
     if (std::is_same_v<Cap, TendonCapacity>) return "Tendon";
     return "Msd";
   }

@@ -17,6 +17,16 @@ set(NLSOFT_MODELS_DIR ${NLSOFT_ROOT}/app/models CACHE PATH "where <platform>.nls
 if(IS_DIRECTORY ${NLSOFT_MODELS_DIR})
   set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${NLSOFT_MODELS_DIR})
 endif()
+# The hasel image compiles the kernel of one network shape (platform_config.hpp):
+# ours (36 -> 5 -> 5 -> 3, app/models/hasel.nlsm embedded) or the authors'
+# published 36 -> 10 -> 5 -> 3, which embeds NLSOFT_M4_HASEL_MODEL if given
+# (a `model import --platform hasel` of their .h5) and otherwise waits for an upload.
+set(NLSOFT_M4_HASEL_SHAPE ours CACHE STRING "network shape of the hasel images: ours or authors")
+set_property(CACHE NLSOFT_M4_HASEL_SHAPE PROPERTY STRINGS ours authors)
+set(NLSOFT_M4_HASEL_MODEL "" CACHE FILEPATH "model file embedded in the hasel images built for the authors' shape")
+if(NOT NLSOFT_M4_HASEL_SHAPE MATCHES "^(ours|authors)$")
+  message(FATAL_ERROR "NLSOFT_M4_HASEL_SHAPE is '${NLSOFT_M4_HASEL_SHAPE}': ours or authors")
+endif()
 # -O2 vs -Os measured with firmware/tools/m4-report (ports/mps2-an386/README.md).
 set(NLSOFT_M4_OPT -Os CACHE STRING "optimisation flag of the images")
 
@@ -51,6 +61,11 @@ function(nlsoft_cortex_m_images)
   foreach(platform msd hasel tendon)
     string(TOUPPER ${platform} P)
     set(model ${NLSOFT_MODELS_DIR}/${platform}.nlsm)
+    set(shape_definitions "")
+    if(platform STREQUAL "hasel" AND NLSOFT_M4_HASEL_SHAPE STREQUAL "authors")
+      set(model "${NLSOFT_M4_HASEL_MODEL}")
+      set(shape_definitions NLSOFT_HASEL_AUTHORS_SHAPE)
+    endif()
     foreach(hil 1 0)
       set(name ${A_PREFIX}-${platform})
       set(id ${A_NAME})
@@ -62,7 +77,7 @@ function(nlsoft_cortex_m_images)
       set(have_model 0)
       # The shipped model is embedded when it exists; without it the image waits
       # for an upload.
-      if(EXISTS ${model})
+      if(model AND EXISTS ${model})
         list(APPEND sources ${NLSOFT_CORTEX_M_DIR}/model_blob.S)
         set(have_model 1)
       endif()
@@ -72,8 +87,8 @@ function(nlsoft_cortex_m_images)
       target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})  # the port's rig_hal.hpp
       target_link_options(${name} PRIVATE -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map)
       target_compile_definitions(${name} PRIVATE NLSOFT_PLATFORM_${P} NLSOFT_HIL=${hil}
-        NLSOFT_FIRMWARE_NAME="${id}" NLSOFT_HAVE_MODEL=${have_model})
-      if(EXISTS ${model})
+        NLSOFT_FIRMWARE_NAME="${id}" NLSOFT_HAVE_MODEL=${have_model} ${shape_definitions})
+      if(model AND EXISTS ${model})
         set_source_files_properties(${NLSOFT_CORTEX_M_DIR}/model_blob.S TARGET_DIRECTORY ${name}
           PROPERTIES OBJECT_DEPENDS ${model})
         target_compile_definitions(${name} PRIVATE NLSOFT_MODEL_FILE="${model}")

@@ -2,7 +2,10 @@
 // What differs between the three images: the platform, the tightest
 // capacity that holds its preset and paper-sized model, the simulated plant
 // of the HIL build, and the RAM given to uploads. Selected by
-// NLSOFT_PLATFORM_{MSD,HASEL,TENDON} from the build.
+// NLSOFT_PLATFORM_{MSD,HASEL,TENDON} from the build. Each capacity carries
+// one network shape, so an image compiles one kernel; the hasel image's is
+// ours (app/models/hasel.nlsm) unless the build asks for the authors'
+// (NLSOFT_HASEL_AUTHORS_SHAPE, from images.cmake's NLSOFT_M4_HASEL_SHAPE).
 #include <cstddef>
 #include <cstdint>
 
@@ -15,7 +18,11 @@
 
 namespace nlsoft::fw::cortex_m {
 
-#if defined(NLSOFT_PLATFORM_HASEL)
+#if defined(NLSOFT_PLATFORM_HASEL) && defined(NLSOFT_HASEL_AUTHORS_SHAPE)
+using Cap = HaselAuthorsCapacity;
+using Plant = HaselPlant;
+constexpr PlatformId kPlatform = PlatformId::Hasel;
+#elif defined(NLSOFT_PLATFORM_HASEL)
 using Cap = HaselCapacity;
 using Plant = HaselPlant;
 constexpr PlatformId kPlatform = PlatformId::Hasel;
