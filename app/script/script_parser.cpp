@@ -1,6 +1,7 @@
 #include "app/script/script_parser.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 
 #include <cerrno>
 #include <cmath>
@@ -106,6 +107,23 @@ std::vector<std::string> tokenize(const std::string& line) {
   if (have) out.push_back(cur);
   return out;
 }
+
+namespace {
+
+std::string join_errors(const std::vector<ScriptError>& all) {
+  std::string s;
+  for (const ScriptError& e : all) s += (s.empty() ? "" : "\n") + std::string(e.what());
+  return s;
+}
+
+}  // namespace
+
+ScriptError::ScriptError(const std::vector<ScriptError>& all)
+    : std::runtime_error(join_errors(all)),
+      file(all.at(0).file),
+      line(all.at(0).line),
+      message(all.at(0).message),
+      count(all.size()) {}
 
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
@@ -302,20 +320,36 @@ Script parse_script(const std::string& text, const std::string& file) {
   std::istringstream in(text);
   std::string line;
   int lineno = 0;
+  std::vector<ScriptError> errors;
   while (std::getline(in, line)) {
     ++lineno;
     const std::string tl = trim(line);
     if (tl.empty() || tl[0] == '#') continue;
-    s.commands.push_back(parse_command(tl, file, lineno));
+    try {
+      s.commands.push_back(parse_command(tl, file, lineno));
+    } catch (const ScriptError& e) {
+      errors.push_back(e);
+    }
   }
+  if (!errors.empty()) throw ScriptError(errors);
   return s;
 }
 
 Script parse_script_file(const std::string& path) {
+  // A directory opens and reads as nothing, and a device may never end or
+  // read as nothing (/dev/null): either would run as an empty script. Pipes
+  // (`--script <(...)`, /dev/stdin) are scripts.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw ScriptError(path, 0, fmt::format("cannot read script: {}", std::strerror(errno)));
+  if (S_ISDIR(st.st_mode)) throw ScriptError(path, 0, "cannot read script: it is a directory");
+  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode))
+    throw ScriptError(path, 0, "cannot read script: it is a device, not a file");
   std::ifstream in(path);
   if (!in) throw ScriptError(path, 0, fmt::format("cannot read script: {}", std::strerror(errno)));
   std::stringstream ss;
   ss << in.rdbuf();
+  if (in.bad()) throw ScriptError(path, 0, fmt::format("cannot read script: {}", std::strerror(errno)));
   return parse_script(ss.str(), path);
 }
 
