@@ -12,6 +12,8 @@ struct LinkStats {
   uint64_t crc_errors = 0, decode_errors = 0;  // ours, as receiver
   uint64_t telemetry_frames = 0, lost_telemetry = 0;
   uint64_t timeouts = 0, retransmits = 0, stale_replies = 0, reconnects = 0;
+  // Requests, the console's own frames, that came back: the line echoes.
+  uint64_t echoed_frames = 0;
   // From the firmware's STATUS heartbeat.
   bool have_status = false;
   double loop_rate_hz = 0;        // measured from step counts while running, else nominal

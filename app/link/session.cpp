@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "app/link/port_openers.hpp"
 #include "protocol/encoder.hpp"
 #include "shared/platform_id.hpp"
 
@@ -167,6 +168,7 @@ void Session::supervise() {
   auto last_rate = Clock::now();
   uint64_t last_frames = 0, last_bytes = 0;
   bool silent = false;
+  uint64_t frames_at_silence = 0;
   auto next_check = Clock::now();
   std::unique_lock<std::mutex> lock(event_mu_);
   while (!stopping_) {
@@ -179,11 +181,28 @@ void Session::supervise() {
     const int64_t quiet_ns = now_ns() - last_frame_ns_.load();
     const bool now_silent =
         connected() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
-    if (now_silent != silent) {
+    uint64_t frames_now = 0;
+    {
+      std::lock_guard<std::mutex> st(stats_mu_);
+      frames_now = stats_.frames;
+    }
+    // "Frames arriving again" only when frames did: a silence that ends
+    // because the port went down or was reopened is told by Down and Up.
+    if (now_silent != silent && !now_silent && frames_now == frames_at_silence) {
+      silent = false;
+    } else if (now_silent != silent) {
       silent = now_silent;
-      batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed,
-                       silent ? fmt::format("no valid frame for {} ms", options_.silence_limit.count())
-                              : "frames arriving again"});
+      frames_at_silence = frames_now;
+      std::string detail = "frames arriving again";
+      if (silent) {
+        detail = fmt::format("no valid frame for {} ms", options_.silence_limit.count());
+        if (now_ns() - last_echo_ns_.load() < std::chrono::nanoseconds(options_.silence_limit).count())
+          detail += "; only the console's own frames come back: the line echoes";
+        if (const auto others = other_openers(link_.path()); !others.empty())
+          detail += fmt::format("; {} also {} the port open", describe_openers(others),
+                                others.size() == 1 ? "has" : "have");
+      }
+      batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed, detail});
     }
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last_rate).count();
@@ -221,6 +240,14 @@ void Session::on_bytes(const uint8_t* data, size_t len) {
     p::DecodeResult r;
     used += decoder_.feed(data + used, len - used, r);
     if (r.kind == p::DecodeResult::Kind::Frame) {
+      // A request (console -> firmware) that is not a reply is one of ours
+      // come back: the line echoes. Not a sign of a firmware.
+      if (!r.frame.is_reply() && r.frame.header.type < uint8_t(p::MsgType::Ack)) {
+        last_echo_ns_ = now_ns();
+        std::lock_guard<std::mutex> lock(stats_mu_);
+        ++stats_.echoed_frames;
+        continue;
+      }
       last_frame_ns_ = now_ns();
       on_frame(r.frame);
     } else if (r.kind == p::DecodeResult::Kind::Error) {
@@ -492,13 +519,30 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
                               : fmt::format("no reply to {} after {} {} ({} ms)", message_name(type), sent,
                                             sent == 1 ? "try" : "tries", per_try.count() * options_.tries);
   const uint64_t bytes = after.bytes - before.bytes, frames = after.frames - before.frames;
+  const uint64_t echoed = after.echoed_frames - before.echoed_frames;
   if (link_.is_up() && peer_ == Peer::Known && foreign_version_.load() == 0) {
-    if (bytes == 0)
+    // One diagnosis, agreeing with the link's own events: "nothing arrived"
+    // only when no frame has for the silence limit either.
+    const double since_frame_s = double(now_ns() - last_frame_ns_.load()) * 1e-9;
+    const bool silent = after.frames == 0 || since_frame_s * 1000 > double(options_.silence_limit.count());
+    if (echoed > 0)
+      why += fmt::format("; the console's own frames came back from {} ({} of them) and nothing else: the line "
+                         "echoes what is sent (a loopback, a terminal in echo mode, or a pseudo-terminal with "
+                         "nothing at its other end), no firmware answers there",
+                         link_.path(), echoed);
+    else if (bytes == 0 && silent)
       why += fmt::format("; nothing arrived from {}: is the firmware running? (a slow device needs a longer --timeout)",
                          link_.path());
+    else if (bytes == 0)
+      why += fmt::format("; frames arrive from {} (the last {:.1f} s ago) but not this reply: something else may be "
+                         "reading the port",
+                         link_.path(), since_frame_s);
     else if (frames == 0)
       why += fmt::format("; {} bytes arrived from {}, none of them a valid frame (another baud rate, or not an nlsoft "
                          "firmware?)", bytes, link_.path());
+    if (const auto others = other_openers(link_.path()); !others.empty())
+      why += fmt::format("; {} also {} {} open and takes bytes meant for this console", describe_openers(others),
+                         others.size() == 1 ? "has" : "have", link_.path());
   }
   if (!link_.is_up()) {
     why += link_.will_reopen() ? fmt::format("; {} is down, reconnecting", link_.path())
