@@ -10,11 +10,11 @@ struct LinkStats {
   double frames_per_s = 0, bytes_per_s = 0;
   uint64_t frames = 0, bytes = 0;
   uint64_t crc_errors = 0, decode_errors = 0;  // ours, as receiver
-  // Valid frames that were requests, as the console sends them: a firmware
-  // never sends one, so they are our own frames coming back (an echoing line).
-  uint64_t echoed_requests = 0;
   uint64_t telemetry_frames = 0, lost_telemetry = 0;
   uint64_t timeouts = 0, retransmits = 0, stale_replies = 0, reconnects = 0;
+  // Valid frames that were requests, as the console sends them: a firmware
+  // never sends one, so they are our own frames coming back (an echoing line).
+  uint64_t echoed_frames = 0;
   // From the firmware's STATUS heartbeat.
   bool have_status = false;
   double loop_rate_hz = 0;        // measured from step counts while running, else nominal

@@ -14,6 +14,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/link/port_openers.hpp"
+
 namespace nlsoft::console {
 
 namespace {
@@ -47,6 +49,13 @@ std::string lock_holder(int fd) {
 }  // namespace
 
 std::string check_terminal(int fd, const std::string& path) {
+  struct stat dev {};
+  // /dev/ptmx (5:2) opens a new pseudo-terminal each time, with nothing at
+  // its other end: a console on it would wait for a firmware that cannot be there.
+  if (fd >= 0 && fstat(fd, &dev) == 0 && S_ISCHR(dev.st_mode) && major(dev.st_rdev) == 5 && minor(dev.st_rdev) == 2)
+    return fmt::format("not a serial port: {} makes a new pseudo-terminal at each open, with nothing at its other "
+                       "end; give the /dev/pts/N a simulator printed (nlsoft-firmware-sim prints it)",
+                       path);
   if (fd >= 0 && isatty(fd)) return "";
   struct stat st {};
   const char* what = "not a terminal";
@@ -69,6 +78,14 @@ std::string take_exclusive(int fd, const std::string& path) {
   }
   ioctl(fd, TIOCEXCL);  // best effort: a pty master may refuse it
   return "";
+}
+
+std::string check_no_other_reader(int fd, const std::string& path) {
+  const std::vector<PortOpener> others = other_openers(fd);
+  if (others.empty()) return "";
+  return fmt::format("port busy: {} is also open in {}, which would read the replies meant for this console; "
+                     "end {} first",
+                     path, describe_openers(others), others.size() == 1 ? "it" : "them");
 }
 
 bool is_pseudo_terminal(int fd) {

@@ -18,6 +18,12 @@ std::string check_terminal(int fd, const std::string& path);
 // /proc/locks tells.
 std::string take_exclusive(int fd, const std::string& path);
 
+// A program that opened the port before this console (`cat /dev/pts/5 &`)
+// takes bytes meant for the console, which then sees some frames and misses
+// replies: refused, naming the program's PID and command
+// (app/link/port_openers.hpp).
+std::string check_no_other_reader(int fd, const std::string& path);
+
 // Pseudo-terminals refuse some line settings (parity, stop bits, flow
 // control) and carry bytes all the same; a real port that refuses one is an
 // error.

@@ -3,6 +3,7 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/write.hpp>
 #include <fmt/format.h>
+#include <sys/ioctl.h>
 
 #include "app/link/custom_baud.hpp"
 #include "app/link/link_error.hpp"
@@ -24,6 +25,12 @@ std::string SerialLink::open_port() {
   const int fd = port_.native_handle();
   std::string why = check_terminal(fd, path_);
   if (why.empty()) why = take_exclusive(fd, path_);
+  if (why.empty()) {
+    why = check_no_other_reader(fd, path_);
+    // The exclusive mode outlives this open while anyone holds the port:
+    // it must not lock out the next try once the other reader is gone.
+    if (!why.empty()) ioctl(fd, TIOCNXCL);
+  }
   if (why.empty()) {
     using sp = asio::serial_port_base;
     port_.set_option(sp::character_size(8), ec);

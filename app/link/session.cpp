@@ -10,6 +10,7 @@
 
 #include "app/link/protocol_version.hpp"
 #include "protocol/catalog.hpp"
+#include "app/link/port_openers.hpp"
 #include "protocol/encoder.hpp"
 #include "shared/platform_id.hpp"
 
@@ -82,9 +83,10 @@ std::string heard_words(const LineHeard& h, const std::string& port) {
       return fmt::format("{} bytes arrived from {}, none of them a valid frame (another baud rate, or not an nlsoft "
                          "firmware?)", h.bytes, port);
     case LineHeard::Kind::Echo:
-      return fmt::format("{} frame{} came back from {}, each a request as the console sends them: the line echoes "
-                         "what is written (a loopback, or a device that echoes), no firmware answers",
-                         h.frames, h.frames == 1 ? "" : "s", port);
+      return fmt::format("the console's own frames came back from {} ({} of them) and nothing else: the line echoes "
+                         "what is sent (a loopback, a terminal in echo mode, or a pseudo-terminal with nothing at its "
+                         "other end), no firmware answers there",
+                         port, h.frames);
     case LineHeard::Kind::OtherVersion:
       return fmt::format("the firmware at {} speaks protocol v{}, this console {}", port, h.version,
                          protocol_version_text());
@@ -193,6 +195,7 @@ void Session::supervise() {
   auto last_rate = Clock::now();
   uint64_t last_frames = 0, last_bytes = 0;
   bool silent = false;
+  uint64_t frames_at_silence = 0;
   auto next_check = Clock::now();
   std::unique_lock<std::mutex> lock(event_mu_);
   while (!stopping_) {
@@ -203,16 +206,30 @@ void Session::supervise() {
     // Silence: the port is open but nothing valid arrives (board hung,
     // wrong baud, firmware of another protocol version).
     const int64_t quiet_ns = now_ns() - last_frame_ns_.load();
-    const bool quiet = quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
-    const bool now_silent = connected() && quiet;
-    if (now_silent != silent) {
+    const bool now_silent =
+        connected() && quiet_ns > std::chrono::nanoseconds(options_.silence_limit).count();
+    uint64_t frames_now = 0;
+    {
+      std::lock_guard<std::mutex> st(stats_mu_);
+      frames_now = stats_.frames;
+    }
+    // "Frames arriving again" only when frames did: a silence that ends
+    // because the port went down or was reopened is told by Down and Up.
+    if (now_silent != silent && !now_silent && frames_now == frames_at_silence) {
+      silent = false;
+    } else if (now_silent != silent) {
       silent = now_silent;
-      // Resumed only when a frame came: a link that closed or went down is
-      // no longer silent either, and says so itself.
-      if (silent)
-        batch.push_back({LinkEvent::Kind::Silent, fmt::format("no valid frame for {} ms", options_.silence_limit.count())});
-      else if (!quiet)
-        batch.push_back({LinkEvent::Kind::Resumed, "frames arriving again"});
+      frames_at_silence = frames_now;
+      std::string detail = "frames arriving again";
+      if (silent) {
+        detail = fmt::format("no valid frame for {} ms", options_.silence_limit.count());
+        if (now_ns() - last_echo_ns_.load() < std::chrono::nanoseconds(options_.silence_limit).count())
+          detail += "; only the console's own frames come back: the line echoes";
+        if (const auto others = other_openers(link_.path()); !others.empty())
+          detail += fmt::format("; {} also {} the port open", describe_openers(others),
+                                others.size() == 1 ? "has" : "have");
+      }
+      batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed, detail});
     }
     const auto now = Clock::now();
     const double dt = std::chrono::duration<double>(now - last_rate).count();
@@ -250,6 +267,14 @@ void Session::on_bytes(const uint8_t* data, size_t len) {
     p::DecodeResult r;
     used += decoder_.feed(data + used, len - used, r);
     if (r.kind == p::DecodeResult::Kind::Frame) {
+      // A request (console -> firmware) that is not a reply is one of ours
+      // come back: the line echoes. Not a sign of a firmware.
+      if (!r.frame.is_reply() && r.frame.header.type < uint8_t(p::MsgType::Ack)) {
+        last_echo_ns_ = now_ns();
+        std::lock_guard<std::mutex> lock(stats_mu_);
+        ++stats_.echoed_frames;
+        continue;
+      }
       last_frame_ns_ = now_ns();
       on_frame(r.frame);
     } else if (r.kind == p::DecodeResult::Kind::Error) {
@@ -284,13 +309,6 @@ void Session::on_frame(const p::FrameView& f) {
   }
   const auto type = p::MsgType(f.header.type);
   if (f.is_reply()) on_reply(f);
-  if (!f.is_reply()) {
-    const p::MsgInfo* m = p::find_message(f.header.type);
-    if (m != nullptr && m->is_request) {
-      std::lock_guard<std::mutex> lock(stats_mu_);
-      ++stats_.echoed_requests;
-    }
-  }
   if (type == p::MsgType::Telemetry) {
     p::Telemetry t;
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
@@ -539,6 +557,9 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
       why += "; " + heard_words(h, link_.path()) + ": is the firmware running? (a slow device needs a longer --timeout)";
     else if (h.kind != LineHeard::Kind::Frames)
       why += "; " + heard_words(h, link_.path());
+    if (const auto others = other_openers(link_.path()); !others.empty())
+      why += fmt::format("; {} also {} {} open and takes bytes meant for this console", describe_openers(others),
+                         others.size() == 1 ? "has" : "have", link_.path());
   }
   if (!link_.is_up()) {
     why += link_.will_reopen() ? fmt::format("; {} is down, reconnecting", link_.path())
@@ -570,12 +591,15 @@ LineHeard Session::heard_since(const LinkStats& before) const {
   LineHeard h;
   h.bytes = now.bytes - before.bytes;
   h.frames = now.frames - before.frames;
-  const uint64_t echoed = now.echoed_requests - before.echoed_requests;
+  // Echoed frames never count as frames (on_bytes sets them apart).
+  const uint64_t echoed = now.echoed_frames - before.echoed_frames;
   h.version = foreign_version_.load();
   if (h.bytes == 0) h.kind = LineHeard::Kind::Nothing;
   else if (h.version != 0) h.kind = LineHeard::Kind::OtherVersion;
-  else if (h.frames == 0) h.kind = LineHeard::Kind::Noise;
-  else if (echoed == h.frames) h.kind = LineHeard::Kind::Echo;
+  else if (h.frames == 0 && echoed > 0) {
+    h.kind = LineHeard::Kind::Echo;
+    h.frames = echoed;
+  } else if (h.frames == 0) h.kind = LineHeard::Kind::Noise;
   else h.kind = LineHeard::Kind::Frames;
   return h;
 }

@@ -235,6 +235,7 @@ class Session {
   protocol::Status last_status_{};
   uint32_t nominal_rate_hz_ = 0;
   std::atomic<int64_t> last_frame_ns_{0};
+  std::atomic<int64_t> last_echo_ns_{0};  // when one of our own frames last came back
   std::atomic<int64_t> last_tx_ns_{0};
   uint32_t ping_nonce_ = 0;
   std::atomic<uint8_t> foreign_version_{0};

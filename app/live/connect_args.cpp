@@ -18,7 +18,7 @@ namespace nlsoft::console {
 
 namespace {
 
-void on_interrupt(int) { LiveConsole::request_interrupt(); }
+void on_interrupt(int signal) { LiveConsole::request_interrupt(signal); }
 
 // No PORT, --sim or --qemu: the one port that looks like a board (or the
 // only port there is) is taken, and named; none or several is an error
@@ -99,8 +99,10 @@ void install_interrupt_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_interrupt;
   sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
+  // A closed terminal (SIGHUP) or a reader of standard output gone (SIGPIPE:
+  // `ssh host nlsoft-console --script ...` dropped) would otherwise kill the
+  // console mid-run and leave the run unfinished.
+  for (int signal : {SIGINT, SIGTERM, SIGHUP, SIGPIPE}) sigaction(signal, &sa, nullptr);
 }
 
 void connect_with_progress(LiveConsole& console) {

@@ -29,8 +29,9 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
 // start with `command` ("tune: ...") when it is not empty.
 LiveOptions live_options(const ConnectArgs& a, const std::string& command = "");
 
-// Ctrl-C and SIGTERM end the run in progress cleanly (it stays in the
-// database) through LiveConsole::request_interrupt.
+// Ctrl-C, SIGTERM, SIGHUP and SIGPIPE end the run in progress cleanly (it
+// stays in the database, its end naming the signal) through
+// LiveConsole::request_interrupt.
 void install_interrupt_handlers();
 
 // connect() with a progress bar over the parameter list; link, refusal and

@@ -11,6 +11,7 @@
 #include "app/live/connect_args.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
+#include "app/script/script_check.hpp"
 #include "app/script/script_runner.hpp"
 #include "app/tui/tui_app.hpp"
 
@@ -25,6 +26,8 @@ struct ConsoleArgs {
   double wait_s = 0;
 };
 
+std::string error_count(size_t n) { return fmt::format("{} error{} in the script", n, n == 1 ? "" : "s"); }
+
 int run_console(const ConsoleArgs& a) {
   LiveOptions o = live_options(a.link);
   Script script;
@@ -34,7 +37,9 @@ int run_console(const ConsoleArgs& a) {
     try {
       script = parse_script_file(a.script);
     } catch (const ScriptError& e) {
-      throw CliError(e.what());
+      if (e.line == 0) throw CliError(e.what());  // not a script at all
+      std::fprintf(stderr, "%s\n%s; nothing was run\n", e.what(), error_count(e.count).c_str());
+      throw CliExit{2};
     }
   } else if (!isatty(STDIN_FILENO) || !isatty(STDOUT_FILENO)) {
     throw CliError("the interactive console needs a terminal; for headless use give --script FILE");
@@ -56,6 +61,14 @@ int run_console(const ConsoleArgs& a) {
   if (const UdpStream* u = console.udp())
     std::fprintf(stderr, "streaming every telemetry sample to %s (UDP, one JSON object per datagram)\n",
                  u->target().c_str());
+  // Names, elements, counts and ranges against the firmware's parameter
+  // list, before the first command: all or nothing.
+  if (const auto errors = check_script(script, console); !errors.empty()) {
+    for (const ScriptError& e : errors) std::fprintf(stderr, "%s\n", e.what());
+    std::fprintf(stderr, "%s; nothing was run\n", error_count(errors.size()).c_str());
+    console.disconnect();
+    return 2;
+  }
   std::unique_ptr<ProgressBar> bar;
   std::string bar_what;
   ScriptRunner runner(

@@ -23,6 +23,7 @@
 #include "app/output_file.hpp"
 #include "app/printable.hpp"
 #include "app/record/run_edit.hpp"
+#include "app/record/loop_rate.hpp"
 #include "app/record/run_store.hpp"
 #include "shared/capacity.hpp"
 #include "shared/model_file.hpp"
@@ -713,6 +714,7 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   s.label = run_label_;
   s.end_reason = why;
   s.metrics = metrics_of(id);
+  if (const std::string w = loop_rate_warning(s.metrics); !w.empty()) say(fmt::format("run {}: {}", id, w));
   std::lock_guard<std::mutex> lock(mu_);
   last_run_ = s;
   return s;
@@ -854,15 +856,28 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
                             reached       ? "completed"
                             : stopped     ? "stopped by the user"
                             : cancelled   ? "cancelled"
-                            : interrupted ? "interrupted"
+                            : interrupted ? interrupt_reason()
                                           : "ended early: " + early);
   if (stopped_elsewhere || stopped || cancelled) return s;
-  if (interrupted) throw CliError(fmt::format("interrupted: run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
+  if (interrupted)
+    throw CliError(fmt::format("{}: run {} stopped and kept ({} samples)", interrupt_reason(), s.run_id,
+                               s.metrics.samples));
   if (!early.empty()) {
     s.ended_early = true;
     say(fmt::format("run {} ended early: {}", s.run_id, early));
   }
   return s;
+}
+
+std::string LiveConsole::interrupt_reason() {
+  switch (interrupted_flag()) {
+    case SIGINT: return "interrupted by SIGINT (Ctrl-C)";
+    case SIGTERM: return "interrupted by SIGTERM";
+    case SIGHUP: return "interrupted by SIGHUP (the terminal closed or the connection dropped)";
+    case SIGPIPE: return "interrupted by SIGPIPE (standard output's reader is gone)";
+    case 0: return "not interrupted";
+    default: return fmt::format("interrupted by signal {}", int(interrupted_flag()));
+  }
 }
 
 std::optional<RunSummary> LiveConsole::last_run() const {

@@ -164,10 +164,15 @@ class LiveConsole {
     return true;
   }
 
-  // Set from a signal handler (Ctrl-C): run_for() stops the run early and
-  // the script runner stops before its next command. Async-signal-safe.
-  static void request_interrupt() { interrupted_flag() = 1; }
+  // Set from a signal handler (Ctrl-C, SIGTERM, SIGHUP when the terminal
+  // closes or the ssh connection drops, SIGPIPE when standard output's
+  // reader is gone): run_for() stops the run early and the script runner
+  // stops before its next command. Async-signal-safe.
+  static void request_interrupt(int signal = SIGINT) { interrupted_flag() = signal; }
   static bool interrupted() { return interrupted_flag() != 0; }
+  // "interrupted by SIGHUP (the terminal closed)": what the run's end and
+  // the console's last message say.
+  static std::string interrupt_reason();
   RunMetrics metrics_of(int64_t run_id, double skip_s = 0, double window_s = 0);
 
  private:

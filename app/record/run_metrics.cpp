@@ -100,7 +100,7 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
     m.y_span = spans(s.has_y_true ? s.y_true : s.y_hat);
   }
   input_metrics(s, limits, m);
-  m.loop_rate_hz = run.loop_rate_hz;
+  m.loop_rate_hz = m.loop_rate_set_hz = run.loop_rate_hz;
   // A run whose firmware died half-way spans less in samples than it lasted:
   // both are reported, so neither passes for the other.
   const auto t0 = utc_seconds(run.started_at), t1 = utc_seconds(run.ended_at);
@@ -110,7 +110,7 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
     double us = 0;
     for (size_t i = 1; i < s.rows(); ++i) us += double(uint32_t(s.time_us[i] - s.time_us[i - 1]));
     const double steps = double(s.step.back()) - double(s.step.front());
-    if (us > 0 && steps > 0) m.loop_rate_hz = steps / (us * 1e-6);
+    if (us > 0 && steps > 0) m.loop_rate_hz = steps / (us * 1e-6), m.loop_rate_measured = true;
     m.duration_s = us * 1e-6;
   }
   return m;

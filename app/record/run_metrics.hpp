@@ -27,6 +27,8 @@ struct RunMetrics {
   // in which the reference barely moves makes nrmse a measure of noise.
   std::vector<double> ref_span, y_span;
   double loop_rate_hz = 0;    // from step and time stamps; nominal if those are missing
+  double loop_rate_set_hz = 0;     // the firmware's nominal rate (INFO), the one the run was set to
+  bool loop_rate_measured = false;  // loop_rate_hz came from the stamps (app/record/loop_rate.hpp)
   double compute_p50_us = 0, compute_p99_us = 0;
   double mean_iterations = 0;
   uint64_t lost_frames = 0;

@@ -19,6 +19,7 @@
 #include "app/record/csv_export.hpp"
 #include "app/record/end_words.hpp"
 #include "app/record/gnuplot.hpp"
+#include "app/record/loop_rate.hpp"
 #include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_edit.hpp"
@@ -80,6 +81,7 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["rmse_hat"] = m.predicted.rmse;
   j["nrmse_hat"] = m.predicted.nrmse;
   j["loop_rate_hz"] = m.loop_rate_hz;
+  j["loop_rate_set_hz"] = m.loop_rate_set_hz;
   j["compute_p50_us"] = m.compute_p50_us;
   j["compute_p99_us"] = m.compute_p99_us;
   j["iterations"] = m.mean_iterations;
@@ -97,8 +99,9 @@ void print_metrics(const RunMetrics& m) {
              rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
   fmt::print("  nrmse_space {:.4f} (worst axis over the rig's task space; defined for holds and steps)\n", m.nrmse_space);
   if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
-  fmt::print("  loop {:.1f} Hz, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", m.loop_rate_hz,
-             m.compute_p50_us, m.compute_p99_us, m.mean_iterations);
+  fmt::print("  {}, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", loop_rate_text(m), m.compute_p50_us,
+             m.compute_p99_us, m.mean_iterations);
+  if (const std::string w = loop_rate_warning(m); !w.empty()) fmt::print("  {}\n", w);
   fmt::print("  {} samples over {:.2f} s{}, {} lost frame{}, {} gap{}\n", m.samples, m.duration_s,
              m.wall_s > 0 ? fmt::format(" (the run lasted {:.2f} s)", m.wall_s) : "", m.lost_frames,
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");

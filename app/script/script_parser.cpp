@@ -1,6 +1,7 @@
 #include "app/script/script_parser.hpp"
 
 #include <fmt/format.h>
+#include <sys/stat.h>
 
 #include <cerrno>
 #include <cmath>
@@ -109,6 +110,23 @@ std::vector<std::string> tokenize(const std::string& line) {
   if (have) out.push_back(cur);
   return out;
 }
+
+namespace {
+
+std::string join_errors(const std::vector<ScriptError>& all) {
+  std::string s;
+  for (const ScriptError& e : all) s += (s.empty() ? "" : "\n") + std::string(e.what());
+  return s;
+}
+
+}  // namespace
+
+ScriptError::ScriptError(const std::vector<ScriptError>& all)
+    : std::runtime_error(join_errors(all)),
+      file(all.at(0).file),
+      line(all.at(0).line),
+      message(all.at(0).message),
+      count(all.size()) {}
 
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
@@ -306,12 +324,18 @@ Script parse_script(const std::string& text, const std::string& file) {
   std::istringstream in(text);
   std::string line;
   int lineno = 0;
+  std::vector<ScriptError> errors;
   while (std::getline(in, line)) {
     ++lineno;
     const std::string tl = trim(line);
     if (tl.empty() || tl[0] == '#') continue;
-    s.commands.push_back(parse_command(tl, file, lineno));
+    try {
+      s.commands.push_back(parse_command(tl, file, lineno));
+    } catch (const ScriptError& e) {
+      errors.push_back(e);
+    }
   }
+  if (!errors.empty()) throw ScriptError(errors);
   return s;
 }
 

@@ -33,9 +33,13 @@ namespace nlsoft::console {
 struct ScriptError : std::runtime_error {
   ScriptError(const std::string& f, int l, const std::string& msg)
       : std::runtime_error(f + ":" + std::to_string(l) + ": " + msg), file(f), line(l), message(msg) {}
+  // Every error of a script checked whole: what() is one "file:LINE:
+  // message" a line; file, line and message are the first one's.
+  explicit ScriptError(const std::vector<ScriptError>& all);
   std::string file;
   int line;
   std::string message;
+  size_t count = 1;
 };
 
 enum class CmpOp { Lt, Le, Gt, Ge, Eq, Ne };
@@ -76,10 +80,13 @@ std::vector<std::string> tokenize(const std::string& line);
 // ScriptError(file, line, ...).
 Command parse_command(const std::string& line, const std::string& file, int lineno);
 
-// Parses a whole script; the first error throws. Blank lines and lines
-// whose first non-blank is '#' are skipped.
+// Parses a whole script: every line is parsed, and one ScriptError carrying
+// every line's error is thrown at the end. Blank lines and lines whose first
+// non-blank is '#' are skipped.
 Script parse_script(const std::string& text, const std::string& file);
-Script parse_script_file(const std::string& path);  // ScriptError on read failure (line 0)
+// ScriptError (line 0) for what cannot be read, or is no script: a missing
+// file, a directory, a device.
+Script parse_script_file(const std::string& path);
 
 // One line of help per command, for --help, F1 and `:help`.
 const std::vector<std::string>& script_help();

@@ -13,6 +13,7 @@
 #include "app/live/reference_spec.hpp"
 #include "app/model/model_size_words.hpp"
 #include "app/record/csv_export.hpp"
+#include "app/record/loop_rate.hpp"
 #include "app/record/run_store.hpp"
 
 namespace nlsoft::console {
@@ -24,10 +25,10 @@ std::string summary_line(const RunSummary& s) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
   std::string rmse;
   for (double r : t.rmse) rmse += (rmse.empty() ? "" : " ") + fmt::format("{:.4g}", r);
-  return fmt::format("run {}{}: {} samples, {:.2f} s, rmse [{}] nrmse {:.4f} max_error {:.4g}, loop {:.0f} Hz, "
+  return fmt::format("run {}{}: {} samples, {:.2f} s, rmse [{}] nrmse {:.4f} max_error {:.4g}, {}, "
                      "compute p50 {:.1f} us p99 {:.1f} us, lost {}{}",
                      s.run_id, s.label.empty() ? "" : " (" + printable(s.label) + ")", m.samples, m.duration_s, rmse, t.nrmse,
-                     t.max_error, m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us, m.lost_frames,
+                     t.max_error, loop_rate_text(m), m.compute_p50_us, m.compute_p99_us, m.lost_frames,
                      s.end_reason == "completed" ? "" : ", " + s.end_reason);
 }
 
@@ -63,7 +64,15 @@ void ScriptRunner::check_completed(const RunSummary& s, const Command& c, const 
 int ScriptRunner::run(const Script& script) {
   for (const Command& c : script.commands) {
     if (LiveConsole::interrupted()) {
-      out_(fmt::format("{}:{}: interrupted before '{}'", script.file, c.line, c.text));
+      out_(fmt::format("{}:{}: {} before '{}'", script.file, c.line, LiveConsole::interrupt_reason(), c.text));
+      if (console_.running()) {
+        try {
+          const RunSummary s = console_.stop_run(LiveConsole::interrupt_reason());
+          out_(fmt::format("run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
+        } catch (const std::exception& e) {
+          out_(fmt::format("error: the run could not be stopped: {}", e.what()));
+        }
+      }
       return 2;
     }
     try {
@@ -188,8 +197,12 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
       case K::Neutral: console_.hold(protocol::HoldMode::Neutral); out_("actuators neutral"); break;
       case K::Resume: console_.hold(protocol::HoldMode::Resume); out_("resumed"); break;
       case K::Wait: {
+        // A signal cannot notify the condition variable: look at it every 50 ms.
+        const auto until = std::chrono::steady_clock::now() +
+                           std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(c.seconds));
         std::unique_lock<std::mutex> lock(cancel_mu_);
-        cancel_cv_.wait_for(lock, std::chrono::duration<double>(c.seconds), [this] { return cancelled_.load(); });
+        while (!cancelled_.load() && !LiveConsole::interrupted() && std::chrono::steady_clock::now() < until)
+          cancel_cv_.wait_until(lock, std::min(until, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
         break;
       }
       case K::Expect: {

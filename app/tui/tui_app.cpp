@@ -10,6 +10,7 @@
 #include <mutex>
 
 #include "app/printable.hpp"
+#include "app/record/loop_rate.hpp"
 #include "app/record/run_store.hpp"
 #include "app/script/script_runner.hpp"
 #include "app/tui/completion.hpp"
@@ -229,7 +230,7 @@ void App::shutdown() {
   console_.set_notify({});
   if (console_.running()) {
     try {
-      console_.stop_run("stopped at quit");
+      console_.stop_run(LiveConsole::interrupted() ? LiveConsole::interrupt_reason() : "stopped at quit");
     } catch (...) {
       // Quitting regardless; the run stays open in the database (ended_at NULL).
     }
@@ -252,8 +253,8 @@ void App::stop_run() {
     try {
       const RunSummary s = console_.stop_run();
       const TrackingMetrics& t = s.metrics.has_true ? s.metrics.truth : s.metrics.predicted;
-      message(fmt::format("run {} stopped: {} samples, nrmse {:.4f}, lost {}", s.run_id, s.metrics.samples, t.nrmse,
-                          s.metrics.lost_frames),
+      message(fmt::format("run {} stopped: {} samples, nrmse {:.4f}, lost {}, {}", s.run_id, s.metrics.samples, t.nrmse,
+                          s.metrics.lost_frames, loop_rate_text(s.metrics)),
               Role::Ok);
     } catch (const std::exception& e) {
       message(e.what(), Role::Error);

@@ -46,6 +46,20 @@ std::string values_text(const std::vector<SearchSpace::Write>& writes) {
 
 }  // namespace
 
+RefParams tune_reference(LiveConsole& console, const std::string& text) {
+  // "swirl hold=1": a preset and its overrides, as `ref` takes them.
+  const std::vector<std::string> words = tokenize(text);
+  if (words.empty()) throw CliError("reference \"\": give a preset, e.g. reference=\"swirl hold=1\"");
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (size_t i = 1; i < words.size(); ++i) {
+    const size_t eq = words[i].find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw CliError(fmt::format("reference \"{}\": '{}' is not key=value", text, words[i]));
+    keys.emplace_back(words[i].substr(0, eq), words[i].substr(eq + 1));
+  }
+  return reference_from_spec(console.platform(), console.loop_rate_hz(), words[0], keys);
+}
+
 TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCallbacks& cb,
                       const std::atomic<bool>* cancel) {
   using clock = std::chrono::steady_clock;
@@ -59,18 +73,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   }
   const Objective objective(o.objective);
   SearchSpace space(console, o.dims);
-  if (!o.reference.empty()) {
-    // "swirl hold=1": a preset and its overrides, as `ref` takes them.
-    const std::vector<std::string> words = tokenize(o.reference);
-    std::vector<std::pair<std::string, std::string>> keys;
-    for (size_t i = 1; i < words.size(); ++i) {
-      const size_t eq = words[i].find('=');
-      if (eq == std::string::npos || eq == 0)
-        throw CliError(fmt::format("reference \"{}\": '{}' is not key=value", o.reference, words[i]));
-      keys.emplace_back(words[i].substr(0, eq), words[i].substr(eq + 1));
-    }
-    console.select_reference(reference_from_spec(console.platform(), console.loop_rate_hz(), words.at(0), keys));
-  }
+  if (!o.reference.empty()) console.select_reference(tune_reference(console, o.reference));
 
   TuneLog log(console.db_path());
   TuneResult r;

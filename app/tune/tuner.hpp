@@ -13,6 +13,7 @@
 #include "app/record/run_metrics.hpp"
 #include "app/tune/search_space.hpp"
 #include "app/tune/tune_options.hpp"
+#include "shared/reference.hpp"
 
 namespace nlsoft::console {
 
@@ -52,6 +53,11 @@ struct TuneCallbacks {
   std::function<void(const std::string&, size_t, size_t)> progress;      // the run in progress
   std::function<void(const TuneEvaluation&)> evaluated;                  // after each evaluation
 };
+
+// The session's reference option, "swirl hold=1" (a preset and its
+// overrides, as `ref` takes them), for the connected firmware. Throws
+// CliError.
+RefParams tune_reference(LiveConsole& console, const std::string& text);
 
 // Runs a whole session on the connected firmware. Ends at the budget, when
 // NLopt converges, at Ctrl-C (LiveConsole::interrupted) or when *cancel

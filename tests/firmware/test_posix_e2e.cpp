@@ -2,12 +2,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <cstdio>
 #include <fstream>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include "firmware/core/firmware.hpp"
 #include "peer.hpp"
@@ -75,6 +77,31 @@ class PosixFirmware : public ::testing::Test {
 };
 
 }  // namespace
+
+// Idle, the simulator blocks in ppoll until its port has bytes: no read()
+// that finds nothing (EAGAIN), where it used to try its port some 11,000
+// times a second, a fifth of a core. strace counts the reads over a second
+// of idling.
+TEST(PosixFirmwareIdle, AnIdleSimulatorMakesNoFailingReads) {
+  const char* strace = "/usr/bin/strace";
+  ASSERT_EQ(::access(strace, X_OK), 0) << "strace is needed (bash cmake/dev deps installs it)";
+  const std::string trace = ::testing::TempDir() + "sim-reads." + std::to_string(::getpid()) + ".txt";
+  // `timeout` ends the simulator after a second of idling, and strace with it.
+  const std::string command = std::string(strace) + " -f -qq -e trace=read -o " + trace + " timeout -s TERM 1 " +
+                              NLSOFT_FIRMWARE_SIM + " --platform msd --model " + model_path() + " >/dev/null 2>&1";
+  ASSERT_NE(std::system(command.c_str()), -1);
+  std::ifstream in(trace);
+  size_t reads = 0, failed = 0;
+  std::string first_failed;
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("read(") == std::string::npos) continue;
+    ++reads;
+    if (line.find("EAGAIN") != std::string::npos && failed++ == 0) first_failed = line;
+  }
+  std::remove(trace.c_str());
+  EXPECT_GT(reads, 0u) << "strace saw no read at all (the model file is read with read())";
+  EXPECT_EQ(failed, 0u) << failed << " of " << reads << " reads found nothing, e.g. " << first_failed;
+}
 
 TEST_F(PosixFirmware, HandshakeReportsPlatformModelAndTable) {
   const Received r = must(peer_->request(proto::InfoGet{}), "INFO_GET");

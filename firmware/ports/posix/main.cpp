@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -67,10 +68,18 @@ uint64_t now_us() {
   return uint64_t(ts.tv_sec) * 1000000u + uint64_t(ts.tv_nsec) / 1000u;
 }
 
-void wait_fd(int fd, short events, int timeout_ms) {
+// Blocks until the port has bytes (or, with POLLOUT, room) or `timeout_us`
+// passes; says whether bytes arrived. ppoll, not poll: a control period at
+// 10 kHz is 100 us, below poll's millisecond.
+bool wait_fd(int fd, short events, uint64_t timeout_us) {
   pollfd p{fd, events, 0};
-  ::poll(&p, 1, timeout_ms);
+  const timespec t{time_t(timeout_us / 1000000u), long(timeout_us % 1000000u) * 1000};
+  return ::ppoll(&p, 1, &t, nullptr) > 0 && (p.revents & (POLLIN | POLLERR | POLLHUP));
 }
+
+// Idle, the loop wakes for the heartbeat (STATUS every second) and catches
+// the plant up then; this is how late that may be.
+constexpr uint64_t kIdleWakeUs = 100000;
 
 }  // namespace
 
@@ -90,6 +99,11 @@ int main(int argc, char** argv) {
   app.add_flag("--fast", fast, "run steps back to back, as fast as the console reads telemetry (tests, throughput)");
   app.add_option("--model", model_path, "model file (default: the shipped model of the platform)");
   app.add_option("--seed", seed, "plant noise seed")->capture_default_str();
+  uint32_t step_load_us = 0;
+  app.add_option("--step-load-us", step_load_us,
+                 "spend this many microseconds more in each control step of a run, as a heavier controller or a "
+                 "busy machine would: a loop that cannot keep its rate (what the console reports then)")
+      ->check(CLI::Range(0u, 1000000u));
   CLI11_PARSE(app, argc, argv);
 
   PlatformId platform;
@@ -142,29 +156,50 @@ int main(int argc, char** argv) {
                  "or $NLSOFT_MODELS names one); looked for it in:%s\n",
                  platform_name_arg.c_str(), model_tried.c_str());
 
+  // Blocks in ppoll between steps rather than trying the port: reads are made
+  // only when the port has bytes (hal.set_readable), so an idle simulator
+  // costs a wake-up per step while a run is active and ten a second when
+  // none is, not a core. A timer slack of 1 us keeps the steps on time.
+  prctl(PR_SET_TIMERSLACK, 1);
   const uint64_t period = uint64_t(1e6 / rate);
   uint64_t next = now_us();
   while (!g_stop) {
-    firmware->poll();
-    if (fast) {
+    if (fast) {  // steps back to back, the port read between every two
+      hal.set_readable(true);
+      firmware->poll();
       if (firmware->telemetry_has_room())
         firmware->step();
       else
-        wait_fd(pty.master, POLLOUT, 5);
+        wait_fd(pty.master, POLLOUT, 5000);
       continue;
     }
-    const uint64_t now = now_us();
+    // A run is paced step by step, a late step counted; outside one the
+    // plant still moves (it relaxes towards neutral) and the steps due since
+    // the last wake-up are made back to back.
+    const bool paced = firmware->state() != protocol::RunState::Idle;
+    uint64_t now = now_us();
     if (now >= next) {
-      firmware->step();
-      next += period;
-      if (now > next + period) {  // a whole period late: count it and re-anchor
-        firmware->count_overrun();
-        next = now + period;
+      if (paced) {
+        firmware->step();
+        if (step_load_us > 0 && firmware->state() == protocol::RunState::Running) {
+          const timespec load{time_t(step_load_us / 1000000u), long(step_load_us % 1000000u) * 1000};
+          nanosleep(&load, nullptr);
+        }
+        next += period;
+        if (now > next + period) {  // a whole period late: count it and re-anchor
+          firmware->count_overrun();
+          next = now + period;
+        }
+      } else {
+        for (int due = 0; next <= now; next += period)
+          if (++due <= 100000) firmware->step();  // beyond that (a suspended process): skipped
       }
-      continue;
     }
-    const uint64_t wait = next - now;
-    if (wait > 1500) wait_fd(pty.master, POLLIN, int(wait / 1000) - 1);
+    firmware->poll();
+    now = now_us();
+    if (paced && now >= next) continue;
+    const uint64_t wait = paced ? next - now : std::max(next > now ? next - now : 0, kIdleWakeUs);
+    hal.set_readable(wait_fd(pty.master, POLLIN, wait));
   }
   return 0;
 }

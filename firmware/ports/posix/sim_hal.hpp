@@ -18,9 +18,16 @@ class SimHal final : public Hal {
   }
   void set_period(float dt) { dt_ = dt; }
 
+  // What the port's last ppoll said: reads are tried only when bytes are
+  // there, and a short read means they have all been taken. An idle
+  // simulator so makes no failing read() at all.
+  void set_readable(bool readable) { readable_ = readable; }
+
   size_t serial_read(uint8_t* buf, size_t cap) override {
+    if (!readable_) return 0;
     const ssize_t r = ::read(fd_, buf, cap);
     if (r > 0) bytes_in_ += size_t(r);
+    if (r < ssize_t(cap)) readable_ = false;
     return r > 0 ? size_t(r) : 0;
   }
   size_t serial_write(const uint8_t* data, size_t len) override {
@@ -48,6 +55,7 @@ class SimHal final : public Hal {
   SimPlant plant_;
   float dt_;
   size_t bytes_in_ = 0;
+  bool readable_ = false;  // until ppoll says so
 };
 
 }  // namespace nlsoft::fw::posix

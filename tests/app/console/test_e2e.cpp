@@ -1,12 +1,18 @@
 // End to end over a pty: nlsoft-console --sim runs nlsoft-firmware-sim and
 // executes scripts headless; the recording is then checked in the database.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "app/link/sim_launcher.hpp"
 #include "app/live/reference_table.hpp"
@@ -111,6 +117,58 @@ TEST_F(ConsoleE2E, ScriptErrorIsReportedBeforeConnecting) {
   EXPECT_EQ(r.output.find("connected:"), std::string::npos) << r.output;
 }
 
+// A script is checked whole against the firmware's parameter list before
+// its first command: the run on line 1 does not happen because of line 2,
+// and every bad line is named, not only the first.
+TEST_F(ConsoleE2E, AScriptIsCheckedWholeAgainstTheFirmwareBeforeAnythingRuns) {
+  const auto r = run_script(
+      "run 1s label=never\n"
+      "set Lambda abc\n"
+      "set Q 1 2\n"
+      "get Nope\n"
+      "set Q[7] 1\n"
+      "sweep Q0 1 -3 run 1s\n"
+      "ref swirl wobble=2\n"
+      "set Q 1e6 2e6 1e6\n",
+      "hasel");
+  EXPECT_EQ(r.code, 2) << r.output;
+  for (const char* line : {"tune.nls:2: ", "tune.nls:3: Q takes 3 values", "tune.nls:4: unknown parameter 'Nope'",
+                           "tune.nls:5: Q[7]: Q has 3 elements", "tune.nls:6: Q[0] = -3 is out of range [0, 1e+12]",
+                           "tune.nls:7: ", "6 errors in the script; nothing was run"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+  EXPECT_EQ(r.output.find("tune.nls:1:"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("tune.nls:8:"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("run 1 (never)"), std::string::npos) << "line 1 ran:\n" << r.output;
+  RunStore store(db());
+  EXPECT_TRUE(store.list().empty()) << "a run was recorded";
+}
+
+TEST_F(ConsoleE2E, EverySyntaxErrorIsReportedBeforeConnecting) {
+  const auto r = run_script("run ten seconds\nfly 3\nwait -1s\n");
+  EXPECT_EQ(r.code, 2) << r.output;
+  for (const char* line : {"tune.nls:1: 'ten' is not a duration", "tune.nls:2: unknown command 'fly'",
+                           "tune.nls:3: '-1s': a duration must be > 0", "3 errors in the script; nothing was run"})
+    EXPECT_NE(r.output.find(line), std::string::npos) << line << "\n" << r.output;
+  EXPECT_EQ(r.output.find("connected:"), std::string::npos) << r.output;
+}
+
+// A directory or a device opens and reads as nothing: not an empty script
+// that succeeds.
+TEST_F(ConsoleE2E, ADirectoryADeviceOrAMissingFileIsNoScript) {
+  const std::string console = std::string(NLSOFT_CONSOLE_BIN) + " --sim msd --db " + shell_quote(db()) + " --script ";
+  const auto d = run_process(console + shell_quote(dir_.path));
+  EXPECT_EQ(d.code, 2) << d.output;
+  EXPECT_NE(d.output.find(dir_.path + ":0: cannot read script: it is a directory"), std::string::npos) << d.output;
+  const auto n = run_process(console + "/dev/null");
+  EXPECT_EQ(n.code, 2) << n.output;
+  EXPECT_NE(n.output.find("/dev/null:0: cannot read script: it is a device, not a file"), std::string::npos) << n.output;
+  const auto m = run_process(console + shell_quote(dir_.file("absent.nls")));
+  EXPECT_EQ(m.code, 2) << m.output;
+  EXPECT_NE(m.output.find("absent.nls:0: cannot read script: No such file or directory"), std::string::npos)
+      << m.output;
+  for (const auto* r : {&d, &n, &m}) EXPECT_EQ(r->output.find("connected:"), std::string::npos) << r->output;
+}
+
 TEST_F(ConsoleE2E, ParamsSaveLoadShowsTheDiff) {
   const std::string saved = dir_.file("p.params");
   const auto r = run_script("params save " + saved + "\nset Q 5 5 5\nparams load " + saved + "\nget Q\n");
@@ -178,6 +236,170 @@ TEST_F(ConsoleE2E, AFileSizeLimitDuringARunIsReportedNotFatal) {
   const auto r = run_process("ulimit -f 800; exec timeout 80 " + fmt_command("hasel", ""));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("run 1 stopped at once: recording failed"), std::string::npos) << r.output;
+}
+
+// The terminal closing, or the ssh connection dropping, sends the console
+// SIGHUP mid-run: the run is stopped and recorded as ended by it, and the
+// console exits 2 saying so, as for Ctrl-C.
+TEST_F(ConsoleE2E, AHangupStopsTheRunAndRecordsWhichSignalEndedIt) {
+  script_ = dir_.file("long.nls");
+  std::ofstream(script_) << "run 600s label=long\n";
+  const std::string out = dir_.file("console.out");
+  const std::string command = "exec " + fmt_command("msd", "") + " >" + shell_quote(out) + " 2>&1";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Until the run has samples in the database (the recorder commits every
+  // 50 ms); the limit only keeps a broken console from hanging the suite.
+  bool recording = false;
+  for (int i = 0; i < 600 && !recording; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      RunStore store(db());
+      const auto runs = store.list();
+      recording = !runs.empty() && runs[0].samples > 0;
+    } catch (const std::exception&) {
+    }
+  }
+  ASSERT_TRUE(recording) << "the run never started";
+  ASSERT_EQ(::kill(pid, SIGHUP), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << text;
+  EXPECT_EQ(WEXITSTATUS(status), 2) << text;
+  EXPECT_NE(text.find("interrupted by SIGHUP (the terminal closed or the connection dropped): run 1 stopped and kept"),
+            std::string::npos)
+      << text;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_FALSE(runs[0].ended_at.empty()) << "the run was left unfinished";
+  EXPECT_EQ(runs[0].end_reason, "interrupted by SIGHUP (the terminal closed or the connection dropped)");
+  EXPECT_GT(runs[0].samples, 0u);
+}
+
+// A loop that cannot keep its rate (here each step of the simulator takes
+// 1.5 ms more at 1 kHz, as a loaded machine makes it) is reported against
+// the rate set, at the run's end and by `runs show`, with a warning.
+TEST_F(ConsoleE2E, ALoopBelowItsSetRateIsReportedAtTheRunsEndAndByRunsShow) {
+  SimLauncher sim;
+  const std::string pty = sim.start("msd", {"--step-load-us", "1500"});
+  ASSERT_FALSE(pty.empty());
+  script_ = dir_.file("slow.nls");
+  std::ofstream(script_) << "run 500ms label=slow\n";
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + pty + " --db " + shell_quote(db()) +
+                             " --script " + shell_quote(script_));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // "loop 633 Hz of 1 kHz set (63 %)": a step every 1.5 ms at best (slower
+  // still on a busy machine, never faster), so at most 67 %.
+  auto share = [](const std::string& text) {
+    const size_t at = text.find(" of 1 kHz set (");
+    return at == std::string::npos ? -1.0 : std::atof(text.c_str() + at + 15);
+  };
+  const double run_share = share(r.output);
+  EXPECT_GT(run_share, 0) << r.output;
+  EXPECT_LE(run_share, 67) << r.output;
+  EXPECT_NE(r.output.find("warning: the control loop kept"), std::string::npos) << r.output;
+  const auto show = run_process(std::string(NLSOFT_CONSOLE_BIN) + " runs show 1 --db " + shell_quote(db()));
+  ASSERT_EQ(show.code, 0) << show.output;
+  EXPECT_EQ(share(show.output), run_share) << show.output;
+  EXPECT_NE(show.output.find("warning: the control loop kept"), std::string::npos) << show.output;
+}
+
+// A program that opened the port before the console (`cat /dev/pts/N &`)
+// takes bytes meant for it: the console refuses the port and names the
+// program, as it names a second console, instead of half-working.
+TEST_F(ConsoleE2E, AProgramReadingThePortIsNamedAndThePortRefused) {
+  SimLauncher sim;
+  const std::string pty = sim.start("msd");
+  ASSERT_FALSE(pty.empty());
+  const pid_t cat = ::fork();
+  ASSERT_GE(cat, 0);
+  if (cat == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    ::dup2(null, STDOUT_FILENO);
+    ::execlp("cat", "cat", pty.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Until cat has the port open (its /proc fd link names it).
+  bool open = false;
+  for (int i = 0; i < 200 && !open; ++i) {
+    std::error_code ec;
+    for (const auto& e : std::filesystem::directory_iterator("/proc/" + std::to_string(cat) + "/fd", ec))
+      open |= std::filesystem::read_symlink(e.path(), ec).string() == pty;
+    if (!open) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  script_ = dir_.file("s.nls");
+  std::ofstream(script_) << "get Q\n";
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + pty + " --db " + shell_quote(db()) +
+                             " --script " + shell_quote(script_));
+  ::kill(cat, SIGTERM);
+  ::waitpid(cat, nullptr, 0);
+  ASSERT_TRUE(open) << "cat never opened " << pty;
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("port busy: " + pty + " is also open in PID " + std::to_string(cat) + " (cat)"),
+            std::string::npos)
+      << r.output;
+  // With cat gone the port is the console's again (the refusal left no
+  // exclusive mode behind).
+  const auto after = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + pty + " --db " + shell_quote(db()) +
+                                 " --script " + shell_quote(script_));
+  EXPECT_EQ(after.code, 0) << after.output;
+  EXPECT_NE(after.output.find("Q = "), std::string::npos) << after.output;
+}
+
+// A line that echoes (a loopback: TX wired to RX, or a terminal in echo
+// mode at the other end) is named as such, not taken for a silent firmware
+// or for frames arriving. The loopback here is a pseudo-terminal whose other
+// end sends back every byte.
+TEST_F(ConsoleE2E, ALineThatEchoesIsNamedAsSuch) {
+  int path_pipe[2];
+  ASSERT_EQ(::pipe(path_pipe), 0);
+  const pid_t loop = ::fork();
+  ASSERT_GE(loop, 0);
+  if (loop == 0) {
+    const int m = ::posix_openpt(O_RDWR | O_NOCTTY);
+    if (m < 0 || ::grantpt(m) != 0 || ::unlockpt(m) != 0) ::_exit(1);
+    const std::string name = std::string(::ptsname(m)) + "\n";
+    (void)!::write(path_pipe[1], name.data(), name.size());
+    ::close(path_pipe[1]);
+    uint8_t buf[256];
+    while (true) {
+      const ssize_t n = ::read(m, buf, sizeof buf);
+      if (n > 0) (void)!::write(m, buf, size_t(n));
+      else ::usleep(10000);  // EIO while no one has the line open
+    }
+  }
+  ::close(path_pipe[1]);
+  std::string line;
+  for (char c; ::read(path_pipe[0], &c, 1) == 1 && c != '\n';) line += c;
+  ::close(path_pipe[0]);
+  script_ = dir_.file("s.nls");
+  std::ofstream(script_) << "get Q\n";
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + line + " --timeout 50 --db " + shell_quote(db()) +
+                             " --script " + shell_quote(script_));
+  ::kill(loop, SIGKILL);
+  ::waitpid(loop, nullptr, 0);
+  ASSERT_FALSE(line.empty());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("the console's own frames came back from " + line), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the line echoes what is sent"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("nothing arrived"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("frames arriving again"), std::string::npos) << r.output;
+
+  // /dev/ptmx itself is a new, empty line at every open: refused in words.
+  const auto ptmx = run_process(std::string(NLSOFT_CONSOLE_BIN) + " /dev/ptmx --db " + shell_quote(db()) +
+                                " --script " + shell_quote(script_));
+  EXPECT_EQ(ptmx.code, 2) << ptmx.output;
+  EXPECT_NE(ptmx.output.find("not a serial port: /dev/ptmx makes a new pseudo-terminal at each open"),
+            std::string::npos)
+      << ptmx.output;
+  EXPECT_EQ(ptmx.output.find("frames arriving again"), std::string::npos) << ptmx.output;
 }
 
 // The simulator's log lives in a folder of the console's own (0700), not at

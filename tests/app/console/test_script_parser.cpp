@@ -95,6 +95,23 @@ TEST(ScriptParser, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("stop now\n"), "tune.nls:1: 'stop' takes fewer arguments: stop (extra: 'now')");
 }
 
+// Every line is parsed before the error is thrown, and the error carries
+// every line's message, in order.
+TEST(ScriptParser, EveryLineIsParsedAndEveryErrorReported) {
+  try {
+    parse_script("run ten seconds\necho fine\nfly 3\n\nwait -1s\n", "t.nls");
+    FAIL() << "three bad lines parsed";
+  } catch (const ScriptError& e) {
+    EXPECT_EQ(e.count, 3u);
+    EXPECT_EQ(e.line, 1);
+    EXPECT_EQ(std::string(e.what()),
+              "t.nls:1: 'ten' is not a duration (e.g. 5s, 250ms, 2min)\n"
+              "t.nls:3: unknown command 'fly'; commands: set get params ref run start stop hold neutral resume wait "
+              "expect export echo note sweep tune\n"
+              "t.nls:5: '-1s': a duration must be > 0");
+  }
+}
+
 TEST(ScriptParser, EarlyOkAndParamsReapply) {
   const Script s = parse_script("run 10s early=ok label=x\nrun 1s\nsweep b 1 2 run 1s early=ok\nparams reapply\n", "t.nls");
   ASSERT_EQ(s.commands.size(), 4u);
@@ -126,6 +143,20 @@ TEST(ScriptParser, DurationsAndComparisons) {
   EXPECT_TRUE(compare(0.01, CmpOp::Lt, 0.05));
   EXPECT_FALSE(compare(0.0, CmpOp::Ne, 0.0));
   EXPECT_TRUE(compare(3, CmpOp::Ge, 3));
+}
+
+// A directory reads as nothing and /dev/null too: neither is an empty script.
+TEST(ScriptParser, ADirectoryOrADeviceIsNoScript) {
+  auto error_of = [](const std::string& path) {
+    try {
+      parse_script_file(path);
+    } catch (const ScriptError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  EXPECT_EQ(error_of("/tmp"), "/tmp:0: cannot read script: it is a directory");
+  EXPECT_EQ(error_of("/dev/null"), "/dev/null:0: cannot read script: it is a device, not a file");
 }
 
 TEST(ScriptParser, ReadingAMissingFileIsLineZero) {

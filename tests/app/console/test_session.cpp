@@ -165,13 +165,13 @@ TEST(Session, AnEchoingLineIsNamedAsSuch) {
   Session s(fast_options());
   s.open(peer.path(), 115200);
   const std::string why = unanswered_param_set(s);
-  EXPECT_NE(why.find("3 frames came back from " + peer.path() + ", each a request as the console sends them: the "
-                     "line echoes what is written"),
+  EXPECT_NE(why.find("the console's own frames came back from " + peer.path() + " (3 of them) and nothing else: the "
+                     "line echoes what is sent"),
             std::string::npos)
       << why;
   EXPECT_EQ(why.find("nothing arrived"), std::string::npos) << why;
   EXPECT_EQ(why.find("none of them a valid frame"), std::string::npos) << why;
-  EXPECT_EQ(s.stats().echoed_requests, 3u);
+  EXPECT_EQ(s.stats().echoed_frames, 3u);
 }
 
 // Line noise (another baud rate, another device) answers with bytes that are

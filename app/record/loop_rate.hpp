@@ -1,0 +1,24 @@
+#pragma once
+// The control loop's rate as a run achieved it (the firmware's step count
+// over its own time stamps) against the rate it was set to (INFO's, stored
+// with the run). A loaded machine or a step slower than its period makes a
+// run slower than asked, and its N seconds of steps take longer: said at the
+// run's end and by `runs show`, never silently.
+#include <string>
+
+namespace nlsoft::console {
+
+struct RunMetrics;
+
+// Below this share of the set rate the run's summary warns.
+constexpr double kLoopRateWarnShare = 0.95;
+
+// "loop 6.6 kHz of 10 kHz set (66 %)"; "loop 1 kHz set (not measured: fewer
+// than 2 samples)" when the samples cannot tell.
+std::string loop_rate_text(const RunMetrics& m);
+
+// "warning: the control loop kept 66 % of its set rate (6.6 kHz of 10 kHz):
+// ..." when below kLoopRateWarnShare, else "".
+std::string loop_rate_warning(const RunMetrics& m);
+
+}  // namespace nlsoft::console
