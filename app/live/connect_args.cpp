@@ -83,8 +83,8 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   o.port = port;
   o.baud = a.baud;
   // The rig file, then the compiled-in firmware that is that rig.
-  o.sim_platform = a.qemu.empty() ? firmware_platform_name(a.sim, who + "--sim")
-                                  : firmware_platform_name(a.qemu, who + "--qemu");
+  if (!a.qemu.empty()) o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
+  else if (!a.sim.empty()) o.sim_platform = firmware_platform_name(a.sim, who + "--sim");
   o.sim_in_qemu = !a.qemu.empty();
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});

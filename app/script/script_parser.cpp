@@ -344,9 +344,12 @@ Script parse_script_file(const std::string& path) {
   try {
     text = read_input_file(path, kScriptFile);
   } catch (const CliError& e) {
-    // "PATH: cannot read script: …" without the path twice.
-    const std::string what = e.what();
-    throw ScriptError(path, 0, what.rfind(path + ": ", 0) == 0 ? what.substr(path.size() + 2) : what);
+    // "PATH:0: cannot read script: …", the path said once.
+    std::string what = e.what();
+    for (const std::string& lead : {path + ": ", "cannot read " + path + ": "})
+      if (what.rfind(lead, 0) == 0) what = "cannot read script: " + what.substr(lead.size());
+    if (what.rfind("cannot read script: cannot read script: ", 0) == 0) what = what.substr(20);
+    throw ScriptError(path, 0, what);
   }
   return parse_script(text, path);
 }

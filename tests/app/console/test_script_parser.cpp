@@ -155,8 +155,8 @@ TEST(ScriptParser, ADirectoryOrADeviceIsNoScript) {
     }
     return std::string();
   };
-  EXPECT_EQ(error_of("/tmp"), "/tmp:0: cannot read script: it is a directory");
-  EXPECT_EQ(error_of("/dev/null"), "/dev/null:0: cannot read script: it is a device, not a file");
+  EXPECT_EQ(error_of("/tmp"), "/tmp:0: cannot read script: it is a directory, not a script");
+  EXPECT_EQ(error_of("/dev/null"), "/dev/null:0: cannot read script: it is a character device, not a script");
 }
 
 TEST(ScriptParser, ReadingAMissingFileIsLineZero) {

@@ -126,7 +126,10 @@ TEST(UdpStream, ABadTargetIsRefusedBeforeAnythingStarts) {
   EXPECT_EQ(error_of("localhost:0"), "--udp localhost:0: the port must be a number 1..65535, not '0'");
   EXPECT_EQ(error_of("localhost:plot"), "--udp localhost:plot: the port must be a number 1..65535, not 'plot'");
   EXPECT_NE(error_of("no-such-host.invalid:9870").find("cannot resolve no-such-host.invalid"), std::string::npos);
-  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record --script /dev/null --udp x:99999");
+  const std::string empty = ::testing::TempDir() + "udp-empty.nls";
+  std::ofstream{empty};
+  const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record --script " + empty +
+                             " --udp x:99999");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("the port must be a number 1..65535, not '99999'"), std::string::npos) << r.output;
 }
