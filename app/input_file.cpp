@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <poll.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -67,23 +68,27 @@ std::string read_input_file(const std::string& path, const InputKind& kind) {
   struct stat st {};
   if (::fstat(f.fd, &st) != 0) throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
   check_stat(path, st, kind, kind.stream_ok);
-  if (S_ISFIFO(st.st_mode)) {
-    // Opened again, blocking: that waits for the writer, where a read on the
-    // non-blocking descriptor would take "no writer yet" for the end.
-    ::close(f.fd);
-    f.fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-    if (f.fd < 0 || ::fstat(f.fd, &st) != 0)
-      throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
-    check_stat(path, st, kind, kind.stream_ok);
-  }
   std::string out;
   if (S_ISREG(st.st_mode)) out.reserve(size_t(st.st_size));
+  // A FIFO stays on its one non-blocking descriptor (opening it again could
+  // wait forever for a writer that already came and went), and waits in
+  // poll: Linux reports POLLIN for data and POLLHUP only once a writer has
+  // closed, so a FIFO whose writer has not opened it yet is not taken for an
+  // empty one.
+  const bool fifo = S_ISFIFO(st.st_mode);
   char buf[65536];
   while (true) {
+    if (fifo) {
+      pollfd p{f.fd, POLLIN, 0};
+      if (::poll(&p, 1, -1) < 0) {
+        if (errno == EINTR) continue;
+        throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
+      }
+    }
     const ssize_t n = ::read(f.fd, buf, sizeof buf);
     if (n == 0) break;
     if (n < 0) {
-      if (errno == EINTR) continue;
+      if (errno == EINTR || (fifo && errno == EAGAIN)) continue;
       throw CliError(fmt::format("cannot read {}: {}", path, std::strerror(errno)));
     }
     // A file that grows while read, or a FIFO: bounded all the same.
