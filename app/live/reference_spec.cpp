@@ -51,19 +51,6 @@ std::vector<std::string> reference_keys_for(RefKind kind) {
   return {};
 }
 
-const char* reference_kind_name(RefKind k) {
-  switch (k) {
-    case RefKind::Infinity: return "infinity";
-    case RefKind::Pringle: return "pringle";
-    case RefKind::Diagonal: return "diagonal";
-    case RefKind::Swirl: return "swirl";
-    case RefKind::Step: return "steps";
-    case RefKind::Table: return "table";
-    case RefKind::Hold: return "hold";
-  }
-  return "?";
-}
-
 void set_reference_key(RefParams& r, double rate, const std::string& key, const std::string& value) {
   if (key == "a") r.A = number(key, value);
   else if (key == "b") r.B = number(key, value);

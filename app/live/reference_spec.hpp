@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "app/rig/rig_reference.hpp"  // reference_kind_name
 #include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
 
@@ -28,7 +29,6 @@ std::string reference_key_value(const RefParams& r, double loop_rate_hz, const s
 // Keys that matter for r.kind, in display order.
 std::vector<std::string> reference_keys_for(RefKind kind);
 
-const char* reference_kind_name(RefKind k);
 std::string reference_json(const RefParams& r, const std::string& table_file = {});
 
 }  // namespace nlsoft::console

@@ -6,21 +6,11 @@
 
 #include "app/cli_error.hpp"
 #include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_reference.hpp"
 
 namespace nlsoft::console {
 
 namespace {
-
-const char* ref_kind_name(RefKind k) {
-  switch (k) {
-    case RefKind::Infinity: return "infinity";
-    case RefKind::Pringle: return "pringle";
-    case RefKind::Diagonal: return "diagonal";
-    case RefKind::Swirl: return "swirl";
-    case RefKind::Step: return "steps";
-    default: return "?";
-  }
-}
 
 nlohmann::json to_json(const Rig& r) {
   using nlohmann::json;
@@ -67,7 +57,7 @@ nlohmann::json to_json(const Rig& r) {
   j["model"] = {{"file", r.model.file}, {"layers", layers}};
   j["plant"] = r.plant.kind.empty() ? json(nullptr) : json(r.plant.kind);
   const RigReference& g = r.reference;
-  j["reference"] = {{"kind", ref_kind_name(g.kind)},
+  j["reference"] = {{"kind", reference_kind_name(g.kind)},
                     {"centre", g.centre},
                     {"amplitude", g.amplitude},
                     {"pringle_amplitude", g.pringle_amplitude},
@@ -109,7 +99,7 @@ void print_summary(const Rig& r) {
   fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : r.model.file,
              layers.empty() ? "" : " (" + layers + ")");
   fmt::print("  simulated plant: {}\n", r.plant.kind.empty() ? "none" : r.plant.kind);
-  fmt::print("  default reference: {}\n", ref_kind_name(r.reference.kind));
+  fmt::print("  default reference: {}\n", reference_kind_name(r.reference.kind));
 }
 
 }  // namespace

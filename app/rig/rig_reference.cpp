@@ -40,4 +40,17 @@ RefParams rig_reference(const Rig& rig, RefKind kind) {
   return r;
 }
 
+const char* reference_kind_name(RefKind k) {
+  switch (k) {
+    case RefKind::Infinity: return "infinity";
+    case RefKind::Pringle: return "pringle";
+    case RefKind::Diagonal: return "diagonal";
+    case RefKind::Swirl: return "swirl";
+    case RefKind::Step: return "steps";
+    case RefKind::Table: return "table";
+    case RefKind::Hold: return "hold";
+  }
+  return "?";
+}
+
 }  // namespace nlsoft::console

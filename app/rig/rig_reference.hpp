@@ -11,4 +11,7 @@ namespace nlsoft::console {
 // sizes the compiled-in rigs.
 RefParams rig_reference(const Rig& rig, RefKind kind);
 
+// The kind's name as a rig file, a script and the console write it.
+const char* reference_kind_name(RefKind k);
+
 }  // namespace nlsoft::console
