@@ -94,7 +94,7 @@ static_assert(kPresets[uint8_t(PlatformId::Msd)].id == PlatformId::Msd &&
                   kPresets[uint8_t(PlatformId::Tendon)].id == PlatformId::Tendon,
               "kPresets is indexed by PlatformId");
 
-inline const Preset& preset(PlatformId id) { return kPresets[uint8_t(id)]; }
+constexpr const Preset& preset(PlatformId id) { return kPresets[uint8_t(id)]; }
 
 // The preset as a parameter set. Fails (TooLarge) if the capacity cannot hold it.
 template <class Cap>

@@ -8,7 +8,8 @@
 namespace nlsoft {
 
 // The numeric values travel on the wire: append, never renumber.
-enum class PlatformId : uint8_t { Msd = 0, Hasel = 1, Tendon = 2 };
+// Custom: a rig known only by its rig file (its name and hash travel apart).
+enum class PlatformId : uint8_t { Msd = 0, Hasel = 1, Tendon = 2, Custom = 0xFF };
 
 constexpr int kPlatformCount = 3;
 
@@ -18,6 +19,7 @@ constexpr const char* platform_name(PlatformId id) {
     case PlatformId::Msd: return "msd";
     case PlatformId::Hasel: return "hasel";
     case PlatformId::Tendon: return "tendon";
+    case PlatformId::Custom: return "custom";
   }
   return "?";
 }

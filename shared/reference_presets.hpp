@@ -7,6 +7,7 @@
 #include "shared/plant_tendon.hpp"
 #include "shared/platform.hpp"
 #include "shared/reference.hpp"
+#include "shared/rig_config.hpp"
 
 namespace nlsoft {
 
@@ -16,7 +17,7 @@ constexpr RefKind default_reference_kind(PlatformId id) {
 }
 
 // Periodic paths take kPeriodS per lap at the platform's loop rate.
-inline RefParams reference_preset(PlatformId platform, RefKind kind) {
+constexpr RefParams reference_preset(PlatformId platform, RefKind kind) {
   constexpr float kPi = 3.14159265358979f;
   constexpr float kPeriodS = 8.0f;
   const float rate = preset(platform).rate_hz;
@@ -37,6 +38,8 @@ inline RefParams reference_preset(PlatformId platform, RefKind kind) {
     case PlatformId::Tendon:
       for (int i = 0; i < 3; ++i) r.c[i] = TendonPlant::kCentre[i];
       r.A = TendonPlant::kInfinity[0], r.B = TendonPlant::kInfinity[1], r.C = TendonPlant::kInfinity[2];
+      break;
+    default:
       break;
   }
   switch (kind) {
@@ -67,6 +70,32 @@ inline RefParams reference_preset(PlatformId platform, RefKind kind) {
       break;
   }
   return r;
+}
+
+// A shipped rig's compiled-in preset as the firmware's rig data, with the
+// paper's task as its start-up reference (what rigs/<name>.toml says too:
+// tests/app/rig compares them value for value).
+constexpr RigConfig shipped_rig(PlatformId id) {
+  const Preset& p = preset(id);
+  RigConfig c{};
+  c.name = platform_name(id);
+  c.hash = 0;
+  c.platform = id;
+  c.m = p.m, c.n = p.n, c.w = p.w, c.nd = p.nd, c.dd = p.dd;
+  c.rate_hz = p.rate_hz;
+  for (int i = 0; i < p.m; ++i) {
+    c.u_min[i] = p.u_min;
+    c.u_max[i] = p.u_max;
+    c.u_neutral[i] = 0.5f * (p.u_min + p.u_max);
+    c.Lambda[i] = p.Lambda[i];
+  }
+  for (int i = 0; i < p.n; ++i) c.Q[i] = p.Q[i];
+  c.s = p.s, c.b = p.b, c.r = p.r, c.eps = p.eps, c.nr_tol = 1e-4f;
+  c.N = p.N, c.N1 = 1, c.Nc = p.Nc, c.nr_max_iter = p.nr_max_iter;
+  c.mode = DerivMode::Exact;
+  c.feedback = p.feedback;
+  c.reference = reference_preset(id, default_reference_kind(id));
+  return c;
 }
 
 }  // namespace nlsoft

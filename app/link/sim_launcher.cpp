@@ -78,8 +78,8 @@ std::string qemu_pty(const std::string& line) {
 
 }  // namespace
 
-std::string SimLauncher::start(const std::string& platform, const std::vector<std::string>& extra_args) {
-  std::vector<std::string> args = {find_firmware_sim(), "--platform", platform};
+std::string SimLauncher::start(const std::string& rig, const std::vector<std::string>& extra_args) {
+  std::vector<std::string> args = {find_firmware_sim(), "--rig", rig};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   return spawn(args, args[0], &first_line_path);
 }

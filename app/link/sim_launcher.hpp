@@ -39,8 +39,9 @@ class SimLauncher {
   SimLauncher(const SimLauncher&) = delete;
   SimLauncher& operator=(const SimLauncher&) = delete;
 
-  // Returns the pty path. extra_args go after --platform (e.g. --rate 10000).
-  std::string start(const std::string& platform, const std::vector<std::string>& extra_args = {});
+  // Starts the simulator for a rig (a shipped name or a rig file) and returns
+  // the pty path. extra_args go after --rig (e.g. --rate 10000).
+  std::string start(const std::string& rig, const std::vector<std::string>& extra_args = {});
   // Boots the board's HIL image in qemu-system-arm with the link's UART on a
   // pty (mps2-an386: UART0, the first serial port; stm32f4: USART2, the
   // second, on -M netduinoplus2).

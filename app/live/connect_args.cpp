@@ -82,9 +82,15 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   LiveOptions o;
   o.port = port;
   o.baud = a.baud;
-  // The rig file, then the compiled-in firmware that is that rig.
-  if (!a.qemu.empty()) o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
-  else if (!a.sim.empty()) o.sim_platform = firmware_platform_name(a.sim, who + "--sim");
+  // --qemu: the rig file, then the compiled-in image that is that rig;
+  // --sim: any rig file with a plant to simulate, checked here so a bad one
+  // is said before a simulator starts.
+  if (!a.qemu.empty()) {
+    o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
+  } else if (!a.sim.empty()) {
+    o.sim_rig = rig_path(a.sim);
+    simulated_plant(load_rig_arg(o.sim_rig), who + "--sim");
+  }
   o.sim_in_qemu = !a.qemu.empty();
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});

@@ -85,13 +85,12 @@ void LiveConsole::connect(const Progress& params_progress) {
   // A bad --udp target fails before a simulator starts or a board is touched.
   if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, [this](const std::string& s) { say(s); });
   std::string port = options_.port;
-  if (!options_.sim_platform.empty()) {
-    PlatformId id;
-    if (!platform_from_name(options_.sim_platform.c_str(), &id))
-      throw CliError(fmt::format("--sim {}: unknown platform; use msd, hasel or tendon", options_.sim_platform));
+  if (options_.sim_in_qemu) {
     sim_ = std::make_unique<SimLauncher>();
-    port = options_.sim_in_qemu ? sim_->start_qemu(options_.sim_platform, options_.qemu_board)
-                                : sim_->start(options_.sim_platform, options_.sim_args);
+    port = sim_->start_qemu(options_.sim_platform, options_.qemu_board);
+  } else if (!options_.sim_rig.empty()) {
+    sim_ = std::make_unique<SimLauncher>();
+    port = sim_->start(options_.sim_rig, options_.sim_args);
   }
   if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");
   if (!sim_) port = settle_port(port);

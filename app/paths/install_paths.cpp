@@ -107,7 +107,11 @@ Lookup find_rigs_dir() {
   const std::string dir = exe_dir();
   Lookup l;
   if (const char* e = env("NLSOFT_RIGS")) first_of(l, {e}, &directory);
-  if (!dir.empty()) first_of(l, {dir + "/" + kBuildData + "/rigs", dir + "/" NLSOFT_BIN_TO_DATA "/rigs"}, &directory);
+  // The last for the simulator, installed in libexec and linking this too.
+  if (!dir.empty())
+    first_of(l, {dir + "/" + kBuildData + "/rigs", dir + "/" NLSOFT_BIN_TO_DATA "/rigs",
+                 dir + "/" NLSOFT_LIBEXEC_TO_DATA "/rigs"},
+             &directory);
   return l;
 }
 

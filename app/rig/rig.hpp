@@ -97,6 +97,7 @@ struct RigReference {
 
 struct Rig {
   std::string file;  // as given to load_rig
+  uint32_t hash = 0;  // CRC-32 of the file's text: which rig an image or a simulator was built from
   std::string name, description;
   double rate_hz = 0;
   int nd = 0, dd = 0;

@@ -1,5 +1,6 @@
 // The one reader of rig files: TOML in, a validated Rig out. The only file
 // that includes toml++; every error names the file, the line and the key.
+#include <fmt/format.h>
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -11,7 +12,9 @@
 #include "app/model/model_store.hpp"
 #include "app/rig/board_pins.hpp"
 #include "app/rig/rig.hpp"
+#include "shared/crc32.hpp"
 #include "shared/platform_id.hpp"
+#include "shared/rig_config.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::console {
@@ -579,9 +582,14 @@ Rig parse_rig(const std::string& text, const std::string& file) {
                       "model", "plant", "reference"});
   Rig rig;
   rig.file = file;
+  rig.hash = crc32(reinterpret_cast<const uint8_t*>(text.data()), text.size());
   rig.name = root.text("name");
   if (rig.name.empty() || rig.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
     root.fail(root.line("name"), "name", "'" + rig.name + "' is not a command-line name (a-z, 0-9, '-', '_')");
+  if (rig.name.size() > size_t(kRigMaxNameLen))
+    root.fail(root.line("name"), "name",
+              fmt::format("'{}' is {} characters; a rig's name travels in {} at most", rig.name, rig.name.size(),
+                          kRigMaxNameLen));
   rig.description = root.text("description", "");
   rig.rate_hz = root.positive("rate_hz");
   // The controller keeps one history length for u and y (paper: n_d = d_d).

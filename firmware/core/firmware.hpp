@@ -20,8 +20,7 @@
 #include "protocol/transfer.hpp"
 #include "shared/controller.hpp"
 #include "shared/model_file.hpp"
-#include "shared/platform.hpp"
-#include "shared/reference_presets.hpp"
+#include "shared/rig_config.hpp"
 
 namespace nlsoft::fw {
 
@@ -30,7 +29,7 @@ namespace proto = nlsoft::protocol;
 namespace watchdog_bits = proto::watchdog_flags;
 
 struct Identity {
-  PlatformId platform;
+  const RigConfig* rig;  // the port's, alive as long as the firmware
   const char* name;  // e.g. "nlsoft-posix"
   uint8_t major, minor, patch;
   uint32_t loop_rate_hz;
@@ -54,8 +53,8 @@ class Firmware {
       : hal_(hal),
         id_(id),
         buf_(b),
-        preset_(preset(id.platform)),
-        params_svc_(params_, preset_.m, preset_.n, settings_),
+        rig_(*id.rig),
+        params_svc_(params_, rig_.m, rig_.n, settings_),
         ref_(b.table_points, b.table_points_cap),
         model_rx_(uint8_t(proto::XferKind::Model), b.model_staging, b.model_staging_cap),
         table_rx_(uint8_t(proto::XferKind::RefTable), b.table_staging, table_max(b)) {
@@ -67,12 +66,12 @@ class Firmware {
   Status begin(const uint8_t* model_file, size_t model_len) {
     clock_.start(hal_.ticks(), hal_.tick_rate_hz());
     last_heartbeat_ms_ = 0;
-    Status s = preset_params(preset_, params_);
+    Status s = rig_params(rig_, params_);
     if (s != Status::Ok) return s;
     param_hash_ = params_svc_.hash();
     neutral(u_);
-    // Until the console selects one, a run follows the rig's paper task.
-    ref_.select(reference_preset(id_.platform, default_reference_kind(id_.platform)));
+    // Until the console selects one, a run follows the rig's own task.
+    ref_.select(rig_.reference);
     if (model_file) {
       s = load_model(model_file, model_len);
       if (s != Status::Ok) return s;
@@ -115,9 +114,9 @@ class Firmware {
   void step() {
     const uint32_t t0 = hal_.ticks();
     clock_.update(t0);
-    const int m = preset_.m, n = preset_.n;
+    const int m = rig_.m, n = rig_.n;
     float l[Cap::w + 1] = {};
-    hal_.read_sensors(l, preset_.w);
+    hal_.read_sensors(l, rig_.w);
     have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
     watchdog_check();
 
@@ -165,7 +164,7 @@ class Firmware {
     return adopt(M);
   }
   Status adopt(const Model<Cap>& M) {
-    if (M.m != preset_.m || M.n != preset_.n || M.w != preset_.w) return Status::Inconsistent;
+    if (M.m != rig_.m || M.n != rig_.n || M.w != rig_.w) return Status::Inconsistent;
     const Model<Cap> previous = model_;
     model_ = M;
     const Status s = ctl_.configure(&model_, params_);
@@ -192,7 +191,7 @@ class Firmware {
     const uint8_t* f = model_rx_.data();
     const size_t len = model_rx_.size();
     namespace at = model_offset;
-    if (len < kModelHeaderSize || f[at::kM] != preset_.m || f[at::kN] != preset_.n || f[at::kW] != preset_.w)
+    if (len < kModelHeaderSize || f[at::kM] != rig_.m || f[at::kN] != rig_.n || f[at::kW] != rig_.w)
       return proto::StatusCode::Inconsistent;
     const Status s = parse_model(f, len, probe, nullptr, 0);
     if (s != Status::Ok) return proto::StatusCode(uint8_t(s));
@@ -338,8 +337,8 @@ class Firmware {
     last_rx_ms_ = clock_.ms();
     neutral(u_);
     float l[Cap::w + 1] = {};
-    hal_.read_sensors(l, preset_.w);
-    if (params_.feedback == Feedback::Measured && id_.has_y_true && hal_.read_output(y_true_, preset_.n))
+    hal_.read_sensors(l, rig_.w);
+    if (params_.feedback == Feedback::Measured && id_.has_y_true && hal_.read_output(y_true_, rig_.n))
       ctl_.reset(u_, y_true_, l);
     else
       ctl_.reset_at_rest(u_, l);
@@ -355,7 +354,7 @@ class Firmware {
       case proto::HoldMode::Resume: {
         if (state_ != proto::RunState::Running) {
           float l[Cap::w + 1] = {};
-          hal_.read_sensors(l, preset_.w);
+          hal_.read_sensors(l, rig_.w);
           ctl_.reset_at_rest(u_, l);  // histories restart from where the actuators are
           watchdog_ &= uint8_t(~watchdog_bits::kTripped);
           link_back_reported_ = false;
@@ -378,7 +377,7 @@ class Firmware {
       if (state_ != proto::RunState::Idle) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
       s = commit_model();
     } else {
-      s = ref_.commit_table(rx->data(), rx->size(), preset_.n);
+      s = ref_.commit_table(rx->data(), rx->size(), rig_.n);
     }
     rx->close();
     if (s != proto::StatusCode::Ok) {
@@ -431,8 +430,8 @@ class Firmware {
     x.table_max = uint32_t(table_rx_.capacity());
     x.model_max = uint32_t(model_rx_.capacity());
     proto::Info& i = x.info;
-    i.platform = uint8_t(id_.platform);
-    i.m = preset_.m, i.n = preset_.n, i.w = preset_.w, i.nd = preset_.nd, i.dd = preset_.dd;
+    i.platform = uint8_t(rig_.platform);
+    i.m = rig_.m, i.n = rig_.n, i.w = rig_.w, i.nd = rig_.nd, i.dd = rig_.dd;
     i.max_n = uint8_t(Cap::N > 255 ? 255 : Cap::N);
     i.max_nc = uint8_t(Cap::Nc);
     i.fw_major = id_.major, i.fw_minor = id_.minor, i.fw_patch = id_.patch;
@@ -476,16 +475,16 @@ class Firmware {
     proto::Telemetry t;
     t.tseq = tseq_++;
     t.mask = mask_;
-    t.n = uint8_t(preset_.n);
-    t.m = uint8_t(preset_.m);
+    t.n = uint8_t(rig_.n);
+    t.m = uint8_t(rig_.m);
     t.step = step_;
     t.time_us = clock_.us();
-    for (int j = 0; j < preset_.n; ++j) {
+    for (int j = 0; j < rig_.n; ++j) {
       t.y_ref[j] = y_ref_[j];
       t.y_hat[j] = r.y_hat[j];
       t.y_true[j] = y_true_[j];
     }
-    for (int i = 0; i < preset_.m; ++i) t.u[i] = r.u[i];
+    for (int i = 0; i < rig_.m; ++i) t.u[i] = r.u[i];
     t.cost = r.cost;
     t.iterations = r.iterations;
     t.compute_ticks = compute;
@@ -513,13 +512,18 @@ class Firmware {
   }
 
   void neutral(float* u) const {
-    for (int i = 0; i < preset_.m; ++i) u[i] = 0.5f * (params_.u_min[i] + params_.u_max[i]);
+    // The rig's neutral input, inside the limits in force (a tuned u_min or
+    // u_max may have moved past it).
+    for (int i = 0; i < rig_.m; ++i) {
+      const float v = rig_.u_neutral[i];
+      u[i] = v < params_.u_min[i] ? params_.u_min[i] : (v > params_.u_max[i] ? params_.u_max[i] : v);
+    }
   }
 
   Hal& hal_;
   Identity id_;
   Buffers buf_;
-  const Preset& preset_;
+  const RigConfig& rig_;
   Params<Cap> params_{};
   FwSettings settings_{};
   ParamService<Cap> params_svc_;

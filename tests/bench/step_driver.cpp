@@ -117,6 +117,7 @@ int main(int argc, char** argv) {
       return rc == 0 ? 0 : 2;
     }
     case PlatformId::Tendon: return run<TendonCapacity>(id, mode, steps, model) == 0 ? 0 : 2;
+    default: break;
   }
   return 2;
 }

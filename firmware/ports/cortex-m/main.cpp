@@ -32,8 +32,8 @@ using namespace nlsoft::fw::cortex_m;
 using Fw = fw::Firmware<Cap, kTxCapacity>;
 
 constexpr uint32_t kBaud = 115200;
-// Preset rates are whole numbers of hertz (130, 120, 1000).
-constexpr uint32_t kRateHz = uint32_t(kPresets[uint8_t(kPlatform)].rate_hz);
+// Rig rates are whole numbers of hertz (130, 120, 1000).
+constexpr uint32_t kRateHz = uint32_t(kRig.rate_hz);
 
 #if NLSOFT_HIL
 using PortHal = HilHal<Plant>;
@@ -47,7 +47,7 @@ alignas(4) uint8_t g_model_staging[kModelFileMax];
 uint8_t g_table_staging[kTableFileMax];
 float g_table_points[kTableFloats];
 
-Fw g_fw(g_hal, fw::Identity{kPlatform, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz, NLSOFT_HIL != 0},
+Fw g_fw(g_hal, fw::Identity{&kRig, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz, NLSOFT_HIL != 0},
         fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging,
                     sizeof g_table_staging, g_table_points, kTableFloats});
 

@@ -15,6 +15,8 @@
 #include "shared/plant_hasel.hpp"
 #include "shared/plant_msd.hpp"
 #include "shared/plant_tendon.hpp"
+#include "shared/reference_presets.hpp"
+#include "shared/rig_config.hpp"
 
 namespace nlsoft::fw::cortex_m {
 
@@ -37,6 +39,9 @@ constexpr PlatformId kPlatform = PlatformId::Msd;
 #else
 #error "define NLSOFT_PLATFORM_MSD, NLSOFT_PLATFORM_HASEL or NLSOFT_PLATFORM_TENDON"
 #endif
+
+// The rig the image serves: dimensions, limits, defaults, start-up reference.
+constexpr RigConfig kRig = shipped_rig(kPlatform);
 
 // Transmit ring: one full telemetry frame above the reserve for replies.
 constexpr size_t kTxCapacity = 512;

@@ -1,7 +1,8 @@
 // nlsoft-firmware-sim: the firmware core on this machine, serving the
 // protocol on a pseudo-terminal with a simulated plant in the loop.
 //
-//   nlsoft-firmware-sim --platform hasel            prints /dev/pts/N, runs at 130 Hz
+//   nlsoft-firmware-sim --rig hasel                 prints /dev/pts/N, runs at 130 Hz
+//   nlsoft-firmware-sim --rig lab/arm.toml          any rig file with a [plant]
 //   nlsoft-console /dev/pts/N                       talks to it as to a board
 #include <poll.h>
 #include <signal.h>
@@ -17,6 +18,9 @@
 #include <memory>
 #include <vector>
 
+#include "app/rig/firmware_rig.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_firmware.hpp"
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
@@ -44,9 +48,8 @@ float g_table_points[3 * 20000];
 // libexec/nlsoft, cmake/layout.cmake). Relative to this binary, never a path
 // compiled in, so a moved prefix works. `tried` gets every place looked at.
 // Not the console's lookup (app/paths): the firmware does not link the console.
-std::string find_default_model(PlatformId id, std::string& tried) {
+std::string find_default_model(const std::string& name, std::string& tried) {
   namespace fs = std::filesystem;
-  const std::string name = std::string(platform_name(id)) + ".nlsm";
   std::vector<fs::path> dirs;
   if (const char* env = std::getenv("NLSOFT_MODELS"); env && *env) dirs.emplace_back(env);
   std::error_code ec;
@@ -88,16 +91,18 @@ int main(int argc, char** argv) {
       "nlsoft-firmware-sim: the nlsoft firmware on this machine. It opens a pseudo-terminal, prints its\n"
       "path on the first line of stdout, and serves the wire protocol there with a simulated plant\n"
       "in the loop (telemetry carries the plant's true output as y_true).\n"
-      "Example:  nlsoft-firmware-sim --platform hasel   then   nlsoft-console /dev/pts/N"};
-  std::string platform_name_arg = "hasel", model_path;
+      "Example:  nlsoft-firmware-sim --rig hasel   then   nlsoft-console /dev/pts/N"};
+  std::string rig_arg = "hasel", model_path;
   double rate = 0;
   bool fast = false;
   uint32_t seed = 1;
-  app.add_option("--platform", platform_name_arg, "msd, hasel or tendon")->capture_default_str();
-  app.add_option("--rate", rate, "control loop rate in Hz (default: the platform's, e.g. 130 for hasel)")
+  app.add_option("--rig,--platform", rig_arg,
+                 "the rig: a shipped rig's name or a rig file (docs/rig-file.md) with a [plant] to simulate")
+      ->capture_default_str();
+  app.add_option("--rate", rate, "control loop rate in Hz (default: the rig's rate_hz, e.g. 130 for hasel)")
       ->check(CLI::Range(1.0, 100000.0));
   app.add_flag("--fast", fast, "run steps back to back, as fast as the console reads telemetry (tests, throughput)");
-  app.add_option("--model", model_path, "model file (default: the shipped model of the platform)");
+  app.add_option("--model", model_path, "model file (default: the rig's [model] file among the shipped models)");
   app.add_option("--seed", seed, "plant noise seed")->capture_default_str();
   uint32_t step_load_us = 0;
   app.add_option("--step-load-us", step_load_us,
@@ -106,18 +111,23 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0u, 1000000u));
   CLI11_PARSE(app, argc, argv);
 
-  PlatformId platform;
-  if (!platform_from_name(platform_name_arg.c_str(), &platform)) {
-    std::fprintf(stderr, "nlsoft-firmware-sim: error: unknown platform '%s'; known: msd, hasel, tendon\n",
-                 platform_name_arg.c_str());
+  // The rig and its plant, or a clear refusal before the pty exists.
+  static console::Rig rig;
+  static RigConfig rig_config{};
+  PlatformId plant;
+  try {
+    rig = console::load_rig_arg(rig_arg);
+    plant = console::simulated_plant(rig, "--rig");
+    rig_config = console::firmware_rig(rig);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nlsoft-firmware-sim: error: %s\n", e.what());
     return 2;
   }
-  const Preset& pr = preset(platform);
-  if (rate <= 0) rate = pr.rate_hz;
+  if (rate <= 0) rate = rig_config.rate_hz;
 
   std::vector<uint8_t> model;
   std::string model_tried;
-  if (model_path.empty()) model_path = find_default_model(platform, model_tried);
+  if (model_path.empty() && !rig.model.file.empty()) model_path = find_default_model(rig.model.file, model_tried);
   if (!model_path.empty()) {
     std::ifstream in(model_path, std::ios::binary);
     if (!in) {
@@ -137,9 +147,9 @@ int main(int argc, char** argv) {
   signal(SIGTERM, on_signal);
   signal(SIGPIPE, SIG_IGN);
 
-  static fw::posix::SimHal hal(pty.master, platform, seed);
+  static fw::posix::SimHal hal(pty.master, plant, seed);
   hal.set_period(float(1.0 / rate));
-  const fw::Identity id{platform, "nlsoft-posix", kVersionMajor, kVersionMinor, kVersionPatch, uint32_t(rate + 0.5), true};
+  const fw::Identity id{&rig_config, "nlsoft-posix", kVersionMajor, kVersionMinor, kVersionPatch, uint32_t(rate + 0.5), true};
   const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                          g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
   static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
@@ -154,7 +164,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "nlsoft-firmware-sim: no model for %s: runs are refused until one is uploaded (--model FILE "
                  "or $NLSOFT_MODELS names one); looked for it in:%s\n",
-                 platform_name_arg.c_str(), model_tried.c_str());
+                 rig.name.c_str(), model_tried.c_str());
 
   // Blocks in ppoll between steps rather than trying the port: reads are made
   // only when the port has bytes (hal.set_readable), so an idle simulator

@@ -27,7 +27,7 @@ class RigHal final : public Hal {
   void actuate(const float* u, int m) override {
     for (int i = 0; i < m && i < M; ++i) {
       const stm32f4::PwmOutput& o = stm32f4::kPwm[i];
-      float duty = (u[i] - kUMin) / (kUMax - kUMin);
+      float duty = (u[i] - kRig.u_min[i]) / (kRig.u_max[i] - kRig.u_min[i]);
       duty = duty > 0.0f ? (duty < 1.0f ? duty : 1.0f) : 0.0f;  // a NaN too: off, never an undefined cast
       stm32f4::reg(o.timer + 0x30u + 4u * o.channel) = uint32_t(duty * float(period_) + 0.5f);
     }
@@ -57,7 +57,6 @@ class RigHal final : public Hal {
   void advance() {}
 
  private:
-  static constexpr float kUMin = kPresets[uint8_t(kPlatform)].u_min, kUMax = kPresets[uint8_t(kPlatform)].u_max;
   static constexpr uint32_t kDma2En = 1u << 22, kTim3En = 1u << 1, kTim4En = 1u << 2, kAdc1En = 1u << 8;
 
   void start_pwm() {

@@ -42,19 +42,22 @@ expect_error "bad.toml:$line: [[input]] #1 max: must be > min (0 at line $((line
 expect_error "unknown rig 'nope'; rigs in" rig check nope
 expect_error "rig file './none.toml' does not exist" rig check ./none.toml
 
-# A rig with no [plant] and no firmware: checked, but neither simulated nor
-# run on the firmware simulator.
+# A rig with no [plant] and no image: checked, but neither simulated nor
+# booted in QEMU.
 sed -e 's/^name = "hasel"/name = "arm"/' -e '/^\[plant\]/,/^kind/d' "$src/rigs/hasel.toml" >arm.toml
 "$console" rig check arm.toml >/dev/null || { echo "FAIL: arm.toml does not load"; fail=1; }
 expect_error "simulate: rig 'arm' (arm.toml) has no [plant]: nothing simulates it" simulate --rig arm.toml
-expect_error "--sim: rig 'arm' (arm.toml) has no firmware" --sim arm.toml
+expect_error "--sim: rig 'arm' (arm.toml) has no [plant]: nothing simulates it" --sim arm.toml
 expect_error "--qemu: rig 'arm' (arm.toml) has no firmware" conformance --qemu arm.toml
 
-# A copy of hasel with another tuning: simulated offline with the file's
-# values, refused by the firmware, which would run its own.
+# A copy of hasel with another tuning: the firmware simulator serves the
+# file's own defaults (and the image compiled for hasel refuses to be it).
 sed 's/^Q = \[1e6, 2e6, 1e6\]/Q = [1e6, 2e6, 1e3]/' "$src/rigs/hasel.toml" >soft.toml
-expect_error "--sim: rig file soft.toml is not the firmware's compiled-in 'hasel' (it differs in [controller] Q)" \
-  --sim soft.toml
+printf 'get Q\n' >getq.nls
+"$console" --sim soft.toml --no-record --script getq.nls >soft.txt 2>&1 || { echo "FAIL: --sim soft.toml: $(cat soft.txt)"; fail=1; }
+grep -qE "^Q = 1e\+06 2e\+06 1000( |$)" soft.txt || { echo "FAIL: --sim soft.toml does not serve its Q: $(cat soft.txt)"; fail=1; }
+expect_error "--qemu: rig file soft.toml is not the firmware's compiled-in 'hasel' (it differs in [controller] Q)" \
+  conformance --qemu soft.toml
 
 # `--rig FILE` is `--platform NAME` when the file is the shipped one, and a
 # changed file changes the run.

@@ -8,6 +8,7 @@
 
 #include "app/model/model_store.hpp"
 #include "app/rig/board_pins.hpp"
+#include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig.hpp"
 #include "app/rig/rig_params.hpp"
 #include "app/rig/rig_reference.hpp"
@@ -75,6 +76,41 @@ TEST_P(ShippedRig, LimitsNeutralAndOutputBoxAreThePlants) {
     EXPECT_EQ(float(rig.outputs[size_t(i)].max), hi[i]) << i;
   }
   EXPECT_EQ(float(1.0 / rig.rate_hz), plant.dt());
+}
+
+// What the simulator serves for a rig file is what the images compiled for
+// that rig hold, field for field, start-up reference included.
+TEST_P(ShippedRig, TheFirmwaresRigDataFromTheFileIsTheCompiledIn) {
+  const RigConfig got = firmware_rig(rig), want = shipped_rig(GetParam());
+  EXPECT_STREQ(got.name, want.name);
+  EXPECT_NE(got.hash, 0u);
+  EXPECT_EQ(got.platform, want.platform);
+  EXPECT_EQ(got.m, want.m);
+  EXPECT_EQ(got.n, want.n);
+  EXPECT_EQ(got.w, want.w);
+  EXPECT_EQ(got.nd, want.nd);
+  EXPECT_EQ(got.dd, want.dd);
+  EXPECT_EQ(got.rate_hz, want.rate_hz);
+  for (int i = 0; i < want.m; ++i) {
+    EXPECT_EQ(got.u_min[i], want.u_min[i]) << i;
+    EXPECT_EQ(got.u_max[i], want.u_max[i]) << i;
+    EXPECT_EQ(got.u_neutral[i], want.u_neutral[i]) << i;
+    EXPECT_EQ(got.Lambda[i], want.Lambda[i]) << i;
+  }
+  for (int i = 0; i < want.n; ++i) EXPECT_EQ(got.Q[i], want.Q[i]) << i;
+  EXPECT_EQ(got.s, want.s);
+  EXPECT_EQ(got.b, want.b);
+  EXPECT_EQ(got.r, want.r);
+  EXPECT_EQ(got.eps, want.eps);
+  EXPECT_EQ(got.nr_tol, want.nr_tol);
+  EXPECT_EQ(got.N, want.N);
+  EXPECT_EQ(got.N1, want.N1);
+  EXPECT_EQ(got.Nc, want.Nc);
+  EXPECT_EQ(got.nr_max_iter, want.nr_max_iter);
+  EXPECT_EQ(got.mode, want.mode);
+  EXPECT_EQ(got.feedback, want.feedback);
+  EXPECT_EQ(std::memcmp(&got.reference, &want.reference, sizeof got.reference), 0)
+      << "start-up reference (kind " << int(got.reference.kind) << " vs " << int(want.reference.kind) << ")";
 }
 
 TEST_P(ShippedRig, ReferencesAreThePresetPaths) {

@@ -14,18 +14,18 @@
 #include "firmware/core/firmware.hpp"
 #include "model_data.h"  // unsigned char nlsoft_model[]; unsigned int nlsoft_model_len;
 #include "shared/model_file.hpp"
-#include "shared/platform.hpp"
+#include "shared/reference_presets.hpp"
 #include "shared/version.hpp"
 #include "teensy_hal.hpp"
 
 namespace {
 
 using Cap = nlsoft::HaselCapacity;  // TendonCapacity, MsdCapacity for the other rigs
-constexpr nlsoft::PlatformId kPlatform = nlsoft::PlatformId::Hasel;
 using Fw = nlsoft::fw::Firmware<Cap, 1024>;
 
-const nlsoft::Preset& kPreset = nlsoft::preset(kPlatform);
-const uint32_t kRateHz = uint32_t(kPreset.rate_hz);
+// The rig: dimensions, limits, defaults, start-up reference (shared/rig_config.hpp).
+constexpr nlsoft::RigConfig kRig = nlsoft::shipped_rig(nlsoft::PlatformId::Hasel);
+constexpr uint32_t kRateHz = uint32_t(kRig.rate_hz);
 
 // An upload in transit (then the uploaded model in force), and an uploaded
 // reference table.
@@ -35,7 +35,7 @@ float g_table_points[kTableFloats];
 uint8_t g_table_staging[8 + 4 * kTableFloats];
 
 TeensyHal g_hal;
-Fw g_fw(g_hal, nlsoft::fw::Identity{kPlatform, "nlsoft-teensy", nlsoft::kVersionMajor, nlsoft::kVersionMinor,
+Fw g_fw(g_hal, nlsoft::fw::Identity{&kRig, "nlsoft-teensy", nlsoft::kVersionMajor, nlsoft::kVersionMinor,
                                             nlsoft::kVersionPatch, kRateHz, false},
         nlsoft::fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                             g_table_points, kTableFloats});
@@ -44,7 +44,7 @@ uint32_t g_next_us = 0;
 }  // namespace
 
 // ---- the rig: replace these two with your actuators and sensors -----------
-// u[i] is inside [u_min, u_max] (the preset's limits, tunable from the console).
+// u[i] is inside [u_min, u_max] (the rig's limits, tunable from the console).
 void board_actuate(const float* u, int m) {
   static const uint8_t pins[] = {2, 3, 4, 5, 6, 7};  // PWM pins driving the HASEL supplies
   for (int i = 0; i < m && i < int(sizeof pins); ++i) analogWrite(pins[i], int(u[i] * 4095.0f));
