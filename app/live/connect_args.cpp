@@ -56,6 +56,11 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                  fmt::format("Boot this rig's Cortex-M4F image (plant in the loop) in qemu-system-arm and {} it",
                              what))
       ->check(rig_arg_validator());
+  app.add_option("--rig", a.rig,
+                 fmt::format("With a PORT: the rig file of the board, {} (references, defaults); default: the "
+                             "shipped rig the firmware names",
+                             rig_arg_help()))
+      ->check(rig_arg_validator());
   app.add_option("--board", a.board,
                  "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                  "image in -M netduinoplus2)")
@@ -85,11 +90,18 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   // --qemu: the rig file, then the compiled-in image that is that rig;
   // --sim: any rig file with a plant to simulate, checked here so a bad one
   // is said before a simulator starts.
+  if (!a.rig.empty() && a.port.empty())
+    throw CliError(who + "--rig names the rig of a board given by PORT; with --sim or --qemu the rig is theirs");
   if (!a.qemu.empty()) {
     o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
+    o.rig_file = rig_path(a.qemu);
   } else if (!a.sim.empty()) {
     o.sim_rig = rig_path(a.sim);
     simulated_plant(load_rig_arg(o.sim_rig), who + "--sim");
+    o.rig_file = o.sim_rig;
+  } else if (!a.rig.empty()) {
+    o.rig_file = rig_path(a.rig);
+    load_rig_arg(o.rig_file);  // a bad file is said before the board is touched
   }
   o.sim_in_qemu = !a.qemu.empty();
   o.qemu_board = a.board;

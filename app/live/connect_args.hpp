@@ -12,7 +12,7 @@
 namespace nlsoft::console {
 
 struct ConnectArgs {
-  std::string port, sim, qemu, board = "mps2-an386", db;
+  std::string port, sim, qemu, board = "mps2-an386", db, rig;
   unsigned baud = 115200;
   bool no_record = false, sim_fast = false;
   double sim_rate = 0;

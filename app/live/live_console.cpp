@@ -19,6 +19,7 @@
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/rig/rig_catalog.hpp"
 #include "app/input_file.hpp"
 #include "app/output_file.hpp"
 #include "app/printable.hpp"
@@ -74,11 +75,26 @@ void LiveConsole::say(const std::string& s) {
   else if (unheard_.size() < 32) unheard_.push_back(s);
 }
 
-PlatformId LiveConsole::platform() const {
+std::string LiveConsole::rig_name_or_custom() const {
+  try {
+    return rig().name;
+  } catch (const std::exception&) {
+    return "custom";
+  }
+}
+
+const Rig& LiveConsole::rig() const {
+  std::lock_guard<std::mutex> lock(rig_mu_);
+  if (rig_) return *rig_;
+  if (!options_.rig_file.empty()) {
+    rig_ = load_rig_arg(options_.rig_file);
+    return *rig_;
+  }
   const uint8_t pl = device_->info().platform;
-  if (pl > uint8_t(PlatformId::Tendon))
-    throw CliError("the firmware reports a custom platform: no presets; give every reference parameter");
-  return PlatformId(pl);
+  if (pl >= kPlatformCount)
+    throw CliError("the firmware runs a rig of its own (no shipped rig's number); give its rig file: --rig FILE");
+  rig_ = load_rig_arg(platform_name(PlatformId(pl)));
+  return *rig_;
 }
 
 void LiveConsole::connect(const Progress& params_progress) {
@@ -459,9 +475,11 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
 
 std::vector<LiveConsole::WantedValue> LiveConsole::defaults_wanted() const {
   const p::Info info = device_->info();
-  const auto defaults = firmware_defaults(info.platform, info.m, info.n);
-  if (defaults.empty())
-    throw CliError(fmt::format("the console knows no defaults for platform {} with m={} n={}", int(info.platform), info.m, info.n));
+  const Rig& r = rig();
+  if (r.m() != info.m || r.n() != info.n)
+    throw CliError(fmt::format("rig file {} has m={} n={}; the firmware runs m={} n={}", r.file, r.m(), r.n(), info.m,
+                               info.n));
+  const auto defaults = firmware_defaults(r);
   std::vector<WantedValue> wanted;
   for (const ParamInfo& pi : device_->catalog()->all()) {
     const auto d = defaults.find(pi.id);
@@ -614,14 +632,17 @@ std::optional<RefParams> LiveConsole::reference() const {
 // preset parameters; another kind was selected by someone else, with
 // parameters this console cannot read back.
 std::string LiveConsole::firmware_reference_json() {
-  const uint8_t pl = device_->info().platform;
-  if (pl > uint8_t(PlatformId::Tendon)) return "";
-  const PlatformId platform = PlatformId(pl);
+  const Rig* r = nullptr;
+  try {
+    r = &rig();
+  } catch (const std::exception&) {
+    return "";
+  }
   const uint8_t id = device_->status().ref_id;
-  if (id == uint8_t(default_reference_kind(platform))) {
-    std::string j = reference_json(reference_preset(platform, default_reference_kind(platform)));
+  if (id == uint8_t(r->reference.kind)) {
+    std::string j = reference_json(rig_reference(*r, r->reference.kind));
     j.pop_back();
-    return j + ",\"source\":\"the firmware's start-up reference (the rig's paper task)\"}";
+    return j + ",\"source\":\"the firmware's start-up reference (the rig file's [reference])\"}";
   }
   if (id >= kRefKindCount) return "";
   return fmt::format("{{\"kind\":\"{}\",\"source\":\"selected before this console connected; parameters not known\"}}",
@@ -635,7 +656,7 @@ int64_t LiveConsole::start_run(const std::string& label) {
   const p::Info info = device_->info();
   RunInfo ri;
   ri.label = label;
-  ri.platform = info.platform <= 2 ? platform_name(PlatformId(info.platform)) : "custom";
+  ri.platform = rig_name_or_custom();
   ri.firmware = fmt::format("{} {}.{}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch);
   ri.model_hash = info.model_hash;
   ri.param_hash = info.param_hash;

@@ -20,6 +20,7 @@
 #include "app/live/udp_stream.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_metrics.hpp"
+#include "app/rig/rig.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
 
@@ -30,6 +31,7 @@ struct LiveOptions {
   unsigned baud = 115200;
   std::string sim_platform;  // with sim_in_qemu: the image's rig (msd|hasel|tendon)
   std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it
+  std::string rig_file;      // the rig the board runs; empty: the shipped rig the firmware names
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
   std::string qemu_board = "mps2-an386";  // whose image: mps2-an386 or stm32f4
   std::vector<std::string> sim_args;
@@ -81,7 +83,12 @@ class LiveConsole {
   LiveBuffer& live() { return live_; }
   const std::string& db_path() const { return db_path_; }
   const UdpStream* udp() const { return udp_.get(); }
-  PlatformId platform() const;
+  // The rig the firmware runs, as its rig file says (references, defaults):
+  // --sim/--qemu/--rig's file, else the shipped rig the firmware names.
+  // Throws CliError when there is none.
+  const Rig& rig() const;
+  // The rig's name for a run's record, "custom" when no rig file is known.
+  std::string rig_name_or_custom() const;
   double loop_rate_hz() const { return double(device_->info().loop_rate_hz); }
   int n() const { return device_->info().n; }
 
@@ -214,6 +221,9 @@ class LiveConsole {
   bool temp_db_ = false;
   std::string temp_dir_;  // --no-record: the private folder of the temporary database
   std::unique_ptr<SimLauncher> sim_;
+  // Loaded on first use, then never replaced (references to it stay valid).
+  mutable std::mutex rig_mu_;
+  mutable std::optional<Rig> rig_;
   std::unique_ptr<Session> session_;
   std::unique_ptr<Device> device_;
   std::unique_ptr<Recorder> recorder_;

@@ -1,21 +1,19 @@
 #include "app/live/param_defaults.hpp"
 
+#include "app/rig/rig_params.hpp"
 #include "shared/capacity.hpp"
 #include "shared/firmware_settings.hpp"
 #include "shared/params.hpp"
-#include "shared/platform.hpp"
 
 namespace nlsoft::console {
 
-std::map<uint16_t, std::vector<double>> firmware_defaults(uint8_t platform, int m, int n) {
+std::map<uint16_t, std::vector<double>> firmware_defaults(const Rig& rig) {
   std::map<uint16_t, std::vector<double>> out;
-  if (platform >= sizeof(kPresets) / sizeof(kPresets[0]) || m < 1 || n < 1 || m > HostCapacity::m || n > HostCapacity::n)
-    return out;
   Params<HostCapacity> P;
-  if (preset_params(preset(PlatformId(platform)), P) != Status::Ok) return out;
+  if (rig_params(rig, P) != Status::Ok) return out;
   for (uint16_t id = 0; id < uint16_t(ParamId::Count); ++id) {
     float v[HostCapacity::m > HostCapacity::n ? HostCapacity::m : HostCapacity::n];
-    const int count = get_param(P, ParamId(id), m, n, v);
+    const int count = get_param(P, ParamId(id), rig.m(), rig.n(), v);
     if (count > 0) out[id].assign(v, v + count);
   }
   const FwSettings fw{};

@@ -1,13 +1,13 @@
 #pragma once
-// `ref NAME key=value...`: a named preset for the connected platform
-// (app/reference_names) with any of its parameters overridden, and the
+// `ref NAME key=value...`: a named path sized for the rig's task space
+// (its rig file's [reference] and output spans, app/reference_names) with any of its parameters overridden, and the
 // reverse, a RefParams as JSON for the runs table.
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "app/rig/rig_reference.hpp"  // reference_kind_name
-#include "shared/platform_id.hpp"
+#include "app/rig/rig.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
@@ -19,7 +19,7 @@ const std::vector<std::string>& reference_keys();
 
 // Throws CliError for an unknown name or key, a malformed number or a set
 // the firmware would refuse anyway (shared/reference.hpp's reference_check).
-RefParams reference_from_spec(PlatformId platform, double loop_rate_hz, const std::string& name,
+RefParams reference_from_spec(const Rig& rig, double loop_rate_hz, const std::string& name,
                               const std::vector<std::pair<std::string, std::string>>& options);
 
 // Applies one key=value to r (used by the spec and the TUI editor).

@@ -59,7 +59,7 @@ std::vector<ScriptError> check_script(const Script& script, LiveConsole& console
         case K::Sweep:
           for (const std::string& v : c.values) check_values(console, c.name, {v}, run_active);
           break;
-        case K::Ref: reference_from_spec(console.platform(), console.loop_rate_hz(), c.name, c.options); break;
+        case K::Ref: reference_from_spec(console.rig(), console.loop_rate_hz(), c.name, c.options); break;
         case K::RefLoad: {
           RefParams tmp{};
           for (const auto& [k, v] : c.options) set_reference_key(tmp, console.loop_rate_hz(), k, v);

@@ -148,7 +148,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Ref: {
-        const RefParams r = reference_from_spec(console_.platform(), console_.loop_rate_hz(), c.name, c.options);
+        const RefParams r = reference_from_spec(console_.rig(), console_.loop_rate_hz(), c.name, c.options);
         console_.select_reference(r);
         out_(fmt::format("reference {}", reference_json(r)));
         break;

@@ -26,7 +26,7 @@ void RefPanel::reset_kind() {
   selected_ = 0;
   if (!kKinds[kind_].preset) return;
   try {
-    ref_ = reference_from_spec(console_.platform(), console_.loop_rate_hz(), kKinds[kind_].preset, {});
+    ref_ = reference_from_spec(console_.rig(), console_.loop_rate_hz(), kKinds[kind_].preset, {});
   } catch (const std::exception& e) {
     ui_.message(e.what(), Role::Error);
   }

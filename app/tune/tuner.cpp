@@ -57,7 +57,7 @@ RefParams tune_reference(LiveConsole& console, const std::string& text) {
       throw CliError(fmt::format("reference \"{}\": '{}' is not key=value", text, words[i]));
     keys.emplace_back(words[i].substr(0, eq), words[i].substr(eq + 1));
   }
-  return reference_from_spec(console.platform(), console.loop_rate_hz(), words[0], keys);
+  return reference_from_spec(console.rig(), console.loop_rate_hz(), words[0], keys);
 }
 
 TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCallbacks& cb,

@@ -277,7 +277,7 @@ TEST(LiveConsoleWait, APortThatAppearsLaterIsConnectedTo) {
   });
   EXPECT_NO_THROW(console.connect());
   plug.join();
-  EXPECT_EQ(console.platform(), PlatformId::Msd);
+  EXPECT_EQ(console.rig().name, "msd");
   std::lock_guard<std::mutex> lock(mu);
   ASSERT_FALSE(said.empty());
   EXPECT_EQ(said.front().rfind("waiting up to 30 s for " + o.port, 0), 0u) << said.front();

@@ -7,6 +7,7 @@
 #include "app/link/param_catalog.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/rig/rig.hpp"
 #include "temp_dir.hpp"
 
 namespace nlsoft::console {
@@ -101,28 +102,34 @@ TEST(ParamCatalog, FindsByNameAndListsTheKnownOnes) {
   EXPECT_EQ(error_of([&] { cat.require("R"); }), "unknown parameter 'R'; the firmware has: Q, Lambda");
 }
 
+const Rig& shipped(const char* name) {
+  static const Rig hasel = load_rig(NLSOFT_RIGS_DIR "/hasel.toml"), tendon = load_rig(NLSOFT_RIGS_DIR "/tendon.toml"),
+                   msd = load_rig(NLSOFT_RIGS_DIR "/msd.toml");
+  return std::string(name) == "hasel" ? hasel : (std::string(name) == "tendon" ? tendon : msd);
+}
+
 TEST(ReferenceSpec, PresetWithOverrides) {
-  const RefParams r = reference_from_spec(PlatformId::Tendon, 120.0, "infinity", {{"period", "4"}, {"a", "2"}});
+  const RefParams r = reference_from_spec(shipped("tendon"), 120.0, "infinity", {{"period", "4"}, {"a", "2"}});
   EXPECT_EQ(r.kind, RefKind::Infinity);
   EXPECT_FLOAT_EQ(r.A, 2.0f);
   EXPECT_NEAR(r.omega, 2 * 3.14159265 / 480.0, 1e-7);
   EXPECT_EQ(reference_key_value(r, 120.0, "period"), "4");
-  const RefParams s = reference_from_spec(PlatformId::Msd, 1000.0, "step", {{"levels", "0.5,1"}, {"hold", "200"}});
+  const RefParams s = reference_from_spec(shipped("msd"), 1000.0, "step", {{"levels", "0.5,1"}, {"hold", "200"}});
   EXPECT_EQ(s.kind, RefKind::Step);
   EXPECT_EQ(s.level_count, 2);
   EXPECT_EQ(s.hold, 200);
 }
 
 TEST(ReferenceSpec, RefusesUnknownNamesKeysAndValues) {
-  EXPECT_NE(error_of([] { reference_from_spec(PlatformId::Hasel, 130, "circle", {}); }).find("unknown reference 'circle'"),
+  EXPECT_NE(error_of([] { reference_from_spec(shipped("hasel"), 130, "circle", {}); }).find("unknown reference 'circle'"),
             std::string::npos);
-  EXPECT_EQ(error_of([] { reference_from_spec(PlatformId::Hasel, 130, "swirl", {{"radius", "2"}}); }),
+  EXPECT_EQ(error_of([] { reference_from_spec(shipped("hasel"), 130, "swirl", {{"radius", "2"}}); }),
             "unknown reference key 'radius'; known: a b c c0 c1 c2 omega lambda period scale hold levels");
-  EXPECT_EQ(error_of([] { reference_from_spec(PlatformId::Hasel, 130, "swirl", {{"hold", "0"}}); }),
+  EXPECT_EQ(error_of([] { reference_from_spec(shipped("hasel"), 130, "swirl", {{"hold", "0"}}); }),
             "hold=0: must be a whole number of control steps, 1..65535");
-  EXPECT_EQ(error_of([] { reference_from_spec(PlatformId::Hasel, 130, "pringle", {{"lambda", "-5"}}); }),
+  EXPECT_EQ(error_of([] { reference_from_spec(shipped("hasel"), 130, "pringle", {{"lambda", "-5"}}); }),
             "ref pringle: lambda must be > 0");
-  EXPECT_EQ(error_of([] { reference_from_spec(PlatformId::Hasel, 130, "steps", {{"levels", "1,2,3,4"}}); }),
+  EXPECT_EQ(error_of([] { reference_from_spec(shipped("hasel"), 130, "steps", {{"levels", "1,2,3,4"}}); }),
             "levels=1,2,3,4: at most 3 levels");
 }
 
