@@ -2,12 +2,15 @@
 
 #include <fmt/format.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
 
+#include "app/record/recorder_mark.hpp"
 #include "app/record/schema.hpp"
 
 namespace nlsoft::console {
@@ -84,8 +87,11 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
   insert_run_ = db_->prepare(
       "INSERT INTO runs(started_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,"
-      "decimation,reference) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
-  end_run_ = db_->prepare("UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=? WHERE id=?");
+      "decimation,reference,recorder_pid,recorder_host,heartbeat_at) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  end_run_ = db_->prepare(
+      "UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=?, recorder_pid=NULL, recorder_host=NULL, "
+      "heartbeat_at=NULL WHERE id=?");
+  heartbeat_ = db_->prepare("UPDATE runs SET heartbeat_at=? WHERE id=?");
   set_notes_ = db_->prepare("UPDATE runs SET notes=? WHERE id=?");
   run_exists_ = db_->prepare("SELECT 1 FROM runs WHERE id=?");
   // Checkpoints (copying the WAL into the database, with an fsync) would
@@ -120,6 +126,17 @@ Recorder::~Recorder() {
   if (thread_.joinable()) thread_.join();
   if (checkpointer_.joinable()) checkpointer_.join();
   checkpoint_db_.reset();
+  // Runs left open (the console leaving without ending them) are no longer
+  // being recorded: their mark goes, so `runs delete` needs only --force.
+  if (db_)
+    for (int64_t run : open_runs_) {
+      try {
+        Stmt clear = db_->prepare("UPDATE runs SET recorder_pid=NULL, recorder_host=NULL, heartbeat_at=NULL WHERE id=?");
+        clear.bind(1, run).exec();
+      } catch (const DbError&) {
+        // Locked or failed: the mark goes stale in kHeartbeatStaleS all the same.
+      }
+    }
   // Fold the WAL back so the file is self-contained when we are done.
   if (db_) sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
 }
@@ -214,6 +231,10 @@ std::string Recorder::error() const {
   return error_;
 }
 
+bool Recorder::heartbeat_due_now() const {
+  return !open_runs_.empty() && std::chrono::steady_clock::now() - last_heartbeat_ >= kHeartbeatPeriod;
+}
+
 void Recorder::writer() {
   std::vector<Item> batch;
   batch.reserve(options_.batch_wakeup * 2);
@@ -226,7 +247,7 @@ void Recorder::writer() {
     batch.swap(queue_);
     const bool stopping = stop_;
     lock.unlock();
-    if (!batch.empty()) write_batch(batch, waiting);
+    if (!batch.empty() || heartbeat_due_now()) write_batch(batch, waiting);
     batch.clear();
     lock.lock();
     if (stopping && queue_.empty()) break;
@@ -249,10 +270,16 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
     if (const auto* si = std::get_if<SampleItem>(&item))
       if (sample_runs.empty() || sample_runs.back() != si->run) sample_runs.push_back(si->run);
   auto busy_waited = std::chrono::milliseconds(0);
+  // Runs begun and ended by this batch: the heartbeat's list changes only
+  // once the batch has committed.
+  std::vector<int64_t> begun, ended;
+  const bool heartbeat_due = heartbeat_due_now();
   for (bool retry = true; retry && failed.empty();) {
     retry = false;
     waiting.clear();
     results.clear();
+    begun.clear();
+    ended.clear();
     samples = 0;
     try {
       db_->exec("BEGIN");
@@ -308,17 +335,24 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
             insert_run_.bind(1, now).bind(2, r.label).bind(3, r.notes).bind(4, r.platform).bind(5, r.firmware)
                 .bind(6, int64_t(r.model_hash)).bind(7, int64_t(r.param_hash)).bind(8, r.loop_rate_hz)
                 .bind(9, int64_t(r.n)).bind(10, int64_t(r.m)).bind(11, int64_t(r.decimation)).bind(12, r.reference)
+                .bind(13, int64_t(::getpid())).bind(14, host_name()).bind(15, unix_now())
                 .exec();
             result = db_->last_insert_id();
+            begun.push_back(result);
             for (const auto& [name, value] : r.params)
               insert_param_.bind(1, result).bind(2, 0.0).bind(3, int64_t(1)).bind(4, name).bind(5, value).exec();
           } else if (sy->end_run > 0) {
             end_run_.bind(1, now).bind(2, sy->end_reason).bind(3, int64_t(sy->samples)).bind(4, int64_t(sy->lost))
                 .bind(5, sy->end_run).exec();
+            ended.push_back(sy->end_run);
           }
           waiting.push_back(sy->done);
           results.push_back(result);
         }
+      }
+      if (heartbeat_due) {
+        const double t = unix_now();
+        for (int64_t run : open_runs_) heartbeat_.bind(1, t).bind(2, run).exec();
       }
       for (int64_t run : sample_runs) {
         run_exists_.bind(1, run);
@@ -331,6 +365,9 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
       }
       db_->exec("COMMIT");
       committed_ += samples;
+      if (heartbeat_due) last_heartbeat_ = std::chrono::steady_clock::now();
+      for (int64_t run : begun) open_runs_.push_back(run);
+      for (int64_t run : ended) open_runs_.erase(std::remove(open_runs_.begin(), open_runs_.end(), run), open_runs_.end());
     } catch (const std::exception& e) {
       sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
       const auto* db_error = dynamic_cast<const DbError*>(&e);

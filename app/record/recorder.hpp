@@ -116,7 +116,13 @@ class Recorder {
   std::unique_ptr<Db> db_;
   std::unique_ptr<Db> checkpoint_db_;
   Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_,
-      run_exists_;
+      run_exists_, heartbeat_;
+  // The runs this recorder has begun and not ended (writer thread only):
+  // their heartbeat_at is renewed every kHeartbeatPeriod, so `runs delete`
+  // in another process sees they are being recorded (run_edit.hpp).
+  std::vector<int64_t> open_runs_;
+  std::chrono::steady_clock::time_point last_heartbeat_{};
+  bool heartbeat_due_now() const;
 
   mutable std::mutex mu_;
   std::condition_variable cv_;

@@ -494,9 +494,12 @@ void add_runs_command(CLI::App& app) {
   CLI::App* d = runs->add_subcommand("delete", "Delete runs with their samples, parameters, gaps and link events");
   db(d);
   d->add_option("ID", args->ids, "Run ids (all are deleted, or none)")->required();
-  d->add_flag("--force", args->force, "Delete an unfinished run too (one a crashed console left open)");
+  d->add_flag("--force", args->force,
+              "Delete an unfinished run too (one a killed console left open); a run a console is still recording "
+              "is refused all the same");
   d->callback([args] {
-    delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force);
+    for (const std::string& note : delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force))
+      fmt::print(stderr, "{}\n", printable(note));
     for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
   });
   CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");

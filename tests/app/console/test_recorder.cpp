@@ -1,6 +1,7 @@
 // The recording database: schema and migrations, batching, gaps, clear
 // errors for locked/corrupt/newer files, and crash safety (a killed writer
 // keeps every committed batch and the file passes integrity_check).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <thread>
 
+#include "app/cli_error.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"
@@ -316,7 +318,19 @@ TEST(Recorder, ARunDeletedWhileBeingRecordedStopsTheRecordingAndLeavesNoOrphans)
   const int64_t id = rec.begin_run(run_info());
   for (uint64_t k = 0; k < 100; ++k) ASSERT_TRUE(rec.add_sample(id, make_sample(k)));
   rec.flush();
-  delete_run(db, id, true);
+  // `runs delete` refuses a run being recorded, --force or not...
+  std::string refused;
+  try {
+    delete_run(db, id, true);
+  } catch (const CliError& e) {
+    refused = e.what();
+  }
+  EXPECT_NE(refused.find("run 1 is being recorded by"), std::string::npos) << refused;
+  // ...a sqlite3 shell does not ask.
+  {
+    Db shell(db, false);
+    shell.exec("DELETE FROM runs WHERE id=1");
+  }
   for (uint64_t k = 100; k < 200; ++k) rec.add_sample(id, make_sample(k));
   std::string error;
   try {
@@ -330,6 +344,79 @@ TEST(Recorder, ARunDeletedWhileBeingRecordedStopsTheRecordingAndLeavesNoOrphans)
   Stmt c = check.prepare("SELECT count(*) FROM samples");
   ASSERT_TRUE(c.step());
   EXPECT_EQ(c.int64(0), 0) << "orphan samples were written";
+}
+
+// A run deleted behind the console's back (a sqlite3 shell) takes its
+// samples with it, and its id is never handed out again: the next run starts
+// with only its own samples.
+TEST(Recorder, RunIdsAreNeverReusedAndADeletedRunsSamplesGoWithIt) {
+  TempDir dir;
+  const std::string path = dir.file("r.db");
+  Recorder rec(path);
+  for (int run = 1; run <= 2; ++run) {
+    const int64_t id = rec.begin_run(run_info());
+    for (uint64_t k = 0; k < 50; ++k) ASSERT_TRUE(rec.add_sample(id, make_sample(k)));
+    rec.end_run(id, "completed", 50, 0);
+  }
+  {
+    Db shell(path, false);
+    shell.exec("DELETE FROM runs WHERE id=2");
+    EXPECT_EQ(scalar(shell, "SELECT count(*) FROM samples WHERE run_id=2"), 0);
+  }
+  const int64_t next = rec.begin_run(run_info());
+  EXPECT_EQ(next, 3);
+  ASSERT_TRUE(rec.add_sample(next, make_sample(0)));
+  rec.end_run(next, "completed", 1, 0);
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 1);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples"), 51);
+}
+
+// A database of the schema before never-reused ids (v4): migrated in place,
+// runs, ids, samples, parameters and gaps kept; rows a deleted run left
+// behind are cleared so the next run cannot inherit them.
+TEST(Recorder, MigratesAVersion4DatabaseToNeverReusedIdsKeepingItsData) {
+  TempDir dir;
+  const std::string path = dir.file("v4.db");
+  {
+    Db db(path, true);
+    migrate(db, 4);
+    ASSERT_EQ(schema_version(db), 4);
+    for (int id : {1, 2})
+      db.exec(fmt::format("INSERT INTO runs(id,started_at,ended_at,platform,firmware,model_hash,param_hash,"
+                          "loop_rate_hz,n,m,label,samples) VALUES({0},'2024-01-01T00:00:00Z','2024-01-01T00:01:00Z',"
+                          "'msd','old',0,0,1000,1,1,'kept{0}',2)",
+                          id)
+                  .c_str());
+    // samples of runs 1 and 2, and of a run 3 deleted by hand long ago
+    for (int run : {1, 2, 3})
+      for (int k : {0, 1})
+        db.exec(fmt::format("INSERT INTO samples(id,step) VALUES({},{})", sample_key(run, uint64_t(k)), k).c_str());
+    db.exec("INSERT INTO params(run_id,t,at_start,name,value) VALUES(1,0,1,'Q','1 1 1')");
+    db.exec("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason) VALUES(2,'x',0,5,'link down')");
+  }
+  Recorder rec(path);
+  {
+    Db db(path, false);
+    EXPECT_EQ(schema_version(db), kSchemaVersion);
+    Stmt sql = db.prepare("SELECT sql FROM sqlite_master WHERE name='runs'");
+    ASSERT_TRUE(sql.step());
+    EXPECT_NE(sql.text(0).find("AUTOINCREMENT"), std::string::npos) << sql.text(0);
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id IN (1,2)"), 4);
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 0) << "orphans kept";
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM params WHERE run_id=1"), 1) << "the rebuild cascaded to params";
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM gaps WHERE run_id=2"), 1);
+  }
+  const auto runs = RunStore(path).list();
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].label, "kept1");
+  EXPECT_EQ(runs[1].id, 2);
+  EXPECT_FALSE(runs[1].ended_at.empty());
+  const int64_t next = rec.begin_run(run_info());
+  EXPECT_EQ(next, 3);
+  rec.end_run(next, "completed", 0, 0);
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 0);
 }
 
 }  // namespace
