@@ -108,7 +108,10 @@ void LiveConsole::connect(const Progress& params_progress) {
   }
   // The database first: a locked or damaged file should stop us before we
   // touch the board.
-  recorder_ = std::make_unique<Recorder>(db_path_);
+  Recorder::Options ro;
+  ro.busy_limit = options_.db_busy;
+  ro.give_up = [] { return LiveConsole::interrupted(); };
+  recorder_ = std::make_unique<Recorder>(db_path_, ro);
 
   session_ = std::make_unique<Session>(options_.session);
   session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
@@ -715,6 +718,11 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   s.end_reason = why;
   s.metrics = metrics_of(id);
   if (const std::string w = loop_rate_warning(s.metrics); !w.empty()) say(fmt::format("run {}: {}", id, w));
+  // Samples that arrived and could not be saved (a database locked past
+  // --db-busy, a full queue) are in the run's gaps; say so at its end.
+  if (const Recorder::Loss loss = recorder_->loss(id); loss.samples > 0)
+    say(fmt::format("run {}: {} of {} samples saved; {} lost: {}", id, s.metrics.samples, run_k_.load(), loss.samples,
+                    loss.reason));
   std::lock_guard<std::mutex> lock(mu_);
   last_run_ = s;
   return s;
@@ -768,6 +776,7 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
   std::string early, record_error;
   bool reached = false;
   bool interrupted = false, stopped = false, cancelled = false, stopped_elsewhere = false;
+  bool said_locked_out = false;
   stop_timed_ = false;
   timed_run_ = true;
   while (true) {
@@ -794,6 +803,12 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
     if (const std::string err = recorder_->error(); !err.empty()) {
       record_error = err;
       break;
+    }
+    if (recorder_->locked_out() && !said_locked_out) {
+      said_locked_out = true;
+      say(fmt::format("database {} has been locked by another process for over {:g} s (--db-busy): run {}'s samples "
+                      "are counted lost until it is released; the run goes on",
+                      db_path_, std::chrono::duration<double>(options_.db_busy).count(), id));
     }
     if (const uint8_t st = left_run_state_.load(); st != 0 || left_run_watchdog_.load() != 0) {
       early = left_run_reason(st, left_run_watchdog_.load());

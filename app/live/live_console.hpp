@@ -34,6 +34,9 @@ struct LiveOptions {
   std::vector<std::string> sim_args;
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit
+  // --db-busy: how long samples wait in memory for a database another
+  // process has locked before they are counted lost (Recorder::Options).
+  std::chrono::milliseconds db_busy{30000};
   int decimation = 0;        // 0: 1 on a simulator, else what the baud rate carries
   // --wait: how long to wait for a port that is not there yet (a board
   // being plugged in); 0: fail at once; negative: until Ctrl-C.

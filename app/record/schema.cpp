@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace nlsoft::console {
 
 namespace {
@@ -177,16 +179,17 @@ void migrate(Db& db, int target) {
   // a no-op inside a transaction, so it goes around them).
   db.exec("PRAGMA foreign_keys=OFF");
   try {
-    for (int v = have; v < target && v < kSchemaVersion; ++v) {
-      db.exec("BEGIN IMMEDIATE");
-      try {
-        db.exec(kMigrations[v]);
-        db.exec(fmt::format("PRAGMA user_version={}", v + 1).c_str());
-        db.exec("COMMIT");
-      } catch (...) {
-        sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
-        throw;
-      }
+    // One transaction for every step: the file moves from its version to
+    // the target whole or not at all, and a page several steps rewrite (a
+    // new file's) goes into the WAL once, not once a step.
+    db.exec("BEGIN IMMEDIATE");
+    try {
+      for (int v = have; v < target && v < kSchemaVersion; ++v) db.exec(kMigrations[v]);
+      db.exec(fmt::format("PRAGMA user_version={}", std::min(target, kSchemaVersion)).c_str());
+      db.exec("COMMIT");
+    } catch (...) {
+      sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
     }
   } catch (...) {
     sqlite3_exec(db.handle(), "PRAGMA foreign_keys=ON", nullptr, nullptr, nullptr);

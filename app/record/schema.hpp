@@ -1,6 +1,6 @@
 #pragma once
 // The recording database's schema, versioned with PRAGMA user_version and
-// brought up to date by ordered migrations, each in its own transaction.
+// brought up to date by ordered migrations, all in one transaction.
 #include "app/record/sqlite.hpp"
 
 namespace nlsoft::console {

@@ -288,6 +288,50 @@ TEST(Recorder, AWriteLockHeldElsewhereDelaysTheRecordingAndLosesNothing) {
   EXPECT_EQ(scalar(db, "SELECT samples FROM runs WHERE id=1"), 500);
 }
 
+// A lock held past the busy window: what waited is given up and counted
+// lost, so is every sample while the lock lasts (nothing more is held in
+// memory), and once it goes the run has one gap saying how many and for how
+// long the database was locked, its totals count them lost, and recording
+// goes on.
+TEST(Recorder, ALockHeldPastTheWindowCountsTheSamplesLostAndRecordsTheGap) {
+  TempDir dir;
+  const std::string path = dir.file("locked.db");
+  Recorder::Options o;
+  o.batch_delay = std::chrono::milliseconds(5);
+  o.busy_limit = std::chrono::milliseconds(300);
+  Recorder r(path, o);
+  const int64_t id = r.begin_run(run_info("locked"));
+  for (uint64_t k = 0; k < 100; ++k) ASSERT_TRUE(r.add_sample(id, make_sample(k)));
+  r.flush();
+  Db other(path, false);
+  other.exec("BEGIN EXCLUSIVE");
+  uint64_t k = 100;
+  while (!r.locked_out() && k < 100000) {
+    r.add_sample(id, make_sample(k++));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(r.locked_out()) << "the lock never outlasted the window";
+  for (int i = 0; i < 50; ++i) EXPECT_FALSE(r.add_sample(id, make_sample(k++))) << "a sample was held while locked out";
+  other.exec("ROLLBACK");
+  while (r.locked_out()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(r.add_sample(id, make_sample(k++))) << "recording did not go on";
+  r.end_run(id, "completed", k, 0);
+  EXPECT_EQ(r.error(), "");
+  const uint64_t lost = r.loss(id).samples;
+  EXPECT_EQ(lost, k - 110);
+  EXPECT_NE(r.loss(id).reason.find("database locked by another process for "), std::string::npos);
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples"), 110);
+  EXPECT_EQ(scalar(db, "SELECT samples FROM runs WHERE id=1"), 110);
+  EXPECT_EQ(scalar(db, "SELECT lost_frames FROM runs WHERE id=1"), int64_t(lost));
+  const auto gaps = RunStore(path).gaps(id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].after_k, 99u);
+  EXPECT_EQ(gaps[0].lost_frames, lost);
+  EXPECT_GT(gaps[0].duration_s, 0);
+  EXPECT_EQ(gaps[0].reason.rfind("database locked by another process for ", 0), 0u) << gaps[0].reason;
+}
+
 // The reading commands open the database read-only (a read-only medium,
 // another user's file) and count what a crashed run left in the list too.
 TEST(RunStore, ReadsReadOnlyAndListsACrashedRunsSamples) {
