@@ -123,6 +123,17 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_->on_event([this](const LinkEvent& e) { on_event(e); });
   session_->open(port, options_.baud);
   device_ = std::make_unique<Device>(*session_);
+  handshake_patiently();
+  device_->load_params(params_progress);
+  // The tick rate converts compute ticks to microseconds from the first sample on.
+  const p::Status st = device_->status();
+  tick_rate_hz_ = st.tick_rate_hz;
+  note_uptime(st.uptime_ms);
+  configure_telemetry();
+  recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
+}
+
+void LiveConsole::handshake_patiently() {
   // A board may still be booting (QEMU takes a second or two; many USB
   // boards reset when the port opens): keep asking for a while.
   const auto patience = std::chrono::seconds(sim_ && !options_.sim_in_qemu ? 3 : 10);
@@ -142,13 +153,6 @@ void LiveConsole::connect(const Progress& params_progress) {
         throw LinkError(session_->no_info_words(before, waited, options_.baud));
     }
   }
-  device_->load_params(params_progress);
-  // The tick rate converts compute ticks to microseconds from the first sample on.
-  const p::Status st = device_->status();
-  tick_rate_hz_ = st.tick_rate_hz;
-  note_uptime(st.uptime_ms);
-  configure_telemetry();
-  recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
 }
 
 std::string LiveConsole::settle_port(const std::string& port) {
@@ -703,11 +707,15 @@ RunSummary LiveConsole::finish_run(int64_t id, const std::string& label, const s
 
 RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   std::string why = reason;
-  try {
-    device_->run_stop();
-  } catch (const std::exception& e) {
-    // Keeps why the run ended (an early end's cause comes first).
-    why = reason + "; link lost at stop: " + e.what();
+  // A simulator that has ended has nothing to stop: asking it would only
+  // time out and bury the reason under "link lost at stop".
+  if (simulator_exit().empty()) {
+    try {
+      device_->run_stop();
+    } catch (const std::exception& e) {
+      // Keeps why the run ended (an early end's cause comes first).
+      why = reason + "; link lost at stop: " + e.what();
+    }
   }
   // Every frame of the run came before RUN_STOP's ACK on the one reader.
   run_id_ = 0;
@@ -802,6 +810,10 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
     }
     if (const std::string err = recorder_->error(); !err.empty()) {
       record_error = err;
+      break;
+    }
+    if (const std::string gone = simulator_exit(); !gone.empty()) {
+      early = gone;
       break;
     }
     if (recorder_->locked_out() && !said_locked_out) {

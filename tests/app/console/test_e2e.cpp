@@ -19,6 +19,7 @@
 #include "app/live/reference_table.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/sqlite.hpp"
+#include "process_tree.hpp"
 #include "run_process.hpp"
 #include "shared/plant_hasel.hpp"
 #include "temp_dir.hpp"
@@ -288,6 +289,50 @@ TEST_F(ConsoleE2E, ADatabaseLockedPastTheBusyWindowIsAGapWithItsReason) {
   const auto show = run_process(std::string(NLSOFT_CONSOLE_BIN) + " runs show 1 --db " + shell_quote(db()));
   EXPECT_NE(show.output.find(fmt::format("{} frames lost", locked_lost)), std::string::npos) << show.output;
   EXPECT_NE(show.output.find("the samples lost span"), std::string::npos) << show.output;
+}
+
+// The simulator a headless console started, killed with -9 mid-run: the
+// run ends early with how it ended, not after a silence with a guess, and
+// the script fails as for any early end.
+TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
+  script_ = dir_.file("killed.nls");
+  std::ofstream(script_) << "run 60s label=killed\n";
+  const std::string out = dir_.file("console.out");
+  const std::string command = "exec " + fmt_command("hasel", "") + " >" + shell_quote(out) + " 2>&1";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool recording = false;
+  for (int i = 0; i < 600 && !recording; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      const auto runs = RunStore(db()).list();
+      recording = !runs.empty() && runs[0].samples > 0;
+    } catch (const std::exception&) {
+    }
+  }
+  const pid_t sim = test::descendant_named(pid, "nlsoft-firmware-sim");
+  if (!recording || sim <= 0) ::kill(pid, SIGKILL);
+  ASSERT_TRUE(recording) << "the run never started";
+  ASSERT_GT(sim, 0) << "no simulator under the console";
+  ASSERT_EQ(run_process("kill -9 " + std::to_string(sim)).code, 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << text;
+  EXPECT_NE(text.find("ended early: simulator killed by signal 9 (SIGKILL)"), std::string::npos) << text;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].end_reason, "ended early: simulator killed by signal 9 (SIGKILL)");
+  const auto gaps = store.gaps(runs[0].id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].reason, "run ended early: simulator killed by signal 9 (SIGKILL)");
 }
 
 // The same on the HASEL rig at its own rate, a minute's run under a smaller
