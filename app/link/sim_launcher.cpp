@@ -134,7 +134,11 @@ std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const st
     ::_exit(127);
   }
   ::close(out[1]);
-  pid_ = pid;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    pid_ = pid;
+    exit_words_.clear();
+  }
   out_fd_ = out[0];
   // Read lines until one names the pty; give the child a few seconds.
   std::string buffer, path;
@@ -159,8 +163,12 @@ std::string SimLauncher::spawn(const std::vector<std::string>& argv_in, const st
   }
   if (path.empty()) {
     int status = 0;
-    const bool exited = ::waitpid(pid_, &status, WNOHANG) == pid_;
-    if (exited) pid_ = -1;
+    bool exited = false;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      exited = ::waitpid(pid_, &status, WNOHANG) == pid_;
+      if (exited) pid_ = -1;
+    }
     stop();
     // The log goes with this object: quote its end rather than point at it.
     std::ifstream log(log_path_);
@@ -187,7 +195,24 @@ SimLauncher::~SimLauncher() {
   }
 }
 
+std::string SimLauncher::exit_words() {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (!exit_words_.empty() || pid_ <= 0) return exit_words_;
+  int status = 0;
+  if (::waitpid(pid_, &status, WNOHANG) != pid_) return "";
+  pid_ = -1;
+  if (WIFSIGNALED(status)) {
+    const char* abbrev = ::sigabbrev_np(WTERMSIG(status));
+    exit_words_ = abbrev ? fmt::format("killed by signal {} (SIG{})", WTERMSIG(status), abbrev)
+                         : fmt::format("killed by signal {}", WTERMSIG(status));
+  } else {
+    exit_words_ = fmt::format("exited with status {}", WEXITSTATUS(status));
+  }
+  return exit_words_;
+}
+
 void SimLauncher::stop() {
+  std::lock_guard<std::mutex> lock(mu_);
   if (pid_ > 0) {
     ::kill(pid_, SIGTERM);
     int status = 0;

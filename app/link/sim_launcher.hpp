@@ -5,6 +5,7 @@
 // PR_SET_PDEATHSIG, if the console itself dies).
 #include <sys/types.h>
 
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -48,6 +49,10 @@ class SimLauncher {
   std::string start_qemu(const std::string& platform, const std::string& board = "mps2-an386");
   void stop();
   pid_t pid() const { return pid_; }
+  // How the child ended, once it has (it is reaped here): "killed by signal
+  // 9 (SIGKILL)", "exited with status 3"; "" while it runs, or when it was
+  // never started or stopped by stop(). Any thread; cheap enough to poll.
+  std::string exit_words();
   // The child's stderr, in a folder of our own (mode 0700) that goes with
   // this object: nobody else can plant a link there or read it meanwhile.
   const std::string& log_path() const { return log_path_; }
@@ -57,7 +62,9 @@ class SimLauncher {
   // pick() yields a non-empty path.
   std::string spawn(const std::vector<std::string>& argv, const std::string& what,
                     std::string (*pick)(const std::string& line));
+  std::mutex mu_;  // pid_ and exit_words_: exit_words() is polled from another thread
   pid_t pid_ = -1;
+  std::string exit_words_;
   int out_fd_ = -1;
   std::thread drain_;
   std::string log_dir_, log_path_;

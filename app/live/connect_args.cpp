@@ -69,6 +69,11 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
       ->check(CLI::Range(50u, 20000000u));
   app.add_option("--db", a.db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
   app.add_flag("--no-record", a.no_record, "Keep runs in a temporary database, deleted on exit");
+  app.add_option("--db-busy", a.db_busy_s,
+                 "Seconds a run's samples wait in memory while another process holds the database locked (a sqlite3 "
+                 "shell in a transaction; default 30); past that they are counted lost until the lock goes, and the "
+                 "run records the gap and for how long the database was locked")
+      ->check(CLI::PositiveNumber);
   app.add_option("--sim-rate", a.sim_rate, "Control loop rate of the simulator, Hz")->check(CLI::PositiveNumber);
   app.add_flag("--sim-fast", a.sim_fast, "Let the simulator run faster than real time");
   app.add_option("--timeout", a.timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
@@ -109,6 +114,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   if (a.sim_fast) o.sim_args.push_back("--fast");
   o.db_path = a.db;
   o.record = !a.no_record;
+  o.db_busy = std::chrono::milliseconds(int64_t(a.db_busy_s * 1000));
   o.session.timeout = std::chrono::milliseconds(a.timeout_ms);
   return o;
 }

@@ -17,10 +17,11 @@ struct ConnectArgs {
   bool no_record = false, sim_fast = false;
   double sim_rate = 0;
   int timeout_ms = 250;
+  double db_busy_s = 30;
 };
 
 // PORT, --sim, --qemu, --board, --baud, --sim-fast, --sim-rate, --db,
-// --no-record, --timeout. `what` is the verb of the help lines ("connect
+// --no-record, --timeout, --db-busy. `what` is the verb of the help lines ("connect
 // to", "tune").
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what);
 

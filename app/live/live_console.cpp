@@ -123,7 +123,10 @@ void LiveConsole::connect(const Progress& params_progress) {
   }
   // The database first: a locked or damaged file should stop us before we
   // touch the board.
-  recorder_ = std::make_unique<Recorder>(db_path_);
+  Recorder::Options ro;
+  ro.busy_limit = options_.db_busy;
+  ro.give_up = [] { return LiveConsole::interrupted(); };
+  recorder_ = std::make_unique<Recorder>(db_path_, ro);
 
   session_ = std::make_unique<Session>(options_.session);
   session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
@@ -135,6 +138,17 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_->on_event([this](const LinkEvent& e) { on_event(e); });
   session_->open(port, options_.baud);
   device_ = std::make_unique<Device>(*session_);
+  handshake_patiently();
+  device_->load_params(params_progress);
+  // The tick rate converts compute ticks to microseconds from the first sample on.
+  const p::Status st = device_->status();
+  tick_rate_hz_ = st.tick_rate_hz;
+  note_uptime(st.uptime_ms);
+  configure_telemetry();
+  recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
+}
+
+void LiveConsole::handshake_patiently() {
   // A board may still be booting (QEMU takes a second or two; many USB
   // boards reset when the port opens): keep asking for a while.
   const auto patience = std::chrono::seconds(sim_ && !options_.sim_in_qemu ? 3 : 10);
@@ -154,13 +168,6 @@ void LiveConsole::connect(const Progress& params_progress) {
         throw LinkError(session_->no_info_words(before, waited, options_.baud));
     }
   }
-  device_->load_params(params_progress);
-  // The tick rate converts compute ticks to microseconds from the first sample on.
-  const p::Status st = device_->status();
-  tick_rate_hz_ = st.tick_rate_hz;
-  note_uptime(st.uptime_ms);
-  configure_telemetry();
-  recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
 }
 
 std::string LiveConsole::settle_port(const std::string& port) {
@@ -720,11 +727,15 @@ RunSummary LiveConsole::finish_run(int64_t id, const std::string& label, const s
 
 RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   std::string why = reason;
-  try {
-    device_->run_stop();
-  } catch (const std::exception& e) {
-    // Keeps why the run ended (an early end's cause comes first).
-    why = reason + "; link lost at stop: " + e.what();
+  // A simulator that has ended has nothing to stop: asking it would only
+  // time out and bury the reason under "link lost at stop".
+  if (simulator_exit().empty()) {
+    try {
+      device_->run_stop();
+    } catch (const std::exception& e) {
+      // Keeps why the run ended (an early end's cause comes first).
+      why = reason + "; link lost at stop: " + e.what();
+    }
   }
   // Every frame of the run came before RUN_STOP's ACK on the one reader.
   run_id_ = 0;
@@ -735,6 +746,11 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   s.end_reason = why;
   s.metrics = metrics_of(id);
   if (const std::string w = loop_rate_warning(s.metrics); !w.empty()) say(fmt::format("run {}: {}", id, w));
+  // Samples that arrived and could not be saved (a database locked past
+  // --db-busy, a full queue) are in the run's gaps; say so at its end.
+  if (const Recorder::Loss loss = recorder_->loss(id); loss.samples > 0)
+    say(fmt::format("run {}: {} of {} samples saved; {} lost: {}", id, s.metrics.samples, run_k_.load(), loss.samples,
+                    loss.reason));
   std::lock_guard<std::mutex> lock(mu_);
   last_run_ = s;
   return s;
@@ -788,6 +804,7 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
   std::string early, record_error;
   bool reached = false;
   bool interrupted = false, stopped = false, cancelled = false, stopped_elsewhere = false;
+  bool said_locked_out = false;
   stop_timed_ = false;
   timed_run_ = true;
   while (true) {
@@ -814,6 +831,16 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
     if (const std::string err = recorder_->error(); !err.empty()) {
       record_error = err;
       break;
+    }
+    if (const std::string gone = simulator_exit(); !gone.empty()) {
+      early = gone;
+      break;
+    }
+    if (recorder_->locked_out() && !said_locked_out) {
+      said_locked_out = true;
+      say(fmt::format("database {} has been locked by another process for over {:g} s (--db-busy): run {}'s samples "
+                      "are counted lost until it is released; the run goes on",
+                      db_path_, std::chrono::duration<double>(options_.db_busy).count(), id));
     }
     if (const uint8_t st = left_run_state_.load(); st != 0 || left_run_watchdog_.load() != 0) {
       early = left_run_reason(st, left_run_watchdog_.load());

@@ -37,6 +37,9 @@ struct LiveOptions {
   std::vector<std::string> sim_args;
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit
+  // --db-busy: how long samples wait in memory for a database another
+  // process has locked before they are counted lost (Recorder::Options).
+  std::chrono::milliseconds db_busy{30000};
   int decimation = 0;        // 0: 1 on a simulator, else what the baud rate carries
   // --wait: how long to wait for a port that is not there yet (a board
   // being plugged in); 0: fail at once; negative: until Ctrl-C.
@@ -159,6 +162,26 @@ class LiveConsole {
   RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {},
                      const std::atomic<bool>* cancel = nullptr);
 
+  // --sim/--qemu: how the simulator ended under the console ("simulator
+  // killed by signal 9 (SIGKILL)", "simulator exited with status 3"); ""
+  // while it runs, or with no simulator. Any thread; a run_for() in
+  // progress ends early with these words.
+  std::string simulator_exit();
+  // Once the simulator has ended: ends the run in progress (not a timed
+  // one, which ends itself) with those words as its reason and the time
+  // since its last sample as a gap. Returns its summary, if there was one.
+  std::optional<RunSummary> end_run_simulator_gone();
+  // Starts a new simulator in place of one that has ended; returns its
+  // pty. Call it on a thread that lives as long as the console (the TUI's
+  // UI thread): the child is ended with the thread that forked it
+  // (PR_SET_PDEATHSIG). Throws CliError.
+  std::string respawn_simulator();
+  // Then: ends a run still in progress, reconnects to `port` and
+  // handshakes; the parameters are re-read, and the session's edits the new
+  // simulator does not have are named as after a firmware reset. Throws
+  // CliError, LinkError.
+  void reconnect_simulator(const std::string& port);
+
   std::optional<RunSummary> last_run() const;
   // Every run this console started, in order (the TUI names them at exit).
   std::vector<int64_t> session_runs() const;
@@ -206,6 +229,8 @@ class LiveConsole {
   void check_for_reset(const protocol::Info& before, const protocol::Info& now, const protocol::Status& st);
   void note_uptime(uint32_t uptime_ms);
   void configure_telemetry();
+  // INFO until it answers: a simulator or a board may still be starting.
+  void handshake_patiently();
   // A port that may not exist yet (--wait), opened by its by-id name.
   std::string settle_port(const std::string& port);
   void say(const std::string& s);
@@ -269,6 +294,11 @@ class LiveConsole {
   std::string run_label_;
   std::chrono::steady_clock::time_point run_started_{};
   uint16_t decimation_ = 1;
+  // How the simulator ended, kept until reconnect_simulator() has ended its
+  // run: a new simulator already running must not hide that the old one's
+  // run still needs ending.
+  std::mutex sim_mu_;
+  std::string sim_gone_;
 };
 
 }  // namespace nlsoft::console

@@ -2,12 +2,16 @@
 
 #include <fmt/format.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
 
+#include "app/record/lock_gap.hpp"
+#include "app/record/recorder_mark.hpp"
 #include "app/record/schema.hpp"
 
 namespace nlsoft::console {
@@ -84,8 +88,11 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
   insert_run_ = db_->prepare(
       "INSERT INTO runs(started_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,"
-      "decimation,reference) VALUES(?,?,?,?,?,?,?,?,?,?,?,?)");
-  end_run_ = db_->prepare("UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=? WHERE id=?");
+      "decimation,reference,recorder_pid,recorder_host,heartbeat_at) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+  end_run_ = db_->prepare(
+      "UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=?, recorder_pid=NULL, recorder_host=NULL, "
+      "heartbeat_at=NULL WHERE id=?");
+  heartbeat_ = db_->prepare("UPDATE runs SET heartbeat_at=? WHERE id=?");
   set_notes_ = db_->prepare("UPDATE runs SET notes=? WHERE id=?");
   run_exists_ = db_->prepare("SELECT 1 FROM runs WHERE id=?");
   // Checkpoints (copying the WAL into the database, with an fsync) would
@@ -120,6 +127,17 @@ Recorder::~Recorder() {
   if (thread_.joinable()) thread_.join();
   if (checkpointer_.joinable()) checkpointer_.join();
   checkpoint_db_.reset();
+  // Runs left open (the console leaving without ending them) are no longer
+  // being recorded: their mark goes, so `runs delete` needs only --force.
+  if (db_)
+    for (int64_t run : open_runs_) {
+      try {
+        Stmt clear = db_->prepare("UPDATE runs SET recorder_pid=NULL, recorder_host=NULL, heartbeat_at=NULL WHERE id=?");
+        clear.bind(1, run).exec();
+      } catch (const DbError&) {
+        // Locked or failed: the mark goes stale in kHeartbeatStaleS all the same.
+      }
+    }
   // Fold the WAL back so the file is self-contained when we are done.
   if (db_) sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_TRUNCATE, nullptr, nullptr);
 }
@@ -143,7 +161,14 @@ bool Recorder::add_sample(int64_t run_id, const Sample& s) {
       dropped_total_++;
       return false;
     }
+    if (locked_out_.load()) {
+      lose_to_lock(run_id, s);
+      return false;
+    }
     if (queue_.size() >= options_.queue_capacity) {
+      Loss& loss = losses_[run_id];
+      ++loss.samples;
+      loss.reason = "recorder queue full: samples dropped";
       if (overflow_ == 0) overflow_after_k_ = s.k == 0 ? 0 : s.k - 1, overflow_run_ = run_id;
       ++overflow_;
       dropped_total_++;
@@ -209,9 +234,77 @@ void Recorder::end_run(int64_t run_id, const std::string& reason, uint64_t sampl
 
 void Recorder::flush() { sync(SyncItem{}); }
 
+Recorder::Loss Recorder::loss(int64_t run_id) const {
+  std::lock_guard<std::mutex> lock(mu_);
+  const auto it = losses_.find(run_id);
+  return it == losses_.end() ? Loss{} : it->second;
+}
+
+void Recorder::lose_to_lock(int64_t run, const Sample& s) {
+  if (lock_losses_.empty() || lock_losses_.back().run != run) {
+    LockLoss l;
+    l.run = run;
+    l.first_k = s.k;
+    l.first_us = s.time_us;
+    l.timed = s.has(tf::kTime);
+    lock_losses_.push_back(l);
+  }
+  LockLoss& l = lock_losses_.back();
+  ++l.count;
+  l.last_us = s.time_us;
+  ++losses_[run].samples;
+  dropped_total_++;
+}
+
+void Recorder::give_up_waiting_samples(std::vector<Item>& items) {
+  for (const Item& item : items)
+    if (const auto* si = std::get_if<SampleItem>(&item)) lose_to_lock(si->run, si->s);
+  items.erase(std::remove_if(items.begin(), items.end(),
+                             [](const Item& item) { return std::holds_alternative<SampleItem>(item); }),
+              items.end());
+}
+
+// After the lock: one gap per run for what was given up, with the time its
+// samples span (the firmware's clock) and how long the lock lasted. Written
+// at once, so the end of a run waiting in the same batch is read back with
+// it; if that write fails too, the gaps wait in the queue like any other.
+void Recorder::write_lock_gaps(double locked_s) {
+  std::vector<LockLoss> gaps;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    gaps.swap(lock_losses_);
+    locked_out_ = false;
+    for (const LockLoss& g : gaps)
+      losses_[g.run].reason = lock_gap_reason(locked_s);
+  }
+  if (gaps.empty()) return;
+  const std::string reason = lock_gap_reason(locked_s);
+  auto duration = [&](const LockLoss& g) {
+    return g.timed && g.count > 1 ? double(uint32_t(g.last_us - g.first_us)) * 1e-6 : locked_s;
+  };
+  try {
+    db_->exec("BEGIN");
+    const std::string now = utc_now();
+    for (const LockLoss& g : gaps)
+      insert_gap_.bind(1, g.run).bind(2, now).bind(3, int64_t(g.first_k == 0 ? 0 : g.first_k - 1))
+          .bind(4, int64_t(g.count)).bind(5, reason).bind(6, duration(g)).exec();
+    db_->exec("COMMIT");
+  } catch (const DbError&) {
+    sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const LockLoss& g : gaps)
+      queue_.push_back(TextItem{TextItem::Gap, g.run, duration(g), int64_t(g.first_k == 0 ? 0 : g.first_k - 1),
+                                int64_t(g.count), reason, {}});
+  }
+}
+
 std::string Recorder::error() const {
   std::lock_guard<std::mutex> lock(mu_);
   return error_;
+}
+
+bool Recorder::heartbeat_due_now() const {
+  return !open_runs_.empty() && std::chrono::steady_clock::now() - last_heartbeat_ >= kHeartbeatPeriod;
 }
 
 void Recorder::writer() {
@@ -226,7 +319,7 @@ void Recorder::writer() {
     batch.swap(queue_);
     const bool stopping = stop_;
     lock.unlock();
-    if (!batch.empty()) write_batch(batch, waiting);
+    if (!batch.empty() || heartbeat_due_now()) write_batch(batch, waiting);
     batch.clear();
     lock.lock();
     if (stopping && queue_.empty()) break;
@@ -248,14 +341,25 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
   for (const Item& item : batch)
     if (const auto* si = std::get_if<SampleItem>(&item))
       if (sample_runs.empty() || sample_runs.back() != si->run) sample_runs.push_back(si->run);
-  auto busy_waited = std::chrono::milliseconds(0);
+  using clock = std::chrono::steady_clock;
+  bool stalled = false;
+  clock::time_point stall_started;
+  // Runs begun and ended by this batch: the heartbeat's list changes only
+  // once the batch has committed.
+  std::vector<int64_t> begun, ended;
+  const bool heartbeat_due = heartbeat_due_now();
   for (bool retry = true; retry && failed.empty();) {
     retry = false;
     waiting.clear();
     results.clear();
+    begun.clear();
+    ended.clear();
     samples = 0;
+    const auto attempt_started = clock::now();
     try {
-      db_->exec("BEGIN");
+      // Once locked out, only the write lock proves the lock gone: a batch
+      // of nothing but a heartbeat would otherwise commit as a read.
+      db_->exec(locked_out_.load() ? "BEGIN IMMEDIATE" : "BEGIN");
       const std::string now = utc_now();
       for (size_t i = 0; i < batch.size(); ++i) {
         Item& item = batch[i];
@@ -308,17 +412,28 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
             insert_run_.bind(1, now).bind(2, r.label).bind(3, r.notes).bind(4, r.platform).bind(5, r.firmware)
                 .bind(6, int64_t(r.model_hash)).bind(7, int64_t(r.param_hash)).bind(8, r.loop_rate_hz)
                 .bind(9, int64_t(r.n)).bind(10, int64_t(r.m)).bind(11, int64_t(r.decimation)).bind(12, r.reference)
+                .bind(13, int64_t(::getpid())).bind(14, host_name()).bind(15, unix_now())
                 .exec();
             result = db_->last_insert_id();
+            begun.push_back(result);
             for (const auto& [name, value] : r.params)
               insert_param_.bind(1, result).bind(2, 0.0).bind(3, int64_t(1)).bind(4, name).bind(5, value).exec();
           } else if (sy->end_run > 0) {
-            end_run_.bind(1, now).bind(2, sy->end_reason).bind(3, int64_t(sy->samples)).bind(4, int64_t(sy->lost))
+            // The samples this recorder could not save are the run's
+            // losses too: the caller counts what arrived.
+            const uint64_t unsaved = loss(sy->end_run).samples;
+            end_run_.bind(1, now).bind(2, sy->end_reason)
+                .bind(3, int64_t(sy->samples - std::min(unsaved, sy->samples))).bind(4, int64_t(sy->lost + unsaved))
                 .bind(5, sy->end_run).exec();
+            ended.push_back(sy->end_run);
           }
           waiting.push_back(sy->done);
           results.push_back(result);
         }
+      }
+      if (heartbeat_due) {
+        const double t = unix_now();
+        for (int64_t run : open_runs_) heartbeat_.bind(1, t).bind(2, run).exec();
       }
       for (int64_t run : sample_runs) {
         run_exists_.bind(1, run);
@@ -331,17 +446,37 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
       }
       db_->exec("COMMIT");
       committed_ += samples;
+      if (stalled) write_lock_gaps(std::chrono::duration<double>(clock::now() - stall_started).count());
+      // A run just begun has a fresh mark: its insert wrote it.
+      if (heartbeat_due || !begun.empty()) last_heartbeat_ = std::chrono::steady_clock::now();
+      for (int64_t run : begun) open_runs_.push_back(run);
+      for (int64_t run : ended) open_runs_.erase(std::remove(open_runs_.begin(), open_runs_.end(), run), open_runs_.end());
     } catch (const std::exception& e) {
       sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
       const auto* db_error = dynamic_cast<const DbError*>(&e);
       const int code = db_error ? (db_error->sqlite_code & 0xFF) : 0;
-      if ((code == SQLITE_BUSY || code == SQLITE_LOCKED) && busy_waited < options_.busy_limit) {
-        // Locked by another process: the whole batch again in a moment.
-        const auto pause = std::chrono::milliseconds(200);
-        std::this_thread::sleep_for(pause);
-        busy_waited += pause + std::chrono::milliseconds(1500);  // and the busy timeout that elapsed
-        retry = true;
-        continue;
+      if (code == SQLITE_BUSY || code == SQLITE_LOCKED) {
+        // Locked by another process: the whole batch again in a moment,
+        // for as long as the lock lasts.
+        if (!stalled) stall_started = attempt_started;
+        stalled = true;
+        bool stopping = false;
+        if (clock::now() - stall_started >= options_.busy_limit) {
+          std::lock_guard<std::mutex> lock(mu_);
+          if (!locked_out_.load()) {
+            locked_out_ = true;
+            give_up_waiting_samples(batch);
+            give_up_waiting_samples(queue_);
+            sample_runs.clear();
+          }
+          stopping = stop_;
+        }
+        const bool give_up = locked_out_.load() && (stopping || (options_.give_up && options_.give_up()));
+        if (!give_up) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(200));
+          retry = true;
+          continue;
+        }
       }
       failed = e.what();
       std::lock_guard<std::mutex> lock(mu_);

@@ -10,7 +10,9 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -47,9 +49,16 @@ class Recorder {
     std::chrono::milliseconds batch_delay{50};
     size_t batch_wakeup = 8192;  // commit early once this many items wait
     // Another process holding the write lock (a colleague's sqlite3 shell)
-    // stalls a commit: it is retried this long, the samples queue meanwhile
-    // (up to queue_capacity, then counted as a gap), before recording stops.
+    // stalls a commit: it is retried, the samples waiting in the queue (up
+    // to queue_capacity, beyond it counted lost as a gap) for this long. A
+    // lock held longer: what waits is given up and counted lost, and so is
+    // every sample until the lock goes, so memory stays bounded however long
+    // it lasts; then one gap per run says how many and for how long the
+    // database was locked, and recording goes on.
     std::chrono::milliseconds busy_limit{30000};
+    // Asked while a write waits on a lock past busy_limit: true gives up
+    // (the console's Ctrl-C), as a failed write would.
+    std::function<bool()> give_up;
   };
 
   // Opens or creates the database and migrates it. Throws DbError.
@@ -82,6 +91,16 @@ class Recorder {
   std::string error() const;
   uint64_t dropped_samples() const { return dropped_total_.load(); }
   uint64_t committed_samples() const { return committed_.load(); }
+  // True while another process's lock has outlasted busy_limit: samples are
+  // being counted lost, not kept.
+  bool locked_out() const { return locked_out_.load(); }
+  // The samples of a run this recorder could not save (a full queue, a
+  // database locked past busy_limit) and the last reason.
+  struct Loss {
+    uint64_t samples = 0;
+    std::string reason;
+  };
+  Loss loss(int64_t run_id) const;
   const std::string& path() const { return path_; }
 
  private:
@@ -116,7 +135,13 @@ class Recorder {
   std::unique_ptr<Db> db_;
   std::unique_ptr<Db> checkpoint_db_;
   Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_,
-      run_exists_;
+      run_exists_, heartbeat_;
+  // The runs this recorder has begun and not ended (writer thread only):
+  // their heartbeat_at is renewed every kHeartbeatPeriod, so `runs delete`
+  // in another process sees they are being recorded (run_edit.hpp).
+  std::vector<int64_t> open_runs_;
+  std::chrono::steady_clock::time_point last_heartbeat_{};
+  bool heartbeat_due_now() const;
 
   mutable std::mutex mu_;
   std::condition_variable cv_;
@@ -124,6 +149,20 @@ class Recorder {
   bool stop_ = false;
   bool urgent_ = false;
   std::string error_;
+  // Samples given up to a lock, per run, until the lock goes and their gap
+  // is written.
+  struct LockLoss {
+    int64_t run = 0;
+    uint64_t first_k = 0, count = 0;
+    uint32_t first_us = 0, last_us = 0;
+    bool timed = false;
+  };
+  void lose_to_lock(int64_t run, const Sample& s);  // mu_ held
+  void give_up_waiting_samples(std::vector<Item>& batch);  // mu_ held
+  void write_lock_gaps(double locked_s);
+  std::vector<LockLoss> lock_losses_;
+  std::map<int64_t, Loss> losses_;  // every run's, kept for its end and the console's summary
+  std::atomic<bool> locked_out_{false};
   uint64_t overflow_ = 0;  // samples dropped since the last recorded gap
   uint64_t overflow_after_k_ = 0;
   int64_t overflow_run_ = 0;

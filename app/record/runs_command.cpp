@@ -19,6 +19,7 @@
 #include "app/record/csv_export.hpp"
 #include "app/record/end_words.hpp"
 #include "app/record/gnuplot.hpp"
+#include "app/record/lock_gap.hpp"
 #include "app/record/loop_rate.hpp"
 #include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
@@ -115,7 +116,11 @@ std::string gap_words(const RunRow& r, const GapRecord& g) {
   std::string s = fmt::format("gap after sample {}: {} frame{} lost", g.after_k, g.lost_frames, g.lost_frames == 1 ? "" : "s");
   const double rate = r.loop_rate_hz / double(r.decimation > 0 ? r.decimation : 1);
   if (rate > 0) s += fmt::format(" ({:.1f} s at {:g} Hz)", double(g.lost_frames) / rate, rate);
-  if (g.duration_s >= 0) s += fmt::format("; telemetry silent for {:.2f} s", g.duration_s);
+  // Samples lost to a database lock arrived all the same: their time is
+  // what they span, not a silence.
+  if (g.duration_s >= 0)
+    s += is_lock_gap(g.reason) ? fmt::format("; the samples lost span {:.2f} s", g.duration_s)
+                               : fmt::format("; telemetry silent for {:.2f} s", g.duration_s);
   return s;
 }
 
@@ -494,9 +499,12 @@ void add_runs_command(CLI::App& app) {
   CLI::App* d = runs->add_subcommand("delete", "Delete runs with their samples, parameters, gaps and link events");
   db(d);
   d->add_option("ID", args->ids, "Run ids (all are deleted, or none)")->required();
-  d->add_flag("--force", args->force, "Delete an unfinished run too (one a crashed console left open)");
+  d->add_flag("--force", args->force,
+              "Delete an unfinished run too (one a killed console left open); a run a console is still recording "
+              "is refused all the same");
   d->callback([args] {
-    delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force);
+    for (const std::string& note : delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force))
+      fmt::print(stderr, "{}\n", printable(note));
     for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
   });
   CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");

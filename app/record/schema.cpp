@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace nlsoft::console {
 
 namespace {
@@ -103,6 +105,58 @@ CREATE TABLE tune_evals(
 );
 CREATE INDEX tune_evals_session ON tune_evals(session_id);
 )sql",
+    // v5: run ids are never used twice (AUTOINCREMENT: a deleted run's id
+    // once went to the next run, with whatever of its rows were left); a
+    // run's rows go with it however it is deleted (a trigger: samples are
+    // keyed by id range, which no foreign key can express); and a liveness
+    // mark the recording console keeps, so `runs delete` can tell a run
+    // being recorded from one a killed console left unfinished. SQLite
+    // cannot add AUTOINCREMENT to a table: it is rebuilt, rows and ids kept
+    // (migrate() turns foreign keys off around it, or dropping the old
+    // table would cascade to params).
+    R"sql(
+CREATE TABLE runs_v5(
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  started_at TEXT NOT NULL,
+  ended_at TEXT,
+  label TEXT NOT NULL DEFAULT '',
+  notes TEXT NOT NULL DEFAULT '',
+  platform TEXT NOT NULL,
+  firmware TEXT NOT NULL,
+  model_hash INTEGER NOT NULL,
+  param_hash INTEGER NOT NULL,
+  loop_rate_hz REAL NOT NULL,
+  n INTEGER NOT NULL,
+  m INTEGER NOT NULL,
+  decimation INTEGER NOT NULL DEFAULT 1,
+  reference TEXT NOT NULL DEFAULT '',
+  end_reason TEXT,
+  samples INTEGER NOT NULL DEFAULT 0,
+  lost_frames INTEGER NOT NULL DEFAULT 0,
+  recorder_pid INTEGER,                -- the recording console's, while it records (NULL once ended)
+  recorder_host TEXT,                  -- where that PID lives
+  heartbeat_at REAL                    -- Unix time, renewed every second while recording
+);
+INSERT INTO runs_v5(id,started_at,ended_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,
+                    decimation,reference,end_reason,samples,lost_frames)
+  SELECT id,started_at,ended_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,
+         decimation,reference,end_reason,samples,lost_frames FROM runs;
+DROP TABLE runs;
+ALTER TABLE runs_v5 RENAME TO runs;
+-- What deleted runs left behind would be inherited by nobody now, but it
+-- is dead weight: gone with the rebuild.
+DELETE FROM samples WHERE run_id NOT IN (SELECT id FROM runs);
+DELETE FROM params WHERE run_id NOT IN (SELECT id FROM runs);
+DELETE FROM gaps WHERE run_id NOT IN (SELECT id FROM runs);
+DELETE FROM link_events WHERE run_id IS NOT NULL AND run_id NOT IN (SELECT id FROM runs);
+DELETE FROM tune_evals WHERE run_id NOT IN (SELECT id FROM runs);
+CREATE TRIGGER runs_delete_rows AFTER DELETE ON runs BEGIN
+  DELETE FROM samples WHERE id BETWEEN old.id * 4294967296 AND old.id * 4294967296 + 4294967295;
+  DELETE FROM gaps WHERE run_id = old.id;
+  DELETE FROM link_events WHERE run_id = old.id;
+  DELETE FROM tune_evals WHERE run_id = old.id;
+END;
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "one migration per version");
 
@@ -119,17 +173,29 @@ void migrate(Db& db, int target) {
     throw DbError(fmt::format("database {} has schema v{}, newer than this console's v{}; upgrade nlsoft-console",
                               db.path(), have, kSchemaVersion),
                   SQLITE_ERROR);
-  for (int v = have; v < target && v < kSchemaVersion; ++v) {
+  if (have >= target) return;
+  // A table rebuilt by a migration is dropped and replaced: with foreign
+  // keys on, the drop would delete the rows that refer to it (the pragma is
+  // a no-op inside a transaction, so it goes around them).
+  db.exec("PRAGMA foreign_keys=OFF");
+  try {
+    // One transaction for every step: the file moves from its version to
+    // the target whole or not at all, and a page several steps rewrite (a
+    // new file's) goes into the WAL once, not once a step.
     db.exec("BEGIN IMMEDIATE");
     try {
-      db.exec(kMigrations[v]);
-      db.exec(fmt::format("PRAGMA user_version={}", v + 1).c_str());
+      for (int v = have; v < target && v < kSchemaVersion; ++v) db.exec(kMigrations[v]);
+      db.exec(fmt::format("PRAGMA user_version={}", std::min(target, kSchemaVersion)).c_str());
       db.exec("COMMIT");
     } catch (...) {
       sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);
       throw;
     }
+  } catch (...) {
+    sqlite3_exec(db.handle(), "PRAGMA foreign_keys=ON", nullptr, nullptr, nullptr);
+    throw;
   }
+  db.exec("PRAGMA foreign_keys=ON");
 }
 
 }  // namespace nlsoft::console

@@ -1,11 +1,11 @@
 #pragma once
 // The recording database's schema, versioned with PRAGMA user_version and
-// brought up to date by ordered migrations, each in its own transaction.
+// brought up to date by ordered migrations, all in one transaction.
 #include "app/record/sqlite.hpp"
 
 namespace nlsoft::console {
 
-constexpr int kSchemaVersion = 4;
+constexpr int kSchemaVersion = 5;
 
 // Applies every migration past the file's user_version. Throws DbError for a
 // file written by a newer console (it would be misread) or a failed step

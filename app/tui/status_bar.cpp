@@ -44,40 +44,45 @@ constexpr Key kKeys[] = {
     {"F1", "Help", "Help", 10},    {"F2", "Params", "Par", 2}, {"F3", "Ref", "Ref", 1},    {"F4", "Runs", "Runs", 0},
     {"F5", "Start", "Start", 9},   {"F6", "Stop", "Stop", 8},  {"F7", "Hold", "Hold", 4},  {"F8", "Neutral", "Neut", 3},
     {":", "Cmd", "Cmd", 5},        {"v", "View", "View", 6},   {"w", "Panel", "Panel", 7}, {"q", "Quit", "Quit", 11}};
-constexpr size_t kKeyCount = sizeof(kKeys) / sizeof(kKeys[0]);
+// While the simulator is down: first on the bar, and its label the last to go.
+constexpr Key kRestart = {"R", "Restart", "Restart", 12};
 
 }  // namespace
 
-std::vector<std::pair<std::string, std::string>> key_bar_items(int w) {
+std::vector<std::pair<std::string, std::string>> key_bar_items(int w, bool restart) {
+  std::vector<Key> keys;
+  if (restart) keys.push_back(kRestart);
+  keys.insert(keys.end(), std::begin(kKeys), std::end(kKeys));
+  const size_t kKeyCount = keys.size();
   std::vector<std::pair<std::string, std::string>> items;
   // htop's look when it fits: each label padded to 7 columns.
   int width = 0;
-  for (const Key& k : kKeys) width += int(std::string(k.key).size()) + 7;
+  for (const Key& k : keys) width += int(std::string(k.key).size()) + 7;
   if (width <= w) {
-    for (const Key& k : kKeys) items.emplace_back(k.key, fmt::format("{:<7}", k.label));
+    for (const Key& k : keys) items.emplace_back(k.key, fmt::format("{:<7}", k.label));
     return items;
   }
   // Narrower: every key stays; brief labels one space apart, and where even
   // those do not fit the least needed labels go, so the keys never do.
   std::vector<std::string> labels;
-  for (const Key& k : kKeys) labels.emplace_back(k.brief);
+  for (const Key& k : keys) labels.emplace_back(k.brief);
   auto total = [&] {
     int t = 0;
-    for (size_t i = 0; i < kKeyCount; ++i) t += int(std::string(kKeys[i].key).size() + labels[i].size()) + 1;
+    for (size_t i = 0; i < kKeyCount; ++i) t += int(std::string(keys[i].key).size() + labels[i].size()) + 1;
     return t - 1;
   };
-  for (int keep = 0; keep <= 11 && total() > w; ++keep)
+  for (int keep = 0; keep <= kRestart.keep && total() > w; ++keep)
     for (size_t i = 0; i < kKeyCount; ++i)
-      if (kKeys[i].keep == keep) labels[i].clear();
+      if (keys[i].keep == keep) labels[i].clear();
   for (size_t i = 0; i < kKeyCount; ++i)
-    items.emplace_back(kKeys[i].key, i + 1 < kKeyCount ? labels[i] + " " : labels[i]);
+    items.emplace_back(keys[i].key, i + 1 < kKeyCount ? labels[i] + " " : labels[i]);
   return items;
 }
 
-void draw_key_bar(const Screen& screen, int y, int w) {
+void draw_key_bar(const Screen& screen, int y, int w, bool restart) {
   fill_row(y, 0, w, 0);
   int x = 0;
-  for (const auto& [k, label] : key_bar_items(w)) {
+  for (const auto& [k, label] : key_bar_items(w, restart)) {
     if (x >= w) break;
     put(y, x, k, w - x, screen.attr(Role::KeyName));
     x += int(k.size());

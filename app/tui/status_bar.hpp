@@ -15,8 +15,9 @@ std::string status_text(const LinkStats& s, const std::string& port);
 void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port);
 // The function-key bar: every key on any width the console draws on (60
 // columns up), with its label where there is room.
-void draw_key_bar(const Screen& screen, int y, int w);
+// With `restart` (the simulator has ended), R Restart leads the bar.
+void draw_key_bar(const Screen& screen, int y, int w, bool restart = false);
 // (key, label) in bar order for a bar w columns wide.
-std::vector<std::pair<std::string, std::string>> key_bar_items(int w);
+std::vector<std::pair<std::string, std::string>> key_bar_items(int w, bool restart = false);
 
 }  // namespace nlsoft::console::tui

@@ -61,6 +61,8 @@ const char* const kHelp[] = {
     "  :         command line: the script commands (set, get, ref, run, expect, ...);",
     "            Tab completes commands, parameter names and options",
     "  q F10     quit (asks first while a run is active)",
+    "  R         with --sim, once the simulator has ended (killed, crashed): start it again and",
+    "            reconnect (the key bar shows R Restart meanwhile)",
     "",
     "Parameters: Up/Down select, Enter edit in place (Esc cancels), u undo,",
     "            S save to a file, L load one (shows the diff before sending),",
@@ -140,6 +142,8 @@ class App : public Ui {
   void draw_help(int rows, int cols);
   void start_run();
   void stop_run();
+  void check_simulator();
+  void restart_simulator();
   void command(const std::string& line);
   void plot_command(const std::string& args);
   void overlay_command(const std::string& args);
@@ -149,6 +153,7 @@ class App : public Ui {
   void load_older_samples();
   void merge_older_samples();
   void draw_plot_status(int y, int w);
+  void draw_status(int y, int w);
   double step_rate();  // control steps per second, measured when known
   void shutdown();
 
@@ -208,6 +213,10 @@ class App : public Ui {
   bool quit_confirmed_ = false;
   bool shut_down_ = false;
   uint32_t seen_resets_ = 0;  // console_.firmware_resets() the panel has caught up with
+  // The simulator has ended and not been restarted yet (R): set by the UI
+  // thread, cleared by the worker's restart.
+  std::atomic<bool> sim_down_{false};
+  std::string sim_gone_;  // how it ended (UI thread only)
 };
 
 // The shutdown order, on quit (q, F10, SIGTERM) and in ~App if loop() threw:
@@ -260,6 +269,52 @@ void App::stop_run() {
       message(e.what(), Role::Error);
     }
     runs_.reload();
+  });
+}
+
+// Polled by the UI thread: a simulator that ended under the console (kill
+// -9, a crash) is said once, with how; the run in progress is ended with
+// that reason and its gap, and R offers a new simulator.
+void App::check_simulator() {
+  if (sim_down_.load()) return;
+  const std::string gone = console_.simulator_exit();
+  if (gone.empty()) return;
+  sim_down_ = true;
+  sim_gone_ = gone;
+  message(gone + "; R restarts it", Role::Error);
+  worker_.post("ending the run", [this, gone] {
+    try {
+      if (const auto s = console_.end_run_simulator_gone())
+        message(fmt::format("{}: run {} ended and kept, {} samples and the gap since ({} lost); R restarts the simulator",
+                            gone, s->run_id, s->metrics.samples, s->metrics.lost_frames),
+                Role::Error);
+    } catch (const std::exception& e) {
+      message(e.what(), Role::Error);
+    }
+    runs_.reload();
+  });
+}
+
+// The new simulator is started here, on the UI thread, which lives as long
+// as the console: a child forked on the worker would be ended with it
+// (PR_SET_PDEATHSIG follows the thread). The reconnect is the worker's.
+void App::restart_simulator() {
+  std::string port;
+  try {
+    port = console_.respawn_simulator();
+  } catch (const std::exception& e) {
+    message(std::string("the simulator did not restart: ") + e.what() + "; R tries again", Role::Error);
+    return;
+  }
+  worker_.post("reconnecting to the simulator", [this, port] {
+    try {
+      console_.reconnect_simulator(port);
+      sim_down_ = false;
+      message(fmt::format("simulator restarted on {} and connected: F5 starts a run", console_.session().port()),
+              Role::Ok);
+    } catch (const std::exception& e) {
+      message(std::string("the simulator did not restart: ") + e.what() + "; R tries again", Role::Error);
+    }
   });
 }
 
@@ -484,6 +539,10 @@ bool App::handle(int ch) {
     else refs_.key(ch);
     return true;
   }
+  if (ch == 'R' && sim_down_.load()) {  // before the panels' own R (reread, rerun)
+    restart_simulator();
+    return true;
+  }
   switch (ch) {
     case 'q':
     case KEY_F(10):
@@ -699,6 +758,19 @@ void App::draw_help(int rows, int cols) {
         w - 2, screen_.attr(Role::Selected) | A_BOLD);
 }
 
+// The link's statistics, led by how the simulator ended while it is down:
+// the link is not merely down, and R is the way back.
+void App::draw_status(int y, int w) {
+  const LinkStats st = console_.session().stats();
+  if (!sim_down_.load()) {
+    draw_status_bar(screen_, y, w, st, console_.session().port());
+    return;
+  }
+  fill_row(y, 0, w, screen_.attr(Role::Error));
+  put(y, 0, " " + sim_gone_ + " | R restarts it | " + status_text(st, console_.session().port()), w,
+      screen_.attr(Role::Error));
+}
+
 void App::draw_plot_status(int y, int w) {
   std::string text = fmt::format(" {} | window {:g} s | ", plot_signal_name(signal_), window_s_);
   if (paused_ && end_step_ >= 0 && cursor_step_ >= 0)
@@ -749,8 +821,8 @@ void App::draw() {
   // shows beside or through it (and no time goes into plots nobody sees).
   if (help_) {
     draw_message_line(rows - 3, cols);
-    draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());
-    draw_key_bar(screen_, rows - 1, cols);
+    draw_status(rows - 2, cols);
+    draw_key_bar(screen_, rows - 1, cols, sim_down_.load());
     draw_help(rows, cols);
     std::lock_guard<std::mutex> lock(ui_mu_);
     if (confirming_) draw_confirm(rows, cols);  // it takes the keys: it shows
@@ -781,8 +853,8 @@ void App::draw() {
     }
   }
   draw_message_line(rows - 3, cols);
-  draw_status_bar(screen_, rows - 2, cols, console_.session().stats(), console_.session().port());
-  draw_key_bar(screen_, rows - 1, cols);
+  draw_status(rows - 2, cols);
+  draw_key_bar(screen_, rows - 1, cols, sim_down_.load());
   {
     std::lock_guard<std::mutex> lock(ui_mu_);
     if (confirming_) draw_confirm(rows, cols);
@@ -810,6 +882,7 @@ int App::loop() {
       seen_resets_ = resets;
       params_.reload_after_reset();
     }
+    check_simulator();
     if (LiveConsole::interrupted()) break;  // SIGTERM, or Ctrl-C outside raw mode
     // Steady redraw whatever the telemetry or key rate: at most every 40 ms.
     if (Clock::now() - last_draw >= std::chrono::milliseconds(40)) {

@@ -1,6 +1,7 @@
 // End to end over a pty: nlsoft-console --sim runs nlsoft-firmware-sim and
 // executes scripts headless; the recording is then checked in the database.
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -17,6 +18,8 @@
 #include "app/link/sim_launcher.hpp"
 #include "app/live/reference_table.hpp"
 #include "app/record/run_store.hpp"
+#include "app/record/sqlite.hpp"
+#include "process_tree.hpp"
 #include "run_process.hpp"
 #include "shared/plant_hasel.hpp"
 #include "temp_dir.hpp"
@@ -225,6 +228,111 @@ TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnce) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("stopped at once: recording failed"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("samples received"), std::string::npos) << r.output;
+}
+
+// A colleague's sqlite3 shell holds the database in BEGIN EXCLUSIVE for 4 s
+// of an 8 s run, longer than --db-busy 1: the samples that could not be
+// saved are counted lost, the run has the gap and why, it ends "completed"
+// once the lock goes, and the console says how many samples it saved.
+TEST_F(ConsoleE2E, ADatabaseLockedPastTheBusyWindowIsAGapWithItsReason) {
+  script_ = dir_.file("locked.nls");
+  std::ofstream(script_) << "run 8s label=locked\n";
+  const std::string out = dir_.file("console.out");
+  const std::string command = "exec " + fmt_command("hasel", "--db-busy 1") + " >" + shell_quote(out) + " 2>&1";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool recording = false;
+  for (int i = 0; i < 600 && !recording; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      const auto runs = RunStore(db()).list();
+      recording = !runs.empty() && runs[0].samples > 0;
+    } catch (const std::exception&) {
+    }
+  }
+  if (!recording) ::kill(pid, SIGKILL);
+  ASSERT_TRUE(recording) << "the run never started";
+  {
+    Db shell(db(), false);
+    shell.exec("BEGIN EXCLUSIVE");
+    std::this_thread::sleep_for(std::chrono::seconds(4));
+    shell.exec("ROLLBACK");
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 0) << text;
+  EXPECT_NE(text.find("has been locked by another process for over 1 s (--db-busy)"), std::string::npos) << text;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].end_reason, "completed");
+  const auto gaps = store.gaps(runs[0].id);
+  uint64_t locked_lost = 0;
+  for (const GapRecord& g : gaps)
+    if (g.reason.rfind("database locked by another process for ", 0) == 0) {
+      locked_lost += g.lost_frames;
+      EXPECT_GT(g.duration_s, 0.5) << g.reason;
+    }
+  ASSERT_GT(locked_lost, 0u) << "no gap for the lock";
+  EXPECT_GE(runs[0].lost_frames, locked_lost);
+  EXPECT_EQ(store.series(runs[0].id).rows(), runs[0].samples);
+  const std::string saved = fmt::format("run 1: {} of {} samples saved; {} lost: database locked by another process for ",
+                                        runs[0].samples, runs[0].samples + locked_lost, locked_lost);
+  EXPECT_NE(text.find(saved), std::string::npos) << saved << "\n" << text;
+  const auto show = run_process(std::string(NLSOFT_CONSOLE_BIN) + " runs show 1 --db " + shell_quote(db()));
+  EXPECT_NE(show.output.find(fmt::format("{} frames lost", locked_lost)), std::string::npos) << show.output;
+  EXPECT_NE(show.output.find("the samples lost span"), std::string::npos) << show.output;
+}
+
+// The simulator a headless console started, killed with -9 mid-run: the
+// run ends early with how it ended, not after a silence with a guess, and
+// the script fails as for any early end.
+TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
+  script_ = dir_.file("killed.nls");
+  std::ofstream(script_) << "run 60s label=killed\n";
+  const std::string out = dir_.file("console.out");
+  const std::string command = "exec " + fmt_command("hasel", "") + " >" + shell_quote(out) + " 2>&1";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  bool recording = false;
+  for (int i = 0; i < 600 && !recording; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      const auto runs = RunStore(db()).list();
+      recording = !runs.empty() && runs[0].samples > 0;
+    } catch (const std::exception&) {
+    }
+  }
+  const pid_t sim = test::descendant_named(pid, "nlsoft-firmware-sim");
+  if (!recording || sim <= 0) ::kill(pid, SIGKILL);
+  ASSERT_TRUE(recording) << "the run never started";
+  ASSERT_GT(sim, 0) << "no simulator under the console";
+  ASSERT_EQ(run_process("kill -9 " + std::to_string(sim)).code, 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << text;
+  EXPECT_NE(text.find("ended early: simulator killed by signal 9 (SIGKILL)"), std::string::npos) << text;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].end_reason, "ended early: simulator killed by signal 9 (SIGKILL)");
+  const auto gaps = store.gaps(runs[0].id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].reason, "run ended early: simulator killed by signal 9 (SIGKILL)");
 }
 
 // The same on the HASEL rig at its own rate, a minute's run under a smaller

@@ -1,6 +1,7 @@
 // The recording database: schema and migrations, batching, gaps, clear
 // errors for locked/corrupt/newer files, and crash safety (a killed writer
 // keeps every committed batch and the file passes integrity_check).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <thread>
 
+#include "app/cli_error.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"
@@ -286,6 +288,50 @@ TEST(Recorder, AWriteLockHeldElsewhereDelaysTheRecordingAndLosesNothing) {
   EXPECT_EQ(scalar(db, "SELECT samples FROM runs WHERE id=1"), 500);
 }
 
+// A lock held past the busy window: what waited is given up and counted
+// lost, so is every sample while the lock lasts (nothing more is held in
+// memory), and once it goes the run has one gap saying how many and for how
+// long the database was locked, its totals count them lost, and recording
+// goes on.
+TEST(Recorder, ALockHeldPastTheWindowCountsTheSamplesLostAndRecordsTheGap) {
+  TempDir dir;
+  const std::string path = dir.file("locked.db");
+  Recorder::Options o;
+  o.batch_delay = std::chrono::milliseconds(5);
+  o.busy_limit = std::chrono::milliseconds(300);
+  Recorder r(path, o);
+  const int64_t id = r.begin_run(run_info("locked"));
+  for (uint64_t k = 0; k < 100; ++k) ASSERT_TRUE(r.add_sample(id, make_sample(k)));
+  r.flush();
+  Db other(path, false);
+  other.exec("BEGIN EXCLUSIVE");
+  uint64_t k = 100;
+  while (!r.locked_out() && k < 100000) {
+    r.add_sample(id, make_sample(k++));
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(r.locked_out()) << "the lock never outlasted the window";
+  for (int i = 0; i < 50; ++i) EXPECT_FALSE(r.add_sample(id, make_sample(k++))) << "a sample was held while locked out";
+  other.exec("ROLLBACK");
+  while (r.locked_out()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 10; ++i) ASSERT_TRUE(r.add_sample(id, make_sample(k++))) << "recording did not go on";
+  r.end_run(id, "completed", k, 0);
+  EXPECT_EQ(r.error(), "");
+  const uint64_t lost = r.loss(id).samples;
+  EXPECT_EQ(lost, k - 110);
+  EXPECT_NE(r.loss(id).reason.find("database locked by another process for "), std::string::npos);
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples"), 110);
+  EXPECT_EQ(scalar(db, "SELECT samples FROM runs WHERE id=1"), 110);
+  EXPECT_EQ(scalar(db, "SELECT lost_frames FROM runs WHERE id=1"), int64_t(lost));
+  const auto gaps = RunStore(path).gaps(id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].after_k, 99u);
+  EXPECT_EQ(gaps[0].lost_frames, lost);
+  EXPECT_GT(gaps[0].duration_s, 0);
+  EXPECT_EQ(gaps[0].reason.rfind("database locked by another process for ", 0), 0u) << gaps[0].reason;
+}
+
 // The reading commands open the database read-only (a read-only medium,
 // another user's file) and count what a crashed run left in the list too.
 TEST(RunStore, ReadsReadOnlyAndListsACrashedRunsSamples) {
@@ -316,7 +362,19 @@ TEST(Recorder, ARunDeletedWhileBeingRecordedStopsTheRecordingAndLeavesNoOrphans)
   const int64_t id = rec.begin_run(run_info());
   for (uint64_t k = 0; k < 100; ++k) ASSERT_TRUE(rec.add_sample(id, make_sample(k)));
   rec.flush();
-  delete_run(db, id, true);
+  // `runs delete` refuses a run being recorded, --force or not...
+  std::string refused;
+  try {
+    delete_run(db, id, true);
+  } catch (const CliError& e) {
+    refused = e.what();
+  }
+  EXPECT_NE(refused.find("run 1 is being recorded by"), std::string::npos) << refused;
+  // ...a sqlite3 shell does not ask.
+  {
+    Db shell(db, false);
+    shell.exec("DELETE FROM runs WHERE id=1");
+  }
   for (uint64_t k = 100; k < 200; ++k) rec.add_sample(id, make_sample(k));
   std::string error;
   try {
@@ -330,6 +388,79 @@ TEST(Recorder, ARunDeletedWhileBeingRecordedStopsTheRecordingAndLeavesNoOrphans)
   Stmt c = check.prepare("SELECT count(*) FROM samples");
   ASSERT_TRUE(c.step());
   EXPECT_EQ(c.int64(0), 0) << "orphan samples were written";
+}
+
+// A run deleted behind the console's back (a sqlite3 shell) takes its
+// samples with it, and its id is never handed out again: the next run starts
+// with only its own samples.
+TEST(Recorder, RunIdsAreNeverReusedAndADeletedRunsSamplesGoWithIt) {
+  TempDir dir;
+  const std::string path = dir.file("r.db");
+  Recorder rec(path);
+  for (int run = 1; run <= 2; ++run) {
+    const int64_t id = rec.begin_run(run_info());
+    for (uint64_t k = 0; k < 50; ++k) ASSERT_TRUE(rec.add_sample(id, make_sample(k)));
+    rec.end_run(id, "completed", 50, 0);
+  }
+  {
+    Db shell(path, false);
+    shell.exec("DELETE FROM runs WHERE id=2");
+    EXPECT_EQ(scalar(shell, "SELECT count(*) FROM samples WHERE run_id=2"), 0);
+  }
+  const int64_t next = rec.begin_run(run_info());
+  EXPECT_EQ(next, 3);
+  ASSERT_TRUE(rec.add_sample(next, make_sample(0)));
+  rec.end_run(next, "completed", 1, 0);
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 1);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples"), 51);
+}
+
+// A database of the schema before never-reused ids (v4): migrated in place,
+// runs, ids, samples, parameters and gaps kept; rows a deleted run left
+// behind are cleared so the next run cannot inherit them.
+TEST(Recorder, MigratesAVersion4DatabaseToNeverReusedIdsKeepingItsData) {
+  TempDir dir;
+  const std::string path = dir.file("v4.db");
+  {
+    Db db(path, true);
+    migrate(db, 4);
+    ASSERT_EQ(schema_version(db), 4);
+    for (int id : {1, 2})
+      db.exec(fmt::format("INSERT INTO runs(id,started_at,ended_at,platform,firmware,model_hash,param_hash,"
+                          "loop_rate_hz,n,m,label,samples) VALUES({0},'2024-01-01T00:00:00Z','2024-01-01T00:01:00Z',"
+                          "'msd','old',0,0,1000,1,1,'kept{0}',2)",
+                          id)
+                  .c_str());
+    // samples of runs 1 and 2, and of a run 3 deleted by hand long ago
+    for (int run : {1, 2, 3})
+      for (int k : {0, 1})
+        db.exec(fmt::format("INSERT INTO samples(id,step) VALUES({},{})", sample_key(run, uint64_t(k)), k).c_str());
+    db.exec("INSERT INTO params(run_id,t,at_start,name,value) VALUES(1,0,1,'Q','1 1 1')");
+    db.exec("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason) VALUES(2,'x',0,5,'link down')");
+  }
+  Recorder rec(path);
+  {
+    Db db(path, false);
+    EXPECT_EQ(schema_version(db), kSchemaVersion);
+    Stmt sql = db.prepare("SELECT sql FROM sqlite_master WHERE name='runs'");
+    ASSERT_TRUE(sql.step());
+    EXPECT_NE(sql.text(0).find("AUTOINCREMENT"), std::string::npos) << sql.text(0);
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id IN (1,2)"), 4);
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 0) << "orphans kept";
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM params WHERE run_id=1"), 1) << "the rebuild cascaded to params";
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM gaps WHERE run_id=2"), 1);
+  }
+  const auto runs = RunStore(path).list();
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_EQ(runs[0].label, "kept1");
+  EXPECT_EQ(runs[1].id, 2);
+  EXPECT_FALSE(runs[1].ended_at.empty());
+  const int64_t next = rec.begin_run(run_info());
+  EXPECT_EQ(next, 3);
+  rec.end_run(next, "completed", 0, 0);
+  Db db(path, false);
+  EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 0);
 }
 
 }  // namespace

@@ -2,10 +2,15 @@
 // --json), `runs label`, `runs delete`, a reference sent mid-run recorded,
 // and the CLI's contract (--version; usage errors exit 2).
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
 #include <fstream>
 #include <sstream>
+#include <thread>
 #include <nlohmann/json.hpp>
 
 #include "app/record/recorder.hpp"
@@ -127,6 +132,57 @@ TEST_F(RunsCommands, AnUnfinishedRunIsDeletedOnlyWithForce) {
   r = runs("delete --force " + std::to_string(id));
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(RunStore(db()).list().empty());
+}
+
+// `runs delete 2 --force` while another console records run 2: refused,
+// naming that console, and nothing deleted (run 1 asked for with it stays
+// too). Once that console is killed (-9: it ends nothing), its mark is
+// stale: the refusal says so without --force, and --force deletes the run
+// saying whose it was.
+TEST_F(RunsCommands, ARunBeingRecordedIsNotDeletedUntilItsRecorderIsGone) {
+  const std::string script = dir_.file("long.nls");
+  std::ofstream(script) << "run 1s label=short\nrun 600s label=long\n";
+  const std::string command = "exec " + std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db()) +
+                              " --script " + shell_quote(script) + " >/dev/null 2>&1";
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Until run 2 has samples; the limit only keeps a broken console from
+  // hanging the suite.
+  bool recording = false;
+  for (int i = 0; i < 600 && !recording; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    try {
+      const auto list = RunStore(db()).list();
+      recording = list.size() == 2 && list[1].samples > 0;
+    } catch (const std::exception&) {
+    }
+  }
+  if (!recording) ::kill(pid, SIGKILL);
+  ASSERT_TRUE(recording) << "run 2 never started";
+  auto r = runs("delete 1 2 --force");
+  const std::string pid_text = std::to_string(pid);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 2 is being recorded by nlsoft-console (PID " + pid_text + "); stop that run first"))
+      << r.output;
+  EXPECT_EQ(RunStore(db()).list().size(), 2u) << "something was deleted";
+  ASSERT_EQ(::kill(pid, SIGKILL), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  r = runs("delete 2");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "PID " + pid_text + " is no longer running")) << r.output;
+  EXPECT_EQ(RunStore(db()).list().size(), 2u) << "deleted without --force";
+  r = runs("delete 2 --force");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 2: its recorder, nlsoft-console (PID " + pid_text + "), left it unfinished"))
+      << r.output;
+  const auto left = RunStore(db()).list();
+  ASSERT_EQ(left.size(), 1u);
+  EXPECT_EQ(left[0].label, "short");
 }
 
 // A firmware that died 3 s into a 30 s run at 130 Hz: the steps the run did

@@ -15,12 +15,14 @@
 #include "app/link/sim_launcher.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/tune_log.hpp"
+#include "process_tree.hpp"
 #include "run_process.hpp"
 #include "temp_dir.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using test::descendant_named;
 using test::run_process;
 using test::shell_quote;
 
@@ -29,7 +31,9 @@ bool have_tmux() { return run_process("command -v tmux").code == 0; }
 class Tmux {
  public:
   Tmux(const std::string& command, const std::string& env, int cols = 120, int rows = 40)
-      : socket_("nlsoft-tui-test-" + std::to_string(::getpid())) {
+      // A server of its own per session: the last test's, just told to
+      // exit, may still hold a shared socket ("server exited unexpectedly").
+      : socket_("nlsoft-tui-test-" + std::to_string(::getpid()) + "-" + std::to_string(++sessions_)) {
     const auto r = run_process(tmux() + " new-session -d -s ui -x " + std::to_string(cols) + " -y " +
                                std::to_string(rows) + " " + shell_quote("env " + env + " " + command));
     started_ = r.code == 0;
@@ -43,7 +47,12 @@ class Tmux {
   // With the attributes as escape sequences (reverse video: ESC [7m).
   std::string screen_with_attributes() const { return run_process(tmux() + " capture-pane -e -p -t ui").output; }
   void keys(const std::string& keys) const { run_process(tmux() + " send-keys -t ui " + keys); }
+  void resize(int cols, int rows) const {
+    run_process(tmux() + " resize-window -t ui -x " + std::to_string(cols) + " -y " + std::to_string(rows));
+  }
   bool alive() const { return run_process(tmux() + " has-session -t ui").code == 0; }
+  // The process the pane runs (what `tmux display -p '#{pane_pid}'` says).
+  pid_t pane_pid() const { return pid_t(std::atoi(run_process(tmux() + " display -p -t ui '#{pane_pid}'").output.c_str())); }
 
   // Polls the screen until pred holds (the UI redraws at 25 Hz); returns the
   // last screen either way so a failure shows what was drawn.
@@ -61,6 +70,7 @@ class Tmux {
 
  private:
   std::string tmux() const { return "tmux -L " + socket_; }
+  static inline int sessions_ = 0;
   std::string socket_;
   bool started_ = false;
   std::string error_;
@@ -157,9 +167,9 @@ TEST(ConsoleTui, AsciiFallbackAndResize) {
   t.keys("F5");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING") && contains(x, "y0  . ref ") && contains(x, " + hat ") && contains(x, " * true "); }, s)) << s;
   EXPECT_FALSE(has_braille(s)) << s;
-  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 50 -y 12");
+  t.resize(50, 12);
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "terminal too small"); }, s)) << s;
-  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 100 -y 30");
+  t.resize(100, 30);
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "F1Help"); }, s)) << s;
   t.keys("q");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
@@ -215,6 +225,62 @@ TEST(ConsoleTui, QuitDuringATimedRunExitsCleanlyAndKeepsTheRun) {
   ASSERT_EQ(runs.size(), 1u);
   EXPECT_FALSE(runs[0].ended_at.empty()) << "the run is closed, not left unfinished";
   EXPECT_GT(runs[0].samples, 0u);
+}
+
+// The simulator killed with -9 under the TUI mid-run: the console says how
+// it ended instead of staying RUNNING / LINK DOWN, ends the run with that
+// reason and the gap since its last sample (in the database too), shows R
+// Restart on the key bar, and R starts a new simulator it reconnects to.
+TEST(ConsoleTui, AKilledSimulatorIsNamedItsRunEndedAndRRestartsIt) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db");
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + db,
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  EXPECT_FALSE(contains(s, "RRestart")) << s;
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1 RUNNING") && has_braille(x); }, s)) << s;
+  const pid_t sim = descendant_named(t.pane_pid(), "nlsoft-firmware-sim");
+  ASSERT_GT(sim, 0) << "no simulator under the console";
+  ASSERT_EQ(run_process("kill -9 " + std::to_string(sim)).code, 0);
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "simulator killed by signal 9 (SIGKILL)") && contains(x, "no run") && contains(x, "RRestart");
+  }, s)) << s;
+  {
+    RunStore store(db);
+    const auto runs = store.list();
+    ASSERT_EQ(runs.size(), 1u);
+    EXPECT_FALSE(runs[0].ended_at.empty()) << "the run was left unfinished";
+    EXPECT_EQ(runs[0].end_reason, "simulator killed by signal 9 (SIGKILL)");
+    EXPECT_GT(runs[0].samples, 0u);
+    const auto gaps = store.gaps(runs[0].id);
+    ASSERT_EQ(gaps.size(), 1u);
+    EXPECT_EQ(gaps[0].reason, "simulator killed by signal 9 (SIGKILL)");
+    EXPECT_GT(gaps[0].duration_s, 0.0);
+    EXPECT_EQ(gaps[0].after_k + 1, runs[0].samples) << "the gap follows the last sample";
+  }
+
+  t.keys("R");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) {
+    return contains(x, "simulator restarted on") && contains(x, "link up") && !contains(x, "RRestart");
+  }, s)) << s;
+  const pid_t again = descendant_named(t.pane_pid(), "nlsoft-firmware-sim");
+  EXPECT_GT(again, 0);
+  EXPECT_NE(again, sim);
+  t.keys("F5");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 2 RUNNING") && has_braille(x); }, s)) << s;
+  t.keys("F6");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 2 stopped:"); }, s)) << s;
+  t.keys("q");
+  for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(t.alive());
+  RunStore store(db);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 2u);
+  EXPECT_GT(runs[1].samples, 0u) << "the restarted simulator's run recorded nothing";
 }
 
 // A board that reset behind a reconnect: the panel re-reads the values,
@@ -433,7 +499,7 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --no-record",
          "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
   ASSERT_TRUE(t.started()) << t.error();
-  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 40");
+  t.resize(80, 40);
   std::string s;
   ASSERT_TRUE(t.wait_until_connected(s)) << s;
   t.keys("?");
@@ -458,7 +524,7 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
                          s))
       << s;
   // 24 rows: the help does not fit; it says so and scrolls to its last line.
-  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 24");
+  t.resize(80, 24);
   t.keys("?");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "nlsoft-console keys") && contains(x, "-- lines 1-"); },
                          s))
@@ -774,7 +840,7 @@ TEST(ConsoleTui, TheHelpAndTheQuitDialogShowNoPlotThroughThem) {
   t.keys("Escape");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && has_braille(x); }, s))
       << s;
-  run_process("tmux -L nlsoft-tui-test-" + std::to_string(::getpid()) + " resize-window -t ui -x 80 -y 24");
+  t.resize(80, 24);
   t.keys("q");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
