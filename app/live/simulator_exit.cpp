@@ -51,7 +51,7 @@ std::string LiveConsole::respawn_simulator() {
   if (simulator_exit().empty()) throw CliError("the simulator is running; nothing to restart");
   if (sim_->pid() > 0) throw CliError("a new simulator is already starting");
   return options_.sim_in_qemu ? sim_->start_qemu(options_.sim_platform, options_.qemu_board)
-                              : sim_->start(options_.sim_platform, options_.sim_args);
+                              : sim_->start(options_.sim_rig, options_.sim_args);
 }
 
 void LiveConsole::reconnect_simulator(const std::string& port) {
