@@ -1,10 +1,12 @@
 // The generic plant (shared/plant_generic.hpp): limits and guarantees, seeds,
-// the static map at steady state, hysteresis widths, lags, sensors.
+// the static map at steady state, hysteresis widths, lags, sensors, and
+// SimPlant holding it.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "shared/plant_generic.hpp"
+#include "shared/sim_plant.hpp"
 
 namespace nlsoft {
 namespace {
@@ -283,6 +285,59 @@ TEST(GenericPlant, RefusesASpecItCannotRunAndKeepsThePreviousOne) {
   s = good;
   s.input[2].knee = 0.0f;
   refused(s, "zero knee");
+}
+
+constexpr GenericPlantSpec kEmbedded = [] {
+  GenericPlantSpec s{};
+  s.m = 2, s.n = 1, s.w = 1;
+  s.dt = 0.01f;
+  s.input[0] = {0.0f, 1.0f, 0.0f, 1.0f, GenericShape::Tanh, 0.5f, 1.0f, 0.02f, 0.05f};
+  s.input[1] = {0.0f, 1.0f, 0.0f, 1.0f, GenericShape::Linear, 1.0f, 1.0f, 0.0f, 0.05f};
+  s.output[0] = {-2.0f, 2.0f, 0.0f, 0.0f};
+  s.B[0][0] = 1.0f;
+  s.B[0][1] = -1.0f;
+  s.C[0][2] = 1.0f;
+  return s;
+}();
+
+TEST(SimPlant, HoldsAGenericPlantBesideTheNamedOnes) {
+  SimPlant s(PlatformId::Hasel, 3);
+  EXPECT_FALSE(s.is_generic());
+  const GenericPlantSpec spec = three_by_two();
+  ASSERT_TRUE(s.select(spec, 21));
+  EXPECT_TRUE(s.is_generic());
+  EXPECT_EQ(s.m(), 3);
+  EXPECT_EQ(s.n(), 2);
+  EXPECT_EQ(s.w(), 5);
+  EXPECT_FLOAT_EQ(s.dt(), 1.0f / 80.0f);
+  GenericPlant direct(spec, 21);
+  Rng r(2);
+  for (int k = 0; k < 300; ++k) {
+    float u[3];
+    for (int i = 0; i < 3; ++i) u[i] = r.uniform(spec.input[i].min, spec.input[i].max);
+    s.step(u, s.dt());
+    direct.step(u, spec.dt);
+    float ys[kMaxPlantN], yd[2], ls[kMaxPlantW], ld[5];
+    s.output(ys);
+    direct.output(yd);
+    s.sensors(ls);
+    direct.sensors(ld);
+    for (int j = 0; j < 2; ++j) ASSERT_EQ(ys[j], yd[j]);
+    for (int j = 0; j < 5; ++j) ASSERT_EQ(ls[j], ld[j]);
+  }
+  // A refused spec changes nothing; a named plant selects back.
+  GenericPlantSpec bad = spec;
+  bad.input[0].tau = -1.0f;
+  EXPECT_FALSE(s.select(bad));
+  EXPECT_EQ(s.m(), 3);
+  s.select(PlatformId::Tendon);
+  EXPECT_FALSE(s.is_generic());
+  EXPECT_EQ(s.m(), 2);
+  EXPECT_EQ(s.w(), 11);
+  // A constexpr spec, as a firmware image embeds it.
+  static_assert(kEmbedded.m == 2 && kEmbedded.n == 1, "constexpr spec");
+  ASSERT_TRUE(s.select(kEmbedded));
+  EXPECT_EQ(s.n(), 1);
 }
 
 }  // namespace
