@@ -12,6 +12,7 @@
 #include "app/model/commands.hpp"
 #include "app/record/runs_command.hpp"
 #include "app/rig/rig_command.hpp"
+#include "app/rig/rig_pipeline.hpp"
 #include "app/simulate/simulate_command.hpp"
 #include "app/tune/tune_command.hpp"
 #include "app/link/protocol_version.hpp"
@@ -36,8 +37,9 @@ int main(int argc, char** argv) {
   add_conformance_command(app);
   add_flash_command(app);
   add_simulate_command(app);
-  add_dataset_command(app);
-  add_train_command(app);
+  // dataset and train take any rig file (or a shipped rig's name).
+  add_dataset_command(app, rig_target_arg);
+  add_train_command(app, rig_target_arg);
   add_model_command(app);
   add_rig_command(app);
   // Last: CLI11 copies the main app's footer into every subcommand made

@@ -2,7 +2,8 @@
 // Compile-time capacities. Every array in the controller is sized from one of
 // these structs, so a build states its worst case once and the linker map shows
 // the RAM it costs. A firmware image picks the smallest struct that fits its
-// platform; the console uses HostCapacity, which fits every preset.
+// platform; the console uses HostCapacity, which fits every preset and every
+// rig a rig file may describe (app/rig/rig.hpp RigCapacity: n <= 6, w <= 32).
 //
 // A capacity struct provides:
 //   m, n, w      max actuators, outputs, sensor channels        (paper: m, n, w)
@@ -36,7 +37,7 @@ using HaselAuthorsShape = NetShape<6, 3, 18, 2, DenseLayer<10>, DenseLayer<5>, D
 using TendonShape = NetShape<2, 3, 11, 2, GruLayer<5>, DenseLayer<5>, DenseLayer<3>>;
 
 struct HostCapacity {
-  static constexpr int m = 8, n = 3, w = 24, nd = 4;
+  static constexpr int m = 8, n = 6, w = 32, nd = 4;
   static constexpr int N = 128, Nc = 4;
   static constexpr int width = 48, layers = 8, weights = 8192;
   using Shapes = ShapeList<MsdShape, HaselShape, HaselAuthorsShape, TendonShape>;

@@ -5,7 +5,9 @@
 // here so the whole loop can run without a rig: the host simulation, the
 // posix firmware port and the tests.
 //
-// Every plant class P has the same shape (SimPlant relies on it):
+// Every plant class P has the same shape (SimPlant relies on it; the
+// generic plant, shared/plant_generic.hpp, has it with run-time m(), n(),
+// w(), dt() from its spec):
 //   static constexpr int m, n, w;       inputs, outputs, sensor channels
 //   static constexpr float kDt;         the platform's control period, s
 //   void reset(uint32_t seed);          initial state; seed drives the noise
@@ -31,9 +33,11 @@
 
 namespace nlsoft {
 
+// The largest plant SimPlant holds: a rig file's capacity (the generic
+// plant, shared/plant_generic.hpp); the hand-written plants are smaller.
 constexpr int kMaxPlantM = 8;
-constexpr int kMaxPlantN = 3;
-constexpr int kMaxPlantW = 24;
+constexpr int kMaxPlantN = 6;
+constexpr int kMaxPlantW = 32;
 
 // Longest period one step() call will integrate; guards against a stalled
 // host loop asking for a huge catch-up step.

@@ -1,13 +1,16 @@
-// One simulated plant chosen at run time by PlatformId, for the host
-// simulation and the posix firmware port. A tagged holder instead of virtual
-// functions: all three plants are small (< 200 bytes together), so it keeps
-// one of each and forwards to the selected one; no heap, no vtable.
+// One simulated plant chosen at run time, by PlatformId (the three
+// hand-written plants) or by a GenericPlantSpec (any rig described as data),
+// for the host simulation and the posix firmware port. A tagged holder
+// instead of virtual functions: it keeps one of each (the hand-written ones
+// < 200 bytes together, the generic one its ~2.5 kB spec) and forwards to
+// the selected one; no heap, no vtable.
 // Dimensions never exceed kMaxPlantM, kMaxPlantN, kMaxPlantW (shared/plant.hpp).
 #pragma once
 
 #include <cstdint>
 
 #include "shared/plant.hpp"
+#include "shared/plant_generic.hpp"
 #include "shared/plant_hasel.hpp"
 #include "shared/plant_msd.hpp"
 #include "shared/plant_tendon.hpp"
@@ -24,6 +27,8 @@ static_assert(MsdPlant::n <= kMaxPlantN && HaselPlant::n <= kMaxPlantN &&
 static_assert(MsdPlant::w <= kMaxPlantW && HaselPlant::w <= kMaxPlantW &&
                   TendonPlant::w <= kMaxPlantW,
               "kMaxPlantW too small");
+static_assert(kGenericMaxM <= kMaxPlantM && kGenericMaxN <= kMaxPlantN && kGenericMaxW <= kMaxPlantW,
+              "SimPlant's capacity must hold every generic plant");
 
 class SimPlant {
  public:
@@ -32,17 +37,29 @@ class SimPlant {
   // Switches platform and resets it; an unknown id selects msd.
   void select(PlatformId id, uint32_t seed = 0) {
     id_ = (id == PlatformId::Hasel || id == PlatformId::Tendon) ? id : PlatformId::Msd;
+    generic_selected_ = false;
     reset(seed);
   }
 
-  PlatformId id() const { return id_; }
+  // Switches to the generic plant `spec` describes and resets it; false (and
+  // nothing changed) when generic_spec_problem() refuses the spec.
+  bool select(const GenericPlantSpec& spec, uint32_t seed = 0) {
+    if (!generic_.configure(spec, seed)) return false;
+    generic_selected_ = true;
+    return true;
+  }
 
-  int m() const { return dispatch_dim(MsdPlant::m, HaselPlant::m, TendonPlant::m); }
-  int n() const { return dispatch_dim(MsdPlant::n, HaselPlant::n, TendonPlant::n); }
-  int w() const { return dispatch_dim(MsdPlant::w, HaselPlant::w, TendonPlant::w); }
+  // The hand-written plant selected; meaningless while is_generic().
+  PlatformId id() const { return id_; }
+  bool is_generic() const { return generic_selected_; }
+
+  int m() const { return generic_selected_ ? generic_.m() : dispatch_dim(MsdPlant::m, HaselPlant::m, TendonPlant::m); }
+  int n() const { return generic_selected_ ? generic_.n() : dispatch_dim(MsdPlant::n, HaselPlant::n, TendonPlant::n); }
+  int w() const { return generic_selected_ ? generic_.w() : dispatch_dim(MsdPlant::w, HaselPlant::w, TendonPlant::w); }
 
   // The platform's own control period, s.
   float dt() const {
+    if (generic_selected_) return generic_.dt();
     switch (id_) {
       case PlatformId::Hasel: return HaselPlant::kDt;
       case PlatformId::Tendon: return TendonPlant::kDt;
@@ -51,6 +68,7 @@ class SimPlant {
   }
 
   void reset(uint32_t seed) {
+    if (generic_selected_) return generic_.reset(seed);
     switch (id_) {
       case PlatformId::Hasel: hasel_.reset(seed); break;
       case PlatformId::Tendon: tendon_.reset(seed); break;
@@ -59,6 +77,7 @@ class SimPlant {
   }
 
   void step(const float* u, float dt) {
+    if (generic_selected_) return generic_.step(u, dt);
     switch (id_) {
       case PlatformId::Hasel: hasel_.step(u, dt); break;
       case PlatformId::Tendon: tendon_.step(u, dt); break;
@@ -67,6 +86,7 @@ class SimPlant {
   }
 
   void output(float* y) const {
+    if (generic_selected_) return generic_.output(y);
     switch (id_) {
       case PlatformId::Hasel: hasel_.output(y); break;
       case PlatformId::Tendon: tendon_.output(y); break;
@@ -75,6 +95,7 @@ class SimPlant {
   }
 
   void sensors(float* l) {
+    if (generic_selected_) return generic_.sensors(l);
     switch (id_) {
       case PlatformId::Hasel: hasel_.sensors(l); break;
       case PlatformId::Tendon: tendon_.sensors(l); break;
@@ -83,6 +104,7 @@ class SimPlant {
   }
 
   void input_limits(float* umin, float* umax) const {
+    if (generic_selected_) return generic_.input_limits(umin, umax);
     switch (id_) {
       case PlatformId::Hasel: HaselPlant::input_limits(umin, umax); break;
       case PlatformId::Tendon: TendonPlant::input_limits(umin, umax); break;
@@ -91,6 +113,7 @@ class SimPlant {
   }
 
   void neutral_input(float* u) const {
+    if (generic_selected_) return generic_.neutral_input(u);
     switch (id_) {
       case PlatformId::Hasel: HaselPlant::neutral_input(u); break;
       case PlatformId::Tendon: TendonPlant::neutral_input(u); break;
@@ -99,6 +122,7 @@ class SimPlant {
   }
 
   void output_box(float* lo, float* hi) const {
+    if (generic_selected_) return generic_.output_box(lo, hi);
     switch (id_) {
       case PlatformId::Hasel: HaselPlant::output_box(lo, hi); break;
       case PlatformId::Tendon: TendonPlant::output_box(lo, hi); break;
@@ -110,6 +134,8 @@ class SimPlant {
   MsdPlant& msd() { return msd_; }
   HaselPlant& hasel() { return hasel_; }
   TendonPlant& tendon() { return tendon_; }
+  GenericPlant& generic() { return generic_; }
+  const GenericPlant& generic() const { return generic_; }
 
  private:
   int dispatch_dim(int msd, int hasel, int tendon) const {
@@ -124,6 +150,8 @@ class SimPlant {
   MsdPlant msd_;
   HaselPlant hasel_;
   TendonPlant tendon_;
+  GenericPlant generic_;
+  bool generic_selected_ = false;
 };
 
 }  // namespace nlsoft

@@ -73,40 +73,40 @@ std::vector<int> to_units(const std::string& s) {
 
 // ---------------------------------------------------------------- dataset
 struct DatasetArgs {
-  std::string platform, out, steps, seed = "1";
+  std::string rig, out, steps, seed = "1";
 };
 
-void run_dataset(const DatasetArgs& a) {
-  need(a.platform, "--platform");
+void run_dataset(const DatasetArgs& a, const TargetResolver& resolve) {
+  need(a.rig, "--rig");
   need(a.out, "--out");
-  const PlatformId id = to_platform(a.platform);
-  const long steps = a.steps.empty() ? default_steps(id) : to_long("--steps", a.steps, 100, 20000000);
+  const PlantTarget target = resolve(a.rig);
+  const long steps = a.steps.empty() ? default_steps(target) : to_long("--steps", a.steps, 100, 20000000);
   const uint32_t seed = static_cast<uint32_t>(to_long("--seed", a.seed, 0, 0xffffffffL));
-  const Series s = generate_excitation(id, steps, seed);
+  const Series s = generate_excitation(target, steps, seed);
   write_series_csv(a.out, s);
   std::printf("wrote %s: %ld samples of %s (m=%d n=%d w=%d, %.1f s at %.0f Hz), seed %u\n", a.out.c_str(), s.rows(),
-              platform_name(id), s.m, s.n, s.w, s.time(s.rows() - 1) + (s.time(1) - s.time(0)),
+              target.name.c_str(), s.m, s.n, s.w, s.time(s.rows() - 1) + (s.time(1) - s.time(0)),
               1.0 / (s.time(1) - s.time(0)), seed);
 }
 
 // ---------------------------------------------------------------- train
 struct TrainArgs {
-  std::string platform, data, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise;
+  std::string rig, data, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise;
   bool residual = false, absolute = false;
 };
 
-void run_train(const TrainArgs& a) {
-  need(a.platform, "--platform");
+void run_train(const TrainArgs& a, const TargetResolver& resolve) {
+  need(a.rig, "--rig");
   need(a.data, "--data");
   need(a.out, "--out");
-  const PlatformId id = to_platform(a.platform);
-  TrainOptions o = default_options(id);
+  const PlantTarget target = resolve(a.rig);
+  TrainOptions o = default_options(target);
   if (!a.arch.empty() || !a.hidden.empty()) {
     const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
     if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
     std::vector<int> units = to_units(a.hidden.empty() ? "5,5" : a.hidden);
     if (arch == "gru" && units.empty()) throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
-    const int n = preset(id).n;
+    const int n = target.n;
     o.layers.clear();
     for (size_t i = 0; i < units.size(); ++i) {
       if (arch == "gru" && i == 0)
@@ -133,18 +133,18 @@ void run_train(const TrainArgs& a) {
   const Series s = read_series_csv(a.data);
   TrainProgress bar(stderr);
   o.progress = [&bar](const Progress& p) { bar(p); };
-  const TrainResult r = train(s, id, o);
+  const TrainResult r = train(s, target, o);
   bar.finish();
   ModelFile f = r.model;
   save_model_file(a.out, f);
-  const char* unit = id == PlatformId::Msd ? "m^2" : "mm^2";
+  const std::string unit = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
   std::printf("trained %s model in %.1f s (%d epochs), %s, rows train %ld / val %ld / test %ld\n",
-              platform_name(id), r.seconds, r.epochs_run,
+              target.name.c_str(), r.seconds, r.epochs_run,
               model_size_words(uint32_t(f.params.size()), f.view().norm_count()).c_str(),
               r.split.train_end, r.split.val_end - r.split.val_begin, r.split.test_end - r.split.test_begin);
   for (size_t j = 0; j < r.test.mse.size(); ++j)
-    std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit,
-                std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit);
+    std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit.c_str(),
+                std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit.c_str());
   std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
 }
 
@@ -298,31 +298,39 @@ void run_codegen(const std::string& model, const std::string& out, const std::st
 
 }  // namespace
 
-void add_dataset_command(CLI::App& app) {
+void add_dataset_command(CLI::App& app, TargetResolver resolve) {
+  if (!resolve) resolve = platform_target_by_name;
   auto dataset_args = std::make_shared<DatasetArgs>();
   CLI::App* ds = app.add_subcommand(
       "dataset",
-      "Record identification data from a simulated plant into CSV (columns time,u0..,y0..,l0..).\n"
+      "Record identification data from a rig's simulated plant into CSV (columns time,u0..,y0..,l0..).\n"
       "Random steps, smoothed random walks and chirps inside the input limits (plus the paper's\n"
       "u(t) = 1000 sin t cos t for msd), so the model sees the whole task space and how each input moves it.\n"
-      "Example: nlsoft-console dataset --platform hasel --out hasel.csv --seed 1");
-  ds->add_option("--platform", dataset_args->platform, "msd | hasel | tendon (required)")->type_name("NAME");
+      "Example: nlsoft-console dataset --platform hasel --out hasel.csv --seed 1\n"
+      "Any rig file with a [plant]: nlsoft-console dataset --rig lab/arm.toml --out arm.csv");
+  ds->add_option("--rig,--platform", dataset_args->rig, "the rig: a shipped rig's name or a rig file (required)")
+      ->type_name("NAME|PATH");
   ds->add_option("--out", dataset_args->out, "CSV file to write (required; replaced atomically)")->type_name("FILE");
   ds->add_option("--steps", dataset_args->steps, "number of samples (default 120000)")->type_name("K");
   ds->add_option("--seed", dataset_args->seed, "seed of the excitation and the sensor noise (default 1)")->type_name("S");
-  ds->callback([dataset_args] { run_dataset(*dataset_args); });
+  ds->callback([dataset_args, resolve] { run_dataset(*dataset_args, resolve); });
 }
 
-void add_train_command(CLI::App& app) {
+void add_train_command(CLI::App& app, TargetResolver resolve) {
+  if (!resolve) resolve = platform_target_by_name;
   auto train_args = std::make_shared<TrainArgs>();
   CLI::App* tr = app.add_subcommand(
       "train",
       "Train the forward model y(k+1) = g(u(k),u(k-1),y(k),y(k-1),l(k)) on a dataset and write a model file.\n"
       "Ten-fold time-series split: the last fold tests, the one before validates (early stopping).\n"
-      "Defaults per platform are the shipped models (app/models/README.md): msd linear residual,\n"
-      "hasel Dense 5 relu, 5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh.\n"
-      "Example: nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm");
-  tr->add_option("--platform", train_args->platform, "msd | hasel | tendon: dimensions, limits (required)")->type_name("NAME");
+      "Dimensions, input limits, history length and layers come from the rig; defaults for the shipped\n"
+      "rigs are the shipped models (app/models/README.md): msd linear residual, hasel Dense 5 relu,\n"
+      "5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh; another rig: its [model] layers, else\n"
+      "Dense 16 tanh, n tanh, residual when its controller feeds back measured outputs.\n"
+      "Example: nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm\n"
+      "Any rig file: nlsoft-console train --rig lab/arm.toml --data arm.csv --out arm.nlsm");
+  tr->add_option("--rig,--platform", train_args->rig, "the rig: a shipped rig's name or a rig file (required)")
+      ->type_name("NAME|PATH");
   tr->add_option("--data", train_args->data, "CSV from 'dataset' or a recorded run (required)")->type_name("FILE");
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
   tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
@@ -337,9 +345,9 @@ void add_train_command(CLI::App& app) {
                  "sigma of noise added to the y-history inputs while training (normalised units),\n"
                  "so the model stays accurate when fed its own predictions (default 0.05 hasel/tendon)")
       ->type_name("SIGMA");
-  tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd)");
+  tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd and for a rig fed back measured outputs)");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");
-  tr->callback([train_args] { run_train(*train_args); });
+  tr->callback([train_args, resolve] { run_train(*train_args, resolve); });
 }
 
 void add_model_command(CLI::App& app) {

@@ -5,10 +5,15 @@
 // its output atomically, so a failure leaves no half-written file.
 #include <CLI/CLI.hpp>
 
+#include "app/model/plant_target.hpp"
+
 namespace nlsoft::console {
 
-void add_dataset_command(CLI::App& app);
-void add_train_command(CLI::App& app);
+// `--rig ARG` (`--platform` its synonym) goes through `resolve`; without
+// one, only the compiled-in platforms' names are known
+// (pipeline::platform_target_by_name).
+void add_dataset_command(CLI::App& app, pipeline::TargetResolver resolve = {});
+void add_train_command(CLI::App& app, pipeline::TargetResolver resolve = {});
 void add_model_command(CLI::App& app);  // model import|eval|info|codegen
 
 }  // namespace nlsoft::console

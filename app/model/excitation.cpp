@@ -25,6 +25,22 @@ struct Scales {
   double dither;        // max dither amplitude, [0,1] units
 };
 
+// A generic plant's scales from its slowest lag T (two periods when it has
+// none), proportioned as hasel's are to its 25-45 ms: levels held from T to
+// 35 T, chirps up to about its corner frequency and below Nyquist, every
+// input drawn on its own over its whole range.
+Scales scales_for(const GenericPlantSpec& g) {
+  double T = 0.0;
+  for (int i = 0; i < g.m; ++i) T = std::max(T, double(g.input[i].tau));
+  for (int j = 0; j < g.n; ++j) T = std::max(T, double(g.output[j].tau));
+  const double dt = double(g.dt);
+  T = std::max(T, 2.0 * dt);
+  const double hold_min = T, hold_max = std::max(4.0 * hold_min, 35.0 * T);
+  const double seg_min = std::max(3.0, 2.0 * hold_max);
+  const double f_max = std::min(0.25 / dt, 1.0 / (kTwoPi * T));
+  return {hold_min, hold_max, seg_min, 5.0 * seg_min, f_max / 80.0, f_max, 4.0 * T, 0.5, false, 0.03};
+}
+
 Scales scales_for(PlatformId id) {
   switch (id) {
     case PlatformId::Hasel: return {0.04, 1.2, 3.0, 15.0, 0.05, 4.0, 0.15, 0.6, true, 0.03};
@@ -35,8 +51,9 @@ Scales scales_for(PlatformId id) {
 
 class Excitation {
  public:
-  Excitation(PlatformId id, const SimPlant& plant, uint32_t seed)
-      : id_(id), s_(scales_for(id)), rng_(seed ^ 0x9e3779b97f4a7c15ull), m_(plant.m()), dt_(plant.dt()) {
+  // `paper`: msd's segments include the paper's own input.
+  Excitation(const Scales& scales, bool paper, const SimPlant& plant, uint32_t seed)
+      : paper_(paper), s_(scales), rng_(seed ^ 0x9e3779b97f4a7c15ull), m_(plant.m()), dt_(plant.dt()) {
     float lo[kMaxPlantM], hi[kMaxPlantM];
     plant.input_limits(lo, hi);
     lo_.assign(lo, lo + m_);
@@ -77,7 +94,7 @@ class Excitation {
 
   void start_segment() {
     const double r = rng_.uniform();
-    if (id_ == PlatformId::Msd)
+    if (paper_)
       mode_ = r < 0.25 ? Mode::Paper : r < 0.6 ? Mode::Steps : r < 0.8 ? Mode::Chirp : Mode::Walk;
     else
       mode_ = r < 0.5 ? Mode::Steps : r < 0.8 ? Mode::Walk : Mode::Chirp;
@@ -128,7 +145,7 @@ class Excitation {
     return v_[size_t(i)];
   }
 
-  PlatformId id_;
+  bool paper_;
   Scales s_;
   Random rng_;
   int m_;
@@ -151,13 +168,17 @@ long default_steps(PlatformId id) {
   }
 }
 
-Series generate_excitation(PlatformId id, long steps, uint32_t seed) {
-  if (steps < 100) throw PipelineError("--steps must be at least 100");
-  SimPlant plant(id, seed);
+long default_steps(const PlantTarget& t) {
+  return t.plant == TargetPlant::Named ? default_steps(t.platform) : 120000;
+}
+
+namespace {
+
+// Row k holds u(k), y(k), l(k) of `plant` (selected and reset) driven by `ex`.
+Series record(SimPlant& plant, Excitation& ex, long steps) {
   const int m = plant.m(), n = plant.n(), w = plant.w();
   Series s;
   s.resize(steps, m, n, w);
-  Excitation ex(id, plant, seed);
   float u[kMaxPlantM] = {}, y[kMaxPlantN] = {}, l[kMaxPlantW] = {};
   const double dt = plant.dt();
   for (long k = 0; k < steps; ++k) {
@@ -173,14 +194,47 @@ Series generate_excitation(PlatformId id, long steps, uint32_t seed) {
   return s;
 }
 
-void neutral_output(PlatformId id, double* y) {
-  SimPlant plant(id, 0);
+void settle_at_neutral(SimPlant& plant, double* y) {
   float u[kMaxPlantM] = {}, out[kMaxPlantN] = {};
   plant.neutral_input(u);
   const int settle = static_cast<int>(3.0f / plant.dt());
   for (int k = 0; k < settle; ++k) plant.step(u, plant.dt());
   plant.output(out);
   for (int j = 0; j < plant.n(); ++j) y[j] = out[j];
+}
+
+}  // namespace
+
+Series generate_excitation(PlatformId id, long steps, uint32_t seed) {
+  if (steps < 100) throw PipelineError("--steps must be at least 100");
+  SimPlant plant(id, seed);
+  Excitation ex(scales_for(id), id == PlatformId::Msd, plant, seed);
+  return record(plant, ex, steps);
+}
+
+Series generate_excitation(const PlantTarget& t, long steps, uint32_t seed) {
+  if (t.plant == TargetPlant::Named) return generate_excitation(t.platform, steps, seed);
+  if (t.plant == TargetPlant::None)
+    throw PipelineError("rig '" + t.name + "' has no [plant]: nothing simulates it, so there is no data to record "
+                        "(record the rig itself, or give the rig file a [plant])");
+  if (steps < 100) throw PipelineError("--steps must be at least 100");
+  SimPlant plant;
+  if (!plant.select(t.generic, seed))
+    throw PipelineError("rig '" + t.name + "': its generic plant cannot run: " + generic_spec_problem(t.generic));
+  Excitation ex(scales_for(t.generic), false, plant, seed);
+  return record(plant, ex, steps);
+}
+
+void neutral_output(PlatformId id, double* y) {
+  SimPlant plant(id, 0);
+  settle_at_neutral(plant, y);
+}
+
+void neutral_output(const PlantTarget& t, double* y) {
+  if (t.plant == TargetPlant::Named) return neutral_output(t.platform, y);
+  SimPlant plant;
+  if (t.plant == TargetPlant::Generic && plant.select(t.generic, 0)) return settle_at_neutral(plant, y);
+  for (int j = 0; j < t.n; ++j) y[j] = t.y_mid[size_t(j)];
 }
 
 }  // namespace nlsoft::pipeline

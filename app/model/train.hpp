@@ -17,6 +17,7 @@
 #include "app/model/dataset.hpp"
 #include "app/model/model_store.hpp"
 #include "app/model/network.hpp"
+#include "app/model/plant_target.hpp"
 #include "shared/platform_id.hpp"
 
 namespace nlsoft::pipeline {
@@ -79,8 +80,13 @@ struct TrainResult {
 // Throws PipelineError when the series does not match the platform, or the
 // options are unusable.
 TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt);
+// The same for any rig: its dimensions, input limits and neutral output.
+TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions& opt);
 
 // The architecture the paper uses on each platform (see app/models/README.md).
 TrainOptions default_options(PlatformId platform);
+// A rig's: its [model] layers and history length over the defaults of its
+// plant (a named plant's shipped model, else Dense 16 tanh -> n tanh).
+TrainOptions default_options(const PlantTarget& target);
 
 }  // namespace nlsoft::pipeline

@@ -14,9 +14,9 @@
 
 namespace nlsoft::console {
 
-// What a rig file may describe. The loader refuses more; the controllers the
-// console and the firmware build today hold less (HostCapacity: n <= 3,
-// w <= 24), and each says so when handed a rig that does not fit.
+// What a rig file may describe. The loader refuses more; the console's
+// controller (HostCapacity) holds all of it; each MCU image holds its own
+// rig's dimensions only.
 struct RigCapacity {
   static constexpr int m = 8, n = 6, w = 32, nd = 4;
   // The horizons the console's controller holds (HostCapacity).
@@ -82,9 +82,23 @@ struct RigModel {
   std::vector<RigLayer> layers;
 };
 
+// One actuator of a generic plant ([[plant.actuator]], shared/plant_generic.hpp).
+struct RigActuator {
+  double gain = 1;
+  std::string shape = "linear";  // linear, tanh, saturation, power
+  double knee = 1, exponent = 1;  // tanh/saturation; power
+  double play = 0, tau = 0;       // hysteresis half-width (input units); lag, s
+};
+
 struct RigPlant {
-  std::string kind;  // a simulated plant the console carries; empty: none
+  std::string kind;  // msd, hasel, tendon (a hand-written plant), generic; empty: none
   int line = 0;
+  // kind = "generic": every constant of the plant, in the rig's units.
+  std::vector<RigActuator> actuators;              // one per [[input]]
+  std::vector<std::vector<double>> coupling;       // B: n rows of m
+  std::vector<double> output_offset, output_tau;   // n each
+  std::vector<std::vector<double>> sensor_map;     // C: w rows of m + n
+  std::vector<double> sensor_offset, sensor_noise;  // w each
 };
 
 // The default task and the reference paths' geometry (shared/reference.hpp).

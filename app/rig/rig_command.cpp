@@ -56,6 +56,17 @@ nlohmann::json to_json(const Rig& r) {
   }
   j["model"] = {{"file", r.model.file}, {"layers", layers}};
   j["plant"] = r.plant.kind.empty() ? json(nullptr) : json(r.plant.kind);
+  if (r.plant.kind == "generic") {
+    const RigPlant& p = r.plant;
+    json acts = json::array();
+    for (const RigActuator& a : p.actuators)
+      acts.push_back({{"gain", a.gain}, {"shape", a.shape}, {"knee", a.knee}, {"exponent", a.exponent},
+                      {"play", a.play}, {"tau", a.tau}});
+    j["generic_plant"] = {{"actuators", acts},           {"coupling", p.coupling},
+                          {"output_offset", p.output_offset}, {"output_tau", p.output_tau},
+                          {"sensor_map", p.sensor_map},       {"sensor_offset", p.sensor_offset},
+                          {"sensor_noise", p.sensor_noise}};
+  }
   const RigReference& g = r.reference;
   j["reference"] = {{"kind", reference_kind_name(g.kind)},
                     {"centre", g.centre},
@@ -98,7 +109,10 @@ void print_summary(const Rig& r) {
               (L.activation.empty() ? "" : " " + L.activation);
   fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : r.model.file,
              layers.empty() ? "" : " (" + layers + ")");
-  fmt::print("  simulated plant: {}\n", r.plant.kind.empty() ? "none" : r.plant.kind);
+  std::string shapes;
+  for (const RigActuator& a : r.plant.actuators) shapes += (shapes.empty() ? "" : ", ") + a.shape;
+  fmt::print("  simulated plant: {}{}\n", r.plant.kind.empty() ? "none" : r.plant.kind,
+             r.plant.kind == "generic" ? " (actuators " + shapes + ")" : "");
   fmt::print("  default reference: {}\n", reference_kind_name(r.reference.kind));
 }
 

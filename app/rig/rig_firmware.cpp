@@ -95,8 +95,8 @@ std::string firmware_platform_name(const std::string& arg, const std::string& wh
 PlatformId simulated_plant(const Rig& rig, const std::string& what) {
   PlatformId id;
   if (rig.plant.kind.empty() || !platform_from_name(rig.plant.kind.c_str(), &id))
-    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: nothing simulates it (the simulated plants are {}; "
-                               "a generic plant from a rig file is not available yet)",
+    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: nothing simulates it (the simulated plants are {}, "
+                               "or kind = \"generic\" with the plant's constants: docs/rig-file.md)",
                                what, rig.name, rig.file, compiled_names()));
   return id;
 }

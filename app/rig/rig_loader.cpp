@@ -157,6 +157,60 @@ class Section {
     if (v.size() != 3) fail(line(key), key, "expected 3 numbers, got " + std::to_string(v.size()));
     return {v[0], v[1], v[2]};
   }
+  // How many of something a key must hold: "n = 2 rows (one per [[output]])".
+  struct Count {
+    std::string name;
+    int value;
+    std::string why;
+    std::string text(const std::string& noun) const {
+      return name + " = " + std::to_string(value) + " " + noun + " (" + why + ")";
+    }
+  };
+
+  // An array of rows.value arrays of cols.value numbers each, every one
+  // finite and within +-limit.
+  std::vector<std::vector<double>> matrix(const std::string& key, const Count& rows, const Count& cols,
+                                          double limit) const {
+    const toml::array& a = array(key);
+    if (a.size() != size_t(rows.value))
+      fail(line(key), key, "expected " + rows.text("rows") + ", got " + std::to_string(a.size()));
+    std::vector<std::vector<double>> out;
+    for (size_t r = 0; r < a.size(); ++r) {
+      const std::string at = key + "[" + std::to_string(r) + "]";
+      if (!a[r].is_array()) fail(line_of(a[r]), at, std::string("expected an array (a row), got ") + type_name(a[r]));
+      const toml::array& row = *a[r].as_array();
+      if (row.size() != size_t(cols.value))
+        fail(line_of(a[r]), at, "expected " + cols.text("numbers") + ", got " + std::to_string(row.size()));
+      std::vector<double> v;
+      for (size_t c = 0; c < row.size(); ++c) {
+        const std::string at_c = at + "[" + std::to_string(c) + "]";
+        const double x = as_number(row[c], at_c);
+        if (!std::isfinite(x)) fail(line_of(row[c]), at_c, "must be finite, not " + num(x));
+        if (std::fabs(x) > limit) fail(line_of(row[c]), at_c, "must be within +-" + num(limit) + ", not " + num(x));
+        v.push_back(x);
+      }
+      out.push_back(v);
+    }
+    return out;
+  }
+  // An array of count.value finite numbers in [lo, hi].
+  std::vector<double> vector(const std::string& key, const Count& count, double lo, double hi) const {
+    const std::vector<double> v = numbers(key);
+    if (v.size() != size_t(count.value))
+      fail(line(key), key, "expected " + count.text("numbers") + ", got " + std::to_string(v.size()));
+    for (size_t i = 0; i < v.size(); ++i)
+      if (v[i] < lo || v[i] > hi)
+        fail(element_line(key, int(i)), key + "[" + std::to_string(i) + "]",
+             "must be in [" + num(lo) + ", " + num(hi) + "], not " + num(v[i]));
+    return v;
+  }
+  // A finite number in [lo, hi]; `why` follows the bounds in the message.
+  double bounded(const std::string& key, double lo, double hi, const std::string& why = "") const {
+    const double v = number(key);
+    if (v < lo || v > hi) fail(line(key), key, "must be in [" + num(lo) + ", " + num(hi) + "]" + why + ", not " + num(v));
+    return v;
+  }
+
   // Line of element i of an array key (arrays may span lines).
   int element_line(const std::string& key, int i) const {
     const toml::node* n = t_.get(key);
@@ -493,16 +547,95 @@ void read_model(const std::string& file, const Section& root, const toml::table&
   }
 }
 
+// A generic plant's constants (docs/rig-file.md, shared/plant_generic.hpp):
+// each checked where it is written, so the plant never refuses what the
+// file holds.
+void read_generic_plant(const std::string& file, const Section& s, const toml::table& pt, Rig& rig) {
+  constexpr double kBig = 1e6, kTauMax = 1e3;
+  RigPlant& p = rig.plant;
+  const int m = rig.m(), n = rig.n(), w = rig.w();
+  // The plant steps once per control period, at most kMaxPlantDt.
+  if (rig.rate_hz < 1.0 / double(kMaxPlantDt))
+    s.fail(s.line("kind"), "kind",
+           "a generic plant steps at most " + num(double(kMaxPlantDt)) + " s at a time: rate_hz must be >= 1, not " +
+               num(rig.rate_hz));
+  const auto tables = table_array(s, pt, "actuator");
+  const Section::Count per_in{"m", m, "one per [[input]]"}, per_out{"n", n, "one per [[output]]"};
+  const Section::Count per_sensor{"w", w, "one per [[sensor]]"};
+  const Section::Count per_state{"m + n", m + n, "one per [[input]], then one per [[output]]"};
+  if (tables.size() < size_t(m))
+    s.fail(s.line(), "[[plant.actuator]]", "expected " + per_in.text("tables") + ", got " + std::to_string(tables.size()));
+  for (size_t i = 0; i < tables.size(); ++i) {
+    const Section a(file, *tables[i], nth("plant.actuator", i), line_of(*tables[i]),
+                    {"gain", "shape", "knee", "exponent", "play", "tau"});
+    if (i >= size_t(m)) a.fail(a.line(), "", "one more than the " + std::to_string(m) + " [[input]] tables");
+    const RigInput& in = rig.inputs[i];
+    RigActuator act;
+    act.gain = a.has("gain") ? a.bounded("gain", -kBig, kBig) : 1.0;
+    if (act.gain == 0) a.fail(a.line("gain"), "gain", "must not be 0 (the actuator would move nothing)");
+    if (a.has("shape")) act.shape = a.choice("shape", {"linear", "tanh", "saturation", "power"});
+    const bool kneed = act.shape == "tanh" || act.shape == "saturation";
+    if (kneed) {
+      act.knee = a.bounded("knee", 0, kBig);
+      if (!(act.knee > 0)) a.fail(a.line("knee"), "knee", "must be > 0, not " + num(act.knee));
+    } else if (a.has("knee")) {
+      a.fail(a.line("knee"), "knee", "only for shape = \"tanh\" or \"saturation\"");
+    }
+    if (act.shape == "power") {
+      act.exponent = a.bounded("exponent", 0, 8);
+      if (!(act.exponent > 0)) a.fail(a.line("exponent"), "exponent", "must be > 0, not " + num(act.exponent));
+    } else if (a.has("exponent")) {
+      a.fail(a.line("exponent"), "exponent", "only for shape = \"power\"");
+    }
+    const double half = 0.5 * (in.max - in.min);
+    if (a.has("play")) {
+      act.play = a.bounded("play", 0, kBig);
+      if (!(act.play < half))
+        a.fail(a.line("play"), "play",
+               "must be < half the input's range, " + num(half) + ": a wider play never moves the actuator");
+    }
+    if (a.has("tau")) act.tau = a.bounded("tau", 0, kTauMax, " s (a time constant)");
+    p.actuators.push_back(act);
+  }
+  p.coupling = s.matrix("coupling", per_out, per_in, kBig);
+  p.output_offset.clear();
+  if (s.has("output_offset")) {
+    p.output_offset = s.vector("output_offset", per_out, -kBig, kBig);
+  } else {
+    for (const RigOutput& o : rig.outputs) p.output_offset.push_back(0.5 * (o.min + o.max));
+  }
+  p.output_tau = s.has("output_tau") ? s.vector("output_tau", per_out, 0, kTauMax) : std::vector<double>(size_t(n), 0.0);
+  if (w > 0) {
+    p.sensor_map = s.matrix("sensor_map", per_sensor, per_state, kBig);
+  } else if (s.has("sensor_map")) {
+    s.fail(s.line("sensor_map"), "sensor_map", "the file has no [[sensor]] tables");
+  }
+  p.sensor_offset = s.has("sensor_offset") ? s.vector("sensor_offset", per_sensor, -kBig, kBig)
+                                           : std::vector<double>(size_t(w), 0.0);
+  p.sensor_noise = s.has("sensor_noise") ? s.vector("sensor_noise", per_sensor, 0, kBig)
+                                         : std::vector<double>(size_t(w), 0.0);
+}
+
 // The simulated stand-in: one of the plants the console carries, whose
-// dimensions must be the file's.
+// dimensions must be the file's, or a generic plant described key by key.
 void read_plant(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
   const toml::table* pt = sub_table(root, t, "plant");
   if (!pt) return;
-  const Section s(file, *pt, "[plant]", line_of(*pt), {"kind"});
+  const std::vector<std::string> generic_keys = {"coupling",      "output_offset", "output_tau", "sensor_map",
+                                                 "sensor_offset", "sensor_noise",  "actuator"};
+  std::vector<std::string> known = {"kind"};
+  known.insert(known.end(), generic_keys.begin(), generic_keys.end());
+  const Section s(file, *pt, "[plant]", line_of(*pt), known);
   std::vector<std::string> kinds;
   for (int i = 0; i < kPlatformCount; ++i) kinds.push_back(platform_name(PlatformId(i)));
+  kinds.push_back("generic");
   rig.plant.kind = s.choice("kind", kinds);
   rig.plant.line = s.line("kind");
+  if (rig.plant.kind == "generic") return read_generic_plant(file, s, *pt, rig);
+  for (const std::string& k : generic_keys)
+    if (s.has(k))
+      s.fail(s.line(k), k,
+             "only for kind = \"generic\" (plant '" + rig.plant.kind + "' has its constants compiled in)");
   PlatformId id = PlatformId::Msd;
   platform_from_name(rig.plant.kind.c_str(), &id);
   const SimPlant plant(id);

@@ -17,25 +17,32 @@ namespace {
 
 using Cap = HostCapacity;
 
+std::string plant_name(const LoopSetup& s) {
+  return s.plant_name.empty() ? std::string(platform_name(s.platform)) : s.plant_name;
+}
+
 void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
   if (!s.model) throw CliError("the MPC controller needs a model (--model FILE)");
   const Model<Cap>& M = *s.model;
   if (M.m != plant.m() || M.n != plant.n() || M.w != plant.w())
     throw CliError(fmt::format("model dimensions m={} n={} w={} do not match platform '{}' (m={} n={} w={})", M.m,
-                               M.n, M.w, platform_name(s.platform), plant.m(), plant.n(), plant.w()));
+                               M.n, M.w, plant_name(s), plant.m(), plant.n(), plant.w()));
 }
 
 }  // namespace
 
 Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
   SimPlant plant;
-  plant.select(s.platform, s.seed);
+  if (s.generic == nullptr)
+    plant.select(s.platform, s.seed);
+  else if (!plant.select(*s.generic, s.seed))
+    throw CliError(fmt::format("the generic plant of '{}' cannot run: {}", plant_name(s), generic_spec_problem(*s.generic)));
   const int m = plant.m(), n = plant.n();
   const float dt = plant.dt();
   if (s.controller == ControllerKind::Mpc) check_model_fits(s, plant);
   if (s.controller == ControllerKind::Pid && (m != 1 || n != 1))
     throw CliError(fmt::format("the PID baseline is defined for msd only (one input, one output); '{}' has m={} n={}",
-                               platform_name(s.platform), m, n));
+                               plant_name(s), m, n));
   if (const char* why = reference_check(s.reference)) throw CliError(fmt::format("reference refused: {}", why));
 
   float u[Cap::m] = {}, y[Cap::n] = {}, l[Cap::w] = {};
@@ -68,6 +75,8 @@ Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
 
   const int N = s.controller == ControllerKind::Mpc ? s.params.N : 1;
   std::vector<float> ref(size_t(N) * n);
+  for (int j = 0; j < N; ++j)
+    for (int i = kRefMaxDim; i < n; ++i) ref[size_t(j * n + i)] = s.ref_hold[i];
   const long report_every = s.steps / 200 + 1;
   for (long k = 0; k < s.steps; ++k) {
     for (int j = 0; j < N; ++j) reference_at(s.reference, nullptr, uint32_t(k + 1 + j), &ref[size_t(j) * n], n);

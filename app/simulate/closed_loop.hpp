@@ -4,9 +4,11 @@
 // trace of everything the metrics need.
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "shared/model.hpp"
+#include "shared/plant_generic.hpp"
 #include "shared/params.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
@@ -17,10 +19,17 @@ enum class ControllerKind { Mpc, Pid };
 
 struct LoopSetup {
   PlatformId platform = PlatformId::Hasel;
+  // A rig's generic plant instead of the named `platform` (the caller keeps
+  // it alive); `plant_name` names either in errors ("" : the platform's).
+  const GenericPlantSpec* generic = nullptr;
+  std::string plant_name;
   ControllerKind controller = ControllerKind::Mpc;
   const Model<HostCapacity>* model = nullptr;  // required for Mpc
   Params<HostCapacity> params{};
   RefParams reference{};
+  // The reference paths drive three outputs (shared/reference.hpp); an
+  // output beyond the third is held at ref_hold[j].
+  float ref_hold[HostCapacity::n] = {};
   long steps = 0;          // control steps to run
   long settle_steps = 0;   // neutral input before the run, so the plant starts at rest
   uint32_t seed = 1;       // plant noise

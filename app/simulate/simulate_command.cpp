@@ -19,6 +19,7 @@
 #include "app/rig/rig_catalog.hpp"
 #include "app/rig/rig_firmware.hpp"
 #include "app/rig/rig_params.hpp"
+#include "app/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 
@@ -59,12 +60,21 @@ int run_simulate(const SimulateOptions& o) {
   // The rig by name or file: its plant, controller defaults, references,
   // model and rate.
   const Rig rig = load_rig_arg(o.platform);
-  const PlatformId platform = simulated_plant(rig, "simulate");
   const std::string ref_name = o.reference.empty() ? default_reference(rig) : o.reference;
 
   LoopSetup setup;
-  setup.platform = platform;
+  GenericPlantSpec generic{};
+  if (has_generic_plant(rig)) {
+    generic = generic_plant_spec(rig);
+    setup.generic = &generic;
+  } else {
+    setup.platform = simulated_plant(rig, "simulate");
+  }
+  setup.plant_name = rig.name;
   setup.reference = reference_preset(rig, ref_name);
+  // Outputs beyond the paths' three hold the middle of their range.
+  for (int j = kRefMaxDim; j < rig.n(); ++j)
+    setup.ref_hold[j] = float(0.5 * (rig.outputs[size_t(j)].min + rig.outputs[size_t(j)].max));
   setup.seed = o.seed;
   if (o.controller == "pid")
     setup.controller = ControllerKind::Pid;

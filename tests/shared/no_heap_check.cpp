@@ -2,6 +2,7 @@
 // embedded flags and, in CMake, linked with every allocation function
 // wrapped away: it links only if nothing reachable allocates.
 #include "shared/controller.hpp"
+#include "shared/plant_generic.hpp"
 #include "shared/platform.hpp"
 
 namespace {
@@ -67,6 +68,32 @@ int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
 
 float storage[600];
 
+// A generic plant from a constexpr spec, as a HIL image embeds one: it must
+// build for the MCU and step without a heap.
+constexpr nlsoft::GenericPlantSpec kGenericSpec = [] {
+  nlsoft::GenericPlantSpec s{};
+  s.m = 2, s.n = 2, s.w = 3;
+  s.dt = 0.01f;
+  s.input[0] = {0.0f, 1.0f, 0.5f, 2.0f, nlsoft::GenericShape::Tanh, 0.3f, 1.0f, 0.02f, 0.05f};
+  s.input[1] = {-1.0f, 1.0f, 0.0f, 1.0f, nlsoft::GenericShape::Power, 1.0f, 1.5f, 0.0f, 0.0f};
+  s.output[0] = {-5.0f, 5.0f, 0.0f, 0.02f};
+  s.output[1] = {-5.0f, 5.0f, 1.0f, 0.0f};
+  s.B[0][0] = 1.0f, s.B[1][1] = 1.0f;
+  s.C[0][0] = 1.0f, s.C[1][2] = 1.0f, s.C[2][3] = 1.0f;
+  s.sensor[0].noise = 0.01f;
+  return s;
+}();
+
+int run_generic() {
+  if (nlsoft::generic_spec_problem(kGenericSpec) != nullptr) return 1;
+  static nlsoft::GenericPlant plant(kGenericSpec, 1);
+  float u[2] = {0.9f, -0.4f}, y[2], l[3];
+  plant.step(u, kGenericSpec.dt);
+  plant.output(y);
+  plant.sensors(l);
+  return y[0] - y[0] == 0.0f && l[0] - l[0] == 0.0f ? 0 : 2;
+}
+
 }  // namespace
 
 int main() {
@@ -74,5 +101,6 @@ int main() {
   int rc = run_one<HaselCapacity>(PlatformId::Hasel, storage, 600);
   rc |= run_one<TendonCapacity>(PlatformId::Tendon, storage, 600) << 3;
   rc |= run_one<MsdCapacity>(PlatformId::Msd, storage, 600) << 6;
+  rc |= run_generic() << 9;
   return rc;
 }

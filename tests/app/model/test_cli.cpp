@@ -75,7 +75,7 @@ TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
       {"dataset --platform msd --out " + tmp("n1.csv") + " --steps 5", "--steps"},
       {"train --platform msd --data " + tmp("missing.csv") + " --out " + tmp("n2.nlsm"), "cannot open"},
       {"train --platform msd --data " + bad_csv + " --out " + tmp("n2.nlsm"), "not a number: 'oops'"},
-      {"train --platform hasel --data " + csv + " --out " + tmp("n2.nlsm"), "platform 'hasel' has m=6"},
+      {"train --platform hasel --data " + csv + " --out " + tmp("n2.nlsm"), "rig 'hasel' has m=6"},
       {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --epochs -3", "--epochs"},
       {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --lr abc", "--lr"},
       {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --loss l1", "--loss"},

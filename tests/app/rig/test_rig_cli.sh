@@ -48,6 +48,9 @@ sed -e 's/^name = "hasel"/name = "arm"/' -e '/^\[plant\]/,/^kind/d' "$src/rigs/h
 "$console" rig check arm.toml >/dev/null || { echo "FAIL: arm.toml does not load"; fail=1; }
 expect_error "simulate: rig 'arm' (arm.toml) has no [plant]: nothing simulates it" simulate --rig arm.toml
 expect_error "--sim: rig 'arm' (arm.toml) has no [plant]: nothing simulates it" --sim arm.toml
+expect_error "rig 'arm' has no [plant]: nothing simulates it, so there is no data to record" \
+  dataset --rig arm.toml --out arm.csv --steps 500
+[ ! -e arm.csv ] || { echo "FAIL: dataset of a rig without [plant] wrote arm.csv"; fail=1; }
 expect_error "--qemu: rig 'arm' (arm.toml) has no firmware" conformance --qemu arm.toml
 
 # A copy of hasel with another tuning: the firmware simulator serves the
@@ -67,6 +70,35 @@ expect_error "--qemu: rig file soft.toml is not the firmware's compiled-in 'hase
 [ "$(field by_name.json rmse)" = "$(field by_path.json rmse)" ] ||
   { echo "FAIL: by name $(field by_name.json rmse), by path $(field by_path.json rmse)"; fail=1; }
 [ "$(field by_name.json rmse)" != "$(field soft.json rmse)" ] || { echo "FAIL: soft.toml's Q changed nothing"; fail=1; }
+
+# dataset and train: --platform NAME is the shipped file, and --rig takes it by path.
+"$console" dataset --platform msd --out by_name.csv --steps 600 >/dev/null || { echo "FAIL: dataset --platform"; fail=1; }
+"$console" dataset --rig "$src/rigs/msd.toml" --out by_path.csv --steps 600 >/dev/null || { echo "FAIL: dataset --rig"; fail=1; }
+cmp -s by_name.csv by_path.csv || { echo "FAIL: dataset by name and by path differ"; fail=1; }
+"$console" train --platform msd --data by_name.csv --out by_name.nlsm >/dev/null || { echo "FAIL: train --platform"; fail=1; }
+"$console" train --rig "$src/rigs/msd.toml" --data by_path.csv --out by_path.nlsm >/dev/null || { echo "FAIL: train --rig"; fail=1; }
+cmp -s by_name.nlsm by_path.nlsm || { echo "FAIL: train by name and by path differ"; fail=1; }
+expect_error "the data has m=1 n=1 w=0 but rig 'hasel' has m=6" train --rig hasel --data by_name.csv --out x.nlsm
+
+# A generic rig of four outputs: the paths drive the first three, the fourth
+# holds the middle of its range (2.5 of [0, 5]), in the trace simulate writes.
+{
+  printf 'name = "four"\nrate_hz = 50.0\nnd = 2\ndd = 2\n\n'
+  printf '[[input]]\nname = "u%s"\nmin = -1.0\nmax = 1.0\nneutral = 0.0\n\n' 1 2
+  printf '[[output]]\nname = "y%s"\nmin = -4.0\nmax = 4.0\n\n' 1 2 3
+  printf '[[output]]\nname = "y4"\nmin = 0.0\nmax = 5.0\n\n'
+  printf '[controller]\nQ = [1.0, 1.0, 1.0, 1.0]\nLambda = [1.0, 1.0]\ns = 1e-20\nb = 0.0\nr = 4.0\nN = 3\nNc = 1\neps = 1e-3\n\n'
+  printf '[plant]\nkind = "generic"\ncoupling = [[1.0, 0.0], [0.0, 1.0], [1.0, 1.0], [0.5, -0.5]]\n'
+  printf '[[plant.actuator]]\ntau = 0.05\n[[plant.actuator]]\nshape = "tanh"\nknee = 0.5\n'
+} >four.toml
+"$console" dataset --rig four.toml --out four.csv --steps 500 >/dev/null || { echo "FAIL: dataset four.toml"; fail=1; }
+"$console" train --rig four.toml --data four.csv --out four.nlsm --epochs 2 >/dev/null 2>&1 || { echo "FAIL: train four.toml"; fail=1; }
+"$console" simulate --rig four.toml --model four.nlsm --steps 30 --csv four_trace.csv >/dev/null ||
+  { echo "FAIL: simulate four.toml"; fail=1; }
+held=$(python3 -c 'import csv,sys; print(sorted({r["y_ref3"] for r in csv.DictReader(open(sys.argv[1]))}))' four_trace.csv)
+[ "$held" = "['2.5']" ] || { echo "FAIL: y_ref3 is $held, want the middle of [0, 5] throughout"; fail=1; }
+moving=$(python3 -c 'import csv,sys; print(len({r["y_ref1"] for r in csv.DictReader(open(sys.argv[1]))}))' four_trace.csv)
+[ "$moving" -gt 20 ] || { echo "FAIL: y_ref1 takes $moving values: the Infinity does not drive it"; fail=1; }
 
 # --sim takes a path to a shipped rig as it takes the name.
 printf 'run 200ms label=by-path\n' >run.nls

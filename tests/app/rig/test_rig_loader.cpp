@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/rig/rig.hpp"
+#include "app/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -323,6 +324,146 @@ TEST(RigLoader, UnreadableFileIsNamed) {
   } catch (const RigError& e) {
     EXPECT_EQ(std::string(e.what()), "/nonexistent/rig.toml: cannot read the rig file");
   }
+}
+
+
+// ---------------------------------------------------------------- [plant] kind = "generic"
+
+const char* kGenericPlant = R"(
+[plant]
+kind = "generic"
+coupling = [[2.0, -1.0]]
+output_offset = [1.0]
+output_tau = [0.02]
+sensor_map = [[1.0, 0.0, 0.5]]
+sensor_noise = [0.01]
+
+[[plant.actuator]]
+gain = 3.0
+shape = "tanh"
+knee = 0.2
+play = 0.01
+tau = 0.05
+
+[[plant.actuator]]
+shape = "power"
+exponent = 2.0
+)";
+
+const std::string kGeneric = std::string(kBase) + kGenericPlant;
+
+std::string generic_edit(const std::string& from, const std::string& to, int nth = 1) {
+  return edit(from, to, nth, kGeneric);
+}
+
+TEST(RigLoader, GenericPlantLoadsEveryKeyIntoTheSpec) {
+  const Rig r = parse_rig(kGeneric, "my.toml");
+  ASSERT_TRUE(has_generic_plant(r));
+  ASSERT_EQ(r.plant.actuators.size(), 2u);
+  EXPECT_EQ(r.plant.actuators[0].shape, "tanh");
+  EXPECT_EQ(r.plant.actuators[1].gain, 1.0);  // default
+  const GenericPlantSpec s = generic_plant_spec(r);
+  EXPECT_EQ(generic_spec_problem(s), nullptr);
+  EXPECT_EQ(s.m, 2);
+  EXPECT_EQ(s.n, 1);
+  EXPECT_EQ(s.w, 1);
+  EXPECT_FLOAT_EQ(s.dt, 0.01f);  // 1 / rate_hz
+  EXPECT_EQ(s.input[0].min, 0.0f);
+  EXPECT_EQ(s.input[0].neutral, 0.5f);
+  EXPECT_EQ(s.input[0].gain, 3.0f);
+  EXPECT_EQ(s.input[0].shape, GenericShape::Tanh);
+  EXPECT_EQ(s.input[0].knee, 0.2f);
+  EXPECT_EQ(s.input[0].play, 0.01f);
+  EXPECT_EQ(s.input[0].tau, 0.05f);
+  EXPECT_EQ(s.input[1].shape, GenericShape::Power);
+  EXPECT_EQ(s.input[1].exponent, 2.0f);
+  EXPECT_EQ(s.input[1].tau, 0.0f);
+  EXPECT_EQ(s.output[0].lo, -10.0f);  // the [[output]]'s reach is the box
+  EXPECT_EQ(s.output[0].hi, 10.0f);
+  EXPECT_EQ(s.output[0].offset, 1.0f);
+  EXPECT_EQ(s.output[0].tau, 0.02f);
+  EXPECT_EQ(s.B[0][0], 2.0f);
+  EXPECT_EQ(s.B[0][1], -1.0f);
+  EXPECT_EQ(s.C[0][2], 0.5f);
+  EXPECT_EQ(s.sensor[0].offset, 0.0f);  // default
+  EXPECT_EQ(s.sensor[0].noise, 0.01f);
+  // output_offset defaults to the middle of the output's range.
+  const Rig mid = parse_rig(generic_edit("output_offset = [1.0]\n", ""), "my.toml");
+  EXPECT_EQ(mid.plant.output_offset, std::vector<double>{0.0});
+}
+
+TEST(RigLoader, GenericPlantMatricesMustHaveTheFilesSizes) {
+  std::string t = generic_edit("coupling = [[2.0, -1.0]]", "coupling = [[2.0, -1.0], [1.0, 1.0]]");
+  expect_error(t, line_of(t, "coupling"), "[plant] coupling",
+               "expected n = 1 rows (one per [[output]]), got 2");
+  t = generic_edit("coupling = [[2.0, -1.0]]", "coupling = [[2.0, -1.0, 4.0]]");
+  expect_error(t, line_of(t, "coupling"), "[plant] coupling[0]",
+               "expected m = 2 numbers (one per [[input]]), got 3");
+  t = generic_edit("sensor_map = [[1.0, 0.0, 0.5]]", "sensor_map = [\n  [1.0, 0.0],\n]");
+  expect_error(t, line_of(t, "[1.0, 0.0]"), "[plant] sensor_map[0]",
+               "expected m + n = 3 numbers (one per [[input]], then one per [[output]]), got 2");
+  t = generic_edit("output_tau = [0.02]", "output_tau = [0.02, 0.0]");
+  expect_error(t, line_of(t, "output_tau"), "[plant] output_tau", "expected n = 1 numbers (one per [[output]]), got 2");
+  t = generic_edit("coupling = [[2.0, -1.0]]", "coupling = [2.0]");
+  expect_error(t, line_of(t, "coupling"), "[plant] coupling[0]", "expected an array (a row), got a number");
+  t = generic_edit("sensor_map = [[1.0, 0.0, 0.5]]\n", "");
+  expect_error(t, line_of(t, "[plant]"), "[plant] sensor_map", "missing key");
+}
+
+TEST(RigLoader, GenericPlantRefusesNanAndNegativeTimeConstants) {
+  std::string t = generic_edit("coupling = [[2.0, -1.0]]", "coupling = [[2.0, nan]]");
+  expect_error(t, line_of(t, "coupling"), "[plant] coupling[0][1]", "must be finite, not nan");
+  t = generic_edit("sensor_map = [[1.0, 0.0, 0.5]]", "sensor_map = [[1.0, 0.0, 1e7]]");
+  expect_error(t, line_of(t, "sensor_map"), "[plant] sensor_map[0][2]", "must be within +-1000000, not 10000000");
+  t = generic_edit("tau = 0.05", "tau = -0.05");
+  expect_error(t, line_of(t, "tau = -0.05"), "[[plant.actuator]] #1 tau",
+               "must be in [0, 1000] s (a time constant), not -0.05");
+  t = generic_edit("output_tau = [0.02]", "output_tau = [-1.0]");
+  expect_error(t, line_of(t, "output_tau"), "[plant] output_tau[0]", "must be in [0, 1000], not -1");
+  t = generic_edit("sensor_noise = [0.01]", "sensor_noise = [-0.01]");
+  expect_error(t, line_of(t, "sensor_noise"), "[plant] sensor_noise[0]", "must be in [0, 1000000], not -0.01");
+  t = generic_edit("gain = 3.0", "gain = inf");
+  expect_error(t, line_of(t, "gain = inf"), "[[plant.actuator]] #1 gain", "must be finite, not inf");
+  t = generic_edit("gain = 3.0", "gain = 0.0");
+  expect_error(t, line_of(t, "gain = 0.0"), "[[plant.actuator]] #1 gain", "must not be 0");
+}
+
+TEST(RigLoader, GenericPlantActuatorsAreOnePerInputWithTheirShapesKeys) {
+  std::string t = generic_edit("[[plant.actuator]]\nshape = \"power\"\nexponent = 2.0\n", "");
+  expect_error(t, line_of(t, "[plant]"), "[plant] [[plant.actuator]]",
+               "expected m = 2 tables (one per [[input]]), got 1");
+  t = kGeneric + "\n[[plant.actuator]]\ngain = 1.0\n";
+  expect_error(t, line_of(t, "[[plant.actuator]]", 3), "[[plant.actuator]] #3", "one more than the 2 [[input]] tables");
+  t = generic_edit("knee = 0.2\n", "");
+  expect_error(t, line_of(t, "[[plant.actuator]]"), "[[plant.actuator]] #1 knee", "missing key");
+  t = generic_edit("exponent = 2.0", "knee = 2.0");
+  expect_error(t, line_of(t, "knee = 2.0"), "[[plant.actuator]] #2 knee", "only for shape = \"tanh\" or \"saturation\"");
+  t = generic_edit("exponent = 2.0", "exponent = 9.0");
+  expect_error(t, line_of(t, "exponent = 9.0"), "[[plant.actuator]] #2 exponent", "must be in [0, 8], not 9");
+  t = generic_edit("shape = \"tanh\"", "shape = \"cubic\"");
+  expect_error(t, line_of(t, "shape = \"cubic\""), "[[plant.actuator]] #1 shape",
+               "'cubic' is not one of: linear, tanh, saturation, power");
+  t = generic_edit("play = 0.01", "play = 0.5");
+  expect_error(t, line_of(t, "play = 0.5"), "[[plant.actuator]] #1 play", "must be < half the input's range, 0.5");
+  t = generic_edit("tau = 0.05", "tua = 0.05");
+  expect_error(t, line_of(t, "tua = 0.05"), "[[plant.actuator]] #1 tua", "unknown key (known: gain, shape, knee");
+}
+
+TEST(RigLoader, GenericKeysBelongToTheGenericKindAndItsRate) {
+  std::string t = generic_edit("kind = \"generic\"", "kind = \"tendon\"");
+  expect_error(t, line_of(t, "coupling"), "[plant] coupling", "only for kind = \"generic\"");
+  t = generic_edit("rate_hz = 100.0", "rate_hz = 0.5");
+  expect_error(t, line_of(t, "kind = \"generic\""), "[plant] kind", "rate_hz must be >= 1, not 0.5");
+  // The largest rig a file may describe takes a generic plant too.
+  std::string big = rig_of(8, 6, 32) + "\n[plant]\nkind = \"generic\"\ncoupling = [";
+  for (int j = 0; j < 6; ++j) big += std::string(j ? ", " : "") + "[1, 1, 1, 1, 1, 1, 1, 1]";
+  big += "]\nsensor_map = [";
+  for (int k = 0; k < 32; ++k) big += std::string(k ? ", " : "") + "[0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0]";
+  big += "]\n";
+  for (int i = 0; i < 8; ++i) big += "[[plant.actuator]]\ntau = 0.1\n";
+  const Rig r = parse_rig(big, "big.toml");
+  EXPECT_EQ(generic_spec_problem(generic_plant_spec(r)), nullptr);
+  EXPECT_EQ(generic_plant_spec(r).w, 32);
 }
 
 }  // namespace

@@ -10,7 +10,9 @@
 #include "app/rig/board_pins.hpp"
 #include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig.hpp"
+#include "app/model/train.hpp"
 #include "app/rig/rig_params.hpp"
+#include "app/rig/rig_pipeline.hpp"
 #include "app/rig/rig_reference.hpp"
 #include "firmware/ports/stm32f4/rig_pins.hpp"
 #include "shared/platform.hpp"
@@ -111,6 +113,36 @@ TEST_P(ShippedRig, TheFirmwaresRigDataFromTheFileIsTheCompiledIn) {
   EXPECT_EQ(got.feedback, want.feedback);
   EXPECT_EQ(std::memcmp(&got.reference, &want.reference, sizeof got.reference), 0)
       << "start-up reference (kind " << int(got.reference.kind) << " vs " << int(want.reference.kind) << ")";
+}
+
+// `dataset --platform NAME` and `train --platform NAME` resolve to the
+// shipped file: the pipeline must see in it exactly the compiled-in
+// platform (same plant, limits, history, network, training options).
+TEST_P(ShippedRig, PipelineTargetIsTheCompiledInPlatforms) {
+  const pipeline::PlantTarget got = rig_plant_target(rig), want = pipeline::platform_target(GetParam());
+  EXPECT_EQ(got.plant, pipeline::TargetPlant::Named);
+  EXPECT_EQ(got.platform, GetParam());
+  EXPECT_EQ(got.m, want.m);
+  EXPECT_EQ(got.n, want.n);
+  EXPECT_EQ(got.w, want.w);
+  EXPECT_EQ(got.nd, want.nd);
+  for (int i = 0; i < got.m; ++i) {
+    EXPECT_EQ(float(got.u_lo[size_t(i)]), float(want.u_lo[size_t(i)])) << i;
+    EXPECT_EQ(float(got.u_hi[size_t(i)]), float(want.u_hi[size_t(i)])) << i;
+  }
+  const pipeline::TrainOptions a = pipeline::default_options(got), b = pipeline::default_options(GetParam());
+  ASSERT_EQ(a.layers.size(), b.layers.size());
+  for (size_t l = 0; l < a.layers.size(); ++l) {
+    EXPECT_EQ(a.layers[l].kind, b.layers[l].kind) << l;
+    EXPECT_EQ(a.layers[l].units, b.layers[l].units) << l;
+    EXPECT_EQ(a.layers[l].act, b.layers[l].act) << l;
+    EXPECT_EQ(a.layers[l].rec_act, b.layers[l].rec_act) << l;
+    EXPECT_EQ(a.layers[l].reset_after, b.layers[l].reset_after) << l;
+  }
+  EXPECT_EQ(a.nd, b.nd);
+  EXPECT_EQ(a.dd, b.dd);
+  EXPECT_EQ(a.residual, b.residual);
+  EXPECT_EQ(a.y_noise, b.y_noise);
 }
 
 TEST_P(ShippedRig, ReferencesAreThePresetPaths) {

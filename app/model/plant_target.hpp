@@ -1,0 +1,47 @@
+#pragma once
+// What `dataset` and `train` need to know of a rig: its dimensions, input
+// limits, the plant that stands in for it and the network's shape. The
+// pipeline does not read rig files; the console builds a target from one
+// (app/rig/rig_pipeline.hpp) and hands the commands that resolver.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "app/model/network.hpp"
+#include "shared/plant_generic.hpp"
+#include "shared/platform_id.hpp"
+
+namespace nlsoft::pipeline {
+
+enum class TargetPlant { None, Named, Generic };
+
+struct PlantTarget {
+  std::string name;  // the rig's name, in messages
+  int m = 0, n = 0, w = 0, nd = 2;
+  std::vector<double> u_lo, u_hi;  // the inputs' limits
+  std::vector<double> y_mid;       // the middle of each output's range
+  std::string y_unit;              // the first output's unit ("" normalised)
+  // The simulated stand-in: a hand-written plant (its own excitation time
+  // scales and training defaults), a generic one, or none (data from the
+  // rig itself; train centres the outputs on y_mid).
+  TargetPlant plant = TargetPlant::None;
+  PlatformId platform = PlatformId::Msd;  // TargetPlant::Named
+  GenericPlantSpec generic{};             // TargetPlant::Generic
+  std::vector<LayerSpec> layers;          // the rig's [model] layers; empty: the defaults
+  // The controller feeds back the measured output (else its own
+  // predictions): what the network must be trained for.
+  bool measured_feedback = false;
+};
+
+// Resolves `--rig ARG` (or `--platform NAME`) to a target; throws an
+// exception derived from std::runtime_error with the reason (exit 2).
+using TargetResolver = std::function<PlantTarget(const std::string& arg)>;
+
+// A compiled-in platform as a target (what `--platform NAME` meant before
+// rig files): its plant, limits and default network.
+PlantTarget platform_target(PlatformId id);
+
+// The names msd, hasel, tendon, refused otherwise in the pipeline's words.
+PlantTarget platform_target_by_name(const std::string& name);
+
+}  // namespace nlsoft::pipeline

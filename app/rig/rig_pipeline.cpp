@@ -1,0 +1,45 @@
+#include "app/rig/rig_pipeline.hpp"
+
+#include "app/model/model_store.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_plant.hpp"
+
+namespace nlsoft::console {
+
+pipeline::PlantTarget rig_plant_target(const Rig& rig) {
+  using pipeline::TargetPlant;
+  pipeline::PlantTarget t;
+  t.name = rig.name;
+  t.m = rig.m(), t.n = rig.n(), t.w = rig.w(), t.nd = rig.nd;
+  for (const RigInput& in : rig.inputs) t.u_lo.push_back(in.min), t.u_hi.push_back(in.max);
+  for (const RigOutput& o : rig.outputs) t.y_mid.push_back(0.5 * (o.min + o.max));
+  t.y_unit = rig.outputs.empty() ? "" : rig.outputs[0].unit;
+  t.measured_feedback = rig.controller.feedback == Feedback::Measured;
+  PlatformId id;
+  if (has_generic_plant(rig)) {
+    t.plant = TargetPlant::Generic;
+    t.generic = generic_plant_spec(rig);
+  } else if (!rig.plant.kind.empty() && platform_from_name(rig.plant.kind.c_str(), &id)) {
+    t.plant = TargetPlant::Named;
+    t.platform = id;
+  }
+  for (const RigLayer& l : rig.model.layers) {
+    pipeline::LayerSpec L;
+    L.units = l.units;
+    if (l.kind == "gru") {
+      L.kind = LayerKind::Gru;
+      L.act = Activation::Tanh;  // Keras' GRU defaults, as `train --arch gru` builds it
+      L.rec_act = Activation::Sigmoid;
+      L.reset_after = true;
+    } else {
+      L.kind = LayerKind::Dense;
+      pipeline::activation_from_name(l.activation, &L.act);
+    }
+    t.layers.push_back(L);
+  }
+  return t;
+}
+
+pipeline::PlantTarget rig_target_arg(const std::string& arg) { return rig_plant_target(load_rig_arg(arg)); }
+
+}  // namespace nlsoft::console
