@@ -694,8 +694,12 @@ int64_t LiveConsole::start_run(const std::string& label) {
   } catch (const std::exception& e) {
     run_id_ = 0;
     recorder_->end_run(id, std::string("not started: ") + e.what(), 0, 0);
+    // WRONG_STATE on field 0 (run_id): another run is active; on no field:
+    // the firmware has no model to run (firmware.hpp run_start).
     if (const auto* nack = dynamic_cast<const NackError*>(&e); nack && nack->status() == p::StatusCode::WrongState)
-      throw CliError("the firmware is already running another run; stop it first");
+      throw CliError(nack->nack.field == p::kNoField
+                         ? "the firmware has no model to run: upload one first (model upload FILE.nlsm)"
+                         : "the firmware is already running another run; stop it first");
     throw;
   }
   {

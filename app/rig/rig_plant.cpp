@@ -1,5 +1,7 @@
 #include "app/rig/rig_plant.hpp"
 
+#include "app/rig/rig_firmware.hpp"
+
 
 namespace nlsoft::console {
 
@@ -37,6 +39,10 @@ GenericPlantSpec generic_plant_spec(const Rig& rig) {
     for (size_t c = 0; c < p.sensor_map[k].size(); ++c) s.C[k][c] = float(p.sensor_map[k][c]);
   }
   return s;
+}
+
+void require_simulated_plant(const Rig& rig, const std::string& what) {
+  if (!has_generic_plant(rig)) simulated_plant(rig, what);
 }
 
 }  // namespace nlsoft::console

@@ -14,4 +14,8 @@ bool has_generic_plant(const Rig& rig);
 // [plant] constants, in float. Only for has_generic_plant(rig).
 GenericPlantSpec generic_plant_spec(const Rig& rig);
 
+// Refuses (CliError, `what` first) a rig with no plant to simulate: neither
+// a generic one nor one of the named kinds.
+void require_simulated_plant(const Rig& rig, const std::string& what);
+
 }  // namespace nlsoft::console

@@ -21,6 +21,7 @@
 #include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig_catalog.hpp"
 #include "app/rig/rig_firmware.hpp"
+#include "app/rig/rig_plant.hpp"
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
@@ -114,10 +115,14 @@ int main(int argc, char** argv) {
   // The rig and its plant, or a clear refusal before the pty exists.
   static console::Rig rig;
   static RigConfig rig_config{};
-  PlatformId plant;
+  PlatformId plant = PlatformId::Msd;
+  GenericPlantSpec generic{};
+  bool is_generic = false;
   try {
     rig = console::load_rig_arg(rig_arg);
-    plant = console::simulated_plant(rig, "--rig");
+    is_generic = console::has_generic_plant(rig);
+    if (is_generic) generic = console::generic_plant_spec(rig);
+    else plant = console::simulated_plant(rig, "--rig");
     rig_config = console::firmware_rig(rig);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: %s\n", e.what());
@@ -148,6 +153,10 @@ int main(int argc, char** argv) {
   signal(SIGPIPE, SIG_IGN);
 
   static fw::posix::SimHal hal(pty.master, plant, seed);
+  if (is_generic && !hal.use_generic(generic, seed)) {
+    std::fprintf(stderr, "nlsoft-firmware-sim: error: %s: the [plant] cannot be simulated\n", rig.file.c_str());
+    return 2;
+  }
   hal.set_period(float(1.0 / rate));
   const fw::Identity id{&rig_config, "nlsoft-posix", kVersionMajor, kVersionMinor, kVersionPatch, uint32_t(rate + 0.5), true};
   const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,

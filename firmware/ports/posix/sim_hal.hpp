@@ -16,6 +16,13 @@ class SimHal final : public Hal {
     plant_.select(platform, seed);
     dt_ = plant_.dt();
   }
+  // Replaces the plant by a rig's generic one; false (nothing changed) when
+  // the spec is refused (generic_spec_problem).
+  bool use_generic(const GenericPlantSpec& spec, uint32_t seed) {
+    if (!plant_.select(spec, seed)) return false;
+    dt_ = plant_.dt();
+    return true;
+  }
   void set_period(float dt) { dt_ = dt; }
 
   // What the port's last ppoll said: reads are tried only when bytes are
