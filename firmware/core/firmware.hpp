@@ -12,6 +12,7 @@
 #include "firmware/core/hal.hpp"
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
+#include "firmware/core/rig_reply.hpp"
 #include "firmware/core/tx_queue.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
@@ -35,6 +36,8 @@ struct Identity {
   uint8_t major, minor, patch;
   uint32_t loop_rate_hz;
   bool has_y_true;  // the port can read the true output (simulated plant)
+  const char* rig_name;  // RIG_INFO (protocol 1.2): the rig file's name, up to 24 characters
+  uint32_t rig_hash;     // CRC-32 of its canonical content; 0: not built from a rig file
 };
 
 // Caller-owned memory, sized by the port.
@@ -241,6 +244,7 @@ class Firmware {
         return reply(r);
       }
       case T::InfoGet: return reply(info());  // INFO_EX: a 1.1 console reads both
+      case T::RigGet: return reply(rig_info<Cap>(id_.rig_name, id_.rig_hash, preset_));
       case T::ParamList: {
         proto::ParamList p;
         if (!unpack_or_nack(f, p)) return;
@@ -273,6 +277,8 @@ class Firmware {
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
         if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_in_staging())
           return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+        if (model_size_refused(rig_info<Cap>(id_.rig_name, id_.rig_hash, preset_), p))
+          return nack(f.header.type, proto::StatusCode::Unsupported, 2, proto::kNoField);
         const proto::XferReply r = rx->begin(p);
         // Only an accepted BEGIN may touch the model in force: a NACK changes nothing.
         if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) restore_builtin_model();
@@ -283,7 +289,17 @@ class Firmware {
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
-        return xfer_reply(f.header.type, rx->chunk(p));
+        const uint32_t before = rx->next_offset();
+        const proto::XferReply r = rx->chunk(p);
+        if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) {
+          const proto::StatusCode v = model_header_verdict(rig_info<Cap>(id_.rig_name, id_.rig_hash, preset_), *rx, before);
+          if (v != proto::StatusCode::Ok) {
+            rx->close();  // the model in force stays (the built-in one since BEGIN)
+            log(proto::LogLevel::Warn, "model upload refused at its header: a shape RIG_INFO does not accept");
+            return nack(f.header.type, v, 2, proto::kNoField);
+          }
+        }
+        return xfer_reply(f.header.type, r);
       }
       case T::XferCommit: {
         proto::XferCommit p;
@@ -441,7 +457,7 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | (id_.has_y_true ? c::kYTrue : 0);
+                     c::kLog | c::kRig | (id_.has_y_true ? c::kYTrue : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }

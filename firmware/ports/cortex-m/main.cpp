@@ -47,7 +47,10 @@ alignas(4) uint8_t g_model_staging[kModelFileMax];
 uint8_t g_table_staging[kTableFileMax];
 float g_table_points[kTableFloats];
 
-Fw g_fw(g_hal, fw::Identity{kPlatform, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz, NLSOFT_HIL != 0},
+// The rig is the platform until images are built from rig files: its name, and no hash.
+Fw g_fw(g_hal,
+        fw::Identity{kPlatform, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz,
+                     NLSOFT_HIL != 0, platform_name(kPlatform), 0},
         fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging,
                     sizeof g_table_staging, g_table_points, kTableFloats});
 

@@ -139,7 +139,9 @@ int main(int argc, char** argv) {
 
   static fw::posix::SimHal hal(pty.master, platform, seed);
   hal.set_period(float(1.0 / rate));
-  const fw::Identity id{platform, "nlsoft-posix", kVersionMajor, kVersionMinor, kVersionPatch, uint32_t(rate + 0.5), true};
+  // The rig is the platform until images are built from rig files: its name, and no hash.
+  const fw::Identity id{platform, "nlsoft-posix", kVersionMajor, kVersionMinor, kVersionPatch, uint32_t(rate + 0.5),
+                        true, platform_name(platform), 0};
   const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                          g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
   static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
