@@ -13,13 +13,14 @@ namespace nlsoft::console {
 
 struct ConnectArgs {
   std::string port, sim, qemu, board = "mps2-an386", db;
+  std::string rig;  // with PORT: the rig file the board's image was built from
   unsigned baud = 115200;
   bool no_record = false, sim_fast = false;
   double sim_rate = 0;
   int timeout_ms = 250;
 };
 
-// PORT, --sim, --qemu, --board, --baud, --sim-fast, --sim-rate, --db,
+// PORT, --sim, --qemu, --board, --rig, --baud, --sim-fast, --sim-rate, --db,
 // --no-record, --timeout. `what` is the verb of the help lines ("connect
 // to", "tune").
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what);

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "app/cli_error.hpp"
+#include "app/link/model_shape_words.hpp"
 #include "app/live/param_defaults.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
@@ -85,6 +86,8 @@ void LiveConsole::connect(const Progress& params_progress) {
   // A bad --udp target fails before a simulator starts or a board is touched.
   if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, [this](const std::string& s) { say(s); });
   std::string port = options_.port;
+  // A rig file that cannot be read stops us before a simulator starts.
+  if (!options_.rig.empty()) rig_file_ = rig_file_id(options_.rig);
   if (!options_.sim_platform.empty()) {
     PlatformId id;
     if (!platform_from_name(options_.sim_platform.c_str(), &id))
@@ -139,6 +142,7 @@ void LiveConsole::connect(const Progress& params_progress) {
         throw LinkError(session_->no_info_words(before, waited, options_.baud));
     }
   }
+  check_rig();
   device_->load_params(params_progress);
   // The tick rate converts compute ticks to microseconds from the first sample on.
   const p::Status st = device_->status();
@@ -282,6 +286,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
           say("the firmware's parameter list changed; reloaded it");
         }
         if (now.model_hash != before.model_hash) say(fmt::format("the firmware now runs another model ({:08x})", now.model_hash));
+        check_rig();
         const p::Status st = device_->status();
         check_for_reset(before, now, st);
         if (run != 0 && (st.run_id != uint32_t(run) || st.run_state == uint8_t(p::RunState::Idle)))
@@ -294,6 +299,16 @@ void LiveConsole::on_event(const LinkEvent& e) {
       break;
     }
   }
+}
+
+void LiveConsole::check_rig() {
+  if (!rig_file_ || rig_warned_) return;
+  const std::optional<p::RigInfo> rig = device_->rig();
+  if (!rig) return;  // a 1.1 firmware names no rig
+  const std::string w = rig_mismatch(*rig, *rig_file_);
+  if (w.empty() || rig_warned_.exchange(true)) return;
+  say(w);
+  if (recorder_) recorder_->add_link_event(run_id_.load(), "rig", w);
 }
 
 void LiveConsole::note_uptime(uint32_t uptime_ms) {
@@ -574,6 +589,10 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   if (fw_limit) kind.limit_words = "this firmware takes models of at most";
   const std::string text = read_input_file(path, kind);
   const std::vector<uint8_t> bytes(text.begin(), text.end());
+  // RIG_INFO (protocol 1.2): a shape the firmware has no kernel for would be
+  // refused at its header chunk or its commit; refused here, nothing is sent.
+  if (const auto rig = device_->rig())
+    if (const auto refusal = shape_refusal(path, bytes, *rig)) throw CliError(*refusal);
   // Parsed with copies of the weights, so the check does not depend on the
   // vector's alignment; the same checks the firmware makes at commit.
   std::vector<float> weights(model_params_max<HostCapacity>());
@@ -636,7 +655,7 @@ int64_t LiveConsole::start_run(const std::string& label) {
   const p::Info info = device_->info();
   RunInfo ri;
   ri.label = label;
-  ri.platform = info.platform <= 2 ? platform_name(PlatformId(info.platform)) : "custom";
+  ri.platform = device_->rig_label();
   ri.firmware = fmt::format("{} {}.{}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch);
   ri.model_hash = info.model_hash;
   ri.param_hash = info.param_hash;

@@ -14,6 +14,7 @@
 
 #include "app/link/device.hpp"
 #include "app/link/port_path.hpp"
+#include "app/link/rig_hash.hpp"
 #include "app/link/session.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/live/live_buffer.hpp"
@@ -29,6 +30,9 @@ struct LiveOptions {
   std::string port;          // a serial device, or empty with sim_platform
   unsigned baud = 115200;
   std::string sim_platform;  // msd|hasel|tendon: start nlsoft-firmware-sim
+  // The rig file the firmware should run (--sim/--qemu NAME|PATH, --rig): a
+  // firmware whose RIG_INFO names another rig or hash is warned about, once.
+  std::string rig;
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
   std::string qemu_board = "mps2-an386";  // whose image: mps2-an386 or stm32f4
   std::vector<std::string> sim_args;
@@ -81,6 +85,9 @@ class LiveConsole {
   const std::string& db_path() const { return db_path_; }
   const UdpStream* udp() const { return udp_.get(); }
   PlatformId platform() const;
+  // The rig's name where the platform used to be named (RIG_INFO, protocol
+  // 1.2; the platform's name from an older firmware).
+  std::string rig_label() const { return device_->rig_label(); }
   double loop_rate_hz() const { return double(device_->info().loop_rate_hz); }
   int n() const { return device_->info().n; }
 
@@ -119,7 +126,7 @@ class LiveConsole {
 
   // A new forward model without a reflash (transfer kind 2). The file is
   // checked here with the firmware's own parser, against the firmware's
-  // dimensions, platform and transfer limit, before a byte is sent; refused
+  // dimensions, platform, model shape (RIG_INFO) and transfer limit, before a byte is sent; refused
   // during a run (the firmware would refuse the commit). Afterwards INFO is
   // read again and the model hash it reports must be the file's CRC-32.
   struct ModelUpload {
@@ -196,6 +203,8 @@ class LiveConsole {
   void on_status(const protocol::Status& s);
   // After a reconnect: did the firmware reset, and which edits did it lose?
   void check_for_reset(const protocol::Info& before, const protocol::Info& now, const protocol::Status& st);
+  // RIG_INFO against the rig file given (options_.rig): one warning per console.
+  void check_rig();
   void note_uptime(uint32_t uptime_ms);
   void configure_telemetry();
   // A port that may not exist yet (--wait), opened by its by-id name.
@@ -209,6 +218,8 @@ class LiveConsole {
   }
 
   LiveOptions options_;
+  std::optional<RigFileId> rig_file_;
+  std::atomic<bool> rig_warned_{false};
   std::string db_path_;
   bool temp_db_ = false;
   std::string temp_dir_;  // --no-record: the private folder of the temporary database
