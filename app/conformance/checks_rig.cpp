@@ -91,7 +91,8 @@ std::vector<uint8_t> dense_model(const p::RigInfo& r, const std::vector<uint32_t
 }
 
 // A model the firmware must refuse for its shape: the first listed shape
-// with a first layer one unit wider (as Dense layers), or, with accept =
+// with a first layer one unit narrower (as Dense layers; an image's
+// model_max is often its one shape's size, so not wider), or, with accept =
 // any, a first layer one unit wider than max_width.
 std::vector<uint8_t> refused_model(const p::RigInfo& r) {
   std::vector<uint32_t> units;
@@ -103,6 +104,7 @@ std::vector<uint8_t> refused_model(const p::RigInfo& r) {
     if (!p::next_shape(r.shapes, r.shapes_size, pos, s)) return {};
     for (uint8_t l = 0; l < s.layers; ++l) units.push_back(s.units[l]);
     if (units.size() == 1) units.insert(units.begin(), 1);  // one more layer: another shape too
+    else if (units[0] > 1) units[0] -= 1;
     else units[0] += 1;
   }
   return dense_model(r, units);

@@ -582,11 +582,14 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   if (!device_->has(p::capability::kXferModel))
     throw CliError("this firmware does not accept models (no XFER_MODEL capability)");
   if (running()) throw CliError("a model cannot change during a run: stop the run first");
-  // Bounded before a byte is read: the firmware's model_max, or what the
-  // file format can hold when the firmware does not say.
+  // Bounded before a byte is read: by the firmware's model_max, or what the
+  // console's own capacity holds if that is more, so that a model of
+  // another shape is refused by its shape (RIG_INFO, below) rather than its
+  // size; the firmware's limit is checked after that.
   const uint32_t fw_limit = device_->transfer_limit(p::XferKind::Model);
-  InputKind kind{"model file", fw_limit ? fw_limit : model_file_max<HostCapacity>(), false};
-  if (fw_limit) kind.limit_words = "this firmware takes models of at most";
+  const uint64_t host_max = model_file_max<HostCapacity>();
+  InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max), false};
+  if (fw_limit >= host_max) kind.limit_words = "this firmware takes models of at most";
   const std::string text = read_input_file(path, kind);
   const std::vector<uint8_t> bytes(text.begin(), text.end());
   // RIG_INFO (protocol 1.2): a shape the firmware has no kernel for would be

@@ -277,7 +277,9 @@ class Firmware {
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
         if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_in_staging())
           return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
-        if (model_size_refused(rig_info<Cap>(id_.rig_name, id_.rig_hash, preset_), p))
+        // After the size rules of TransferReceiver::begin (out_of_range, too_large): section 9.4's order.
+        if (rx == &model_rx_ && p.total_size != 0 && p.total_size <= rx->capacity() &&
+            model_size_refused(rig_info<Cap>(id_.rig_name, id_.rig_hash, preset_), p))
           return nack(f.header.type, proto::StatusCode::Unsupported, 2, proto::kNoField);
         const proto::XferReply r = rx->begin(p);
         // Only an accepted BEGIN may touch the model in force: a NACK changes nothing.

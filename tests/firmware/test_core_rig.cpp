@@ -159,13 +159,17 @@ TEST_F(HaselImage, RigInfoNamesTheRigAndListsTheImagesOneShape) {
             (std::vector<uint8_t>{3, 1, 5, 0, 1, 5, 0, 1, 3, 0}));
 }
 
-TEST_F(HaselImage, TheAuthorsShapeIsRefusedAtBeginByItsSize) {
-  const auto authors = dense_model({10, 5, 3});
-  const auto n = expect<proto::Nack>(begin_of(authors));
+// A smaller shape fits the buffer the image's own shape needs; its size is
+// no listed shape's. (The authors' 36->10->5->3 is larger than that buffer:
+// too_large, by the size rule that comes first.)
+TEST_F(HaselImage, AnotherShapeIsRefusedAtBeginByItsSize) {
+  const auto narrower = dense_model({4, 5, 3});
+  const auto n = expect<proto::Nack>(begin_of(narrower));
   EXPECT_EQ(n.status, uint8_t(proto::StatusCode::Unsupported));
   EXPECT_EQ(n.field, 2);
   // nothing opened: a chunk finds no transfer
-  EXPECT_EQ(expect<proto::Nack>(chunk_of(authors, 0)).status, uint8_t(proto::StatusCode::XferNotOpen));
+  EXPECT_EQ(expect<proto::Nack>(chunk_of(narrower, 0)).status, uint8_t(proto::StatusCode::XferNotOpen));
+  EXPECT_EQ(expect<proto::Nack>(begin_of(dense_model({10, 5, 3}))).status, uint8_t(proto::StatusCode::TooLarge));
   // the image's own shape begins, and commits
   const auto ours = dense_model({5, 5, 3});
   expect<proto::XferAck>(begin_of(ours));
@@ -174,6 +178,20 @@ TEST_F(HaselImage, TheAuthorsShapeIsRefusedAtBeginByItsSize) {
   c.kind = uint8_t(proto::XferKind::Model);
   expect<proto::Ack>(c);
   EXPECT_EQ(expect<proto::InfoEx>(proto::InfoGet{}).info.model_hash, crc32(ours.data(), ours.size() - 4));
+}
+
+// Section 9.4's order: the size rules first, so a model above model_max is
+// too_large (the INFO_EX limit the console names), not unsupported.
+TEST_F(HaselImage, AModelAboveModelMaxIsTooLargeBeforeItsShapeIsLookedAt) {
+  const auto ex = expect<proto::InfoEx>(proto::InfoGet{});
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::Model);
+  b.total_size = ex.model_max + 1;
+  const auto n = expect<proto::Nack>(b);
+  EXPECT_EQ(n.status, uint8_t(proto::StatusCode::TooLarge));
+  EXPECT_EQ(n.field, 2);
+  b.total_size = 0;
+  EXPECT_EQ(expect<proto::Nack>(b).status, uint8_t(proto::StatusCode::OutOfRange));
 }
 
 TEST_F(HaselImage, AShapeOfTheSameSizeIsRefusedAtTheChunkThatBringsItsHeader) {
