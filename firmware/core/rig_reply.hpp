@@ -8,12 +8,12 @@
 #include "protocol/messages.hpp"
 #include "protocol/rig_shapes.hpp"
 #include "protocol/transfer.hpp"
-#include "shared/platform.hpp"
 
 namespace nlsoft::fw {
 
-template <class Cap>
-protocol::RigInfo rig_info(const char* rig_name, uint32_t rig_hash, const Preset& p) {
+// `dims` is whatever holds the rig's m, n, w, nd and dd (a Preset today).
+template <class Cap, class Dims>
+protocol::RigInfo rig_info(const char* rig_name, uint32_t rig_hash, const Dims& p) {
   protocol::RigInfo r;
   r.rig_hash = rig_hash;
   std::strncpy(r.rig_name, rig_name ? rig_name : "", protocol::kRigNameLen);
