@@ -83,8 +83,8 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   if (port.empty() && a.sim.empty() && a.qemu.empty()) port = pick_port(who, cmd);
   if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
     throw CliError(who + "give either a PORT or --sim/--qemu, not both");
-  if (!a.rig.empty() && !(a.sim.empty() && a.qemu.empty()))
-    throw CliError(who + "--rig is for a PORT; --sim and --qemu already name their rig");
+  if (!a.rig.empty() && a.port.empty())
+    throw CliError(who + "--rig names the rig of a board given by PORT; with --sim or --qemu the rig is theirs");
   if (a.qemu.empty() && a.board != "mps2-an386")
     throw CliError(who + "--board names the image --qemu boots; give --qemu too");
   LiveOptions o;
@@ -94,7 +94,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   if (!a.qemu.empty()) o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
   else if (!a.sim.empty()) o.sim_platform = firmware_platform_name(a.sim, who + "--sim");
   o.sim_in_qemu = !a.qemu.empty();
-  o.rig = !a.qemu.empty() ? a.qemu : !a.sim.empty() ? a.sim : a.rig;
+  o.rig_file = !a.qemu.empty() ? a.qemu : !a.sim.empty() ? a.sim : a.rig;
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");

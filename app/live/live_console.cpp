@@ -87,7 +87,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, [this](const std::string& s) { say(s); });
   std::string port = options_.port;
   // A rig file that cannot be read stops us before a simulator starts.
-  if (!options_.rig.empty()) rig_file_ = rig_file_id(options_.rig);
+  if (!options_.rig_file.empty()) rig_file_ = rig_file_id(options_.rig_file);
   if (!options_.sim_platform.empty()) {
     PlatformId id;
     if (!platform_from_name(options_.sim_platform.c_str(), &id))

@@ -32,7 +32,7 @@ struct LiveOptions {
   std::string sim_platform;  // msd|hasel|tendon: start nlsoft-firmware-sim
   // The rig file the firmware should run (--sim/--qemu NAME|PATH, --rig): a
   // firmware whose RIG_INFO names another rig or hash is warned about, once.
-  std::string rig;
+  std::string rig_file;
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
   std::string qemu_board = "mps2-an386";  // whose image: mps2-an386 or stm32f4
   std::vector<std::string> sim_args;
@@ -203,7 +203,7 @@ class LiveConsole {
   void on_status(const protocol::Status& s);
   // After a reconnect: did the firmware reset, and which edits did it lose?
   void check_for_reset(const protocol::Info& before, const protocol::Info& now, const protocol::Status& st);
-  // RIG_INFO against the rig file given (options_.rig): one warning per console.
+  // RIG_INFO against the rig file given (options_.rig_file): one warning per console.
   void check_rig();
   void note_uptime(uint32_t uptime_ms);
   void configure_telemetry();

@@ -251,7 +251,7 @@ TEST(ModelUploadShape, ARigOtherThanTheOneGivenIsWarnedAbout) {
   const auto both = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --rig hasel --script " +
                                       dir.file("s.nls"));
   EXPECT_EQ(both.code, 2) << both.output;
-  EXPECT_NE(both.output.find("--rig is for a PORT"), std::string::npos) << both.output;
+  EXPECT_NE(both.output.find("--rig names the rig of a board given by PORT"), std::string::npos) << both.output;
 }
 
 TEST(ModelUploadScript, ParsesAndNamesItsUsage) {
