@@ -33,6 +33,9 @@ enum class MsgType : uint8_t {
   RunHold = 0x0D,
   TelemetryConfig = 0x0E,
   StatusGet = 0x0F,
+  // Protocol 1.2: the rig this image was built for and the model shapes it
+  // accepts (RIG_INFO), so a console refuses a model before uploading it.
+  RigGet = 0x10,
   // Replies and unsolicited messages, firmware -> console.
   Ack = 0x40,
   Nack = 0x41,
@@ -47,6 +50,7 @@ enum class MsgType : uint8_t {
   // Protocol 1.1: INFO with the transfer limits. INFO (0x43) keeps its 1.0
   // layout, so a 1.1 console still reads a 1.0 firmware's INFO.
   InfoEx = 0x4A,
+  RigInfo = 0x4B,  // protocol 1.2: the reply to RIG_GET
 };
 
 // Telemetry field mask bits; fields appear in the payload in bit order.
@@ -119,6 +123,7 @@ inline constexpr MsgInfo kMessages[] = {
     {MsgType::TelemetryConfig, "TELEMETRY_CONFIG", "TELEMETRY_CONFIG:u8 mask,u16 decimation", 3,
      3, 1, true, MsgType::Ack},
     {MsgType::StatusGet, "STATUS_GET", "STATUS_GET:", 0, 0, 1, true, MsgType::Status},
+    {MsgType::RigGet, "RIG_GET", "RIG_GET:", 0, 0, 1, true, MsgType::RigInfo},
     {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false, MsgType(0)},
     {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false, MsgType(0)},
     {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false, MsgType(0)},
@@ -150,6 +155,10 @@ inline constexpr MsgInfo kMessages[] = {
      "u8 fw_major,u8 fw_minor,u8 fw_patch,u32 loop_rate_hz,u32 model_hash,u32 param_hash,"
      "u32 capabilities,u32 table_max,u32 model_max,u8 protocol_minor,char[] firmware",
      37, 69, 1, false, MsgType(0)},
+    {MsgType::RigInfo, "RIG_INFO",
+     "RIG_INFO:u32 rig_hash,char[24] rig_name,u8 m,u8 n,u8 w,u8 nd,u8 dd,u8 accept,u8 max_layers,"
+     "u16 max_width,u32 max_weights,u8[] shapes",
+     41, 119, 1, false, MsgType(0)},
 };
 
 constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);

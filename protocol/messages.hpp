@@ -29,6 +29,10 @@ constexpr uint8_t kUnitLen = 8;
 constexpr uint8_t kMaxLogText = static_cast<uint8_t>(kMaxPayload - 1);  // 245
 constexpr uint8_t kMaxTelemetryDim = 15;  // n and m share one byte
 constexpr uint8_t kNoField = 0xFF;        // NACK field/element "not attributable"
+constexpr uint8_t kRigNameLen = 24;       // RIG_INFO rig_name, NUL-padded
+// RIG_INFO's shape list: what keeps the whole reply within the reply cache
+// (reply_cache.hpp: 41 fixed bytes + 78 = 119, 128 on the wire).
+constexpr uint8_t kMaxShapeBytes = 78;
 
 // Numbering shared with shared/params.hpp (F32, U8, Enum) and extended.
 enum class ParamType : uint8_t { F32 = 0, U8 = 1, Enum = 2, U16 = 3, U32 = 4 };
@@ -69,7 +73,14 @@ constexpr uint32_t kTelemetry = 1u << 4;
 constexpr uint32_t kYTrue = 1u << 5;  // telemetry can carry the true plant output
 constexpr uint32_t kRunHold = 1u << 6;
 constexpr uint32_t kLog = 1u << 7;
+constexpr uint32_t kRig = 1u << 8;  // protocol 1.2: RIG_GET answers RIG_INFO
 }  // namespace capability
+
+// RIG_INFO.accept (PROTOCOL.md 7): which model shapes a model upload may have.
+namespace shape_accept {
+constexpr uint8_t kList = 0;  // exactly one of the shapes listed (an MCU image's kernels)
+constexpr uint8_t kAny = 1;   // any shape within max_layers, max_width, max_weights (a generic kernel)
+}  // namespace shape_accept
 
 // STATUS.watchdog (PROTOCOL.md 9.7).
 namespace watchdog_flags {
@@ -80,7 +91,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 1;
+constexpr uint8_t kProtocolMinor = 2;
 
 // ---------------------------------------------------------------- requests
 
@@ -229,6 +240,11 @@ struct TelemetryConfig {
 
 struct StatusGet {
   static constexpr MsgType kType = MsgType::StatusGet;
+  template <class S, class V> static void fields(S&, V&) {}
+};
+
+struct RigGet {
+  static constexpr MsgType kType = MsgType::RigGet;
   template <class S, class V> static void fields(S&, V&) {}
 };
 
@@ -481,6 +497,38 @@ struct Log {
   }
 };
 
+// Protocol 1.2: the rig the image was built for and the model shapes it
+// accepts. A request of its own rather than a longer INFO_EX: INFO_EX's
+// layout cannot change within version 1 (PROTOCOL.md section 11), and the
+// name and the shape list would not fit beside INFO_EX's 69 bytes in the
+// reply cache. The shape list's bytes are in rig_shapes.hpp.
+struct RigInfo {
+  static constexpr MsgType kType = MsgType::RigInfo;
+  uint32_t rig_hash = 0;  // CRC-32 of the rig file's canonical content; 0: not built from a rig file
+  char rig_name[kRigNameLen + 1] = {};
+  uint8_t m = 0, n = 0, w = 0, nd = 0, dd = 0;
+  uint8_t accept = shape_accept::kList;
+  uint8_t max_layers = 0;
+  uint16_t max_width = 0;  // widest layer buffer: units for Dense, 3 x units for GRU
+  uint32_t max_weights = 0;
+  uint8_t shapes_size = 0;
+  uint8_t shapes[kMaxShapeBytes] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u32("rig_hash", s.rig_hash);
+    v.text_fixed("rig_name", s.rig_name, kRigNameLen);
+    v.u8("m", s.m);
+    v.u8("n", s.n);
+    v.u8("w", s.w);
+    v.u8("nd", s.nd);
+    v.u8("dd", s.dd);
+    v.u8("accept", s.accept);
+    v.u8("max_layers", s.max_layers);
+    v.u16("max_width", s.max_width);
+    v.u32("max_weights", s.max_weights);
+    v.bytes_tail("shapes", s.shapes, s.shapes_size, kMaxShapeBytes);
+  }
+};
+
 // ------------------------------------------------------------- pack/unpack
 
 namespace detail {
@@ -652,6 +700,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::RunHold: f(RunHold{}); return true;
     case MsgType::TelemetryConfig: f(TelemetryConfig{}); return true;
     case MsgType::StatusGet: f(StatusGet{}); return true;
+    case MsgType::RigGet: f(RigGet{}); return true;
     case MsgType::Ack: f(Ack{}); return true;
     case MsgType::Nack: f(Nack{}); return true;
     case MsgType::Pong: f(Pong{}); return true;
@@ -663,6 +712,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::Telemetry: f(Telemetry{}); return true;
     case MsgType::Log: f(Log{}); return true;
     case MsgType::InfoEx: f(InfoEx{}); return true;
+    case MsgType::RigInfo: f(RigInfo{}); return true;
   }
   return false;
 }

@@ -11,5 +11,6 @@
 #include "protocol/frame.hpp"
 #include "protocol/messages.hpp"
 #include "protocol/reply_cache.hpp"
+#include "protocol/rig_shapes.hpp"
 #include "protocol/status.hpp"
 #include "protocol/transfer.hpp"

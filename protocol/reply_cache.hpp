@@ -18,9 +18,12 @@ namespace nlsoft::protocol {
 
 class ReplyCache {
  public:
-  // Largest replies on the wire: INFO_EX with a 32-byte name, 78 bytes;
-  // PARAM_VALUE with 16 values, 76 bytes.
-  static constexpr size_t kCapacity = 80;
+  // Largest replies on the wire: RIG_INFO with a full shape list, 128
+  // bytes (protocol 1.2); INFO_EX with a 32-byte name, 78 bytes;
+  // PARAM_VALUE with 16 values, 76 bytes. RIG_INFO is idempotent and would
+  // do without the cache, but a reply left out would make the retransmission
+  // rule depend on the message type.
+  static constexpr size_t kCapacity = 128;
 
   // True when `request` repeats the previous request; then wire/size give
   // the reply to send again.

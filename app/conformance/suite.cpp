@@ -115,6 +115,7 @@ void Suite::run(std::chrono::seconds patience) {
     check_telemetry_rate(*this);
     check_watchdog(*this);
     check_transfers(*this);
+    check_rig(*this);
   } catch (const LinkError&) {
     try {
       pr.request(p::RunStop{}, 2);
@@ -131,8 +132,11 @@ void Suite::run(std::chrono::seconds patience) {
   std::vector<std::string> missing;
   const std::set<uint8_t> seen = pr.types_seen();
   const std::set<uint8_t> requests_answered = pr.answered();
+  const bool rig = (info.info.capabilities & p::capability::kRig) != 0;
   for (const p::MsgInfo& m : p::kMessages) {
     const uint8_t t = uint8_t(m.type);
+    // RIG_GET and RIG_INFO are protocol 1.2's, offered with the RIG capability.
+    if (!rig && (m.type == p::MsgType::RigGet || m.type == p::MsgType::RigInfo)) continue;
     if (m.is_request) {
       if (!requests_answered.count(t)) missing.push_back(std::string(m.name) + " never answered");
     } else if (t != uint8_t(p::MsgType::Info) && t != uint8_t(p::MsgType::InfoEx) && !seen.count(t)) {

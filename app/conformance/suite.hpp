@@ -68,6 +68,7 @@ void check_run_control(Suite& s);
 void check_telemetry_rate(Suite& s);
 void check_watchdog(Suite& s);
 void check_transfers(Suite& s);
+void check_rig(Suite& s);
 
 // Helpers shared by the check files.
 std::string join(const std::vector<std::string>& v, const char* sep);

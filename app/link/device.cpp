@@ -7,6 +7,8 @@
 
 #include "app/cli_error.hpp"
 #include "app/link/protocol_version.hpp"
+#include "app/printable.hpp"
+#include "shared/platform_id.hpp"
 #include "protocol/crc.hpp"
 
 namespace nlsoft::console {
@@ -21,12 +23,29 @@ p::Info Device::handshake() {
                                 protocol_version_text()));
   if (info.n == 0 || info.n > p::kMaxTelemetryDim || info.m == 0 || info.m > p::kMaxTelemetryDim)
     throw LinkError(fmt::format("the firmware reports impossible dimensions n={} m={}", info.n, info.m));
+  // A firmware that advertises RIG answers RIG_GET; one that does not is
+  // never asked (a 1.1 firmware would drop the frame and cost us a timeout).
+  std::optional<p::RigInfo> rig;
+  if (info.capabilities & p::capability::kRig) rig = session_.call<p::RigInfo>(p::RigGet{});
   {
     std::lock_guard<std::mutex> lock(mu_);
     info_ = ex;
+    rig_ = rig;
   }
   session_.set_nominal_rate(info.loop_rate_hz);
   return info;
+}
+
+std::optional<p::RigInfo> Device::rig() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return rig_;
+}
+
+std::string Device::rig_label() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (rig_ && rig_->rig_name[0] != '\0') return printable(rig_->rig_name);
+  const uint8_t pl = info_.info.platform;
+  return pl <= uint8_t(PlatformId::Tendon) ? platform_name(PlatformId(pl)) : "custom";
 }
 
 p::Info Device::info() const {

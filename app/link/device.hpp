@@ -6,6 +6,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,13 +28,21 @@ class Device {
 
   explicit Device(Session& session) : session_(session) {}
 
-  // INFO_GET; checks protocol version and dimensions. Throws LinkError.
+  // INFO_GET, and RIG_GET when INFO_EX has the RIG capability (protocol
+  // 1.2); checks protocol version and dimensions. Throws LinkError.
   protocol::Info handshake();
   protocol::Info info() const;
   // The largest object XFER_BEGIN accepts for `kind` (INFO_EX); 0 when the
   // firmware does not say (protocol 1.0).
   uint32_t transfer_limit(protocol::XferKind kind) const;
   uint8_t protocol_minor() const;
+  // RIG_INFO: the rig's name and hash and the model shapes the firmware
+  // accepts; none from a 1.1 or 1.0 firmware, which then goes by INFO's
+  // platform number as before.
+  std::optional<protocol::RigInfo> rig() const;
+  // The rig's name where the console used to name the platform: RIG_INFO's,
+  // else the platform's ("hasel", "custom").
+  std::string rig_label() const;
   bool has(uint32_t capability) const { return (info().capabilities & capability) != 0; }
 
   // Walks PARAM_LIST 0..count-1.
@@ -64,6 +73,7 @@ class Device {
   Session& session_;
   mutable std::mutex mu_;
   protocol::InfoEx info_{};
+  std::optional<protocol::RigInfo> rig_;
   std::shared_ptr<const ParamCatalog> catalog_ = std::make_shared<ParamCatalog>();
 };
 

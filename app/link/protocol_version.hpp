@@ -1,6 +1,6 @@
 #pragma once
 // The protocol revision this console speaks, as protocol/PROTOCOL.md names
-// it ("1.1"): the frame's version byte and INFO_EX's protocol_minor, put
+// it ("1.2"): the frame's version byte and INFO_EX's protocol_minor, put
 // together in this one place for every message that names it.
 #include <string>
 

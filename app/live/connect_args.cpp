@@ -66,6 +66,12 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                  "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                  "image in -M netduinoplus2)")
       ->check(CLI::IsMember(qemu_boards()));
+  app.add_option("--rig", a.rig,
+                 fmt::format("With PORT: the rig file the board's image was built from, {}; the console warns when "
+                             "the firmware names another rig or rig hash (--sim and --qemu take their rig from their "
+                             "own argument)",
+                             rig_arg_help()))
+      ->check(rig_arg_validator());
   app.add_option("--baud", a.baud, "Baud rate, any integer the port supports (default 115200)")
       ->check(CLI::Range(50u, 20000000u));
   app.add_option("--db", a.db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
@@ -88,6 +94,8 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   if (port.empty() && a.sim.empty() && a.qemu.empty()) port = pick_port(who, cmd);
   if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
     throw CliError(who + "give either a PORT or --sim/--qemu, not both");
+  if (!a.rig.empty() && a.port.empty())
+    throw CliError(who + "--rig names the rig of a board given by PORT; with --sim or --qemu the rig is theirs");
   if (a.qemu.empty() && a.board != "mps2-an386")
     throw CliError(who + "--board names the image --qemu boots; give --qemu too");
   LiveOptions o;
@@ -110,6 +118,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
     load_rig_arg(o.rig_file);  // a bad file is said before the board is touched
   }
   o.sim_in_qemu = !a.qemu.empty();
+  o.rig_file = !a.qemu.empty() ? a.qemu : !a.sim.empty() ? a.sim : a.rig;
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");

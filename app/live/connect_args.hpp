@@ -20,7 +20,7 @@ struct ConnectArgs {
   double db_busy_s = 30;
 };
 
-// PORT, --sim, --qemu, --board, --baud, --sim-fast, --sim-rate, --db,
+// PORT, --sim, --qemu, --board, --rig, --baud, --sim-fast, --sim-rate, --db,
 // --no-record, --timeout, --db-busy. `what` is the verb of the help lines ("connect
 // to", "tune").
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what);

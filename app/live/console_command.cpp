@@ -55,8 +55,9 @@ int run_console(const ConsoleArgs& a) {
   if (!headless) return run_tui(console);
 
   const auto info = console.device().info();
-  std::fprintf(stderr, "connected: %s %u.%u.%u, n=%u m=%u, %u Hz, %zu parameters; recording to %s\n", info.firmware,
-               info.fw_major, info.fw_minor, info.fw_patch, info.n, info.m, info.loop_rate_hz,
+  std::fprintf(stderr, "connected: %s %u.%u.%u, rig %s, n=%u m=%u, %u Hz, %zu parameters; recording to %s\n",
+               info.firmware, info.fw_major, info.fw_minor, info.fw_patch, console.rig_label().c_str(), info.n, info.m,
+               info.loop_rate_hz,
                console.device().catalog()->all().size(), console.db_path().c_str());
   if (const UdpStream* u = console.udp())
     std::fprintf(stderr, "streaming every telemetry sample to %s (UDP, one JSON object per datagram)\n",

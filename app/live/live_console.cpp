@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "app/cli_error.hpp"
+#include "app/link/model_shape_words.hpp"
 #include "app/live/param_defaults.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
@@ -75,14 +76,6 @@ void LiveConsole::say(const std::string& s) {
   else if (unheard_.size() < 32) unheard_.push_back(s);
 }
 
-std::string LiveConsole::rig_name_or_custom() const {
-  try {
-    return rig().name;
-  } catch (const std::exception&) {
-    return "custom";
-  }
-}
-
 const Rig& LiveConsole::rig() const {
   std::lock_guard<std::mutex> lock(rig_mu_);
   if (rig_) return *rig_;
@@ -101,6 +94,8 @@ void LiveConsole::connect(const Progress& params_progress) {
   // A bad --udp target fails before a simulator starts or a board is touched.
   if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, [this](const std::string& s) { say(s); });
   std::string port = options_.port;
+  // A rig file that cannot be read stops us before a simulator starts.
+  if (!options_.rig_file.empty()) rig_file_ = rig_file_id(options_.rig_file);
   if (options_.sim_in_qemu) {
     sim_ = std::make_unique<SimLauncher>();
     port = sim_->start_qemu(options_.sim_platform, options_.qemu_board);
@@ -139,6 +134,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_->open(port, options_.baud);
   device_ = std::make_unique<Device>(*session_);
   handshake_patiently();
+  check_rig();
   device_->load_params(params_progress);
   // The tick rate converts compute ticks to microseconds from the first sample on.
   const p::Status st = device_->status();
@@ -304,6 +300,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
           say("the firmware's parameter list changed; reloaded it");
         }
         if (now.model_hash != before.model_hash) say(fmt::format("the firmware now runs another model ({:08x})", now.model_hash));
+        check_rig();
         const p::Status st = device_->status();
         check_for_reset(before, now, st);
         if (run != 0 && (st.run_id != uint32_t(run) || st.run_state == uint8_t(p::RunState::Idle)))
@@ -316,6 +313,16 @@ void LiveConsole::on_event(const LinkEvent& e) {
       break;
     }
   }
+}
+
+void LiveConsole::check_rig() {
+  if (!rig_file_ || rig_warned_) return;
+  const std::optional<p::RigInfo> rig = device_->rig();
+  if (!rig) return;  // a 1.1 firmware names no rig
+  const std::string w = rig_mismatch(*rig, *rig_file_);
+  if (w.empty() || rig_warned_.exchange(true)) return;
+  say(w);
+  if (recorder_) recorder_->add_link_event(run_id_.load(), "rig", w);
 }
 
 void LiveConsole::note_uptime(uint32_t uptime_ms) {
@@ -591,13 +598,20 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   if (!device_->has(p::capability::kXferModel))
     throw CliError("this firmware does not accept models (no XFER_MODEL capability)");
   if (running()) throw CliError("a model cannot change during a run: stop the run first");
-  // Bounded before a byte is read: the firmware's model_max, or what the
-  // file format can hold when the firmware does not say.
+  // Bounded before a byte is read: by the firmware's model_max, or what the
+  // console's own capacity holds if that is more, so that a model of
+  // another shape is refused by its shape (RIG_INFO, below) rather than its
+  // size; the firmware's limit is checked after that.
   const uint32_t fw_limit = device_->transfer_limit(p::XferKind::Model);
-  InputKind kind{"model file", fw_limit ? fw_limit : model_file_max<HostCapacity>(), false};
-  if (fw_limit) kind.limit_words = "this firmware takes models of at most";
+  const uint64_t host_max = model_file_max<HostCapacity>();
+  InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max), false};
+  if (fw_limit >= host_max) kind.limit_words = "this firmware takes models of at most";
   const std::string text = read_input_file(path, kind);
   const std::vector<uint8_t> bytes(text.begin(), text.end());
+  // RIG_INFO (protocol 1.2): a shape the firmware has no kernel for would be
+  // refused at its header chunk or its commit; refused here, nothing is sent.
+  if (const auto rig = device_->rig())
+    if (const auto refusal = shape_refusal(path, bytes, *rig)) throw CliError(*refusal);
   // Parsed with copies of the weights, so the check does not depend on the
   // vector's alignment; the same checks the firmware makes at commit.
   std::vector<float> weights(model_params_max<HostCapacity>());
@@ -663,7 +677,7 @@ int64_t LiveConsole::start_run(const std::string& label) {
   const p::Info info = device_->info();
   RunInfo ri;
   ri.label = label;
-  ri.platform = rig_name_or_custom();
+  ri.platform = device_->rig_label();
   ri.firmware = fmt::format("{} {}.{}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch);
   ri.model_hash = info.model_hash;
   ri.param_hash = info.param_hash;

@@ -14,6 +14,7 @@
 
 #include "app/link/device.hpp"
 #include "app/link/port_path.hpp"
+#include "app/link/rig_hash.hpp"
 #include "app/link/session.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/live/live_buffer.hpp"
@@ -90,8 +91,9 @@ class LiveConsole {
   // --sim/--qemu/--rig's file, else the shipped rig the firmware names.
   // Throws CliError when there is none.
   const Rig& rig() const;
-  // The rig's name for a run's record, "custom" when no rig file is known.
-  std::string rig_name_or_custom() const;
+  // The rig's name where the platform used to be named (RIG_INFO, protocol
+  // 1.2; the platform's name from an older firmware).
+  std::string rig_label() const { return device_->rig_label(); }
   double loop_rate_hz() const { return double(device_->info().loop_rate_hz); }
   int n() const { return device_->info().n; }
 
@@ -130,7 +132,7 @@ class LiveConsole {
 
   // A new forward model without a reflash (transfer kind 2). The file is
   // checked here with the firmware's own parser, against the firmware's
-  // dimensions, platform and transfer limit, before a byte is sent; refused
+  // dimensions, platform, model shape (RIG_INFO) and transfer limit, before a byte is sent; refused
   // during a run (the firmware would refuse the commit). Afterwards INFO is
   // read again and the model hash it reports must be the file's CRC-32.
   struct ModelUpload {
@@ -227,6 +229,8 @@ class LiveConsole {
   void on_status(const protocol::Status& s);
   // After a reconnect: did the firmware reset, and which edits did it lose?
   void check_for_reset(const protocol::Info& before, const protocol::Info& now, const protocol::Status& st);
+  // RIG_INFO against the rig file given (options_.rig_file): one warning per console.
+  void check_rig();
   void note_uptime(uint32_t uptime_ms);
   void configure_telemetry();
   // INFO until it answers: a simulator or a board may still be starting.
@@ -242,6 +246,8 @@ class LiveConsole {
   }
 
   LiveOptions options_;
+  std::optional<RigFileId> rig_file_;
+  std::atomic<bool> rig_warned_{false};
   std::string db_path_;
   bool temp_db_ = false;
   std::string temp_dir_;  // --no-record: the private folder of the temporary database

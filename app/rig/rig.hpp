@@ -111,7 +111,7 @@ struct RigReference {
 
 struct Rig {
   std::string file;  // as given to load_rig
-  uint32_t hash = 0;  // CRC-32 of the file's text: which rig an image or a simulator was built from
+  uint32_t hash = 0;  // rig_file_hash of the file: which rig an image or a simulator was built from
   std::string name, description;
   double rate_hz = 0;
   int nd = 0, dd = 0;
@@ -134,6 +134,11 @@ struct Rig {
 Rig load_rig(const std::string& path);
 // The same from text; `file` names it in errors.
 Rig parse_rig(const std::string& text, const std::string& file);
+
+// RIG_INFO's rig_hash (PROTOCOL.md 7): the CRC-32 of `text` without CRs,
+// trailing blanks, and lines that are then empty or comments, so layout and
+// comment lines do not change a rig.
+uint32_t rig_file_hash(const std::string& text);
 
 // Lower-case names as rig files write them.
 const char* output_source_name(OutputSource s);

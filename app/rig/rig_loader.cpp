@@ -715,7 +715,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
                       "model", "plant", "reference"});
   Rig rig;
   rig.file = file;
-  rig.hash = crc32(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  rig.hash = rig_file_hash(text);
   rig.name = root.text("name");
   if (rig.name.empty() || rig.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
     root.fail(root.line("name"), "name", "'" + rig.name + "' is not a command-line name (a-z, 0-9, '-', '_')");
@@ -747,6 +747,26 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   read_plant(file, root, t, rig);
   read_reference(file, root, t, rig);
   return rig;
+}
+
+uint32_t rig_file_hash(const std::string& text) {
+  // Hand-written: the canonical form is this protocol's definition
+  // (PROTOCOL.md 7, RIG_INFO), not a TOML writer's, so that an image build
+  // and any console compute it the same way without a TOML library.
+  Crc32 crc;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) {
+    std::string kept;
+    kept.reserve(line.size());
+    for (char c : line)
+      if (c != '\r') kept += c;
+    while (!kept.empty() && (kept.back() == ' ' || kept.back() == '\t')) kept.pop_back();
+    const size_t first = kept.find_first_not_of(" \t");
+    if (first == std::string::npos || kept[first] == '#') continue;
+    kept += '\n';
+    crc.update(reinterpret_cast<const uint8_t*>(kept.data()), kept.size());
+  }
+  return crc.value();
 }
 
 Rig load_rig(const std::string& path) {

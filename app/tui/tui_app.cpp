@@ -672,7 +672,7 @@ void App::draw_title(int w) {
                         : "no run";
   const std::string t = fmt::format(" nlsoft-console | {} {}.{}.{} | {} n={} m={} {} Hz | {} | rec {}", info.firmware,
                                     info.fw_major, info.fw_minor, info.fw_patch,
-                                    console_.rig_name_or_custom(), info.n,
+                                    console_.rig_label(), info.n,
                                     info.m, info.loop_rate_hz, run, console_.db_path());
   fill_row(0, 0, w, screen_.attr(Role::Title));
   put(0, 0, t, w, screen_.attr(Role::Title));

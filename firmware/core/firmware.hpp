@@ -12,6 +12,7 @@
 #include "firmware/core/hal.hpp"
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
+#include "firmware/core/rig_reply.hpp"
 #include "firmware/core/tx_queue.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
@@ -240,6 +241,7 @@ class Firmware {
         return reply(r);
       }
       case T::InfoGet: return reply(info());  // INFO_EX: a 1.1 console reads both
+      case T::RigGet: return reply(rig_info<Cap>(rig_.name, rig_.hash, rig_));
       case T::ParamList: {
         proto::ParamList p;
         if (!unpack_or_nack(f, p)) return;
@@ -272,6 +274,10 @@ class Firmware {
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
         if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_in_staging())
           return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+        // After the size rules of TransferReceiver::begin (out_of_range, too_large): section 9.4's order.
+        if (rx == &model_rx_ && p.total_size != 0 && p.total_size <= rx->capacity() &&
+            model_size_refused(rig_info<Cap>(rig_.name, rig_.hash, rig_), p))
+          return nack(f.header.type, proto::StatusCode::Unsupported, 2, proto::kNoField);
         const proto::XferReply r = rx->begin(p);
         // Only an accepted BEGIN may touch the model in force: a NACK changes nothing.
         if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) restore_builtin_model();
@@ -282,7 +288,17 @@ class Firmware {
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
-        return xfer_reply(f.header.type, rx->chunk(p));
+        const uint32_t before = rx->next_offset();
+        const proto::XferReply r = rx->chunk(p);
+        if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) {
+          const proto::StatusCode v = model_header_verdict(rig_info<Cap>(rig_.name, rig_.hash, rig_), *rx, before);
+          if (v != proto::StatusCode::Ok) {
+            rx->close();  // the model in force stays (the built-in one since BEGIN)
+            log(proto::LogLevel::Warn, "model upload refused at its header: a shape RIG_INFO does not accept");
+            return nack(f.header.type, v, 2, proto::kNoField);
+          }
+        }
+        return xfer_reply(f.header.type, r);
       }
       case T::XferCommit: {
         proto::XferCommit p;
@@ -440,7 +456,7 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | (id_.has_y_true ? c::kYTrue : 0);
+                     c::kLog | c::kRig | (id_.has_y_true ? c::kYTrue : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }

@@ -172,6 +172,31 @@ def decode_fields(name, fields, p):
     return out
 
 
+def check_shapes(fields):
+    """RIG_INFO's shape list as section 7 lays it out: entries of L >= 1 and
+    L layers of kind 1|2 and u16 units >= 1 that fill the tail exactly; empty
+    with accept 1; the last layer's units are n."""
+    vals = dict(f.split("=", 1) for f in fields)
+    raw = bytes.fromhex(vals["shapes"])
+    if vals["accept"] == "1":
+        return None if not raw else "accept 1 with a shape list"
+    pos = 0
+    while pos < len(raw):
+        layers = raw[pos]
+        end = pos + 1 + 3 * layers
+        if layers == 0 or end > len(raw):
+            return f"shape entry at byte {pos} malformed"
+        units = []
+        for at in range(pos + 1, end, 3):
+            if raw[at] not in (1, 2) or int.from_bytes(raw[at + 1:at + 3], "little") == 0:
+                return f"layer at byte {at}: unknown kind or no units"
+            units.append(int.from_bytes(raw[at + 1:at + 3], "little"))
+        if units[-1] != int(vals["n"]):
+            return f"shape at byte {pos} ends in {units[-1]} units, n is {vals['n']}"
+        pos = end
+    return None
+
+
 def telemetry_len(p):
     mask, n, m = p[2], p[3] >> 4, p[3] & 15
     size = 4
@@ -278,6 +303,11 @@ def main():
     failures = 0
     for name, wire, expect in vectors:
         events = [receive(bytes(f), table) for f in bytes(wire).split(b"\0")[:-1] if f]
+        for e in events:
+            if e.startswith("frame RIG_INFO "):
+                bad = check_shapes(e.split()[4:])
+                if bad:
+                    events.append("shape list: " + bad)
         if events != expect:
             failures += 1
             print(f"MISMATCH {name}\n  got:  {events}\n  want: {expect}")

@@ -45,3 +45,20 @@ size_t embedded_check_transfer(const XferBegin& b, const XferChunk& c, uint8_t* 
 }
 
 }  // namespace nlsoft::protocol
+
+#include "shared/capacity.hpp"
+
+namespace nlsoft::protocol {
+
+// RIG_INFO's shapes from an MCU capacity and the verdict on a model header.
+bool embedded_check_shapes(const uint8_t* header, size_t len, uint8_t* out, size_t out_cap) {
+  RigInfo r;
+  r.m = 6, r.n = 3, r.w = 18, r.nd = r.dd = 2;
+  if (!fill_accepted_shapes<HaselCapacity>(r)) return false;
+  ModelShape s;
+  if (!model_shape(header, len, s)) return false;
+  return accepts(r, s) == ShapeVerdict::Accepted && size_fits_a_shape(r, uint32_t(len)) &&
+         encode_reply(r, 1, out, out_cap) != 0;
+}
+
+}  // namespace nlsoft::protocol

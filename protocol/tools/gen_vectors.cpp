@@ -187,6 +187,7 @@ void build() {
 
   add("status_get", "Sequence number 255, the last before wrapping to 0.",
       frame(StatusGet{}, 255));
+  add("rig_get", "Protocol 1.2: asks for RIG_INFO; sent when INFO_EX has the RIG capability.", frame(RigGet{}, 30));
 
   // ------------------------------------------------- replies, unsolicited
   Ack ack;
@@ -223,6 +224,18 @@ void build() {
   add("nack_xfer_begin_too_large", "total_size (field 2) above INFO_EX's limit for the kind.",
       frame(nack_big, 15, frame_flags::kReply));
 
+  Nack nack_shape;
+  nack_shape.request_type = static_cast<uint8_t>(MsgType::XferBegin);
+  nack_shape.status = static_cast<uint8_t>(StatusCode::Unsupported);
+  nack_shape.field = 2;
+  add("nack_xfer_begin_shape", "Protocol 1.2: a model total_size (field 2) no shape of RIG_INFO's list can have.",
+      frame(nack_shape, 16, frame_flags::kReply));
+
+  Nack nack_chunk_shape = nack_shape;
+  nack_chunk_shape.request_type = static_cast<uint8_t>(MsgType::XferChunk);
+  add("nack_xfer_chunk_shape", "Protocol 1.2: the model header in the chunk's data (field 2) names a shape RIG_INFO does not accept.",
+      frame(nack_chunk_shape, 17, frame_flags::kReply));
+
   Pong pong;
   pong.nonce = 0x12345678u;
   pong.uptime_ms = 987654;
@@ -255,8 +268,54 @@ void build() {
   info_ex.info = info;
   info_ex.table_max = 776;
   info_ex.model_max = 10240;
+  info_ex.protocol_minor = 1;
   add("info_ex_hasel", "Protocol 1.1's reply to INFO_GET: INFO's fields, then the transfer limits and the minor revision.",
       frame(info_ex, 2, frame_flags::kReply));
+
+  InfoEx info_ex12 = info_ex;
+  info_ex12.protocol_minor = 2;
+  info_ex12.info.capabilities |= capability::kRig;
+  add("info_ex_hasel_1_2", "A 1.2 firmware's INFO_EX: the same layout, protocol_minor 2 and the RIG capability (bit 8).",
+      frame(info_ex12, 2, frame_flags::kReply));
+
+  RigInfo rig;
+  rig.rig_hash = 0x5A17C0DEu;
+  set_text(rig.rig_name, "hasel");
+  rig.m = 6, rig.n = 3, rig.w = 18, rig.nd = 2, rig.dd = 2;
+  rig.accept = shape_accept::kList;
+  rig.max_layers = 4;
+  rig.max_width = 5;
+  rig.max_weights = 233;
+  // Dense 36 -> 5 -> 5 -> 3: L = 3, then (kind 1, units) per layer.
+  const uint8_t hasel_shape[] = {3, 1, 5, 0, 1, 5, 0, 1, 3, 0};
+  std::memcpy(rig.shapes, hasel_shape, sizeof hasel_shape);
+  rig.shapes_size = sizeof hasel_shape;
+  add("rig_info_hasel", "An MCU image: exactly one shape, Dense 36->5->5->3 (accept 0, the list).",
+      frame(rig, 30, frame_flags::kReply));
+
+  RigInfo rig_tendon;
+  set_text(rig_tendon.rig_name, "tendon");
+  rig_tendon.m = 2, rig_tendon.n = 3, rig_tendon.w = 11, rig_tendon.nd = 2, rig_tendon.dd = 2;
+  rig_tendon.accept = shape_accept::kList;
+  rig_tendon.max_layers = 4;
+  rig_tendon.max_width = 16;
+  rig_tendon.max_weights = 512;
+  // GRU(5) -> 5 -> 3 and, a second listed shape, Dense 21 -> 8 -> 3.
+  const uint8_t tendon_shapes[] = {3, 2, 5, 0, 1, 5, 0, 1, 3, 0, 2, 1, 8, 0, 1, 3, 0};
+  std::memcpy(rig_tendon.shapes, tendon_shapes, sizeof tendon_shapes);
+  rig_tendon.shapes_size = sizeof tendon_shapes;
+  add("rig_info_two_shapes", "Two listed shapes, a GRU first layer in the first; rig_hash 0: not built from a rig file.",
+      frame(rig_tendon, 31, frame_flags::kReply));
+
+  RigInfo rig_any;
+  set_text(rig_any.rig_name, "hasel");
+  rig_any.m = 6, rig_any.n = 3, rig_any.w = 18, rig_any.nd = 2, rig_any.dd = 2;
+  rig_any.accept = shape_accept::kAny;
+  rig_any.max_layers = 8;
+  rig_any.max_width = 48;
+  rig_any.max_weights = 8192;
+  add("rig_info_any_shape", "A generic kernel (the simulator): any shape within the limits, an empty list.",
+      frame(rig_any, 32, frame_flags::kReply));
 
   ParamDesc desc;
   desc.index = 0;

@@ -12,6 +12,7 @@
 #include "firmware/core/param_service.hpp"
 #include "peer.hpp"
 #include "qemu_process.hpp"
+#include "shared/model_file.hpp"
 #include "shared/params.hpp"
 #include "shared/platform_id.hpp"
 
@@ -150,4 +151,29 @@ TEST_F(M4Image, RealBoardImageServesTheLinkWithoutAPlant) {
   proto::Ping ping;
   ping.nonce = 0xBEEF;
   EXPECT_EQ(as<proto::Pong>(must(peer_->request(ping), "PING")).nonce, 0xBEEFu);
+}
+
+// Protocol 1.2 on the hasel image: RIG_INFO lists the one shape its kernel
+// is built for, and the image itself refuses a model of another shape at
+// XFER_BEGIN by its size (Dense 36->4->5->3), changing nothing.
+TEST_F(M4Image, HaselImageListsItsOneShapeAndRefusesAnotherAtBegin) {
+  boot(NLSOFT_M4_IMAGE_DIR "/nlsoft-m4-hasel-hil.elf");
+  if (IsSkipped() || HasFatalFailure()) return;
+  const proto::Info info = handshake();
+  ASSERT_TRUE(info.capabilities & proto::capability::kRig);
+  const auto rig = as<proto::RigInfo>(must(peer_->request(proto::RigGet{}), "RIG_GET"));
+  EXPECT_STREQ(rig.rig_name, "hasel");
+  EXPECT_EQ(rig.accept, proto::shape_accept::kList);
+  EXPECT_EQ(std::vector<uint8_t>(rig.shapes, rig.shapes + rig.shapes_size),
+            (std::vector<uint8_t>{3, 1, 5, 0, 1, 5, 0, 1, 3, 0}));
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::Model);
+  b.total_size = uint32_t(model_file_size(3, 2 * 36 + 2 * 3 + (36 * 4 + 4) + (4 * 5 + 5) + (5 * 3 + 3)));
+  b.crc32 = 1;
+  const auto n = must(peer_->request(b), "XFER_BEGIN");
+  ASSERT_EQ(n.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(n).status, uint8_t(proto::StatusCode::Unsupported));
+  EXPECT_EQ(as<proto::Nack>(n).field, 2);
+  const auto again = as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET"));
+  EXPECT_EQ(again.info.model_hash, info.model_hash);
 }

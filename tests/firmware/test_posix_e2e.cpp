@@ -136,6 +136,64 @@ TEST_F(PosixFirmware, HandshakeReportsPlatformModelAndTable) {
   EXPECT_EQ(info.param_hash, crc.value());
 }
 
+// Protocol 1.2: the simulator's generic kernel takes any shape within the
+// host capacity's limits, and says so; it names its rig by the platform.
+TEST_F(PosixFirmware, RigInfoNamesThePlatformAndTakesAnyShapeWithinLimits) {
+  const auto ex = as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET"));
+  ASSERT_TRUE(ex.info.capabilities & proto::capability::kRig);
+  const Received r = must(peer_->request(proto::RigGet{}), "RIG_GET");
+  ASSERT_EQ(r.header.type, uint8_t(proto::MsgType::RigInfo));
+  const auto rig = as<proto::RigInfo>(r);
+  EXPECT_STREQ(rig.rig_name, "msd");
+  EXPECT_EQ(rig.rig_hash, 0u);
+  EXPECT_EQ(rig.m, ex.info.m);
+  EXPECT_EQ(rig.n, ex.info.n);
+  EXPECT_EQ(rig.w, ex.info.w);
+  EXPECT_EQ(rig.nd, ex.info.nd);
+  EXPECT_EQ(rig.accept, proto::shape_accept::kAny);
+  EXPECT_EQ(rig.shapes_size, 0);
+  EXPECT_EQ(rig.max_layers, HostCapacity::layers);
+  EXPECT_EQ(rig.max_width, HostCapacity::width);
+  EXPECT_EQ(rig.max_weights, uint32_t(HostCapacity::weights));
+}
+
+// A layer wider than max_width: the size is within model_max, so BEGIN takes
+// it; the first chunk brings the header and is refused, the transfer
+// discarded, the built-in model still in force.
+TEST_F(PosixFirmware, AModelWiderThanTheLimitIsRefusedAtItsFirstChunk) {
+  const int units = HostCapacity::width + 1, p = 4;  // msd: nd (m + n) + w = 4
+  const uint32_t params = uint32_t(2 * p + 2 + p * units + units + units + 1);
+  std::vector<uint8_t> f(model_file_size(2, params));
+  std::memcpy(f.data(), "NLSM", 4);
+  f[model_offset::kVersion] = 1, f[model_offset::kM] = 1, f[model_offset::kN] = 1;
+  f[model_offset::kNd] = f[model_offset::kDd] = 2, f[model_offset::kLayers] = 2;
+  for (int i = 0; i < 4; ++i) f[model_offset::kParams + i] = uint8_t(params >> (8 * i));
+  const uint8_t layers[] = {1, 2, 0, 0, 4, 0, uint8_t(units), 0, 1, 0, 0, 0, uint8_t(units), 0, 1, 0};
+  std::memcpy(f.data() + kModelHeaderSize, layers, sizeof layers);
+  const uint32_t crc = crc32(f.data(), f.size() - 4);
+  for (int i = 0; i < 4; ++i) f[f.size() - 4 + i] = uint8_t(crc >> (8 * i));
+  const auto before = as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET")).info.model_hash;
+
+  proto::XferBegin b;
+  b.kind = uint8_t(proto::XferKind::Model);
+  b.total_size = uint32_t(f.size());
+  b.crc32 = crc32(f.data(), f.size());
+  ASSERT_EQ(must(peer_->request(b), "XFER_BEGIN").header.type, uint8_t(proto::MsgType::XferAck));
+  proto::XferChunk c;
+  c.kind = b.kind;
+  c.size = proto::kMaxChunkData;
+  std::memcpy(c.data, f.data(), c.size);
+  const Received n = must(peer_->request(c), "XFER_CHUNK");
+  ASSERT_EQ(n.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(n).status, uint8_t(proto::StatusCode::Unsupported));
+  EXPECT_EQ(as<proto::Nack>(n).field, 2);
+  c.offset = c.size;
+  const Received gone = must(peer_->request(c), "XFER_CHUNK after the refusal");
+  ASSERT_EQ(gone.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(gone).status, uint8_t(proto::StatusCode::XferNotOpen));
+  EXPECT_EQ(as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET")).info.model_hash, before);
+}
+
 TEST_F(PosixFirmware, TooLargeTransfersAreRefusedAtTheAdvertisedLimit) {
   const auto ex = as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET"));
   proto::XferBegin b;

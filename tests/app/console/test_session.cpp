@@ -562,8 +562,10 @@ TEST(Session, InfoExAndInfoBothAnswerInfoGetAndTheLimitIsShown) {
         x.info = info;
         x.table_max = 776;
         x.model_max = 4096;
+        x.protocol_minor = 1;  // a 1.1 firmware: no RIG capability
         return pe.reply(x, f.header.seq);
       }
+      if (f.header.type == uint8_t(p::MsgType::RigGet)) ADD_FAILURE() << "RIG_GET sent to a firmware without RIG";
       if (f.header.type == uint8_t(p::MsgType::XferBegin)) {
         p::Nack n;
         n.request_type = f.header.type;
@@ -579,6 +581,8 @@ TEST(Session, InfoExAndInfoBothAnswerInfoGetAndTheLimitIsShown) {
     EXPECT_EQ(d.handshake().platform, uint8_t(p::Platform::Hasel));
     EXPECT_EQ(d.transfer_limit(p::XferKind::RefTable), ex ? 776u : 0u);
     EXPECT_EQ(d.protocol_minor(), ex ? 1 : 0);
+    EXPECT_FALSE(d.rig().has_value());
+    EXPECT_EQ(d.rig_label(), "hasel") << "named by its platform, as before 1.2";
     try {
       d.upload(p::XferKind::RefTable, std::vector<uint8_t>(1000, 1));
       ADD_FAILURE() << "a too large upload was not refused";
@@ -588,6 +592,38 @@ TEST(Session, InfoExAndInfoBothAnswerInfoGetAndTheLimitIsShown) {
       EXPECT_EQ(what.find("at most 776 bytes") != std::string::npos, ex) << what;
     }
   }
+}
+
+// Protocol 1.2: a firmware with the RIG capability is asked for RIG_INFO in
+// the handshake, and its rig's name is what the console shows.
+TEST(Session, AFirmwareWithTheRigCapabilityIsAskedForItsRig) {
+  p::Info info = board_info(p::Platform::Custom, "nlsoft-fake", 1);
+  info.capabilities = p::capability::kRig;
+  std::atomic<int> rig_gets{0};
+  FakePeer peer([&](FakePeer& pe, const p::FrameView& f) {
+    if (f.header.type == uint8_t(p::MsgType::InfoGet)) {
+      p::InfoEx x;
+      x.info = info;
+      return pe.reply(x, f.header.seq);
+    }
+    if (f.header.type == uint8_t(p::MsgType::RigGet)) {
+      ++rig_gets;
+      p::RigInfo r;
+      std::snprintf(r.rig_name, sizeof r.rig_name, "%s", "lab-arm");
+      r.rig_hash = 0x1234abcdu;
+      r.m = r.n = r.w = r.nd = r.dd = 2;
+      r.accept = p::shape_accept::kAny;
+      return pe.reply(r, f.header.seq);
+    }
+  });
+  Session s(fast_options());
+  s.open(peer.path(), 115200);
+  Device d(s);
+  d.handshake();
+  EXPECT_EQ(rig_gets.load(), 1);
+  ASSERT_TRUE(d.rig().has_value());
+  EXPECT_EQ(d.rig()->rig_hash, 0x1234abcdu);
+  EXPECT_EQ(d.rig_label(), "lab-arm") << "not \"custom\": the rig names itself";
 }
 
 // The raw exchange: the bytes go out as given (here a byte per write, with

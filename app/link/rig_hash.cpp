@@ -1,0 +1,36 @@
+#include "app/link/rig_hash.hpp"
+
+#include <fmt/format.h>
+
+#include <sstream>
+
+#include "app/input_file.hpp"
+#include "app/printable.hpp"
+#include "app/rig/rig.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "shared/crc32.hpp"
+
+namespace nlsoft::console {
+
+RigFileId rig_file_id(const std::string& arg) {
+  RigFileId id;
+  id.path = rig_path(arg);
+  const Rig rig = load_rig_arg(arg);
+  id.name = rig.name;
+  id.hash = rig.hash;
+  return id;
+}
+
+std::string rig_mismatch(const protocol::RigInfo& rig, const RigFileId& file) {
+  const std::string name = printable(rig.rig_name);
+  if (name != file.name)
+    return fmt::format("warning: the firmware runs rig {} (hash {:08x}), not {}'s rig {} (hash {:08x}): it was built "
+                       "from another rig file",
+                       name.empty() ? "(unnamed)" : name, rig.rig_hash, file.path, file.name, file.hash);
+  if (rig.rig_hash == 0 || rig.rig_hash == file.hash) return "";
+  return fmt::format("warning: the firmware's rig {} has hash {:08x}, {} has {:08x}: the image was built from "
+                     "another version of the rig file",
+                     name, rig.rig_hash, file.path, file.hash);
+}
+
+}  // namespace nlsoft::console
