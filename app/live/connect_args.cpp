@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/cli_error.hpp"
+#include "app/firmware/image_build.hpp"
 #include "app/link/link_error.hpp"
 #include "app/link/serial_ports.hpp"
 #include "app/link/sim_launcher.hpp"
@@ -82,11 +83,11 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   LiveOptions o;
   o.port = port;
   o.baud = a.baud;
-  // --qemu: the rig file, then the compiled-in image that is that rig;
+  // --qemu: the rig's HIL image, built from its file when not built yet;
   // --sim: any rig file with a plant to simulate, checked here so a bad one
   // is said before a simulator starts.
   if (!a.qemu.empty()) {
-    o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
+    o.qemu_image = hil_image_for(a.qemu, a.board, who + "--qemu");
   } else if (!a.sim.empty()) {
     o.sim_rig = rig_path(a.sim);
     simulated_plant(load_rig_arg(o.sim_rig), who + "--sim");

@@ -26,9 +26,9 @@
 namespace nlsoft::console {
 
 struct LiveOptions {
-  std::string port;          // a serial device, or empty with sim_rig/sim_platform
+  std::string port;          // a serial device, or empty with sim_rig/qemu_image
   unsigned baud = 115200;
-  std::string sim_platform;  // with sim_in_qemu: the image's rig (msd|hasel|tendon)
+  std::string qemu_image;    // with sim_in_qemu: the HIL image of the rig (built from its file)
   std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
   std::string qemu_board = "mps2-an386";  // whose image: mps2-an386 or stm32f4

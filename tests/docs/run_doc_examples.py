@@ -16,7 +16,7 @@ A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
 `flash`) cannot run here and is listed as skipped with the reason, as are QEMU
-examples when the images were not built. Interactive examples (the TUI) run
+examples and `firmware build` when the images were not built (no toolchain). Interactive examples (the TUI) run
 in tmux until the parameter panel is drawn, then get `q`.
 
 A `tune` example must also do what it shows: its best objective no higher
@@ -35,7 +35,7 @@ import sys
 import tempfile
 import time
 
-SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig"}
+SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig", "firmware"}
 
 
 def toml_files(path):
@@ -197,7 +197,7 @@ def main():
                     print(f"SKIP {where}: {shown}  (a synopsis: {', '.join(placeholders(cmd[1:]))} to fill in)")
                     skipped += 1
                     continue
-                if a.no_qemu and "--qemu" in cmd:
+                if a.no_qemu and ("--qemu" in cmd or (len(cmd) > 1 and cmd[1] == "firmware")):
                     print(f"SKIP {where}: {shown}  (the Cortex-M images were not built)")
                     skipped += 1
                     continue
