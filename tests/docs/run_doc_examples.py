@@ -5,7 +5,8 @@ Each line of a fenced code block in the given Markdown files that starts, at
 its left edge, with `nlsoft-console` or `nlsoft-firmware-sim` is an example. Synopsis notation is
 resolved the way a reader would first try it: an optional `[...]` group is
 left out and `a|b|c` takes its first choice. Examples run in document order
-in one scratch folder whose recording database is private ($XDG_DATA_HOME),
+in one scratch folder whose recording database and image cache are private
+($XDG_DATA_HOME, $XDG_CACHE_HOME),
 so `runs show 12` finds the runs recorded before it. Fixtures a reader would
 have made first (a script named tune.nls, a dozen recorded runs) are made
 here and named in the output; a fenced `toml` block whose first line is
@@ -162,8 +163,9 @@ def main():
     a.console, a.firmware_sim = os.path.abspath(a.console), os.path.abspath(a.firmware_sim)
 
     work = tempfile.mkdtemp(prefix="nlsoft-doc-examples-")
-    env = dict(os.environ, XDG_DATA_HOME=os.path.join(work, "data"), NLSOFT_FIRMWARE_SIM=a.firmware_sim,
-               LANG="C.UTF-8")
+    # The images `firmware build` makes go to the scratch folder's cache, not the user's.
+    env = dict(os.environ, XDG_DATA_HOME=os.path.join(work, "data"), XDG_CACHE_HOME=os.path.join(work, "cache"),
+               NLSOFT_FIRMWARE_SIM=a.firmware_sim, LANG="C.UTF-8")
     binaries = {"nlsoft-console": a.console, "nlsoft-firmware-sim": a.firmware_sim}
     failed = ran = skipped = 0
     try:
