@@ -140,7 +140,9 @@ BuiltImage sized(const std::string& path) {
 // The last lines of a failed build that say why.
 std::string build_failure(const std::string& log, const Rig& rig, const std::string& board, const std::string& who) {
   const std::string text = read_file(log);
-  if (text.find("overflowed") != std::string::npos || text.find("will not fit in region") != std::string::npos)
+  // The linker's words for a region too small, and sections.ld's for no stack left.
+  if (text.find("overflowed") != std::string::npos || text.find("will not fit in region") != std::string::npos ||
+      text.find("leaves no room for the stack") != std::string::npos)
     return fmt::format("{}: rig '{}' ({}) does not fit board {}'s memory (m = {}, n = {}, w = {}, N = {}, Nc = {}): "
                        "the linker says so in {}",
                        who, rig.name, rig.file, board, rig.m(), rig.n(), rig.w(), rig.controller.N, rig.controller.Nc,

@@ -14,7 +14,7 @@ namespace nlsoft::console::test_support {
 inline std::unique_ptr<LiveConsole> connected_sim_console(const std::string& platform, const test::TempDir& dir) {
   ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
   LiveOptions o;
-  o.sim_platform = platform;
+  o.sim_rig = platform;
   o.db_path = dir.file("runs.db");
   auto c = std::make_unique<LiveConsole>(o);
   c->connect();
