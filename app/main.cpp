@@ -6,6 +6,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/conformance/command.hpp"
+#include "app/firmware/firmware_command.hpp"
 #include "app/link/ports_command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
   add_tune_command(app);
   add_conformance_command(app);
   add_flash_command(app);
+  add_firmware_command(app);
   add_simulate_command(app);
   // dataset and train take any rig file (or a shipped rig's name).
   add_dataset_command(app, rig_target_arg);

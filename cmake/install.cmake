@@ -3,6 +3,7 @@
 #   libexec/nlsoft/nlsoft-firmware-sim            started by --sim, not a command of its own
 #   share/nlsoft/firmware/{m4,stm32f4}/           the Cortex-M images, when built
 #   share/nlsoft/models/                          the shipped models (cmake/models.cmake)
+#   share/nlsoft/firmware-src/                    what `firmware build` builds an image from
 #   share/man/man1/nlsoft-console.1               (cmake/man_page.cmake)
 #   share/bash-completion/completions/nlsoft-console
 #   share/doc/nlsoft/                             README.md, CONSOLE.md, PROTOCOL.md
@@ -20,6 +21,18 @@ if(TARGET nlsoft-stm32f4-images)
   install(DIRECTORY ${NLSOFT_STM32F4_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/stm32f4
           FILES_MATCHING PATTERN "nlsoft-stm32f4-*.elf" PATTERN "nlsoft-stm32f4-*.bin" PATTERN CMakeFiles EXCLUDE)
 endif()
+
+# The sources `nlsoft-console firmware build` compiles an image from: the
+# firmware core and the Cortex-M ports, the header-only shared/ and
+# protocol/, and the warnings list the images are built with. The build
+# tree has a link to the source tree in the same place (firmware/CMakeLists.txt).
+install(DIRECTORY ${NLSOFT_ROOT}/firmware/core DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware)
+install(DIRECTORY ${NLSOFT_ROOT}/firmware/ports/cortex-m ${NLSOFT_ROOT}/firmware/ports/mps2-an386
+                  ${NLSOFT_ROOT}/firmware/ports/stm32f4
+        DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware/ports)
+install(DIRECTORY ${NLSOFT_ROOT}/shared ${NLSOFT_ROOT}/protocol DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src
+        FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")
+install(FILES ${NLSOFT_ROOT}/cmake/warning_flags.txt DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/cmake)
 
 include(${CMAKE_CURRENT_LIST_DIR}/man_page.cmake)
 

@@ -3,7 +3,7 @@
 //
 // A Model is a view: the layer table and dimensions live in it, the numbers
 // (normalisation + weights) in one caller-owned float block, so the same code
-// runs a model compiled into flash (codegen) or one uploaded into RAM.
+// runs a model file embedded in flash (an image's model_blob.S) or one uploaded into RAM.
 //
 // Parameter block layout, all float32:
 //   in_offset[p] in_scale[p] out_offset[n] out_scale[n]   normalisation

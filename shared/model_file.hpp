@@ -1,6 +1,6 @@
 #pragma once
-// The model file: one binary format for the console, firmware upload and
-// codegen. Little-endian; the byte layout below is the whole specification.
+// The model file: one binary format for the console, firmware upload and the
+// model an image embeds. Little-endian; the byte layout below is the whole specification.
 //
 //   off  size  field
 //   0    4     magic "NLSM"

@@ -9,6 +9,7 @@
 #include "app/cli_error.hpp"
 #include "app/conformance/report.hpp"
 #include "app/conformance/suite.hpp"
+#include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/rig/rig_catalog.hpp"
 #include "app/rig/rig_firmware.hpp"
@@ -40,9 +41,10 @@ int run_conformance(const ConformanceArgs& a) {
     summary.port = launcher.start(platform);
     summary.target = "sim " + platform;
   } else if (!a.qemu.empty()) {
-    const std::string platform = firmware_platform_name(a.qemu, "--qemu");
-    summary.port = launcher.start_qemu(platform, a.board);
-    summary.target = "qemu " + platform + (a.board == "mps2-an386" ? "" : " on " + a.board);
+    // The rig's HIL image: a shipped one, or built from the file.
+    const std::string image = hil_image_for(a.qemu, a.board, "--qemu");
+    summary.port = launcher.start_qemu(image, a.board);
+    summary.target = "qemu " + load_rig_arg(a.qemu).name + (a.board == "mps2-an386" ? "" : " on " + a.board);
   }
   // An emulated MCU answers a few times slower than the host simulator.
   const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));

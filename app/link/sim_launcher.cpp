@@ -84,10 +84,9 @@ std::string SimLauncher::start(const std::string& rig, const std::vector<std::st
   return spawn(args, args[0], &first_line_path);
 }
 
-std::string SimLauncher::start_qemu(const std::string& platform, const std::string& board) {
+std::string SimLauncher::start_qemu(const std::string& elf, const std::string& board) {
   if (board != "mps2-an386" && board != "stm32f4")
     throw CliError(fmt::format("--board {}: QEMU runs mps2-an386 or stm32f4", board));
-  const std::string elf = find_m4_image(platform, board);
   if (!executable("/usr/bin/qemu-system-arm") && !executable("/usr/local/bin/qemu-system-arm"))
     throw CliError("qemu-system-arm is not installed (apt-get install qemu-system-arm)");
   std::vector<std::string> argv = {"qemu-system-arm", "-nographic", "-monitor", "none"};

@@ -43,10 +43,10 @@ class SimLauncher {
   // Starts the simulator for a rig (a shipped name or a rig file) and returns
   // the pty path. extra_args go after --rig (e.g. --rate 10000).
   std::string start(const std::string& rig, const std::vector<std::string>& extra_args = {});
-  // Boots the board's HIL image in qemu-system-arm with the link's UART on a
-  // pty (mps2-an386: UART0, the first serial port; stm32f4: USART2, the
-  // second, on -M netduinoplus2).
-  std::string start_qemu(const std::string& platform, const std::string& board = "mps2-an386");
+  // Boots a HIL image for `board` in qemu-system-arm with the link's UART
+  // on a pty (mps2-an386: UART0, the first serial port; stm32f4: USART2,
+  // the second, on -M netduinoplus2).
+  std::string start_qemu(const std::string& elf, const std::string& board = "mps2-an386");
   void stop();
   pid_t pid() const { return pid_; }
   // How the child ended, once it has (it is reaped here): "killed by signal

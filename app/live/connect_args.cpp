@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/cli_error.hpp"
+#include "app/firmware/image_build.hpp"
 #include "app/link/link_error.hpp"
 #include "app/link/serial_ports.hpp"
 #include "app/link/sim_launcher.hpp"
@@ -101,13 +102,11 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   LiveOptions o;
   o.port = port;
   o.baud = a.baud;
-  // --qemu: the rig file, then the compiled-in image that is that rig;
+  // --qemu: the rig's HIL image, built from its file when not built yet;
   // --sim: any rig file with a plant to simulate, checked here so a bad one
   // is said before a simulator starts.
-  if (!a.rig.empty() && a.port.empty())
-    throw CliError(who + "--rig names the rig of a board given by PORT; with --sim or --qemu the rig is theirs");
   if (!a.qemu.empty()) {
-    o.sim_platform = firmware_platform_name(a.qemu, who + "--qemu");
+    o.qemu_image = hil_image_for(a.qemu, a.board, who + "--qemu");
     o.rig_file = rig_path(a.qemu);
   } else if (!a.sim.empty()) {
     o.sim_rig = rig_path(a.sim);
@@ -118,7 +117,6 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
     load_rig_arg(o.rig_file);  // a bad file is said before the board is touched
   }
   o.sim_in_qemu = !a.qemu.empty();
-  o.rig_file = !a.qemu.empty() ? a.qemu : !a.sim.empty() ? a.sim : a.rig;
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");

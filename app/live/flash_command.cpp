@@ -12,9 +12,9 @@
 #include <vector>
 
 #include "app/cli_error.hpp"
+#include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_firmware.hpp"
 
 namespace nlsoft::console {
 
@@ -53,11 +53,8 @@ int run_flash(const FlashArgs& a) {
     throw CliError(
         "openocd is not installed or not on PATH: apt-get install openocd (or write the .bin yourself with st-flash "
         "from stlink-tools; see firmware/ports/stm32f4/README.md)");
-  // The rig whose image this is: one the images carry compiled in.
-  const std::string platform = firmware_platform_name(a.platform, "--platform");
-  const std::string image =
-      !a.image.empty() ? a.image
-                       : find_built_image(fmt::format("stm32f4/nlsoft-stm32f4-{}{}.elf", platform, a.hil ? "-hil" : ""));
+  // The rig's image: a shipped one, or built from its file (firmware build).
+  const std::string image = !a.image.empty() ? a.image : stm32f4_image_for(a.platform, a.hil, "--rig");
   if (::access(image.c_str(), R_OK) != 0) throw CliError(fmt::format("cannot read the image {}", image));
   std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), kOpenocdBoard);
   const int rc = run_child({openocd, "-f", kOpenocdBoard, "-c", fmt::format("program {{{}}} verify reset exit", image)});
@@ -89,7 +86,8 @@ void add_flash_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("flash", "Write the firmware to a board with openocd, then connect to it");
   c->add_option("--board", a->board, "The board: stm32f4 (a Nucleo-64 through its on-board ST-LINK)")
       ->check(CLI::IsMember({"stm32f4"}));
-  c->add_option("--platform,--rig", a->platform, "Whose image: the rig, " + rig_arg_help())
+  c->add_option("--platform,--rig", a->platform,
+                "Whose image: the rig, " + rig_arg_help() + "; a rig file's image is built from it (firmware build)")
       ->required()
       ->check(rig_arg_validator());
   c->add_flag("--hil", a->hil, "The image with the simulated plant on the MCU (a bare board, nothing wired)");
@@ -100,7 +98,8 @@ void add_flash_command(CLI::App& app) {
   c->footer(
       "Runs: openocd -f board/st_nucleo_f4.cfg -c \"program IMAGE verify reset exit\"\n"
       "then: nlsoft-console PORT --wait 10\n"
-      "Images: build/firmware/stm32f4/nlsoft-stm32f4-<platform>[-hil].elf (bash cmake/dev build).\n"
+      "Images: build/firmware/stm32f4/nlsoft-stm32f4-<rig>[-hil].elf for a shipped rig (bash cmake/dev build),\n"
+      "otherwise the one `firmware build --rig FILE --board stm32f4` made, built now if it is not there.\n"
       "Examples:\n"
       "  nlsoft-console flash --board stm32f4 --platform hasel --hil\n"
       "  nlsoft-console flash --board stm32f4 --platform tendon --port /dev/ttyACM1\n");

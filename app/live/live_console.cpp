@@ -98,7 +98,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   if (!options_.rig_file.empty()) rig_file_ = rig_file_id(options_.rig_file);
   if (options_.sim_in_qemu) {
     sim_ = std::make_unique<SimLauncher>();
-    port = sim_->start_qemu(options_.sim_platform, options_.qemu_board);
+    port = sim_->start_qemu(options_.qemu_image, options_.qemu_board);
   } else if (!options_.sim_rig.empty()) {
     sim_ = std::make_unique<SimLauncher>();
     port = sim_->start(options_.sim_rig, options_.sim_args);

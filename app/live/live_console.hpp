@@ -28,9 +28,9 @@
 namespace nlsoft::console {
 
 struct LiveOptions {
-  std::string port;          // a serial device, or empty with sim_rig/sim_platform
+  std::string port;          // a serial device, or empty with sim_rig/qemu_image
   unsigned baud = 115200;
-  std::string sim_platform;  // with sim_in_qemu: the image's rig (msd|hasel|tendon)
+  std::string qemu_image;    // with sim_in_qemu: the HIL image of the rig (built from its file)
   std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it
   std::string rig_file;      // the rig the board runs; empty: the shipped rig the firmware names
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead

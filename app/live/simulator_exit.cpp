@@ -50,7 +50,7 @@ std::string LiveConsole::respawn_simulator() {
   if (!sim_) throw CliError("no simulator to restart: this console is connected to a port");
   if (simulator_exit().empty()) throw CliError("the simulator is running; nothing to restart");
   if (sim_->pid() > 0) throw CliError("a new simulator is already starting");
-  return options_.sim_in_qemu ? sim_->start_qemu(options_.sim_platform, options_.qemu_board)
+  return options_.sim_in_qemu ? sim_->start_qemu(options_.qemu_image, options_.qemu_board)
                               : sim_->start(options_.sim_rig, options_.sim_args);
 }
 

@@ -12,7 +12,6 @@
 #include <nlohmann/json.hpp>
 
 #include "app/model/atomic_file.hpp"
-#include "app/model/codegen.hpp"
 #include "app/model/csv.hpp"
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
@@ -286,16 +285,6 @@ void run_info(const std::string& path) {
               M.hash);
 }
 
-// ---------------------------------------------------------------- model codegen
-void run_codegen(const std::string& model, const std::string& out, const std::string& name) {
-  need(model, "MODEL");
-  need(out, "--out");
-  const ModelFile f = load_model_file(model);
-  const std::string text = generate_header(f, name, model);
-  write_file_atomic(out, [&](std::ostream& os) { os << text; });
-  std::printf("wrote %s (namespace %s, %zu floats)\n", out.c_str(), name.c_str(), f.params.size());
-}
-
 }  // namespace
 
 void add_dataset_command(CLI::App& app, TargetResolver resolve) {
@@ -385,19 +374,6 @@ void add_model_command(CLI::App& app) {
   CLI::App* in = model->add_subcommand("info", "Print a model's layers, shapes, parameter count and hash.");
   in->add_option("model", *info_path, "model file (required)")->type_name("MODEL");
   in->callback([info_path] { run_info(*info_path); });
-
-  auto cg_args = std::make_shared<std::array<std::string, 3>>();
-  (*cg_args)[2] = "nlsoft_model";
-  CLI::App* cg = model->add_subcommand(
-      "codegen",
-      "Emit a C++ header with the model as const arrays (flash on an MCU) and a build function that\n"
-      "fills an nlsoft::Model view over them; no heap. Example:\n"
-      "  nlsoft-console model codegen hasel.nlsm --out hasel_model.hpp --name hasel_model\n"
-      "  then: nlsoft::Model<Cap> m; hasel_model::build(m);");
-  cg->add_option("model", (*cg_args)[0], "model file (required)")->type_name("MODEL");
-  cg->add_option("--out", (*cg_args)[1], "header to write (required)")->type_name("FILE");
-  cg->add_option("--name", (*cg_args)[2], "namespace of the generated code (default nlsoft_model)")->type_name("IDENT");
-  cg->callback([cg_args] { run_codegen((*cg_args)[0], (*cg_args)[1], (*cg_args)[2]); });
 }
 
 }  // namespace nlsoft::console

@@ -1,6 +1,6 @@
 #pragma once
 // The model pipeline's console subcommands: dataset, train, and
-// model import|eval|info|codegen. Each reports bad input as an exception
+// model import|eval|info. Each reports bad input as an exception
 // derived from std::runtime_error (main prints it, exit code 2) and writes
 // its output atomically, so a failure leaves no half-written file.
 #include <CLI/CLI.hpp>
@@ -14,6 +14,6 @@ namespace nlsoft::console {
 // (pipeline::platform_target_by_name).
 void add_dataset_command(CLI::App& app, pipeline::TargetResolver resolve = {});
 void add_train_command(CLI::App& app, pipeline::TargetResolver resolve = {});
-void add_model_command(CLI::App& app);  // model import|eval|info|codegen
+void add_model_command(CLI::App& app);  // model import|eval|info
 
 }  // namespace nlsoft::console

@@ -2,7 +2,7 @@
 // A model held by the console: the shape (a shared/model.hpp Model without
 // its pointer) plus the parameter vector it owns. Reading and writing go
 // through shared/model_file.hpp only, so the console, firmware upload and
-// codegen all see the same bytes.
+// the image build all see the same bytes.
 #include <cstdint>
 #include <string>
 #include <vector>

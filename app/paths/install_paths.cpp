@@ -115,6 +115,18 @@ Lookup find_rigs_dir() {
   return l;
 }
 
+Lookup find_firmware_src() {
+  const std::string dir = exe_dir();
+  Lookup l;
+  bool (*const ok)(const std::string&) = [](const std::string& d) {
+    return readable(d + "/firmware/ports/cortex-m/images.cmake") && readable(d + "/cmake/warning_flags.txt");
+  };
+  if (const char* e = env("NLSOFT_FIRMWARE_SRC")) first_of(l, {e}, ok);
+  if (!dir.empty())
+    first_of(l, {dir + "/" + kBuildData + "/firmware-src", dir + "/" NLSOFT_BIN_TO_DATA "/firmware-src"}, ok);
+  return l;
+}
+
 std::string find_on_path(const std::string& name) {
   const char* path = std::getenv("PATH");
   if (!path) return {};

@@ -11,6 +11,8 @@
 //   images           <build>/firmware/{m4,stm32f4}/    share/nlsoft/firmware/{m4,stm32f4}/
 //   models           <build>/share/nlsoft/models/      share/nlsoft/models/
 //   rig files        <build>/share/nlsoft/rigs/        share/nlsoft/rigs/
+//   firmware sources <build>/share/nlsoft/firmware-src share/nlsoft/firmware-src/
+//                    (a link to the source tree)
 #include <string>
 #include <vector>
 
@@ -43,6 +45,11 @@ Lookup find_model_file(const std::string& name);
 // The shipped rig files' folder: $NLSOFT_RIGS, then the build tree's and the
 // install prefix's share/nlsoft/rigs/.
 Lookup find_rigs_dir();
+
+// The sources an image is built from (firmware/, shared/, protocol/,
+// cmake/warning_flags.txt): $NLSOFT_FIRMWARE_SRC, then the build tree's and
+// the install prefix's share/nlsoft/firmware-src.
+Lookup find_firmware_src();
 
 // `name` in a folder of $PATH, or empty.
 std::string find_on_path(const std::string& name);

@@ -36,6 +36,7 @@ struct RigInput {
   std::string name, unit;
   double min = 0, max = 0, neutral = 0;
   std::string pwm;  // the board's PWM pin ("PC6"); empty when not wired
+  int line = 0, pwm_line = 0;  // of the [[input]] table and its pwm key, for errors about the board
 };
 
 // How an output reaches the console: an ADC channel on the board, an
@@ -60,6 +61,7 @@ struct RigSensor {
   SensorSource source = SensorSource::None;
   int adc = -1;  // ADC1 channel
   double gain = 1, offset = 0;  // value = offset + gain * volts
+  int line = 0, adc_line = 0;  // of the [[sensor]] table and its adc key, for errors about the board
 };
 
 // The controller's defaults, as PARAM_SET would hold them.

@@ -75,16 +75,15 @@ PlatformId firmware_platform(const Rig& rig, const std::string& what) {
   PlatformId id;
   if (!platform_from_name(rig.name.c_str(), &id))
     throw CliError(fmt::format(
-        "{}: rig '{}' ({}) has no firmware: the simulator and the images carry the rigs {} compiled in, and "
-        "building an image from a rig file (firmware build --rig) is not available yet; `nlsoft-console simulate "
-        "--rig {}` runs it offline if it has a [plant]",
-        what, rig.name, rig.file, compiled_names(), rig.file));
+        "{}: rig '{}' ({}) is not one of the compiled-in rigs {}; `conformance --qemu {}` tests the image built "
+        "from the file, `--sim {}` serves it in the console if it has a [plant]",
+        what, rig.name, rig.file, compiled_names(), rig.file, rig.file));
   const std::string diff = first_difference(rig, id);
   if (!diff.empty())
     throw CliError(fmt::format(
-        "{}: rig file {} is not the firmware's compiled-in '{}' (it differs in {}): the firmware would run its own "
-        "values, not the file's; building an image from a rig file (firmware build --rig) is not available yet",
-        what, rig.file, rig.name, diff));
+        "{}: rig file {} is not the compiled-in '{}' (it differs in {}): that would run its own values, not the "
+        "file's; `conformance --qemu {}` tests the image built from the file",
+        what, rig.file, rig.name, diff, rig.file));
   return id;
 }
 

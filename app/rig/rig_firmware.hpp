@@ -1,9 +1,9 @@
 #pragma once
-// Which firmware runs a rig. The simulator and the Cortex-M images carry
-// the shipped rigs compiled in (shared/platform.hpp), by name; until images
-// are built from rig files, a rig has firmware only when it is one of those,
-// value for value. Anything else is refused with what is missing, never run
-// as some other rig.
+// Which compiled-in platform a rig is, for what still goes by the shipped
+// rigs' names (`conformance --sim`): a rig is one of those only value for
+// value, and anything else is refused with what differs, never run as some
+// other rig. The Cortex-M images are built from the rig file itself
+// (app/firmware/image_build.hpp), so --qemu and flash need no such check.
 #include <string>
 
 #include "app/rig/rig.hpp"

@@ -5,7 +5,8 @@ Each line of a fenced code block in the given Markdown files that starts, at
 its left edge, with `nlsoft-console` or `nlsoft-firmware-sim` is an example. Synopsis notation is
 resolved the way a reader would first try it: an optional `[...]` group is
 left out and `a|b|c` takes its first choice. Examples run in document order
-in one scratch folder whose recording database is private ($XDG_DATA_HOME),
+in one scratch folder whose recording database and image cache are private
+($XDG_DATA_HOME, $XDG_CACHE_HOME),
 so `runs show 12` finds the runs recorded before it. Fixtures a reader would
 have made first (a script named tune.nls, a dozen recorded runs) are made
 here and named in the output; a fenced `toml` block whose first line is
@@ -16,7 +17,7 @@ A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
 `flash`) cannot run here and is listed as skipped with the reason, as are QEMU
-examples when the images were not built. Interactive examples (the TUI) run
+examples and `firmware build` when the images were not built (no toolchain). Interactive examples (the TUI) run
 in tmux until the parameter panel is drawn, then get `q`.
 
 A `tune` example must also do what it shows: its best objective no higher
@@ -35,7 +36,7 @@ import sys
 import tempfile
 import time
 
-SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig"}
+SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig", "firmware"}
 
 
 def toml_files(path):
@@ -162,8 +163,9 @@ def main():
     a.console, a.firmware_sim = os.path.abspath(a.console), os.path.abspath(a.firmware_sim)
 
     work = tempfile.mkdtemp(prefix="nlsoft-doc-examples-")
-    env = dict(os.environ, XDG_DATA_HOME=os.path.join(work, "data"), NLSOFT_FIRMWARE_SIM=a.firmware_sim,
-               LANG="C.UTF-8")
+    # The images `firmware build` makes go to the scratch folder's cache, not the user's.
+    env = dict(os.environ, XDG_DATA_HOME=os.path.join(work, "data"), XDG_CACHE_HOME=os.path.join(work, "cache"),
+               NLSOFT_FIRMWARE_SIM=a.firmware_sim, LANG="C.UTF-8")
     binaries = {"nlsoft-console": a.console, "nlsoft-firmware-sim": a.firmware_sim}
     failed = ran = skipped = 0
     try:
@@ -197,7 +199,7 @@ def main():
                     print(f"SKIP {where}: {shown}  (a synopsis: {', '.join(placeholders(cmd[1:]))} to fill in)")
                     skipped += 1
                     continue
-                if a.no_qemu and "--qemu" in cmd:
+                if a.no_qemu and ("--qemu" in cmd or (len(cmd) > 1 and cmd[1] == "firmware")):
                     print(f"SKIP {where}: {shown}  (the Cortex-M images were not built)")
                     skipped += 1
                     continue

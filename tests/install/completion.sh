@@ -36,7 +36,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db"
 
-complete_is "conformance dataset flash model ports rig runs simulate train tune" nlsoft-console ""
+complete_is "conformance dataset firmware flash model ports rig runs simulate train tune" nlsoft-console ""
 complete_is "ports" nlsoft-console po
 complete_is "--json" nlsoft-console ports --j
 complete_is "simulate" nlsoft-console si
@@ -51,7 +51,8 @@ complete_is "compare delete export label list plot show" nlsoft-console runs ""
 complete_is "label list" nlsoft-console runs l
 complete_is "compare" nlsoft-console --db runs.db runs c
 complete_is "--json" nlsoft-console runs show 12 --j
-complete_is "codegen eval import info" nlsoft-console model ""
+complete_is "eval import info" nlsoft-console model ""
+complete_is "build" nlsoft-console firmware ""
 complete_is "check list" nlsoft-console rig ""
 complete_is "hasel" nlsoft-console rig check ha
 complete_is "--json" nlsoft-console rig check hasel --j
@@ -105,10 +106,11 @@ check_against_help() {
   done
 }
 check_against_help nlsoft-console
-for c in simulate conformance flash dataset train tune runs model ports rig; do check_against_help nlsoft-console "$c"; done
+for c in simulate conformance flash firmware dataset train tune runs model ports rig; do check_against_help nlsoft-console "$c"; done
 for c in list show export compare plot label delete; do check_against_help nlsoft-console runs "$c"; done
-for c in import eval info codegen; do check_against_help nlsoft-console model "$c"; done
+for c in import eval info; do check_against_help nlsoft-console model "$c"; done
 for c in check list; do check_against_help nlsoft-console rig "$c"; done
+check_against_help nlsoft-console firmware build
 
 [ "$(help_words | wc -l)" -gt 10 ] || { echo "FAIL: could not read the console's --help"; failures=$((failures + 1)); }
 if [ $failures -gt 0 ]; then

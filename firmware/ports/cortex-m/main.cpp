@@ -8,7 +8,6 @@
 #include "firmware/ports/cortex-m/board.hpp"
 #include "firmware/ports/cortex-m/platform_config.hpp"
 #include "firmware/ports/cortex-m/systick.hpp"
-#include "shared/platform.hpp"
 #include "shared/version.hpp"
 
 #if NLSOFT_HIL
@@ -39,7 +38,7 @@ constexpr uint32_t kRateHz = uint32_t(kRig.rate_hz);
 using PortHal = HilHal<Plant>;
 PortHal g_hal(1.0f / float(kRateHz));
 #else
-using PortHal = RigHal<Plant::m, Plant::w>;
+using PortHal = RigHal<kRig.m, kRig.w>;
 PortHal g_hal;
 #endif
 

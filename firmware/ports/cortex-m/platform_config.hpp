@@ -1,47 +1,17 @@
 #pragma once
-// What differs between the three images: the platform, the tightest
-// capacity that holds its preset and paper-sized model, the simulated plant
-// of the HIL build, and the RAM given to uploads. Selected by
-// NLSOFT_PLATFORM_{MSD,HASEL,TENDON} from the build. Each capacity carries
-// one network shape, so an image compiles one kernel; the hasel image's is
-// ours (app/models/hasel.nlsm) unless the build asks for the authors'
-// (NLSOFT_HASEL_AUTHORS_SHAPE, from images.cmake's NLSOFT_M4_HASEL_SHAPE).
+// What differs between images: the rig (kRig), the capacity sized for it
+// with its model's one network shape (Cap), the simulated plant of the HIL
+// build (Plant, when the rig has one) and, on stm32f4, the rig's pins: all
+// in nlsoft_rig.hpp, generated from the image's rig file (`nlsoft-console
+// firmware build --rig`, app/firmware/image_header.cpp) and found on the
+// image's include path (images.cmake). Here: what follows from those.
 #include <cstddef>
 #include <cstdint>
 
-#include "shared/capacity.hpp"
+#include "nlsoft_rig.hpp"
 #include "shared/model_file.hpp"
-#include "shared/platform_id.hpp"
-#include "shared/plant_hasel.hpp"
-#include "shared/plant_msd.hpp"
-#include "shared/plant_tendon.hpp"
-#include "shared/reference_presets.hpp"
-#include "shared/rig_config.hpp"
 
 namespace nlsoft::fw::cortex_m {
-
-#if defined(NLSOFT_PLATFORM_HASEL) && defined(NLSOFT_HASEL_AUTHORS_SHAPE)
-using Cap = HaselAuthorsCapacity;
-using Plant = HaselPlant;
-constexpr PlatformId kPlatform = PlatformId::Hasel;
-#elif defined(NLSOFT_PLATFORM_HASEL)
-using Cap = HaselCapacity;
-using Plant = HaselPlant;
-constexpr PlatformId kPlatform = PlatformId::Hasel;
-#elif defined(NLSOFT_PLATFORM_TENDON)
-using Cap = TendonCapacity;
-using Plant = TendonPlant;
-constexpr PlatformId kPlatform = PlatformId::Tendon;
-#elif defined(NLSOFT_PLATFORM_MSD)
-using Cap = MsdCapacity;
-using Plant = MsdPlant;
-constexpr PlatformId kPlatform = PlatformId::Msd;
-#else
-#error "define NLSOFT_PLATFORM_MSD, NLSOFT_PLATFORM_HASEL or NLSOFT_PLATFORM_TENDON"
-#endif
-
-// The rig the image serves: dimensions, limits, defaults, start-up reference.
-constexpr RigConfig kRig = shipped_rig(kPlatform);
 
 // Transmit ring: one full telemetry frame above the reserve for replies.
 constexpr size_t kTxCapacity = 512;

@@ -1,22 +1,30 @@
 #pragma once
 // The real-board build: the link and the tick as on the HIL image; the
 // actuators are timer PWM outputs and the sensors ADC1 inputs read by DMA,
-// wired and scaled as rig_pins.hpp says. M actuators, W sensors: the first
-// M PWM rows and the first W analogue rows of the table (a sensor beyond the
-// table reads 0).
+// wired and scaled as the image's rig file says (kRigPwm, kRigAnalogue,
+// generated into nlsoft_rig.hpp from the file's pwm and adc keys over the
+// board's rows in rig_pins.hpp). An actuator without a pin is computed but
+// not driven; a sensor without a channel reads 0.
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
 #include "firmware/ports/cortex-m/platform_config.hpp"
 #include "firmware/ports/stm32f4/clock_tree.hpp"
 #include "firmware/ports/stm32f4/rig_pins.hpp"
-#include "shared/platform.hpp"
 
 namespace nlsoft::fw::cortex_m {
 
 template <int M, int W>
 class RigHal final : public Hal {
-  static_assert(M <= stm32f4::kPwmCount, "more actuators than PWM rows in rig_pins.hpp");
-  static constexpr int kAdcCount = W < stm32f4::kAnalogueCount ? W : stm32f4::kAnalogueCount;
+  static_assert(M <= int(sizeof stm32f4::kRigPwm / sizeof stm32f4::kRigPwm[0]), "an actuator without a kRigPwm row");
+  static constexpr int kRows = stm32f4::kRigAnalogueRows < W ? stm32f4::kRigAnalogueRows : W;
+  // The conversions ADC1 scans: the wired sensors, in sensor order.
+  static constexpr int scanned() {
+    int count = 0;
+    for (int i = 0; i < kRows; ++i) count += stm32f4::kRigAnalogue[i].adc_channel != stm32f4::kNoChannel;
+    return count;
+  }
+  static constexpr int kAdcCount = scanned();
+  static_assert(kAdcCount <= 16, "ADC1 scans at most 16 conversions");
 
  public:
   size_t serial_read(uint8_t* buf, size_t cap) override { return board::serial_read(buf, cap); }
@@ -26,20 +34,21 @@ class RigHal final : public Hal {
 
   void actuate(const float* u, int m) override {
     for (int i = 0; i < m && i < M; ++i) {
-      const stm32f4::PwmOutput& o = stm32f4::kPwm[i];
+      const stm32f4::PwmOutput& o = stm32f4::kRigPwm[i];
+      if (o.timer == 0) continue;
       float duty = (u[i] - kRig.u_min[i]) / (kRig.u_max[i] - kRig.u_min[i]);
       duty = duty > 0.0f ? (duty < 1.0f ? duty : 1.0f) : 0.0f;  // a NaN too: off, never an undefined cast
       stm32f4::reg(o.timer + 0x30u + 4u * o.channel) = uint32_t(duty * float(period_) + 0.5f);
     }
   }
   void read_sensors(float* l, int w) override {
-    for (int i = 0; i < w; ++i) {
-      if (i >= kAdcCount) {
+    for (int i = 0, scan = 0; i < w; ++i) {
+      if (i >= kRows || stm32f4::kRigAnalogue[i].adc_channel == stm32f4::kNoChannel) {
         l[i] = 0.0f;
         continue;
       }
-      const stm32f4::AnalogueInput& a = stm32f4::kAnalogue[i];
-      l[i] = a.offset + a.gain * float(raw_[i]) * (stm32f4::kAdcVref / 4095.0f);
+      const stm32f4::AnalogueInput& a = stm32f4::kRigAnalogue[i];
+      l[i] = a.offset + a.gain * float(raw_[scan++]) * (stm32f4::kAdcVref / 4095.0f);
     }
   }
   bool read_output(float*, int) override { return false; }  // no observer of y on a plain board
@@ -67,7 +76,8 @@ class RigHal final : public Hal {
       reg(tim + 0x2C) = period_ - 1u;  // ARR
     }
     for (int i = 0; i < M; ++i) {
-      const PwmOutput& o = kPwm[i];
+      const PwmOutput& o = kRigPwm[i];
+      if (o.timer == 0) continue;
       gpio_alternate(o.pin, 2);  // AF2: TIM3/TIM4
       const uint32_t ccmr = o.timer + (o.channel <= 2 ? 0x18u : 0x1Cu);
       const uint32_t at = o.channel % 2 ? 0u : 8u;
@@ -88,13 +98,15 @@ class RigHal final : public Hal {
     constexpr uint32_t kDma = 0x40026400u, kS0Cr = kDma + 0x10, kS0Ndtr = kDma + 0x14, kS0Par = kDma + 0x18,
                        kS0M0ar = kDma + 0x1C, kLifcr = kDma + 0x08;
     uint32_t smpr1 = 0, smpr2 = 0, sq[3] = {0, 0, 0};
-    for (int i = 0; i < kAdcCount; ++i) {
-      const AnalogueInput& a = kAnalogue[i];
+    for (int i = 0, scan = 0; i < kRows; ++i) {
+      const AnalogueInput& a = kRigAnalogue[i];
+      if (a.adc_channel == kNoChannel) continue;
       gpio_analogue(a.pin);
       // 84 cycles per sample: source impedances up to ~20 kOhm settle.
       if (a.adc_channel < 10) smpr2 |= 4u << (3u * a.adc_channel);
       else smpr1 |= 4u << (3u * (a.adc_channel - 10u));
-      sq[i / 6] |= uint32_t(a.adc_channel) << (5u * uint32_t(i % 6));
+      sq[scan / 6] |= uint32_t(a.adc_channel) << (5u * uint32_t(scan % 6));
+      ++scan;
     }
     reg(kAdcCcr) = 1u << 16;  // ADCCLK = APB2 / 4: <= 36 MHz on all three parts
     reg(kAdc + 0x0C) = smpr1;

@@ -1,7 +1,11 @@
 #pragma once
-// The rig's wiring on a Nucleo-64, in one table per platform: which timer
-// channel drives each actuator and which ADC channel reads each sensor, with
-// their scaling. README.md prints the same table for whoever wires the rig.
+// The pins a Nucleo-64 offers a rig: the timer channels that can drive an
+// actuator and the ADC channels that can read a sensor. An image's own
+// wiring (which row drives actuator i, which reads sensor i, with the
+// sensor's scaling) is generated from its rig file's pwm and adc keys
+// (kRigPwm, kRigAnalogue in the image's nlsoft_rig.hpp); the console checks
+// rig files against these rows (app/rig/board_pins.cpp). README.md prints
+// the table for whoever wires the rig.
 //
 // Actuators: 20 kHz PWM over the platform's whole input range, duty =
 // (u - u_min) / (u_max - u_min) with the preset's limits (shared/platform.hpp:
@@ -48,6 +52,11 @@ constexpr AnalogueInput kAnalogue[] = {
     {{kGpioC, 2}, 12, 0.0f, 1.0f},  {{kGpioC, 3}, 13, 0.0f, 1.0f},  {{kGpioC, 4}, 14, 0.0f, 1.0f},
     {{kGpioC, 5}, 15, 0.0f, 1.0f},
 };
+
+// An actuator no pin drives and a sensor no channel reads (it reads 0).
+constexpr PwmOutput kNoPwm = {{0, 0}, 0, 0};
+constexpr uint8_t kNoChannel = 0xFF;
+constexpr AnalogueInput kNoAnalogue = {{0, 0}, kNoChannel, 0.0f, 1.0f};
 
 constexpr int kPwmCount = int(sizeof kPwm / sizeof kPwm[0]);
 constexpr int kAnalogueCount = int(sizeof kAnalogue / sizeof kAnalogue[0]);

@@ -24,7 +24,7 @@ std::string slurp(const std::string& path) {
 
 }  // namespace
 
-TEST(Cli, DatasetTrainInfoEvalCodegen) {
+TEST(Cli, DatasetTrainInfoEval) {
   const std::string csv = tmp("t.csv"), model = tmp("t.nlsm");
   auto r = run_cli("dataset --platform tendon --out " + csv + " --steps 3000 --seed 4");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -46,10 +46,6 @@ TEST(Cli, DatasetTrainInfoEvalCodegen) {
   const std::string y = slurp(out);
   EXPECT_EQ(std::count(y.begin(), y.end(), '\n'), 2);
   EXPECT_EQ(std::count(y.begin(), y.end(), ','), 4);
-
-  r = run_cli("model codegen " + model + " --out " + tmp("g.hpp") + " --name tendon_test");
-  ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(slurp(tmp("g.hpp")).find("namespace tendon_test"), std::string::npos);
 }
 
 TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
@@ -84,7 +80,6 @@ TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
       {"model info " + tmp("missing.nlsm"), "cannot open"},
       {"model eval " + model + " --input " + short_rows + " --output " + tmp("n3.csv"), "the model takes p = 4"},
       {"model eval " + model + " --input " + bad_csv + " --output " + tmp("n3.csv"), "not a number"},
-      {"model codegen " + model + " --out " + tmp("n4.hpp") + " --name 9lives", "--name"},
       {"model import " + csv + " --out " + tmp("n5.nlsm"), "not an HDF5 file"},
   };
   for (const Case& c : cases) {
@@ -92,7 +87,7 @@ TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }
-  for (const char* f : {"n1.csv", "n2.nlsm", "n3.csv", "n4.hpp", "n5.nlsm"}) EXPECT_FALSE(file_exists(tmp(f))) << f;
+  for (const char* f : {"n1.csv", "n2.nlsm", "n3.csv", "n5.nlsm"}) EXPECT_FALSE(file_exists(tmp(f))) << f;
 
   // a failed run over an existing file leaves it as it was
   EXPECT_EQ(run_cli("train --platform msd --data " + bad_csv + " --out " + model).code, 2);
@@ -103,5 +98,4 @@ TEST(Cli, HelpTeaches) {
   const auto r = run_cli("train --help");
   EXPECT_EQ(r.code, 0);
   EXPECT_NE(r.output.find("Example: nlsoft-console train"), std::string::npos) << r.output;
-  EXPECT_NE(run_cli("model codegen --help").output.find("hasel_model::build"), std::string::npos);
 }

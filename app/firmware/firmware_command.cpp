@@ -1,0 +1,58 @@
+#include "app/firmware/firmware_command.hpp"
+
+#include <fmt/format.h>
+
+#include <memory>
+#include <string>
+
+#include "app/firmware/image_build.hpp"
+#include "app/firmware/image_header.hpp"
+#include "app/rig/rig_catalog.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+void print_image(const char* what, const BuiltImage& b) {
+  if (b.path.empty()) return;
+  fmt::print("{:<6} {}\n       flash {} bytes, RAM {} bytes\n", what, b.path, b.flash, b.ram);
+}
+
+}  // namespace
+
+void add_firmware_command(CLI::App& app) {
+  CLI::App* fw = app.add_subcommand("firmware", "Cortex-M4F images for a rig, built from its rig file");
+  fw->require_subcommand(1);
+  auto q = std::make_shared<ImageBuild>();
+  CLI::App* build = fw->add_subcommand(
+      "build", "Generate the rig's image header and build its images with arm-none-eabi-g++ (docs/rig-file.md)");
+  build->add_option("--rig", q->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
+      ->required()
+      ->check(rig_arg_validator());
+  build->add_option("--board", q->board, "the board: mps2-an386 (QEMU) or stm32f4 (a Nucleo-64)")
+      ->required()
+      ->check(CLI::IsMember(image_boards()));
+  build->add_option("--model", q->model,
+                    "model file to embed; its layer table is the compiled shape (default: the rig's [model] file "
+                    "among the shipped models)")
+      ->check(CLI::ExistingFile);
+  build->add_option("--out", q->out,
+                    "folder for the images (default: the cache folder --qemu, conformance --qemu and flash --rig "
+                    "look in, ~/.cache/nlsoft/firmware/<rig>-<board>-<key>)");
+  build->add_flag("--hil", q->hil_only, "only the image with the simulated plant in the loop (needs [plant])");
+  build->footer(
+      "Builds <prefix>-<rig>.elf, the board's image (stm32f4: PWM and ADC pins from the rig file), and, when the\n"
+      "rig has a [plant], <prefix>-<rig>-hil.elf with the plant simulated on the MCU; prefix nlsoft-m4 or\n"
+      "nlsoft-stm32f4 (with a .bin for st-flash). Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi "
+      "cmake\n"
+      "Examples:\n"
+      "  nlsoft-console firmware build --rig lab/arm.toml --board stm32f4\n"
+      "  nlsoft-console firmware build --rig lab/arm.toml --board mps2-an386 --out arm-images\n");
+  build->callback([q] {
+    const BuiltImages b = build_images(*q);
+    print_image("board", b.board);
+    print_image("hil", b.hil);
+  });
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,293 @@
+#include "app/firmware/image_build.hpp"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <thread>
+#include <vector>
+
+#include "app/cli_error.hpp"
+#include "app/firmware/image_header.hpp"
+#include "app/paths/install_paths.hpp"
+#include "app/progress_bar.hpp"
+#include "app/rig/rig_catalog.hpp"
+#include "shared/crc32.hpp"
+
+namespace nlsoft::console {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kToolchainPackages = "gcc-arm-none-eabi libnewlib-arm-none-eabi cmake";
+
+std::string image_prefix(const std::string& board) { return board == "stm32f4" ? "nlsoft-stm32f4" : "nlsoft-m4"; }
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Runs argv with stdout and stderr into `log` (appended), handing each line
+// to on_line; returns the exit status. The build tools' output is only
+// shown when they fail.
+int run_logged(const std::vector<std::string>& argv_in, const std::string& log,
+               const std::function<void(const std::string&)>& on_line) {
+  int out[2];
+  if (::pipe2(out, O_CLOEXEC) != 0) throw CliError(fmt::format("pipe: {}", std::strerror(errno)));
+  std::vector<std::string> args = argv_in;
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw CliError(fmt::format("fork: {}", std::strerror(errno)));
+  if (pid == 0) {
+    ::dup2(out[1], STDOUT_FILENO);
+    ::dup2(out[1], STDERR_FILENO);
+    ::execvp(argv[0], argv.data());
+    std::fprintf(stderr, "cannot run %s: %s\n", argv[0], std::strerror(errno));
+    ::_exit(127);
+  }
+  ::close(out[1]);
+  std::ofstream logf(log, std::ios::app);
+  std::string pending;
+  char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(out[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    logf.write(buf, n);
+    pending.append(buf, size_t(n));
+    for (size_t nl; (nl = pending.find('\n')) != std::string::npos; pending.erase(0, nl + 1))
+      on_line(pending.substr(0, nl));
+  }
+  ::close(out[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// "[ 42%] Building ..." as make prints it.
+int make_percent(const std::string& line) {
+  if (line.size() < 6 || line[0] != '[' || line[4] != '%') return -1;
+  return std::atoi(line.c_str() + 1);
+}
+
+void require_toolchain(const std::string& who) {
+  std::string missing;
+  for (const char* tool : {"arm-none-eabi-g++", "arm-none-eabi-size", "cmake"})
+    if (find_on_path(tool).empty()) missing += std::string(missing.empty() ? "" : ", ") + tool;
+  // newlib: the C library the images link (nano.specs); the compiler alone lacks it.
+  if (missing.empty()) {
+    std::string found;
+    if (FILE* p = ::popen("arm-none-eabi-g++ -print-file-name=libc_nano.a 2>/dev/null", "r")) {
+      char line[4096];
+      if (std::fgets(line, sizeof line, p)) found = line;
+      ::pclose(p);
+    }
+    while (!found.empty() && (found.back() == '\n' || found.back() == '\r')) found.pop_back();
+    if (found.find('/') == std::string::npos || !fs::exists(found)) missing = "newlib for arm-none-eabi";
+  }
+  if (!missing.empty())
+    throw CliError(fmt::format("{}: building an image needs the Cortex-M toolchain; not found: {}. Install it: "
+                               "apt-get install {}",
+                               who, missing, kToolchainPackages));
+}
+
+std::string firmware_src(const std::string& who) {
+  const Lookup l = find_firmware_src();
+  if (!l.found.empty()) return l.found;
+  throw CliError(fmt::format("{}: cannot find the firmware sources; tried:{}\nset NLSOFT_FIRMWARE_SRC to an nlsoft "
+                             "source tree",
+                             who, l.tried_lines()));
+}
+
+std::string cache_dir() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  if (xdg && *xdg == '/') return std::string(xdg) + "/nlsoft/firmware";
+  const char* home = std::getenv("HOME");
+  if (!home || !*home) throw CliError("cannot find a cache folder: set XDG_CACHE_HOME or HOME, or give --out");
+  return std::string(home) + "/.cache/nlsoft/firmware";
+}
+
+BuiltImage sized(const std::string& path) {
+  BuiltImage b;
+  b.path = path;
+  const std::string cmd = "arm-none-eabi-size '" + path + "' 2>/dev/null";
+  if (FILE* p = ::popen(cmd.c_str(), "r")) {
+    char line[512];
+    long text = 0, data = 0, bss = 0;
+    while (std::fgets(line, sizeof line, p))
+      if (std::sscanf(line, "%ld %ld %ld", &text, &data, &bss) == 3) b.flash = text + data, b.ram = data + bss;
+    ::pclose(p);
+  }
+  return b;
+}
+
+// The last lines of a failed build that say why.
+std::string build_failure(const std::string& log, const Rig& rig, const std::string& board, const std::string& who) {
+  const std::string text = read_file(log);
+  // The linker's words for a region too small, and sections.ld's for no stack left.
+  if (text.find("overflowed") != std::string::npos || text.find("will not fit in region") != std::string::npos ||
+      text.find("leaves no room for the stack") != std::string::npos)
+    return fmt::format("{}: rig '{}' ({}) does not fit board {}'s memory (m = {}, n = {}, w = {}, N = {}, Nc = {}): "
+                       "the linker says so in {}",
+                       who, rig.name, rig.file, board, rig.m(), rig.n(), rig.w(), rig.controller.N, rig.controller.Nc,
+                       log);
+  std::vector<std::string> errors;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.find("error") != std::string::npos) errors.push_back(line);
+  std::string shown;
+  for (size_t i = errors.size() > 5 ? errors.size() - 5 : 0; i < errors.size(); ++i) shown += "\n  " + errors[i];
+  return fmt::format("{}: the image build for rig '{}' on {} failed (log: {}){}", who, rig.name, board, log, shown);
+}
+
+// A shipped rig's name when `rig` is one of the shipped files as shipped.
+std::string shipped_name(const Rig& rig) {
+  const Lookup dir = find_rigs_dir();
+  if (dir.found.empty()) return "";
+  const std::string file = dir.found + "/" + rig.name + ".toml";
+  if (!fs::exists(file)) return "";
+  try {
+    return load_rig(file).hash == rig.hash ? rig.name : "";
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+}  // namespace
+
+BuiltImages build_images(const ImageBuild& q) {
+  const Rig rig = load_rig_arg(q.rig);
+  ImageRequest request;
+  request.board = q.board;
+  request.model_file = q.model;
+  std::string note;
+  if (request.model_file.empty() && !rig.model.file.empty()) {
+    request.model_file = find_model_file(rig.model.file).found;
+    if (request.model_file.empty())
+      note = fmt::format("no model embedded: {} is not among the shipped models; the image waits for an upload "
+                         "(or give --model)",
+                         rig.model.file);
+  }
+  ImageSource source;
+  try {
+    source = image_source(rig, request);
+  } catch (const RigError& e) {
+    throw CliError(fmt::format("{}: {}", q.who, e.what()));
+  } catch (const CliError& e) {
+    throw CliError(fmt::format("{}: {}", q.who, e.what()), e.exit_code);
+  }
+  if (q.hil_only && !source.hil)
+    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: there is no HIL image to build, only the board's "
+                               "(without --hil)",
+                               q.who, rig.name, rig.file));
+  require_toolchain(q.who);
+  const std::string src = firmware_src(q.who);
+
+  // The cache key: the header says everything about the rig and the board;
+  // the model's bytes what is embedded.
+  std::string keyed = source.header + source.cmake;
+  if (!request.model_file.empty()) keyed += read_file(request.model_file);
+  const uint32_t key = crc32(reinterpret_cast<const uint8_t*>(keyed.data()), keyed.size());
+  const std::string dir = !q.out.empty() ? fs::absolute(q.out).lexically_normal().string()
+                                         : fmt::format("{}/{}-{}-{:08x}", cache_dir(), rig.name, q.board, key);
+  const std::string rigs = dir + "/.rig", build = dir + "/.build", log = dir + "/build.log";
+  std::error_code ec;
+  fs::create_directories(rigs, ec);
+  if (ec) throw CliError(fmt::format("{}: cannot create {}: {}", q.who, rigs, ec.message()));
+  // One rig per folder: the port project builds every rig folder it finds.
+  for (const auto& e : fs::directory_iterator(rigs))
+    if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
+  write_image_source(source, rigs + "/" + rig.name);
+  fs::remove(log, ec);
+
+  const std::string prefix = image_prefix(q.board);
+  const std::string what = fmt::format("{}-{}{}", prefix, rig.name, q.hil_only ? "-hil" : "");
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  if (!note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), note.c_str());
+  if (!tty) std::fprintf(stderr, "%s: building %s for %s in %s\n", q.who.c_str(), what.c_str(), q.board.c_str(), dir.c_str());
+  {
+    ProgressBar bar("building " + what);
+    auto progress = [&](const std::string& line) {
+      if (const int p = make_percent(line); p >= 0) bar.update(p, 100);
+    };
+    const int configured = run_logged(
+        {"cmake", "-S", src + "/firmware/ports/" + q.board, "-B", build,
+         "-DCMAKE_TOOLCHAIN_FILE=" + src + "/firmware/ports/cortex-m/cmake/arm-none-eabi.cmake", "-DNLSOFT_ROOT=" + src,
+         "-DNLSOFT_RIG_DIR=" + rigs, std::string("-DNLSOFT_IMAGE_KINDS=") + (q.hil_only ? "hil" : "both"),
+         "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=" + dir},
+        log, [](const std::string&) {});
+    if (configured != 0) throw CliError(build_failure(log, rig, q.board, q.who));
+    const unsigned cores = std::thread::hardware_concurrency();
+    const int built =
+        run_logged({"cmake", "--build", build, "-j", std::to_string(cores > 0 ? cores : 1)}, log, progress);
+    if (built != 0) throw CliError(build_failure(log, rig, q.board, q.who));
+  }
+  BuiltImages out;
+  out.dir = dir;
+  const std::string board_elf = dir + "/" + prefix + "-" + rig.name + ".elf";
+  const std::string hil_elf = dir + "/" + prefix + "-" + rig.name + "-hil.elf";
+  if (!q.hil_only && fs::exists(board_elf)) out.board = sized(board_elf);
+  if (source.hil && fs::exists(hil_elf)) out.hil = sized(hil_elf);
+  if (out.board.path.empty() && out.hil.path.empty())
+    throw CliError(fmt::format("{}: the build made no image (log: {})", q.who, log));
+  return out;
+}
+
+std::string hil_image_for(const std::string& rig_arg, const std::string& board, const std::string& who) {
+  if (const char* env = std::getenv("NLSOFT_M4_IMAGE"); env && *env) {
+    if (::access(env, R_OK) == 0) return env;
+    throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
+  }
+  const Rig rig = load_rig_arg(rig_arg);
+  if (rig.plant.kind.empty())
+    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: QEMU runs an image with the simulated plant in the "
+                               "loop; `firmware build --rig {}` builds its board image",
+                               who, rig.name, rig.file, rig.file));
+  if (const std::string shipped = shipped_name(rig); !shipped.empty()) {
+    const std::string rel = board == "stm32f4" ? "stm32f4/nlsoft-stm32f4-" + shipped + "-hil.elf"
+                                               : "m4/nlsoft-m4-" + shipped + "-hil.elf";
+    if (const Lookup l = find_image_file(rel); !l.found.empty()) return l.found;
+  }
+  ImageBuild q;
+  q.rig = rig.file;
+  q.board = board;
+  q.hil_only = false;  // the cache folder `firmware build` fills: both images, built once
+  q.who = who;
+  return build_images(q).hil.path;
+}
+
+std::string stm32f4_image_for(const std::string& rig_arg, bool hil, const std::string& who) {
+  const Rig rig = load_rig_arg(rig_arg);
+  if (const std::string shipped = shipped_name(rig); !shipped.empty()) {
+    if (const Lookup l = find_image_file(fmt::format("stm32f4/nlsoft-stm32f4-{}{}.elf", shipped, hil ? "-hil" : ""));
+        !l.found.empty())
+      return l.found;
+  }
+  ImageBuild q;
+  q.rig = rig.file;
+  q.board = "stm32f4";
+  q.who = who;
+  const BuiltImages b = build_images(q);
+  const std::string path = hil ? b.hil.path : b.board.path;
+  if (path.empty())
+    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: no HIL image", who, rig.name, rig.file));
+  return path;
+}
+
+}  // namespace nlsoft::console

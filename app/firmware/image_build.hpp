@@ -1,0 +1,44 @@
+#pragma once
+// Building a rig's Cortex-M images: its header generated (image_header.hpp),
+// then the board's port project (firmware/ports/<board>) configured and
+// built with arm-none-eabi-g++ over the firmware sources of the build tree
+// or the install prefix (find_firmware_src). Into a folder of the user's
+// (--out), or a cache folder keyed by the rig, the model and the board, so
+// `--qemu FILE`, `conformance --qemu FILE` and `flash --rig FILE` find the
+// image `firmware build` made, and build it when it is not there.
+#include <string>
+
+namespace nlsoft::console {
+
+struct ImageBuild {
+  std::string rig;    // a shipped rig's name or a rig file
+  std::string board;  // mps2-an386 or stm32f4
+  std::string model;  // embedded; empty: the rig's [model] file among the shipped models, if found
+  std::string out;    // where the images go; empty: the cache folder
+  bool hil_only = false;
+  std::string who = "firmware build";  // starts the error messages
+};
+
+struct BuiltImage {
+  std::string path;
+  long flash = 0, ram = 0;  // bytes: text + data, data + bss
+};
+
+struct BuiltImages {
+  std::string dir;
+  BuiltImage board, hil;  // path empty when not built
+};
+
+// Throws CliError: a bad rig, a board the rig does not fit, a missing
+// toolchain (naming the Debian packages), a failed build (naming its log).
+BuiltImages build_images(const ImageBuild& request);
+
+// The image with the simulated plant for `rig` on `board`: $NLSOFT_M4_IMAGE;
+// a shipped rig's built image when the rig is a shipped name or file as
+// shipped; otherwise built (or found built) in the cache folder.
+std::string hil_image_for(const std::string& rig, const std::string& board, const std::string& who);
+
+// The stm32f4 image (the board's, or the HIL one) for `rig`, the same way.
+std::string stm32f4_image_for(const std::string& rig, bool hil, const std::string& who);
+
+}  // namespace nlsoft::console

@@ -1,0 +1,300 @@
+#include "app/firmware/image_header.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/cli_error.hpp"
+#include "app/model/model_store.hpp"
+#include "app/rig/board_pins.hpp"
+#include "app/rig/firmware_rig.hpp"
+#include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "shared/platform_id.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+[[noreturn]] void fail(const Rig& rig, int line, const std::string& key, const std::string& what) {
+  throw RigError(fmt::format("{}:{}: {}: {}", rig.file, line, key, what), rig.file, line, key);
+}
+
+// A float literal that reads back as the very float the console computes
+// (fmt prints the shortest text that round-trips).
+std::string flt(float v) {
+  if (!std::isfinite(v)) throw CliError(fmt::format("a rig value is not finite ({})", v));
+  std::string s = fmt::format("{}", v);
+  if (s.find_first_of(".e") == std::string::npos) s += ".0";
+  return s + "f";
+}
+
+// A C++ string literal of text the loader admitted (printable, no quotes
+// expected, escaped all the same).
+std::string quoted(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) out += fmt::format("\\{:03o}", int(static_cast<unsigned char>(c)));
+    else out += c;
+  }
+  return out + "\"";
+}
+
+const char* platform_literal(PlatformId id) {
+  switch (id) {
+    case PlatformId::Msd: return "PlatformId::Msd";
+    case PlatformId::Hasel: return "PlatformId::Hasel";
+    case PlatformId::Tendon: return "PlatformId::Tendon";
+    default: return "PlatformId::Custom";
+  }
+}
+
+const char* ref_kind_literal(RefKind k) {
+  switch (k) {
+    case RefKind::Infinity: return "RefKind::Infinity";
+    case RefKind::Pringle: return "RefKind::Pringle";
+    case RefKind::Diagonal: return "RefKind::Diagonal";
+    case RefKind::Swirl: return "RefKind::Swirl";
+    case RefKind::Step: return "RefKind::Step";
+    case RefKind::Table: return "RefKind::Table";
+    default: return "RefKind::Hold";
+  }
+}
+
+std::string layer_type(const RigLayer& l) {
+  return fmt::format("{}<{}>", l.kind == "gru" ? "GruLayer" : "DenseLayer", l.units);
+}
+
+// The named plants an image can carry: the kind's header and class.
+struct NamedPlant {
+  const char* kind;
+  const char* header;
+  const char* type;
+};
+constexpr NamedPlant kNamedPlants[] = {
+    {"msd", "shared/plant_msd.hpp", "MsdPlant"},
+    {"hasel", "shared/plant_hasel.hpp", "HaselPlant"},
+    {"tendon", "shared/plant_tendon.hpp", "TendonPlant"},
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write_if_changed(const std::string& path, const std::string& text) {
+  if (std::filesystem::exists(path) && read_text(path) == text) return;
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out.flush()) throw CliError(fmt::format("cannot write {}", tmp));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw CliError(fmt::format("cannot write {}: {}", path, ec.message()));
+}
+
+}  // namespace
+
+const std::vector<std::string>& image_boards() {
+  static const std::vector<std::string> boards = {"mps2-an386", "stm32f4"};
+  return boards;
+}
+
+std::string rig_config_part(const Rig& rig) {
+  const RigConfig c = firmware_rig(rig);
+  std::string o;
+  o += "// The rig the image serves (shared/rig_config.hpp): every value as the console computes it from the file.\n";
+  o += "constexpr RigConfig image_rig() {\n  RigConfig c{};\n";
+  o += fmt::format("  c.name = {};\n  c.hash = 0x{:08x}u;\n  c.platform = {};\n", quoted(rig.name), c.hash,
+                   platform_literal(c.platform));
+  o += fmt::format("  c.m = {}, c.n = {}, c.w = {}, c.nd = {}, c.dd = {};\n", c.m, c.n, c.w, c.nd, c.dd);
+  o += fmt::format("  c.rate_hz = {};\n", flt(c.rate_hz));
+  for (int i = 0; i < c.m; ++i)
+    o += fmt::format("  c.u_min[{0}] = {1}, c.u_max[{0}] = {2}, c.u_neutral[{0}] = {3}, c.Lambda[{0}] = {4};  // {5}\n",
+                     i, flt(c.u_min[i]), flt(c.u_max[i]), flt(c.u_neutral[i]), flt(c.Lambda[i]),
+                     rig.inputs[size_t(i)].name);
+  for (int i = 0; i < c.n; ++i)
+    o += fmt::format("  c.Q[{}] = {};  // {}\n", i, flt(c.Q[i]), rig.outputs[size_t(i)].name);
+  o += fmt::format("  c.s = {}, c.b = {}, c.r = {}, c.eps = {}, c.nr_tol = {};\n", flt(c.s), flt(c.b), flt(c.r),
+                   flt(c.eps), flt(c.nr_tol));
+  o += fmt::format("  c.N = {}, c.N1 = {}, c.Nc = {}, c.nr_max_iter = {};\n", c.N, c.N1, c.Nc, c.nr_max_iter);
+  o += fmt::format("  c.mode = {};\n  c.feedback = {};\n",
+                   c.mode == DerivMode::Exact ? "DerivMode::Exact" : "DerivMode::Fd",
+                   c.feedback == Feedback::Predicted ? "Feedback::Predicted" : "Feedback::Measured");
+  const RefParams& r = c.reference;
+  o += fmt::format("  c.reference.kind = {};\n  c.reference.level_count = {};\n  c.reference.hold = {};\n",
+                   ref_kind_literal(r.kind), r.level_count, r.hold);
+  o += fmt::format("  c.reference.A = {}, c.reference.B = {}, c.reference.C = {};\n", flt(r.A), flt(r.B), flt(r.C));
+  o += fmt::format("  c.reference.c[0] = {}, c.reference.c[1] = {}, c.reference.c[2] = {};\n", flt(r.c[0]),
+                   flt(r.c[1]), flt(r.c[2]));
+  o += fmt::format("  c.reference.omega = {}, c.reference.lambda = {}, c.reference.scale = {};\n", flt(r.omega),
+                   flt(r.lambda), flt(r.scale));
+  for (int i = 0; i < kRefMaxLevels; ++i) o += fmt::format("  c.reference.levels[{}] = {};\n", i, flt(r.levels[i]));
+  o += "  return c;\n}\nconstexpr RigConfig kRig = image_rig();\n";
+  return o;
+}
+
+std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers) {
+  if (layers.empty())
+    fail(rig, 1, "[model]", "no network shape: the image compiles one; give [[model.layer]] tables or --model FILE");
+  if (rig.nd != rig.dd)
+    fail(rig, 1, "nd/dd", fmt::format("an image's network shape has one history length, nd = dd ({} and {} here)",
+                                      rig.nd, rig.dd));
+  std::string shape = fmt::format("NetShape<{}, {}, {}, {}", rig.m(), rig.n(), rig.w(), rig.nd);
+  for (const RigLayer& l : layers) shape += ", " + layer_type(l);
+  shape += ">";
+  const RigController& k = rig.controller;
+  std::string o;
+  o += "// The one network shape the image compiles a kernel for, and the capacity every array is sized from:\n";
+  o += "// the rig's dimensions and horizons, the shape's weights and widest layer (shared/capacity.hpp).\n";
+  o += "using ImageShape = " + shape + ";\n";
+  o += "struct ImageCapacity {\n";
+  o += fmt::format("  static constexpr int m = {}, n = {}, w = {}, nd = {};\n", rig.m(), rig.n(), rig.w(), rig.nd);
+  o += fmt::format("  static constexpr int N = {}, Nc = {};\n", k.N, k.Nc);
+  o += fmt::format("  static constexpr int width = ShapeNeeds<ImageShape>::width, layers = {};\n", layers.size());
+  o += "  static constexpr int weights = ShapeNeeds<ImageShape>::weights;\n";
+  o += "  using Shapes = ShapeList<ImageShape>;\n  static constexpr bool generic = false;\n};\n";
+  o += "using Cap = ImageCapacity;\n";
+  return o;
+}
+
+std::string plant_part(const Rig& rig) {
+  if (rig.plant.kind.empty()) return "";
+  for (const NamedPlant& p : kNamedPlants)
+    if (rig.plant.kind == p.kind)
+      return fmt::format("}}  // namespace nlsoft::fw::cortex_m\n#include \"{}\"\nnamespace nlsoft::fw::cortex_m {{\n"
+                         "// The simulated plant of the HIL image ([plant] kind = \"{}\").\nusing Plant = {};\n"
+                         "static_assert(Plant::m == kRig.m && Plant::n == kRig.n && Plant::w == kRig.w, "
+                         "\"the plant's dimensions are the rig's\");\n",
+                         p.header, p.kind, p.type);
+  fail(rig, rig.plant.line, "[plant] kind",
+       fmt::format("no image carries a '{}' plant yet (the HIL images carry msd, hasel and tendon)", rig.plant.kind));
+}
+
+std::string pins_part(const Rig& rig, const std::string& board) {
+  if (board != "stm32f4") return "";
+  const BoardPins* pins = find_board(board);
+  if (!pins) throw CliError("no pin table for board " + board);
+  namespace f4 = fw::stm32f4;
+  if (rig.m() > f4::kPwmCount) {
+    const RigInput& extra = rig.inputs[size_t(f4::kPwmCount)];
+    fail(rig, extra.line, fmt::format("[[input]] #{}", f4::kPwmCount + 1),
+         fmt::format("board {} drives {} PWM outputs ({}); this rig has {} inputs", board, f4::kPwmCount,
+                     fmt::join(pins->pwm, ", "), rig.m()));
+  }
+  std::string o;
+  o += "}  // namespace nlsoft::fw::cortex_m\n#include \"firmware/ports/stm32f4/rig_pins.hpp\"\n";
+  o += "namespace nlsoft::fw::stm32f4 {\n";
+  o += "// Actuator i's PWM output, a row of the board's table (rig_pins.hpp); kNoPwm: not driven.\n";
+  o += "constexpr PwmOutput kRigPwm[] = {\n";
+  for (const RigInput& in : rig.inputs) {
+    std::string row = "kNoPwm";
+    for (size_t r = 0; r < pins->pwm.size(); ++r)
+      if (pins->pwm[r] == in.pwm) row = fmt::format("kPwm[{}]", r);
+    if (!in.pwm.empty() && row == "kNoPwm")
+      fail(rig, in.pwm_line, "pwm", fmt::format("unknown pin '{}' on board {} (PWM pins: {})", in.pwm, board,
+                                                fmt::join(pins->pwm, ", ")));
+    o += fmt::format("    {},  // {}{}\n", row, in.name, in.pwm.empty() ? "" : " on " + in.pwm);
+  }
+  o += "};\n";
+  // Rows up to the last wired sensor; the sensors after it read 0.
+  size_t rows = 0;
+  for (size_t i = 0; i < rig.sensors.size(); ++i)
+    if (rig.sensors[i].source == SensorSource::Adc) rows = i + 1;
+  o += "// Sensor i's ADC1 input and scaling (value = offset + gain * volts); kNoAnalogue and the\n";
+  o += "// sensors past the table read 0.\n";
+  o += fmt::format("constexpr int kRigAnalogueRows = {};\n", rows);
+  o += fmt::format("constexpr AnalogueInput kRigAnalogue[{}] = {{\n", rows > 0 ? rows : 1);
+  if (rows == 0) o += "    kNoAnalogue,\n";
+  for (size_t i = 0; i < rows; ++i) {
+    const RigSensor& s = rig.sensors[i];
+    if (s.source != SensorSource::Adc) {
+      o += fmt::format("    kNoAnalogue,  // {}\n", s.name);
+      continue;
+    }
+    int row = -1;
+    for (size_t r = 0; r < pins->adc.size(); ++r)
+      if (pins->adc[r] == s.adc) row = int(r);
+    if (row < 0)
+      fail(rig, s.adc_line, "adc", fmt::format("unknown pin: ADC1 channel {} is not wired on board {} (channels: {})",
+                                               s.adc, board, fmt::join(pins->adc, ", ")));
+    o += fmt::format("    {{kAnalogue[{0}].pin, kAnalogue[{0}].adc_channel, {1}, {2}}},  // {3} on ADC1_IN{4}\n", row,
+                     flt(float(s.offset)), flt(float(s.gain)), s.name, s.adc);
+  }
+  o += "};\n}  // namespace nlsoft::fw::stm32f4\nnamespace nlsoft::fw::cortex_m {\n";
+  return o;
+}
+
+std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig) {
+  pipeline::ModelFile f;
+  try {
+    f = pipeline::load_model_file(model_file);
+  } catch (const std::exception& e) {
+    throw CliError(fmt::format("--model {}: {}", model_file, e.what()));
+  }
+  const auto& s = f.shape;
+  if (s.m != rig.m() || s.n != rig.n() || s.w != rig.w() || s.nd != rig.nd || s.dd != rig.dd)
+    throw CliError(fmt::format("--model {}: the model is for m = {}, n = {}, w = {}, nd = {}, dd = {}; rig '{}' ({}) "
+                               "has m = {}, n = {}, w = {}, nd = {}, dd = {}",
+                               model_file, s.m, s.n, s.w, s.nd, s.dd, rig.name, rig.file, rig.m(), rig.n(), rig.w(),
+                               rig.nd, rig.dd));
+  std::vector<RigLayer> layers;
+  for (int i = 0; i < s.layer_count; ++i) {
+    RigLayer l;
+    l.kind = s.layer[i].kind == LayerKind::Gru ? "gru" : "dense";
+    l.units = s.layer[i].out;
+    l.activation = l.kind == "gru" ? "" : pipeline::activation_name(s.layer[i].act);
+    layers.push_back(l);
+  }
+  return layers;
+}
+
+ImageSource image_source(const Rig& rig, const ImageRequest& request) {
+  bool known = false;
+  for (const std::string& b : image_boards()) known = known || b == request.board;
+  if (!known)
+    throw CliError(fmt::format("--board {}: the images are built for {}", request.board, fmt::join(image_boards(), ", ")));
+  const std::vector<RigLayer> layers = !request.model_file.empty() ? model_layers(request.model_file, rig)
+                                       : !request.layers.empty()   ? request.layers
+                                                                   : rig.model.layers;
+  const std::string plant = plant_part(rig);
+  ImageSource out;
+  out.hil = !plant.empty();
+  std::string& h = out.header;
+  h += fmt::format("// Generated by nlsoft-console from the rig file {} (rig '{}', CRC-32 0x{:08x}) for board {}.\n",
+                   rig.file, rig.name, rig.hash, request.board);
+  h += "// Do not edit: `nlsoft-console firmware build --rig FILE` writes it again from the file.\n";
+  h += "#pragma once\n#include <cstdint>\n\n#include \"shared/capacity.hpp\"\n#include \"shared/net_shape.hpp\"\n"
+       "#include \"shared/rig_config.hpp\"\n\nnamespace nlsoft::fw::cortex_m {\n\n";
+  h += rig_config_part(rig) + "\n";
+  h += capacity_part(rig, layers) + "\n";
+  h += plant.empty() ? "// No [plant]: no HIL image.\n" : plant;
+  h += "\n" + pins_part(rig, request.board);
+  h += "\n}  // namespace nlsoft::fw::cortex_m\n";
+
+  std::string model;
+  if (!request.model_file.empty()) model = std::filesystem::absolute(request.model_file).lexically_normal().string();
+  out.cmake = fmt::format(
+      "# Generated with nlsoft_rig.hpp beside it; read by firmware/ports/cortex-m/images.cmake.\n"
+      "set(NLSOFT_IMAGE_RIG \"{}\")\nset(NLSOFT_IMAGE_MODEL \"{}\")\nset(NLSOFT_IMAGE_HIL {})\n",
+      rig.name, model, out.hil ? 1 : 0);
+  return out;
+}
+
+void write_image_source(const ImageSource& source, const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw CliError(fmt::format("cannot create {}: {}", dir, ec.message()));
+  write_if_changed(dir + "/nlsoft_rig.hpp", source.header);
+  write_if_changed(dir + "/image.cmake", source.cmake);
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,52 @@
+#pragma once
+// The header a Cortex-M image is compiled for (firmware/ports/cortex-m/
+// platform_config.hpp includes it as "nlsoft_rig.hpp"): the rig as a
+// constexpr RigConfig, the capacity sized from the rig's dimensions and
+// horizons with the model's shape as the one compiled kernel, the simulated
+// plant of the HIL image, and on stm32f4 the rig's pins. Beside it, the
+// image.cmake the port project reads (the image's name, the model it
+// embeds, whether a HIL image exists). The shipped images and
+// `nlsoft-console firmware build` are made from the same text.
+#include <string>
+#include <vector>
+
+#include "app/rig/rig.hpp"
+
+namespace nlsoft::console {
+
+// The boards the images are built for (firmware/ports/<board>).
+const std::vector<std::string>& image_boards();
+
+struct ImageRequest {
+  std::string board;                // one of image_boards()
+  std::string model_file;           // embedded and its layer table is the shape; empty: none embedded
+  std::vector<RigLayer> layers;     // with no model_file: the shape (default: the rig's [model] layers)
+};
+
+struct ImageSource {
+  std::string header;  // nlsoft_rig.hpp
+  std::string cmake;   // image.cmake
+  bool hil = false;    // the rig has a plant, so a HIL image is built too
+};
+
+// Throws RigError ("file:line: ...") for what the board cannot take, and
+// CliError for a model that does not fit the rig.
+ImageSource image_source(const Rig& rig, const ImageRequest& request);
+
+// The parts, each a piece of the header. The plant part is the one place
+// that knows which simulated plants an image can carry: empty when the rig
+// has none (only the real-board image is built then).
+std::string rig_config_part(const Rig& rig);
+std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers);
+std::string plant_part(const Rig& rig);
+std::string pins_part(const Rig& rig, const std::string& board);
+
+// The layer table of a model file, as [[model.layer]] would spell it;
+// throws CliError when the file cannot be read or does not fit the rig.
+std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig);
+
+// Writes nlsoft_rig.hpp and image.cmake into `dir` (created), replacing
+// files only whose text changed so an unchanged rig rebuilds nothing.
+void write_image_source(const ImageSource& source, const std::string& dir);
+
+}  // namespace nlsoft::console

@@ -1,0 +1,57 @@
+// nlsoft-image-header: the host build's generator of the shipped images'
+// rig headers (firmware/CMakeLists.txt), the same code `nlsoft-console
+// firmware build` runs, without the console's other dependencies in the way
+// of the first image build.
+//
+//   nlsoft-image-header --rig rigs/tendon.toml --board stm32f4 --out DIR [--model F | --no-model]
+//                       [--shape dense:10,dense:5,dense:3]
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "app/cli_error.hpp"
+#include "app/firmware/image_header.hpp"
+
+int main(int argc, char** argv) {
+  using namespace nlsoft::console;
+  CLI::App app{"Writes an image's nlsoft_rig.hpp and image.cmake from a rig file"};
+  std::string rig_file, board, out, model, shape;
+  bool no_model = false;
+  app.add_option("--rig", rig_file, "the rig file")->required();
+  app.add_option("--board", board, "mps2-an386 or stm32f4")->required();
+  app.add_option("--out", out, "the folder to write into")->required();
+  app.add_option("--model", model, "the model file the image embeds; its layer table is the shape");
+  app.add_flag("--no-model", no_model, "embed no model (the shape from --shape or the rig's [model] layers)");
+  app.add_option("--shape", shape, "layers as kind:units,... (dense or gru), instead of the rig's");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    const Rig rig = load_rig(rig_file);
+    ImageRequest request;
+    request.board = board;
+    if (!no_model) request.model_file = model;
+    std::stringstream layers(shape);
+    for (std::string item; std::getline(layers, item, ',');) {
+      const size_t colon = item.find(':');
+      if (colon == std::string::npos) throw CliError("--shape " + shape + ": kind:units, e.g. dense:10");
+      RigLayer l;
+      l.kind = item.substr(0, colon);
+      l.units = std::stoi(item.substr(colon + 1));
+      if ((l.kind != "dense" && l.kind != "gru") || l.units <= 0)
+        throw CliError("--shape " + shape + ": kind dense or gru, units > 0");
+      request.layers.push_back(l);
+    }
+    write_image_source(image_source(rig, request), out);
+  } catch (const RigError& e) {
+    std::fprintf(stderr, "nlsoft-image-header: %s\n", e.what());
+    return 2;
+  } catch (const CliError& e) {
+    std::fprintf(stderr, "nlsoft-image-header: %s\n", e.what());
+    return e.exit_code;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "nlsoft-image-header: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,263 @@
+// The generator of an image's rig header (app/firmware/image_header.cpp):
+// a rig file the test writes (3 inputs, 2 outputs, 5 sensors, 80 Hz) comes
+// out as a header that says the rig's values, sizes the capacity from it,
+// wires the file's pins, and compiles into the real image's main.cpp with
+// arm-none-eabi-g++; rigs a board cannot take fail with file:line.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "app/cli_error.hpp"
+#include "app/firmware/image_header.hpp"
+
+namespace {
+
+using namespace nlsoft::console;
+
+const char* kRig = R"(name = "gripper"
+rate_hz = 80.0
+nd = 2
+dd = 2
+board = "stm32f4"
+
+[[input]]
+name = "finger1"
+min = 0.0
+max = 2.0
+neutral = 0.25
+pwm = "PC6"
+
+[[input]]
+name = "finger2"
+min = -1.0
+max = 1.0
+neutral = 0.0
+pwm = "PB6"
+
+[[input]]
+name = "wrist"
+min = 0.0
+max = 1.0
+neutral = 0.5
+
+[[output]]
+name = "x"
+min = -10.0
+max = 10.0
+
+[[output]]
+name = "y"
+min = -5.0
+max = 5.0
+
+[[sensor]]
+name = "s1"
+source = "adc"
+adc = 4
+gain = 2.5
+offset = -0.5
+
+[[sensor]]
+name = "s2"
+source = "none"
+
+[[sensor]]
+name = "s3"
+source = "adc"
+adc = 0
+
+[[sensor]]
+name = "s4"
+source = "adc"
+adc = 13
+gain = 0.1
+
+[[sensor]]
+name = "s5"
+source = "none"
+
+[controller]
+Q = [10.0, 20.0]
+Lambda = [1.0, 2.0, 3.0]
+s = 1e-20
+b = 1e-5
+r = 400.0
+N = 6
+Nc = 2
+eps = 0.0125
+
+[model]
+[[model.layer]]
+kind = "gru"
+units = 4
+
+[[model.layer]]
+kind = "dense"
+units = 2
+activation = "linear"
+)";
+
+std::string tmp_dir() {
+  static const std::string dir = [] {
+    std::string t = (std::filesystem::temp_directory_path() / "nlsoft-image-header-XXXXXX").string();
+    if (!::mkdtemp(t.data())) std::abort();
+    return t;
+  }();
+  return dir;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+ImageSource source_of(const std::string& text, const std::string& board, const std::string& file = "gripper.toml") {
+  ImageRequest q;
+  q.board = board;
+  return image_source(parse_rig(text, file), q);
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return text;
+}
+
+int line_of(const std::string& text, const std::string& needle, int nth = 1) {
+  size_t at = std::string::npos;
+  for (int i = 0; i < nth; ++i) at = text.find(needle, at == std::string::npos ? 0 : at + 1);
+  int line = 1;
+  for (size_t i = 0; i < at && at != std::string::npos; ++i) line += text[i] == '\n';
+  return line;
+}
+
+TEST(ImageHeader, SpellsOutTheRigAndSizesTheCapacityFromIt) {
+  const ImageSource s = source_of(kRig, "stm32f4");
+  const std::string& h = s.header;
+  EXPECT_TRUE(contains(h, "c.name = \"gripper\";")) << h;
+  EXPECT_TRUE(contains(h, "c.platform = PlatformId::Custom;")) << h;
+  EXPECT_TRUE(contains(h, "c.m = 3, c.n = 2, c.w = 5, c.nd = 2, c.dd = 2;")) << h;
+  EXPECT_TRUE(contains(h, "c.rate_hz = 80.0f;")) << h;
+  EXPECT_TRUE(contains(h, "c.u_min[0] = 0.0f, c.u_max[0] = 2.0f, c.u_neutral[0] = 0.25f, c.Lambda[0] = 1.0f;")) << h;
+  EXPECT_TRUE(contains(h, "c.u_min[2] = 0.0f, c.u_max[2] = 1.0f, c.u_neutral[2] = 0.5f, c.Lambda[2] = 3.0f;")) << h;
+  EXPECT_TRUE(contains(h, "c.Q[1] = 20.0f;")) << h;
+  EXPECT_TRUE(contains(h, "c.N = 6, c.N1 = 1, c.Nc = 2")) << h;
+  EXPECT_TRUE(contains(h, "c.eps = 0.0125f")) << h;
+  // The model's shape is the one kernel; the arrays are the rig's size.
+  EXPECT_TRUE(contains(h, "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2>>;")) << h;
+  EXPECT_TRUE(contains(h, "static constexpr int m = 3, n = 2, w = 5, nd = 2;")) << h;
+  EXPECT_TRUE(contains(h, "static constexpr int N = 6, Nc = 2;")) << h;
+  EXPECT_TRUE(contains(h, "layers = 2;")) << h;
+  // No [plant]: no HIL image, no Plant.
+  EXPECT_FALSE(s.hil);
+  EXPECT_FALSE(contains(h, "using Plant")) << h;
+  EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_RIG \"gripper\")")) << s.cmake;
+  EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_HIL 0)")) << s.cmake;
+}
+
+TEST(ImageHeader, WiresTheFilesPinsWithEachSensorsScaling) {
+  const std::string h = source_of(kRig, "stm32f4").header;
+  // Actuators by the board's rows (PC6 row 0, PB6 row 4); the wrist has no pin.
+  EXPECT_TRUE(contains(h, "kPwm[0],  // finger1 on PC6")) << h;
+  EXPECT_TRUE(contains(h, "kPwm[4],  // finger2 on PB6")) << h;
+  EXPECT_TRUE(contains(h, "kNoPwm,  // wrist")) << h;
+  // Sensors up to the last wired one (s4); ADC1_IN4 is the board's row 2, IN13 row 10.
+  EXPECT_TRUE(contains(h, "constexpr int kRigAnalogueRows = 4;")) << h;
+  EXPECT_TRUE(contains(h, "{kAnalogue[2].pin, kAnalogue[2].adc_channel, -0.5f, 2.5f},  // s1 on ADC1_IN4")) << h;
+  EXPECT_TRUE(contains(h, "kNoAnalogue,  // s2")) << h;
+  EXPECT_TRUE(contains(h, "{kAnalogue[0].pin, kAnalogue[0].adc_channel, 0.0f, 1.0f},  // s3 on ADC1_IN0")) << h;
+  EXPECT_TRUE(contains(h, "{kAnalogue[10].pin, kAnalogue[10].adc_channel, 0.0f, 0.1f},  // s4 on ADC1_IN13")) << h;
+  EXPECT_FALSE(contains(h, "s5")) << h;
+  // QEMU's board has no pins to wire.
+  EXPECT_FALSE(contains(source_of(kRig, "mps2-an386").header, "kRigPwm"));
+}
+
+TEST(ImageHeader, ANamedPlantMakesTheHilImage) {
+  // A 2-input, 3-output, 11-sensor rig is tendon's plant's size.
+  std::ifstream in(NLSOFT_SOURCE_DIR "/rigs/tendon.toml");
+  std::string tendon((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const ImageSource s = source_of(replaced(tendon, "name = \"tendon\"", "name = \"bender\""), "mps2-an386", "b.toml");
+  EXPECT_TRUE(s.hil);
+  EXPECT_TRUE(contains(s.header, "#include \"shared/plant_tendon.hpp\"")) << s.header;
+  EXPECT_TRUE(contains(s.header, "using Plant = TendonPlant;")) << s.header;
+  EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_HIL 1)")) << s.cmake;
+}
+
+TEST(ImageHeader, MoreActuatorsThanThePwmRowsIsOneErrorAtTheInput) {
+  std::string text = kRig;
+  const std::string extra = "\n[[input]]\nname = \"more{}\"\nmin = 0.0\nmax = 1.0\nneutral = 0.5\n";
+  std::string lambda = "Lambda = [1.0, 2.0, 3.0";
+  for (int i = 4; i <= 7; ++i) {
+    std::string block = extra;
+    block.replace(block.find("{}"), 2, std::to_string(i));
+    text = replaced(text, "\n[[output]]", block + "\n[[output]]");
+    lambda += ", 1.0";
+  }
+  text = replaced(text, "Lambda = [1.0, 2.0, 3.0", lambda);
+  // Loads (a rig may have 8 inputs), but the Nucleo drives 6 PWM outputs.
+  try {
+    source_of(text, "stm32f4", "big.toml");
+    FAIL() << "a 7-input rig built for stm32f4";
+  } catch (const RigError& e) {
+    const std::string want = "big.toml:" + std::to_string(line_of(text, "[[input]]", 7)) + ": [[input]] #7: board "
+                             "stm32f4 drives 6 PWM outputs (PC6, PC7, PC8, PC9, PB6, PB7); this rig has 7 inputs";
+    EXPECT_EQ(e.what(), want);
+  }
+  // QEMU's board drives nothing: the same rig builds for it.
+  EXPECT_NO_THROW(source_of(text, "mps2-an386", "big.toml"));
+}
+
+TEST(ImageHeader, AnUnknownPinIsOneErrorAtItsLine) {
+  const std::string text = replaced(kRig, "pwm = \"PB6\"", "pwm = \"PA9\"");
+  try {
+    source_of(text, "stm32f4", "pins.toml");
+    FAIL() << "PA9 accepted";
+  } catch (const RigError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("pins.toml:" + std::to_string(line_of(text, "PA9")) + ": [[input]] #2 pwm: "
+                                          "unknown pin 'PA9' on board stm32f4",
+                                          0),
+              0u)
+        << e.what();
+  }
+}
+
+TEST(ImageHeader, ARigWithoutAShapeOrWithAnotherHistoryIsRefused) {
+  const std::string no_model = std::string(kRig).substr(0, std::string(kRig).find("[model]"));
+  EXPECT_THROW(source_of(no_model, "mps2-an386"), RigError);
+  ImageRequest q;
+  q.board = "teensy";
+  EXPECT_THROW(image_source(parse_rig(kRig, "g.toml"), q), CliError);
+}
+
+// The header compiled where it goes: the real image's main.cpp with the
+// stm32f4 rig HAL, for the Cortex-M4F, with the images' warnings as errors.
+TEST(ImageHeader, CompilesIntoTheStm32f4ImageForCortexM4) {
+  if (std::system("command -v arm-none-eabi-g++ >/dev/null 2>&1") != 0) GTEST_SKIP() << "no arm-none-eabi-g++";
+  const std::string dir = tmp_dir() + "/gripper";
+  write_image_source(source_of(kRig, "stm32f4"), dir);
+  // The HAL's own view of the pins: actuator 3 undriven, two scanned sensors then one more.
+  std::ofstream(tmp_dir() + "/check.cpp") << R"(#define NLSOFT_HIL 0
+#define NLSOFT_FIRMWARE_NAME "nlsoft-test"
+#define NLSOFT_HAVE_MODEL 0
+#include "firmware/ports/cortex-m/main.cpp"
+static_assert(nlsoft::fw::cortex_m::kRig.m == 3 && nlsoft::fw::cortex_m::Cap::w == 5, "the rig's size");
+static_assert(nlsoft::fw::stm32f4::kRigPwm[2].timer == 0, "the wrist is not driven");
+static_assert(nlsoft::fw::cortex_m::kRig.rate_hz == 80.0f, "80 Hz");
+)";
+  std::string flags;
+  std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
+  for (std::string w; std::getline(warnings, w);)
+    if (!w.empty() && w[0] == '-') flags += " " + w;
+  const std::string cmd = "arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os -std=c++17 "
+                          "-fno-exceptions -fno-rtti -Werror" + flags + " -I" + dir + " -I" NLSOFT_SOURCE_DIR
+                          "/firmware/ports/stm32f4 -I" NLSOFT_SOURCE_DIR " -c " + tmp_dir() + "/check.cpp -o " +
+                          tmp_dir() + "/check.o 2>" + tmp_dir() + "/cc.log";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream log(tmp_dir() + "/cc.log");
+  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(rc, 0) << text;
+}
+
+}  // namespace
