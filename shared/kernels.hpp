@@ -180,10 +180,98 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
                   float* Y, float* G, RolloutScratch<Cap>& s) {
     // A capacity of one control row admits only Nc = 1: say so, so U's rows are constants.
     const int nc = Cap::Nc == 1 ? 1 : Nc;
-    if constexpr (Cap::N <= kUnrollHorizon) {
+    if constexpr (kHeld) {
+      (void)nc;
+      held(Mo, x0, U, Nh, c, Y, G, s);
+    } else if constexpr (Cap::N <= kUnrollHorizon) {
       unrolled(std::make_integer_sequence<int, Cap::N>{}, Mo, x0, U, Nh, nc, c, Y, G, s);
     } else {
       for (int j = 0; j < Nh; ++j) horizon_step(j, Mo, x0, U, nc, c, Y, G, s);
+    }
+  }
+
+  // One control row (Cap::Nc == 1, hasel and msd) and a Dense first layer:
+  // every u-slot that holds U holds the same row, so U's part of the first
+  // layer is computed once per rollout, not once per slot and horizon step:
+  // slot t's products, summed over the slots 0..t (at step j the slots
+  // 0..min(j, ND - 1) hold U), and in the `exact` mode the same sums of the
+  // weights scaled by the normalisation, which are U's tangent columns.
+  // A horizon step then adds only its predictions' entries (values, and
+  // their weights times their rows of G) to its row of `pre`. The steps run
+  // as a loop: unrolled, their code cost ≈ 8 kB of flash per kernel for
+  // the indices it turned into constants.
+  static constexpr bool kHeld = Cap::Nc == 1 && !First::gru;
+
+  static void held(const Model<Cap>& Mo, const float* x0, const float* U, int Nh, const ConstantInputs& c, float* Y,
+                   float* G, RolloutScratch<Cap>& s) {
+    const float* sc = Mo.in_scale();
+    const float* off = Mo.in_offset();
+    const float* W0 = Mo.weights(Mo.layer[0]);
+    const float* os = Mo.out_scale();
+    const float* oo = Mo.out_offset();
+    constexpr int kU = ND * M;  // first y-queue entry
+    // cu[t]: the products of the u-slots 0..t; A[t][q]: their tangent, dz_q/dU
+    float cu[ND][kC0];
+    float A[kTangents ? ND : 1][kTangents ? kC0 : 1][K];
+    {
+      float z[kC0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) z[q] = 0.0f;
+      for (int t = 0; t < ND; ++t) {
+#pragma GCC unroll 8
+        for (int i = 0; i < M; ++i) add_entry(z, W0, (U[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
+#pragma GCC unroll 32
+        for (int q = 0; q < kC0; ++q) cu[t][q] = z[q];
+        if constexpr (kTangents) {
+          for (int q = 0; q < kC0; ++q)
+#pragma GCC unroll 8
+            for (int i = 0; i < K; ++i)  // K = Cap::m >= M: columns past M are zero
+              A[t][q][i] = i < M ? (t > 0 ? A[t - 1][q][i] : 0.0f) + sc[t * M + i] * W0[(t * M + i) * kC0 + q] : 0.0f;
+        }
+      }
+    }
+    for (int j = 0; j < Nh; ++j) {
+      const int preds = j < ND ? j : ND;  // y-slots holding predictions
+      const int full = j < ND ? j : ND - 1;  // u-slots 0..full hold U
+      const float* prow = c.pre + (j < ND ? j : ND) * kC0;
+      float z[kC0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) z[q] = prow[q] + cu[full][q];
+      for (int t = 0; t < preds; ++t) {  // y-slot t holds y_hat(k+j-t)
+        const float* y = Y + (j - t - 1) * N;
+        const int e0 = kU + t * N;
+#pragma GCC unroll 8
+        for (int i = 0; i < N; ++i) add_entry(z, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
+      }
+      if constexpr (kTangents) {
+        for (int q = 0; q < kC0; ++q) {
+          float acc[K];
+#pragma GCC unroll 8
+          for (int a = 0; a < K; ++a) acc[a] = A[full][q][a];
+          for (int t = 0; t < preds; ++t) {  // a prediction enters with its row of G
+            const int e0 = kU + t * N;
+            const float* g = G + (j - t - 1) * N * K;
+#pragma GCC unroll 8
+            for (int i = 0; i < N; ++i)
+              detail::tangent_axpy<K>(acc, sc[e0 + i] * W0[(e0 + i) * kC0 + q], g + i * K);
+          }
+          detail::tangent_scale<K>(s.T[0][q], acc, 1.0f);
+        }
+      }
+      float slope[S::layers][Cap::width];
+      float* v = s.v[0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) v[q] = z[q];
+      detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
+      int cur = 0;
+      if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
+#pragma GCC unroll 8
+      for (int i = 0; i < N; ++i) {
+        const int r = j * N + i;
+        const float prev = j > 0 ? Y[r - N] : x0[kU + i];
+        Y[r] = s.v[cur][i] * os[i] + oo[i] + (Mo.residual ? prev : 0.0f);
+      }
+      if constexpr (kTangents) jacobian_rows(Mo, slope, s.T[0], G + j * N * K, j > 0);
     }
   }
 
