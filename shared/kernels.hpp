@@ -16,7 +16,7 @@
 // See rollout.hpp: the step's hot code is compiled for speed even in images
 // built for size.
 #pragma GCC push_options
-#pragma GCC optimize("O2")
+#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
 
 namespace nlsoft {
 
