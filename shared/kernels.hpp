@@ -28,11 +28,18 @@ using RolloutFn = void (*)(const Model<Cap>&, const float* x0, const float* U, i
 template <class Cap>
 using ConstantFn = ConstantInputs (*)(const Model<Cap>&, const float* x0, float* pre);
 
+// Y at U + delta e_a, from what the last `values` rollout (at U, with the
+// same x0 and scratch) left in the scratch: the fd stencil's rollouts.
+template <class Cap>
+using StencilFn = void (*)(const Model<Cap>&, const float* x0, int N, const ConstantInputs&, int a, float delta,
+                           float* Y, RolloutScratch<Cap>&);
+
 template <class Cap>
 struct RolloutKernels {
   ConstantFn<Cap> constant = nullptr;  // the first layer's part that U does not touch, once per step
   RolloutFn<Cap> values = nullptr;     // Y only (fd stencil, the step check)
   RolloutFn<Cap> jacobian = nullptr;   // Y and G (exact)
+  StencilFn<Cap> stencil = nullptr;    // optional: Y with one input moved, after `values`
 };
 
 namespace detail {
@@ -207,11 +214,9 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     const float* sc = Mo.in_scale();
     const float* off = Mo.in_offset();
     const float* W0 = Mo.weights(Mo.layer[0]);
-    const float* os = Mo.out_scale();
-    const float* oo = Mo.out_offset();
-    constexpr int kU = ND * M;  // first y-queue entry
     // cu[t]: the products of the u-slots 0..t; A[t][q]: their tangent, dz_q/dU
-    float cu[ND][kC0];
+    float cu_local[kTangents ? ND : 1][Cap::width];
+    float(*cu)[Cap::width] = kTangents ? cu_local : held_sums(s);
     float A[kTangents ? ND : 1][kTangents ? kC0 : 1][K];
     {
       float z[kC0];
@@ -230,6 +235,50 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
         }
       }
     }
+    horizon(Mo, x0, Nh, c, cu, A, Y, G, s);
+  }
+
+  // Where a `values` rollout leaves its cu for the stencil: in the tangent
+  // buffers, which a rollout without tangents does not use (no RAM of its own).
+  static float (*held_sums(RolloutScratch<Cap>& s))[Cap::width] {
+    static_assert(2 * K >= ND, "the tangent buffers hold ND rows of sums");
+    return reinterpret_cast<float(*)[Cap::width]>(&s.T[0][0][0]);
+  }
+
+  // The fd stencil's rollout: U + delta e_a changes the u-slots' products
+  // by delta times input a's weights (scaled), so only those are added to
+  // the sums the `values` rollout at U left in s.cu; the same horizon runs
+  // on them. (Rounding differs from a rollout at U + delta e_a by a few
+  // ulps of the first layer's sums, far below what the stencil resolves.)
+  static void stencil(const Model<Cap>& Mo, const float* x0, int Nh, const ConstantInputs& c, int a, float delta,
+                      float* Y, RolloutScratch<Cap>& s) {
+    static_assert(!kTangents, "the stencil runs values");
+    const float* sc = Mo.in_scale();
+    const float* W0 = Mo.weights(Mo.layer[0]);
+    float cu[ND][Cap::width];
+    float d[kC0];
+#pragma GCC unroll 32
+    for (int q = 0; q < kC0; ++q) d[q] = 0.0f;
+    for (int t = 0; t < ND; ++t) {
+      add_entry(d, W0, delta * sc[t * M + a], t * M + a);
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) cu[t][q] = held_sums(s)[t][q] + d[q];
+    }
+    const float A[1][1][K] = {};
+    horizon(Mo, x0, Nh, c, cu, A, Y, nullptr, s);
+  }
+
+  template <class ATab>
+  __attribute__((always_inline)) static inline void horizon(const Model<Cap>& Mo, const float* x0, int Nh,
+                                                            const ConstantInputs& c, const float (*cu)[Cap::width],
+                                                            const ATab& A, float* Y, float* G,
+                                                            RolloutScratch<Cap>& s) {
+    const float* sc = Mo.in_scale();
+    const float* off = Mo.in_offset();
+    const float* W0 = Mo.weights(Mo.layer[0]);
+    const float* os = Mo.out_scale();
+    const float* oo = Mo.out_offset();
+    constexpr int kU = ND * M;  // first y-queue entry
     for (int j = 0; j < Nh; ++j) {
       const int preds = j < ND ? j : ND;  // y-slots holding predictions
       const int full = j < ND ? j : ND - 1;  // u-slots 0..full hold U
@@ -454,6 +503,7 @@ bool try_shape(const Model<Cap>& M, RolloutKernels<Cap>& k) {
   k.constant = &ShapedRollout<Cap, S, false>::constant;
   k.values = &ShapedRollout<Cap, S, false>::run;
   k.jacobian = &ShapedRollout<Cap, S, true>::run;
+  if constexpr (ShapedRollout<Cap, S, false>::kHeld) k.stencil = &ShapedRollout<Cap, S, false>::stencil;
   return true;
 }
 

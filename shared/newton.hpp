@@ -106,6 +106,16 @@ void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Param
   kern.values(M, x0, U, P.N, P.Nc, s.constant, Y, nullptr, s.roll);
   for (int a = 0; a < k; ++a) s.U_fd[a] = U[a];
   const float inv2e = 0.5f / P.eps;
+  if (kern.stencil) {  // from the rollout at U just run
+    for (int a = 0; a < k; ++a) {
+      kern.stencil(M, x0, P.N, s.constant, a, P.eps, s.Y_plus, s.roll);
+      kern.stencil(M, x0, P.N, s.constant, a, -P.eps, s.Y_minus, s.roll);
+      for (int r = 0; r < rows; ++r) s.G[r * K + a] = (s.Y_plus[r] - s.Y_minus[r]) * inv2e;
+    }
+    for (int a = k; a < K; ++a)
+      for (int r = 0; r < rows; ++r) s.G[r * K + a] = 0.0f;
+    return;
+  }
   for (int a = 0; a < k; ++a) {
     s.U_fd[a] = U[a] + P.eps;
     kern.values(M, x0, s.U_fd, P.N, P.Nc, s.constant, s.Y_plus, nullptr, s.roll);
