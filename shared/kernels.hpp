@@ -292,8 +292,15 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
 #pragma GCC unroll 8
         for (int i = 0; i < N; ++i) add_entry(z, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
       }
+      float slope[S::layers][Cap::width];
+      float* v = s.v[0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) v[q] = z[q];
+      detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
       if constexpr (kTangents) {
         for (int q = 0; q < kC0; ++q) {
+          // a unit that is off (ReLU) passes no tangent: jacobian_rows skips it
+          if (slope[0][q] == 0.0f) continue;
           float acc[K];
 #pragma GCC unroll 8
           for (int a = 0; a < K; ++a) acc[a] = A[full][q][a];
@@ -307,11 +314,6 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
           detail::tangent_scale<K>(s.T[0][q], acc, 1.0f);
         }
       }
-      float slope[S::layers][Cap::width];
-      float* v = s.v[0];
-#pragma GCC unroll 32
-      for (int q = 0; q < kC0; ++q) v[q] = z[q];
-      detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
       int cur = 0;
       if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
 #pragma GCC unroll 8
