@@ -131,16 +131,17 @@ void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Param
 // Solves (H + mu h I) dU = -g over the free unknowns; those held at a limit
 // (active[a]) get dU = 0 and drop out. False if not positive definite.
 template <class Cap>
-bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, SolverScratch<Cap>& s) {
+bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, bool any_active,
+                      SolverScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
 #pragma GCC unroll 8
   for (int a = 0; a < k; ++a)
 #pragma GCC unroll 8
-    for (int b = 0; b <= a; ++b) {
-      float h = S.H[a * K + b] + (a == b ? damping : 0.0f);
-      if (active[a] || active[b]) h = a == b ? 1.0f : 0.0f;
-      s.A[a * K + b] = h;
-    }
+    for (int b = 0; b <= a; ++b) s.A[a * K + b] = S.H[a * K + b] + (a == b ? damping : 0.0f);
+  if (any_active)  // rows and columns of the held unknowns become the identity's
+    for (int a = 0; a < k; ++a)
+      for (int b = 0; b <= a; ++b)
+        if (active[a] || active[b]) s.A[a * K + b] = a == b ? 1.0f : 0.0f;
   if constexpr (K <= 8) {  // k == K here (newton_solve pads small systems)
     if (!ldlt_decompose_fixed<K>(s.A)) return false;
   } else {
@@ -185,9 +186,9 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     U = s.U_pad;
   }
   float lo[K], hi[K];
-  for (int a = 0; a < kk; ++a) {
-    lo[a] = a < k ? P.u_min[a % m] : -3.0e38f;
-    hi[a] = a < k ? P.u_max[a % m] : 3.0e38f;
+  for (int a = 0, i = 0; a < kk; ++a, i = i + 1 == m ? 0 : i + 1) {  // i = a % m
+    lo[a] = a < k ? P.u_min[i] : -3.0e38f;
+    hi[a] = a < k ? P.u_max[i] : 3.0e38f;
     U[a] = clamp_to(U[a], lo[a], hi[a]);
   }
   s.constant = kern.constant(M, x0, s.pre);
@@ -223,8 +224,11 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     detail::linearise(M, kern, P, x0, U, cur->Y, s);
     build_system(P, m, n, y_ref, U, u_prev, s.G, *cur);
     r.iterations = uint8_t(it + 1);
-    bool ok = finite(cur->J);
-    for (int a = 0; a < kk; ++a) ok = ok && finite(cur->g[a]);
+    // J and g all finite: x * 0 is 0 for finite x, NaN otherwise
+    float probe = cur->J * 0.0f;
+#pragma GCC unroll 8
+    for (int a = 0; a < kk; ++a) probe += cur->g[a] * 0.0f;
+    bool ok = probe == 0.0f;
     if (pending) {
       pending = false;
       if (!ok || !judge(cur->J)) {  // the step raised J: undo it, damp harder
@@ -241,11 +245,12 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     }
 
     bool active[K];
-    bool any_free = false;
+    bool any_free = false, any_active = false;
     float hmax = 0.0f;
     for (int a = 0; a < kk; ++a) {
       active[a] = a >= k || (U[a] <= lo[a] && cur->g[a] > 0.0f) || (U[a] >= hi[a] && cur->g[a] < 0.0f);
       any_free = any_free || !active[a];
+      any_active = any_active || active[a];
       const float d = cur->H[a * K + a];
       if (!active[a] && finite(d) && d > hmax) hmax = d;
     }
@@ -257,7 +262,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     const float hscale = hmax > 0.0f ? hmax : 1.0f;
     bool solved = false;
     for (int tries = 0; tries < 4 && !solved; ++tries) {
-      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, s);
+      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, any_active, s);
       if (!solved) {
         r.flags |= kSingular;
         st.mu = detail::clamp_mu(100.0f * (st.mu > 1e-4f ? st.mu : 1e-4f));
@@ -277,12 +282,12 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
       step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
     }
 #pragma GCC unroll 8
-    for (int a = 0; a < kk; ++a) {
+    for (int a = 0; a < kk; ++a) {  // dU' H dU over H's lower triangle (H is symmetric)
       lin += cur->g[a] * s.dU[a];
       float hd = 0.0f;
 #pragma GCC unroll 8
-      for (int b = 0; b < kk; ++b) hd += cur->H[a * K + b] * s.dU[b];
-      quad += s.dU[a] * hd;
+      for (int b = 0; b < a; ++b) hd += cur->H[a * K + b] * s.dU[b];
+      quad += s.dU[a] * (2.0f * hd + cur->H[a * K + a] * s.dU[a]);
     }
     predicted = -(lin + 0.5f * quad);
     swap_systems();
