@@ -88,29 +88,42 @@ class Controller {
     const float* y_now = y_next_;
     if (Pm.feedback == Feedback::Measured && y_measured && all_finite(y_measured, L.n)) y_now = y_measured;
     push_output(x_, L, y_now);
-    for (int i = 0; i < L.w; ++i) {
-      if (sensors && finite(sensors[i]))
-        x_[L.l_begin() + i] = sensors[i];
-      else
-        out.flags |= kBadSensor;
+    // Copied whole when all are finite (the usual case: one test for all),
+    // else value by value: a non-finite sensor value keeps the previous one.
+    float* const l = x_ + L.l_begin();
+    if (sensors && all_finite(sensors, L.w)) {
+      for (int i = 0; i < L.w; ++i) l[i] = sensors[i];
+    } else {
+      for (int i = 0; i < L.w; ++i) {
+        if (sensors && finite(sensors[i]))
+          l[i] = sensors[i];
+        else
+          out.flags |= kBadSensor;
+      }
     }
     // A non-finite reference point is held at the current output.
-    for (int t = 0; t < Pm.N; ++t)
-      for (int j = 0; j < L.n; ++j) {
-        const float v = y_ref[t * L.n + j];
-        if (finite(v)) {
-          ref_[t * L.n + j] = v;
-        } else {
-          ref_[t * L.n + j] = y_now[j];
-          out.flags |= kBadReference;
+    const int refs = Pm.N * L.n;
+    if (all_finite(y_ref, refs)) {
+      for (int r = 0; r < refs; ++r) ref_[r] = y_ref[r];
+    } else {
+      for (int t = 0; t < Pm.N; ++t)
+        for (int j = 0; j < L.n; ++j) {
+          const float v = y_ref[t * L.n + j];
+          if (finite(v)) {
+            ref_[t * L.n + j] = v;
+          } else {
+            ref_[t * L.n + j] = y_now[j];
+            out.flags |= kBadReference;
+          }
         }
-      }
+    }
 
     const NewtonResult nr = newton_solve(*model_, kernels_, Pm, x_, ref_, U_, solver_, scratch_);
     out.iterations = nr.iterations;
     out.flags |= nr.flags;
     // Predicted path and cost at the U actually applied.
-    for (int r = 0; r < Cap::N * Cap::n; ++r) out.y_hat[r] = r < Pm.N * L.n ? nr.y_hat[r] : 0.0f;
+    for (int r = 0; r < refs; ++r) out.y_hat[r] = nr.y_hat[r];
+    for (int r = refs; r < Cap::N * Cap::n; ++r) out.y_hat[r] = 0.0f;
     out.cost = nr.cost;
 
     // Algorithm 1, lines 1-2: u(k) = U_0 into the u-queue.
@@ -141,10 +154,11 @@ class Controller {
 
  private:
   InputLayout layout() const { return layout_of(*model_); }
+  // x * 0 is 0 for a finite x and NaN otherwise: one test for all c values
   static bool all_finite(const float* v, int c) {
-    for (int i = 0; i < c; ++i)
-      if (!finite(v[i])) return false;
-    return true;
+    float probe = 0.0f;
+    for (int i = 0; i < c; ++i) probe += v[i] * 0.0f;
+    return probe == 0.0f;
   }
 
   const Model<Cap>* model_ = nullptr;
