@@ -134,6 +134,7 @@ template <class Cap>
 bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, bool any_active,
                       SolverScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
+  if constexpr (K <= 8) k = K;  // newton_solve pads small systems: constant trip counts
 #pragma GCC unroll 8
   for (int a = 0; a < k; ++a)
 #pragma GCC unroll 8
@@ -147,14 +148,16 @@ bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bo
   } else {
     if (!ldlt_decompose(s.A, k, K)) return false;
   }
+#pragma GCC unroll 8
   for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -S.g[a];
   if constexpr (K <= 8)
     ldlt_solve_fixed<K>(s.A, s.dU);
   else
     ldlt_solve(s.A, k, K, s.dU);
-  for (int a = 0; a < k; ++a)
-    if (!finite(s.dU[a])) return false;
-  return true;
+  float probe = 0.0f;  // x * 0 is 0 for finite x, NaN otherwise
+#pragma GCC unroll 8
+  for (int a = 0; a < k; ++a) probe += s.dU[a] * 0.0f;
+  return probe == 0.0f;
 }
 
 inline float clamp_mu(float mu) {
@@ -182,10 +185,12 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   // of K, and only the first k go back.
   float* const U_out = U;
   if (kPadded) {
+#pragma GCC unroll 8
     for (int a = 0; a < K; ++a) s.U_pad[a] = a < k ? U[a] : 0.0f;
     U = s.U_pad;
   }
   float lo[K], hi[K];
+#pragma GCC unroll 8
   for (int a = 0, i = 0; a < kk; ++a, i = i + 1 == m ? 0 : i + 1) {  // i = a % m
     lo[a] = a < k ? P.u_min[i] : -3.0e38f;
     hi[a] = a < k ? P.u_max[i] : 3.0e38f;
@@ -247,6 +252,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     bool active[K];
     bool any_free = false, any_active = false;
     float hmax = 0.0f;
+#pragma GCC unroll 8
     for (int a = 0; a < kk; ++a) {
       active[a] = a >= k || (U[a] <= lo[a] && cur->g[a] > 0.0f) || (U[a] >= hi[a] && cur->g[a] < 0.0f);
       any_free = any_free || !active[a];
@@ -273,6 +279,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     // Take the step inside the limits; predict J's decrease from the model.
     float step = 0.0f, lin = 0.0f, quad = 0.0f;
     bool clamped = false;
+#pragma GCC unroll 8
     for (int a = 0; a < kk; ++a) {
       s.U_base[a] = U[a];
       const float want = U[a] + s.dU[a];
@@ -315,7 +322,9 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   r.cost = cur->J;
   r.y_hat = cur->Y;
   if (kPadded)
-    for (int a = 0; a < k; ++a) U_out[a] = U[a];
+#pragma GCC unroll 8
+    for (int a = 0; a < K; ++a)
+      if (a < k) U_out[a] = U[a];
   return r;
 }
 
