@@ -105,8 +105,11 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
           for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
         }
       }
-    // smoothness (du_j = U_j - U_{j-1}) and the barrier, unknown by unknown
-    for (int a = 0; a < k; ++a) {
+    // smoothness (du_j = U_j - U_{j-1}) and the barrier, unknown by unknown;
+    // unrolled, so h's diagonal is indexed by constants and h stays in registers
+#pragma GCC unroll 8
+    for (int a = 0; a < K; ++a) {
+      if (a >= k) break;
       const int i = Cap::Nc == 1 ? a : a % m, j = Cap::Nc == 1 ? 0 : a / m;
       const float L = P.Lambda[i];
       const float du = U[a] - (j == 0 ? u_prev[i] : U[a - m]);
