@@ -222,16 +222,20 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       float z[kC0];
 #pragma GCC unroll 32
       for (int q = 0; q < kC0; ++q) z[q] = 0.0f;
+#pragma GCC unroll 4
       for (int t = 0; t < ND; ++t) {
 #pragma GCC unroll 8
         for (int i = 0; i < M; ++i) add_entry(z, W0, (U[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
 #pragma GCC unroll 32
         for (int q = 0; q < kC0; ++q) cu[t][q] = z[q];
-        if constexpr (kTangents) {
-          for (int q = 0; q < kC0; ++q)
+        if constexpr (kTangents) {  // every index a constant, W1's rows read in order
 #pragma GCC unroll 8
-            for (int i = 0; i < K; ++i)  // K = Cap::m >= M: columns past M are zero
-              A[t][q][i] = i < M ? (t > 0 ? A[t - 1][q][i] : 0.0f) + sc[t * M + i] * W0[(t * M + i) * kC0 + q] : 0.0f;
+          for (int i = 0; i < K; ++i) {  // K = Cap::m >= M: columns past M are zero
+            const float si = i < M ? sc[t * M + i] : 0.0f;
+            const float* w = W0 + (t * M + (i < M ? i : 0)) * kC0;
+#pragma GCC unroll 32
+            for (int q = 0; q < kC0; ++q) A[t][q][i] = (t > 0 ? A[t - 1][q][i] : 0.0f) + si * w[q];
+          }
         }
       }
     }
