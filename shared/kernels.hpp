@@ -440,17 +440,30 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       constexpr int in = units[l - 1], out = units[l];
       constexpr bool scale = !(l == 1 && First::gru);  // past a GRU, T1 is already dh
       const float* Wl = Mo.weights(Mo.layer[l]);
+      // R's N x out entries stay in registers; each weight is read once for
+      // all N rows, and an input that is off (ReLU, slope 0) is not summed.
+      float Rr[N][out];
 #pragma GCC unroll 4
-      for (int r = 0; r < N; ++r) {
-        const float* rr = R + r * Cap::width;
+      for (int r = 0; r < N; ++r)
 #pragma GCC unroll 16
-        for (int i = 0; i < in; ++i) {
-          float acc = 0.0f;
+        for (int c = 0; c < out; ++c) Rr[r][c] = R[r * Cap::width + c];
+#pragma GCC unroll 16
+      for (int i = 0; i < in; ++i) {
+        const float f = scale ? slope[l - 1][i] : 1.0f;
+        float acc[N];
+#pragma GCC unroll 4
+        for (int r = 0; r < N; ++r) acc[r] = 0.0f;
+        if (f != 0.0f) {
           const float* w = Wl + i * out;
 #pragma GCC unroll 16
-          for (int c = 0; c < out; ++c) acc += rr[c] * w[c];
-          R2[r * Cap::width + i] = scale ? acc * slope[l - 1][i] : acc;
+          for (int c = 0; c < out; ++c) {
+            const float wc = w[c];
+#pragma GCC unroll 4
+            for (int r = 0; r < N; ++r) acc[r] += Rr[r][c] * wc;
+          }
         }
+#pragma GCC unroll 4
+        for (int r = 0; r < N; ++r) R2[r * Cap::width + i] = acc[r] * f;
       }
       return sweep<l - 1>(Mo, slope, R2, R);
     }
@@ -486,16 +499,22 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       }
       R = sweep<kL - 2>(Mo, slope, Ra, Rb);
     }
+    // dY = R T1, a first-layer unit at a time: its tangent is read once for
+    // all N rows. A Dense unit that is off has R's column zero and a
+    // tangent that may not have been computed (the one-row kernel skips it).
+    float acc[N][K];
+#pragma GCC unroll 4
+    for (int r = 0; r < N; ++r) detail::tangent_zero<K>(acc[r]);
+#pragma GCC unroll 16
+    for (int q = 0; q < units[0]; ++q) {
+      if (!First::gru && slope[0][q] == 0.0f) continue;
+#pragma GCC unroll 4
+      for (int r = 0; r < N; ++r) detail::tangent_axpy<K>(acc[r], R[r * Cap::width + q], T1[q]);
+    }
 #pragma GCC unroll 4
     for (int r = 0; r < N; ++r) {
-      float acc[K];
-      detail::tangent_zero<K>(acc);
-      const float* rr = R + r * Cap::width;
-#pragma GCC unroll 16
-      for (int q = 0; q < units[0]; ++q)
-        if (rr[q] != 0.0f) detail::tangent_axpy<K>(acc, rr[q], T1[q]);
       float* g = G + r * K;
-      detail::tangent_scale<K>(g, acc, 1.0f);
+      detail::tangent_scale<K>(g, acc[r], 1.0f);
       if (Mo.residual && chain) detail::tangent_axpy<K>(g, 1.0f, g - N * K);
     }
   }
