@@ -103,9 +103,12 @@ class Controller {
     }
     // A non-finite reference point is held at the current output.
     const int refs = Pm.N * L.n;
-    if (all_finite(y_ref, refs)) {
-      for (int r = 0; r < refs; ++r) ref_[r] = y_ref[r];
-    } else {
+    float probe = 0.0f;  // copied and tested for finiteness in one pass: see all_finite
+    for (int r = 0; r < refs; ++r) {
+      ref_[r] = y_ref[r];
+      probe += y_ref[r] * 0.0f;
+    }
+    if (!(probe == 0.0f)) {
       for (int t = 0; t < Pm.N; ++t)
         for (int j = 0; j < L.n; ++j) {
           const float v = y_ref[t * L.n + j];

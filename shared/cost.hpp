@@ -30,7 +30,8 @@
 
 namespace nlsoft {
 
-// The Newton system at one point U: J(U), g and H (full, symmetric), and the
+// The Newton system at one point U: J(U), g and H (symmetric: its lower
+// triangle with the diagonal is written, the solver reads no more), and the
 // predictions Y_hat(U) it was built from.
 template <class Cap>
 struct NewtonSystem {
@@ -80,7 +81,7 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
   if constexpr (K <= 8) {
     // Small systems (the MCU capacities): J, g and H's lower triangle
     // accumulate in locals over every row and unknown, K a compile-time
-    // count, and H is written once, both triangles. All K rows: past k
+    // count, and H's triangle is written once. All K rows: past k
     // they are zero (G's columns there are), see newton.hpp.
     constexpr int kT = K * (K + 1) / 2;
     float J = 0.0f, g[K], h[kT];
@@ -131,7 +132,7 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
     for (int a = 0; a < K; ++a) {
       S.g[a] = g[a];
 #pragma GCC unroll 8
-      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = S.H[b * K + a] = h[idx];
+      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
     }
     return;
   } else {
@@ -184,8 +185,6 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
       S.H[a * K + a] += bh;
     }
 
-    for (int a = 0; a < k; ++a)
-      for (int b = a + 1; b < k; ++b) S.H[a * K + b] = S.H[b * K + a];  // the Lambda terms are in the lower triangle
   }
 }
 
