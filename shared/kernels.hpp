@@ -301,8 +301,10 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
 #pragma GCC unroll 32
       for (int q = 0; q < kC0; ++q) v[q] = z[q];
       detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
+      const float(*T1)[K] = s.T[0];
       if constexpr (kTangents) {
-        for (int q = 0; q < kC0; ++q) {
+        if (preds == 0) T1 = A[full];  // no prediction enters yet: the tangent is U's alone
+        for (int q = 0; q < kC0 && preds > 0; ++q) {
           // a unit that is off (ReLU) passes no tangent: jacobian_rows skips it
           if (slope[0][q] == 0.0f) continue;
           float acc[K];
@@ -326,7 +328,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
         const float prev = j > 0 ? Y[r - N] : x0[kU + i];
         Y[r] = s.v[cur][i] * os[i] + oo[i] + (Mo.residual ? prev : 0.0f);
       }
-      if constexpr (kTangents) jacobian_rows(Mo, slope, s.T[0], G + j * N * K, j > 0);
+      if constexpr (kTangents) jacobian_rows(Mo, slope, T1, G + j * N * K, j > 0);
     }
   }
 
