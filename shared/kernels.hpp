@@ -530,7 +530,9 @@ bool try_shape(const Model<Cap>& M, RolloutKernels<Cap>& k) {
   k.constant = &ShapedRollout<Cap, S, false>::constant;
   k.values = &ShapedRollout<Cap, S, false>::run;
   k.jacobian = &ShapedRollout<Cap, S, true>::run;
-  if constexpr (ShapedRollout<Cap, S, false>::kHeld) k.stencil = &ShapedRollout<Cap, S, false>::stencil;
+  // with one input (msd) U's part is a product per slot: moving it saves nothing
+  if constexpr (ShapedRollout<Cap, S, false>::kHeld && Dims<Cap>::K > 1)
+    k.stencil = &ShapedRollout<Cap, S, false>::stencil;
   return true;
 }
 
