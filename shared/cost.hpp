@@ -26,11 +26,12 @@
 // instructions per step (the accessors and the unrolled tangent loops are
 // not inlined), while the rest of an image gains nothing from -O2.
 #pragma GCC push_options
-#pragma GCC optimize("O2")
+#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
 
 namespace nlsoft {
 
-// The Newton system at one point U: J(U), g and H (full, symmetric), and the
+// The Newton system at one point U: J(U), g and H (symmetric: its lower
+// triangle with the diagonal is written, the solver reads no more), and the
 // predictions Y_hat(U) it was built from.
 template <class Cap>
 struct NewtonSystem {
@@ -53,14 +54,19 @@ struct Barrier {
     const float f = 1e-6f * r;
     return d > f ? d : f;
   }
-  float value(float u) const { return s / d1(u) + s / d2(u) - 4.0f * s / r; }
-  float grad(float u) const {
-    const float a = d1(u), c = d2(u);
-    return -s / (a * a) + s / (c * c);
+  // value, gradient and curvature at u from the two reciprocals: s/a + s/c
+  // - 4s/r, -s/a^2 + s/c^2, 2s/a^3 + 2s/c^3 with a = d1(u), c = d2(u)
+  void eval(float u, float& value, float& grad, float& hess) const {
+    const float ia = 1.0f / d1(u), ic = 1.0f / d2(u);
+    const float sa = s * ia, sc = s * ic;
+    value = sa + sc - 4.0f * s / r;
+    grad = sc * ic - sa * ia;
+    hess = 2.0f * (sa * ia * ia + sc * ic * ic);
   }
-  float hess(float u) const {
-    const float a = d1(u), c = d2(u);
-    return 2.0f * s / (a * a * a) + 2.0f * s / (c * c * c);
+  float value(float u) const {
+    float v, g, h;
+    eval(u, v, g, h);
+    return v;
   }
 };
 
@@ -71,34 +77,78 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
                   const float* G, NewtonSystem<Cap>& S) {
   constexpr int K = Dims<Cap>::K;
   const int k = P.Nc * m;
-  S.J = 0.0f;
-  for (int a = 0; a < K; ++a) {
-    S.g[a] = 0.0f;
-    for (int b = 0; b <= a; ++b) S.H[a * K + b] = 0.0f;
-  }
-
-  // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G. Small systems
-  // (the MCU capacities) keep the lower triangle in locals over every row:
-  // K is a compile-time count, so it unrolls and stays in registers.
-  constexpr bool kLocal = K <= 8;
-  float h[kLocal ? K * (K + 1) / 2 : 1] = {};
-  for (int t = P.N1 - 1; t < P.N; ++t)
-    for (int i = 0; i < n; ++i) {
-      const int row = t * n + i;
-      const float q = P.Q[i];
-      const float e = y_ref[row] - S.Y[row];
-      S.J += q * e * e;
-      const float* __restrict Gr = G + row * K;
-      if constexpr (kLocal) {
+  const Barrier bar{P.s, P.b, P.r};
+  if constexpr (K <= 8) {
+    // Small systems (the MCU capacities): J, g and H's lower triangle
+    // accumulate in locals over every row and unknown, K a compile-time
+    // count, and H's triangle is written once. All K rows: past k
+    // they are zero (G's columns there are), see newton.hpp.
+    constexpr int kT = K * (K + 1) / 2;
+    float J = 0.0f, g[K], h[kT];
+#pragma GCC unroll 8
+    for (int a = 0; a < K; ++a) g[a] = 0.0f;
+#pragma GCC unroll 64
+    for (int i = 0; i < kT; ++i) h[i] = 0.0f;
+    // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
+    for (int t = P.N1 - 1; t < P.N; ++t)
+      for (int i = 0; i < n; ++i) {
+        const int row = t * n + i;
+        const float q = P.Q[i];
+        const float e = y_ref[row] - S.Y[row];
+        J += q * e * e;
+        const float* __restrict Gr = G + row * K;
         int idx = 0;
 #pragma GCC unroll 8
         for (int a = 0; a < K; ++a) {
           const float qga = 2.0f * q * Gr[a];
-          S.g[a] -= qga * e;
+          g[a] -= qga * e;
 #pragma GCC unroll 8
           for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
         }
-      } else {
+      }
+    // smoothness (du_j = U_j - U_{j-1}) and the barrier, unknown by unknown;
+    // unrolled, so h's diagonal is indexed by constants and h stays in registers
+#pragma GCC unroll 8
+    for (int a = 0; a < K; ++a) {
+      if (a >= k) break;
+      const int i = Cap::Nc == 1 ? a : a % m, j = Cap::Nc == 1 ? 0 : a / m;
+      const float L = P.Lambda[i];
+      const float du = U[a] - (j == 0 ? u_prev[i] : U[a - m]);
+      float bv, bg, bh;
+      bar.eval(U[a], bv, bg, bh);
+      J += L * du * du + bv;
+      g[a] += 2.0f * L * du + bg;
+      h[a * (a + 1) / 2 + a] += 2.0f * L + bh;
+      if (Cap::Nc > 1 && j > 0) {  // dJ/dU_{j-1} of the same du_j
+        const int b = a - m;
+        g[b] -= 2.0f * L * du;
+        h[b * (b + 1) / 2 + b] += 2.0f * L;
+        h[a * (a + 1) / 2 + b] -= 2.0f * L;  // lower triangle: b < a
+      }
+    }
+    S.J = J;
+    int idx = 0;
+#pragma GCC unroll 8
+    for (int a = 0; a < K; ++a) {
+      S.g[a] = g[a];
+#pragma GCC unroll 8
+      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
+    }
+    return;
+  } else {
+    S.J = 0.0f;
+    for (int a = 0; a < K; ++a) {
+      S.g[a] = 0.0f;
+      for (int b = 0; b <= a; ++b) S.H[a * K + b] = 0.0f;
+    }
+    // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
+    for (int t = P.N1 - 1; t < P.N; ++t)
+      for (int i = 0; i < n; ++i) {
+        const int row = t * n + i;
+        const float q = P.Q[i];
+        const float e = y_ref[row] - S.Y[row];
+        S.J += q * e * e;
+        const float* __restrict Gr = G + row * K;
         for (int a = 0; a < k; ++a) {
           const float qga = 2.0f * q * Gr[a];
           S.g[a] -= qga * e;
@@ -106,43 +156,36 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
           for (int b = 0; b <= a; ++b) Ha[b] += qga * Gr[b];
         }
       }
-    }
-  if constexpr (kLocal) {
-    int idx = 0;  // all K rows: past k they are zero (G's columns there are), see newton.hpp
-    for (int a = 0; a < K; ++a)
-      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
-  }
 
-  // smoothness: du_j = U_j - U_{j-1}; dJ/dU_j = 2 Lambda (du_j - du_{j+1})
-  for (int j = 0; j < P.Nc; ++j) {
-    for (int i = 0; i < m; ++i) {
-      const float L = P.Lambda[i];
-      const float prev = j == 0 ? u_prev[i] : U[(j - 1) * m + i];
-      const float du = U[j * m + i] - prev;
-      S.J += L * du * du;
-      const int a = j * m + i;
-      S.g[a] += 2.0f * L * du;
-      S.H[a * K + a] += 2.0f * L;
-      if (j > 0) {
-        const int b = (j - 1) * m + i;
-        S.g[b] -= 2.0f * L * du;
-        S.H[b * K + b] += 2.0f * L;
-        S.H[a * K + b] -= 2.0f * L;  // lower triangle: b < a
+    // smoothness: du_j = U_j - U_{j-1}; dJ/dU_j = 2 Lambda (du_j - du_{j+1})
+    for (int j = 0; j < P.Nc; ++j) {
+      for (int i = 0; i < m; ++i) {
+        const float L = P.Lambda[i];
+        const float prev = j == 0 ? u_prev[i] : U[(j - 1) * m + i];
+        const float du = U[j * m + i] - prev;
+        S.J += L * du * du;
+        const int a = j * m + i;
+        S.g[a] += 2.0f * L * du;
+        S.H[a * K + a] += 2.0f * L;
+        if (j > 0) {
+          const int b = (j - 1) * m + i;
+          S.g[b] -= 2.0f * L * du;
+          S.H[b * K + b] += 2.0f * L;
+          S.H[a * K + b] -= 2.0f * L;  // lower triangle: b < a
+        }
       }
     }
-  }
 
-  // barrier (Soloway): separable, diagonal
-  const Barrier bar{P.s, P.b, P.r};
-  for (int a = 0; a < k; ++a) {
-    S.J += bar.value(U[a]);
-    S.g[a] += bar.grad(U[a]);
-    S.H[a * K + a] += bar.hess(U[a]);
-  }
+    // barrier (Soloway): separable, diagonal
+    for (int a = 0; a < k; ++a) {
+      float bv, bg, bh;
+      bar.eval(U[a], bv, bg, bh);
+      S.J += bv;
+      S.g[a] += bg;
+      S.H[a * K + a] += bh;
+    }
 
-  const int kk = K <= 8 ? K : k;
-  for (int a = 0; a < kk; ++a)
-    for (int b = a + 1; b < kk; ++b) S.H[a * K + b] = S.H[b * K + a];  // the Lambda terms are in the lower triangle
+  }
 }
 
 // J alone, from predictions Y (no derivatives).

@@ -16,7 +16,7 @@
 // See rollout.hpp: the step's hot code is compiled for speed even in images
 // built for size.
 #pragma GCC push_options
-#pragma GCC optimize("O2")
+#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
 
 namespace nlsoft {
 
@@ -28,11 +28,18 @@ using RolloutFn = void (*)(const Model<Cap>&, const float* x0, const float* U, i
 template <class Cap>
 using ConstantFn = ConstantInputs (*)(const Model<Cap>&, const float* x0, float* pre);
 
+// Y at U + delta e_a, from what the last `values` rollout (at U, with the
+// same x0 and scratch) left in the scratch: the fd stencil's rollouts.
+template <class Cap>
+using StencilFn = void (*)(const Model<Cap>&, const float* x0, int N, const ConstantInputs&, int a, float delta,
+                           float* Y, RolloutScratch<Cap>&);
+
 template <class Cap>
 struct RolloutKernels {
   ConstantFn<Cap> constant = nullptr;  // the first layer's part that U does not touch, once per step
   RolloutFn<Cap> values = nullptr;     // Y only (fd stencil, the step check)
   RolloutFn<Cap> jacobian = nullptr;   // Y and G (exact)
+  StencilFn<Cap> stencil = nullptr;    // optional: Y with one input moved, after `values`
 };
 
 namespace detail {
@@ -180,10 +187,148 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
                   float* Y, float* G, RolloutScratch<Cap>& s) {
     // A capacity of one control row admits only Nc = 1: say so, so U's rows are constants.
     const int nc = Cap::Nc == 1 ? 1 : Nc;
-    if constexpr (Cap::N <= kUnrollHorizon) {
+    if constexpr (kHeld) {
+      (void)nc;
+      held(Mo, x0, U, Nh, c, Y, G, s);
+    } else if constexpr (Cap::N <= kUnrollHorizon) {
       unrolled(std::make_integer_sequence<int, Cap::N>{}, Mo, x0, U, Nh, nc, c, Y, G, s);
     } else {
       for (int j = 0; j < Nh; ++j) horizon_step(j, Mo, x0, U, nc, c, Y, G, s);
+    }
+  }
+
+  // One control row (Cap::Nc == 1, hasel and msd) and a Dense first layer:
+  // every u-slot that holds U holds the same row, so U's part of the first
+  // layer is computed once per rollout, not once per slot and horizon step:
+  // slot t's products, summed over the slots 0..t (at step j the slots
+  // 0..min(j, ND - 1) hold U), and in the `exact` mode the same sums of the
+  // weights scaled by the normalisation, which are U's tangent columns.
+  // A horizon step then adds only its predictions' entries (values, and
+  // their weights times their rows of G) to its row of `pre`. The steps run
+  // as a loop: unrolled, their code cost ≈ 8 kB of flash per kernel for
+  // the indices it turned into constants.
+  static constexpr bool kHeld = Cap::Nc == 1 && !First::gru;
+
+  static void held(const Model<Cap>& Mo, const float* x0, const float* U, int Nh, const ConstantInputs& c, float* Y,
+                   float* G, RolloutScratch<Cap>& s) {
+    const float* sc = Mo.in_scale();
+    const float* off = Mo.in_offset();
+    const float* W0 = Mo.weights(Mo.layer[0]);
+    // cu[t]: the products of the u-slots 0..t; A[t][q]: their tangent, dz_q/dU
+    float cu_local[kTangents ? ND : 1][Cap::width];
+    float(*cu)[Cap::width] = kTangents ? cu_local : held_sums(s);
+    float A[kTangents ? ND : 1][kTangents ? kC0 : 1][K];
+    {
+      float z[kC0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) z[q] = 0.0f;
+#pragma GCC unroll 4
+      for (int t = 0; t < ND; ++t) {
+#pragma GCC unroll 8
+        for (int i = 0; i < M; ++i) add_entry(z, W0, (U[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
+#pragma GCC unroll 32
+        for (int q = 0; q < kC0; ++q) cu[t][q] = z[q];
+        if constexpr (kTangents) {  // every index a constant, W1's rows read in order
+#pragma GCC unroll 8
+          for (int i = 0; i < K; ++i) {  // K = Cap::m >= M: columns past M are zero
+            const float si = i < M ? sc[t * M + i] : 0.0f;
+            const float* w = W0 + (t * M + (i < M ? i : 0)) * kC0;
+#pragma GCC unroll 32
+            for (int q = 0; q < kC0; ++q) A[t][q][i] = (t > 0 ? A[t - 1][q][i] : 0.0f) + si * w[q];
+          }
+        }
+      }
+    }
+    horizon(Mo, x0, Nh, c, cu, A, Y, G, s);
+  }
+
+  // Where a `values` rollout leaves its cu for the stencil: in the tangent
+  // buffers, which a rollout without tangents does not use (no RAM of its own).
+  static float (*held_sums(RolloutScratch<Cap>& s))[Cap::width] {
+    static_assert(2 * K >= ND, "the tangent buffers hold ND rows of sums");
+    return reinterpret_cast<float(*)[Cap::width]>(&s.T[0][0][0]);
+  }
+
+  // The fd stencil's rollout: U + delta e_a changes the u-slots' products
+  // by delta times input a's weights (scaled), so only those are added to
+  // the sums the `values` rollout at U left in s.cu; the same horizon runs
+  // on them. (Rounding differs from a rollout at U + delta e_a by a few
+  // ulps of the first layer's sums, far below what the stencil resolves.)
+  static void stencil(const Model<Cap>& Mo, const float* x0, int Nh, const ConstantInputs& c, int a, float delta,
+                      float* Y, RolloutScratch<Cap>& s) {
+    static_assert(!kTangents, "the stencil runs values");
+    const float* sc = Mo.in_scale();
+    const float* W0 = Mo.weights(Mo.layer[0]);
+    float cu[ND][Cap::width];
+    float d[kC0];
+#pragma GCC unroll 32
+    for (int q = 0; q < kC0; ++q) d[q] = 0.0f;
+    for (int t = 0; t < ND; ++t) {
+      add_entry(d, W0, delta * sc[t * M + a], t * M + a);
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) cu[t][q] = held_sums(s)[t][q] + d[q];
+    }
+    const float A[1][1][K] = {};
+    horizon(Mo, x0, Nh, c, cu, A, Y, nullptr, s);
+  }
+
+  template <class ATab>
+  __attribute__((always_inline)) static inline void horizon(const Model<Cap>& Mo, const float* x0, int Nh,
+                                                            const ConstantInputs& c, const float (*cu)[Cap::width],
+                                                            const ATab& A, float* Y, float* G,
+                                                            RolloutScratch<Cap>& s) {
+    const float* sc = Mo.in_scale();
+    const float* off = Mo.in_offset();
+    const float* W0 = Mo.weights(Mo.layer[0]);
+    const float* os = Mo.out_scale();
+    const float* oo = Mo.out_offset();
+    constexpr int kU = ND * M;  // first y-queue entry
+    for (int j = 0; j < Nh; ++j) {
+      const int preds = j < ND ? j : ND;  // y-slots holding predictions
+      const int full = j < ND ? j : ND - 1;  // u-slots 0..full hold U
+      const float* prow = c.pre + (j < ND ? j : ND) * kC0;
+      float z[kC0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) z[q] = prow[q] + cu[full][q];
+      for (int t = 0; t < preds; ++t) {  // y-slot t holds y_hat(k+j-t)
+        const float* y = Y + (j - t - 1) * N;
+        const int e0 = kU + t * N;
+#pragma GCC unroll 8
+        for (int i = 0; i < N; ++i) add_entry(z, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
+      }
+      float slope[S::layers][Cap::width];
+      float* v = s.v[0];
+#pragma GCC unroll 32
+      for (int q = 0; q < kC0; ++q) v[q] = z[q];
+      detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
+      const float(*T1)[K] = s.T[0];
+      if constexpr (kTangents) {
+        if (preds == 0) T1 = A[full];  // no prediction enters yet: the tangent is U's alone
+        for (int q = 0; q < kC0 && preds > 0; ++q) {
+          // a unit that is off (ReLU) passes no tangent: jacobian_rows skips it
+          if (slope[0][q] == 0.0f) continue;
+          float acc[K];
+#pragma GCC unroll 8
+          for (int a = 0; a < K; ++a) acc[a] = A[full][q][a];
+          for (int t = 0; t < preds; ++t) {  // a prediction enters with its row of G
+            const int e0 = kU + t * N;
+            const float* g = G + (j - t - 1) * N * K;
+#pragma GCC unroll 8
+            for (int i = 0; i < N; ++i)
+              detail::tangent_axpy<K>(acc, sc[e0 + i] * W0[(e0 + i) * kC0 + q], g + i * K);
+          }
+          detail::tangent_scale<K>(s.T[0][q], acc, 1.0f);
+        }
+      }
+      int cur = 0;
+      if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
+#pragma GCC unroll 8
+      for (int i = 0; i < N; ++i) {
+        const int r = j * N + i;
+        const float prev = j > 0 ? Y[r - N] : x0[kU + i];
+        Y[r] = s.v[cur][i] * os[i] + oo[i] + (Mo.residual ? prev : 0.0f);
+      }
+      if constexpr (kTangents) jacobian_rows(Mo, slope, T1, G + j * N * K, j > 0);
     }
   }
 
@@ -297,17 +442,30 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       constexpr int in = units[l - 1], out = units[l];
       constexpr bool scale = !(l == 1 && First::gru);  // past a GRU, T1 is already dh
       const float* Wl = Mo.weights(Mo.layer[l]);
+      // R's N x out entries stay in registers; each weight is read once for
+      // all N rows, and an input that is off (ReLU, slope 0) is not summed.
+      float Rr[N][out];
 #pragma GCC unroll 4
-      for (int r = 0; r < N; ++r) {
-        const float* rr = R + r * Cap::width;
+      for (int r = 0; r < N; ++r)
 #pragma GCC unroll 16
-        for (int i = 0; i < in; ++i) {
-          float acc = 0.0f;
+        for (int c = 0; c < out; ++c) Rr[r][c] = R[r * Cap::width + c];
+#pragma GCC unroll 16
+      for (int i = 0; i < in; ++i) {
+        const float f = scale ? slope[l - 1][i] : 1.0f;
+        float acc[N];
+#pragma GCC unroll 4
+        for (int r = 0; r < N; ++r) acc[r] = 0.0f;
+        if (f != 0.0f) {
           const float* w = Wl + i * out;
 #pragma GCC unroll 16
-          for (int c = 0; c < out; ++c) acc += rr[c] * w[c];
-          R2[r * Cap::width + i] = scale ? acc * slope[l - 1][i] : acc;
+          for (int c = 0; c < out; ++c) {
+            const float wc = w[c];
+#pragma GCC unroll 4
+            for (int r = 0; r < N; ++r) acc[r] += Rr[r][c] * wc;
+          }
         }
+#pragma GCC unroll 4
+        for (int r = 0; r < N; ++r) R2[r * Cap::width + i] = acc[r] * f;
       }
       return sweep<l - 1>(Mo, slope, R2, R);
     }
@@ -343,16 +501,22 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       }
       R = sweep<kL - 2>(Mo, slope, Ra, Rb);
     }
+    // dY = R T1, a first-layer unit at a time: its tangent is read once for
+    // all N rows. A Dense unit that is off has R's column zero and a
+    // tangent that may not have been computed (the one-row kernel skips it).
+    float acc[N][K];
+#pragma GCC unroll 4
+    for (int r = 0; r < N; ++r) detail::tangent_zero<K>(acc[r]);
+#pragma GCC unroll 16
+    for (int q = 0; q < units[0]; ++q) {
+      if (!First::gru && slope[0][q] == 0.0f) continue;
+#pragma GCC unroll 4
+      for (int r = 0; r < N; ++r) detail::tangent_axpy<K>(acc[r], R[r * Cap::width + q], T1[q]);
+    }
 #pragma GCC unroll 4
     for (int r = 0; r < N; ++r) {
-      float acc[K];
-      detail::tangent_zero<K>(acc);
-      const float* rr = R + r * Cap::width;
-#pragma GCC unroll 16
-      for (int q = 0; q < units[0]; ++q)
-        if (rr[q] != 0.0f) detail::tangent_axpy<K>(acc, rr[q], T1[q]);
       float* g = G + r * K;
-      detail::tangent_scale<K>(g, acc, 1.0f);
+      detail::tangent_scale<K>(g, acc[r], 1.0f);
       if (Mo.residual && chain) detail::tangent_axpy<K>(g, 1.0f, g - N * K);
     }
   }
@@ -366,6 +530,9 @@ bool try_shape(const Model<Cap>& M, RolloutKernels<Cap>& k) {
   k.constant = &ShapedRollout<Cap, S, false>::constant;
   k.values = &ShapedRollout<Cap, S, false>::run;
   k.jacobian = &ShapedRollout<Cap, S, true>::run;
+  // with one input (msd) U's part is a product per slot: moving it saves nothing
+  if constexpr (ShapedRollout<Cap, S, false>::kHeld && Dims<Cap>::K > 1)
+    k.stencil = &ShapedRollout<Cap, S, false>::stencil;
   return true;
 }
 

@@ -35,7 +35,7 @@
 // instructions per step (the accessors and the unrolled tangent loops are
 // not inlined), while the rest of an image gains nothing from -O2.
 #pragma GCC push_options
-#pragma GCC optimize("O2")
+#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
 
 namespace nlsoft {
 
@@ -106,6 +106,16 @@ void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Param
   kern.values(M, x0, U, P.N, P.Nc, s.constant, Y, nullptr, s.roll);
   for (int a = 0; a < k; ++a) s.U_fd[a] = U[a];
   const float inv2e = 0.5f / P.eps;
+  if (kern.stencil) {  // from the rollout at U just run
+    for (int a = 0; a < k; ++a) {
+      kern.stencil(M, x0, P.N, s.constant, a, P.eps, s.Y_plus, s.roll);
+      kern.stencil(M, x0, P.N, s.constant, a, -P.eps, s.Y_minus, s.roll);
+      for (int r = 0; r < rows; ++r) s.G[r * K + a] = (s.Y_plus[r] - s.Y_minus[r]) * inv2e;
+    }
+    for (int a = k; a < K; ++a)
+      for (int r = 0; r < rows; ++r) s.G[r * K + a] = 0.0f;
+    return;
+  }
   for (int a = 0; a < k; ++a) {
     s.U_fd[a] = U[a] + P.eps;
     kern.values(M, x0, s.U_fd, P.N, P.Nc, s.constant, s.Y_plus, nullptr, s.roll);
@@ -121,29 +131,33 @@ void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Param
 // Solves (H + mu h I) dU = -g over the free unknowns; those held at a limit
 // (active[a]) get dU = 0 and drop out. False if not positive definite.
 template <class Cap>
-bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, SolverScratch<Cap>& s) {
+bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bool* active, bool any_active,
+                      SolverScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
+  if constexpr (K <= 8) k = K;  // newton_solve pads small systems: constant trip counts
 #pragma GCC unroll 8
   for (int a = 0; a < k; ++a)
 #pragma GCC unroll 8
-    for (int b = 0; b <= a; ++b) {
-      float h = S.H[a * K + b] + (a == b ? damping : 0.0f);
-      if (active[a] || active[b]) h = a == b ? 1.0f : 0.0f;
-      s.A[a * K + b] = h;
-    }
+    for (int b = 0; b <= a; ++b) s.A[a * K + b] = S.H[a * K + b] + (a == b ? damping : 0.0f);
+  if (any_active)  // rows and columns of the held unknowns become the identity's
+    for (int a = 0; a < k; ++a)
+      for (int b = 0; b <= a; ++b)
+        if (active[a] || active[b]) s.A[a * K + b] = a == b ? 1.0f : 0.0f;
   if constexpr (K <= 8) {  // k == K here (newton_solve pads small systems)
     if (!ldlt_decompose_fixed<K>(s.A)) return false;
   } else {
     if (!ldlt_decompose(s.A, k, K)) return false;
   }
+#pragma GCC unroll 8
   for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -S.g[a];
   if constexpr (K <= 8)
     ldlt_solve_fixed<K>(s.A, s.dU);
   else
     ldlt_solve(s.A, k, K, s.dU);
-  for (int a = 0; a < k; ++a)
-    if (!finite(s.dU[a])) return false;
-  return true;
+  float probe = 0.0f;  // x * 0 is 0 for finite x, NaN otherwise
+#pragma GCC unroll 8
+  for (int a = 0; a < k; ++a) probe += s.dU[a] * 0.0f;
+  return probe == 0.0f;
 }
 
 inline float clamp_mu(float mu) {
@@ -171,13 +185,15 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   // of K, and only the first k go back.
   float* const U_out = U;
   if (kPadded) {
+#pragma GCC unroll 8
     for (int a = 0; a < K; ++a) s.U_pad[a] = a < k ? U[a] : 0.0f;
     U = s.U_pad;
   }
   float lo[K], hi[K];
-  for (int a = 0; a < kk; ++a) {
-    lo[a] = a < k ? P.u_min[a % m] : -3.0e38f;
-    hi[a] = a < k ? P.u_max[a % m] : 3.0e38f;
+#pragma GCC unroll 8
+  for (int a = 0, i = 0; a < kk; ++a, i = i + 1 == m ? 0 : i + 1) {  // i = a % m
+    lo[a] = a < k ? P.u_min[i] : -3.0e38f;
+    hi[a] = a < k ? P.u_max[i] : 3.0e38f;
     U[a] = clamp_to(U[a], lo[a], hi[a]);
   }
   s.constant = kern.constant(M, x0, s.pre);
@@ -213,8 +229,11 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     detail::linearise(M, kern, P, x0, U, cur->Y, s);
     build_system(P, m, n, y_ref, U, u_prev, s.G, *cur);
     r.iterations = uint8_t(it + 1);
-    bool ok = finite(cur->J);
-    for (int a = 0; a < kk; ++a) ok = ok && finite(cur->g[a]);
+    // J and g all finite: x * 0 is 0 for finite x, NaN otherwise
+    float probe = cur->J * 0.0f;
+#pragma GCC unroll 8
+    for (int a = 0; a < kk; ++a) probe += cur->g[a] * 0.0f;
+    bool ok = probe == 0.0f;
     if (pending) {
       pending = false;
       if (!ok || !judge(cur->J)) {  // the step raised J: undo it, damp harder
@@ -231,11 +250,13 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     }
 
     bool active[K];
-    bool any_free = false;
+    bool any_free = false, any_active = false;
     float hmax = 0.0f;
+#pragma GCC unroll 8
     for (int a = 0; a < kk; ++a) {
       active[a] = a >= k || (U[a] <= lo[a] && cur->g[a] > 0.0f) || (U[a] >= hi[a] && cur->g[a] < 0.0f);
       any_free = any_free || !active[a];
+      any_active = any_active || active[a];
       const float d = cur->H[a * K + a];
       if (!active[a] && finite(d) && d > hmax) hmax = d;
     }
@@ -247,7 +268,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     const float hscale = hmax > 0.0f ? hmax : 1.0f;
     bool solved = false;
     for (int tries = 0; tries < 4 && !solved; ++tries) {
-      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, s);
+      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, any_active, s);
       if (!solved) {
         r.flags |= kSingular;
         st.mu = detail::clamp_mu(100.0f * (st.mu > 1e-4f ? st.mu : 1e-4f));
@@ -258,6 +279,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     // Take the step inside the limits; predict J's decrease from the model.
     float step = 0.0f, lin = 0.0f, quad = 0.0f;
     bool clamped = false;
+#pragma GCC unroll 8
     for (int a = 0; a < kk; ++a) {
       s.U_base[a] = U[a];
       const float want = U[a] + s.dU[a];
@@ -267,12 +289,12 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
       step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
     }
 #pragma GCC unroll 8
-    for (int a = 0; a < kk; ++a) {
+    for (int a = 0; a < kk; ++a) {  // dU' H dU over H's lower triangle (H is symmetric)
       lin += cur->g[a] * s.dU[a];
       float hd = 0.0f;
 #pragma GCC unroll 8
-      for (int b = 0; b < kk; ++b) hd += cur->H[a * K + b] * s.dU[b];
-      quad += s.dU[a] * hd;
+      for (int b = 0; b < a; ++b) hd += cur->H[a * K + b] * s.dU[b];
+      quad += s.dU[a] * (2.0f * hd + cur->H[a * K + a] * s.dU[a]);
     }
     predicted = -(lin + 0.5f * quad);
     swap_systems();
@@ -300,7 +322,9 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   r.cost = cur->J;
   r.y_hat = cur->Y;
   if (kPadded)
-    for (int a = 0; a < k; ++a) U_out[a] = U[a];
+#pragma GCC unroll 8
+    for (int a = 0; a < K; ++a)
+      if (a < k) U_out[a] = U[a];
   return r;
 }
 
