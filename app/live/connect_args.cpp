@@ -58,19 +58,15 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                  fmt::format("Boot this rig's Cortex-M4F image (plant in the loop) in qemu-system-arm and {} it",
                              what))
       ->check(rig_arg_validator());
-  app.add_option("--rig", a.rig,
-                 fmt::format("With a PORT: the rig file of the board, {} (references, defaults); default: the "
-                             "shipped rig the firmware names",
-                             rig_arg_help()))
-      ->check(rig_arg_validator());
   app.add_option("--board", a.board,
                  "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                  "image in -M netduinoplus2)")
       ->check(CLI::IsMember(qemu_boards()));
   app.add_option("--rig", a.rig,
-                 fmt::format("With PORT: the rig file the board's image was built from, {}; the console warns when "
-                             "the firmware names another rig or rig hash (--sim and --qemu take their rig from their "
-                             "own argument)",
+                 fmt::format("With PORT: the rig file the board's image was built from, {}: references and "
+                             "defaults come from it, and the console warns when the firmware names another rig or "
+                             "rig hash (default: the shipped rig the firmware names; --sim and --qemu take their "
+                             "rig from their own argument)",
                              rig_arg_help()))
       ->check(rig_arg_validator());
   app.add_option("--baud", a.baud, "Baud rate, any integer the port supports (default 115200)")
