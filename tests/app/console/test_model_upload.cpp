@@ -242,7 +242,7 @@ TEST(ModelUploadShape, ARigOtherThanTheOneGivenIsWarnedAbout) {
   const std::string cmd = std::string(NLSOFT_CONSOLE_BIN) + " " + pty + " --no-record --script " + dir.file("s.nls");
   const auto other = test::run_process(cmd + " --rig tendon");
   EXPECT_EQ(other.code, 0) << other.output;
-  const size_t at = other.output.find("warning: the firmware runs rig hasel (hash 00000000), not ");
+  const size_t at = other.output.find("warning: the firmware runs rig hasel (hash ");
   EXPECT_NE(at, std::string::npos) << other.output;
   EXPECT_EQ(other.output.find("warning: the firmware runs rig", at + 1), std::string::npos) << "said once";
   const auto same = test::run_process(cmd + " --rig hasel");
