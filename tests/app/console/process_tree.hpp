@@ -1,7 +1,9 @@
 #pragma once
-// Finding a process under another, as a person does with pstree or ps: the
-// simulator a console started, to kill it as a user would.
+// Processes as a person handles them from a shell: a command started in the
+// background (`sh -c`), and a process found under another, as with pstree
+// or ps (the simulator a console started, to kill it as a user would).
 #include <sys/types.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -9,6 +11,16 @@
 #include <string>
 
 namespace nlsoft::test {
+
+// Starts `command` under /bin/sh in a child process; its PID, or -1.
+inline pid_t start_shell(const std::string& command) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  return pid;
+}
 
 // A process under `root` whose name (comm, at most 15 characters) starts
 // `name`; 0 if none.

@@ -239,12 +239,8 @@ TEST_F(ConsoleE2E, ADatabaseLockedPastTheBusyWindowIsAGapWithItsReason) {
   std::ofstream(script_) << "run 8s label=locked\n";
   const std::string out = dir_.file("console.out");
   const std::string command = "exec " + fmt_command("hasel", "--db-busy 1") + " >" + shell_quote(out) + " 2>&1";
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t pid = test::start_shell(command);
+  ASSERT_GT(pid, 0);
   bool recording = false;
   for (int i = 0; i < 600 && !recording; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -299,12 +295,8 @@ TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
   std::ofstream(script_) << "run 60s label=killed\n";
   const std::string out = dir_.file("console.out");
   const std::string command = "exec " + fmt_command("hasel", "") + " >" + shell_quote(out) + " 2>&1";
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t pid = test::start_shell(command);
+  ASSERT_GT(pid, 0);
   bool recording = false;
   for (int i = 0; i < 600 && !recording; ++i) {
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
@@ -354,12 +346,8 @@ TEST_F(ConsoleE2E, AHangupStopsTheRunAndRecordsWhichSignalEndedIt) {
   std::ofstream(script_) << "run 600s label=long\n";
   const std::string out = dir_.file("console.out");
   const std::string command = "exec " + fmt_command("msd", "") + " >" + shell_quote(out) + " 2>&1";
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t pid = test::start_shell(command);
+  ASSERT_GT(pid, 0);
   // Until the run has samples in the database (the recorder commits every
   // 50 ms); the limit only keeps a broken console from hanging the suite.
   bool recording = false;

@@ -17,6 +17,7 @@
 #include "app/record/run_store.hpp"
 #include "app/record/sqlite.hpp"
 #include "run_process.hpp"
+#include "process_tree.hpp"
 #include "temp_dir.hpp"
 
 namespace nlsoft::console {
@@ -144,12 +145,8 @@ TEST_F(RunsCommands, ARunBeingRecordedIsNotDeletedUntilItsRecorderIsGone) {
   std::ofstream(script) << "run 1s label=short\nrun 600s label=long\n";
   const std::string command = "exec " + std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db()) +
                               " --script " + shell_quote(script) + " >/dev/null 2>&1";
-  const pid_t pid = ::fork();
-  ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    ::execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t pid = test::start_shell(command);
+  ASSERT_GT(pid, 0);
   // Until run 2 has samples; the limit only keeps a broken console from
   // hanging the suite.
   bool recording = false;
