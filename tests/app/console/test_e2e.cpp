@@ -46,6 +46,21 @@ class ConsoleE2E : public ::testing::Test {
   }
   std::string db() const { return dir_.file("runs.db"); }
 
+  // Until a console started in the background has samples of run 1 in the
+  // database (the recorder commits every 50 ms); the limit only keeps a
+  // broken console from hanging the suite.
+  bool wait_until_recording() const {
+    for (int i = 0; i < 600; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      try {
+        const auto runs = RunStore(db()).list();
+        if (!runs.empty() && runs[0].samples > 0) return true;
+      } catch (const std::exception&) {
+      }
+    }
+    return false;
+  }
+
   test::TempDir dir_;
   std::string script_;
 };
@@ -241,15 +256,7 @@ TEST_F(ConsoleE2E, ADatabaseLockedPastTheBusyWindowIsAGapWithItsReason) {
   const std::string command = "exec " + fmt_command("hasel", "--db-busy 1") + " >" + shell_quote(out) + " 2>&1";
   const pid_t pid = test::start_shell(command);
   ASSERT_GT(pid, 0);
-  bool recording = false;
-  for (int i = 0; i < 600 && !recording; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    try {
-      const auto runs = RunStore(db()).list();
-      recording = !runs.empty() && runs[0].samples > 0;
-    } catch (const std::exception&) {
-    }
-  }
+  const bool recording = wait_until_recording();
   if (!recording) ::kill(pid, SIGKILL);
   ASSERT_TRUE(recording) << "the run never started";
   {
@@ -297,15 +304,7 @@ TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
   const std::string command = "exec " + fmt_command("hasel", "") + " >" + shell_quote(out) + " 2>&1";
   const pid_t pid = test::start_shell(command);
   ASSERT_GT(pid, 0);
-  bool recording = false;
-  for (int i = 0; i < 600 && !recording; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    try {
-      const auto runs = RunStore(db()).list();
-      recording = !runs.empty() && runs[0].samples > 0;
-    } catch (const std::exception&) {
-    }
-  }
+  const bool recording = wait_until_recording();
   const pid_t sim = test::descendant_named(pid, "nlsoft-firmware-sim");
   if (!recording || sim <= 0) ::kill(pid, SIGKILL);
   ASSERT_TRUE(recording) << "the run never started";
@@ -348,18 +347,7 @@ TEST_F(ConsoleE2E, AHangupStopsTheRunAndRecordsWhichSignalEndedIt) {
   const std::string command = "exec " + fmt_command("msd", "") + " >" + shell_quote(out) + " 2>&1";
   const pid_t pid = test::start_shell(command);
   ASSERT_GT(pid, 0);
-  // Until the run has samples in the database (the recorder commits every
-  // 50 ms); the limit only keeps a broken console from hanging the suite.
-  bool recording = false;
-  for (int i = 0; i < 600 && !recording; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    try {
-      RunStore store(db());
-      const auto runs = store.list();
-      recording = !runs.empty() && runs[0].samples > 0;
-    } catch (const std::exception&) {
-    }
-  }
+  const bool recording = wait_until_recording();
   ASSERT_TRUE(recording) << "the run never started";
   ASSERT_EQ(::kill(pid, SIGHUP), 0);
   int status = 0;
