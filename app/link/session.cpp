@@ -161,6 +161,10 @@ void Session::open(const std::string& path, unsigned baud) {
     peer_ = Peer::Known;
     have_identity_ = false;
   }
+  {
+    std::lock_guard<std::mutex> lock(port_mu_);
+    port_ = path;
+  }
   link_.open(path, baud, std::move(h));
   {
     std::lock_guard<std::mutex> lock(stats_mu_);

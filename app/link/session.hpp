@@ -166,7 +166,12 @@ class Session {
   std::string no_info_words(const LinkStats& before, std::chrono::steady_clock::duration waited, unsigned baud) const;
   // The port is open and leads to the device identified before (if any).
   bool connected() const { return link_.is_up() && peer_.load() == Peer::Known; }
-  const std::string& port() const { return link_.path(); }
+  // A copy: a reconnect to another port (a restarted simulator) renames it
+  // on the worker while the screen reads it.
+  std::string port() const {
+    std::lock_guard<std::mutex> lock(port_mu_);
+    return port_;
+  }
   bool will_reopen() const { return link_.will_reopen(); }  // false: the port is gone for good (a hung-up pty)
   const SessionOptions& options() const { return options_; }
   // Protocol version byte of frames dropped as wrong_version, 0 if none.
@@ -227,6 +232,8 @@ class Session {
   std::vector<LinkEvent> events_;
   bool stopping_ = false;
 
+  mutable std::mutex port_mu_;
+  std::string port_;
   mutable std::mutex stats_mu_;
   LinkStats stats_;  // counters; rates filled by the supervisor
   bool have_tseq_ = false;

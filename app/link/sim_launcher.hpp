@@ -48,7 +48,10 @@ class SimLauncher {
   // the second, on -M netduinoplus2).
   std::string start_qemu(const std::string& elf, const std::string& board = "mps2-an386");
   void stop();
-  pid_t pid() const { return pid_; }
+  pid_t pid() const {
+    std::lock_guard<std::mutex> lock(mu_);
+    return pid_;
+  }
   // How the child ended, once it has (it is reaped here): "killed by signal
   // 9 (SIGKILL)", "exited with status 3"; "" while it runs, or when it was
   // never started or stopped by stop(). Any thread; cheap enough to poll.
@@ -62,7 +65,7 @@ class SimLauncher {
   // pick() yields a non-empty path.
   std::string spawn(const std::vector<std::string>& argv, const std::string& what,
                     std::string (*pick)(const std::string& line));
-  std::mutex mu_;  // pid_ and exit_words_: exit_words() is polled from another thread
+  mutable std::mutex mu_;  // pid_ and exit_words_: exit_words() is polled from another thread
   pid_t pid_ = -1;
   std::string exit_words_;
   int out_fd_ = -1;
