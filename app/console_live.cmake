@@ -2,6 +2,8 @@
 # recording, scripts and the ncurses TUI. Included from app/CMakeLists.txt.
 find_package(Boost REQUIRED COMPONENTS system)
 find_package(SQLite3 REQUIRED)
+# runs export --h5 (the same library the Keras import reads with).
+find_package(HDF5 REQUIRED COMPONENTS C)
 set(CURSES_NEED_WIDE TRUE)
 set(CURSES_NEED_NCURSES TRUE)
 find_package(Curses REQUIRED)
@@ -20,10 +22,11 @@ file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/live/*.cpp)
 add_library(nlsoft_console_live STATIC ${NLSOFT_CONSOLE_LIVE_SOURCES})
 target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_APP_INCLUDE} PRIVATE ${CURSES_INCLUDE_DIRS})
+target_include_directories(nlsoft_console_live SYSTEM PRIVATE ${HDF5_C_INCLUDE_DIRS} ${HDF5_INCLUDE_DIRS})
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
   PUBLIC nlsoft_console_core nlsoft_firmware_image nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
-  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT)
+  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT ${HDF5_C_LIBRARIES} ${HDF5_LIBRARIES})
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)
 target_compile_definitions(nlsoft-console PRIVATE NLSOFT_VERSION="${PROJECT_VERSION}")

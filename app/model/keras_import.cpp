@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/cli_error.hpp"
+#include "app/h5_handle.hpp"
 #include "app/input_file.hpp"
 #include "app/model/error.hpp"
 #include "app/model/model_store.hpp"
@@ -14,22 +15,7 @@ namespace {
 
 using nlohmann::json;
 
-// One HDF5 handle, closed by the function that matches its kind.
-class Handle {
- public:
-  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
-  ~Handle() {
-    if (id_ >= 0) close_(id_);
-  }
-  Handle(const Handle&) = delete;
-  Handle& operator=(const Handle&) = delete;
-  hid_t get() const { return id_; }
-  bool ok() const { return id_ >= 0; }
-
- private:
-  hid_t id_;
-  herr_t (*close_)(hid_t);
-};
+using Handle = console::H5Handle;
 
 std::vector<std::string> read_string_attribute(hid_t obj, const char* name, const std::string& where) {
   if (H5Aexists(obj, name) <= 0) throw PipelineError(where + ": no '" + name + "' attribute");

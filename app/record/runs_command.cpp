@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <strings.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
@@ -17,6 +18,7 @@
 #include "app/output_file.hpp"
 #include "app/printable.hpp"
 #include "app/record/csv_export.hpp"
+#include "app/record/h5_export.hpp"
 #include "app/record/end_words.hpp"
 #include "app/record/gnuplot.hpp"
 #include "app/record/lock_gap.hpp"
@@ -41,7 +43,7 @@ struct RunsArgs {
   std::string since, match;  // runs list --since WHEN, --label TEXT
   std::vector<int64_t> ids;
   int64_t tune = 0;  // runs plot --tune S
-  std::string csv, svg, png, label;
+  std::string csv, h5, svg, png, label;
   bool json = false, force = false;
 };
 
@@ -344,12 +346,21 @@ void show(const RunsArgs& a) {
     fmt::print("  link {}: {}\n", printable(when), printable(detail));
 }
 
-void export_csv(const RunsArgs& a) {
+void export_runs(const RunsArgs& a) {
+  if (!a.csv.empty() && !a.h5.empty()) throw CliError("runs export: give --csv FILE or --h5 FILE, not both");
   auto store = open_store(a);
-  const std::string path = a.csv.empty() ? "-" : a.csv;
-  const size_t rows = export_run_csv(*store, a.id, path);
-  // The CSV may be standard output: the report goes where it cannot mix in.
-  fmt::print(stderr, "run {}: {} samples written to {}\n", a.id, rows, path == "-" ? "standard output" : path);
+  const std::string path = !a.h5.empty() ? a.h5 : a.csv.empty() ? "-" : a.csv;
+  if (!a.h5.empty() && path == "-" && ::isatty(STDOUT_FILENO))
+    throw CliError("runs export --h5 -: standard output is a terminal; name a file (--h5 runs.h5) or redirect it");
+  const uint64_t rows = a.h5.empty() ? export_runs_csv(*store, a.ids, path) : export_runs_h5(*store, a.ids, path);
+  std::string which = fmt::format("run {}", a.ids.front());
+  if (a.ids.size() > 1) {
+    which = "runs";
+    for (size_t i = 0; i < a.ids.size(); ++i) which += fmt::format("{}{}", i ? ", " : " ", a.ids[i]);
+  }
+  // The file may be standard output: the report goes where it cannot mix in.
+  fmt::print(stderr, "{}: {} samples written to {}{}\n", which, rows, path == "-" ? "standard output" : path,
+             a.h5.empty() ? "" : " (HDF5)");
 }
 
 void compare(const RunsArgs& a) {
@@ -452,6 +463,7 @@ void add_runs_command(CLI::App& app) {
       "  nlsoft-console runs compare 12 13 --json\n"
       "  nlsoft-console runs compare 12 13 --svg compare.svg\n"
       "  nlsoft-console runs export 12 > run12.csv\n"
+      "  nlsoft-console runs export 12 13 --h5 runs.h5\n"
       "  nlsoft-console runs plot 12 --svg run12.svg\n"
       "  nlsoft-console runs plot 12 13 --png compare.png\n"
       "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
@@ -474,11 +486,15 @@ void add_runs_command(CLI::App& app) {
   s->add_option("ID", args->id, "Run id (see runs list)")->required();
   s->add_flag("--json", args->json, "Machine-readable output");
   s->callback([args] { show(*args); });
-  CLI::App* e = runs->add_subcommand("export", "A run's samples as CSV");
+  CLI::App* e = runs->add_subcommand(
+      "export", "Runs' samples as CSV (one run, or several with a run column) or HDF5 (MATLAB h5read, Python h5py)");
   db(e);
-  e->add_option("ID", args->id, "Run id")->required();
-  e->add_option("--csv", args->csv, "Output file ('-' or none: standard output)");
-  e->callback([args] { export_csv(*args); });
+  e->add_option("ID", args->ids, "Run ids")->required();
+  e->add_option("--csv", args->csv, "CSV file ('-' or none: standard output)");
+  e->add_option("--h5", args->h5,
+                "HDF5 file: a group run_ID per run with t, u, y_ref, y_hat, y_true, cost, iterations as datasets with "
+                "units; the run's rig, firmware, model hash and parameters as attributes; its gaps");
+  e->callback([args] { export_runs(*args); });
   CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
   db(c);
   c->add_option("A", args->id, "First run id")->required();
