@@ -26,7 +26,8 @@
 // neutral input: a = 0, y = clamp(offset).
 //
 // Same interface and guarantees as the other plants (shared/plant.hpp), with
-// run-time dimensions: m(), n(), w(), dt() instead of constants. A spec that
+// run-time dimensions: m(), n(), w(), dt() instead of constants (FixedGenericPlant,
+// below, has them as constants from a constexpr spec). A spec that
 // generic_spec_problem() refuses is not taken (configure returns false and
 // the plant keeps its previous spec). No heap, no exceptions, float.
 #pragma once
@@ -81,9 +82,13 @@ struct GenericPlantSpec {
 
 namespace generic_detail {
 
-inline bool finite_all(const float* v, int count) {
+// std::isfinite is not constexpr in C++17, and a HIL image checks its
+// embedded spec at compile time (FixedGenericPlant): comparisons alone.
+constexpr bool finite(float v) { return v == v && v <= 3.40282347e38f && v >= -3.40282347e38f; }
+
+constexpr bool finite_all(const float* v, int count) {
   for (int i = 0; i < count; ++i)
-    if (!std::isfinite(v[i])) return false;
+    if (!finite(v[i])) return false;
   return true;
 }
 
@@ -106,11 +111,11 @@ inline float shape(const GenericInputSpec& s, float d) {
 // Why `s` cannot run, or nullptr when it can. The rig loader names the key
 // of each fault itself; this is the plant's own guard (and a firmware's
 // static check of its embedded spec).
-inline const char* generic_spec_problem(const GenericPlantSpec& s) {
+constexpr const char* generic_spec_problem(const GenericPlantSpec& s) {
   if (s.m < 1 || s.m > kGenericMaxM) return "m must be 1..8";
   if (s.n < 1 || s.n > kGenericMaxN) return "n must be 1..6";
   if (s.w > kGenericMaxW) return "w must be 0..32";
-  if (!std::isfinite(s.dt) || !(s.dt > 0.0f) || s.dt > kMaxPlantDt) return "dt must be in (0, 1] s";
+  if (!generic_detail::finite(s.dt) || !(s.dt > 0.0f) || s.dt > kMaxPlantDt) return "dt must be in (0, 1] s";
   for (int i = 0; i < s.m; ++i) {
     const GenericInputSpec& in = s.input[i];
     const float v[] = {in.min, in.max, in.neutral, in.gain, in.knee, in.exponent, in.play, in.tau};
@@ -133,12 +138,93 @@ inline const char* generic_spec_problem(const GenericPlantSpec& s) {
   }
   for (int k = 0; k < s.w; ++k) {
     const GenericSensorSpec& sen = s.sensor[k];
-    if (!std::isfinite(sen.offset) || !std::isfinite(sen.noise)) return "a sensor value is not finite";
+    if (!generic_detail::finite(sen.offset) || !generic_detail::finite(sen.noise))
+      return "a sensor value is not finite";
     if (sen.noise < 0.0f) return "a sensor's noise must be >= 0";
     if (!generic_detail::finite_all(s.C[k], s.m + s.n)) return "a sensor map value is not finite";
   }
   return nullptr;
 }
+
+// The plant's state and equations over a spec held by its owner: GenericPlant
+// keeps its spec (configured at run time), FixedGenericPlant reads a
+// constexpr one where it lies (in a HIL image's flash, not copied to RAM).
+class GenericPlantState {
+ public:
+  void reset(const GenericPlantSpec& spec, uint32_t seed) {
+    rng_.reseed(seed);
+    for (int i = 0; i < kGenericMaxM; ++i) {
+      play_[i] = spec.input[i].neutral;
+      a_[i] = 0.0f;
+    }
+    for (int j = 0; j < kGenericMaxN; ++j) {
+      const GenericOutputSpec& o = spec.output[j];
+      y_[j] = plant_detail::clampf(o.offset, o.lo, o.hi);
+    }
+  }
+
+  void step(const GenericPlantSpec& spec, const float* u, float dt) {
+    dt = plant_detail::admit_dt(dt);
+    if (!(dt > 0.0f)) return;
+    for (int i = 0; i < spec.m; ++i) {
+      const GenericInputSpec& s = spec.input[i];
+      const float ui = plant_detail::admit(u != nullptr ? u[i] : s.neutral, s.min, s.max, s.neutral);
+      play_[i] = plant_detail::play(play_[i], ui, s.play);
+      const float target = s.gain * generic_detail::shape(s, play_[i] - s.neutral);
+      a_[i] = s.tau > 0.0f ? a_[i] + plant_detail::lag_gain(dt, s.tau) * (target - a_[i]) : target;
+      if (!std::isfinite(a_[i])) a_[i] = 0.0f;
+    }
+    for (int j = 0; j < spec.n; ++j) {
+      const GenericOutputSpec& o = spec.output[j];
+      float target = o.offset;
+      for (int i = 0; i < spec.m; ++i) target += spec.B[j][i] * a_[i];
+      float y = o.tau > 0.0f ? y_[j] + plant_detail::lag_gain(dt, o.tau) * (target - y_[j]) : target;
+      // A huge gain times a huge coupling can overflow float: the box holds.
+      if (!std::isfinite(y)) y = target > 0.0f ? o.hi : o.lo;
+      y_[j] = plant_detail::clampf(y, o.lo, o.hi);
+    }
+  }
+
+  void output(const GenericPlantSpec& spec, float* y) const {
+    for (int j = 0; j < spec.n; ++j) y[j] = y_[j];
+  }
+
+  void sensors(const GenericPlantSpec& spec, float* l) {
+    const int m = spec.m;
+    for (int k = 0; k < spec.w; ++k) {
+      const float* row = spec.C[k];
+      float v = spec.sensor[k].offset;
+      for (int i = 0; i < m; ++i) v += row[i] * a_[i];
+      for (int j = 0; j < spec.n; ++j) v += row[m + j] * y_[j];
+      if (spec.sensor[k].noise > 0.0f) v += spec.sensor[k].noise * rng_.gaussian();
+      l[k] = std::isfinite(v) ? v : spec.sensor[k].offset;
+    }
+  }
+
+  static void input_limits(const GenericPlantSpec& spec, float* umin, float* umax) {
+    for (int i = 0; i < spec.m; ++i) {
+      umin[i] = spec.input[i].min;
+      umax[i] = spec.input[i].max;
+    }
+  }
+  static void neutral_input(const GenericPlantSpec& spec, float* u) {
+    for (int i = 0; i < spec.m; ++i) u[i] = spec.input[i].neutral;
+  }
+  static void output_box(const GenericPlantSpec& spec, float* lo, float* hi) {
+    for (int j = 0; j < spec.n; ++j) {
+      lo[j] = spec.output[j].lo;
+      hi[j] = spec.output[j].hi;
+    }
+  }
+
+  float actuator(int i) const { return a_[i]; }
+
+ private:
+  float play_[kGenericMaxM] = {};
+  float a_[kGenericMaxM] = {};
+  float y_[kGenericMaxN] = {};
+  Rng rng_{0};
+};
 
 class GenericPlant {
  public:
@@ -163,68 +249,14 @@ class GenericPlant {
   int w() const { return spec_.w; }
   float dt() const { return spec_.dt; }
 
-  void reset(uint32_t seed = 0) {
-    rng_.reseed(seed);
-    for (int i = 0; i < kGenericMaxM; ++i) {
-      play_[i] = spec_.input[i].neutral;
-      a_[i] = 0.0f;
-    }
-    for (int j = 0; j < kGenericMaxN; ++j) y_[j] = rest_output(j);
-  }
+  void reset(uint32_t seed = 0) { state_.reset(spec_, seed); }
+  void step(const float* u, float dt) { state_.step(spec_, u, dt); }
+  void output(float* y) const { state_.output(spec_, y); }
+  void sensors(float* l) { state_.sensors(spec_, l); }
 
-  void step(const float* u, float dt) {
-    dt = plant_detail::admit_dt(dt);
-    if (!(dt > 0.0f)) return;
-    for (int i = 0; i < spec_.m; ++i) {
-      const GenericInputSpec& s = spec_.input[i];
-      const float ui = plant_detail::admit(u != nullptr ? u[i] : s.neutral, s.min, s.max, s.neutral);
-      play_[i] = plant_detail::play(play_[i], ui, s.play);
-      const float target = s.gain * generic_detail::shape(s, play_[i] - s.neutral);
-      a_[i] = s.tau > 0.0f ? a_[i] + plant_detail::lag_gain(dt, s.tau) * (target - a_[i]) : target;
-      if (!std::isfinite(a_[i])) a_[i] = 0.0f;
-    }
-    for (int j = 0; j < spec_.n; ++j) {
-      const GenericOutputSpec& o = spec_.output[j];
-      float target = o.offset;
-      for (int i = 0; i < spec_.m; ++i) target += spec_.B[j][i] * a_[i];
-      float y = o.tau > 0.0f ? y_[j] + plant_detail::lag_gain(dt, o.tau) * (target - y_[j]) : target;
-      // A huge gain times a huge coupling can overflow float: the box holds.
-      if (!std::isfinite(y)) y = target > 0.0f ? o.hi : o.lo;
-      y_[j] = plant_detail::clampf(y, o.lo, o.hi);
-    }
-  }
-
-  void output(float* y) const {
-    for (int j = 0; j < spec_.n; ++j) y[j] = y_[j];
-  }
-
-  void sensors(float* l) {
-    const int m = spec_.m;
-    for (int k = 0; k < spec_.w; ++k) {
-      const float* row = spec_.C[k];
-      float v = spec_.sensor[k].offset;
-      for (int i = 0; i < m; ++i) v += row[i] * a_[i];
-      for (int j = 0; j < spec_.n; ++j) v += row[m + j] * y_[j];
-      if (spec_.sensor[k].noise > 0.0f) v += spec_.sensor[k].noise * rng_.gaussian();
-      l[k] = std::isfinite(v) ? v : spec_.sensor[k].offset;
-    }
-  }
-
-  void input_limits(float* umin, float* umax) const {
-    for (int i = 0; i < spec_.m; ++i) {
-      umin[i] = spec_.input[i].min;
-      umax[i] = spec_.input[i].max;
-    }
-  }
-  void neutral_input(float* u) const {
-    for (int i = 0; i < spec_.m; ++i) u[i] = spec_.input[i].neutral;
-  }
-  void output_box(float* lo, float* hi) const {
-    for (int j = 0; j < spec_.n; ++j) {
-      lo[j] = spec_.output[j].lo;
-      hi[j] = spec_.output[j].hi;
-    }
-  }
+  void input_limits(float* umin, float* umax) const { GenericPlantState::input_limits(spec_, umin, umax); }
+  void neutral_input(float* u) const { GenericPlantState::neutral_input(spec_, u); }
+  void output_box(float* lo, float* hi) const { GenericPlantState::output_box(spec_, lo, hi); }
 
   // The steady output for input u held long enough after a step from rest
   // (the neutral input), where each play operator stops `play` short of u:
@@ -245,18 +277,40 @@ class GenericPlant {
   }
 
   // Actuator state a_i (for tests and plots).
-  float actuator(int i) const { return a_[i]; }
+  float actuator(int i) const { return state_.actuator(i); }
 
  private:
-  float rest_output(int j) const {
-    return plant_detail::clampf(spec_.output[j].offset, spec_.output[j].lo, spec_.output[j].hi);
-  }
-
   GenericPlantSpec spec_{};
-  float play_[kGenericMaxM] = {};
-  float a_[kGenericMaxM] = {};
-  float y_[kGenericMaxN] = {};
-  Rng rng_{0};
+  GenericPlantState state_;
+};
+
+// A generic plant of a spec fixed at compile time, with the named plants'
+// shape (shared/plant.hpp: constant m, n, w, kDt, static limits): what a HIL
+// image carries for a rig file's `[plant] kind = "generic"` (its generated
+// nlsoft_rig.hpp holds the spec, app/firmware/image_header.cpp). The spec
+// stays where it is (flash); only the state (about 100 bytes) is the
+// plant's. Steps bit for bit as GenericPlant does with the same spec.
+template <const GenericPlantSpec& Spec>
+class FixedGenericPlant {
+  static_assert(generic_spec_problem(Spec) == nullptr, "the plant spec is one generic_spec_problem() refuses");
+
+ public:
+  static constexpr int m = Spec.m, n = Spec.n, w = Spec.w;
+  static constexpr float kDt = Spec.dt;
+
+  void reset(uint32_t seed = 0) { state_.reset(Spec, seed); }
+  void step(const float* u, float dt) { state_.step(Spec, u, dt); }
+  void output(float* y) const { state_.output(Spec, y); }
+  void sensors(float* l) { state_.sensors(Spec, l); }
+
+  static void input_limits(float* umin, float* umax) { GenericPlantState::input_limits(Spec, umin, umax); }
+  static void neutral_input(float* u) { GenericPlantState::neutral_input(Spec, u); }
+  static void output_box(float* lo, float* hi) { GenericPlantState::output_box(Spec, lo, hi); }
+
+  float actuator(int i) const { return state_.actuator(i); }
+
+ private:
+  GenericPlantState state_;
 };
 
 }  // namespace nlsoft

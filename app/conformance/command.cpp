@@ -12,7 +12,7 @@
 #include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_firmware.hpp"
+#include "app/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 
@@ -21,7 +21,7 @@ namespace {
 using namespace conformance;
 
 struct ConformanceArgs {
-  std::string port, sim, qemu, board = "mps2-an386";
+  std::string port, sim, qemu, model, board = "mps2-an386";
   unsigned baud = 115200;
   bool json = false;
   int timeout_ms = 250;
@@ -36,13 +36,19 @@ int run_conformance(const ConformanceArgs& a) {
   Summary summary;
   summary.port = a.port;
   summary.target = a.port;
+  if (!a.model.empty() && !a.port.empty())
+    throw CliError("--model names the model --sim or --qemu starts with; a board runs the model it holds");
   if (!a.sim.empty()) {
-    const std::string platform = firmware_platform_name(a.sim, "--sim");
-    summary.port = launcher.start(platform);
-    summary.target = "sim " + platform;
+    // Any rig with a plant to simulate, shipped or a file of the user's.
+    const Rig rig = load_rig_arg(a.sim);
+    require_simulated_plant(rig, "--sim");
+    std::vector<std::string> args;
+    if (!a.model.empty()) args = {"--model", a.model};
+    summary.port = launcher.start(rig_path(a.sim), args);
+    summary.target = "sim " + rig.name;
   } else if (!a.qemu.empty()) {
     // The rig's HIL image: a shipped one, or built from the file.
-    const std::string image = hil_image_for(a.qemu, a.board, "--qemu");
+    const std::string image = hil_image_for(a.qemu, a.board, "--qemu", a.model);
     summary.port = launcher.start_qemu(image, a.board);
     summary.target = "qemu " + load_rig_arg(a.qemu).name + (a.board == "mps2-an386" ? "" : " on " + a.board);
   }
@@ -73,11 +79,18 @@ void add_conformance_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand(
       "conformance", "Run the protocol conformance suite (PROTOCOL.md) against a board, the simulator or QEMU");
   c->add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
-  c->add_option("--sim", a->sim, "Start nlsoft-firmware-sim for this rig, " + rig_arg_help() + ", and test it")
+  c->add_option("--sim", a->sim,
+                "Start nlsoft-firmware-sim for this rig, " + rig_arg_help() + ", any rig with a [plant], and test it")
       ->check(rig_arg_validator());
   c->add_option("--qemu", a->qemu,
                 "Boot this rig's Cortex-M4F image (simulated plant in the loop) in qemu-system-arm and test it")
       ->check(rig_arg_validator());
+  c->add_option("--model", a->model,
+                "With --sim or --qemu: the model the simulator starts with, or the image embeds (default: the rig's "
+                "[model] file; with --qemu FILE, the model of the image `firmware build` made last from FILE). The "
+                "run checks need a model in force")
+      ->check(CLI::ExistingFile)
+      ->type_name("FILE.nlsm");
   c->add_option("--board", a->board,
                 "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                 "image in -M netduinoplus2)")
@@ -101,6 +114,7 @@ void add_conformance_command(CLI::App& app) {
       "exit 0 when all passed, 1 when one failed, 2 on a link error.\n"
       "Examples:\n"
       "  nlsoft-console conformance --sim hasel\n"
+      "  nlsoft-console conformance --sim lab-arm.toml --model lab-arm.nlsm\n"
       "  nlsoft-console conformance --qemu msd --json\n"
       "  nlsoft-console conformance --qemu hasel --board stm32f4\n"
       "  nlsoft-console conformance /dev/ttyACM0 --baud 1000000\n");

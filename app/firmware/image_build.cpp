@@ -123,6 +123,60 @@ std::string cache_dir() {
   return std::string(home) + "/.cache/nlsoft/firmware";
 }
 
+// The cache folder of an image: keyed by the header, which says everything
+// about the rig and the board, and the bytes of the model embedded.
+std::string cache_folder(const Rig& rig, const std::string& board, const ImageSource& source,
+                         const std::string& model_file) {
+  std::string keyed = source.header + source.cmake;
+  if (!model_file.empty()) keyed += read_file(model_file);
+  const uint32_t key = crc32(reinterpret_cast<const uint8_t*>(keyed.data()), keyed.size());
+  return fmt::format("{}/{}-{}-{:08x}", cache_dir(), rig.name, board, key);
+}
+
+// The image (the HIL one, or the board's) `firmware build --rig FILE --model M`
+// made last from this very file for `board`: a cache folder of the rig whose key is still the
+// one the file and its model M give now (neither changed since), with the
+// newest such image. Found by reading each folder's image.cmake for M.
+struct LastBuilt {
+  std::string dir, model;
+};
+LastBuilt last_built_with_model(const Rig& rig, const std::string& board, bool hil) {
+  LastBuilt best;
+  std::error_code ec;
+  std::string cache;
+  try {
+    cache = cache_dir();
+  } catch (const CliError&) {
+    return best;
+  }
+  fs::file_time_type newest{};
+  const std::string prefix = rig.name + "-" + board + "-";
+  for (const auto& e : fs::directory_iterator(cache, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || name.size() != prefix.size() + 8) continue;
+    const std::string cmake = read_file(e.path().string() + "/.rig/" + rig.name + "/image.cmake");
+    const std::string tag = "set(NLSOFT_IMAGE_MODEL \"";
+    const size_t at = cmake.find(tag);
+    if (at == std::string::npos) continue;
+    const size_t end = cmake.find('"', at + tag.size());
+    const std::string model = cmake.substr(at + tag.size(), end == std::string::npos ? 0 : end - at - tag.size());
+    const std::string elf =
+        fmt::format("{}/{}-{}{}.elf", e.path().string(), image_prefix(board), rig.name, hil ? "-hil" : "");
+    if (model.empty() || !fs::exists(model, ec) || !fs::exists(elf, ec)) continue;
+    try {
+      ImageRequest request;
+      request.board = board;
+      request.model_file = model;
+      if (cache_folder(rig, board, image_source(rig, request), model) != e.path().string()) continue;
+    } catch (const std::exception&) {
+      continue;  // a model that no longer fits the rig
+    }
+    const fs::file_time_type t = fs::last_write_time(elf, ec);
+    if (!ec && (best.dir.empty() || t > newest)) best = {e.path().string(), model}, newest = t;
+  }
+  return best;
+}
+
 BuiltImage sized(const std::string& path) {
   BuiltImage b;
   b.path = path;
@@ -199,13 +253,8 @@ BuiltImages build_images(const ImageBuild& q) {
   require_toolchain(q.who);
   const std::string src = firmware_src(q.who);
 
-  // The cache key: the header says everything about the rig and the board;
-  // the model's bytes what is embedded.
-  std::string keyed = source.header + source.cmake;
-  if (!request.model_file.empty()) keyed += read_file(request.model_file);
-  const uint32_t key = crc32(reinterpret_cast<const uint8_t*>(keyed.data()), keyed.size());
   const std::string dir = !q.out.empty() ? fs::absolute(q.out).lexically_normal().string()
-                                         : fmt::format("{}/{}-{}-{:08x}", cache_dir(), rig.name, q.board, key);
+                                         : cache_folder(rig, q.board, source, request.model_file);
   const std::string rigs = dir + "/.rig", build = dir + "/.build", log = dir + "/build.log";
   std::error_code ec;
   fs::create_directories(rigs, ec);
@@ -249,7 +298,8 @@ BuiltImages build_images(const ImageBuild& q) {
   return out;
 }
 
-std::string hil_image_for(const std::string& rig_arg, const std::string& board, const std::string& who) {
+std::string hil_image_for(const std::string& rig_arg, const std::string& board, const std::string& who,
+                          const std::string& model) {
   if (const char* env = std::getenv("NLSOFT_M4_IMAGE"); env && *env) {
     if (::access(env, R_OK) == 0) return env;
     throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
@@ -267,8 +317,16 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
   ImageBuild q;
   q.rig = rig.file;
   q.board = board;
+  q.model = model;
   q.hil_only = false;  // the cache folder `firmware build` fills: both images, built once
   q.who = who;
+  if (q.model.empty()) {
+    // The image last built from this file with a model (`firmware build
+    // --model`), as built: only its HIL image when that is all it has.
+    const LastBuilt last = last_built_with_model(rig, board, true);
+    q.model = last.model;
+    q.hil_only = !last.dir.empty() && !fs::exists(fmt::format("{}/{}-{}.elf", last.dir, image_prefix(board), rig.name));
+  }
   return build_images(q).hil.path;
 }
 
@@ -282,6 +340,7 @@ std::string stm32f4_image_for(const std::string& rig_arg, bool hil, const std::s
   ImageBuild q;
   q.rig = rig.file;
   q.board = "stm32f4";
+  q.model = last_built_with_model(rig, q.board, hil).model;
   q.who = who;
   const BuiltImages b = build_images(q);
   const std::string path = hil ? b.hil.path : b.board.path;

@@ -35,10 +35,15 @@ BuiltImages build_images(const ImageBuild& request);
 
 // The image with the simulated plant for `rig` on `board`: $NLSOFT_M4_IMAGE;
 // a shipped rig's built image when the rig is a shipped name or file as
-// shipped; otherwise built (or found built) in the cache folder.
-std::string hil_image_for(const std::string& rig, const std::string& board, const std::string& who);
+// shipped; otherwise built (or found built) in the cache folder, embedding
+// `model`, else the model of the image `firmware build --rig FILE --model M`
+// made last from this very file (M unchanged since), else the rig's
+// [model] file among the shipped models, else none.
+std::string hil_image_for(const std::string& rig, const std::string& board, const std::string& who,
+                          const std::string& model = "");
 
-// The stm32f4 image (the board's, or the HIL one) for `rig`, the same way.
+// The stm32f4 image (the board's, or the HIL one) for `rig`, the same way
+// (the model of the one last built from the file, else the rig's).
 std::string stm32f4_image_for(const std::string& rig, bool hil, const std::string& who);
 
 }  // namespace nlsoft::console

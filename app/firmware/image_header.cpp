@@ -11,6 +11,7 @@
 #include "app/model/model_store.hpp"
 #include "app/rig/board_pins.hpp"
 #include "app/rig/firmware_rig.hpp"
+#include "app/rig/rig_plant.hpp"
 #include "firmware/ports/stm32f4/rig_pins.hpp"
 #include "shared/platform_id.hpp"
 
@@ -166,8 +167,65 @@ std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers) {
   return o;
 }
 
+namespace {
+
+const char* shape_literal(GenericShape shape) {
+  switch (shape) {
+    case GenericShape::Tanh: return "GenericShape::Tanh";
+    case GenericShape::Saturation: return "GenericShape::Saturation";
+    case GenericShape::Power: return "GenericShape::Power";
+    default: return "GenericShape::Linear";
+  }
+}
+
+// A generic plant: its spec, value for value the one the console's
+// simulator runs (generic_plant_spec), as a constexpr the image keeps in
+// flash, and FixedGenericPlant over it (shared/plant_generic.hpp).
+std::string generic_plant_part(const Rig& rig) {
+  const GenericPlantSpec s = generic_plant_spec(rig);
+  std::string o;
+  o += "}  // namespace nlsoft::fw::cortex_m\n#include \"shared/plant_generic.hpp\"\n";
+  o += "namespace nlsoft::fw::cortex_m {\n";
+  o += "// The simulated plant of the HIL image ([plant] kind = \"generic\"): its constants as the console's\n";
+  o += "// simulator takes them from the file (app/rig/rig_plant.cpp), kept in flash.\n";
+  o += "constexpr GenericPlantSpec image_plant_spec() {\n  GenericPlantSpec s{};\n";
+  o += fmt::format("  s.m = {}, s.n = {}, s.w = {};\n  s.dt = {};\n", s.m, s.n, s.w, flt(s.dt));
+  o += "  // {min, max, neutral, gain, shape, knee, exponent, play, tau}\n";
+  for (int i = 0; i < s.m; ++i) {
+    const GenericInputSpec& in = s.input[i];
+    o += fmt::format("  s.input[{}] = {{{}, {}, {}, {}, {}, {}, {}, {}, {}}};  // {}\n", i, flt(in.min), flt(in.max),
+                     flt(in.neutral), flt(in.gain), shape_literal(in.shape), flt(in.knee), flt(in.exponent),
+                     flt(in.play), flt(in.tau), rig.inputs[size_t(i)].name);
+  }
+  o += "  // {lo, hi, offset, tau}; B: row j moves output j\n";
+  for (int j = 0; j < s.n; ++j) {
+    const GenericOutputSpec& out = s.output[j];
+    o += fmt::format("  s.output[{}] = {{{}, {}, {}, {}}};  // {}\n", j, flt(out.lo), flt(out.hi), flt(out.offset),
+                     flt(out.tau), rig.outputs[size_t(j)].name);
+    std::vector<std::string> row;
+    for (int i = 0; i < s.m; ++i) row.push_back(fmt::format("s.B[{}][{}] = {}", j, i, flt(s.B[j][i])));
+    o += fmt::format("  {};\n", fmt::join(row, ", "));
+  }
+  if (s.w > 0) o += "  // {offset, noise}; C: row k from the actuator states, then the outputs\n";
+  for (int k = 0; k < s.w; ++k) {
+    o += fmt::format("  s.sensor[{}] = {{{}, {}}};  // {}\n", k, flt(s.sensor[k].offset), flt(s.sensor[k].noise),
+                     rig.sensors[size_t(k)].name);
+    std::vector<std::string> row;
+    for (int c = 0; c < s.m + s.n; ++c) row.push_back(fmt::format("s.C[{}][{}] = {}", k, c, flt(s.C[k][c])));
+    o += fmt::format("  {};\n", fmt::join(row, ", "));
+  }
+  o += "  return s;\n}\ninline constexpr GenericPlantSpec kPlantSpec = image_plant_spec();\n";
+  o += "using Plant = FixedGenericPlant<kPlantSpec>;\n";
+  o += "static_assert(Plant::m == kRig.m && Plant::n == kRig.n && Plant::w == kRig.w, "
+       "\"the plant's dimensions are the rig's\");\n";
+  return o;
+}
+
+}  // namespace
+
 std::string plant_part(const Rig& rig) {
   if (rig.plant.kind.empty()) return "";
+  if (has_generic_plant(rig)) return generic_plant_part(rig);
   for (const NamedPlant& p : kNamedPlants)
     if (rig.plant.kind == p.kind)
       return fmt::format("}}  // namespace nlsoft::fw::cortex_m\n#include \"{}\"\nnamespace nlsoft::fw::cortex_m {{\n"
@@ -176,7 +234,8 @@ std::string plant_part(const Rig& rig) {
                          "\"the plant's dimensions are the rig's\");\n",
                          p.header, p.kind, p.type);
   fail(rig, rig.plant.line, "[plant] kind",
-       fmt::format("no image carries a '{}' plant yet (the HIL images carry msd, hasel and tendon)", rig.plant.kind));
+       fmt::format("no image carries a '{}' plant (the HIL images carry msd, hasel, tendon and generic)",
+                   rig.plant.kind));
 }
 
 std::string pins_part(const Rig& rig, const std::string& board) {

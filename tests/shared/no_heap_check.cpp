@@ -91,7 +91,13 @@ int run_generic() {
   plant.step(u, kGenericSpec.dt);
   plant.output(y);
   plant.sensors(l);
-  return y[0] - y[0] == 0.0f && l[0] - l[0] == 0.0f ? 0 : 2;
+  // ... and as a HIL image holds it: the spec in flash, the state alone in RAM.
+  static nlsoft::FixedGenericPlant<kGenericSpec> fixed;
+  fixed.reset(1);
+  fixed.step(u, kGenericSpec.dt);
+  float yf[2];
+  fixed.output(yf);
+  return y[0] - y[0] == 0.0f && l[0] - l[0] == 0.0f && yf[0] == y[0] ? 0 : 2;
 }
 
 }  // namespace

@@ -12,7 +12,7 @@ namespace nlsoft {
 namespace {
 
 // Three inputs of different shapes and ranges, two outputs, five sensors.
-GenericPlantSpec three_by_two() {
+constexpr GenericPlantSpec three_by_two() {
   GenericPlantSpec s;
   s.m = 3, s.n = 2, s.w = 5;
   s.dt = 1.0f / 80.0f;
@@ -133,6 +133,52 @@ TEST(GenericPlant, OneSeedOneRunBitForBit) {
   p.sensors(lp);
   q.sensors(lq);
   for (int k = 0; k < 5; ++k) EXPECT_EQ(lp[k], lq[k]);
+}
+
+// A HIL image's plant: the spec a constexpr (its generated nlsoft_rig.hpp),
+// the dimensions constants as the named plants have them.
+constexpr GenericPlantSpec kFixedSpec = three_by_two();
+using FixedPlant = FixedGenericPlant<kFixedSpec>;
+static_assert(FixedPlant::m == 3 && FixedPlant::n == 2 && FixedPlant::w == 5, "the spec's dimensions");
+static_assert(generic_spec_problem(kFixedSpec) == nullptr, "checked at compile time");
+
+TEST(GenericPlant, AFixedSpecStepsBitForBitAsTheConfiguredPlant) {
+  EXPECT_EQ(FixedPlant::kDt, kFixedSpec.dt);
+  float umin[3], umax[3], neutral[3], lo[2], hi[2];
+  FixedPlant::input_limits(umin, umax);
+  FixedPlant::neutral_input(neutral);
+  FixedPlant::output_box(lo, hi);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ(umin[i], kFixedSpec.input[i].min);
+    EXPECT_EQ(umax[i], kFixedSpec.input[i].max);
+    EXPECT_EQ(neutral[i], kFixedSpec.input[i].neutral);
+  }
+  EXPECT_EQ(lo[1], -5.0f);
+  EXPECT_EQ(hi[1], 15.0f);
+  // The same seed and inputs, NaN and a bad dt among them: the same sensors
+  // and outputs to the bit.
+  GenericPlant configured(kFixedSpec, 4);
+  FixedPlant fixed;
+  fixed.reset(4);
+  Rng r(3);
+  int moved = 0;
+  for (int k = 0; k < 400; ++k) {
+    float u[3];
+    for (int i = 0; i < 3; ++i) u[i] = r.uniform(kFixedSpec.input[i].min - 1.0f, kFixedSpec.input[i].max + 1.0f);
+    if (k % 97 == 5) u[1] = NAN;
+    const float dt = k % 131 == 7 ? -1.0f : kFixedSpec.dt;
+    configured.step(u, dt);
+    fixed.step(u, dt);
+    float la[5], lb[5], ya[2], yb[2];
+    configured.sensors(la);
+    fixed.sensors(lb);
+    configured.output(ya);
+    fixed.output(yb);
+    for (int c = 0; c < 5; ++c) ASSERT_EQ(la[c], lb[c]) << k;
+    for (int j = 0; j < 2; ++j) ASSERT_EQ(ya[j], yb[j]) << k;
+    moved += ya[0] != 1.0f;
+  }
+  EXPECT_GT(moved, 300);
 }
 
 TEST(GenericPlant, SteadyStateIsTheStaticMap) {

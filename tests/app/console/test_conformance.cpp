@@ -3,7 +3,10 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <filesystem>
+#include <fstream>
 #include <regex>
+#include <sstream>
 
 #include "run_process.hpp"
 
@@ -55,6 +58,37 @@ TEST_F(Conformance, JsonReportsEveryCheck) {
             std::string::npos)
       << r.output;
   EXPECT_EQ(r.output.find("PASS "), std::string::npos) << "text lines in the JSON output\n" << r.output;
+}
+
+// A rig file of the user's, not one of the shipped rigs: tendon's rig under
+// another name and tuning is served by the simulator and passes; a file
+// with no plant is refused before a simulator starts.
+TEST_F(Conformance, AnyRigFileWithAPlantIsServedAndPasses) {
+  const std::string dir = ::testing::TempDir() + "conformance-any-rig";
+  std::filesystem::create_directories(dir);
+  std::ifstream in(NLSOFT_SOURCE_DIR "/rigs/tendon.toml");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string rig = std::regex_replace(text.str(), std::regex("name = \"tendon\""), "name = \"bender\"",
+                                       std::regex_constants::format_first_only);
+  rig = std::regex_replace(rig, std::regex("\nQ = \\[[^\n]*"), "\nQ = [1e-3, 4e3, 3e3]");
+  ASSERT_NE(rig.find("name = \"bender\""), std::string::npos);
+  ASSERT_NE(rig.find("Q = [1e-3, 4e3, 3e3]"), std::string::npos);
+  std::ofstream(dir + "/bender.toml") << rig;
+  auto r = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance --sim " + dir + "/bender.toml --json");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("\"target\":\"sim bender\""), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("\"failed\":0,\"link_error\":null}"), std::string::npos) << r.output;
+  // The simulator serves the file's own rig: its name on the wire.
+  EXPECT_NE(r.output.find("rig bender, hash "), std::string::npos) << r.output;
+
+  std::ofstream(dir + "/bare.toml") << std::regex_replace(rig, std::regex("\\[plant\\]\nkind = \"tendon\"\n"), "");
+  r = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance --sim " + dir + "/bare.toml");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("--sim: rig 'bender' (" + dir + "/bare.toml) has no [plant]: nothing simulates it"),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("passed"), std::string::npos) << r.output;
 }
 
 TEST_F(Conformance, QemuWithoutItsImageIsAClearError) {

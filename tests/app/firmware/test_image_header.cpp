@@ -185,6 +185,66 @@ TEST(ImageHeader, ANamedPlantMakesTheHilImage) {
   EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_HIL 1)")) << s.cmake;
 }
 
+// The gripper with a generic plant: a tanh, a square law with backlash and
+// a hard stop, coupled into both outputs, read by five sensors.
+const char* kGenericPlant = R"(
+[plant]
+kind = "generic"
+coupling = [[3.0, 1.0, -0.5],
+            [-0.5, 1.5, 2.0]]
+output_offset = [0.5, -1.0]
+output_tau = [0.0, 0.03]
+sensor_map = [[1.0, 0.0, 0.0, 0.0, 0.0],
+              [0.0, 1.0, 0.0, 0.0, 0.0],
+              [0.0, 0.0, 1.0, 0.0, 0.0],
+              [0.0, 0.0, 0.5, 1.0, 0.0],
+              [0.2, 0.0, 0.0, 0.0, 1.0]]
+sensor_offset = [0.0, 0.0, 0.0, 0.0, 0.25]
+sensor_noise = [0.01, 0.01, 0.01, 0.01, 0.02]
+
+[[plant.actuator]]
+gain = 8.0
+shape = "tanh"
+knee = 0.4
+tau = 0.06
+
+[[plant.actuator]]
+gain = 4.0
+shape = "power"
+exponent = 2.0
+play = 0.02
+tau = 0.08
+
+[[plant.actuator]]
+gain = 3.0
+shape = "saturation"
+knee = 0.6
+tau = 0.05
+)";
+
+TEST(ImageHeader, AGenericPlantIsItsSpecInFlashAndMakesTheHilImage) {
+  const ImageSource s = source_of(std::string(kRig) + kGenericPlant, "mps2-an386");
+  const std::string& h = s.header;
+  EXPECT_TRUE(s.hil);
+  EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_HIL 1)")) << s.cmake;
+  EXPECT_TRUE(contains(h, "#include \"shared/plant_generic.hpp\"")) << h;
+  EXPECT_TRUE(contains(h, "s.m = 3, s.n = 2, s.w = 5;\n  s.dt = 0.0125f;")) << h;
+  // Each input's limits are the [[input]]'s, its statics the actuator's.
+  EXPECT_TRUE(contains(h, "s.input[0] = {0.0f, 2.0f, 0.25f, 8.0f, GenericShape::Tanh, 0.4f,")) << h;
+  EXPECT_TRUE(contains(h, "s.input[1] = {-1.0f, 1.0f, 0.0f, 4.0f, GenericShape::Power,")) << h;
+  EXPECT_TRUE(contains(h, ", 2.0f, 0.02f, 0.08f};  // finger2")) << h;
+  EXPECT_TRUE(contains(h, "s.input[2] = {0.0f, 1.0f, 0.5f, 3.0f, GenericShape::Saturation, 0.6f,")) << h;
+  // The outputs' box is the [[output]]'s range; B and C row by row.
+  EXPECT_TRUE(contains(h, "s.output[0] = {-10.0f, 10.0f, 0.5f, 0.0f};  // x")) << h;
+  EXPECT_TRUE(contains(h, "s.output[1] = {-5.0f, 5.0f, -1.0f, 0.03f};  // y")) << h;
+  EXPECT_TRUE(contains(h, "s.B[1][0] = -0.5f, s.B[1][1] = 1.5f, s.B[1][2] = 2.0f;")) << h;
+  EXPECT_TRUE(contains(h, "s.sensor[4] = {0.25f, 0.02f};  // s5")) << h;
+  EXPECT_TRUE(contains(h, "s.C[4][0] = 0.2f, s.C[4][1] = 0.0f, s.C[4][2] = 0.0f, s.C[4][3] = 0.0f, "
+                          "s.C[4][4] = 1.0f;")) << h;
+  EXPECT_TRUE(contains(h, "inline constexpr GenericPlantSpec kPlantSpec = image_plant_spec();")) << h;
+  EXPECT_TRUE(contains(h, "using Plant = FixedGenericPlant<kPlantSpec>;")) << h;
+}
+
 TEST(ImageHeader, MoreActuatorsThanThePwmRowsIsOneErrorAtTheInput) {
   std::string text = kRig;
   const std::string extra = "\n[[input]]\nname = \"more{}\"\nmin = 0.0\nmax = 1.0\nneutral = 0.5\n";
@@ -258,6 +318,39 @@ static_assert(nlsoft::fw::cortex_m::kRig.rate_hz == 80.0f, "80 Hz");
   std::ifstream log(tmp_dir() + "/cc.log");
   std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_EQ(rc, 0) << text;
+}
+
+// The generic plant's HIL image compiled where it goes: the real main.cpp
+// with HilHal<Plant>, for both boards; the spec checked at compile time.
+TEST(ImageHeader, AGenericPlantsHilImageCompilesForCortexM4) {
+  if (std::system("command -v arm-none-eabi-g++ >/dev/null 2>&1") != 0) GTEST_SKIP() << "no arm-none-eabi-g++";
+  std::string flags;
+  std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
+  for (std::string w; std::getline(warnings, w);)
+    if (!w.empty() && w[0] == '-') flags += " " + w;
+  for (const std::string board : {"mps2-an386", "stm32f4"}) {
+    SCOPED_TRACE(board);
+    const std::string dir = tmp_dir() + "/generic-" + board;
+    write_image_source(source_of(std::string(kRig) + kGenericPlant, board), dir + "/gripper");
+    std::ofstream(dir + "/check.cpp") << R"(#define NLSOFT_HIL 1
+#define NLSOFT_FIRMWARE_NAME "nlsoft-test"
+#define NLSOFT_HAVE_MODEL 0
+#include "firmware/ports/cortex-m/main.cpp"
+namespace cm = nlsoft::fw::cortex_m;
+static_assert(cm::Plant::m == 3 && cm::Plant::n == 2 && cm::Plant::w == 5, "the rig's size");
+static_assert(cm::kPlantSpec.B[0][2] == -0.5f && cm::kPlantSpec.C[3][2] == 0.5f, "the file's coupling and map");
+static_assert(cm::kPlantSpec.input[1].shape == nlsoft::GenericShape::Power, "b's square law");
+static_assert(cm::Plant::kDt == 0.0125f, "80 Hz");
+)";
+    const std::string cmd = "arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os "
+                            "-std=c++17 -fno-exceptions -fno-rtti -Werror" + flags + " -I" + dir + "/gripper -I"
+                            NLSOFT_SOURCE_DIR "/firmware/ports/" + board + " -I" NLSOFT_SOURCE_DIR " -c " + dir +
+                            "/check.cpp -o " + dir + "/check.o 2>" + dir + "/cc.log";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream log(dir + "/cc.log");
+    std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(rc, 0) << text;
+  }
 }
 
 }  // namespace

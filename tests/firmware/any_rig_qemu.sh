@@ -1,0 +1,238 @@
+#!/usr/bin/env bash
+# A rig that exists only as a file, from simulation to the MCU, as a lab
+# would take it: my.toml (written here, not one of rigs/: 3 inputs, 2
+# outputs, 5 sensors, 80 Hz, a generic plant) is recorded from its plant and
+# trained (`dataset --rig`, `train --rig`); the model tracks an Infinity on
+# that plant (`simulate --rig --model`, nRMSE <= 5 % of the output span);
+# the simulator serves the file with the model (`--sim my.toml` records a
+# run; `conformance --sim my.toml --model`). Then for each board
+# `firmware build --rig my.toml --hil --model` builds the image that
+# simulates the rig on the MCU; QEMU boots it for `conformance --qemu
+# my.toml` (every check passes, on the image just built) and for a scripted
+# `--qemu my.toml` session that records runs with no lost frame. Last, a
+# model of another shape is refused before a byte is sent: the firmware
+# still runs the trained model afterwards (a run on the same QEMU carries
+# its hash).
+# Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
+#   any_rig_qemu.sh CONSOLE
+set -u
+console=$1
+command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
+command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
+unset NLSOFT_M4_IMAGE
+fail=0
+say() { echo "FAIL: $*"; fail=1; }
+# json FILE EXPR: EXPR over the JSON value j, printed (python3, as the other QEMU tests use).
+json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+# recorded LABEL MIN_SAMPLES: the id of the run of that label, recorded in full
+# with at least MIN_SAMPLES samples and no frame lost, whose firmware ran the
+# trained model (`runs show`: "model <hash>"); nothing otherwise.
+recorded() {
+  "$console" runs list --json >runs.json 2>log.txt || { say "runs list: $(cat log.txt)"; return; }
+  local id
+  id=$(json runs.json "' '.join(str(r['id']) for r in j if r['label'] == '$1' and r['end_reason'] == 'completed' and r['samples'] >= $2 and r['lost_frames'] == 0)")
+  [ -n "$id" ] && "$console" runs show "$id" | grep -q ", model $hash, " && echo "$id"
+}
+
+cat >my.toml <<'EOF'
+name = "stage"
+description = "three actuators, two outputs a camera measures, five sensors"
+rate_hz = 80.0
+nd = 2
+dd = 2
+
+[[input]]
+name = "a"
+min = 0.0
+max = 1.0
+neutral = 0.5
+pwm = "PC6"
+
+[[input]]
+name = "b"
+min = -1.0
+max = 1.0
+neutral = 0.0
+pwm = "PC7"
+
+[[input]]
+name = "c"
+min = 0.0
+max = 2.0
+neutral = 1.0
+pwm = "PC8"
+
+[[output]]
+name = "x"
+unit = "mm"
+min = -10.0
+max = 10.0
+source = "external"
+
+[[output]]
+name = "y"
+unit = "mm"
+min = -10.0
+max = 10.0
+source = "external"
+
+[[sensor]]
+name = "s1"
+source = "adc"
+adc = 0
+
+[[sensor]]
+name = "s2"
+source = "adc"
+adc = 1
+
+[[sensor]]
+name = "s3"
+source = "adc"
+adc = 4
+
+[[sensor]]
+name = "s4"
+source = "adc"
+adc = 6
+
+[[sensor]]
+name = "s5"
+source = "adc"
+adc = 7
+
+[controller]
+Q = [1e3, 1e3]
+Lambda = [1.0, 1.0, 1.0]
+s = 1e-20
+b = 0.0
+r = 400.0
+N = 4
+Nc = 2
+eps = 1e-3
+nr_max_iter = 2
+feedback = "measured"
+
+[plant]
+kind = "generic"
+coupling = [[3.0, 1.0, -0.5],
+            [-0.5, 1.5, 2.0]]
+output_tau = [0.0, 0.03]
+sensor_map = [[1.0, 0.0, 0.0, 0.0, 0.0],
+              [0.0, 1.0, 0.0, 0.0, 0.0],
+              [0.0, 0.0, 1.0, 0.0, 0.0],
+              [0.0, 0.0, 0.5, 1.0, 0.0],
+              [0.2, 0.0, 0.0, 0.0, 1.0]]
+sensor_noise = [0.01, 0.01, 0.01, 0.01, 0.01]
+
+[[plant.actuator]]
+gain = 8.0
+shape = "tanh"
+knee = 0.4
+tau = 0.06
+
+[[plant.actuator]]
+gain = 4.0
+shape = "power"
+exponent = 2.0
+play = 0.02
+tau = 0.08
+
+[[plant.actuator]]
+gain = 3.0
+shape = "saturation"
+knee = 0.6
+tau = 0.05
+EOF
+
+# Recorded from the plant and trained: as few samples and epochs as still track well.
+"$console" dataset --rig my.toml --out my.csv --steps 12000 >log.txt 2>&1 || { cat log.txt; echo "FAIL: dataset"; exit 1; }
+"$console" train --rig my.toml --data my.csv --out trained.nlsm --epochs 60 >log.txt 2>&1 ||
+  { cat log.txt; echo "FAIL: train"; exit 1; }
+"$console" simulate --rig my.toml --model trained.nlsm --reference infinity --json >sim.json 2>log.txt ||
+  { cat log.txt; echo "FAIL: simulate"; exit 1; }
+# nRMSE against the output span (20 mm), the worst axis.
+worst=$(json sim.json 'max(e / 20.0 for e in j["rmse"])')
+echo "simulate: Infinity tracked at nRMSE $worst of the output span (nrmse $(json sim.json 'j["nrmse"]'))"
+python3 -c "import sys; sys.exit(not (0 < $worst <= 0.05))" || say "simulate: nRMSE $worst of the span, above 5 %"
+hash=$("$console" model info trained.nlsm | sed -n 's/^ *hash 0x\([0-9a-f]*\)$/\1/p')
+[ -n "$hash" ] || { echo "FAIL: no hash from model info"; exit 1; }
+
+# The simulator serves the file, with the trained model uploaded.
+printf 'model upload trained.nlsm\nrun 1s label=sim\nexpect lost_frames == 0\n' >sim.nls
+timeout 120 "$console" --sim my.toml --sim-fast --script sim.nls >session.txt 2>&1 ||
+  say "--sim my.toml --script: $(tail -5 session.txt)"
+grep -q "model trained.nlsm in force: hash $hash confirmed" session.txt || say "--sim: no model confirmed: $(cat session.txt)"
+[ -n "$(recorded sim 80)" ] || say "--sim my.toml: no run recorded: $(cat session.txt)"
+timeout 120 "$console" conformance --sim my.toml --model trained.nlsm --json >conf.json 2>log.txt ||
+  say "conformance --sim my.toml: $(head -c 600 conf.json) $(cat log.txt)"
+[ "$(json conf.json 'j["target"] == "sim stage" and j["failed"] == 0 and j["passed"] > 70')" = True ] ||
+  say "conformance --sim: $(head -c 300 conf.json)"
+
+# Another shape: a model the images have no kernel for.
+"$console" train --rig my.toml --data my.csv --out other.nlsm --hidden 8 --epochs 1 >log.txt 2>&1 ||
+  { cat log.txt; echo "FAIL: train other.nlsm"; exit 1; }
+for board in mps2-an386 stm32f4; do
+  prefix=nlsoft-m4
+  [ $board = stm32f4 ] && prefix=nlsoft-stm32f4
+  if ! "$console" firmware build --rig my.toml --board $board --hil --model trained.nlsm >build.txt 2>build.err; then
+    say "firmware build --board $board: $(cat build.txt build.err)"
+    continue
+  fi
+  cat build.txt
+  hil=$(grep -- "/$prefix-stage-hil.elf\$" build.txt | awk '{print $2}')
+  [ -f "$hil" ] || { say "$board: no HIL image reported: $(cat build.txt)"; continue; }
+  grep -qE '^ +flash [0-9]+ bytes, RAM [0-9]+ bytes$' build.txt || say "$board: no sizes: $(cat build.txt)"
+  before=$(stat -c %Y "$hil")
+
+  timeout 300 "$console" conformance --qemu my.toml --board $board --json >conf.json 2>log.txt ||
+    say "conformance --qemu my.toml --board $board: $(head -c 600 conf.json) $(tail -3 log.txt)"
+  [ "$(json conf.json 'j["target"].startswith("qemu stage") and j["failed"] == 0 and j["passed"] > 70')" = True ] ||
+    say "$board: conformance: $(head -c 300 conf.json)"
+
+  # Runs on the MCU's own controller, the trained model embedded.
+  printf 'run 3s label=%s-1\nexpect lost_frames == 0\nrun 3s label=%s-2\nexpect lost_frames == 0\n' $board $board >hil.nls
+  timeout 120 "$console" --qemu my.toml --board $board --script hil.nls >session.txt 2>&1 ||
+    say "--qemu my.toml --board $board --script: $(tail -5 session.txt)"
+  for run in $board-1 $board-2; do
+    [ -n "$(recorded $run 200)" ] || say "$board: run $run not recorded in full: $(cat session.txt)"
+  done
+  [ "$(stat -c %Y "$hil")" = "$before" ] || say "$board: --qemu built the image again"
+  [ $board = mps2-an386 ] && an386=$hil
+done
+
+# A model of another shape, on the QEMU image a user started by hand (so
+# that the firmware outlives the console): refused from RIG_INFO before the
+# transfer, in one sentence, exit 2; the next session's run on the same
+# firmware still runs the trained model.
+if [ -f "${an386:-}" ]; then
+  qemu-system-arm -nographic -monitor none -M mps2-an386 -serial pty -kernel "$an386" >qemu.out 2>&1 &
+  qemu=$!
+  port=
+  for _ in $(seq 50); do
+    port=$(sed -n 's|.*redirected to \(/dev/pts/[0-9]*\).*|\1|p' qemu.out)
+    [ -n "$port" ] && break
+    sleep 0.1
+  done
+  echo "model upload other.nlsm" >other.nls
+  timeout 60 "$console" "$port" --rig my.toml --script other.nls >other.txt 2>&1
+  rc=$?
+  cat other.txt
+  [ $rc -eq 2 ] || say "another shape: exit $rc, expected 2"
+  grep -qF "other.nlsm is Dense 15->8->2; this firmware (rig stage) accepts Dense 15->16->2 only" other.txt ||
+    say "another shape: not refused by its shape: $(cat other.txt)"
+  grep -q "in force" other.txt && say "another shape: a model was put in force"
+  printf 'run 1s label=after-refusal\n' >after.nls
+  timeout 60 "$console" "$port" --rig my.toml --script after.nls >after.txt 2>&1 || say "after the refusal: $(tail -5 after.txt)"
+  [ -n "$(recorded after-refusal 40)" ] ||
+    say "after the refusal the firmware does not run the trained model: $(cat after.txt)"
+  kill "$qemu"
+  wait "$qemu" 2>/dev/null
+fi
+
+[ $fail -eq 0 ] && echo "a rig file from simulation to both boards' HIL images: all checks passed"
+exit $fail
