@@ -22,7 +22,7 @@ add_library(nlsoft_console_live STATIC ${NLSOFT_CONSOLE_LIVE_SOURCES})
 target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_APP_INCLUDE} PRIVATE ${CURSES_INCLUDE_DIRS})
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
-  PUBLIC nlsoft_console_core nlsoft_firmware_image nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
+  PUBLIC nlsoft_console_core nlsoft_firmware_image nlsoft_model_pipeline nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
   PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT)
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)

@@ -43,6 +43,7 @@ Series from_table(const Table& t, const std::string& name) {
                         "' (expected time,u0..,y0..,l0.. in that order)");
   Series s;
   s.resize(t.rows, m, n, w);
+  s.name = name;
   for (long r = 0; r < t.rows; ++r) {
     s.time(r) = t.at(r, 0);
     if (r > 0 && !(s.time(r) > s.time(r - 1)))
