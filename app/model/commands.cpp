@@ -175,6 +175,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
 
   int validate = -1;
   const std::vector<Series> runs = training_runs(a, target, load_run, &validate);
+  for (const Series& s : runs) check_dimensions(s, target);
   long samples = 0, gaps = 0;
   for (const Series& s : runs) samples += s.rows(), gaps += long(s.breaks.size());
   std::printf("training on %zu run%s of rig %s: %ld samples, %ld gap%s; nd = %d, dd = %d\n", runs.size(),
@@ -195,6 +196,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   const TrainResult r = train(runs, target, o, validate);
   bar.finish();
   ModelFile f = r.model;
+  f.fit = fit_to_json(model_fit(r, target));
   save_model_file(a.out, f);
   const std::string unit = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
   std::printf("trained %s model in %.1f s (%d epochs), %s, rows train %ld / val %ld / test %ld\n",
@@ -345,6 +347,10 @@ void run_info(const std::string& path) {
   }
   std::printf("  parameters: %s\n  hash 0x%08x\n", model_size_words(weights + M.norm_count(), M.norm_count()).c_str(),
               M.hash);
+  if (f.fit.empty())
+    std::printf("no fit recorded (train keeps one; this model was imported or trained before)\n");
+  else
+    std::printf("%s", fit_table(fit_from_json(f.fit, path)).c_str());
 }
 
 }  // namespace

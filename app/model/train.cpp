@@ -219,6 +219,14 @@ TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt)
   return train(s, platform_target(platform), opt);
 }
 
+void check_dimensions(const Series& s, const PlantTarget& target) {
+  if (s.m != target.m || s.n != target.n || s.w != target.w)
+    throw PipelineError((s.name.empty() ? std::string("the data") : s.name) + " has m=" + std::to_string(s.m) +
+                        " n=" + std::to_string(s.n) + " w=" + std::to_string(s.w) + " but rig '" + target.name +
+                        "' has m=" + std::to_string(target.m) + " n=" + std::to_string(target.n) +
+                        " w=" + std::to_string(target.w));
+}
+
 TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions& opt) {
   return train(std::vector<Series>{s}, target, opt);
 }
@@ -229,13 +237,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
   if (runs.empty()) throw PipelineError("no data to train on");
   if (validate >= int(runs.size())) throw PipelineError("the validation run is not among the runs");
   if (validate >= 0 && runs.size() < 2) throw PipelineError("a validation run needs at least one other run to train on");
-  for (const Series& s : runs) {
-    if (s.m != target.m || s.n != target.n || s.w != target.w)
-      throw PipelineError((s.name.empty() ? std::string("the data") : s.name) + " has m=" + std::to_string(s.m) +
-                          " n=" + std::to_string(s.n) + " w=" + std::to_string(s.w) + " but rig '" + target.name +
-                          "' has m=" + std::to_string(target.m) + " n=" + std::to_string(target.n) +
-                          " w=" + std::to_string(target.w));
-  }
+  for (const Series& s : runs) check_dimensions(s, target);
   const Series& s = runs.front();
   if (opt.layers.empty() || opt.layers.back().units != s.n)
     throw PipelineError("the last layer must have n = " + std::to_string(s.n) + " units");

@@ -94,6 +94,8 @@ TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions
 // the others keep their last part for validation.
 TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, const TrainOptions& opt,
                   int validate = -1);
+// Throws PipelineError, naming the series, when its m, n, w are not the rig's.
+void check_dimensions(const Series& s, const PlantTarget& target);
 
 // The architecture the paper uses on each platform (see app/models/README.md).
 TrainOptions default_options(PlatformId platform);

@@ -7,13 +7,19 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <cstdio>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "app/record/recorder.hpp"
+#include "app/record/run_store.hpp"
 #include "app/record/sample.hpp"
+#include "shared/crc32.hpp"
+#include "shared/model_file.hpp"
 #include "run_process.hpp"
 #include "temp_dir.hpp"
 
@@ -155,6 +161,55 @@ TEST_F(TrainRuns, RunsThatCannotTrainAModelAreRefusedByName) {
     EXPECT_TRUE(contains(r.output, c.message)) << c.args << "\n" << r.output;
     EXPECT_FALSE(std::ifstream(out).good()) << c.args;
   }
+}
+
+// The fit train prints is kept in the model file after the model, `model
+// info` shows it, and the model is what a firmware gets: the hash train
+// names is the CRC of the model's own bytes, and a session's `model upload`
+// of the file puts that hash in force (and in the runs recorded after it).
+TEST_F(TrainRuns, TheFitIsKeptInTheFileAndTheUploadedModelKeepsItsHash) {
+  record_msd();
+  const std::string model = dir_.file("fit.nlsm");
+  const auto trained = console("train --rig msd --run 1 --db " + shell_quote(db()) + " --out " + shell_quote(model));
+  ASSERT_EQ(trained.code, 0) << trained.output;
+  const std::string head = line_of(trained.output, "fit on held-out data of rig msd: the last 1/11 of the run (");
+  const std::string row = line_of(trained.output, "  x ");
+  ASSERT_FALSE(head.empty()) << trained.output;
+  ASSERT_FALSE(row.empty()) << trained.output;
+  EXPECT_TRUE(contains(row, " %")) << row;
+
+  const auto info = console("model info " + shell_quote(model));
+  ASSERT_EQ(info.code, 0) << info.output;
+  EXPECT_EQ(line_of(info.output, "fit on held-out data"), head) << info.output;
+  EXPECT_EQ(line_of(info.output, "  x "), row) << info.output;
+
+  std::ifstream in(model, std::ios::binary);
+  const std::vector<uint8_t> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  ASSERT_GT(bytes.size(), kModelHeaderSize);
+  const size_t model_size = model_file_size(bytes[model_offset::kLayers], detail::rd32(&bytes[model_offset::kParams]));
+  EXPECT_GT(bytes.size(), model_size) << "no section after the model";
+  const uint32_t crc = crc32(bytes.data(), model_size - 4);
+  EXPECT_EQ(detail::rd32(&bytes[model_size - 4]), crc);
+  char hash[16];
+  std::snprintf(hash, sizeof hash, "%08x", crc);
+  EXPECT_TRUE(contains(trained.output, "hash 0x" + std::string(hash))) << trained.output;
+  EXPECT_TRUE(contains(info.output, "hash 0x" + std::string(hash))) << info.output;
+
+  const std::string script = dir_.file("upload.nls");
+  std::ofstream(script) << "model upload " << model << "\nrun 200ms label=after\n";
+  const auto session =
+      console("--sim msd --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  ASSERT_EQ(session.code, 0) << session.output;
+  EXPECT_TRUE(contains(session.output, "in force: hash " + std::string(hash) + " confirmed")) << session.output;
+  EXPECT_EQ(RunStore(db()).run(2).model_hash, crc);
+
+  // Bytes after the model that are no section: not a model file.
+  const std::string junk = dir_.file("junk.nlsm");
+  std::ofstream(junk, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(model_size))
+      << "junk";
+  const auto refused = console("model info " + shell_quote(junk));
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_TRUE(contains(refused.output, "bytes after the model that are no section")) << refused.output;
 }
 
 }  // namespace
