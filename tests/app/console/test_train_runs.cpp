@@ -167,6 +167,58 @@ TEST_F(TrainRuns, RunsThatCannotTrainAModelAreRefusedByName) {
 // info` shows it, and the model is what a firmware gets: the hash train
 // names is the CRC of the model's own bytes, and a session's `model upload`
 // of the file puts that hash in force (and in the runs recorded after it).
+// --validate-run holds a whole run out for the fit; --nd/--dd set the lags
+// within what the controller holds; a run with a gap (the firmware's step
+// count jumps) trains with the gap said.
+TEST_F(TrainRuns, AValidationRunLagsAndAGapAreTheRunsAndTheUsers) {
+  const std::string script = dir_.file("two.nls");
+  std::ofstream(script) << "run 1s label=a\nrun 1s label=b\n";
+  auto r = console("--sim msd --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string model = dir_.file("v.nlsm");
+  r = console("train --rig msd --run 1 --validate-run 2 --nd 3 --dd 3 --db " + shell_quote(db()) + " --out " +
+              shell_quote(model));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const uint64_t second = RunStore(db()).run(2).samples;
+  EXPECT_TRUE(contains(r.output, "fit on held-out data of rig msd: run 2, whole (" + std::to_string(second - 3) +
+                                     " rows)"))
+      << r.output;
+  EXPECT_TRUE(contains(r.output, "nd = 3, dd = 3")) << r.output;
+  r = console("model info " + shell_quote(model));
+  EXPECT_TRUE(contains(r.output, "m=1 n=1 w=0 nd=3 dd=3")) << r.output;
+
+  for (const std::string& bad : {std::string("--run 1 --validate-run 1"), std::string("--run 1 --nd 5")}) {
+    r = console("train --rig msd " + bad + " --db " + shell_quote(db()) + " --out " + shell_quote(dir_.file("n.nlsm")));
+    EXPECT_EQ(r.code, 2) << bad << "\n" << r.output;
+  }
+
+  {
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "msd";
+    ri.n = ri.m = 1;
+    ri.loop_rate_hz = 1000;
+    const int64_t id = rec.begin_run(ri);
+    for (int k = 0; k < 600; ++k) {
+      Sample s;
+      s.k = uint64_t(k);
+      s.n = s.m = 1;
+      s.step = uint32_t(k < 300 ? k : k + 40);  // 40 steps lost after sample 299
+      s.time_us = s.step * 1000u;
+      s.mask = protocol::telemetry_field::kStep | protocol::telemetry_field::kTime | protocol::telemetry_field::kU |
+               protocol::telemetry_field::kYTrue;
+      s.u()[0] = float((k / 25) % 2);
+      s.y_true()[0] = 0.001f * float(k % 50);
+      rec.add_sample(id, s);
+    }
+    rec.end_run(id, "completed", 600, 40);
+    rec.flush();
+  }
+  r = console("train --rig msd --run 3 --db " + shell_quote(db()) + " --out " + shell_quote(dir_.file("g.nlsm")));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "  run 3: 600 samples, 1 gap, ")) << r.output;
+}
+
 TEST_F(TrainRuns, TheFitIsKeptInTheFileAndTheUploadedModelKeepsItsHash) {
   record_msd();
   const std::string model = dir_.file("fit.nlsm");
