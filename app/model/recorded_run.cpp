@@ -145,9 +145,8 @@ Series read_training_csv(const std::string& path, const PlantTarget& target) {
   if (head.rfind("time", 0) == 0) return parse_series_csv(in, path);
   if (head.rfind("k,step,time_us", 0) == 0)
     return recorded_series(run_from_export(parse_csv(in, path, true, true), path), target);
-  throw PipelineError(path +
-                      ": not training data: the header must start with 'time' (a dataset: time,u0..,y0..,l0..) "
-                      "or with 'k,step,time_us' (a run, as `nlsoft-console runs export ID --csv` writes it)");
+  // Neither: read as a dataset, which names a bad cell first, then the header.
+  return parse_series_csv(in, path);
 }
 
 }  // namespace nlsoft::pipeline
