@@ -101,6 +101,16 @@ Series recorded_series(const RecordedRun& r, const PlantTarget& t) {
     for (int c = 0; c < r.n; ++c) s.y(long(j), c) = r.y[size_t(i) * size_t(r.n) + size_t(c)];
     for (int c = 0; c < w; ++c) s.l(long(j), c) = r.l[size_t(i) * size_t(w) + size_t(c)];
   }
+  // No two samples a control step apart: telemetry decimated (every d-th
+  // step sent), which no lag window can be built from.
+  if (keep.size() > 2 && s.breaks.size() == keep.size() - 1) {
+    const int64_t a = r.step[size_t(keep[0])], b = r.step[size_t(keep[1])];
+    const std::string apart = a >= 0 && b >= 0 ? std::to_string(uint32_t(uint64_t(b) - uint64_t(a))) + " control steps"
+                                               : "more than a control step";
+    throw PipelineError(r.name + ": no two samples are one control step apart (the first two are " + apart +
+                        " apart: telemetry decimated?); the model steps one control period: record with "
+                        "--decimation 1");
+  }
   return s;
 }
 

@@ -219,4 +219,16 @@ TEST(RecordedRun, StepJumpsAndIncompleteSamplesBreakTheSeries) {
   RecordedRun unmeasured = r;
   for (double& y : unmeasured.y) y = std::nan("");
   EXPECT_THROW(recorded_series(unmeasured, t), PipelineError);
+  // Telemetry decimated by 4: no sample follows another by one step.
+  RecordedRun decimated = r;
+  for (size_t i = 0; i < decimated.step.size(); ++i) decimated.step[i] = int64_t(4 * i), decimated.y[i] = 0.1;
+  try {
+    recorded_series(decimated, t);
+    ADD_FAILURE() << "a decimated run was taken";
+  } catch (const PipelineError& e) {
+    EXPECT_NE(std::string(e.what()).find("run 7: no two samples are one control step apart (the first two are 4 "
+                                         "control steps apart"),
+              std::string::npos)
+        << e.what();
+  }
 }
