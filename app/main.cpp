@@ -11,6 +11,7 @@
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
 #include "app/model/commands.hpp"
+#include "app/record/run_training.hpp"
 #include "app/record/runs_command.hpp"
 #include "app/rig/rig_command.hpp"
 #include "app/rig/rig_pipeline.hpp"
@@ -39,9 +40,10 @@ int main(int argc, char** argv) {
   add_flash_command(app);
   add_firmware_command(app);
   add_simulate_command(app);
-  // dataset and train take any rig file (or a shipped rig's name).
+  // dataset and train take any rig file (or a shipped rig's name); train
+  // reads recorded runs from the console's database.
   add_dataset_command(app, rig_target_arg);
-  add_train_command(app, rig_target_arg);
+  add_train_command(app, rig_target_arg, load_recorded_run);
   add_model_command(app);
   add_rig_command(app);
   // Last: CLI11 copies the main app's footer into every subcommand made

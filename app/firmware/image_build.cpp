@@ -18,6 +18,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/firmware/image_header.hpp"
+#include "app/model/model_section.hpp"
 #include "app/paths/install_paths.hpp"
 #include "app/progress_bar.hpp"
 #include "app/rig/rig_catalog.hpp"
@@ -262,6 +263,19 @@ BuiltImages build_images(const ImageBuild& q) {
   // One rig per folder: the port project builds every rig folder it finds.
   for (const auto& e : fs::directory_iterator(rigs))
     if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
+  // The image embeds the model alone: what a file carries after it
+  // (train's fit) is not the firmware's, and its boot parse would refuse it.
+  if (!request.model_file.empty()) {
+    const std::string bytes = read_file(request.model_file);
+    const pipeline::ModelFileParts parts =
+        pipeline::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+    if (parts.model_size < bytes.size() && !parts.bad_trailer) {
+      request.model_file = dir + "/model.nlsm";
+      std::ofstream(request.model_file, std::ios::binary | std::ios::trunc)
+          .write(bytes.data(), std::streamsize(parts.model_size));
+      source = image_source(rig, request);
+    }
+  }
   write_image_source(source, rigs + "/" + rig.name);
   fs::remove(log, ec);
 

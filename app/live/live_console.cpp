@@ -20,6 +20,7 @@
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/model/model_section.hpp"
 #include "app/rig/rig_catalog.hpp"
 #include "app/input_file.hpp"
 #include "app/output_file.hpp"
@@ -607,7 +608,13 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max), false};
   if (fw_limit >= host_max) kind.limit_words = "this firmware takes models of at most";
   const std::string text = read_input_file(path, kind);
-  const std::vector<uint8_t> bytes(text.begin(), text.end());
+  // A file may carry sections after its model (train's fit) the firmware
+  // never gets: only the model is checked and sent.
+  const pipeline::ModelFileParts parts =
+      pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  if (parts.bad_trailer)
+    throw CliError(fmt::format("{}: not a usable model file: bytes after the model that are no section of one", path));
+  const std::vector<uint8_t> bytes(text.begin(), text.begin() + std::ptrdiff_t(parts.model_size));
   // RIG_INFO (protocol 1.2): a shape the firmware has no kernel for would be
   // refused at its header chunk or its commit; refused here, nothing is sent.
   if (const auto rig = device_->rig())

@@ -16,6 +16,7 @@
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
 #include "app/model/keras_import.hpp"
+#include "app/model/model_fit.hpp"
 #include "app/model/model_size_words.hpp"
 #include "app/model/progress.hpp"
 #include "app/model/train.hpp"
@@ -90,16 +91,59 @@ void run_dataset(const DatasetArgs& a, const TargetResolver& resolve) {
 
 // ---------------------------------------------------------------- train
 struct TrainArgs {
-  std::string rig, data, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise;
+  std::string rig, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise, nd, dd, db;
+  std::vector<std::string> data;
+  std::vector<int64_t> runs;
+  int64_t validate_run = 0;
   bool residual = false, absolute = false;
 };
 
-void run_train(const TrainArgs& a, const TargetResolver& resolve) {
+// The training runs: every --data file, then every --run, then the
+// --validate-run (its index returned in `validate`, else -1).
+std::vector<Series> training_runs(const TrainArgs& a, const PlantTarget& target, const RunLoader& load_run,
+                                  int* validate) {
+  std::vector<Series> runs;
+  for (const std::string& file : a.data) runs.push_back(read_training_csv(file, target));
+  std::vector<int64_t> ids = a.runs;
+  *validate = -1;
+  if (a.validate_run > 0) {
+    for (int64_t id : a.runs)
+      if (id == a.validate_run)
+        throw PipelineError("run " + std::to_string(id) + " is both a --run and the --validate-run: a run held out "
+                            "is not trained on");
+    ids.push_back(a.validate_run);
+  }
+  if (!ids.empty() && !load_run) throw PipelineError("--run needs the console's database, which this build lacks");
+  for (size_t i = 0; i < ids.size(); ++i) {
+    for (size_t j = 0; j < i; ++j)
+      if (ids[j] == ids[i]) throw PipelineError("run " + std::to_string(ids[i]) + " is given twice");
+    const RecordedRun r = load_run(a.db, ids[i]);
+    runs.push_back(recorded_series(r, target));
+    if (r.rate_hz > 0 && target.rate_hz > 0 && std::abs(r.rate_hz / target.rate_hz - 1.0) > 0.01)
+      std::fprintf(stderr,
+                   "nlsoft-console: warning: %s ran at %g Hz, rig '%s' at %g Hz: the model steps at the run's rate\n",
+                   r.name.c_str(), r.rate_hz, target.name.c_str(), target.rate_hz);
+    if (a.validate_run > 0 && ids[i] == a.validate_run) *validate = int(runs.size()) - 1;
+  }
+  return runs;
+}
+
+std::string fmt_g(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoader& load_run) {
   need(a.rig, "--rig");
-  need(a.data, "--data");
+  if (a.data.empty() && a.runs.empty())
+    throw PipelineError("give the data to train on: --run ID (a recorded run) or --data FILE.csv (see --help)");
   need(a.out, "--out");
   const PlantTarget target = resolve(a.rig);
   TrainOptions o = default_options(target);
+  // The rig's lags unless overridden, within what every controller holds.
+  if (!a.nd.empty()) o.nd = static_cast<int>(to_long("--nd", a.nd, 1, HostCapacity::nd));
+  if (!a.dd.empty()) o.dd = static_cast<int>(to_long("--dd", a.dd, 1, HostCapacity::nd));
   if (!a.arch.empty() || !a.hidden.empty()) {
     const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
     if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
@@ -129,12 +173,30 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve) {
   if (a.residual) o.residual = true;
   if (a.absolute) o.residual = false;
 
-  const Series s = read_series_csv(a.data);
+  int validate = -1;
+  const std::vector<Series> runs = training_runs(a, target, load_run, &validate);
+  for (const Series& s : runs) check_dimensions(s, target);
+  long samples = 0, gaps = 0;
+  for (const Series& s : runs) samples += s.rows(), gaps += long(s.breaks.size());
+  std::printf("training on %zu run%s of rig %s: %ld samples, %ld gap%s; nd = %d, dd = %d\n", runs.size(),
+              runs.size() == 1 ? "" : "s", target.name.c_str(), samples, gaps, gaps == 1 ? "" : "s", o.nd, o.dd);
+  for (const Series& s : runs) {
+    if (s.rows() == 0) continue;
+    const long last = s.rows() - 1;
+    std::string first_row, last_row;
+    for (int i = 0; i < s.m; ++i) first_row += " u" + std::to_string(i) + "=" + fmt_g(s.u(0, i)),
+                                  last_row += " u" + std::to_string(i) + "=" + fmt_g(s.u(last, i));
+    for (int j = 0; j < s.n; ++j) first_row += " y" + std::to_string(j) + "=" + fmt_g(s.y(0, j)),
+                                  last_row += " y" + std::to_string(j) + "=" + fmt_g(s.y(last, j));
+    std::printf("  %s: %ld samples, %zu gap%s, %.3f s; first%s; last%s\n", s.name.c_str(), s.rows(), s.breaks.size(),
+                s.breaks.size() == 1 ? "" : "s", s.time(last), first_row.c_str(), last_row.c_str());
+  }
   TrainProgress bar(stderr);
   o.progress = [&bar](const Progress& p) { bar(p); };
-  const TrainResult r = train(s, target, o);
+  const TrainResult r = train(runs, target, o, validate);
   bar.finish();
   ModelFile f = r.model;
+  f.fit = fit_to_json(model_fit(r, target));
   save_model_file(a.out, f);
   const std::string unit = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
   std::printf("trained %s model in %.1f s (%d epochs), %s, rows train %ld / val %ld / test %ld\n",
@@ -144,6 +206,8 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve) {
   for (size_t j = 0; j < r.test.mse.size(); ++j)
     std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit.c_str(),
                 std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit.c_str());
+  const ModelFit fit = model_fit(r, target);
+  std::printf("%s", fit_table(fit).c_str());
   std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
 }
 
@@ -283,6 +347,10 @@ void run_info(const std::string& path) {
   }
   std::printf("  parameters: %s\n  hash 0x%08x\n", model_size_words(weights + M.norm_count(), M.norm_count()).c_str(),
               M.hash);
+  if (f.fit.empty())
+    std::printf("no fit recorded (train keeps one; this model was imported or trained before)\n");
+  else
+    std::printf("%s", fit_table(fit_from_json(f.fit, path)).c_str());
 }
 
 }  // namespace
@@ -305,22 +373,39 @@ void add_dataset_command(CLI::App& app, TargetResolver resolve) {
   ds->callback([dataset_args, resolve] { run_dataset(*dataset_args, resolve); });
 }
 
-void add_train_command(CLI::App& app, TargetResolver resolve) {
+void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run) {
   if (!resolve) resolve = platform_target_by_name;
   auto train_args = std::make_shared<TrainArgs>();
   CLI::App* tr = app.add_subcommand(
       "train",
-      "Train the forward model y(k+1) = g(u(k),u(k-1),y(k),y(k-1),l(k)) on a dataset and write a model file.\n"
-      "Ten-fold time-series split: the last fold tests, the one before validates (early stopping).\n"
-      "Dimensions, input limits, history length and layers come from the rig; defaults for the shipped\n"
+      "Train the forward model y(k+1) = g(u(k),u(k-1),y(k),y(k-1),l(k)) on recorded runs or a dataset\n"
+      "and write a model file. From a run: u, the measured output y_true, the sensors l and the time\n"
+      "come from the run; a gap in it (lost telemetry, a link outage) cuts it, no history spans one.\n"
+      "Ten-fold time-series split of each run: its last part tests, the part before validates (early\n"
+      "stopping); --validate-run holds a whole run out instead. The fit, per output: nRMSE of the\n"
+      "output's span, one-step and free-run, on the held-out rows; printed and kept in the model file\n"
+      "(model info shows it). Dimensions, input limits, output ranges, lags (--nd/--dd override them)\n"
+      "and layers come from the rig file; defaults for the shipped\n"
       "rigs are the shipped models (app/models/README.md): msd linear residual, hasel Dense 5 relu,\n"
       "5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh; another rig: its [model] layers, else\n"
       "Dense 16 tanh, n tanh, residual when its controller feeds back measured outputs.\n"
-      "Example: nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm\n"
+      "Example: nlsoft-console train --rig msd --run 12 --run 13 --out msd-rig.nlsm\n"
+      "         nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm\n"
       "Any rig file: nlsoft-console train --rig lab/arm.toml --data arm.csv --out arm.nlsm");
   tr->add_option("--rig,--platform", train_args->rig, "the rig: a shipped rig's name or a rig file (required)")
       ->type_name("NAME|PATH");
-  tr->add_option("--data", train_args->data, "CSV from 'dataset' or a recorded run (required)")->type_name("FILE");
+  tr->add_option("--data", train_args->data,
+                 "CSV from 'dataset' (time,u0..,y0..,l0..) or of a recorded run as 'runs export ID --csv'\n"
+                 "writes it (k,step,time_us,...); repeat for several")
+      ->type_name("FILE");
+  tr->add_option("--run", train_args->runs, "a recorded run (runs list); repeat for several")->type_name("ID");
+  tr->add_option("--db", train_args->db, "the runs' database (default: the console's, as `runs list`)")
+      ->type_name("FILE");
+  tr->add_option("--validate-run", train_args->validate_run,
+                 "hold this recorded run out, whole, for the fit (default: the last part of each run)")
+      ->type_name("ID");
+  tr->add_option("--nd", train_args->nd, "input history length (default: the rig's nd; 1..4)")->type_name("N");
+  tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..4)")->type_name("N");
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
   tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
   tr->add_option("--hidden", train_args->hidden, "hidden sizes, e.g. 5,5; 'none' = one linear layer")->type_name("LIST");
@@ -336,7 +421,7 @@ void add_train_command(CLI::App& app, TargetResolver resolve) {
       ->type_name("SIGMA");
   tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd and for a rig fed back measured outputs)");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");
-  tr->callback([train_args, resolve] { run_train(*train_args, resolve); });
+  tr->callback([train_args, resolve, load_run] { run_train(*train_args, resolve, load_run); });
 }
 
 void add_model_command(CLI::App& app) {

@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "app/model/plant_target.hpp"
+#include "app/model/recorded_run.hpp"
 
 namespace nlsoft::console {
 
@@ -13,7 +14,9 @@ namespace nlsoft::console {
 // one, only the compiled-in platforms' names are known
 // (pipeline::platform_target_by_name).
 void add_dataset_command(CLI::App& app, pipeline::TargetResolver resolve = {});
-void add_train_command(CLI::App& app, pipeline::TargetResolver resolve = {});
+// `train --run ID` reads runs through `load_run` (the console's database,
+// app/record/run_training.hpp); without one --run is refused.
+void add_train_command(CLI::App& app, pipeline::TargetResolver resolve = {}, pipeline::RunLoader load_run = {});
 void add_model_command(CLI::App& app);  // model import|eval|info
 
 }  // namespace nlsoft::console

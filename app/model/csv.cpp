@@ -39,7 +39,7 @@ bool blank(const std::string& line) { return trim(line).empty(); }
 
 }  // namespace
 
-Table parse_csv(std::istream& in, const std::string& name, bool has_header) {
+Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool empty_is_nan) {
   Table t;
   std::string line;
   long lineno = 0;
@@ -63,6 +63,10 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header) {
                           " values, found " + std::to_string(cells.size()));
     for (size_t c = 0; c < cells.size(); ++c) {
       const std::string& cell = cells[c];
+      if (cell.empty() && empty_is_nan) {
+        t.data.push_back(std::nan(""));
+        continue;
+      }
       char* end = nullptr;
       errno = 0;
       const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);

@@ -17,7 +17,9 @@ struct Table {
 };
 
 // Throws PipelineError. `name` is used in messages (usually the path).
-Table parse_csv(std::istream& in, const std::string& name, bool has_header);
+// With empty_is_nan an empty cell reads as NaN (a field the row lacks, as
+// `runs export` writes it); otherwise it is an error.
+Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool empty_is_nan = false);
 Table read_csv(const std::string& path, bool has_header);
 
 // Writes with %.9g, enough to round-trip every float exactly.

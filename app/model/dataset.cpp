@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "app/model/error.hpp"
 
@@ -11,24 +12,55 @@ Dataset build_dataset(const Series& s, int nd, int dd) {
   if (nd < 1 || dd < 1) throw PipelineError("nd and dd must be at least 1");
   const long q = s.rows();
   const int hist = std::max(nd, dd);
-  if (q - hist < 1) throw PipelineError("the series is too short for nd = " + std::to_string(nd));
+  // The stretches between breaks, and the rows each gives.
+  std::vector<RowRange> stretches;
+  long start = 0;
+  for (long b : s.breaks) {
+    if (b <= start || b >= q) continue;
+    stretches.push_back({start, b});
+    start = b;
+  }
+  stretches.push_back({start, q});
+  long rows = 0;
+  for (const RowRange& st : stretches) rows += std::max(0L, st.end - st.begin - hist);
+  if (rows < 1) {
+    const std::string who = s.name.empty() ? "the series" : s.name;
+    if (stretches.size() == 1)
+      throw PipelineError(who + " is too short for nd = " + std::to_string(nd) + ", dd = " + std::to_string(dd) +
+                          " (" + std::to_string(q) + " samples)");
+    throw PipelineError(who + ": no stretch between its gaps holds more than " + std::to_string(hist) +
+                        " consecutive samples (" + std::to_string(stretches.size()) + " stretches in " +
+                        std::to_string(q) + " samples)");
+  }
   Dataset d;
   d.layout = InputLayout{s.m, s.n, s.w, nd, dd};
   const InputLayout& L = d.layout;
-  const long rows = q - hist;
   d.first_k = hist - 1;
   d.X.resize(rows, L.p());
   d.Y.resize(rows, s.n);
-  for (long r = 0; r < rows; ++r) {
-    const long k = d.first_k + r;
-    for (int lag = 0; lag < nd; ++lag)
-      for (int i = 0; i < s.m; ++i) d.X(r, L.u_begin() + lag * s.m + i) = s.u(k - lag, i);
-    for (int lag = 0; lag < dd; ++lag)
-      for (int j = 0; j < s.n; ++j) d.X(r, L.y_begin() + lag * s.n + j) = s.y(k - lag, j);
-    for (int i = 0; i < s.w; ++i) d.X(r, L.l_begin() + i) = s.l(k, i);
-    for (int j = 0; j < s.n; ++j) d.Y(r, j) = s.y(k + 1, j);
+  long r = 0;
+  for (const RowRange& st : stretches) {
+    const long first = r;
+    for (long k = st.begin + hist - 1; k + 1 < st.end; ++k, ++r) {
+      for (int lag = 0; lag < nd; ++lag)
+        for (int i = 0; i < s.m; ++i) d.X(r, L.u_begin() + lag * s.m + i) = s.u(k - lag, i);
+      for (int lag = 0; lag < dd; ++lag)
+        for (int j = 0; j < s.n; ++j) d.X(r, L.y_begin() + lag * s.n + j) = s.y(k - lag, j);
+      for (int i = 0; i < s.w; ++i) d.X(r, L.l_begin() + i) = s.l(k, i);
+      for (int j = 0; j < s.n; ++j) d.Y(r, j) = s.y(k + 1, j);
+    }
+    if (r > first) d.pieces.push_back({first, r});
   }
   return d;
+}
+
+std::vector<RowRange> pieces_within(const Dataset& d, long begin, long end) {
+  std::vector<RowRange> out;
+  for (const RowRange& p : d.pieces) {
+    const long b = std::max(p.begin, begin), e = std::min(p.end, end);
+    if (e > b) out.push_back({b, e});
+  }
+  return out;
 }
 
 namespace {

@@ -14,16 +14,28 @@
 
 namespace nlsoft::pipeline {
 
+// Rows [begin, end) that are consecutive control periods: a free-run
+// prediction may run through them without restarting.
+struct RowRange {
+  long begin = 0, end = 0;
+};
+
 struct Dataset {
   InputLayout layout{};
   Eigen::MatrixXd X;  // rows x p, raw units
   Eigen::MatrixXd Y;  // rows x n, y(k+1)
-  long first_k = 0;   // series index k of row 0; row r is k = first_k + r
+  long first_k = 0;   // series index k of row 0; row r is k = first_k + r (a series without breaks)
+  std::vector<RowRange> pieces;  // the rows, cut where the series has a gap
   long rows() const { return static_cast<long>(X.rows()); }
 };
 
-// q samples give q - max(nd, dd) rows (k = max(nd,dd)-1 .. q-2).
+// q samples give q - max(nd, dd) rows (k = max(nd,dd)-1 .. q-2), per
+// stretch between the series' breaks; a stretch of max(nd, dd) samples or
+// fewer gives none. Throws when no stretch gives a row.
 Dataset build_dataset(const Series& s, int nd, int dd);
+
+// Rows [begin, end) of d as pieces (each piece of d cut to the range).
+std::vector<RowRange> pieces_within(const Dataset& d, long begin, long end);
 
 // x_net = (x - in_offset) * in_scale,  y = y_net * out_scale + out_offset
 // (+ y(k) when residual), the transform shared/forward.hpp applies.

@@ -2,6 +2,7 @@
 
 #include "app/model/atomic_file.hpp"
 #include "app/model/error.hpp"
+#include "app/model/model_section.hpp"
 #include "shared/model_file.hpp"
 
 namespace nlsoft::pipeline {
@@ -26,12 +27,25 @@ std::vector<uint8_t> encode_model(ModelFile& f) {
   return bytes;
 }
 
+std::vector<uint8_t> encode_model_file(ModelFile& f) {
+  std::vector<uint8_t> bytes = encode_model(f);
+  if (!f.fit.empty()) {
+    const std::vector<uint8_t> section = model_section(kSectionFit, f.fit);
+    bytes.insert(bytes.end(), section.begin(), section.end());
+  }
+  return bytes;
+}
+
 ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name) {
+  const ModelFileParts parts = split_model_file(bytes);
+  if (parts.bad_trailer)
+    throw PipelineError("'" + name + "' is not a valid model file: bytes after the model that are no section of one");
   ModelFile f;
+  f.fit = parts.fit;
   f.params.resize(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);
   Model<HostCapacity> m;
   uint8_t platform = kNoPlatform;
-  const Status s = parse_model(bytes.data(), bytes.size(), m, f.params.data(),
+  const Status s = parse_model(bytes.data(), parts.model_size, m, f.params.data(),
                                static_cast<uint32_t>(f.params.size()), &platform);
   if (s != Status::Ok) throw PipelineError("'" + name + "' is not a valid model file: " + status_name(s));
   f.params.resize(m.param_count);
@@ -43,7 +57,7 @@ ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& nam
 
 ModelFile load_model_file(const std::string& path) { return decode_model(read_model_bytes(path), path); }
 
-void save_model_file(const std::string& path, ModelFile& f) { write_file_atomic(path, encode_model(f)); }
+void save_model_file(const std::string& path, ModelFile& f) { write_file_atomic(path, encode_model_file(f)); }
 
 const char* layer_kind_name(LayerKind k) { return k == LayerKind::Gru ? "GRU" : "Dense"; }
 

@@ -18,6 +18,9 @@ struct ModelFile {
   Model<HostCapacity> shape;  // params pointer unused; see view()
   std::vector<float> params;
   uint8_t platform = kNoPlatform;
+  // The fit train measured (app/model/model_fit.hpp, JSON), kept in a
+  // section after the model (app/model/model_section.hpp); empty: none.
+  std::string fit;
 
   // The Model the controller and forward() take, pointing into params.
   // Valid while this object lives and params is not resized.
@@ -33,8 +36,11 @@ struct ModelFile {
 // PipelineError with the reason.
 void finalize(ModelFile& f);
 
-// The file bytes (also sets f.shape.hash to the CRC the file carries).
+// The model's bytes, what a firmware gets (also sets f.shape.hash to the
+// CRC they end with); the file adds the fit section after them.
 std::vector<uint8_t> encode_model(ModelFile& f);
+std::vector<uint8_t> encode_model_file(ModelFile& f);
+// A file's bytes: the model, and the fit section if it has one.
 ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name);
 
 ModelFile load_model_file(const std::string& path);

@@ -12,11 +12,17 @@ PlantTarget platform_target(PlatformId id) {
   t.name = platform_name(id);
   t.m = plant.m(), t.n = plant.n(), t.w = plant.w();
   t.nd = preset(id).nd;
+  t.dd = preset(id).dd;
+  t.rate_hz = double(preset(id).rate_hz);
   float lo[kMaxPlantM], hi[kMaxPlantM], ylo[kMaxPlantN], yhi[kMaxPlantN];
   plant.input_limits(lo, hi);
   plant.output_box(ylo, yhi);
   for (int i = 0; i < t.m; ++i) t.u_lo.push_back(double(lo[i])), t.u_hi.push_back(double(hi[i]));
-  for (int j = 0; j < t.n; ++j) t.y_mid.push_back(0.5 * (double(ylo[j]) + double(yhi[j])));
+  for (int j = 0; j < t.n; ++j) {
+    t.y_mid.push_back(0.5 * (double(ylo[j]) + double(yhi[j])));
+    t.y_span.push_back(double(yhi[j]) - double(ylo[j]));
+    t.y_names.push_back("y" + std::to_string(j));
+  }
   t.y_unit = id == PlatformId::Msd ? "m" : "mm";
   t.plant = TargetPlant::Named;
   t.platform = id;

@@ -17,9 +17,12 @@ enum class TargetPlant { None, Named, Generic };
 
 struct PlantTarget {
   std::string name;  // the rig's name, in messages
-  int m = 0, n = 0, w = 0, nd = 2;
+  int m = 0, n = 0, w = 0, nd = 2, dd = 2;
+  double rate_hz = 0;              // the control rate (0: not known)
   std::vector<double> u_lo, u_hi;  // the inputs' limits
-  std::vector<double> y_mid;       // the middle of each output's range
+  std::vector<double> y_mid;       // the middle of each output's range: where outputs are centred
+  std::vector<double> y_span;      // each output's task-space span: what a fit's nRMSE is relative to
+  std::vector<std::string> y_names;  // each output's name, in the fit's table
   std::string y_unit;              // the first output's unit ("" normalised)
   // The simulated stand-in: a hand-written plant (its own excitation time
   // scales and training defaults), a generic one, or none (data from the

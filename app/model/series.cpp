@@ -33,7 +33,9 @@ int count_prefixed(const std::vector<std::string>& h, size_t col, char prefix) {
 Series from_table(const Table& t, const std::string& name) {
   const std::vector<std::string>& h = t.header;
   if (h.empty() || h[0] != "time")
-    throw PipelineError(name + ": the header must start with 'time', then u0.., y0.., l0..");
+    throw PipelineError(name + ": not training data: the header must start with 'time' (a dataset: time,u0..,y0..,"
+                               "l0..) or with 'k,step,time_us' (a run, as `nlsoft-console runs export ID --csv` "
+                               "writes it)");
   const int m = count_prefixed(h, 1, 'u');
   const int n = count_prefixed(h, 1 + size_t(m), 'y');
   const int w = count_prefixed(h, 1 + size_t(m + n), 'l');
@@ -43,6 +45,7 @@ Series from_table(const Table& t, const std::string& name) {
                         "' (expected time,u0..,y0..,l0.. in that order)");
   Series s;
   s.resize(t.rows, m, n, w);
+  s.name = name;
   for (long r = 0; r < t.rows; ++r) {
     s.time(r) = t.at(r, 0);
     if (r > 0 && !(s.time(r) > s.time(r - 1)))

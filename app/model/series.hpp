@@ -2,7 +2,11 @@
 // A logged run of a plant: per sample k the time, the input u(k) applied
 // during [k, k+1), the output y(k) and the sensor signals l(k) read at k.
 // CSV form: header "time,u0..u{m-1},y0..y{n-1},l0..l{w-1}", one row per k.
+// A recorded run may have gaps (lost telemetry, a link outage): `breaks`
+// lists the rows that do not follow the row before them by one control
+// period, so no history window is built across one.
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -14,6 +18,8 @@ struct Series {
   Eigen::MatrixXd u;     // rows x m
   Eigen::MatrixXd y;     // rows x n
   Eigen::MatrixXd l;     // rows x w
+  std::vector<long> breaks;  // ascending rows r > 0 with a gap between r - 1 and r
+  std::string name;          // where it came from ("run 12", a file), for messages
   long rows() const { return static_cast<long>(time.size()); }
   void resize(long rows, int m_, int n_, int w_);
 };

@@ -92,6 +92,10 @@ ModelFile TrainedNetwork::export_model(uint8_t platform) const {
 }
 
 Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long end) {
+  return evaluate(model, d, std::vector<RowRange>{{begin, end}});
+}
+
+Evaluation evaluate(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces) {
   const Model<HostCapacity> M = model.view();
   const InputLayout& L = d.layout;
   if (M.p() != L.p() || M.n != L.n || M.nd != L.nd || M.dd != L.dd)
@@ -99,22 +103,27 @@ Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long e
   Evaluation ev;
   ev.mse.assign(size_t(L.n), 0.0);
   ev.free_run_mse.assign(size_t(L.n), 0.0);
-  if (end <= begin) return ev;
   ForwardScratch<HostCapacity, float> scratch;
   float x[Dims<HostCapacity>::p], y[HostCapacity::n];
   float yq[HostCapacity::nd * HostCapacity::n];  // own predictions, newest first
-  for (int i = 0; i < L.dd * L.n; ++i) yq[i] = static_cast<float>(d.X(begin, L.y_begin() + i));
-  for (long r = begin; r < end; ++r) {
-    for (int i = 0; i < L.p(); ++i) x[i] = static_cast<float>(d.X(r, i));
-    forward(M, x, y, scratch);
-    for (int j = 0; j < L.n; ++j) ev.mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
-    for (int i = 0; i < L.dd * L.n; ++i) x[L.y_begin() + i] = yq[i];
-    forward(M, x, y, scratch);
-    for (int j = 0; j < L.n; ++j) ev.free_run_mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
-    for (int i = L.dd * L.n - 1; i >= L.n; --i) yq[i] = yq[i - L.n];
-    for (int j = 0; j < L.n; ++j) yq[j] = y[j];
+  for (const RowRange& piece : pieces) {
+    const long begin = piece.begin, end = piece.end;
+    if (end <= begin) continue;
+    for (int i = 0; i < L.dd * L.n; ++i) yq[i] = static_cast<float>(d.X(begin, L.y_begin() + i));
+    for (long r = begin; r < end; ++r) {
+      for (int i = 0; i < L.p(); ++i) x[i] = static_cast<float>(d.X(r, i));
+      forward(M, x, y, scratch);
+      for (int j = 0; j < L.n; ++j) ev.mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
+      for (int i = 0; i < L.dd * L.n; ++i) x[L.y_begin() + i] = yq[i];
+      forward(M, x, y, scratch);
+      for (int j = 0; j < L.n; ++j) ev.free_run_mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
+      for (int i = L.dd * L.n - 1; i >= L.n; --i) yq[i] = yq[i - L.n];
+      for (int j = 0; j < L.n; ++j) yq[j] = y[j];
+    }
+    ev.rows += end - begin;
   }
-  const double count = static_cast<double>(end - begin);
+  if (ev.rows == 0) return ev;
+  const double count = static_cast<double>(ev.rows);
   for (int j = 0; j < L.n; ++j) {
     ev.mse[size_t(j)] /= count;
     ev.free_run_mse[size_t(j)] /= count;
@@ -122,36 +131,139 @@ Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long e
   return ev;
 }
 
+namespace {
+
+// Every run's rows, pooled in the order the trainer wants them: the
+// training parts of all runs, then their validation parts, then the test.
+struct Pooled {
+  Dataset d;
+  Partition split{};
+  std::vector<RowRange> test_pieces;
+  std::string held_out;
+};
+
+Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int validate) {
+  struct Part {
+    long begin, end;
+  };
+  std::vector<Dataset> sets;
+  std::vector<Part> train_p, val_p, test_p;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    sets.push_back(build_dataset(runs[i], nd, dd));
+    const long rows = sets.back().rows();
+    if (int(i) == validate) {
+      train_p.push_back({0, 0});
+      val_p.push_back({0, 0});
+      test_p.push_back({0, rows});
+      continue;
+    }
+    const long chunk = rows / (folds + 1);
+    const std::string who = runs[i].name.empty() ? "the series" : runs[i].name;
+    if (chunk < 1)
+      throw PipelineError("too few rows (" + std::to_string(rows) + ") in " + who + " for " + std::to_string(folds) +
+                          " folds");
+    if (validate >= 0) {
+      train_p.push_back({0, rows - chunk});
+      val_p.push_back({rows - chunk, rows});
+      test_p.push_back({rows, rows});
+    } else {
+      train_p.push_back({0, rows - 2 * chunk});
+      val_p.push_back({rows - 2 * chunk, rows - chunk});
+      test_p.push_back({rows - chunk, rows});
+    }
+  }
+  Pooled out;
+  Dataset& d = out.d;
+  d.layout = sets.front().layout;
+  long total = 0;
+  for (const Dataset& s : sets) total += s.rows();
+  d.X.resize(total, d.layout.p());
+  d.Y.resize(total, d.layout.n);
+  long at = 0;
+  auto copy = [&](const std::vector<Part>& parts, bool test) {
+    for (size_t i = 0; i < sets.size(); ++i) {
+      const long len = parts[i].end - parts[i].begin;
+      if (len <= 0) continue;
+      d.X.middleRows(at, len) = sets[i].X.middleRows(parts[i].begin, len);
+      d.Y.middleRows(at, len) = sets[i].Y.middleRows(parts[i].begin, len);
+      const long shift = at - parts[i].begin;
+      for (const RowRange& p : pieces_within(sets[i], parts[i].begin, parts[i].end)) {
+        d.pieces.push_back({p.begin + shift, p.end + shift});
+        if (test) out.test_pieces.push_back(d.pieces.back());
+      }
+      at += len;
+    }
+  };
+  copy(train_p, false);
+  out.split.train_end = at;
+  out.split.val_begin = at;
+  copy(val_p, false);
+  out.split.val_end = at;
+  out.split.test_begin = at;
+  copy(test_p, true);
+  out.split.test_end = at;
+  const long test_rows = out.split.test_end - out.split.test_begin;
+  if (validate >= 0) {
+    out.held_out = runs[size_t(validate)].name + ", whole (" + std::to_string(test_rows) + " rows)";
+  } else {
+    out.held_out = "the last 1/" + std::to_string(folds + 1) + " of " +
+                   (runs.size() == 1 ? std::string("the run") : "each of " + std::to_string(runs.size()) + " runs") +
+                   " (" + std::to_string(test_rows) + " rows)";
+  }
+  return out;
+}
+
+}  // namespace
+
 TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt) {
   return train(s, platform_target(platform), opt);
 }
 
+void check_dimensions(const Series& s, const PlantTarget& target) {
+  if (s.m != target.m || s.n != target.n || s.w != target.w)
+    throw PipelineError((s.name.empty() ? std::string("the data") : s.name) + " has m=" + std::to_string(s.m) +
+                        " n=" + std::to_string(s.n) + " w=" + std::to_string(s.w) + " but rig '" + target.name +
+                        "' has m=" + std::to_string(target.m) + " n=" + std::to_string(target.n) +
+                        " w=" + std::to_string(target.w));
+}
+
 TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions& opt) {
+  return train(std::vector<Series>{s}, target, opt);
+}
+
+TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, const TrainOptions& opt, int validate) {
   using Clock = std::chrono::steady_clock;
   const auto t0 = Clock::now();
-  if (s.m != target.m || s.n != target.n || s.w != target.w)
-    throw PipelineError(std::string("the data has m=") + std::to_string(s.m) + " n=" + std::to_string(s.n) +
-                        " w=" + std::to_string(s.w) + " but rig '" + target.name + "' has m=" +
-                        std::to_string(target.m) + " n=" + std::to_string(target.n) + " w=" + std::to_string(target.w));
+  if (runs.empty()) throw PipelineError("no data to train on");
+  if (validate >= int(runs.size())) throw PipelineError("the validation run is not among the runs");
+  if (validate >= 0 && runs.size() < 2) throw PipelineError("a validation run needs at least one other run to train on");
+  for (const Series& s : runs) check_dimensions(s, target);
+  const Series& s = runs.front();
   if (opt.layers.empty() || opt.layers.back().units != s.n)
     throw PipelineError("the last layer must have n = " + std::to_string(s.n) + " units");
   if (opt.epochs < 1 || opt.batch < 1 || !(opt.lr > 0.0) || !(opt.y_noise >= 0.0) || !(opt.huber_delta > 0.0))
     throw PipelineError("epochs, batch, lr and huber delta must be positive, y noise non-negative");
+  if (opt.folds < 2) throw PipelineError("a time-series split needs at least 2 folds");
 
   TrainResult res;
-  const Dataset d = build_dataset(s, opt.nd, opt.dd);
+  Pooled pooled = pool_runs(runs, opt.nd, opt.dd, opt.folds, validate);
+  const Dataset& d = pooled.d;
   const InputLayout& L = d.layout;
-  res.split = partition(d.rows(), opt.folds);
+  res.split = pooled.split;
+  res.held_out = pooled.held_out;
   const Partition& P = res.split;
+  if (P.train_end < 1 || P.val_end <= P.val_begin || P.test_end <= P.test_begin)
+    throw PipelineError("too few rows to train, validate and test");
 
   NormalisationSpec spec;
-  // The limits as the controller holds them (float), as the plants give them.
+  // The limits as the controller holds them (float), as the rig file gives them.
   for (int i = 0; i < s.m; ++i) {
     spec.u_lo.push_back(double(float(target.u_lo[size_t(i)])));
     spec.u_hi.push_back(double(float(target.u_hi[size_t(i)])));
   }
-  spec.y_neutral.resize(size_t(s.n));
-  neutral_output(target, spec.y_neutral.data());
+  // Outputs centred on the middle of the rig's output ranges: a property of
+  // the rig, not of a simulated plant that may not be the rig at all.
+  spec.y_neutral = target.y_mid;
   spec.residual = opt.residual;
   const Activation out_act = opt.layers.back().act;
   spec.out_margin = (out_act == Activation::Linear || out_act == Activation::Relu) ? 1.0 : 1.25;
@@ -274,7 +386,7 @@ TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions
 
   // The model file names a compiled-in platform, or none (255).
   res.model = tn.export_model(target.plant == TargetPlant::Named ? static_cast<uint8_t>(target.platform) : uint8_t(255));
-  res.test = evaluate(res.model, d, P.test_begin, P.test_end);
+  res.test = evaluate(res.model, d, pooled.test_pieces);
   res.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return res;
 }
@@ -295,7 +407,8 @@ TrainOptions default_options(const PlantTarget& target) {
     o.y_noise = target.measured_feedback ? 0.0 : 0.05;
   }
   if (!target.layers.empty()) o.layers = target.layers;
-  o.nd = o.dd = target.nd;
+  o.nd = target.nd;
+  o.dd = target.dd;
   return o;
 }
 

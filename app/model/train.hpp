@@ -12,6 +12,7 @@
 // own predictions, whose errors must fade rather than accumulate.
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "app/model/dataset.hpp"
@@ -61,27 +62,40 @@ struct TrainedNetwork {
 struct Evaluation {
   std::vector<double> mse;           // one-step, per output, physical units squared
   std::vector<double> free_run_mse;  // y-queue fed with the model's own predictions
+  long rows = 0;                     // rows evaluated
 };
 
 // Runs the exported model exactly as the firmware does (shared/forward.hpp,
-// float) over dataset rows [begin, end).
+// float) over dataset rows [begin, end), or over pieces of consecutive rows
+// (the free run starts again from the measured outputs at each piece).
 Evaluation evaluate(const ModelFile& model, const Dataset& d, long begin, long end);
+Evaluation evaluate(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces);
 
 struct TrainResult {
   TrainedNetwork trained;
   ModelFile model;
   Evaluation test;
+  std::string held_out;  // which rows the test evaluated, in words
   double best_val_loss = 0;
   int epochs_run = 0;
   double seconds = 0;
-  Partition split{};
+  Partition split{};  // over the rows of every run: all training rows, then validation, then test
 };
 
 // Throws PipelineError when the series does not match the platform, or the
 // options are unusable.
 TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt);
-// The same for any rig: its dimensions, input limits and neutral output.
+// The same for any rig: its dimensions, input limits and the middle of its
+// outputs' ranges (the rig file's, no simulated plant).
 TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions& opt);
+// Several runs of one rig. Each run is split as one series is (ten-fold
+// time-series split: its last part tests, the part before validates), and
+// the parts are pooled; with validate >= 0 that run is the test, whole, and
+// the others keep their last part for validation.
+TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, const TrainOptions& opt,
+                  int validate = -1);
+// Throws PipelineError, naming the series, when its m, n, w are not the rig's.
+void check_dimensions(const Series& s, const PlantTarget& target);
 
 // The architecture the paper uses on each platform (see app/models/README.md).
 TrainOptions default_options(PlatformId platform);

@@ -10,9 +10,14 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   using pipeline::TargetPlant;
   pipeline::PlantTarget t;
   t.name = rig.name;
-  t.m = rig.m(), t.n = rig.n(), t.w = rig.w(), t.nd = rig.nd;
+  t.m = rig.m(), t.n = rig.n(), t.w = rig.w(), t.nd = rig.nd, t.dd = rig.dd;
+  t.rate_hz = rig.rate_hz;
   for (const RigInput& in : rig.inputs) t.u_lo.push_back(in.min), t.u_hi.push_back(in.max);
-  for (const RigOutput& o : rig.outputs) t.y_mid.push_back(0.5 * (o.min + o.max));
+  for (const RigOutput& o : rig.outputs) {
+    t.y_mid.push_back(0.5 * (o.min + o.max));
+    t.y_span.push_back(o.span > 0 ? o.span : o.max - o.min);
+    t.y_names.push_back(o.name);
+  }
   t.y_unit = rig.outputs.empty() ? "" : rig.outputs[0].unit;
   t.measured_feedback = rig.controller.feedback == Feedback::Measured;
   PlatformId id;

@@ -5,6 +5,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/input_file.hpp"
+#include "app/model/model_section.hpp"
 #include "app/paths/install_paths.hpp"
 #include "shared/model_file.hpp"
 
@@ -17,7 +18,10 @@ void load_model(const std::string& path, LoadedModel& out) {
   } catch (const CliError& e) {
     throw CliError(fmt::format("cannot open model file '{}': {}", path, e.what()));
   }
-  std::vector<uint8_t> bytes(text.begin(), text.end());
+  // The model alone: sections after it (train's fit) are not the controller's.
+  const pipeline::ModelFileParts parts =
+      pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  std::vector<uint8_t> bytes(text.begin(), parts.bad_trailer ? text.end() : text.begin() + std::ptrdiff_t(parts.model_size));
   std::vector<float> storage(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);
   Model<HostCapacity> M;
   uint8_t platform = 255;

@@ -1,11 +1,13 @@
 // Preprocessing (the paper's eq. 14), normalisation, split, CSV and excitation.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <sstream>
 
 #include "app/model/dataset.hpp"
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
+#include "app/model/recorded_run.hpp"
 #include "shared/sim_plant.hpp"
 
 using namespace nlsoft;
@@ -161,4 +163,72 @@ TEST(Excitation, DeterministicInsideLimitsAndCoversTheTaskSpace) {
   const Series m = generate_excitation(PlatformId::Msd, 50000, 1);
   EXPECT_LE(m.u.cwiseAbs().maxCoeff(), 2000.0);
   EXPECT_THROW(generate_excitation(PlatformId::Msd, 10, 1), PipelineError);
+}
+
+// A gap in a recorded run cuts it: each stretch gives its own rows and no
+// history window reaches across the gap.
+TEST(Dataset, AGapCutsTheSeriesAndNoWindowSpansIt) {
+  Series s = tiny(10, 1, 1, 0);
+  s.breaks = {5};
+  const Dataset d = build_dataset(s, 2, 2);
+  ASSERT_EQ(d.rows(), (5 - 2) + (5 - 2));
+  ASSERT_EQ(d.pieces.size(), 2u);
+  EXPECT_EQ(d.pieces[0].begin, 0);
+  EXPECT_EQ(d.pieces[0].end, 3);
+  EXPECT_EQ(d.pieces[1].begin, 3);
+  EXPECT_EQ(d.pieces[1].end, 6);
+  const InputLayout& L = d.layout;
+  for (long r = 0; r < d.rows(); ++r) {
+    // y(k), y(k-1) and the label y(k+1) are consecutive samples of one stretch.
+    EXPECT_DOUBLE_EQ(d.X(r, L.y_begin()) - d.X(r, L.y_begin() + 1), 1000.0) << "row " << r;
+    EXPECT_DOUBLE_EQ(d.Y(r, 0) - d.X(r, L.y_begin()), 1000.0) << "row " << r;
+    const double k = (d.X(r, L.y_begin()) - 0.5) / 1000.0;
+    EXPECT_FALSE(k == 4.0 || k == 5.0) << "row " << r << " has a window across the gap";
+  }
+  s.breaks = {1, 2, 3, 4, 5, 6, 7, 8, 9};
+  EXPECT_THROW(build_dataset(s, 2, 2), PipelineError);
+}
+
+// A recorded run's samples become the series: a jump of the firmware's
+// step count is a gap, and a sample lacking the measured output is left
+// out with a gap in its place.
+TEST(RecordedRun, StepJumpsAndIncompleteSamplesBreakTheSeries) {
+  RecordedRun r;
+  r.name = "run 7";
+  r.rig = "msd";
+  r.m = r.n = 1;
+  const int64_t steps[] = {10, 11, 12, 14, 15, 16, 17, 18};
+  for (int i = 0; i < 8; ++i) {
+    r.k.push_back(i);
+    r.step.push_back(steps[i]);
+    r.time_us.push_back(1000 * steps[i]);
+    r.u.push_back(double(i));
+    r.y.push_back(i == 5 ? std::nan("") : 0.1 * i);
+  }
+  const PlantTarget t = platform_target(PlatformId::Msd);
+  const Series s = recorded_series(r, t);
+  ASSERT_EQ(s.rows(), 7);
+  EXPECT_EQ(s.breaks, (std::vector<long>{3, 5}));
+  EXPECT_DOUBLE_EQ(s.time(0), 0.0);
+  EXPECT_NEAR(s.time(3), 0.004, 1e-12);  // the firmware's clock, across the gap
+  EXPECT_DOUBLE_EQ(s.u(5, 0), 6.0);
+
+  RecordedRun other = r;
+  other.rig = "hasel";
+  EXPECT_THROW(recorded_series(other, t), PipelineError);
+  RecordedRun unmeasured = r;
+  for (double& y : unmeasured.y) y = std::nan("");
+  EXPECT_THROW(recorded_series(unmeasured, t), PipelineError);
+  // Telemetry decimated by 4: no sample follows another by one step.
+  RecordedRun decimated = r;
+  for (size_t i = 0; i < decimated.step.size(); ++i) decimated.step[i] = int64_t(4 * i), decimated.y[i] = 0.1;
+  try {
+    recorded_series(decimated, t);
+    ADD_FAILURE() << "a decimated run was taken";
+  } catch (const PipelineError& e) {
+    EXPECT_NE(std::string(e.what()).find("run 7: no two samples are one control step apart (the first two are 4 "
+                                         "control steps apart"),
+              std::string::npos)
+        << e.what();
+  }
 }

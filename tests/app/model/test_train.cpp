@@ -146,6 +146,39 @@ TEST(Train, LinearModelIsExactOnTheMassSpringDamper) {
   EXPECT_LT(export_mismatch(r, s, 2), 1e-5);
 }
 
+// The input limits and the outputs' centre come from the rig (the target a
+// rig file makes), not from a plant simulated to its rest: a rig whose
+// outputs range over [10, 30] is centred on 20, whatever the data.
+TEST(Train, LimitsAndCentreComeFromTheRigNotASimulatedPlant) {
+  const Series s = generate_excitation(PlatformId::Msd, 2000, 1);
+  PlantTarget t = platform_target(PlatformId::Msd);
+  t.plant = TargetPlant::Named;  // a simulated plant stands by, and is not asked
+  t.u_lo = {-4000.0};
+  t.u_hi = {6000.0};
+  t.y_mid = {20.0};
+  TrainOptions o = default_options(t);
+  o.residual = false;
+  const TrainResult r = train(s, t, o);
+  const int p = r.model.shape.p();
+  // in_offset[p], in_scale[p], out_offset[n], out_scale[n], then the weights
+  EXPECT_EQ(r.model.params[size_t(2 * p)], 20.0f);
+  EXPECT_EQ(r.model.params[0], 1000.0f);               // u's middle of [-4000, 6000]
+  EXPECT_EQ(r.model.params[size_t(p)], 1.0f / 10000.0f);  // its span
+}
+
+// --nd/--dd: the lags the rows are built with and the model file records.
+TEST(Train, LagsOtherThanTheRigsAreTrainedAndRecorded) {
+  const Series s = generate_excitation(PlatformId::Msd, 3000, 1);
+  TrainOptions o = default_options(PlatformId::Msd);
+  o.nd = 3;
+  o.dd = 4;
+  const TrainResult r = train(s, platform_target(PlatformId::Msd), o);
+  EXPECT_EQ(r.model.shape.nd, 3);
+  EXPECT_EQ(r.model.shape.dd, 4);
+  EXPECT_EQ(r.model.shape.p(), 3 * 1 + 4 * 1 + 0);
+  EXPECT_LT(r.test.mse[0], 1e-9);
+}
+
 TEST(Train, RefusesMismatchedData) {
   const Series s = generate_excitation(PlatformId::Tendon, 500, 1);
   EXPECT_THROW(train(s, PlatformId::Hasel, default_options(PlatformId::Hasel)), PipelineError);

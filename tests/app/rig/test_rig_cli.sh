@@ -87,7 +87,7 @@ cmp -s by_name.csv by_path.csv || { echo "FAIL: dataset by name and by path diff
 "$console" train --platform msd --data by_name.csv --out by_name.nlsm >/dev/null || { echo "FAIL: train --platform"; fail=1; }
 "$console" train --rig "$src/rigs/msd.toml" --data by_path.csv --out by_path.nlsm >/dev/null || { echo "FAIL: train --rig"; fail=1; }
 cmp -s by_name.nlsm by_path.nlsm || { echo "FAIL: train by name and by path differ"; fail=1; }
-expect_error "the data has m=1 n=1 w=0 but rig 'hasel' has m=6" train --rig hasel --data by_name.csv --out x.nlsm
+expect_error "by_name.csv has m=1 n=1 w=0 but rig 'hasel' has m=6" train --rig hasel --data by_name.csv --out x.nlsm
 
 # A generic rig of four outputs: the paths drive the first three, the fourth
 # holds the middle of its range (2.5 of [0, 5]), in the trace simulate writes.

@@ -1,0 +1,38 @@
+#include "app/record/run_training.hpp"
+
+#include <cmath>
+
+#include "app/cli_error.hpp"
+#include "app/record/recorder.hpp"
+#include "app/record/run_store.hpp"
+
+namespace nlsoft::console {
+
+namespace tf = protocol::telemetry_field;
+
+pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
+  try {
+    RunStore store(db.empty() ? default_db_path() : db);
+    const RunRow row = store.run(id);
+    pipeline::RecordedRun r;
+    r.name = "run " + std::to_string(id);
+    r.rig = row.platform;
+    r.m = row.m;
+    r.n = row.n;
+    r.rate_hz = row.loop_rate_hz;
+    // The database holds no sensor readings today: r.w stays < 0.
+    const double nan = std::nan("");
+    store.for_each_sample(id, [&](const Sample& s) {
+      r.k.push_back(int64_t(s.k));
+      r.step.push_back(s.has(tf::kStep) ? int64_t(s.step) : -1);
+      r.time_us.push_back(s.has(tf::kTime) ? int64_t(s.time_us) : -1);
+      for (int i = 0; i < r.m; ++i) r.u.push_back(s.has(tf::kU) ? double(s.u()[i]) : nan);
+      for (int j = 0; j < r.n; ++j) r.y.push_back(s.has(tf::kYTrue) ? double(s.y_true()[j]) : nan);
+    });
+    return r;
+  } catch (const DbError& e) {
+    throw CliError(e.what());
+  }
+}
+
+}  // namespace nlsoft::console
