@@ -91,7 +91,7 @@ function(nlsoft_cortex_m_images)
   add_library(m4_flags INTERFACE)
   # -flto: the image is one program, so what one translation unit never
   # calls from another (and the copies of shared/'s inline functions) goes.
-  target_compile_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -g -flto -ffunction-sections -fdata-sections
+  target_compile_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -g -flto -ffunction-sections -fdata-sections -fno-tree-loop-distribute-patterns
     -fno-unwind-tables -fno-asynchronous-unwind-tables
     $<$<COMPILE_LANGUAGE:CXX>:-std=c++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit
       ${NLSOFT_WARNING_FLAGS}>)
