@@ -8,6 +8,10 @@
 #include "shared/newton.hpp"
 #include "shared/params.hpp"
 
+// What runs once per run or model, not per step: compiled for size
+// (GCC's cold functions are), the step's own code for speed.
+#define NLSOFT_COLD __attribute__((cold))
+
 // The step is hot code too (see rollout.hpp): at -Os its per-value
 // helpers (finite, the queue rolls) stay calls, ~600 instructions a step.
 #pragma GCC push_options
@@ -32,7 +36,7 @@ class Controller {
 
   // The model must already be finalized; params are validated here so a
   // controller can never run with a set the table would refuse.
-  Status configure(const Model<Cap>* model, const Params<Cap>& params) {
+  NLSOFT_COLD Status configure(const Model<Cap>* model, const Params<Cap>& params) {
     if (model == nullptr || model->layer_count == 0) return Status::BadFormat;
     const ParamResult ok = check_consistent(params, model->m);
     if (ok.status != Status::Ok) return ok.status;
@@ -44,7 +48,7 @@ class Controller {
   }
 
   // Fills every history slot with a steady state: input u0, output y0, sensors l0.
-  void reset(const float* u0, const float* y0, const float* l0) {
+  NLSOFT_COLD void reset(const float* u0, const float* y0, const float* l0) {
     const InputLayout L = layout();
     for (int j = 0; j < L.nd; ++j) push_input(x_, L, u0);
     for (int j = 0; j < L.dd; ++j) push_output(x_, L, y0);
@@ -57,7 +61,7 @@ class Controller {
   // With no observer of y, start from the model's own rest: hold u0 and the
   // sensors l0 and let the prediction settle (the paper's "neutral point",
   // the Newton initial guess). Returns the settled y.
-  const float* reset_at_rest(const float* u0, const float* l0, int iterations = 64) {
+  NLSOFT_COLD const float* reset_at_rest(const float* u0, const float* l0, int iterations = 64) {
     const InputLayout L = layout();
     float y[Cap::n];
     for (int j = 0; j < L.n; ++j) y[j] = model_->out_offset()[j];

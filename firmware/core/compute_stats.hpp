@@ -17,7 +17,24 @@ struct ComputeStats {
     sum += ticks;
     ++count;
   }
-  uint32_t mean() const { return count ? uint32_t(sum / count) : 0; }
+  // sum / count without a 64-bit division (a libgcc call of 700 B on a
+  // Cortex-M): the mean is at most max, so the quotient fits 32 bits and a
+  // 32-step shift-and-subtract finds it.
+  uint32_t mean() const {
+    if (count == 0) return 0;
+    uint64_t rem = sum >> 32;  // < count, as sum / count < 2^32
+    const uint32_t low = uint32_t(sum);
+    uint32_t q = 0;
+    for (int bit = 31; bit >= 0; --bit) {
+      rem = rem << 1 | (low >> bit & 1u);
+      q <<= 1;
+      if (rem >= count) {
+        rem -= count;
+        q |= 1u;
+      }
+    }
+    return q;
+  }
   void reset() { *this = ComputeStats{}; }
 };
 

@@ -116,30 +116,30 @@ class Firmware {
     const uint32_t t0 = hal_.ticks();
     clock_.update(t0);
     const int m = rig_.m, n = rig_.n;
-    float l[Cap::w + 1] = {};
-    hal_.read_sensors(l, rig_.w);
+    // A port fills all w sensors; l_ is a member, zeroed once, not a
+    // local zeroed every step (newlib-nano's memset goes byte by byte).
+    hal_.read_sensors(l_, rig_.w);
     have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
     watchdog_check();
 
-    StepResult<Cap> r{};
-    const bool running = state_ == proto::RunState::Running;
-    if (running) {
-      float ref[Cap::N * Cap::n];
-      ref_.rows(ref, params_.N, n);
-      r = ctl_.step(ref, l, have_y_true_ ? y_true_ : nullptr);
-      for (int i = 0; i < m; ++i) u_[i] = r.u[i];
-      for (int j = 0; j < n; ++j) y_ref_[j] = ref[j];
-      ref_.advance();
-    } else if (state_ != proto::RunState::Hold) {
-      neutral(u_);
+    if (state_ != proto::RunState::Running) {
+      if (state_ != proto::RunState::Hold) neutral(u_);
+      hal_.actuate(u_, m);
+      tx_.drain(hal_);
+      return;
     }
+    float ref[Cap::N * Cap::n];
+    ref_.rows(ref, params_.N, n);
+    // Built in place: the controller writes only the fields it fills.
+    const StepResult<Cap> r = ctl_.step(ref, l_, have_y_true_ ? y_true_ : nullptr);
+    for (int i = 0; i < m; ++i) u_[i] = r.u[i];
+    for (int j = 0; j < n; ++j) y_ref_[j] = ref[j];
+    ref_.advance();
     hal_.actuate(u_, m);
     const uint32_t compute = hal_.ticks() - t0;
-    if (running) {
-      stats_.add(compute);
-      if (decimation_ != 0 && step_ % decimation_ == 0) send_telemetry(r, compute);
-      ++step_;
-    }
+    stats_.add(compute);
+    if (decimation_ != 0 && step_ % decimation_ == 0) send_telemetry(r, compute);
+    ++step_;
     tx_.drain(hal_);
   }
 
@@ -571,6 +571,7 @@ class Firmware {
   uint32_t overruns_ = 0, tx_dropped_ = 0;
   ComputeStats stats_{};
   float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
+  float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
   bool have_y_true_ = false;
 };
 

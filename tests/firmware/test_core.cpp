@@ -7,6 +7,7 @@
 #include <set>
 
 #include "firmware/core/clock.hpp"
+#include "firmware/core/compute_stats.hpp"
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
 #include "shared/capacity.hpp"
@@ -187,6 +188,47 @@ TEST(Clock, AReadingBehindTheLastHoldsTheClockAndAWrapStillCounts) {
   c.update(0xFFFFFF00u);
   c.update(0x100u);
   EXPECT_EQ(c.total_ticks(), uint64_t(0xFFFFFF00u) - 1000u + 0x200u);
+}
+
+// The clock divides in 32 bits only (no 64-bit division on the MCU): its
+// readings are still the 64-bit quotients of the ticks elapsed, at a board's
+// clocks and at one above 429 MHz (Teensy 4.x), where ten ticks of a second
+// no longer fit 32 bits.
+TEST(Clock, MillisecondsAndMicrosecondsAreTheQuotientsOfTheTicksElapsed) {
+  for (uint32_t rate : {7u, 1000u, 1000000u, 25000000u, 168000000u, 429496730u, 600000000u, 0xFFFFFFFFu}) {
+    fw::Clock c;
+    uint32_t t = 0xFFFF0000u;
+    c.start(t, rate);
+    uint64_t total = 0;
+    uint32_t step = 1;
+    for (int i = 0; i < 4000; ++i) {
+      step = step * 1664525u + 1013904223u;
+      const uint32_t delta = step % 0x7FFFFFFFu >> (i % 24);
+      t += delta;
+      total += delta;
+      c.update(t);
+      ASSERT_EQ(c.total_ticks(), total);
+      ASSERT_EQ(c.ms(), uint32_t(total * 1000u / rate)) << rate << " after " << total;
+      ASSERT_EQ(c.us(), uint32_t(total * 1000000u / rate)) << rate << " after " << total;
+    }
+  }
+}
+
+// STATUS's mean compute time is the floor of the 64-bit sum over the count,
+// found without a 64-bit division, also once the sum has passed 2^32.
+TEST(ComputeStats, TheMeanIsTheSumOverTheCountPastTwoToThe32) {
+  fw::ComputeStats st;
+  EXPECT_EQ(st.mean(), 0u);
+  uint64_t sum = 0;
+  uint32_t x = 7;
+  for (int i = 0; i < 20000; ++i) {
+    x = x * 1664525u + 1013904223u;
+    const uint32_t ticks = i < 10000 ? x >> 12 : x | 0x80000000u;
+    st.add(ticks);
+    sum += ticks;
+    ASSERT_EQ(st.mean(), uint32_t(sum / st.count)) << i;
+  }
+  EXPECT_GT(sum, uint64_t(1) << 44);
 }
 
 }  // namespace

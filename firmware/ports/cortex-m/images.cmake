@@ -89,13 +89,16 @@ function(nlsoft_cortex_m_images)
   cmake_parse_arguments(A "BIN" "PREFIX;NAME;LINKER_SCRIPT" "BOARD_SOURCES;DEFINITIONS" ${ARGN})
   set(cpu -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard)
   add_library(m4_flags INTERFACE)
-  target_compile_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -g -ffunction-sections -fdata-sections
+  # -flto: the image is one program, so what one translation unit never
+  # calls from another (and the copies of shared/'s inline functions) goes.
+  target_compile_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -g -flto -ffunction-sections -fdata-sections -fno-tree-loop-distribute-patterns
+    -fno-unwind-tables -fno-asynchronous-unwind-tables
     $<$<COMPILE_LANGUAGE:CXX>:-std=c++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -fno-use-cxa-atexit
       ${NLSOFT_WARNING_FLAGS}>)
   target_include_directories(m4_flags INTERFACE ${NLSOFT_ROOT})
   target_compile_definitions(m4_flags INTERFACE ${A_DEFINITIONS})
   # newlib objects lack .note.GNU-stack; an execstack note means nothing on an MPU-less image.
-  target_link_options(m4_flags INTERFACE ${cpu} -nostartfiles --specs=nano.specs -Wl,--gc-sections
+  target_link_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -flto -nostartfiles --specs=nano.specs -Wl,--gc-sections
     -Wl,--no-warn-execstack -L${NLSOFT_CORTEX_M_DIR} -L${CMAKE_CURRENT_BINARY_DIR} -T${A_LINKER_SCRIPT})
 
   # Reset, SysTick and the board's drivers: the same for every image. Objects,
