@@ -234,7 +234,7 @@ void neutral_output(const PlantTarget& t, double* y) {
   if (t.plant == TargetPlant::Named) return neutral_output(t.platform, y);
   SimPlant plant;
   if (t.plant == TargetPlant::Generic && plant.select(t.generic, 0)) return settle_at_neutral(plant, y);
-  for (int j = 0; j < t.n; ++j) y[j] = t.y_mid[size_t(j)];
+  for (int j = 0; j < t.n; ++j) y[j] = t.y_rest[size_t(j)];
 }
 
 }  // namespace nlsoft::pipeline

@@ -19,7 +19,7 @@ PlantTarget platform_target(PlatformId id) {
   plant.output_box(ylo, yhi);
   for (int i = 0; i < t.m; ++i) t.u_lo.push_back(double(lo[i])), t.u_hi.push_back(double(hi[i]));
   for (int j = 0; j < t.n; ++j) {
-    t.y_mid.push_back(0.5 * (double(ylo[j]) + double(yhi[j])));
+    t.y_rest.push_back(0.5 * (double(ylo[j]) + double(yhi[j])));
     t.y_span.push_back(double(yhi[j]) - double(ylo[j]));
     t.y_names.push_back("y" + std::to_string(j));
   }

@@ -20,13 +20,13 @@ struct PlantTarget {
   int m = 0, n = 0, w = 0, nd = 2, dd = 2;
   double rate_hz = 0;              // the control rate (0: not known)
   std::vector<double> u_lo, u_hi;  // the inputs' limits
-  std::vector<double> y_mid;       // the middle of each output's range: where outputs are centred
+  std::vector<double> y_rest;      // each output with every input at neutral: where train centres the outputs
   std::vector<double> y_span;      // each output's task-space span: what a fit's nRMSE is relative to
   std::vector<std::string> y_names;  // each output's name, in the fit's table
   std::string y_unit;              // the first output's unit ("" normalised)
   // The simulated stand-in: a hand-written plant (its own excitation time
   // scales and training defaults), a generic one, or none (data from the
-  // rig itself; train centres the outputs on y_mid).
+  // rig itself; train centres the outputs on y_rest).
   TargetPlant plant = TargetPlant::None;
   PlatformId platform = PlatformId::Msd;  // TargetPlant::Named
   GenericPlantSpec generic{};             // TargetPlant::Generic

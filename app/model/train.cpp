@@ -261,9 +261,10 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
     spec.u_lo.push_back(double(float(target.u_lo[size_t(i)])));
     spec.u_hi.push_back(double(float(target.u_hi[size_t(i)])));
   }
-  // Outputs centred on the middle of the rig's output ranges: a property of
-  // the rig, not of a simulated plant that may not be the rig at all.
-  spec.y_neutral = target.y_mid;
+  // Outputs centred on the rig's rest (its file's `rest`, by default the
+  // middle of each output's range), as the controller holds it (float): a
+  // property of the rig, not of a simulated plant that may not be the rig.
+  for (double y : target.y_rest) spec.y_neutral.push_back(double(float(y)));
   spec.residual = opt.residual;
   const Activation out_act = opt.layers.back().act;
   spec.out_margin = (out_act == Activation::Linear || out_act == Activation::Relu) ? 1.0 : 1.25;

@@ -51,6 +51,7 @@ struct RigOutput {
   std::string name, unit;
   double min = 0, max = 0;  // where the output can be (the plant's reach)
   double span = 0;          // the task space's extent: tracking errors are relative to it
+  double rest = 0;          // the output with every input at neutral: where a trained model is centred
   OutputSource source = OutputSource::None;
   int adc = -1;
   double gain = 1, offset = 0;

@@ -363,7 +363,7 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
   const auto tables = table_array(root, t, "output");
   for (size_t i = 0; i < tables.size(); ++i) {
     const Section s(file, *tables[i], nth("output", i), line_of(*tables[i]),
-                    {"name", "unit", "min", "max", "span", "source", "adc", "gain", "offset"});
+                    {"name", "unit", "min", "max", "span", "rest", "source", "adc", "gain", "offset"});
     if (i >= size_t(RigCapacity::n))
       s.fail(s.line(), "", "over capacity: at most n = " + std::to_string(RigCapacity::n) + " outputs");
     RigOutput out;
@@ -375,6 +375,9 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
     if (!(out.min < out.max))
       s.fail(s.line("max"), "max", "must be > min (" + num(out.min) + " at line " + std::to_string(s.line("min")) + ")");
     out.span = s.has("span") ? s.positive("span") : out.max - out.min;
+    out.rest = s.number("rest", 0.5 * (out.min + out.max));
+    if (out.rest < out.min || out.rest > out.max)
+      s.fail(s.line("rest"), "rest", "must be within min..max (" + num(out.min) + ".." + num(out.max) + ")");
     const std::string source = s.has("source") ? s.choice("source", {"none", "adc", "external"}) : "none";
     if (source == "adc") {
       out.source = OutputSource::Adc;

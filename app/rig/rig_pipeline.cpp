@@ -14,7 +14,7 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   t.rate_hz = rig.rate_hz;
   for (const RigInput& in : rig.inputs) t.u_lo.push_back(in.min), t.u_hi.push_back(in.max);
   for (const RigOutput& o : rig.outputs) {
-    t.y_mid.push_back(0.5 * (o.min + o.max));
+    t.y_rest.push_back(o.rest);
     t.y_span.push_back(o.span > 0 ? o.span : o.max - o.min);
     t.y_names.push_back(o.name);
   }

@@ -155,7 +155,7 @@ TEST(Train, LimitsAndCentreComeFromTheRigNotASimulatedPlant) {
   t.plant = TargetPlant::Named;  // a simulated plant stands by, and is not asked
   t.u_lo = {-4000.0};
   t.u_hi = {6000.0};
-  t.y_mid = {20.0};
+  t.y_rest = {20.0};
   TrainOptions o = default_options(t);
   o.residual = false;
   const TrainResult r = train(s, t, o);
