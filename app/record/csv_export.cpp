@@ -21,7 +21,10 @@ size_t export_run_csv(RunStore& store, int64_t run_id, const std::string& path) 
   for (const char* v : {"y_ref", "y_hat", "y_true"})
     for (int i = 0; i < run.n; ++i) head += fmt::format(",{}{}", v, i);
   for (int i = 0; i < run.m; ++i) head += fmt::format(",u{}", i);
-  head += ",cost,iterations,compute_us\n";
+  head += ",cost,iterations,compute_us";
+  // An identification run's sensors last, so the columns before keep their places.
+  for (int i = 0; i < run.w; ++i) head += fmt::format(",l{}", i);
+  head += '\n';
   std::fputs(head.c_str(), f.get());
   size_t rows = 0;
   fmt::memory_buffer line;
@@ -45,6 +48,7 @@ size_t export_run_csv(RunStore& store, int64_t run_id, const std::string& path) 
     else line.push_back(',');
     if (s.has(tf::kSolver)) fmt::format_to(std::back_inserter(line), ",{},{:.9g}", s.iterations, s.compute_us);
     else line.append(std::string_view(",,"));
+    opt_vec(s.w > 0, s.l, run.w);
     line.push_back('\n');
     std::fwrite(line.data(), 1, line.size(), f.get());
     ++rows;
