@@ -262,6 +262,23 @@ TEST(IdentE2E, BadWordsAreRefusedInWordsBeforeAnythingIsRecorded) {
   EXPECT_EQ(list.output.find("\"kind\": \"ident\""), std::string::npos) << list.output;
 }
 
+// The script's `ident` line runs the same identification run.
+TEST(IdentE2E, AScriptsIdentLineRecordsAnIdentificationRun) {
+  Ident t;
+  const std::string script = t.dir.file("ident.nls");
+  std::ofstream(script) << "ident walk 3s seed=9 band=0.2:4 label=scripted\nexpect lost_frames == 0\n";
+  const ProcessResult r = console("--sim " + shell_quote(t.rig) + " --sim-fast --db " + shell_quote(t.db) +
+                                  " --script " + shell_quote(script));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("identification run: 300 of 300 steps recorded"), std::string::npos) << r.output;
+  console::RunStore store(t.db);
+  const console::RunRow run = store.run(1);
+  EXPECT_EQ(run.kind, "ident");
+  EXPECT_EQ(run.label, "scripted");
+  EXPECT_EQ(run.samples, 300u);
+  EXPECT_NE(run.excitation.find("\"signal\":\"walk\""), std::string::npos) << run.excitation;
+}
+
 // Ctrl-C in the middle of a real-time run: the run stops, and what was
 // recorded stays, sensors and all, with the signal named as its end.
 TEST(IdentE2E, CtrlCStopsTheRunAndKeepsWhatWasRecorded) {
