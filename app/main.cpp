@@ -10,6 +10,7 @@
 #include "app/link/ports_command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
+#include "app/live/ident_command.hpp"
 #include "app/model/commands.hpp"
 #include "app/record/run_training.hpp"
 #include "app/record/runs_command.hpp"
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   add_tune_command(app);
   add_conformance_command(app);
   add_flash_command(app);
+  add_ident_command(app);
   add_firmware_command(app);
   add_simulate_command(app);
   // dataset and train take any rig file (or a shipped rig's name); train

@@ -36,6 +36,9 @@ enum class MsgType : uint8_t {
   // Protocol 1.2: the rig this image was built for and the model shapes it
   // accepts (RIG_INFO), so a console refuses a model before uploading it.
   RigGet = 0x10,
+  // Protocol 1.3: an identification run, open loop, the firmware's own
+  // excitation signal on the inputs (IDENT_SAMPLE carries u, y and l).
+  IdentStart = 0x11,
   // Replies and unsolicited messages, firmware -> console.
   Ack = 0x40,
   Nack = 0x41,
@@ -51,6 +54,7 @@ enum class MsgType : uint8_t {
   // layout, so a 1.1 console still reads a 1.0 firmware's INFO.
   InfoEx = 0x4A,
   RigInfo = 0x4B,  // protocol 1.2: the reply to RIG_GET
+  IdentSample = 0x4C,  // protocol 1.3: one step of an identification run (unsolicited)
 };
 
 // Telemetry field mask bits; fields appear in the payload in bit order.
@@ -81,8 +85,17 @@ constexpr size_t telemetry_payload_size(uint8_t mask, unsigned n, unsigned m) {
   return size;
 }
 
+// IDENT_SAMPLE: tseq u16, m u8, n u8, w u8, step u32, time_us u32, then
+// u[m], y[n], l[w] as f32.
+constexpr size_t kIdentSampleFixedSize = 13;
+
+constexpr size_t ident_sample_payload_size(unsigned m, unsigned n, unsigned w) {
+  return kIdentSampleFixedSize + 4u * (m + n + w);
+}
+
 // Length rule: min_len <= len <= max_len and (len - min_len) % step == 0.
-// step 0 marks a rule that depends on the payload itself (TELEMETRY).
+// step 0 marks a rule that depends on the payload itself (TELEMETRY, and
+// IDENT_SAMPLE, told apart by their fixed sizes).
 struct MsgInfo {
   MsgType type;
   const char* name;
@@ -124,6 +137,10 @@ inline constexpr MsgInfo kMessages[] = {
      3, 1, true, MsgType::Ack},
     {MsgType::StatusGet, "STATUS_GET", "STATUS_GET:", 0, 0, 1, true, MsgType::Status},
     {MsgType::RigGet, "RIG_GET", "RIG_GET:", 0, 0, 1, true, MsgType::RigInfo},
+    {MsgType::IdentStart, "IDENT_START",
+     "IDENT_START:u32 run_id,u8 signal,u8 options,u16 decimation,u32 seed,f32 amplitude,f32 band_lo,"
+     "f32 band_hi,u32 duration",
+     28, 28, 1, true, MsgType::Ack},
     {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false, MsgType(0)},
     {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false, MsgType(0)},
     {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false, MsgType(0)},
@@ -159,6 +176,9 @@ inline constexpr MsgInfo kMessages[] = {
      "RIG_INFO:u32 rig_hash,char[24] rig_name,u8 m,u8 n,u8 w,u8 nd,u8 dd,u8 accept,u8 max_layers,"
      "u16 max_width,u32 max_weights,u8[] shapes",
      41, 119, 1, false, MsgType(0)},
+    {MsgType::IdentSample, "IDENT_SAMPLE",
+     "IDENT_SAMPLE:u16 tseq,u8 m,u8 n,u8 w,u32 step,u32 time_us,f32[m] u,f32[n] y,f32[w] l",
+     static_cast<uint8_t>(kIdentSampleFixedSize), static_cast<uint8_t>(kMaxPayload), 0, false, MsgType(0)},
 };
 
 constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);
@@ -237,6 +257,8 @@ constexpr bool answers(uint8_t request, uint8_t reply) {
 
 constexpr bool payload_length_ok(const MsgRule& rule, const uint8_t* payload, size_t len) {
   if (len < rule.min_len || len > rule.max_len) return false;
+  if (rule.step == 0 && rule.min_len == kIdentSampleFixedSize)
+    return len == ident_sample_payload_size(payload[2], payload[3], payload[4]);
   if (rule.step == 0) {
     // TELEMETRY: tseq(2) mask(1) dims(1), dims = n << 4 | m.
     const uint8_t mask = payload[2];

@@ -33,6 +33,15 @@ constexpr uint8_t kRigNameLen = 24;       // RIG_INFO rig_name, NUL-padded
 // RIG_INFO's shape list: what keeps the whole reply within the reply cache
 // (reply_cache.hpp: 41 fixed bytes + 78 = 119, 128 on the wire).
 constexpr uint8_t kMaxShapeBytes = 78;
+// IDENT_SAMPLE's vectors: m + n + w floats after 13 fixed bytes fill at
+// most the 246-byte payload.
+constexpr uint8_t kMaxIdentFloats = static_cast<uint8_t>((kMaxPayload - kIdentSampleFixedSize) / 4);  // 58
+
+// IDENT_START.signal: numbering shared with shared/excitation.hpp.
+enum class IdentSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3 };
+namespace ident_options {
+constexpr uint8_t kJoint = 0x01;  // every input the same deviation (else one stream per input)
+}
 
 // Numbering shared with shared/params.hpp (F32, U8, Enum) and extended.
 enum class ParamType : uint8_t { F32 = 0, U8 = 1, Enum = 2, U16 = 3, U32 = 4 };
@@ -48,7 +57,8 @@ namespace xfer_options {
 constexpr uint8_t kRestart = 0x01;  // discard a matching partial transfer instead of resuming
 }
 
-enum class RunState : uint8_t { Idle = 0, Running = 1, Hold = 2, Neutral = 3, Fault = 4 };
+// Ident (protocol 1.3): an identification run, the excitation on the inputs.
+enum class RunState : uint8_t { Idle = 0, Running = 1, Hold = 2, Neutral = 3, Fault = 4, Ident = 5 };
 enum class HoldMode : uint8_t { Hold = 0, Neutral = 1, Resume = 2 };
 enum class LogLevel : uint8_t { Debug = 0, Info = 1, Warn = 2, Error = 3 };
 // Numbering shared with shared/platform_id.hpp.
@@ -74,6 +84,7 @@ constexpr uint32_t kYTrue = 1u << 5;  // telemetry can carry the true plant outp
 constexpr uint32_t kRunHold = 1u << 6;
 constexpr uint32_t kLog = 1u << 7;
 constexpr uint32_t kRig = 1u << 8;  // protocol 1.2: RIG_GET answers RIG_INFO
+constexpr uint32_t kIdent = 1u << 9;  // protocol 1.3: IDENT_START, IDENT_SAMPLE
 }  // namespace capability
 
 // RIG_INFO.accept (PROTOCOL.md 7): which model shapes a model upload may have.
@@ -91,7 +102,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 2;
+constexpr uint8_t kProtocolMinor = 3;
 
 // ---------------------------------------------------------------- requests
 
@@ -246,6 +257,32 @@ struct StatusGet {
 struct RigGet {
   static constexpr MsgType kType = MsgType::RigGet;
   template <class S, class V> static void fields(S&, V&) {}
+};
+
+// Protocol 1.3: starts an identification run. A request of its own: the
+// run is open loop (no model, no reference), with its own telemetry.
+struct IdentStart {
+  static constexpr MsgType kType = MsgType::IdentStart;
+  uint32_t run_id = 0;
+  uint8_t signal = 0;        // IdentSignal
+  uint8_t options = 0;       // ident_options bits
+  uint16_t decimation = 1;   // one IDENT_SAMPLE every k control steps, k >= 1
+  uint32_t seed = 0;
+  float amplitude = 0.0f;    // fraction of each input's range, (0, 1]
+  float band_lo = 0.0f;      // Hz
+  float band_hi = 0.0f;      // Hz, <= loop rate / 2
+  uint32_t duration = 0;     // control steps, >= 1; the run then ends by itself
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u32("run_id", s.run_id);
+    v.u8("signal", s.signal);
+    v.u8("options", s.options);
+    v.u16("decimation", s.decimation);
+    v.u32("seed", s.seed);
+    v.f32("amplitude", s.amplitude);
+    v.f32("band_lo", s.band_lo);
+    v.f32("band_hi", s.band_hi);
+    v.u32("duration", s.duration);
+  }
 };
 
 // ------------------------------------------------- replies and unsolicited
@@ -529,6 +566,34 @@ struct RigInfo {
   }
 };
 
+// Protocol 1.3: one step of an identification run: the inputs applied, the
+// outputs as measured (n = 0 when the firmware measures none) and the
+// sensors. A message of its own rather than more TELEMETRY bits: TELEMETRY's
+// 8-bit mask is full and its layout cannot change within version 1, and an
+// identification sample is always the same three vectors, so a mask would
+// only cost a byte.
+struct IdentSample {
+  static constexpr MsgType kType = MsgType::IdentSample;
+  uint16_t tseq = 0;  // TELEMETRY's counter: one count of frames generated
+  uint8_t m = 0, n = 0, w = 0;
+  uint32_t step = 0;
+  uint32_t time_us = 0;
+  float u[kMaxIdentFloats] = {};
+  float y[kMaxIdentFloats] = {};
+  float l[kMaxIdentFloats] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u16("tseq", s.tseq);
+    v.u8("m", s.m);
+    v.u8("n", s.n);
+    v.u8("w", s.w);
+    v.u32("step", s.step);
+    v.u32("time_us", s.time_us);
+    v.f32_array("u", s.u, s.m, kMaxIdentFloats);
+    v.f32_array("y", s.y, s.n, kMaxIdentFloats);
+    v.f32_array("l", s.l, s.w, kMaxIdentFloats);
+  }
+};
+
 // ------------------------------------------------------------- pack/unpack
 
 namespace detail {
@@ -701,6 +766,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::TelemetryConfig: f(TelemetryConfig{}); return true;
     case MsgType::StatusGet: f(StatusGet{}); return true;
     case MsgType::RigGet: f(RigGet{}); return true;
+    case MsgType::IdentStart: f(IdentStart{}); return true;
     case MsgType::Ack: f(Ack{}); return true;
     case MsgType::Nack: f(Nack{}); return true;
     case MsgType::Pong: f(Pong{}); return true;
@@ -713,6 +779,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::Log: f(Log{}); return true;
     case MsgType::InfoEx: f(InfoEx{}); return true;
     case MsgType::RigInfo: f(RigInfo{}); return true;
+    case MsgType::IdentSample: f(IdentSample{}); return true;
   }
   return false;
 }

@@ -64,6 +64,11 @@ Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
     types_seen_.insert(uint8_t(p::MsgType::Telemetry));
     if (recording_) telemetry_.push_back({t.tseq, t.step});
   });
+  session_.on_ident_sample([this](const p::IdentSample& t, uint32_t) {
+    std::lock_guard<std::mutex> lock(mu_);
+    types_seen_.insert(uint8_t(p::MsgType::IdentSample));
+    if (ident_.size() < 100000) ident_.push_back(t);
+  });
   session_.on_status([this](const p::Status& s) {
     std::lock_guard<std::mutex> lock(mu_);
     types_seen_.insert(uint8_t(p::MsgType::Status));
@@ -171,6 +176,11 @@ void Probe::record_telemetry(bool on) {
 std::vector<TelemetrySample> Probe::telemetry() {
   std::lock_guard<std::mutex> lock(mu_);
   return telemetry_;
+}
+
+std::vector<p::IdentSample> Probe::take_ident_samples() {
+  std::lock_guard<std::mutex> lock(mu_);
+  return std::move(ident_);
 }
 
 std::vector<p::Status> Probe::take_statuses() {

@@ -94,6 +94,9 @@ class Probe {
 
   void record_telemetry(bool on);
   std::vector<TelemetrySample> telemetry();
+  // IDENT_SAMPLE frames (protocol 1.3) since the last take, kept always:
+  // an identification run's samples are few enough (the checks' runs are short).
+  std::vector<p::IdentSample> take_ident_samples();
   // STATUS frames in arrival order since the last call (replies included).
   std::vector<p::Status> take_statuses();
   std::vector<std::string> take_logs();
@@ -128,6 +131,7 @@ class Probe {
   std::string first_foreign_;
   bool recording_ = false;
   std::vector<TelemetrySample> telemetry_;
+  std::vector<p::IdentSample> ident_;
   std::vector<p::Status> statuses_;
   std::vector<std::string> logs_;
 };

@@ -116,6 +116,7 @@ void Suite::run(std::chrono::seconds patience) {
     check_watchdog(*this);
     check_transfers(*this);
     check_rig(*this);
+    check_ident(*this);
   } catch (const LinkError&) {
     try {
       pr.request(p::RunStop{}, 2);
@@ -137,6 +138,10 @@ void Suite::run(std::chrono::seconds patience) {
     const uint8_t t = uint8_t(m.type);
     // RIG_GET and RIG_INFO are protocol 1.2's, offered with the RIG capability.
     if (!rig && (m.type == p::MsgType::RigGet || m.type == p::MsgType::RigInfo)) continue;
+    // IDENT_START and IDENT_SAMPLE are protocol 1.3's, offered with the IDENT capability.
+    if (!(info.info.capabilities & p::capability::kIdent) &&
+        (m.type == p::MsgType::IdentStart || m.type == p::MsgType::IdentSample))
+      continue;
     if (m.is_request) {
       if (!requests_answered.count(t)) missing.push_back(std::string(m.name) + " never answered");
     } else if (t != uint8_t(p::MsgType::Info) && t != uint8_t(p::MsgType::InfoEx) && !seen.count(t)) {

@@ -69,6 +69,7 @@ void check_telemetry_rate(Suite& s);
 void check_watchdog(Suite& s);
 void check_transfers(Suite& s);
 void check_rig(Suite& s);
+void check_ident(Suite& s);
 
 // Helpers shared by the check files.
 std::string join(const std::vector<std::string>& v, const char* sep);

@@ -181,6 +181,8 @@ void Device::run_start(uint32_t run_id) {
   session_.call<p::Ack>(req);
 }
 
+void Device::ident_start(const p::IdentStart& req) { session_.call<p::Ack>(req); }
+
 void Device::run_stop() { session_.call<p::Ack>(p::RunStop{}); }
 
 void Device::run_hold(p::HoldMode mode) {

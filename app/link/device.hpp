@@ -62,6 +62,8 @@ class Device {
   void upload(protocol::XferKind kind, const std::vector<uint8_t>& object, const Progress& progress = {});
 
   void run_start(uint32_t run_id);
+  // Protocol 1.3: an identification run (needs the IDENT capability).
+  void ident_start(const protocol::IdentStart& req);
   void run_stop();
   void run_hold(protocol::HoldMode mode);
   void telemetry_config(uint8_t mask, uint16_t decimation);

@@ -326,12 +326,26 @@ void Session::on_frame(const p::FrameView& f) {
       last_tseq_ = t.tseq;
     }
     if (telemetry_handler_) telemetry_handler_(t, lost);
+  } else if (type == p::MsgType::IdentSample) {
+    p::IdentSample t;
+    if (p::unpack(f, t) != p::StatusCode::Ok) return;
+    uint32_t lost = 0;
+    {
+      std::lock_guard<std::mutex> lock(stats_mu_);
+      ++stats_.telemetry_frames;
+      if (have_tseq_) lost = uint16_t(t.tseq - last_tseq_ - 1);
+      stats_.lost_telemetry += lost;
+      have_tseq_ = true;
+      last_tseq_ = t.tseq;
+    }
+    if (ident_handler_) ident_handler_(t, lost);
   } else if (type == p::MsgType::Status) {
     p::Status s;
     if (p::unpack(f, s) != p::StatusCode::Ok) return;
     {
       std::lock_guard<std::mutex> lock(stats_mu_);
-      const bool running = s.run_state == uint8_t(p::RunState::Running);
+      const bool running =
+          s.run_state == uint8_t(p::RunState::Running) || s.run_state == uint8_t(p::RunState::Ident);
       if (have_last_status_ && running && last_status_.run_state == s.run_state &&
           last_status_.run_id == s.run_id && s.uptime_ms > last_status_.uptime_ms && s.step >= last_status_.step) {
         stats_.loop_rate_hz = 1000.0 * double(s.step - last_status_.step) / double(s.uptime_ms - last_status_.uptime_ms);

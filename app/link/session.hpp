@@ -102,6 +102,8 @@ struct RawRequest {
 class Session {
  public:
   using TelemetryHandler = std::function<void(const protocol::Telemetry&, uint32_t lost_before)>;
+  // Protocol 1.3: an identification run's samples, counted with TELEMETRY's tseq.
+  using IdentHandler = std::function<void(const protocol::IdentSample&, uint32_t lost_before)>;
   using StatusHandler = std::function<void(const protocol::Status&)>;
   using LogHandler = std::function<void(const protocol::Log&)>;
   using EventHandler = std::function<void(const LinkEvent&)>;
@@ -115,6 +117,7 @@ class Session {
   // Set before open(). Telemetry/status/log handlers run on the I/O thread
   // and must not block; the event handler runs on the supervisor thread.
   void on_telemetry(TelemetryHandler h) { telemetry_handler_ = std::move(h); }
+  void on_ident_sample(IdentHandler h) { ident_handler_ = std::move(h); }
   void on_status(StatusHandler h) { status_handler_ = std::move(h); }
   void on_log(LogHandler h) { log_handler_ = std::move(h); }
   void on_event(EventHandler h) { event_handler_ = std::move(h); }
@@ -207,6 +210,7 @@ class Session {
   SerialLink link_;
   protocol::Decoder decoder_;  // I/O thread only
 
+  IdentHandler ident_handler_;
   TelemetryHandler telemetry_handler_;
   StatusHandler status_handler_;
   LogHandler log_handler_;

@@ -126,6 +126,7 @@ void LiveConsole::connect(const Progress& params_progress) {
 
   session_ = std::make_unique<Session>(options_.session);
   session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
+  session_->on_ident_sample([this](const p::IdentSample& t, uint32_t lost) { on_ident_sample(t, lost); });
   session_->on_status([this](const p::Status& s) { on_status(s); });
   session_->on_log([this](const p::Log& l) {
     static const char* level[] = {"debug", "info", "warn", "error"};
@@ -186,6 +187,8 @@ std::string LiveConsole::settle_port(const std::string& port) {
   return stable;
 }
 
+bool LiveConsole::link_unlimited() const { return sim_ != nullptr || is_pty(session_->port()); }
+
 void LiveConsole::configure_telemetry() {
   const p::Info info = device_->info();
   uint8_t mask = tf::kAll;
@@ -201,6 +204,7 @@ void LiveConsole::configure_telemetry() {
     }
   }
   decimation_ = uint16_t(std::min(dec, 65535));
+  telemetry_decimation_ = decimation_;
   device_->telemetry_config(mask, decimation_);
 }
 
@@ -237,31 +241,38 @@ void LiveConsole::disconnect() {
 }
 
 void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
+  on_sample(sample_from(t, 0, tick_rate_hz_.load()), (t.mask & tf::kStep) != 0, lost_before);
+}
+
+void LiveConsole::on_ident_sample(const p::IdentSample& t, uint32_t lost_before) {
+  on_sample(sample_from(t, 0), true, lost_before);
+}
+
+void LiveConsole::on_sample(Sample s, bool has_step, uint32_t lost_before) {
   const int64_t run = run_id_.load();
   if (run == 0) {
-    const Sample s = sample_from(t, 0, tick_rate_hz_.load());
     live_.push(s);
     if (udp_) udp_->push(s, 0);
     return;
   }
   const uint64_t k = run_k_.fetch_add(1);
-  if (k == 0) first_step_ = t.step;
+  s.k = k;
+  if (k == 0) first_step_ = s.step;
   if (lost_before > 0) {
     run_lost_ += lost_before;
     recorder_->add_gap(run, k == 0 ? 0 : k - 1, lost_before, "telemetry frames lost on the link");
-  } else if (resync_after_gap_.exchange(false) && have_last_step_ && (t.mask & tf::kStep)) {
+  } else if (resync_after_gap_.exchange(false) && have_last_step_ && has_step) {
     const uint32_t d = decimation_ ? decimation_ : 1;
-    const uint32_t missed = (t.step - last_step_.load()) / d;
+    const uint32_t missed = (s.step - last_step_.load()) / d;
     if (missed > 1) {
       run_lost_ += missed - 1;
       recorder_->add_gap(run, k == 0 ? 0 : k - 1, missed - 1, "link down");
     }
   }
-  const Sample s = sample_from(t, k, tick_rate_hz_.load());
   recorder_->add_sample(run, s);
   live_.push(s);
   if (udp_) udp_->push(s, run);
-  last_step_ = t.step;
+  last_step_ = s.step;
   have_last_step_ = true;
   last_sample_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
 }
@@ -273,7 +284,8 @@ void LiveConsole::on_status(const p::Status& s) {
   tick_rate_hz_ = s.tick_rate_hz;
   note_uptime(s.uptime_ms);
   const int64_t run = run_id_.load();
-  if (run != 0 && s.run_id == uint32_t(run) && s.run_state != uint8_t(p::RunState::Running) && !user_hold_.load()) {
+  if (run != 0 && s.run_id == uint32_t(run) && s.run_state != uint8_t(p::RunState::Running) &&
+      s.run_state != uint8_t(p::RunState::Ident) && !user_hold_.load()) {
     left_run_watchdog_ = s.watchdog;
     left_run_state_ = s.run_state;
   }
@@ -677,7 +689,9 @@ std::string LiveConsole::firmware_reference_json() {
                      reference_kind_name(RefKind(id)));
 }
 
-int64_t LiveConsole::start_run(const std::string& label) {
+int64_t LiveConsole::start_run(const std::string& label) { return begin_run(label, nullptr, ""); }
+
+int64_t LiveConsole::begin_run(const std::string& label, p::IdentStart* ident, const std::string& excitation_json) {
   if (running()) throw CliError(fmt::format("run {} is already active; stop it first", run_id_.load()));
   if (const std::string err = recorder_->error(); !err.empty()) throw CliError("recording has stopped: " + err);
   check_label(label);
@@ -691,12 +705,20 @@ int64_t LiveConsole::start_run(const std::string& label) {
   ri.loop_rate_hz = info.loop_rate_hz;
   ri.n = info.n;
   ri.m = info.m;
+  decimation_ = ident ? std::max<uint16_t>(ident->decimation, 1) : telemetry_decimation_;
   ri.decimation = decimation_;
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    ri.reference = reference_ ? reference_json(*reference_, reference_table_file_) : "";
+  if (ident) {
+    // Open loop: no reference is followed.
+    ri.kind = "ident";
+    ri.w = info.w;
+    ri.excitation = excitation_json;
+  } else {
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      ri.reference = reference_ ? reference_json(*reference_, reference_table_file_) : "";
+    }
+    if (ri.reference.empty()) ri.reference = firmware_reference_json();
   }
-  if (ri.reference.empty()) ri.reference = firmware_reference_json();
   for (const auto& [pi, v] : device_->get_all()) ri.params.emplace_back(pi.name, format_param_values(pi, v));
   const int64_t id = recorder_->begin_run(ri);
   run_k_ = 0;
@@ -711,10 +733,18 @@ int64_t LiveConsole::start_run(const std::string& label) {
   live_.clear();
   run_id_ = id;
   try {
-    device_->run_start(uint32_t(id));
+    if (ident) {
+      ident->run_id = uint32_t(id);
+      device_->ident_start(*ident);
+    } else {
+      device_->run_start(uint32_t(id));
+    }
   } catch (const std::exception& e) {
     run_id_ = 0;
+    decimation_ = telemetry_decimation_;
     recorder_->end_run(id, std::string("not started: ") + e.what(), 0, 0);
+    if (const auto* nack = dynamic_cast<const NackError*>(&e); ident && nack)
+      throw CliError(fmt::format("the firmware refused the identification run: {}", e.what()));
     // WRONG_STATE on field 0 (run_id): another run is active; on no field:
     // the firmware has no model to run (firmware.hpp run_start).
     if (const auto* nack = dynamic_cast<const NackError*>(&e); nack && nack->status() == p::StatusCode::WrongState)
@@ -764,6 +794,7 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   }
   // Every frame of the run came before RUN_STOP's ACK on the one reader.
   run_id_ = 0;
+  decimation_ = telemetry_decimation_;
   recorder_->end_run(id, why, run_k_.load(), run_lost_.load());
   RunSummary s;
   s.run_id = id;
@@ -811,11 +842,30 @@ std::string left_run_reason(uint8_t state, uint8_t watchdog) {
 
 RunSummary LiveConsole::run_for(double seconds, const std::string& label, const Progress& progress,
                                 const std::atomic<bool>* cancel) {
-  using clock = std::chrono::steady_clock;
   if (!(seconds > 0)) throw CliError("run duration must be > 0");
   const int64_t id = start_run(label);
   const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
   const uint64_t target = std::max<uint64_t>(1, uint64_t(std::llround(seconds * rate)));
+  return run_steps(target, id, label, progress, cancel);
+}
+
+RunSummary LiveConsole::run_ident(p::IdentStart start, const std::string& excitation_json, const std::string& label,
+                                  const Progress& progress) {
+  if (!device_->has(p::capability::kIdent))
+    throw CliError(fmt::format("the firmware ({} {}.{}.{}, protocol {}.{}) has no identification runs (the IDENT "
+                               "capability of protocol 1.3): update it",
+                               device_->info().firmware, device_->info().fw_major, device_->info().fw_minor,
+                               device_->info().fw_patch, protocol::kProtocolVersion, device_->protocol_minor()));
+  if (start.duration == 0) throw CliError("an identification run must last at least one control step");
+  const int64_t id = begin_run(label, &start, excitation_json);
+  return run_steps(start.duration, id, label, progress, nullptr);
+}
+
+RunSummary LiveConsole::run_steps(uint64_t target, int64_t id, const std::string& label, const Progress& progress,
+                                  const std::atomic<bool>* cancel) {
+  using clock = std::chrono::steady_clock;
+  const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
+  const double seconds = double(target) / rate;
   // Telemetry may pause for a link outage the session rides out, or for a
   // slow line's decimation; longer than that, the firmware is not running
   // our run any more.

@@ -163,6 +163,19 @@ class LiveConsole {
   // full): a run nobody can read back is not worth waiting out.
   RunSummary run_for(double seconds, const std::string& label, const Progress& progress = {},
                      const std::atomic<bool>* cancel = nullptr);
+  // An identification run (protocol 1.3, IDENT_START): the firmware drives
+  // the inputs with its excitation signal for start.duration steps and ends
+  // the run itself; recorded as an identification run (kind 'ident', the
+  // signal as `excitation` JSON, u, measured y and the sensors per sample).
+  // start.run_id is set here. Ends as run_for does (early, interrupted).
+  // Throws CliError when the firmware has no IDENT capability or refuses.
+  RunSummary run_ident(protocol::IdentStart start, const std::string& excitation_json, const std::string& label,
+                       const Progress& progress = {});
+  // The decimation telemetry runs at (what a closed-loop run records).
+  uint16_t telemetry_decimation() const { return telemetry_decimation_; }
+  // A simulator or a pseudo-terminal (QEMU's UART): no baud rate limits
+  // what the link carries, as configure_telemetry() assumes too.
+  bool link_unlimited() const;
 
   // --sim/--qemu: how the simulator ended under the console ("simulator
   // killed by signal 9 (SIGKILL)", "simulator exited with status 3"); ""
@@ -225,6 +238,14 @@ class LiveConsole {
   // of whoever stopped it.
   RunSummary finish_run(int64_t id, const std::string& label, const std::string& reason);
   void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
+  void on_ident_sample(const protocol::IdentSample& t, uint32_t lost_before);
+  // A run's sample from either message: numbered, gaps recorded, kept.
+  void on_sample(Sample s, bool has_step, uint32_t lost_before);
+  // start_run's body; an identification run when ident is given.
+  int64_t begin_run(const std::string& label, protocol::IdentStart* ident, const std::string& excitation_json);
+  // run_for's body over a number of control steps.
+  RunSummary run_steps(uint64_t target, int64_t id, const std::string& label, const Progress& progress,
+                       const std::atomic<bool>* cancel);
   void on_event(const LinkEvent& e);
   void on_status(const protocol::Status& s);
   // After a reconnect: did the firmware reset, and which edits did it lose?
@@ -299,7 +320,8 @@ class LiveConsole {
   std::atomic<uint8_t> left_run_watchdog_{0};
   std::string run_label_;
   std::chrono::steady_clock::time_point run_started_{};
-  uint16_t decimation_ = 1;
+  uint16_t decimation_ = 1;            // the run's: telemetry's, or an identification run's
+  uint16_t telemetry_decimation_ = 1;  // TELEMETRY_CONFIG's, put back when an identification run ends
   // How the simulator ended, kept until reconnect_simulator() has ended its
   // run: a new simulator already running must not hide that the old one's
   // run still needs ending.

@@ -25,19 +25,23 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
     runs.push_back(store.run(id));
     for (const RunRow& other : runs)
       if (other.id == id && &other != &runs.back()) throw CliError(fmt::format("runs export: run {} is named twice", id));
-    if (runs.back().n != runs.front().n || runs.back().m != runs.front().m)
-      throw CliError(fmt::format("runs export: run {} has n={} m={}, run {} n={} m={}: one CSV holds runs of one shape "
-                                 "(export them apart, or as --h5)",
-                                 id, runs.back().n, runs.back().m, runs.front().id, runs.front().n, runs.front().m));
+    const RunRow &a = runs.front(), &b = runs.back();
+    if (b.n != a.n || b.m != a.m || b.w != a.w)
+      throw CliError(fmt::format("runs export: run {} has n={} m={} w={}, run {} n={} m={} w={}: one CSV holds runs of "
+                                 "one shape (export them apart, or as --h5)",
+                                 id, b.n, b.m, b.w, a.id, a.n, a.m, a.w));
   }
   const bool several = runs.size() > 1;
-  const int n = runs.front().n, m = runs.front().m;
+  const int n = runs.front().n, m = runs.front().m, w = runs.front().w;
   OutputFile f(path);
   std::string head = several ? "run,k,step,time_us" : "k,step,time_us";
   for (const char* v : {"y_ref", "y_hat", "y_true"})
     for (int i = 0; i < n; ++i) head += fmt::format(",{}{}", v, i);
   for (int i = 0; i < m; ++i) head += fmt::format(",u{}", i);
-  head += ",cost,iterations,compute_us\n";
+  head += ",cost,iterations,compute_us";
+  // An identification run's sensors last, so the columns before keep their places.
+  for (int i = 0; i < w; ++i) head += fmt::format(",l{}", i);
+  head += '\n';
   std::fputs(head.c_str(), f.get());
   size_t rows = 0;
   fmt::memory_buffer line;
@@ -63,6 +67,7 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
       else line.push_back(',');
       if (s.has(tf::kSolver)) fmt::format_to(std::back_inserter(line), ",{},{:.9g}", s.iterations, s.compute_us);
       else line.append(std::string_view(",,"));
+      opt_vec(s.w > 0, s.l, w);
       line.push_back('\n');
       std::fwrite(line.data(), 1, line.size(), f.get());
       ++rows;

@@ -99,7 +99,7 @@ void put_units(hid_t obj, const std::vector<std::string>& units) {
 // one; a lab's own file is not known by name here, so its columns carry no
 // unit (the run still says which rig it was).
 struct Columns {
-  std::vector<std::string> output_names, output_units, input_names, input_units;
+  std::vector<std::string> output_names, output_units, input_names, input_units, sensor_names, sensor_units;
 };
 
 Columns columns_of(const RunRow& r) {
@@ -111,6 +111,8 @@ Columns columns_of(const RunRow& r) {
       if (int(rig.outputs.size()) == r.n && int(rig.inputs.size()) == r.m) {
         for (const auto& o : rig.outputs) c.output_names.push_back(o.name), c.output_units.push_back(o.unit);
         for (const auto& i : rig.inputs) c.input_names.push_back(i.name), c.input_units.push_back(i.unit);
+        if (int(rig.sensors.size()) == r.w)
+          for (const auto& l : rig.sensors) c.sensor_names.push_back(l.name), c.sensor_units.push_back(l.unit);
       }
     } catch (const std::exception&) {
       // an unreadable rig file: the export goes on without units
@@ -124,9 +126,10 @@ struct Columnar {
   std::vector<uint64_t> k;
   std::vector<uint32_t> step, time_us;
   std::vector<double> t;
-  std::vector<float> y_ref, y_hat, y_true, u, cost, compute_us;
+  std::vector<float> y_ref, y_hat, y_true, u, l, cost, compute_us;
   std::vector<uint8_t> iterations;
-  uint8_t seen = 0;  // telemetry fields present in any row
+  uint8_t seen = 0;     // telemetry fields present in any row
+  bool seen_l = false;  // sensors in any row (identification runs)
 };
 
 Columnar read_run(RunStore& store, const RunRow& r) {
@@ -159,6 +162,8 @@ Columnar read_run(RunStore& store, const RunRow& r) {
     add(c.y_hat, s.has(tf::kYHat), s.y_hat(), n);
     add(c.y_true, s.has(tf::kYTrue), s.y_true(), n);
     add(c.u, s.has(tf::kU), s.u(), m);
+    add(c.l, s.w > 0, s.l, size_t(r.w));
+    c.seen_l = c.seen_l || s.w > 0;
     c.cost.push_back(s.has(tf::kCost) ? s.cost : kMissing);
     c.iterations.push_back(s.has(tf::kSolver) ? s.iterations : 0);
     c.compute_us.push_back(s.has(tf::kSolver) ? s.compute_us : kMissing);
@@ -171,6 +176,8 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
   const hid_t gid = g.get();
   put_number<int64_t>(gid, "id", H5T_NATIVE_INT64, r.id);
   put(gid, "rig", r.platform);
+  put(gid, "kind", r.kind);
+  if (!r.excitation.empty()) put(gid, "excitation", r.excitation);
   put(gid, "firmware", r.firmware);
   put(gid, "started_at", r.started_at);
   put(gid, "ended_at", r.ended_at);
@@ -183,6 +190,7 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
   put_number<double>(gid, "loop_rate_hz", H5T_NATIVE_DOUBLE, r.loop_rate_hz);
   put_number<int32_t>(gid, "n", H5T_NATIVE_INT32, r.n);
   put_number<int32_t>(gid, "m", H5T_NATIVE_INT32, r.m);
+  put_number<int32_t>(gid, "w", H5T_NATIVE_INT32, r.w);
   put_number<int32_t>(gid, "decimation", H5T_NATIVE_INT32, r.decimation);
   put_number<uint64_t>(gid, "lost_frames", H5T_NATIVE_UINT64, r.lost_frames);
 
@@ -191,6 +199,7 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
     put_strings(gid, "output_names", names.output_names, false);
     put_strings(gid, "input_names", names.input_names, false);
   }
+  if (!names.sensor_names.empty()) put_strings(gid, "sensor_names", names.sensor_names, false);
   const Columnar c = read_run(store, r);
   const size_t rows = c.k.size(), n = size_t(r.n), m = size_t(r.m);
   put_number<uint64_t>(gid, "samples", H5T_NATIVE_UINT64, rows);
@@ -227,6 +236,13 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
     H5Handle d = dataset(gid, v.name, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, v.data.data(), rows, v.cols);
     put_units(d.get(), v.units);
     put(d.get(), "description", v.description);
+  }
+  if (c.seen_l && r.w > 0) {
+    H5Handle d = dataset(gid, "l", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, c.l.data(), rows, size_t(r.w));
+    put_units(d.get(), names.sensor_units);
+    put(d.get(), "description", "sensors (the network's extra inputs)");
+  } else if (r.w > 0) {
+    absent.push_back("l");
   }
   if (c.seen & tf::kCost) dataset(gid, "cost", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, c.cost.data(), rows, 0);
   else absent.push_back("cost");

@@ -23,11 +23,11 @@ namespace {
 // Rows per multi-row INSERT: one statement step for many samples amortises
 // SQLite's per-statement cost (measured +25-30 % rows/s at 32).
 constexpr size_t kSamplesPerInsert = 32;
-constexpr int kSampleColumns = 10;
+constexpr int kSampleColumns = 11;
 
 std::string sample_insert_sql(size_t rows) {
-  std::string sql = "INSERT INTO samples(id,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us) VALUES";
-  for (size_t r = 0; r < rows; ++r) sql += r ? ",(?,?,?,?,?,?,?,?,?,?)" : "(?,?,?,?,?,?,?,?,?,?)";
+  std::string sql = "INSERT INTO samples(id,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us,l) VALUES";
+  for (size_t r = 0; r < rows; ++r) sql += r ? ",(?,?,?,?,?,?,?,?,?,?,?)" : "(?,?,?,?,?,?,?,?,?,?,?)";
   return sql;
 }
 
@@ -50,6 +50,7 @@ void bind_sample(Stmt& st, int base, int64_t run, const Sample& s) {
     st.bind_null(base + 9);
     st.bind_null(base + 10);
   }
+  if (s.w > 0) st.bind_blob(base + 11, s.l, size_t(s.w) * 4); else st.bind_null(base + 11);
 }
 
 }  // namespace
@@ -88,7 +89,8 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
   insert_run_ = db_->prepare(
       "INSERT INTO runs(started_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,"
-      "decimation,reference,recorder_pid,recorder_host,heartbeat_at) VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
+      "decimation,reference,recorder_pid,recorder_host,heartbeat_at,kind,w,excitation) "
+      "VALUES(?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)");
   end_run_ = db_->prepare(
       "UPDATE runs SET ended_at=?, end_reason=?, samples=?, lost_frames=?, recorder_pid=NULL, recorder_host=NULL, "
       "heartbeat_at=NULL WHERE id=?");
@@ -413,6 +415,7 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
                 .bind(6, int64_t(r.model_hash)).bind(7, int64_t(r.param_hash)).bind(8, r.loop_rate_hz)
                 .bind(9, int64_t(r.n)).bind(10, int64_t(r.m)).bind(11, int64_t(r.decimation)).bind(12, r.reference)
                 .bind(13, int64_t(::getpid())).bind(14, host_name()).bind(15, unix_now())
+                .bind(16, r.kind).bind(17, int64_t(r.w)).bind(18, r.excitation)
                 .exec();
             result = db_->last_insert_id();
             begun.push_back(result);

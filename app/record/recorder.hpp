@@ -34,6 +34,9 @@ struct RunInfo {
   int n = 0, m = 0, decimation = 1;
   std::string reference;  // JSON
   std::vector<std::pair<std::string, std::string>> params;  // name, value at start
+  std::string kind = "control";  // "ident": an identification run
+  int w = 0;                     // sensors each sample keeps (identification runs)
+  std::string excitation;        // JSON, identification runs
 };
 
 // Default database: $XDG_DATA_HOME/nlsoft/runs.db or ~/.local/share/nlsoft/runs.db.

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "app/cli_error.hpp"
@@ -21,7 +22,10 @@ const char* kRunColumns =
     "id,started_at,ifnull(ended_at,''),label,notes,platform,firmware,reference,ifnull(end_reason,''),"
     "model_hash,param_hash,loop_rate_hz,n,m,decimation,samples,lost_frames";
 
-RunRow read_run(const Stmt& s) {
+// Schema v6's columns of an identification run, after kRunColumns.
+const char* kRunColumnsV6 = ",kind,w,excitation";
+
+RunRow read_run(const Stmt& s, bool v6) {
   RunRow r;
   r.id = s.int64(0);
   r.started_at = s.text(1);
@@ -40,6 +44,11 @@ RunRow read_run(const Stmt& s) {
   r.decimation = int(s.int64(14));
   r.samples = uint64_t(s.int64(15));
   r.lost_frames = uint64_t(s.int64(16));
+  if (v6) {
+    r.kind = s.text(17);
+    r.w = int(s.int64(18));
+    r.excitation = s.text(19);
+  }
   return r;
 }
 
@@ -89,10 +98,14 @@ RunStore::RunStore(const std::string& path) {
     throw CliError(fmt::format("database {} has schema v{}, newer than this console's v{}", path, v, kSchemaVersion));
 }
 
+std::string RunStore::run_columns() const {
+  return std::string(kRunColumns) + (version_ >= 6 ? kRunColumnsV6 : "");
+}
+
 std::vector<RunRow> RunStore::list() {
-  Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs ORDER BY id", kRunColumns).c_str());
+  Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs ORDER BY id", run_columns()).c_str());
   std::vector<RunRow> out;
-  while (s.step()) out.push_back(read_run(s));
+  while (s.step()) out.push_back(read_run(s, version_ >= 6));
   for (RunRow& r : out) count_unfinished(r);
   return out;
 }
@@ -109,14 +122,14 @@ void RunStore::count_unfinished(RunRow& r) {
 }
 
 RunRow RunStore::run(int64_t id) {
-  Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs WHERE id=?", kRunColumns).c_str());
+  Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs WHERE id=?", run_columns()).c_str());
   s.bind(1, id);
   if (!s.step()) {
     const int64_t last = last_run_id();
     throw CliError(last ? fmt::format("no run {} (runs are numbered 1..{}; see `nlsoft-console runs list`)", id, last)
                         : fmt::format("no run {}: nothing recorded yet", id));
   }
-  RunRow r = read_run(s);
+  RunRow r = read_run(s, version_ >= 6);
   count_unfinished(r);
   return r;
 }
@@ -130,13 +143,15 @@ int64_t RunStore::last_run_id() {
 
 void RunStore::for_each_sample(int64_t id, const std::function<void(const Sample&)>& f) {
   const RunRow r = run(id);
-  Stmt s = db_->prepare(
-      "SELECT k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us FROM samples WHERE id BETWEEN ? AND ? "
-      "ORDER BY id");
+  Stmt s = db_->prepare(fmt::format("SELECT k,step,time_us,y_ref,y_hat,y_true,u,cost,iterations,compute_us,{} FROM "
+                                    "samples WHERE id BETWEEN ? AND ? ORDER BY id",
+                                    version_ >= 6 ? "l" : "NULL")
+                            .c_str());
   s.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
   Sample x;
   x.n = uint8_t(r.n);
   x.m = uint8_t(r.m);
+  const int w = std::min(r.w, int(Sample::kMaxSensors));
   while (s.step()) {
     x.k = uint64_t(s.int64(0));
     x.mask = 0;
@@ -152,6 +167,7 @@ void RunStore::for_each_sample(int64_t id, const std::function<void(const Sample
       x.compute_us = float(s.real(9));
       x.mask |= tf::kSolver;
     }
+    x.w = read_floats(s, 10, x.l, w) ? uint8_t(w) : 0;
     f(x);
   }
 }
@@ -161,6 +177,7 @@ RunSeries RunStore::series(int64_t id) {
   const RunRow r = run(id);
   out.n = r.n;
   out.m = r.m;
+  out.w = r.w;
   bool first = true;
   for_each_sample(id, [&](const Sample& x) {
     if (first) {
@@ -169,6 +186,7 @@ RunSeries RunStore::series(int64_t id) {
       out.has_y_true = x.has(tf::kYTrue);
       out.has_u = x.has(tf::kU);
       out.has_solver = x.has(tf::kSolver);
+      out.has_l = x.w > 0;
       first = false;
     }
     out.step.push_back(x.step);
@@ -180,6 +198,7 @@ RunSeries RunStore::series(int64_t id) {
       out.y_true.push_back(x.has(tf::kYTrue) ? x.y_true()[i] : 0.0f);
     }
     for (int i = 0; i < out.m; ++i) out.u.push_back(x.has(tf::kU) ? x.u()[i] : 0.0f);
+    for (int i = 0; i < out.w; ++i) out.l.push_back(x.w > 0 ? x.l[i] : 0.0f);
     out.cost.push_back(x.cost);
     out.iterations.push_back(x.iterations);
     out.compute_us.push_back(x.compute_us);

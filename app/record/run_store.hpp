@@ -19,11 +19,16 @@ struct RunRow {
   double loop_rate_hz = 0;
   int n = 0, m = 0, decimation = 1;
   uint64_t samples = 0, lost_frames = 0;
+  std::string kind = "control";  // "ident": an identification run (schema v6)
+  int w = 0;                     // sensors kept per sample
+  std::string excitation;        // JSON, identification runs
 };
 
 // A run's samples, one vector per field (rows of n or m for vectors).
 struct RunSeries {
-  int n = 0, m = 0;
+  int n = 0, m = 0, w = 0;
+  std::vector<float> l;  // rows of w sensor values (identification runs)
+  bool has_l = false;
   std::vector<uint32_t> step, time_us;
   std::vector<float> y_ref, y_hat, y_true, u, cost, compute_us;
   std::vector<uint8_t> iterations;
@@ -60,6 +65,7 @@ class RunStore {
 
  private:
   void count_unfinished(RunRow& r);
+  std::string run_columns() const;
   std::unique_ptr<Db> db_;
   int version_ = 0;  // the schema read (older than the console's when the file cannot be upgraded)
 };

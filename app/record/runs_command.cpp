@@ -96,14 +96,19 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   return j;
 }
 
-void print_metrics(const RunMetrics& m) {
+// An identification run tracks nothing: only its loop, samples and losses.
+void print_metrics(const RunMetrics& m, bool ident) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
-  fmt::print("  tracking ({}): rmse {} nrmse {:.4f} ({:.2f} %) max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
-             rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
-  fmt::print("  nrmse_space {:.4f} (worst axis over the rig's task space; defined for holds and steps)\n", m.nrmse_space);
-  if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
-  fmt::print("  {}, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", loop_rate_text(m), m.compute_p50_us,
-             m.compute_p99_us, m.mean_iterations);
+  if (ident) {
+    fmt::print("  {}\n", loop_rate_text(m));
+  } else {
+    fmt::print("  tracking ({}): rmse {} nrmse {:.4f} ({:.2f} %) max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
+               rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
+    fmt::print("  nrmse_space {:.4f} (worst axis over the rig's task space; defined for holds and steps)\n", m.nrmse_space);
+    if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
+    fmt::print("  {}, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", loop_rate_text(m), m.compute_p50_us,
+               m.compute_p99_us, m.mean_iterations);
+  }
   if (const std::string w = loop_rate_warning(m); !w.empty()) fmt::print("  {}\n", w);
   fmt::print("  {} samples over {:.2f} s{}, {} lost frame{}, {} gap{}\n", m.samples, m.duration_s,
              m.wall_s > 0 ? fmt::format(" (the run lasted {:.2f} s)", m.wall_s) : "", m.lost_frames,
@@ -234,6 +239,8 @@ void list(const RunsArgs& a) {
                           {"ended_at", r.ended_at}, {"end_reason", r.end_reason}};
       const std::string ref = reference_of(*store, r);
       j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
+      j["kind"] = r.kind;
+      if (!r.excitation.empty()) j["excitation"] = nlohmann::json::parse(r.excitation, nullptr, false);
       j["nrmse"] = std::isfinite(t.nrmse) ? nlohmann::json(t.nrmse) : nlohmann::json();
       if (const auto e = eval_of.find(r.id); e != eval_of.end()) {
         nlohmann::json tj = {{"session", e->second.session_id}, {"eval", e->second.eval}, {"point", e->second.point}};
@@ -264,7 +271,7 @@ void list(const RunsArgs& a) {
     const RunMetrics m = run_metrics(*store, r.id);
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
     fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
-               r.platform, reference_kind(reference_of(*store, r)), r.samples,
+               r.platform, r.kind == "ident" ? std::string("ident") : reference_kind(reference_of(*store, r)), r.samples,
                m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames,
                printable(r.label), printable(ended));
   };
@@ -322,6 +329,9 @@ void show(const RunsArgs& a) {
     }
     j["gap_list"] = gaps;
     j["reference"] = r.reference.empty() ? nlohmann::json() : nlohmann::json::parse(r.reference, nullptr, false);
+    j["kind"] = r.kind;
+    j["w"] = r.w;
+    if (!r.excitation.empty()) j["excitation"] = nlohmann::json::parse(r.excitation, nullptr, false);
     fmt::print("{}\n", j.dump(2));
     return;
   }
@@ -333,8 +343,11 @@ void show(const RunsArgs& a) {
   fmt::print("  {} on {}, model {:08x}, n={} m={}, nominal {:.0f} Hz, decimation {}\n", printable(r.firmware),
              printable(r.platform), r.model_hash, r.n, r.m, r.loop_rate_hz, r.decimation);
   if (!r.reference.empty()) fmt::print("  reference {}\n", printable(r.reference));
+  if (r.kind == "ident")
+    fmt::print("  identification run (open loop, u, measured y and {} sensors a sample): {}\n", r.w,
+               printable(r.excitation));
   if (!r.notes.empty()) fmt::print("  notes: {}\n", printable(r.notes));
-  print_metrics(m);
+  print_metrics(m, r.kind == "ident");
   fmt::print("  parameters at start:\n");
   for (const auto& p : store->params(a.id))
     if (p.at_start) fmt::print("    {:<12} {}\n", printable(p.name), printable(p.value));

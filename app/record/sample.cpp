@@ -24,4 +24,20 @@ Sample sample_from(const protocol::Telemetry& t, uint64_t k, uint32_t tick_rate_
   return s;
 }
 
+Sample sample_from(const protocol::IdentSample& t, uint64_t k) {
+  namespace tf = protocol::telemetry_field;
+  Sample s;
+  s.k = k;
+  s.mask = uint8_t(tf::kStep | tf::kTime | tf::kU | (t.n ? tf::kYTrue : 0));
+  s.n = t.n;
+  s.m = std::min<uint8_t>(t.m, protocol::kMaxTelemetryDim);
+  s.w = std::min<uint8_t>(t.w, Sample::kMaxSensors);
+  s.step = t.step;
+  s.time_us = t.time_us;
+  std::copy(t.y, t.y + std::min<int>(t.n, protocol::kMaxTelemetryDim), s.y_true());
+  std::copy(t.u, t.u + s.m, s.u());
+  std::copy(t.l, t.l + s.w, s.l);
+  return s;
+}
+
 }  // namespace nlsoft::console

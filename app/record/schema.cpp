@@ -157,6 +157,17 @@ CREATE TRIGGER runs_delete_rows AFTER DELETE ON runs BEGIN
   DELETE FROM tune_evals WHERE run_id = old.id;
 END;
 )sql",
+    // v6: identification runs (`ident`): open loop, the firmware's
+    // excitation on the inputs. A run says which kind it is and, for an
+    // identification run, the signal it ran; its samples keep the sensors
+    // (l, w floats) beside u and the measured y (in y_true), what a model
+    // is trained from.
+    R"sql(
+ALTER TABLE runs ADD COLUMN kind TEXT NOT NULL DEFAULT 'control';  -- 'control' | 'ident'
+ALTER TABLE runs ADD COLUMN w INTEGER NOT NULL DEFAULT 0;          -- sensors per sample in samples.l
+ALTER TABLE runs ADD COLUMN excitation TEXT NOT NULL DEFAULT '';   -- JSON: signal, seed, amplitude, band, duration
+ALTER TABLE samples ADD COLUMN l BLOB;                             -- w little-endian f32, NULL when not recorded
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "one migration per version");
 

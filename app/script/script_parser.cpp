@@ -13,6 +13,7 @@
 #include "app/cli_error.hpp"
 #include "app/input_file.hpp"
 #include "app/printable.hpp"
+#include "app/live/ident_plan.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/tune/tune_options.hpp"
 
@@ -310,9 +311,35 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     } catch (const std::invalid_argument& e) {
       throw fail(e.what());
     }
+  } else if (verb == "ident") {
+    const char* usage =
+        "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok]  "
+        "e.g. ident prbs 10min seed=3";
+    need(3, usage);
+    c.kind = Command::Kind::Ident;
+    c.name = t[1];
+    c.values = {t[2]};
+    IdentWords w = ident_words(c);
+    for (size_t i = 3; i < t.size(); ++i) {
+      std::pair<std::string, std::string> kv;
+      if (t[i] == "joint") kv = {"joint", "1"};
+      else if (!split_option(t[i], kv)) throw fail(fmt::format("ident: '{}' is not key=value; usage: {}", t[i], usage));
+      if (kv.first == "label") c.label = kv.second;
+      else if (kv.first == "early" && kv.second == "ok") c.allow_early = true;
+      else if (kv.first == "seed" || kv.first == "amplitude" || kv.first == "band" || kv.first == "joint" ||
+               kv.first == "decimation")
+        c.options.push_back(kv);
+      else throw fail(fmt::format("ident: unknown option '{}'; usage: {}", t[i], usage));
+    }
+    try {
+      w = ident_words(c);
+      c.seconds = check_ident_words(w);
+    } catch (const std::exception& e) {
+      throw fail(e.what());
+    }
   } else {
     throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
-                           "wait expect export echo note sweep tune",
+                           "wait expect export echo note sweep tune ident",
                            verb));
   }
   return c;
@@ -370,6 +397,8 @@ const std::vector<std::string>& script_help() {
       "run DURATION [label=TEXT]   record a run, e.g. run 10s label=baseline; a run that ends",
       "                            before DURATION fails the script unless early=ok is given",
       "start [label=TEXT] | stop   start or stop a run without a duration",
+      "ident SIGNAL DURATION ...   an identification run: steps|prbs|walk|chirp, e.g. ident prbs 10min seed=3",
+      "                            [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok]",
       "hold | neutral | resume     pause the run, actuators to neutral, continue",
       "wait DURATION               sleep, e.g. wait 500ms",
       "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost_frames == 0;",

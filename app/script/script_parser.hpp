@@ -23,6 +23,8 @@
 //   sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]
 //   tune NAME=LO..HI[:log|:lin]... [objective=EXPR] [budget=N|DURATION] [apply] ...
 //                             (app/tune/tune_options.hpp)
+//   ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok]
+//                             an identification run (app/live/ident_plan.hpp)
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -49,7 +51,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 struct Command {
   enum class Kind {
     Set, Get, ParamsSave, ParamsLoad, ParamsReapply, ParamsDiff, ParamsReset, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
-    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune,
+    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune, Ident,
   };
   Kind kind = Kind::Echo;
   int line = 0;

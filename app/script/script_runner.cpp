@@ -10,6 +10,7 @@
 #include "app/link/link_error.hpp"
 #include "app/printable.hpp"
 #include "app/live/param_text.hpp"
+#include "app/live/ident_plan.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/model/model_size_words.hpp"
 #include "app/record/csv_export.hpp"
@@ -188,6 +189,24 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
           // The summary then counts a sample as one step.
         }
         out_(summary_line(s) + timed_run_words(c.seconds, console_.loop_rate_hz(), decimation, s.metrics));
+        check_completed(s, c, file);
+        break;
+      }
+      case K::Ident: {
+        const protocol::Info info = console_.device().info();
+        IdentLine line;
+        line.unlimited = console_.link_unlimited();
+        const IdentWords w = ident_words(c);
+        const IdentPlan plan = plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line);
+        out_(plan.line_words);
+        const RunSummary s = console_.run_ident(
+            plan.start, plan.excitation_json,
+            c.label.empty() ? fmt::format("ident {} seed {} {}", w.signal, w.seed, w.duration) : c.label,
+            [&](size_t d, size_t t) {
+              if (progress_) progress_(fmt::format("ident {}", w.signal), d, t);
+            });
+        out_(fmt::format("{}; identification run: {} of {} steps recorded (decimation {})", summary_line(s),
+                         s.metrics.samples, plan.start.duration, plan.start.decimation));
         check_completed(s, c, file);
         break;
       }

@@ -20,6 +20,7 @@
 #include "protocol/reply_cache.hpp"
 #include "protocol/transfer.hpp"
 #include "shared/controller.hpp"
+#include "shared/excitation.hpp"
 #include "shared/model_file.hpp"
 #include "shared/rig_config.hpp"
 
@@ -122,6 +123,7 @@ class Firmware {
     have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
     watchdog_check();
 
+    if (state_ == proto::RunState::Ident || (ident_ && state_ != proto::RunState::Idle)) return ident_step(t0, l_);
     if (state_ != proto::RunState::Running) {
       if (state_ != proto::RunState::Hold) neutral(u_);
       hal_.actuate(u_, m);
@@ -199,6 +201,96 @@ class Firmware {
     const Status a = adopt(probe);
     return a == Status::Ok ? proto::StatusCode::Ok
                            : (a == Status::Unsupported ? proto::StatusCode::Unsupported : proto::StatusCode::Inconsistent);
+  }
+
+  // ------------------------------------------------- identification run
+  // Open loop (protocol 9.9): the excitation's u, clamped to the limits in
+  // force, goes to the actuators; hold and neutral (RUN_HOLD, the watchdog's
+  // safe state) pause the signal.
+  void ident_step(uint32_t t0, const float* l) {
+    const int m = rig_.m;
+    const bool driving = state_ == proto::RunState::Ident;
+    if (driving) {
+      gen_.next(u_);
+      for (int i = 0; i < m; ++i)
+        u_[i] = u_[i] < params_.u_min[i] ? params_.u_min[i] : (u_[i] > params_.u_max[i] ? params_.u_max[i] : u_[i]);
+    } else if (state_ == proto::RunState::Neutral) {
+      neutral(u_);
+    }
+    hal_.actuate(u_, m);
+    if (driving) {
+      stats_.add(hal_.ticks() - t0);
+      if (step_ % ident_decimation_ == 0) send_ident_sample(l);
+      ++step_;
+      if (gen_.done()) {
+        state_ = proto::RunState::Idle;
+        ident_ = false;
+        watchdog_ = 0;
+        neutral(u_);
+        hal_.actuate(u_, m);
+        log(proto::LogLevel::Info, "identification run finished: its duration is over, actuators neutral");
+      }
+    }
+    tx_.drain(hal_);
+  }
+
+  void send_ident_sample(const float* l) {
+    proto::IdentSample t;
+    t.tseq = tseq_++;
+    t.m = rig_.m;
+    t.n = have_y_true_ ? rig_.n : 0;
+    t.w = rig_.w;
+    t.step = step_;
+    t.time_us = clock_.us();
+    for (int i = 0; i < rig_.m; ++i) t.u[i] = u_[i];
+    for (int j = 0; j < t.n; ++j) t.y[j] = y_true_[j];
+    for (int j = 0; j < rig_.w; ++j) t.l[j] = l[j];
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
+    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+  }
+
+  // Field numbers of IDENT_START's table for each refusal of the signal's checks.
+  static uint8_t ident_field(ExcitationField f) {
+    switch (f) {
+      case ExcitationField::Signal: return 1;
+      case ExcitationField::Amplitude: return 5;
+      case ExcitationField::BandLo: return 6;
+      case ExcitationField::BandHi: return 7;
+      case ExcitationField::Duration: return 8;
+      case ExcitationField::None: break;
+    }
+    return proto::kNoField;
+  }
+
+  void ident_start(uint8_t type, const proto::IdentStart& p) {
+    if (state_ != proto::RunState::Idle) {
+      if (ident_ && p.run_id == run_id_) return ack(type);  // a retry
+      return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
+    }
+    if (p.signal >= kExcitationSignalCount) return nack(type, proto::StatusCode::OutOfRange, 1, proto::kNoField);
+    if (p.decimation == 0) return nack(type, proto::StatusCode::OutOfRange, 3, proto::kNoField);
+    ExcitationSpec spec;
+    spec.signal = ExcitationSignal(p.signal);
+    spec.joint = (p.options & proto::ident_options::kJoint) != 0;
+    spec.seed = p.seed;
+    spec.amplitude = p.amplitude;
+    spec.band_lo = p.band_lo;
+    spec.band_hi = p.band_hi;
+    spec.duration = p.duration;
+    const ExcitationCheck c =
+        gen_.configure(spec, float(id_.loop_rate_hz), params_.u_min, params_.u_max, rig_.u_neutral, rig_.m);
+    if (c.status != Status::Ok) return nack(type, proto::StatusCode(uint8_t(c.status)), ident_field(c.field), proto::kNoField);
+    run_id_ = p.run_id;
+    step_ = 0;
+    stats_.reset();
+    ident_ = true;
+    ident_decimation_ = p.decimation;
+    watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;
+    link_back_reported_ = false;
+    last_rx_ms_ = clock_.ms();
+    state_ = proto::RunState::Ident;
+    ack(type);
   }
 
   // ------------------------------------------------------------- requests
@@ -316,8 +408,14 @@ class Firmware {
         if (!unpack_or_nack(f, p)) return;
         return run_start(f.header.type, p.run_id);
       }
+      case T::IdentStart: {
+        proto::IdentStart p;
+        if (!unpack_or_nack(f, p)) return;
+        return ident_start(f.header.type, p);
+      }
       case T::RunStop:
         state_ = proto::RunState::Idle;
+        ident_ = false;
         watchdog_ = 0;
         return ack(f.header.type);
       case T::RunHold: {
@@ -347,6 +445,7 @@ class Firmware {
     run_id_ = run_id;
     step_ = 0;
     stats_.reset();
+    ident_ = false;
     ref_.restart();
     watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;
     link_back_reported_ = false;
@@ -368,6 +467,12 @@ class Firmware {
       case proto::HoldMode::Hold: state_ = proto::RunState::Hold; break;
       case proto::HoldMode::Neutral: state_ = proto::RunState::Neutral; break;
       case proto::HoldMode::Resume: {
+        if (ident_) {  // the signal continues where it paused
+          watchdog_ &= uint8_t(~watchdog_bits::kTripped);
+          link_back_reported_ = false;
+          state_ = proto::RunState::Ident;
+          break;
+        }
         if (state_ != proto::RunState::Running) {
           float l[Cap::w + 1] = {};
           hal_.read_sensors(l, rig_.w);
@@ -456,7 +561,7 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | c::kRig | (id_.has_y_true ? c::kYTrue : 0);
+                     c::kLog | c::kRig | c::kIdent | (id_.has_y_true ? c::kYTrue : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }
@@ -520,7 +625,9 @@ class Firmware {
 
   // ---------------------------------------------------------- watchdog
   void watchdog_check() {
-    if (!(watchdog_ & watchdog_bits::kArmed) || state_ != proto::RunState::Running) return;
+    if (!(watchdog_ & watchdog_bits::kArmed) ||
+        (state_ != proto::RunState::Running && state_ != proto::RunState::Ident))
+      return;
     if (settings_.watchdog_ms == 0 || clock_.ms() - last_rx_ms_ <= settings_.watchdog_ms) return;
     state_ = settings_.safe_state == 0 ? proto::RunState::Hold : proto::RunState::Neutral;
     watchdog_ |= watchdog_bits::kTripped;
@@ -573,6 +680,10 @@ class Firmware {
   float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
   float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
   bool have_y_true_ = false;
+  // The identification run's signal; ident_ stays set while it is held.
+  Excitation gen_{};
+  bool ident_ = false;
+  uint16_t ident_decimation_ = 1;
 };
 
 }  // namespace nlsoft::fw

@@ -39,7 +39,8 @@ def read_spec(path):
     for m in row.finditer(text):
         rule = m.group(4).strip()
         if "computed" in rule:
-            lo, hi, step = 4, 246, 0
+            r = re.match(r"(\d+)\.\.(\d+), computed$", rule)
+            lo, hi, step = int(r.group(1)), int(r.group(2)), 0
         else:
             r = re.match(r"(\d+)(?:\.\.(\d+), (\d+))?$", rule)
             lo = int(r.group(1))
@@ -207,6 +208,16 @@ def telemetry_len(p):
     return size
 
 
+def ident_sample_len(p):
+    if len(p) < 5:
+        return -1
+    return 13 + 4 * (p[2] + p[3] + p[4])
+
+
+def computed_len(name, p):
+    return ident_sample_len(p) if name == "IDENT_SAMPLE" else telemetry_len(p)
+
+
 def receive(frame, table):
     raw, complete = cobs_decode(frame)
     if len(raw) > 253:
@@ -230,7 +241,7 @@ def receive(frame, table):
     p = body[5:]
     lo, hi, step = info["lo"], info["hi"], info["step"]
     if not lo <= len(p) <= hi or (step and (len(p) - lo) % step) or \
-            (step == 0 and len(p) != telemetry_len(p)):
+            (step == 0 and len(p) != computed_len(info["name"], p)):
         return "error bad_length"
     head = f"frame {info['name']} seq={raw[2]} flags={raw[3]}"
     return " ".join([head] + decode_fields(info["name"], info["fields"], p))

@@ -189,6 +189,29 @@ void build() {
       frame(StatusGet{}, 255));
   add("rig_get", "Protocol 1.2: asks for RIG_INFO; sent when INFO_EX has the RIG capability.", frame(RigGet{}, 30));
 
+  IdentStart ident;
+  ident.run_id = 43;
+  ident.signal = static_cast<uint8_t>(IdentSignal::Prbs);
+  ident.options = 0;
+  ident.decimation = 1;
+  ident.seed = 7;
+  ident.amplitude = 0.8f;
+  ident.band_lo = 0.05f;
+  ident.band_hi = 5.0f;
+  ident.duration = 78000;
+  add("ident_start_prbs", "Protocol 1.3: a 10-minute PRBS identification run at 130 Hz, one input stream each, every step sent.",
+      frame(ident, 31));
+  IdentStart ident_joint = ident;
+  ident_joint.run_id = 44;
+  ident_joint.signal = static_cast<uint8_t>(IdentSignal::Chirp);
+  ident_joint.options = ident_options::kJoint;
+  ident_joint.decimation = 3;
+  ident_joint.band_lo = 0.1f;
+  ident_joint.band_hi = 20.0f;
+  ident_joint.duration = 60000;
+  add("ident_start_chirp_joint", "Protocol 1.3: a joint chirp of 60 s at 1 kHz, one sample every 3 steps (115200 baud).",
+      frame(ident_joint, 32));
+
   // ------------------------------------------------- replies, unsolicited
   Ack ack;
   ack.request_type = static_cast<uint8_t>(MsgType::RunStart);
@@ -236,6 +259,13 @@ void build() {
   add("nack_xfer_chunk_shape", "Protocol 1.2: the model header in the chunk's data (field 2) names a shape RIG_INFO does not accept.",
       frame(nack_chunk_shape, 17, frame_flags::kReply));
 
+  Nack nack_ident;
+  nack_ident.request_type = static_cast<uint8_t>(MsgType::IdentStart);
+  nack_ident.status = static_cast<uint8_t>(StatusCode::Inconsistent);
+  nack_ident.field = 7;
+  add("nack_ident_start_band", "Protocol 1.3: band_hi (field 7) below band_lo.",
+      frame(nack_ident, 31, frame_flags::kReply));
+
   Pong pong;
   pong.nonce = 0x12345678u;
   pong.uptime_ms = 987654;
@@ -277,6 +307,12 @@ void build() {
   info_ex12.info.capabilities |= capability::kRig;
   add("info_ex_hasel_1_2", "A 1.2 firmware's INFO_EX: the same layout, protocol_minor 2 and the RIG capability (bit 8).",
       frame(info_ex12, 2, frame_flags::kReply));
+
+  InfoEx info_ex13 = info_ex12;
+  info_ex13.protocol_minor = 3;
+  info_ex13.info.capabilities |= capability::kIdent;
+  add("info_ex_hasel_1_3", "A 1.3 firmware's INFO_EX: protocol_minor 3 and the IDENT capability (bit 9).",
+      frame(info_ex13, 2, frame_flags::kReply));
 
   RigInfo rig;
   rig.rig_hash = 0x5A17C0DEu;
@@ -394,6 +430,11 @@ void build() {
       "The link went silent during run 42: actuators neutral (run_state 3), watchdog bits armed and tripped.",
       frame(tripped, 80));
 
+  Status ident_status = st;
+  ident_status.run_id = 43;
+  ident_status.run_state = static_cast<uint8_t>(RunState::Ident);
+  add("status_ident", "Protocol 1.3: run 43 is an identification run (run_state 5).", frame(ident_status, 82));
+
   Telemetry tel;
   tel.tseq = 65535;
   tel.mask = telemetry_field::kAll;
@@ -433,6 +474,36 @@ void build() {
   tnone.m = 2;
   add("telemetry_empty_mask", "Mask 0: only the telemetry sequence (keeps loss counting alive).",
       frame(tnone, 80));
+
+  IdentSample is;
+  is.tseq = 300;
+  is.m = 6;
+  is.n = 3;
+  is.w = 18;
+  is.step = 1200;
+  is.time_us = 9230769u;
+  for (int i = 0; i < 6; ++i) is.u[i] = 0.5f * static_cast<float>(i);
+  for (int i = 0; i < 3; ++i) is.y[i] = 1.5f - static_cast<float>(i);
+  for (int i = 0; i < 18; ++i) is.l[i] = 0.01f * static_cast<float>(i * i) - 0.5f;
+  add("ident_sample_hasel", "Protocol 1.3: hasel dims (m=6, n=3, w=18): 121-byte payload, 130 on the wire.",
+      frame(is, 83));
+  IdentSample is_msd;
+  is_msd.tseq = 301;
+  is_msd.m = 1;
+  is_msd.n = 1;
+  is_msd.step = 3;
+  is_msd.time_us = 3000;
+  is_msd.u[0] = 250.0f;
+  is_msd.y[0] = 0.0125f;
+  add("ident_sample_msd", "Protocol 1.3: msd (m=1, n=1, no sensors): 21-byte payload, 30 on the wire.",
+      frame(is_msd, 84));
+  IdentSample is_no_y = is_msd;
+  is_no_y.n = 0;
+  is_no_y.w = 2;
+  is_no_y.l[0] = 0.25f;
+  is_no_y.l[1] = -0.75f;
+  add("ident_sample_no_output", "Protocol 1.3: n = 0, a firmware that measures no output; u and two sensors.",
+      frame(is_no_y, 85));
 
   Log log;
   log.level = static_cast<uint8_t>(LogLevel::Warn);
@@ -504,6 +575,17 @@ void build() {
     raw[kHeaderSize + 3] = 0x21;  // dims n=2 m=1: the fields no longer add up
     reseal(raw, static_cast<uint8_t>(MsgType::Telemetry));
     add("error_bad_length_telemetry_dims", "telemetry whose dims byte does not match its length.",
+        cobs_wire(raw));
+  }
+  {
+    IdentSample one;
+    one.m = 1;
+    one.n = 1;
+    one.w = 1;
+    Bytes raw = raw_frame(one, 86);
+    raw[kHeaderSize + 4] = 2;  // w = 2: one sensor value short
+    reseal(raw, static_cast<uint8_t>(MsgType::IdentSample));
+    add("error_bad_length_ident_sample", "IDENT_SAMPLE whose m, n, w do not add up to its length.",
         cobs_wire(raw));
   }
   {

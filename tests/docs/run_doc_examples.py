@@ -36,7 +36,8 @@ import sys
 import tempfile
 import time
 
-SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig", "firmware"}
+SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "flash", "tune", "ports", "rig", "firmware",
+               "ident"}
 
 
 def toml_files(path):

@@ -148,7 +148,7 @@ proto::XferChunk chunk_of(const std::vector<uint8_t>& file, uint32_t offset) {
 
 TEST_F(HaselImage, RigInfoNamesTheRigAndListsTheImagesOneShape) {
   const auto ex = expect<proto::InfoEx>(proto::InfoGet{});
-  EXPECT_EQ(ex.protocol_minor, 2);
+  EXPECT_EQ(ex.protocol_minor, proto::kProtocolMinor);
   EXPECT_TRUE(ex.info.capabilities & proto::capability::kRig);
   const auto r = expect<proto::RigInfo>(proto::RigGet{});
   EXPECT_STREQ(r.rig_name, "hasel");

@@ -1,5 +1,7 @@
 // The posix firmware over a real pty, driven as the console drives it.
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <unistd.h>
 
 #include <chrono>
@@ -527,4 +529,56 @@ TEST_F(PosixFirmware, TheGoldenModelFileUploadsAndRefusedBeginsChangeNothing) {
   ASSERT_EQ(as<proto::XferAck>(must(peer_->request(x.chunk), "XFER_CHUNK")).next_offset, file.size());
   ASSERT_EQ(must(peer_->request(x.commit), "XFER_COMMIT").header.type, uint8_t(proto::MsgType::Ack));
   EXPECT_EQ(info().info.model_hash, crc);
+}
+
+// Protocol 1.3 on the simulator's pty: an identification run of 2000 steps
+// (2 simulated seconds of msd's PRBS) sends every step's u,
+// the plant's output and no sensors (msd has none), loses no frame, keeps
+// u inside msd's limits, and ends by itself.
+TEST_F(PosixFirmware, AnIdentificationRunIsServedWholeAndEndsByItself) {
+  proto::ParamSet wd;  // listening only while the run goes, as above
+  wd.id = uint16_t(fw::FwParamId::WatchdogMs);
+  wd.count = 1;
+  wd.values[0] = 0;
+  ASSERT_EQ(must(peer_->request(wd), "PARAM_SET watchdog_ms").header.type, uint8_t(proto::MsgType::ParamValue));
+  proto::IdentStart start;
+  start.run_id = 9;
+  start.signal = uint8_t(proto::IdentSignal::Prbs);
+  start.decimation = 1;
+  start.seed = 11;
+  start.amplitude = 1.0f;
+  start.band_lo = 1.0f;
+  start.band_hi = 20.0f;
+  start.duration = 2000;
+  ASSERT_EQ(must(peer_->request(start), "IDENT_START").header.type, uint8_t(proto::MsgType::Ack));
+  std::vector<proto::IdentSample> s;
+  while (s.size() < start.duration) {
+    auto r = peer_->wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::IdentSample); },
+                             2000);
+    ASSERT_TRUE(r.has_value()) << "samples stopped after " << s.size();
+    for (auto& u : peer_->unsolicited)
+      if (u.header.type == uint8_t(proto::MsgType::IdentSample)) s.push_back(as<proto::IdentSample>(u));
+    peer_->unsolicited.clear();
+    s.push_back(as<proto::IdentSample>(*r));
+  }
+  ASSERT_EQ(s.size(), size_t(start.duration));
+  float lo = 1e9f, hi = -1e9f, ylo = 1e9f, yhi = -1e9f;
+  for (size_t k = 0; k < s.size(); ++k) {
+    ASSERT_EQ(s[k].step, k);
+    ASSERT_EQ(s[k].m, 1);
+    ASSERT_EQ(s[k].n, 1);
+    ASSERT_EQ(s[k].w, 0);
+    if (k > 0) {
+      ASSERT_EQ(uint16_t(s[k].tseq - s[k - 1].tseq), 1u);
+    }
+    ASSERT_GE(s[k].u[0], -2000.0f);
+    ASSERT_LE(s[k].u[0], 2000.0f);
+    lo = std::min(lo, s[k].u[0]), hi = std::max(hi, s[k].u[0]);
+    ylo = std::min(ylo, s[k].y[0]), yhi = std::max(yhi, s[k].y[0]);
+  }
+  EXPECT_FLOAT_EQ(hi - lo, 4000.0f);  // amplitude 1: the PRBS's two levels are msd's limits
+  EXPECT_GT(yhi - ylo, 0.0f);   // and the mass moved
+  const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
+  EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Idle));
+  EXPECT_EQ(st.step, start.duration);
 }

@@ -36,7 +36,8 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db"
 
-complete_is "conformance dataset firmware flash model ports rig runs simulate train tune" nlsoft-console ""
+complete_is "conformance dataset firmware flash ident model ports rig runs simulate train tune" nlsoft-console ""
+complete_is "chirp" nlsoft-console ident --signal c
 complete_is "ports" nlsoft-console po
 complete_is "--json" nlsoft-console ports --j
 complete_is "simulate" nlsoft-console si

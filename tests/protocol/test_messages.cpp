@@ -208,7 +208,8 @@ struct ShapeVisitor {
 
 TEST(Messages, CatalogueSignaturesAndLengthRulesMatchTheStructFieldLists) {
   for (const np::MsgInfo& info : np::kMessages) {
-    if (info.type == np::MsgType::Telemetry) continue;  // optional fields: covered above
+    // Lengths computed from the payload: covered by their own tests.
+    if (info.type == np::MsgType::Telemetry || info.type == np::MsgType::IdentSample) continue;
     np::with_message_type(static_cast<uint8_t>(info.type), [&](auto msg) {
       ShapeVisitor v;
       decltype(msg)::fields(msg, v);
@@ -222,6 +223,41 @@ TEST(Messages, CatalogueSignaturesAndLengthRulesMatchTheStructFieldLists) {
       EXPECT_LE(info.max_len, np::kMaxPayload) << info.name;
     });
   }
+}
+
+// IDENT_SAMPLE's three vectors take their counts from its m, n, w bytes:
+// the signature names them, and the length rule is 13 + 4 (m + n + w).
+TEST(Messages, IdentSampleLengthFollowsItsCountsAndItsSignatureNamesThem) {
+  np::IdentSample s;
+  s.tseq = 9;
+  s.m = 2;
+  s.n = 3;
+  s.w = 4;
+  s.step = 77;
+  for (int i = 0; i < 4; ++i) s.l[i] = float(i) + 0.5f;
+  s.u[1] = -1.0f;
+  s.y[2] = 2.0f;
+  ShapeVisitor v;
+  np::IdentSample::fields(s, v);
+  EXPECT_EQ("IDENT_SAMPLE:" + v.sig,
+            "IDENT_SAMPLE:u16 tseq,u8 m,u8 n,u8 w,u32 step,u32 time_us,f32[2] u,f32[3] y,f32[4] l");
+  EXPECT_EQ(v.fixed, np::ident_sample_payload_size(2, 3, 4));
+  uint8_t buf[np::kMaxPayload];
+  size_t len = 0;
+  ASSERT_EQ(np::pack(s, buf, sizeof buf, len), np::StatusCode::Ok);
+  EXPECT_EQ(len, 13u + 4u * 9u);
+  np::IdentSample back;
+  ASSERT_EQ(np::unpack(buf, len, back), np::StatusCode::Ok);
+  EXPECT_EQ(back.step, 77u);
+  EXPECT_EQ(back.u[1], -1.0f);
+  EXPECT_EQ(back.y[2], 2.0f);
+  EXPECT_EQ(back.l[3], 3.5f);
+  // A count that disagrees with the length fails the length rule.
+  buf[4] = 5;
+  EXPECT_EQ(np::unpack(buf, len, back), np::StatusCode::BadLength);
+  // More floats than a payload holds cannot be packed.
+  s.m = 20, s.n = 20, s.w = 19;
+  EXPECT_EQ(np::pack(s, buf, sizeof buf, len), np::StatusCode::BadLength);
 }
 
 TEST(Messages, EveryCatalogueTypeHasAStructAndRequestsAndRepliesAreInSeparateRanges) {

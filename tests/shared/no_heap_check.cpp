@@ -2,6 +2,7 @@
 // embedded flags and, in CMake, linked with every allocation function
 // wrapped away: it links only if nothing reachable allocates.
 #include "shared/controller.hpp"
+#include "shared/excitation.hpp"
 #include "shared/plant_generic.hpp"
 #include "shared/platform.hpp"
 
@@ -102,11 +103,32 @@ int run_generic() {
 
 }  // namespace
 
+// Every excitation signal, a few steps each.
+int run_excitation() {
+  using namespace nlsoft;
+  const float lo[2] = {0.0f, -1.0f}, hi[2] = {1.0f, 1.0f}, mid[2] = {0.0f, 0.0f};
+  int bad = 0;
+  for (uint8_t sig = 0; sig < kExcitationSignalCount; ++sig) {
+    ExcitationSpec s;
+    s.signal = ExcitationSignal(sig);
+    s.duration = 100;
+    static Excitation e;
+    if (e.configure(s, 100.0f, lo, hi, mid, 2).status != Status::Ok) return 1;
+    float u[2];
+    while (!e.done()) {
+      e.next(u);
+      bad += !(u[0] >= lo[0] && u[0] <= hi[0]);
+    }
+  }
+  return bad != 0;
+}
+
 int main() {
   using namespace nlsoft;
   int rc = run_one<HaselCapacity>(PlatformId::Hasel, storage, 600);
   rc |= run_one<TendonCapacity>(PlatformId::Tendon, storage, 600) << 3;
   rc |= run_one<MsdCapacity>(PlatformId::Msd, storage, 600) << 6;
   rc |= run_generic() << 9;
+  rc |= run_excitation() << 10;
   return rc;
 }

@@ -43,7 +43,10 @@ TEST_F(Conformance, SimulatorPassesEveryCheckOnEveryPlatform) {
           "PASS unknown_type:", "PASS telemetry_accounting:", "PASS watchdog_trips:", "PASS watchdog_resume:",
           "PASS xfer_heal:", "PASS xfer_resume:", "PASS xfer_begin_too_large:", "PASS xfer_bad_checksum:",
           "PASS params_restored:", "PASS every_message:", "PASS reply_seq:", "PASS rig_info:", "PASS rig_name:",
-          "PASS rig_hash_stable:", "PASS rig_shapes:", "PASS xfer_model_shape_refused:"})
+          "PASS rig_hash_stable:", "PASS rig_shapes:", "PASS xfer_model_shape_refused:",
+          // Protocol 1.3: identification runs.
+          "PASS ident_refusals:", "PASS ident_starts:", "PASS ident_inputs_in_limits:", "PASS ident_retry:",
+          "PASS ident_stops_on_hold_and_stop:", "PASS ident_ends_after_duration:", "PASS ident_watchdog:"})
       EXPECT_NE(r.output.find(name), std::string::npos) << name << "\n" << r.output;
   }
 }

@@ -73,10 +73,29 @@ TEST(ScriptParser, ParsesEveryCommand) {
   EXPECT_EQ(s.commands[17].kind, K::Stop);
 }
 
+TEST(ScriptParser, AnIdentLineIsParsedAndItsWordsCheckedBeforeConnecting) {
+  const Script s = parse_script("ident prbs 10min seed=3 band=0.1:2 joint amplitude=0.5 label=\"bench 1\"\n", "t.nls");
+  ASSERT_EQ(s.commands.size(), 1u);
+  const Command& c = s.commands[0];
+  EXPECT_EQ(c.kind, Command::Kind::Ident);
+  EXPECT_EQ(c.name, "prbs");
+  EXPECT_EQ(c.seconds, 600.0);
+  EXPECT_EQ(c.label, "bench 1");
+  EXPECT_EQ(error_of("ident sine 10s\n"), "tune.nls:1: ident: 'sine' is not a signal; use steps, prbs, walk or chirp");
+  EXPECT_EQ(error_of("ident prbs 10s amplitude=2\n"),
+            "tune.nls:1: ident: --amplitude 2 is outside (0, 1]: it is the fraction of each input's range the signal "
+            "spans");
+  EXPECT_EQ(error_of("ident prbs 10s seed=abc\n"), "tune.nls:1: ident: seed=abc is not a valid seed (0..4294967295)");
+  EXPECT_EQ(error_of("ident prbs 10s band=2:1\n"),
+            "tune.nls:1: ident: --band '2:1': the lower edge is above the upper one");
+  EXPECT_EQ(error_of("ident prbs 10s colour=red\n").find("tune.nls:1: ident: unknown option 'colour=red'"), 0u);
+  EXPECT_EQ(error_of("ident prbs\n").find("tune.nls:1: 'ident' needs more: ident SIGNAL DURATION"), 0u) << error_of("ident prbs\n");
+}
+
 TEST(ScriptParser, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("echo ok\n\nfly 3\n"),
             "tune.nls:3: unknown command 'fly'; commands: set get params ref run start stop hold neutral resume wait "
-            "expect export echo note sweep tune");
+            "expect export echo note sweep tune ident");
   EXPECT_EQ(error_of("run 10\n"), "tune.nls:1: '10' needs a unit: 10s, 10ms or 10min");
   EXPECT_EQ(error_of("# c\nrun 5parsecs\n"), "tune.nls:2: '5parsecs': unknown unit 'parsecs' (use ms, s, min or h)");
   EXPECT_EQ(error_of("wait -1s\n"), "tune.nls:1: '-1s': a duration must be > 0");
@@ -107,7 +126,7 @@ TEST(ScriptParser, EveryLineIsParsedAndEveryErrorReported) {
     EXPECT_EQ(std::string(e.what()),
               "t.nls:1: 'ten' is not a duration (e.g. 5s, 250ms, 2min)\n"
               "t.nls:3: unknown command 'fly'; commands: set get params ref run start stop hold neutral resume wait "
-              "expect export echo note sweep tune\n"
+              "expect export echo note sweep tune ident\n"
               "t.nls:5: '-1s': a duration must be > 0");
   }
 }

@@ -1,0 +1,221 @@
+// Identification runs (PROTOCOL.md 9.9, protocol 1.3): IDENT_START's
+// refusals, the run's samples and inputs, hold/resume/stop, the end after
+// its duration, and the link watchdog as in a closed-loop run.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include "app/conformance/suite.hpp"
+
+namespace nlsoft::console::conformance {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string state_of(const std::optional<p::Status>& st) {
+  return st ? fmt::format("run_state {} watchdog 0x{:02x} step {}", st->run_state, st->watchdog, st->step)
+            : "no STATUS";
+}
+
+bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
+
+// Waits until `n` samples came or `wait` passed; returns what came.
+std::vector<p::IdentSample> collect(Suite& s, size_t n, Ms wait) {
+  std::vector<p::IdentSample> got;
+  const auto until = Clock::now() + wait;
+  while (got.size() < n && Clock::now() < until) {
+    std::this_thread::sleep_for(Ms(20));
+    for (p::IdentSample& x : s.pr.take_ident_samples()) got.push_back(x);
+  }
+  return got;
+}
+
+std::vector<float> limits(Suite& s, const char* name) {
+  std::vector<float> v;
+  if (const p::ParamDesc* d = s.param(name)) {
+    const p::ParamValue& pv = s.original.at(d->id);
+    for (uint8_t i = 0; i < pv.count; ++i) v.push_back(word_f32(pv.values[i]));
+  }
+  return v;
+}
+
+}  // namespace
+
+void check_ident(Suite& s) {
+  s.group("ident");
+  const p::Info& info = s.info.info;
+  if (!(info.capabilities & p::capability::kIdent)) {
+    s.check("ident", s.info.protocol_minor < 3,
+            fmt::format("protocol 1.{} without the IDENT capability{}", s.info.protocol_minor,
+                        s.info.protocol_minor < 3 ? ": no identification runs to check" : " (1.3 requires it)"));
+    return;
+  }
+  const float rate = float(info.loop_rate_hz ? info.loop_rate_hz : 100);
+  p::IdentStart base;
+  base.run_id = 0x1D000000u | (s.random() & 0xFFFFu);
+  base.signal = uint8_t(p::IdentSignal::Prbs);
+  base.decimation = 1;
+  base.seed = s.random();
+  base.amplitude = 1.0f;
+  base.band_lo = rate / 1000.0f;
+  base.band_hi = rate / 10.0f;
+  base.duration = uint32_t(rate * 600);
+
+  // Refusals, each naming its field, and nothing started.
+  {
+    struct Bad {
+      const char* what;
+      void (*edit)(p::IdentStart&, float);
+      p::StatusCode status;
+      uint8_t field;
+    };
+    const Bad bad[] = {
+        {"signal 4", [](p::IdentStart& x, float) { x.signal = 4; }, p::StatusCode::OutOfRange, 1},
+        {"decimation 0", [](p::IdentStart& x, float) { x.decimation = 0; }, p::StatusCode::OutOfRange, 3},
+        {"amplitude NaN", [](p::IdentStart& x, float) { x.amplitude = std::nanf(""); }, p::StatusCode::NotFinite, 5},
+        {"amplitude 2", [](p::IdentStart& x, float) { x.amplitude = 2.0f; }, p::StatusCode::OutOfRange, 5},
+        {"band_lo 0", [](p::IdentStart& x, float) { x.band_lo = 0.0f; }, p::StatusCode::OutOfRange, 6},
+        {"band_hi past rate/2", [](p::IdentStart& x, float r) { x.band_hi = r; }, p::StatusCode::OutOfRange, 7},
+        {"band_lo > band_hi", [](p::IdentStart& x, float r) { x.band_lo = r / 4, x.band_hi = r / 8; },
+         p::StatusCode::Inconsistent, 7},
+        {"duration 0", [](p::IdentStart& x, float) { x.duration = 0; }, p::StatusCode::OutOfRange, 8},
+    };
+    std::vector<std::string> wrong;
+    for (const Bad& b : bad) {
+      p::IdentStart x = base;
+      b.edit(x, rate);
+      const Frame f = s.pr.request(x);
+      if (!nacked(f, b.status, b.field, p::kNoField)) wrong.push_back(fmt::format("{}: {}", b.what, describe(f)));
+    }
+    const auto st = s.status();
+    if (!in_state(st, p::RunState::Idle)) wrong.push_back("afterwards " + state_of(st));
+    s.pr.take_ident_samples();
+    s.check("ident_refusals", wrong.empty(),
+            wrong.empty() ? fmt::format("{} bad IDENT_STARTs refused naming their field; still idle", std::size(bad))
+                          : join(wrong, "; "));
+  }
+
+  // A run starts, samples arrive with the rig's dimensions and every input
+  // inside its limits.
+  const std::vector<float> lo = limits(s, "u_min"), hi = limits(s, "u_max");
+  const Frame started = s.pr.request(base);
+  auto st = s.status();
+  const bool ok_start = acked(started, p::MsgType::IdentStart) && in_state(st, p::RunState::Ident);
+  const std::vector<p::IdentSample> got = collect(s, 50, Ms(3000));
+  bool dims = !got.empty(), steps = !got.empty();
+  for (size_t k = 0; k < got.size(); ++k) {
+    dims = dims && got[k].m == info.m && got[k].w == info.w && (got[k].n == info.n || got[k].n == 0);
+    if (k > 0) steps = steps && got[k].step == got[k - 1].step + 1 && uint16_t(got[k].tseq - got[k - 1].tseq) == 1;
+  }
+  s.check("ident_starts", ok_start && dims && steps,
+          fmt::format("IDENT_START: {}; {}; {} IDENT_SAMPLEs{}{}", describe(started), state_of(st), got.size(),
+                      dims ? "" : ", m/n/w other than INFO's", steps ? " one a step" : ", steps or tseq skip"));
+  {
+    std::string out;
+    size_t moved = 0;
+    for (size_t k = 0; k < got.size() && out.empty(); ++k)
+      for (int i = 0; i < got[k].m && i < int(lo.size()) && i < int(hi.size()); ++i) {
+        const float u = got[k].u[i];
+        if (!(u >= lo[size_t(i)] && u <= hi[size_t(i)]))
+          out = fmt::format("step {}: u[{}] = {:g} outside [{:g}, {:g}]", got[k].step, i, u, lo[size_t(i)], hi[size_t(i)]);
+        if (k > 0 && u != got[k - 1].u[i]) ++moved;
+      }
+    s.check("ident_inputs_in_limits", !got.empty() && out.empty() && lo.size() == info.m,
+            out.empty() ? fmt::format("{} samples, every input inside u_min..u_max; {} input changes", got.size(), moved)
+                        : out);
+  }
+  // A retry of the same run is taken; another run is refused.
+  {
+    const Frame again = s.pr.request(base);
+    p::IdentStart other = base;
+    other.run_id ^= 1;
+    const Frame refused = s.pr.request(other);
+    s.check("ident_retry", acked(again, p::MsgType::IdentStart) && nacked(refused, p::StatusCode::WrongState, 0, p::kNoField),
+            fmt::format("the same IDENT_START again: {}; another run_id: {}", describe(again), describe(refused)));
+  }
+  // Hold pauses the samples, resume brings them back, RUN_HOLD and RUN_STOP as in closed loop.
+  {
+    p::RunHold h;
+    h.mode = uint8_t(p::HoldMode::Hold);
+    const Frame held = s.pr.request(h);
+    const auto st_held = s.status();
+    std::this_thread::sleep_for(Ms(100));
+    s.pr.take_ident_samples();
+    std::this_thread::sleep_for(Ms(200));
+    const size_t while_held = s.pr.take_ident_samples().size();
+    h.mode = uint8_t(p::HoldMode::Resume);
+    const Frame resumed = s.pr.request(h);
+    const auto st_resumed = s.status();
+    const size_t after = collect(s, 5, Ms(2000)).size();
+    const Frame stop = s.pr.request(p::RunStop{});
+    const auto st_stopped = s.status();
+    std::this_thread::sleep_for(Ms(100));
+    s.pr.take_ident_samples();
+    std::this_thread::sleep_for(Ms(200));
+    const size_t after_stop = s.pr.take_ident_samples().size();
+    const bool ok = acked(held, p::MsgType::RunHold) && in_state(st_held, p::RunState::Hold) && while_held == 0 &&
+                    acked(resumed, p::MsgType::RunHold) && in_state(st_resumed, p::RunState::Ident) && after >= 5 &&
+                    acked(stop, p::MsgType::RunStop) && in_state(st_stopped, p::RunState::Idle) && after_stop == 0;
+    s.check("ident_stops_on_hold_and_stop", ok,
+            fmt::format("hold: {}, {} samples while held; resume: {}, {} samples; RUN_STOP: {}, {} samples after",
+                        state_of(st_held), while_held, state_of(st_resumed), after, state_of(st_stopped), after_stop));
+  }
+  // A short run ends by itself after its duration: every step sent, idle, a LOG.
+  {
+    p::IdentStart shortrun = base;
+    shortrun.run_id ^= 2;
+    shortrun.signal = uint8_t(p::IdentSignal::Chirp);
+    shortrun.duration = std::max<uint32_t>(10, uint32_t(rate / 5));
+    s.pr.take_logs();
+    const Frame f = s.pr.request(shortrun);
+    const std::vector<p::IdentSample> all = collect(s, shortrun.duration, Ms(5000));
+    std::this_thread::sleep_for(Ms(200));
+    const auto after = s.status();
+    const auto logs = s.pr.take_logs();
+    const bool ok = acked(f, p::MsgType::IdentStart) && all.size() == shortrun.duration &&
+                    all.back().step == shortrun.duration - 1 && in_state(after, p::RunState::Idle) && !logs.empty();
+    s.check("ident_ends_after_duration", ok,
+            fmt::format("{} steps asked: {} samples{}; then {}, {}", shortrun.duration, all.size(),
+                        all.empty() ? "" : fmt::format(" (last step {})", all.back().step), state_of(after),
+                        logs.empty() ? "no LOG" : "LOG \"" + logs.back() + "\""));
+  }
+  // The link watchdog: silence leads to the safe state, as in a closed-loop run.
+  const p::ParamDesc* wd = s.param("watchdog_ms");
+  std::string why;
+  const uint32_t timeout_ms = 500;
+  if (!wd || !s.set(*wd, {timeout_ms}, why)) {
+    s.check("ident_watchdog", false, wd ? fmt::format("watchdog_ms = {}: {}", timeout_ms, why) : "no watchdog_ms parameter");
+    return;
+  }
+  uint8_t safe = uint8_t(p::RunState::Neutral);
+  if (const p::ParamDesc* ss = s.param("safe_state"))
+    safe = s.original.at(ss->id).values[0] == 0 ? uint8_t(p::RunState::Hold) : uint8_t(p::RunState::Neutral);
+  p::IdentStart watched = base;
+  watched.run_id ^= 4;
+  watched.decimation = uint16_t(std::max(1.0f, rate / 10));  // quiet: the heartbeat is what we listen to
+  const Frame wf = s.pr.request(watched);
+  const auto st0 = s.status();
+  const uint32_t quiet_from = st0 ? st0->uptime_ms : 0;
+  s.pr.take_statuses();
+  std::optional<p::Status> beat;
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (Clock::now() < deadline) {
+    std::this_thread::sleep_for(Ms(100));
+    for (const p::Status& b : s.pr.take_statuses()) beat = b;
+    if (beat && beat->uptime_ms - quiet_from >= 2 * timeout_ms) break;
+  }
+  const bool tripped = acked(wf, p::MsgType::IdentStart) && beat && beat->run_state == safe &&
+                       (beat->watchdog & p::watchdog_flags::kTripped) && (beat->watchdog & p::watchdog_flags::kArmed);
+  s.check("ident_watchdog", tripped,
+          fmt::format("IDENT_START: {}; silent for {} ms of firmware time: heartbeat {} (expected run_state {}, "
+                      "watchdog bits armed and tripped)",
+                      describe(wf), beat ? beat->uptime_ms - quiet_from : 0, state_of(beat), safe));
+  s.pr.request(p::RunStop{});
+  s.pr.take_ident_samples();
+  s.pr.take_logs();
+}
+
+}  // namespace nlsoft::console::conformance

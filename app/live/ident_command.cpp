@@ -1,0 +1,97 @@
+#include "app/live/ident_command.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "app/cli_error.hpp"
+#include "app/live/connect_args.hpp"
+#include "app/live/ident_plan.hpp"
+#include "app/live/live_console.hpp"
+#include "app/progress_bar.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+struct IdentArgs {
+  ConnectArgs link;
+  IdentWords words;
+  std::string label;
+};
+
+int run_ident_command(const IdentArgs& a) {
+  // The words are checked before a simulator starts or a board is touched.
+  check_ident_words(a.words);
+  const LiveOptions lo = live_options(a.link, "ident");
+  LiveConsole console(lo);
+  install_interrupt_handlers();
+  console.set_notify([](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
+  connect_with_progress(console);
+  const protocol::Info info = console.device().info();
+  IdentLine line;
+  line.baud = lo.baud;
+  line.unlimited = console.link_unlimited();
+  const IdentPlan plan = plan_ident(a.words, double(info.loop_rate_hz), info.m, info.n, info.w, line);
+  std::fprintf(stderr, "connected: %s %u.%u.%u (%s), %u Hz; recording to %s\n%s\n", info.firmware, info.fw_major,
+               info.fw_minor, info.fw_patch, console.rig_label().c_str(), info.loop_rate_hz, console.db_path().c_str(),
+               plan.line_words.c_str());
+  const std::string label =
+      a.label.empty() ? fmt::format("ident {} seed {} {}", a.words.signal, a.words.seed, a.words.duration) : a.label;
+  RunSummary s;
+  try {
+    ProgressBar bar(fmt::format("ident {}", a.words.signal));
+    s = console.run_ident(plan.start, plan.excitation_json, label,
+                          [&](size_t d, size_t t) { bar.update(long(d), long(t)); });
+  } catch (...) {
+    console.disconnect();
+    throw;
+  }
+  console.disconnect();
+  std::printf("run %lld: identification run, %s, %llu samples of %u steps (decimation %u), %llu lost frames; %s\n",
+              static_cast<long long>(s.run_id), a.words.signal.c_str(),
+              static_cast<unsigned long long>(s.metrics.samples), plan.start.duration, plan.start.decimation,
+              static_cast<unsigned long long>(s.metrics.lost_frames), s.end_reason.c_str());
+  std::fflush(stdout);
+  return s.ended_early ? 1 : 0;
+}
+
+}  // namespace
+
+void add_ident_command(CLI::App& app) {
+  auto a = std::make_shared<IdentArgs>();
+  CLI::App* c = app.add_subcommand(
+      "ident", "Record an identification run: the firmware drives the rig's inputs open loop with an excitation "
+               "signal inside their limits; u, the measured outputs and the sensors of every step go into the runs "
+               "database, to train a model from");
+  add_connect_options(*c, a->link, "identify");
+  c->add_option("--signal", a->words.signal, "steps, prbs (default), walk (smoothed random walk) or chirp")
+      ->check(CLI::IsMember({"steps", "prbs", "walk", "chirp"}));
+  c->add_option("--duration", a->words.duration, "How long, in the firmware's control steps' time: 60s, 10min")
+      ->required();
+  c->add_option("--seed", a->words.seed, "Seed of the signal: the same seed drives the same inputs (default 1)");
+  c->add_option("--amplitude", a->words.amplitude,
+                "Fraction of each input's range the signal spans, around its neutral value (default 0.8)");
+  c->add_option("--band", a->words.band,
+                "LO:HI in Hz: steps hold 1/HI to 1/LO s, PRBS bits last 1/HI s with a period of at least 1/LO s, the "
+                "walk crosses the range in about 1/LO s smoothed at HI, the chirp sweeps LO to HI (default 0.05:2, "
+                "HI at most a quarter of the loop rate)");
+  c->add_flag("--joint", a->words.joint, "Every input the same signal (default: one independent stream per input)");
+  c->add_option("--decimation", a->words.decimation,
+                "Record one step in N (default: every step on a simulator, else what the baud rate carries)")
+      ->check(CLI::Range(1, 65535));
+  c->add_option("--label", a->label, "The run's label (default \"ident SIGNAL seed N DURATION\")");
+  c->footer(
+      "The run is recorded as an identification run (runs list marks it; runs export gives u, the measured\n"
+      "outputs as y_true and the sensors l0, l1, ...). It ends by itself after --duration; Ctrl-C stops it\n"
+      "and keeps what was recorded. The link watchdog and RUN_HOLD act as in a closed-loop run.\n"
+      "Exit 0 when the whole run was recorded, 1 when it ended early, 2 on an error.\n"
+      "\n"
+      "Example (10 simulated minutes of a rig file, well under a minute of wall time):\n"
+      "  nlsoft-console ident --sim my-rig.toml --signal prbs --duration 10min --sim-fast\n"
+      "  nlsoft-console runs export 1 --csv ident.csv\n");
+  c->callback([a] { throw CliExit{run_ident_command(*a)}; });
+}
+
+}  // namespace nlsoft::console

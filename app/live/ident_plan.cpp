@@ -1,0 +1,171 @@
+#include "app/live/ident_plan.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "app/cli_error.hpp"
+#include "app/script/script_parser.hpp"
+
+namespace nlsoft::console {
+
+namespace p = protocol;
+
+namespace {
+
+constexpr const char* kSignals[] = {"steps", "prbs", "walk", "chirp"};
+// The default band: slow enough for a soft actuator's lag to show, fast
+// enough to move it several times a minute.
+constexpr double kDefaultLoHz = 0.05, kDefaultHiHz = 2.0;
+
+int signal_index(const std::string& s) {
+  for (int i = 0; i < 4; ++i)
+    if (s == kSignals[i]) return i;
+  return -1;
+}
+
+bool parse_band(const std::string& text, double& lo, double& hi) {
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos) return false;
+  try {
+    size_t a = 0, b = 0;
+    const std::string ls = text.substr(0, colon), hs = text.substr(colon + 1);
+    lo = std::stod(ls, &a);
+    hi = std::stod(hs, &b);
+    return a == ls.size() && b == hs.size() && std::isfinite(lo) && std::isfinite(hi);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+}  // namespace
+
+double check_ident_words(const IdentWords& w) {
+  if (signal_index(w.signal) < 0)
+    throw CliError(fmt::format("ident: '{}' is not a signal; use steps, prbs, walk or chirp", w.signal));
+  if (!(w.amplitude > 0 && w.amplitude <= 1))
+    throw CliError(fmt::format("ident: --amplitude {:g} is outside (0, 1]: it is the fraction of each input's range "
+                               "the signal spans",
+                               w.amplitude));
+  if (!w.band.empty()) {
+    double lo = 0, hi = 0;
+    if (!parse_band(w.band, lo, hi))
+      throw CliError(fmt::format("ident: --band '{}' is not LO:HI in Hz (e.g. 0.05:2)", w.band));
+    if (!(lo > 0)) throw CliError(fmt::format("ident: --band '{}': the lower edge must be > 0 Hz", w.band));
+    if (lo > hi) throw CliError(fmt::format("ident: --band '{}': the lower edge is above the upper one", w.band));
+  }
+  if (w.decimation < 0 || w.decimation > 65535)
+    throw CliError(fmt::format("ident: --decimation {} is outside 1..65535", w.decimation));
+  if (w.duration.empty()) throw CliError("ident: --duration is required (e.g. --duration 10min)");
+  try {
+    return parse_duration(w.duration);
+  } catch (const std::invalid_argument& e) {
+    throw CliError(std::string("ident: --duration ") + e.what());
+  }
+}
+
+IdentWords ident_words(const Command& c) {
+  IdentWords w;
+  w.signal = c.name;
+  w.duration = c.values.empty() ? "" : c.values[0];
+  for (const auto& [k, v] : c.options) {
+    try {
+      size_t used = 0;
+      if (k == "seed") {
+        const unsigned long long x = std::stoull(v, &used);
+        if (used != v.size() || x > 0xFFFFFFFFull) throw std::out_of_range(v);
+        w.seed = uint32_t(x);
+      } else if (k == "amplitude") {
+        w.amplitude = std::stod(v, &used);
+      } else if (k == "decimation") {
+        w.decimation = std::stoi(v, &used);
+        if (w.decimation < 1) throw std::out_of_range(v);
+      } else if (k == "band") {
+        w.band = v, used = v.size();
+      } else if (k == "joint") {
+        w.joint = true, used = v.size();
+      }
+      if (used != v.size()) throw std::invalid_argument(v);
+    } catch (const std::logic_error&) {
+      throw CliError(fmt::format("ident: {}={} is not a valid {}", k, v,
+                                 k == "seed" ? "seed (0..4294967295)" : k == "decimation" ? "decimation (1..65535)" : "number"));
+    }
+  }
+  return w;
+}
+
+size_t ident_sample_wire_bytes(int m, int n, int w) {
+  // Header 5, CRC 2, COBS 1, delimiter 1 (PROTOCOL.md 2, 7).
+  return p::ident_sample_payload_size(unsigned(m), unsigned(n), unsigned(w)) + 9;
+}
+
+uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud) {
+  const double per_s = 0.8 * double(baud) / 10.0 / double(ident_sample_wire_bytes(m, n, w));
+  const double d = std::ceil(rate_hz / per_s);
+  return uint16_t(std::clamp(d, 1.0, 65535.0));
+}
+
+IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line) {
+  IdentPlan plan;
+  plan.seconds = check_ident_words(w);
+  double lo = kDefaultLoHz, hi = std::min(kDefaultHiHz, rate_hz / 4);
+  if (!w.band.empty()) parse_band(w.band, lo, hi);
+  if (hi > rate_hz / 2)
+    throw CliError(fmt::format("ident: --band {:g}:{:g} reaches past half the loop rate ({:g} Hz at {:g} Hz): "
+                               "nothing above {:g} Hz can be sampled",
+                               lo, hi, rate_hz / 2, rate_hz, rate_hz / 2));
+  if (lo > hi) lo = hi;  // the default's lower edge above a slow rig's upper one
+  const double steps = std::round(plan.seconds * rate_hz);
+  if (steps < 1)
+    throw CliError(fmt::format("ident: --duration {} is shorter than one control step at {:g} Hz", w.duration, rate_hz));
+  if (steps > 4e9) throw CliError(fmt::format("ident: --duration {} is over 2^32 control steps", w.duration));
+  if (m + n + w_sensors > p::kMaxIdentFloats)
+    throw CliError(fmt::format("ident: m + n + w = {} values a step do not fit one IDENT_SAMPLE (at most {})",
+                               m + n + w_sensors, p::kMaxIdentFloats));
+
+  const size_t wire = ident_sample_wire_bytes(m, n, w_sensors);
+  uint16_t dec = uint16_t(w.decimation);
+  const uint16_t carried = line.unlimited ? 1 : ident_decimation_for(rate_hz, m, n, w_sensors, line.baud);
+  if (dec == 0) dec = carried;
+  if (line.unlimited)
+    plan.line_words = fmt::format("IDENT_SAMPLE is {} bytes on the wire; a simulated line carries every step: {} "
+                                  "({:.1f} samples/s at {:g} Hz)",
+                                  wire, dec == 1 ? "every step is recorded" : fmt::format("one step in {} is recorded", dec),
+                                  rate_hz / dec, rate_hz);
+  else
+    plan.line_words = fmt::format(
+        "IDENT_SAMPLE is {} bytes on the wire; {} baud carries {:.0f} a second (four fifths of the line), so at {:g} "
+        "Hz {} ({:.1f} samples/s){}",
+        wire, line.baud, 0.8 * line.baud / 10.0 / double(wire), rate_hz,
+        dec == 1 ? "every step is recorded" : fmt::format("one step in {} is recorded", dec), rate_hz / dec,
+        dec < carried ? fmt::format("; --decimation {} asks for more than the line carries (it needs {}): frames "
+                                    "will be lost",
+                                    dec, carried)
+                      : "");
+
+  p::IdentStart& s = plan.start;
+  s.signal = uint8_t(signal_index(w.signal));
+  s.options = w.joint ? p::ident_options::kJoint : 0;
+  s.decimation = dec;
+  s.seed = w.seed;
+  s.amplitude = float(w.amplitude);
+  s.band_lo = float(lo);
+  s.band_hi = float(hi);
+  s.duration = uint32_t(steps);
+
+  nlohmann::json j;
+  j["signal"] = w.signal;
+  j["seed"] = w.seed;
+  j["amplitude"] = w.amplitude;
+  j["band_hz"] = {lo, hi};
+  j["joint"] = w.joint;
+  j["duration_steps"] = s.duration;
+  j["decimation"] = dec;
+  plan.excitation_json = j.dump();
+  return plan;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,56 @@
+#pragma once
+// What `ident` asks the firmware for (protocol 1.3, IDENT_START), from the
+// command's words and the firmware's rate and dimensions: the signal, its
+// band, amplitude and seed, the duration in control steps, and the
+// decimation the line carries. Shared by the `ident` command and the
+// script's `ident` line, so both accept and refuse the same words.
+#include <cstdint>
+#include <string>
+
+#include "protocol/messages.hpp"
+
+namespace nlsoft::console {
+
+struct IdentWords {
+  std::string signal = "prbs";  // steps | prbs | walk | chirp
+  std::string duration;         // 10min, 60s, ...
+  std::string band;             // LO:HI in Hz; empty: the default
+  uint32_t seed = 1;
+  double amplitude = 0.8;
+  bool joint = false;
+  int decimation = 0;  // 0: every step on a simulator, else what the baud rate carries
+};
+
+// The words alone (before anything is started): throws CliError naming the
+// bad one. Returns the duration in seconds.
+double check_ident_words(const IdentWords& w);
+
+// A script's `ident SIGNAL DURATION key=value...` as the command's words:
+// name is the signal, values[0] the duration, options seed, amplitude,
+// band, joint, decimation. Throws CliError for a value that is no number.
+struct Command;
+IdentWords ident_words(const Command& c);
+
+struct IdentLine {
+  unsigned baud = 115200;
+  bool unlimited = false;  // a simulator or a pty: every step fits
+};
+
+struct IdentPlan {
+  protocol::IdentStart start;  // run_id filled in when the run starts
+  std::string excitation_json;
+  std::string line_words;  // what the line carries, for the user
+  double seconds = 0;
+};
+
+// Against the firmware's rate (Hz) and m, n, w: throws CliError for a band
+// past half the rate or a duration under one step.
+IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line);
+
+// IDENT_SAMPLE's size on the wire for these dimensions, and the smallest
+// decimation whose samples fit four fifths of an 8N1 line at `baud` (the
+// rest is for replies and STATUS, as for TELEMETRY).
+size_t ident_sample_wire_bytes(int m, int n, int w);
+uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud);
+
+}  // namespace nlsoft::console

@@ -1,0 +1,221 @@
+#pragma once
+// Excitation signals for identification runs: open-loop inputs that drive a
+// rig over its input range so a model can be learned from what it does.
+// The firmware computes them each control step (protocol IDENT_START), so
+// this is MCU code: no heap, no exceptions, float, fixed capacity, and the
+// same seed gives the same sequence bit for bit on the host and the MCU.
+//
+// Four signals, each a deviation d in [-1, 1] per input, mapped into the
+// input's limits (below):
+//   steps - a new uniform level after a uniform random hold of 1/band_hi to
+//           1/band_lo seconds;
+//   prbs  - a maximal-length binary sequence (Galois LFSR) of +-1, one bit
+//           every 1/band_hi seconds, the register long enough that one
+//           period lasts at least 1/band_lo seconds (a flat spectrum over
+//           the band);
+//   walk  - a random walk reflected at +-1 that crosses the range in about
+//           1/band_lo seconds, low-passed at band_hi (first order);
+//   chirp - a sine whose frequency sweeps linearly from band_lo to band_hi
+//           over the run's duration.
+// Per input (each input its own stream, seeded from the seed and its index)
+// or jointly (every input the same deviation).
+//
+// The amplitude a in (0, 1] is the fraction of an input's range the signal
+// spans: a window a (u_max - u_min) wide centred on the neutral input and
+// shifted inside [u_min, u_max] where the neutral sits near a limit (a rig
+// whose neutral is u_min gets the lower part of its range, not half of it).
+#include <cmath>
+#include <cstdint>
+
+#include "shared/rig_config.hpp"
+#include "shared/rng.hpp"
+#include "shared/sincos.hpp"
+#include "shared/status.hpp"
+
+namespace nlsoft {
+
+enum class ExcitationSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3 };
+constexpr uint8_t kExcitationSignalCount = 4;
+
+struct ExcitationSpec {
+  ExcitationSignal signal = ExcitationSignal::Prbs;
+  bool joint = false;       // every input the same deviation
+  uint32_t seed = 1;
+  float amplitude = 0.8f;   // fraction of each input's range, (0, 1]
+  float band_lo = 0.1f;     // Hz, > 0
+  float band_hi = 2.0f;     // Hz, band_lo <= band_hi <= rate / 2
+  uint32_t duration = 1;    // control steps, >= 1
+};
+
+// Which field a refusal names; the protocol's IDENT_START maps these to its
+// field numbers.
+enum class ExcitationField : uint8_t { Signal, Amplitude, BandLo, BandHi, Duration, None };
+
+struct ExcitationCheck {
+  Status status;
+  ExcitationField field;
+};
+
+// The rules, in field order; the first failure is reported.
+inline ExcitationCheck check_excitation(const ExcitationSpec& s, float rate_hz) {
+  using F = ExcitationField;
+  if (uint8_t(s.signal) >= kExcitationSignalCount) return {Status::OutOfRange, F::Signal};
+  if (!std::isfinite(s.amplitude)) return {Status::NotFinite, F::Amplitude};
+  if (!(s.amplitude > 0.0f && s.amplitude <= 1.0f)) return {Status::OutOfRange, F::Amplitude};
+  if (!std::isfinite(s.band_lo)) return {Status::NotFinite, F::BandLo};
+  if (!(s.band_lo > 0.0f)) return {Status::OutOfRange, F::BandLo};
+  if (!std::isfinite(s.band_hi)) return {Status::NotFinite, F::BandHi};
+  if (!(s.band_hi <= 0.5f * rate_hz)) return {Status::OutOfRange, F::BandHi};
+  if (s.band_lo > s.band_hi) return {Status::Inconsistent, F::BandHi};
+  if (s.duration == 0) return {Status::OutOfRange, F::Duration};
+  return {Status::Ok, F::None};
+}
+
+// Feedback taps of maximal-length Galois LFSRs of 3..16 bits (period
+// 2^bits - 1); tests/shared/test_excitation.cpp checks every period.
+inline uint32_t prbs_taps(int bits) {
+  static const uint16_t taps[] = {0x6,   0xC,   0x14,  0x30,   0x60,   0xB8,   0x110,
+                                  0x240, 0x500, 0x829, 0x100D, 0x2015, 0x6000, 0xD008};
+  if (bits < 3) bits = 3;
+  if (bits > 16) bits = 16;
+  return taps[bits - 3];
+}
+
+class Excitation {
+ public:
+  // Fails with check_excitation's verdict (nothing changes then), or
+  // TooLarge for more inputs than kRigMaxM.
+  ExcitationCheck configure(const ExcitationSpec& spec, float rate_hz, const float* u_min, const float* u_max,
+                            const float* u_neutral, int m) {
+    if (m < 1 || m > kRigMaxM || !(rate_hz > 0.0f)) return {Status::TooLarge, ExcitationField::None};
+    const ExcitationCheck c = check_excitation(spec, rate_hz);
+    if (c.status != Status::Ok) return c;
+    spec_ = spec;
+    rate_ = rate_hz;
+    m_ = m;
+    k_ = 0;
+    for (int i = 0; i < m; ++i) {
+      float span = spec.amplitude * (u_max[i] - u_min[i]);
+      float lo = u_neutral[i] - 0.5f * span;
+      if (lo < u_min[i]) lo = u_min[i];
+      if (lo + span > u_max[i]) lo = u_max[i] - span;
+      lo_[i] = lo;
+      span_[i] = span;
+      min_[i] = u_min[i];
+      max_[i] = u_max[i];
+    }
+    hold_min_ = steps_of(1.0f / spec.band_hi);
+    hold_max_ = steps_of(1.0f / spec.band_lo);
+    // The register whose period (2^bits - 1 bits of hold_min_ steps) covers 1/band_lo.
+    bits_ = 3;
+    while (bits_ < 16 && float((1u << bits_) - 1u) * float(hold_min_) < rate_hz / spec.band_lo) ++bits_;
+    walk_sigma_ = std::sqrt(spec.band_lo / rate_hz);
+    const float a = 6.28318531f * spec.band_hi / rate_hz;
+    smooth_ = a > 10.0f ? 1.0f : 1.0f - std::exp(-a);
+    const int channels = spec.joint ? 1 : m;
+    for (int i = 0; i < channels; ++i) start(ch_[i], spec.seed, i);
+    return {Status::Ok, ExcitationField::None};
+  }
+
+  // The next step's inputs, m of them, each inside [u_min, u_max].
+  void next(float* u) {
+    float d[kRigMaxM];
+    const int channels = spec_.joint ? 1 : m_;
+    for (int i = 0; i < channels; ++i) d[i] = advance(ch_[i]);
+    for (int i = 0; i < m_; ++i) {
+      const float di = spec_.joint ? d[0] : d[i];
+      float v = lo_[i] + 0.5f * (di + 1.0f) * span_[i];
+      v = v < min_[i] ? min_[i] : (v > max_[i] ? max_[i] : v);
+      u[i] = v;
+    }
+    ++k_;
+  }
+
+  uint32_t steps_done() const { return k_; }
+  bool done() const { return k_ >= spec_.duration; }
+  // The chirp's frequency at step k (Hz): band_lo at the start, band_hi at the end.
+  float chirp_hz(uint32_t k) const {
+    return spec_.band_lo + (spec_.band_hi - spec_.band_lo) * float(k) / float(spec_.duration);
+  }
+  int prbs_bits() const { return bits_; }
+
+ private:
+  struct Channel {
+    Rng rng;
+    uint32_t left = 0;  // steps before the next level or bit
+    uint32_t lfsr = 1;
+    float level = 0.0f, walk = 0.0f, smooth = 0.0f, phase = 0.0f;
+  };
+
+  uint32_t steps_of(float seconds) const {
+    const float s = seconds * rate_ + 0.5f;
+    if (!(s >= 1.0f)) return 1;
+    return s > 4.0e9f ? 4000000000u : uint32_t(s);
+  }
+
+  void start(Channel& c, uint32_t seed, int index) {
+    // Each input's stream from the seed and its index: seed 0 input 1 is
+    // not seed 1 input 0.
+    c.rng.reseed(seed ^ (0x9E3779B9u * uint32_t(index + 1)));
+    c.left = 0;
+    const uint32_t mask = (1u << bits_) - 1u;
+    c.lfsr = c.rng.next_u32() & mask;
+    if (c.lfsr == 0) c.lfsr = 1;
+    c.level = 0.0f;
+    c.walk = c.rng.uniform(-1.0f, 1.0f);
+    c.smooth = c.walk;
+    c.phase = spec_.signal == ExcitationSignal::Chirp && !spec_.joint ? c.rng.uniform(0.0f, 6.28318531f) : 0.0f;
+  }
+
+  float advance(Channel& c) {
+    switch (spec_.signal) {
+      case ExcitationSignal::Steps:
+        if (c.left == 0) {
+          c.level = c.rng.uniform(-1.0f, 1.0f);
+          const uint32_t spread = hold_max_ - hold_min_ + 1u;
+          c.left = hold_min_ + (spread ? c.rng.next_u32() % spread : 0u);
+        }
+        --c.left;
+        return c.level;
+      case ExcitationSignal::Prbs:
+        if (c.left == 0) {
+          const uint32_t bit = c.lfsr & 1u;
+          c.lfsr >>= 1;
+          if (bit) c.lfsr ^= prbs_taps(bits_);
+          c.level = bit ? 1.0f : -1.0f;
+          c.left = hold_min_;
+        }
+        --c.left;
+        return c.level;
+      case ExcitationSignal::Walk: {
+        float x = c.walk + walk_sigma_ * c.rng.gaussian();
+        if (x > 1.0f) x = 2.0f - x;  // reflected at the ends
+        if (x < -1.0f) x = -2.0f - x;
+        c.walk = x < -1.0f ? -1.0f : (x > 1.0f ? 1.0f : x);
+        c.smooth += smooth_ * (c.walk - c.smooth);
+        return c.smooth;
+      }
+      case ExcitationSignal::Chirp: {
+        const float s = sincos_fast(c.phase).s;
+        // The phase kept in [0, 2 pi): a float phase summed over 10 minutes
+        // at 1 kHz would lose the sweep's resolution.
+        c.phase += 6.28318531f * chirp_hz(k_) / rate_;
+        if (c.phase >= 6.28318531f) c.phase -= 6.28318531f;
+        return s;
+      }
+    }
+    return 0.0f;
+  }
+
+  ExcitationSpec spec_{};
+  float rate_ = 1.0f;
+  int m_ = 0;
+  uint32_t k_ = 0;
+  uint32_t hold_min_ = 1, hold_max_ = 1;
+  int bits_ = 3;
+  float walk_sigma_ = 0.0f, smooth_ = 1.0f;
+  float lo_[kRigMaxM] = {}, span_[kRigMaxM] = {}, min_[kRigMaxM] = {}, max_[kRigMaxM] = {};
+  Channel ch_[kRigMaxM];
+};
+
+}  // namespace nlsoft

@@ -1,0 +1,316 @@
+// Identification runs in the firmware core (PROTOCOL.md 9.9), on the host
+// with an in-memory port: IDENT_START drives the inputs from the excitation
+// signal inside the limits in force, every step's u goes to the actuators,
+// IDENT_SAMPLE carries u, the measured y and the sensors; bad parameters are
+// refused naming their field; hold, resume, stop and the link watchdog act
+// as in a closed-loop run, and the run ends by itself after its duration.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <deque>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "firmware/core/firmware.hpp"
+#include "protocol/decoder.hpp"
+#include "protocol/encoder.hpp"
+#include "shared/capacity.hpp"
+#include "shared/reference_presets.hpp"
+
+using namespace nlsoft;
+namespace proto = nlsoft::protocol;
+
+namespace {
+
+// Serial bytes in memory; a millisecond passes at every tick read. The
+// sensors and outputs follow the last u, so a sample shows what was read.
+class MemoryHal final : public fw::Hal {
+ public:
+  std::deque<uint8_t> in;
+  std::vector<uint8_t> out;
+  std::vector<std::vector<float>> actuated;
+  size_t serial_read(uint8_t* buf, size_t cap) override {
+    size_t n = 0;
+    while (n < cap && !in.empty()) buf[n++] = in.front(), in.pop_front();
+    return n;
+  }
+  size_t serial_write(const uint8_t* data, size_t len) override {
+    out.insert(out.end(), data, data + len);
+    return len;
+  }
+  uint32_t ticks() override { return t_ += 1000; }
+  uint32_t tick_rate_hz() const override { return 1000000; }
+  void actuate(const float* u, int m) override { actuated.emplace_back(u, u + m); }
+  void read_sensors(float* l, int w) override {
+    for (int i = 0; i < w; ++i) l[i] = 100.0f + float(i) + last_u0();
+  }
+  bool read_output(float* y, int n) override {
+    for (int j = 0; j < n; ++j) y[j] = -float(j) - last_u0();
+    return true;
+  }
+
+ private:
+  float last_u0() const { return actuated.empty() ? 0.0f : actuated.back()[0]; }
+  uint32_t t_ = 0;
+};
+
+using Fw = fw::Firmware<HaselCapacity>;
+
+class IdentRun : public ::testing::Test {
+ protected:
+  RigConfig rig_{};
+  void SetUp() override {
+    rig_ = shipped_rig(PlatformId::Hasel);
+    const fw::Identity id{&rig_, "nlsoft-test", 0, 1, 0, 130, true};
+    const fw::Buffers b{staging_, sizeof staging_, table_, sizeof table_, points_, 30};
+    fw_ = std::make_unique<Fw>(hal_, id, b);
+    ASSERT_EQ(fw_->begin(nullptr, 0), Status::Ok);  // no model: an identification run needs none
+  }
+
+  template <class M>
+  std::pair<uint8_t, std::vector<uint8_t>> request(const M& m) {
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t n = proto::encode(m, ++seq_, 0, wire, sizeof wire);
+    EXPECT_NE(n, 0u);
+    hal_.in.insert(hal_.in.end(), wire, wire + n);
+    hal_.out.clear();
+    fw_->poll();
+    for (const proto::FrameView& f : frames())
+      if (f.is_reply() && f.header.seq == seq_)
+        return {f.header.type, std::vector<uint8_t>(f.payload, f.payload + f.header.length)};
+    ADD_FAILURE() << "no reply";
+    return {};
+  }
+  void expect_ack(const proto::IdentStart& s) {
+    EXPECT_EQ(request(s).first, uint8_t(proto::MsgType::Ack));
+  }
+  proto::Nack expect_nack(const proto::IdentStart& s) {
+    const auto [type, payload] = request(s);
+    proto::Nack n;
+    EXPECT_EQ(type, uint8_t(proto::MsgType::Nack));
+    if (type == uint8_t(proto::MsgType::Nack)) {
+      EXPECT_EQ(proto::unpack(payload.data(), payload.size(), n), proto::StatusCode::Ok);
+    }
+    return n;
+  }
+
+  // Every frame written since the last clear, decoded, payloads copied.
+  std::vector<proto::FrameView> frames() {
+    std::vector<proto::FrameView> v;
+    raw_.clear();
+    proto::Decoder dec;
+    size_t used = 0;
+    while (used < hal_.out.size()) {
+      proto::DecodeResult r;
+      used += dec.feed(hal_.out.data() + used, hal_.out.size() - used, r);
+      if (r.kind == proto::DecodeResult::Kind::Frame) {
+        raw_.emplace_back(r.frame.payload, r.frame.payload + r.frame.header.length);
+        v.push_back(r.frame);
+      }
+    }
+    // The decoder's views die with it: point them at copies.
+    for (size_t i = 0; i < v.size(); ++i) v[i].payload = raw_[i].data();
+    return v;
+  }
+  std::vector<proto::IdentSample> samples() {
+    std::vector<proto::IdentSample> s;
+    for (const proto::FrameView& f : frames()) {
+      if (f.header.type != uint8_t(proto::MsgType::IdentSample)) continue;
+      proto::IdentSample x;
+      EXPECT_EQ(proto::unpack(f, x), proto::StatusCode::Ok);
+      s.push_back(x);
+    }
+    return s;
+  }
+  proto::Status status() {
+    proto::StatusGet g;
+    const auto [type, payload] = request(g);
+    proto::Status s;
+    EXPECT_EQ(proto::unpack(payload.data(), payload.size(), s), proto::StatusCode::Ok);
+    return s;
+  }
+  void steps(int k) {
+    for (int i = 0; i < k; ++i) fw_->step();
+  }
+  static proto::IdentStart prbs(uint32_t duration) {
+    proto::IdentStart s;
+    s.run_id = 7;
+    s.signal = uint8_t(proto::IdentSignal::Prbs);
+    s.decimation = 1;
+    s.seed = 3;
+    s.amplitude = 1.0f;
+    s.band_lo = 0.2f;
+    s.band_hi = 13.0f;
+    s.duration = duration;
+    return s;
+  }
+
+  MemoryHal hal_;
+  alignas(4) uint8_t staging_[model_file_max<HaselCapacity>()];
+  uint8_t table_[8 + 4 * 3 * 10];
+  float points_[30];
+  std::unique_ptr<Fw> fw_;
+  uint8_t seq_ = 0;
+  std::vector<std::vector<uint8_t>> raw_;
+};
+
+TEST_F(IdentRun, DrivesTheInputsInsideTheLimitsAndSendsUMeasuredYAndSensorsEveryStep) {
+  expect_ack(prbs(200));
+  EXPECT_EQ(status().run_state, uint8_t(proto::RunState::Ident));
+  hal_.out.clear();
+  hal_.actuated.clear();
+  steps(200);
+  const std::vector<proto::IdentSample> s = samples();
+  ASSERT_EQ(s.size(), 200u);
+  ASSERT_EQ(hal_.actuated.size(), 201u);  // the last step's u, then neutral at the end
+  bool moved = false;
+  for (size_t k = 0; k < s.size(); ++k) {
+    EXPECT_EQ(s[k].step, k);
+    ASSERT_EQ(s[k].m, 6);
+    ASSERT_EQ(s[k].n, 3);
+    ASSERT_EQ(s[k].w, 18);
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_GE(s[k].u[i], rig_.u_min[i]);
+      EXPECT_LE(s[k].u[i], rig_.u_max[i]);
+      EXPECT_EQ(s[k].u[i], hal_.actuated[k][size_t(i)]) << "the sample's u is the one applied";
+    }
+    // Sensors and outputs read at the step's start: from the previous u.
+    const float prev = k == 0 ? 0.0f : hal_.actuated[k - 1][0];
+    EXPECT_EQ(s[k].l[3], 103.0f + prev);
+    EXPECT_EQ(s[k].y[1], -1.0f - prev);
+    if (k > 0 && s[k].u[0] != s[k - 1].u[0]) moved = true;
+    if (k > 0) {
+      EXPECT_EQ(uint16_t(s[k].tseq - s[k - 1].tseq), 1u);
+    }
+  }
+  EXPECT_TRUE(moved);
+  // Its duration over, the run ends by itself: neutral, idle, said in a LOG.
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(hal_.actuated.back()[size_t(i)], rig_.u_neutral[i]);
+  EXPECT_EQ(status().run_state, uint8_t(proto::RunState::Idle));
+  hal_.out.clear();
+  steps(5);
+  EXPECT_TRUE(samples().empty());
+}
+
+TEST_F(IdentRun, TheSameSeedDrivesTheSameInputsAndDecimationThinsTheSamples) {
+  proto::IdentStart s = prbs(60);
+  expect_ack(s);
+  hal_.actuated.clear();
+  steps(60);
+  const std::vector<std::vector<float>> first(hal_.actuated.begin(), hal_.actuated.begin() + 60);
+  s.decimation = 4;
+  s.run_id = 8;
+  expect_ack(s);
+  hal_.actuated.clear();
+  hal_.out.clear();
+  steps(60);
+  const std::vector<std::vector<float>> again(hal_.actuated.begin(), hal_.actuated.begin() + 60);
+  EXPECT_EQ(first, again);
+  const std::vector<proto::IdentSample> thin = samples();
+  ASSERT_EQ(thin.size(), 15u);
+  for (size_t k = 0; k < thin.size(); ++k) EXPECT_EQ(thin[k].step, 4 * k);
+}
+
+TEST_F(IdentRun, BadParametersAreRefusedNamingTheFieldAndChangeNothing) {
+  struct Case {
+    void (*edit)(proto::IdentStart&);
+    proto::StatusCode status;
+    uint8_t field;
+  };
+  const Case cases[] = {
+      {[](proto::IdentStart& s) { s.signal = 4; }, proto::StatusCode::OutOfRange, 1},
+      {[](proto::IdentStart& s) { s.decimation = 0; }, proto::StatusCode::OutOfRange, 3},
+      {[](proto::IdentStart& s) { s.amplitude = NAN; }, proto::StatusCode::NotFinite, 5},
+      {[](proto::IdentStart& s) { s.amplitude = 1.5f; }, proto::StatusCode::OutOfRange, 5},
+      {[](proto::IdentStart& s) { s.amplitude = 0.0f; }, proto::StatusCode::OutOfRange, 5},
+      {[](proto::IdentStart& s) { s.band_lo = -1.0f; }, proto::StatusCode::OutOfRange, 6},
+      {[](proto::IdentStart& s) { s.band_lo = INFINITY; }, proto::StatusCode::NotFinite, 6},
+      {[](proto::IdentStart& s) { s.band_hi = 66.0f; }, proto::StatusCode::OutOfRange, 7},  // over 130 Hz / 2
+      {[](proto::IdentStart& s) { s.band_lo = 5.0f, s.band_hi = 1.0f; }, proto::StatusCode::Inconsistent, 7},
+      {[](proto::IdentStart& s) { s.duration = 0; }, proto::StatusCode::OutOfRange, 8},
+  };
+  for (const Case& c : cases) {
+    proto::IdentStart s = prbs(100);
+    c.edit(s);
+    const proto::Nack n = expect_nack(s);
+    EXPECT_EQ(n.status, uint8_t(c.status)) << "field " << int(c.field);
+    EXPECT_EQ(n.field, c.field);
+    EXPECT_EQ(status().run_state, uint8_t(proto::RunState::Idle));
+  }
+  // Another run active: wrong_state on run_id; the same run again: a retry.
+  expect_ack(prbs(100));
+  proto::IdentStart other = prbs(100);
+  other.run_id = 99;
+  const proto::Nack busy = expect_nack(other);
+  EXPECT_EQ(busy.status, uint8_t(proto::StatusCode::WrongState));
+  EXPECT_EQ(busy.field, 0);
+  expect_ack(prbs(100));
+}
+
+TEST_F(IdentRun, HoldPausesTheSignalResumeContinuesItAndStopEndsTheRun) {
+  expect_ack(prbs(1000));
+  steps(10);
+  proto::RunHold h;
+  h.mode = uint8_t(proto::HoldMode::Hold);
+  EXPECT_EQ(request(h).first, uint8_t(proto::MsgType::Ack));
+  hal_.actuated.clear();
+  hal_.out.clear();
+  steps(5);
+  EXPECT_TRUE(samples().empty());
+  for (const auto& u : hal_.actuated) EXPECT_EQ(u, hal_.actuated.front());
+  EXPECT_EQ(status().step, 10u);
+  h.mode = uint8_t(proto::HoldMode::Resume);
+  EXPECT_EQ(request(h).first, uint8_t(proto::MsgType::Ack));
+  EXPECT_EQ(status().run_state, uint8_t(proto::RunState::Ident));
+  hal_.out.clear();
+  steps(3);
+  const std::vector<proto::IdentSample> s = samples();
+  ASSERT_EQ(s.size(), 3u);
+  EXPECT_EQ(s[0].step, 10u);
+  EXPECT_EQ(request(proto::RunStop{}).first, uint8_t(proto::MsgType::Ack));
+  hal_.actuated.clear();
+  hal_.out.clear();
+  steps(2);
+  EXPECT_TRUE(samples().empty());
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(hal_.actuated.back()[size_t(i)], rig_.u_neutral[i]);
+}
+
+TEST_F(IdentRun, ASilentLinkTripsTheWatchdogToTheSafeStateAsInClosedLoop) {
+  expect_ack(prbs(100000));
+  hal_.actuated.clear();
+  // No request for well over watchdog_ms (1 s; a millisecond a tick read).
+  steps(1500);
+  const proto::Status st = status();
+  EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Neutral));
+  EXPECT_TRUE(st.watchdog & proto::watchdog_flags::kTripped);
+  for (int i = 0; i < 6; ++i) EXPECT_EQ(hal_.actuated.back()[size_t(i)], rig_.u_neutral[i]);
+  EXPECT_LT(st.step, 1500u);
+  // Nothing resumes by itself; RUN_HOLD resume continues the signal.
+  proto::RunHold h;
+  h.mode = uint8_t(proto::HoldMode::Resume);
+  EXPECT_EQ(request(h).first, uint8_t(proto::MsgType::Ack));
+  EXPECT_EQ(status().run_state, uint8_t(proto::RunState::Ident));
+}
+
+TEST_F(IdentRun, InputsFollowLimitsNarrowedDuringTheRunAndInfoAdvertisesIt) {
+  proto::InfoGet g;
+  const auto [type, payload] = request(g);
+  proto::InfoEx ex;
+  ASSERT_EQ(proto::unpack(payload.data(), payload.size(), ex), proto::StatusCode::Ok);
+  EXPECT_TRUE(ex.info.capabilities & proto::capability::kIdent);
+  EXPECT_EQ(ex.protocol_minor, 3);
+  expect_ack(prbs(400));
+  steps(5);
+  proto::ParamSet ps;
+  ps.id = uint16_t(ParamId::UMax);
+  ps.count = 6;
+  for (uint8_t i = 0; i < 6; ++i) ps.set_f32(i, 0.25f);
+  EXPECT_EQ(request(ps).first, uint8_t(proto::MsgType::ParamValue));
+  hal_.out.clear();
+  steps(300);
+  for (const proto::IdentSample& s : samples())
+    for (int i = 0; i < 6; ++i) EXPECT_LE(s.u[i], 0.25f);
+}
+
+}  // namespace

@@ -1,0 +1,221 @@
+// The identification run's excitation signals (shared/excitation.hpp): every
+// input inside its limits whatever the seed, a seed repeats its sequence bit
+// for bit and another seed gives another, and each signal keeps to its band.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <algorithm>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "shared/excitation.hpp"
+
+namespace nlsoft {
+namespace {
+
+constexpr int kM = 3;
+// Asymmetric limits; the first input's neutral sits at its lower limit, the
+// last one's near its upper limit.
+const float kMin[kM] = {0.0f, -2.0f, 10.0f};
+const float kMax[kM] = {1.0f, 6.0f, 12.0f};
+const float kNeutral[kM] = {0.0f, 1.0f, 11.9f};
+constexpr float kRate = 100.0f;
+
+const ExcitationSignal kSignals[] = {ExcitationSignal::Steps, ExcitationSignal::Prbs, ExcitationSignal::Walk,
+                                     ExcitationSignal::Chirp};
+
+std::vector<float> run(ExcitationSignal sig, uint32_t seed, bool joint, uint32_t steps, float amplitude = 1.0f,
+                       float lo = 0.2f, float hi = 5.0f) {
+  ExcitationSpec s;
+  s.signal = sig;
+  s.seed = seed;
+  s.joint = joint;
+  s.amplitude = amplitude;
+  s.band_lo = lo;
+  s.band_hi = hi;
+  s.duration = steps;
+  Excitation e;
+  const ExcitationCheck c = e.configure(s, kRate, kMin, kMax, kNeutral, kM);
+  EXPECT_EQ(c.status, Status::Ok);
+  std::vector<float> out(size_t(steps) * kM);
+  for (uint32_t k = 0; k < steps; ++k) e.next(&out[size_t(k) * kM]);
+  EXPECT_TRUE(e.done());
+  return out;
+}
+
+class EachSignal : public ::testing::TestWithParam<ExcitationSignal> {};
+
+TEST_P(EachSignal, InputsStayInsideTheirLimitsForEverySeed) {
+  for (uint32_t seed = 0; seed < 40; ++seed)
+    for (bool joint : {false, true})
+      for (float amplitude : {1.0f, 0.3f}) {
+        const std::vector<float> u = run(GetParam(), seed, joint, 2000, amplitude);
+        float lo[kM], hi[kM];
+        for (int i = 0; i < kM; ++i) lo[i] = kMax[i], hi[i] = kMin[i];
+        for (size_t k = 0; k < u.size(); ++k) {
+          const size_t i = k % kM;
+          ASSERT_TRUE(u[k] >= kMin[i] && u[k] <= kMax[i]) << "seed " << seed << " step " << k / kM << " input " << i;
+          lo[i] = std::fmin(lo[i], u[k]), hi[i] = std::fmax(hi[i], u[k]);
+        }
+        // The window is amplitude x the range wide.
+        for (int i = 0; i < kM; ++i) ASSERT_LE(hi[i] - lo[i], amplitude * (kMax[i] - kMin[i]) * 1.0001f);
+      }
+}
+
+TEST_P(EachSignal, TheSameSeedRepeatsTheSequenceBitForBit) {
+  const std::vector<float> a = run(GetParam(), 1234, false, 3000);
+  const std::vector<float> b = run(GetParam(), 1234, false, 3000);
+  ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(float)), 0);
+}
+
+TEST_P(EachSignal, AnotherSeedGivesAnotherSequence) {
+  const std::vector<float> a = run(GetParam(), 1, false, 3000);
+  const std::vector<float> b = run(GetParam(), 2, false, 3000);
+  size_t differ = 0;
+  for (size_t k = 0; k < a.size(); ++k) differ += a[k] != b[k];
+  EXPECT_GT(differ, a.size() / 4);
+}
+
+// With amplitude 1 every input's window is its whole range, so jointly the
+// inputs sit at the same fraction of their ranges, and per input they do not.
+TEST_P(EachSignal, PerInputStreamsDifferAndJointOnesMoveTogether) {
+  const std::vector<float> own = run(GetParam(), 5, false, 3000);
+  const std::vector<float> joint = run(GetParam(), 5, true, 3000);
+  auto fraction = [](const std::vector<float>& u, size_t k, int i) {
+    return (u[k * kM + size_t(i)] - kMin[i]) / (kMax[i] - kMin[i]);
+  };
+  size_t apart = 0;
+  for (size_t k = 0; k < joint.size() / kM; ++k) {
+    ASSERT_NEAR(fraction(joint, k, 1), fraction(joint, k, 0), 1e-5f) << "step " << k;
+    ASSERT_NEAR(fraction(joint, k, 2), fraction(joint, k, 0), 1e-4f) << "step " << k;
+    apart += std::fabs(fraction(own, k, 1) - fraction(own, k, 0)) > 1e-3f;
+  }
+  EXPECT_GT(apart, joint.size() / kM / 4);
+}
+
+TEST_P(EachSignal, UsesMostOfItsWindow) {
+  const std::vector<float> u = run(GetParam(), 9, false, 20000);
+  for (int i = 0; i < kM; ++i) {
+    float lo = kMax[i], hi = kMin[i];
+    for (size_t k = size_t(i); k < u.size(); k += kM) lo = std::fmin(lo, u[k]), hi = std::fmax(hi, u[k]);
+    EXPECT_GT(hi - lo, 0.7f * (kMax[i] - kMin[i])) << "input " << i;
+  }
+}
+
+std::string signal_name(const ::testing::TestParamInfo<ExcitationSignal>& info) {
+  static const char* const kNames[] = {"Steps", "Prbs", "Walk", "Chirp"};
+  return kNames[int(info.param)];
+}
+INSTANTIATE_TEST_SUITE_P(Excitation, EachSignal, ::testing::ValuesIn(kSignals), signal_name);
+
+// Zero crossings of the chirp around the middle of input 1's window give its
+// frequency: band_lo at the start, band_hi at the end, between in between.
+TEST(Excitation, TheChirpSweepsItsBand) {
+  const float lo = 0.5f, hi = 8.0f;
+  const uint32_t steps = 60000;  // 10 minutes at 100 Hz
+  const std::vector<float> u = run(ExcitationSignal::Chirp, 3, false, steps, 1.0f, lo, hi);
+  const float mid = 0.5f * (kMin[1] + kMax[1]);
+  auto frequency = [&](uint32_t from, uint32_t to) {
+    int crossings = 0;
+    for (uint32_t k = from + 1; k < to; ++k)
+      crossings += (u[size_t(k - 1) * kM + 1] < mid) != (u[size_t(k) * kM + 1] < mid);
+    return float(crossings) / 2.0f / (float(to - from) / kRate);
+  };
+  const uint32_t w = 2000;  // 20 s windows
+  EXPECT_NEAR(frequency(0, w), lo + (hi - lo) * 0.5f * w / steps, 0.1f);
+  EXPECT_NEAR(frequency(steps / 2 - w / 2, steps / 2 + w / 2), 0.5f * (lo + hi), 0.15f);
+  EXPECT_NEAR(frequency(steps - w, steps), hi - (hi - lo) * 0.5f * w / steps, 0.2f);
+}
+
+TEST(Excitation, PrbsBitsLastOneOverBandHiAndTheRegisterCoversBandLo) {
+  ExcitationSpec s;
+  s.signal = ExcitationSignal::Prbs;
+  s.amplitude = 1.0f;
+  s.band_lo = 0.05f;
+  s.band_hi = 10.0f;  // 10 steps a bit at 100 Hz
+  s.duration = 50000;
+  Excitation e;
+  ASSERT_EQ(e.configure(s, kRate, kMin, kMax, kNeutral, kM).status, Status::Ok);
+  // One period, (2^bits - 1) bits of 10 steps, lasts at least 1 / band_lo = 20 s.
+  EXPECT_GE(float((1u << e.prbs_bits()) - 1u) * 10.0f, kRate / s.band_lo);
+  float u[kM], prev = 0.0f;
+  uint32_t run_len = 0;
+  for (uint32_t k = 0; k < s.duration; ++k) {
+    e.next(u);
+    EXPECT_TRUE(u[0] == kMin[0] || u[0] == kMax[0]);
+    if (k > 0 && u[0] != prev) {
+      EXPECT_EQ(run_len % 10u, 0u) << "step " << k;
+      run_len = 0;
+    }
+    prev = u[0];
+    ++run_len;
+  }
+}
+
+TEST(Excitation, EveryPrbsRegisterHasTheMaximalPeriod) {
+  for (int bits = 3; bits <= 16; ++bits) {
+    const uint32_t taps = prbs_taps(bits), start = 1;
+    uint32_t s = start, period = 0;
+    do {
+      const uint32_t bit = s & 1u;
+      s >>= 1;
+      if (bit) s ^= taps;
+      ++period;
+    } while (s != start && period < (1u << 17));
+    EXPECT_EQ(period, (1u << bits) - 1u) << bits << " bits";
+  }
+}
+
+TEST(Excitation, StepsHoldBetweenOneOverBandHiAndOneOverBandLo) {
+  const std::vector<float> u = run(ExcitationSignal::Steps, 11, false, 30000, 1.0f, 0.5f, 4.0f);
+  // 25 to 200 steps a level at 100 Hz; the last level may be cut short.
+  uint32_t len = 1, longest = 0, shortest = 1u << 30;
+  for (size_t k = 1; k < u.size() / kM; ++k) {
+    if (u[k * kM] != u[(k - 1) * kM]) {
+      longest = std::max(longest, len), shortest = std::min(shortest, len);
+      len = 0;
+    }
+    ++len;
+  }
+  EXPECT_GE(shortest, 25u);
+  EXPECT_LE(longest, 200u);
+  EXPECT_GT(longest, 150u);
+}
+
+TEST(Excitation, BadParametersAreRefusedNamingTheField) {
+  auto verdict = [](ExcitationSpec s) { return check_excitation(s, kRate); };
+  ExcitationSpec ok;
+  ok.duration = 10;
+  EXPECT_EQ(verdict(ok).status, Status::Ok);
+  ExcitationSpec s = ok;
+  s.signal = ExcitationSignal(4);
+  EXPECT_EQ(verdict(s).status, Status::OutOfRange);
+  EXPECT_EQ(verdict(s).field, ExcitationField::Signal);
+  s = ok, s.amplitude = NAN;
+  EXPECT_EQ(verdict(s).status, Status::NotFinite);
+  EXPECT_EQ(verdict(s).field, ExcitationField::Amplitude);
+  s = ok, s.amplitude = 1.5f;
+  EXPECT_EQ(verdict(s).status, Status::OutOfRange);
+  s = ok, s.amplitude = 0.0f;
+  EXPECT_EQ(verdict(s).status, Status::OutOfRange);
+  s = ok, s.band_lo = 0.0f;
+  EXPECT_EQ(verdict(s).field, ExcitationField::BandLo);
+  s = ok, s.band_hi = INFINITY;
+  EXPECT_EQ(verdict(s).status, Status::NotFinite);
+  EXPECT_EQ(verdict(s).field, ExcitationField::BandHi);
+  s = ok, s.band_hi = 51.0f;  // over Nyquist at 100 Hz
+  EXPECT_EQ(verdict(s).status, Status::OutOfRange);
+  s = ok, s.band_lo = 3.0f, s.band_hi = 2.0f;
+  EXPECT_EQ(verdict(s).status, Status::Inconsistent);
+  EXPECT_EQ(verdict(s).field, ExcitationField::BandHi);
+  s = ok, s.duration = 0;
+  EXPECT_EQ(verdict(s).field, ExcitationField::Duration);
+  Excitation e;
+  s = ok, s.amplitude = -1.0f;
+  EXPECT_EQ(e.configure(s, kRate, kMin, kMax, kNeutral, kM).status, Status::OutOfRange);
+}
+
+}  // namespace
+}  // namespace nlsoft
