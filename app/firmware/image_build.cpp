@@ -156,7 +156,11 @@ LastBuilt last_built_with_model(const Rig& rig, const std::string& board, bool h
     const std::string name = e.path().filename().string();
     if (name.rfind(prefix, 0) != 0 || name.size() != prefix.size() + 8) continue;
     const std::string cmake = read_file(e.path().string() + "/.rig/" + rig.name + "/image.cmake");
-    const std::string tag = "set(NLSOFT_IMAGE_MODEL \"";
+    // The model the user named: the one embedded, or the file it was cut
+    // from when that carried sections after the model.
+    const std::string given_tag = "set(NLSOFT_IMAGE_MODEL_SOURCE \"";
+    const bool cut = cmake.find(given_tag) != std::string::npos;
+    const std::string tag = cut ? given_tag : "set(NLSOFT_IMAGE_MODEL \"";
     const size_t at = cmake.find(tag);
     if (at == std::string::npos) continue;
     const size_t end = cmake.find('"', at + tag.size());
@@ -270,10 +274,17 @@ BuiltImages build_images(const ImageBuild& q) {
     const pipeline::ModelFileParts parts =
         pipeline::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
     if (parts.model_size < bytes.size() && !parts.bad_trailer) {
+      const std::string given = request.model_file;
       request.model_file = dir + "/model.nlsm";
-      std::ofstream(request.model_file, std::ios::binary | std::ios::trunc)
-          .write(bytes.data(), std::streamsize(parts.model_size));
+      // Rewritten only when it changes: a newer copy would relink the image.
+      const std::string model_part = bytes.substr(0, parts.model_size);
+      if (!fs::exists(request.model_file, ec) || read_file(request.model_file) != model_part)
+        std::ofstream(request.model_file, std::ios::binary | std::ios::trunc)
+            .write(model_part.data(), std::streamsize(model_part.size()));
       source = image_source(rig, request);
+      // The file the user named, so --qemu FILE finds this image by it
+      // (last_built_with_model): the folder is keyed by that file.
+      source.cmake += fmt::format("set(NLSOFT_IMAGE_MODEL_SOURCE \"{}\")\n", given);
     }
   }
   write_image_source(source, rigs + "/" + rig.name);

@@ -20,7 +20,9 @@ pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
     r.m = row.m;
     r.n = row.n;
     r.rate_hz = row.loop_rate_hz;
-    // The database holds no sensor readings today: r.w stays < 0.
+    // Sensors are kept by identification runs (schema v6); a closed-loop
+    // run holds none, and r.w stays < 0 for it.
+    if (row.w > 0) r.w = row.w;
     const double nan = std::nan("");
     store.for_each_sample(id, [&](const Sample& s) {
       r.k.push_back(int64_t(s.k));
@@ -28,6 +30,7 @@ pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
       r.time_us.push_back(s.has(tf::kTime) ? int64_t(s.time_us) : -1);
       for (int i = 0; i < r.m; ++i) r.u.push_back(s.has(tf::kU) ? double(s.u()[i]) : nan);
       for (int j = 0; j < r.n; ++j) r.y.push_back(s.has(tf::kYTrue) ? double(s.y_true()[j]) : nan);
+      for (int i = 0; i < r.w; ++i) r.l.push_back(s.w > 0 ? double(s.l[i]) : nan);
     });
     return r;
   } catch (const DbError& e) {

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A rig that exists only as a file, from simulation to the MCU, as a lab
-# would take it: my.toml (written here, not one of rigs/: 3 inputs, 2
+# would take it: my.toml (tests/app/rig/stage.toml, not one of rigs/: 3 inputs, 2
 # outputs, 5 sensors, 80 Hz, a generic plant) is recorded from its plant and
 # trained (`dataset --rig`, `train --rig`); the model tracks an Infinity on
 # that plant (`simulate --rig --model`, nRMSE <= 5 % of the output span);
@@ -14,9 +14,10 @@
 # still runs the trained model afterwards (a run on the same QEMU carries
 # its hash).
 # Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
-#   any_rig_qemu.sh CONSOLE
+#   any_rig_qemu.sh CONSOLE RIG_FILE
 set -u
 console=$1
+fixture=$2  # tests/app/rig/stage.toml
 command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
 command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
 work=$(mktemp -d)
@@ -38,116 +39,7 @@ recorded() {
   [ -n "$id" ] && "$console" runs show "$id" | grep -q ", model $hash, " && echo "$id"
 }
 
-cat >my.toml <<'EOF'
-name = "stage"
-description = "three actuators, two outputs a camera measures, five sensors"
-rate_hz = 80.0
-nd = 2
-dd = 2
-
-[[input]]
-name = "a"
-min = 0.0
-max = 1.0
-neutral = 0.5
-pwm = "PC6"
-
-[[input]]
-name = "b"
-min = -1.0
-max = 1.0
-neutral = 0.0
-pwm = "PC7"
-
-[[input]]
-name = "c"
-min = 0.0
-max = 2.0
-neutral = 1.0
-pwm = "PC8"
-
-[[output]]
-name = "x"
-unit = "mm"
-min = -10.0
-max = 10.0
-source = "external"
-
-[[output]]
-name = "y"
-unit = "mm"
-min = -10.0
-max = 10.0
-source = "external"
-
-[[sensor]]
-name = "s1"
-source = "adc"
-adc = 0
-
-[[sensor]]
-name = "s2"
-source = "adc"
-adc = 1
-
-[[sensor]]
-name = "s3"
-source = "adc"
-adc = 4
-
-[[sensor]]
-name = "s4"
-source = "adc"
-adc = 6
-
-[[sensor]]
-name = "s5"
-source = "adc"
-adc = 7
-
-[controller]
-Q = [1e3, 1e3]
-Lambda = [1.0, 1.0, 1.0]
-s = 1e-20
-b = 0.0
-r = 400.0
-N = 4
-Nc = 2
-eps = 1e-3
-nr_max_iter = 2
-feedback = "measured"
-
-[plant]
-kind = "generic"
-coupling = [[3.0, 1.0, -0.5],
-            [-0.5, 1.5, 2.0]]
-output_tau = [0.0, 0.03]
-sensor_map = [[1.0, 0.0, 0.0, 0.0, 0.0],
-              [0.0, 1.0, 0.0, 0.0, 0.0],
-              [0.0, 0.0, 1.0, 0.0, 0.0],
-              [0.0, 0.0, 0.5, 1.0, 0.0],
-              [0.2, 0.0, 0.0, 0.0, 1.0]]
-sensor_noise = [0.01, 0.01, 0.01, 0.01, 0.01]
-
-[[plant.actuator]]
-gain = 8.0
-shape = "tanh"
-knee = 0.4
-tau = 0.06
-
-[[plant.actuator]]
-gain = 4.0
-shape = "power"
-exponent = 2.0
-play = 0.02
-tau = 0.08
-
-[[plant.actuator]]
-gain = 3.0
-shape = "saturation"
-knee = 0.6
-tau = 0.05
-EOF
+cp "$fixture" my.toml || exit 1
 
 # Recorded from the plant and trained: as few samples and epochs as still track well.
 "$console" dataset --rig my.toml --out my.csv --steps 12000 >log.txt 2>&1 || { cat log.txt; echo "FAIL: dataset"; exit 1; }

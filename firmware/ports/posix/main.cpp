@@ -12,6 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -140,6 +141,14 @@ int main(int argc, char** argv) {
       return 2;
     }
     model.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+    // A file `train` wrote carries its fit after the model, in sections a
+    // firmware never reads: the model is the size its header declares (the
+    // boot parse still checks that part's CRC).
+    if (model.size() > kModelHeaderSize && std::memcmp(model.data(), "NLSM", 4) == 0) {
+      const size_t declared =
+          model_file_size(model[model_offset::kLayers], detail::rd32(model.data() + model_offset::kParams));
+      if (model.size() > declared) model.resize(declared);
+    }
   }
 
   fw::posix::Pty pty;

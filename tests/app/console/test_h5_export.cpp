@@ -6,6 +6,7 @@
 #include <hdf5.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -239,6 +240,59 @@ TEST_F(H5Export, EveryDatasetAndAttributeOfTwoRunsReadsBackWithGapsAndUnits) {
   EXPECT_FALSE(has_link(g2.get(), "y_true"));
   EXPECT_TRUE(has_link(g2.get(), "y_hat"));
   EXPECT_EQ(strings(g2.get(), "absent", false), std::vector<std::string>{"y_true"});
+}
+
+// An identification run keeps its sensors: l is a dataset [N, w] with the
+// rig's sensor names, and the run says it is one and with what signal.
+TEST_F(H5Export, AnIdentificationRunsSensorsAreADatasetOfTheirOwn) {
+  int64_t id = 0;
+  {
+    Recorder r(db());
+    RunInfo ri;
+    ri.platform = "hasel";
+    ri.kind = "ident";
+    ri.excitation = R"({"signal":"prbs","seed":7})";
+    ri.n = 3;
+    ri.m = 6;
+    ri.w = 18;
+    ri.loop_rate_hz = 130;
+    id = r.begin_run(ri);
+    for (uint32_t k = 0; k < 20; ++k) {
+      Sample s;
+      s.k = k;
+      s.n = 3;
+      s.m = 6;
+      s.w = 18;
+      s.mask = uint8_t(tf::kStep | tf::kTime | tf::kYTrue | tf::kU);
+      s.step = k;
+      s.time_us = k * 7692;
+      for (int i = 0; i < 18; ++i) s.l[i] = float(k) + 0.5f * float(i);
+      r.add_sample(id, s);
+    }
+    r.end_run(id, "completed", 20, 0);
+    r.flush();
+  }
+  const std::string out = dir_.file("ident.h5");
+  const auto r = runs(fmt::format("export {} --h5 {}", id, shell_quote(out)));
+  ASSERT_EQ(r.code, 0) << r.output;
+  H5Handle f(H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(f.ok());
+  H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", id).c_str(), H5P_DEFAULT), H5Gclose);
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(string_attr(g.get(), "kind"), "ident");
+  EXPECT_EQ(string_attr(g.get(), "excitation"), R"({"signal":"prbs","seed":7})");
+  EXPECT_EQ(number_attr<int32_t>(g.get(), "w", H5T_NATIVE_INT32), 18);
+  EXPECT_EQ(strings(g.get(), "sensor_names", false).size(), 18u);
+  size_t rows = 0, cols = 0;
+  const auto l = read<float>(g.get(), "l", H5T_NATIVE_FLOAT, rows, cols);
+  ASSERT_EQ(rows, 20u);
+  ASSERT_EQ(cols, 18u);
+  for (size_t k = 0; k < 20; ++k)
+    for (size_t i = 0; i < 18; ++i) EXPECT_EQ(l[k * 18 + i], float(k) + 0.5f * float(i));
+  // Never sent by an identification run: named as absent.
+  const auto absent = strings(g.get(), "absent", false);
+  EXPECT_NE(std::find(absent.begin(), absent.end(), "y_hat"), absent.end());
+  EXPECT_NE(std::find(absent.begin(), absent.end(), "cost"), absent.end());
 }
 
 TEST_F(H5Export, SeveralRunsInOneCsvCarryARunColumn) {
