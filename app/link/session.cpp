@@ -124,6 +124,18 @@ Session::Session(SessionOptions options) : options_(options) {
 
 Session::~Session() { close(); }
 
+// TELEMETRY and IDENT_SAMPLE share one sequence: the frames missing
+// between this one and the last are lost.
+uint32_t Session::count_telemetry(uint16_t tseq) {
+  std::lock_guard<std::mutex> lock(stats_mu_);
+  ++stats_.telemetry_frames;
+  const uint32_t lost = have_tseq_ ? uint16_t(tseq - last_tseq_ - 1) : 0;
+  stats_.lost_telemetry += lost;
+  have_tseq_ = true;
+  last_tseq_ = tseq;
+  return lost;
+}
+
 void Session::open(const std::string& path, unsigned baud) {
   SerialLink::Handlers h;
   h.on_bytes = [this](const uint8_t* d, size_t n) { on_bytes(d, n); };
@@ -316,28 +328,12 @@ void Session::on_frame(const p::FrameView& f) {
   if (type == p::MsgType::Telemetry) {
     p::Telemetry t;
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
-    uint32_t lost = 0;
-    {
-      std::lock_guard<std::mutex> lock(stats_mu_);
-      ++stats_.telemetry_frames;
-      if (have_tseq_) lost = uint16_t(t.tseq - last_tseq_ - 1);
-      stats_.lost_telemetry += lost;
-      have_tseq_ = true;
-      last_tseq_ = t.tseq;
-    }
+    const uint32_t lost = count_telemetry(t.tseq);
     if (telemetry_handler_) telemetry_handler_(t, lost);
   } else if (type == p::MsgType::IdentSample) {
     p::IdentSample t;
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
-    uint32_t lost = 0;
-    {
-      std::lock_guard<std::mutex> lock(stats_mu_);
-      ++stats_.telemetry_frames;
-      if (have_tseq_) lost = uint16_t(t.tseq - last_tseq_ - 1);
-      stats_.lost_telemetry += lost;
-      have_tseq_ = true;
-      last_tseq_ = t.tseq;
-    }
+    const uint32_t lost = count_telemetry(t.tseq);
     if (ident_handler_) ident_handler_(t, lost);
   } else if (type == p::MsgType::Status) {
     p::Status s;

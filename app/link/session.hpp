@@ -181,6 +181,7 @@ class Session {
   uint8_t foreign_version() const { return foreign_version_.load(); }
 
  private:
+  uint32_t count_telemetry(uint16_t tseq);  // frames lost before this one; stats_mu_ taken
   template <class Rep>
   static bool unpack_reply(const Reply& r, Rep& out) {
     if constexpr (std::is_same_v<Rep, protocol::InfoEx>) {
