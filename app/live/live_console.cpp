@@ -204,8 +204,8 @@ void LiveConsole::configure_telemetry() {
     }
   }
   decimation_ = uint16_t(std::min(dec, 65535));
-  telemetry_decimation_ = decimation_;
-  device_->telemetry_config(mask, decimation_);
+  telemetry_decimation_ = decimation_.load();
+  device_->telemetry_config(mask, decimation_.load());
 }
 
 void LiveConsole::disconnect() {
@@ -262,7 +262,7 @@ void LiveConsole::on_sample(Sample s, bool has_step, uint32_t lost_before) {
     run_lost_ += lost_before;
     recorder_->add_gap(run, k == 0 ? 0 : k - 1, lost_before, "telemetry frames lost on the link");
   } else if (resync_after_gap_.exchange(false) && have_last_step_ && has_step) {
-    const uint32_t d = decimation_ ? decimation_ : 1;
+    const uint32_t d = std::max<uint16_t>(decimation_.load(), 1);
     const uint32_t missed = (s.step - last_step_.load()) / d;
     if (missed > 1) {
       run_lost_ += missed - 1;
@@ -705,8 +705,8 @@ int64_t LiveConsole::begin_run(const std::string& label, p::IdentStart* ident, c
   ri.loop_rate_hz = info.loop_rate_hz;
   ri.n = info.n;
   ri.m = info.m;
-  decimation_ = ident ? std::max<uint16_t>(ident->decimation, 1) : telemetry_decimation_;
-  ri.decimation = decimation_;
+  decimation_ = ident ? std::max<uint16_t>(ident->decimation, 1) : telemetry_decimation_.load();
+  ri.decimation = decimation_.load();
   if (ident) {
     // Open loop: no reference is followed.
     ri.kind = "ident";
@@ -741,7 +741,7 @@ int64_t LiveConsole::begin_run(const std::string& label, p::IdentStart* ident, c
     }
   } catch (const std::exception& e) {
     run_id_ = 0;
-    decimation_ = telemetry_decimation_;
+    decimation_ = telemetry_decimation_.load();
     recorder_->end_run(id, std::string("not started: ") + e.what(), 0, 0);
     if (const auto* nack = dynamic_cast<const NackError*>(&e); ident && nack)
       throw CliError(fmt::format("the firmware refused the identification run: {}", e.what()));
@@ -794,7 +794,7 @@ RunSummary LiveConsole::stop_run_locked(int64_t id, const std::string& reason) {
   }
   // Every frame of the run came before RUN_STOP's ACK on the one reader.
   run_id_ = 0;
-  decimation_ = telemetry_decimation_;
+  decimation_ = telemetry_decimation_.load();
   recorder_->end_run(id, why, run_k_.load(), run_lost_.load());
   RunSummary s;
   s.run_id = id;
@@ -869,7 +869,7 @@ RunSummary LiveConsole::run_steps(uint64_t target, int64_t id, const std::string
   // Telemetry may pause for a link outage the session rides out, or for a
   // slow line's decimation; longer than that, the firmware is not running
   // our run any more.
-  const double period_s = double(decimation_ ? decimation_ : 1) / rate;
+  const double period_s = double(std::max<uint16_t>(decimation_.load(), 1)) / rate;
   const auto silence = std::max<clock::duration>(
       options_.session.silence_limit, std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(10 * period_s)));
   const auto started = clock::now();
@@ -951,7 +951,7 @@ RunSummary LiveConsole::run_steps(uint64_t target, int64_t id, const std::string
   if (!early.empty() && run_id_.load() == id) {
     // What the run did not get, as a gap that says for how long.
     const uint64_t done = have_last_step_ ? uint64_t(last_step_.load() - first_step_.load()) + decimation_ : 0;
-    const uint64_t missing = done >= target ? 0 : (target - done + decimation_ - 1) / std::max<uint16_t>(decimation_, 1);
+    const uint64_t missing = done >= target ? 0 : (target - done + decimation_ - 1) / std::max<uint16_t>(decimation_.load(), 1);
     const auto last = have_last_step_ ? clock::time_point(clock::duration(last_sample_ns_.load())) : started;
     const uint64_t k = run_k_.load();
     if (missing > 0) {

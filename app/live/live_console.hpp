@@ -320,8 +320,9 @@ class LiveConsole {
   std::atomic<uint8_t> left_run_watchdog_{0};
   std::string run_label_;
   std::chrono::steady_clock::time_point run_started_{};
-  uint16_t decimation_ = 1;            // the run's: telemetry's, or an identification run's
-  uint16_t telemetry_decimation_ = 1;  // TELEMETRY_CONFIG's, put back when an identification run ends
+  // Both read by the reader thread and run_for while a stop writes them.
+  std::atomic<uint16_t> decimation_{1};            // the run's: telemetry's, or an identification run's
+  std::atomic<uint16_t> telemetry_decimation_{1};  // TELEMETRY_CONFIG's, put back when an identification run ends
   // How the simulator ended, kept until reconnect_simulator() has ended its
   // run: a new simulator already running must not hide that the old one's
   // run still needs ending.

@@ -39,7 +39,7 @@ std::optional<RunSummary> LiveConsole::end_run_simulator_gone() {
   const double silent_s = std::chrono::duration<double>(clock::now() - last).count();
   // The frames the run would have had from its last sample to now.
   const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
-  const uint64_t missed = uint64_t(std::llround(silent_s * rate / std::max<uint16_t>(decimation_, 1)));
+  const uint64_t missed = uint64_t(std::llround(silent_s * rate / std::max<uint16_t>(decimation_.load(), 1)));
   const uint64_t k = run_k_.load();
   run_lost_ += missed;
   recorder_->add_gap(id, k == 0 ? 0 : k - 1, missed, words, silent_s);
