@@ -451,7 +451,7 @@ std::vector<double> LiveConsole::apply_param(const ParamInfo& info, const std::v
     edits_.emplace_back(info, echoed);
   }
   if (const int64_t run = run_id_.load()) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started()).count();
     recorder_->add_param_change(run, t, info.name, format_param_values(info, echoed));
   }
   return echoed;
@@ -585,7 +585,7 @@ void LiveConsole::select_reference(const RefParams& ref) {
 // into the run's parameter log with its time, as `reference`.
 void LiveConsole::log_reference_change(const std::string& json) {
   if (const int64_t run = run_id_.load()) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started_).count();
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started()).count();
     recorder_->add_param_change(run, t, "reference", json);
   }
 }
@@ -729,7 +729,7 @@ int64_t LiveConsole::begin_run(const std::string& label, p::IdentStart* ident, c
   left_run_watchdog_ = 0;
   resync_after_gap_ = false;
   run_label_ = label;
-  run_started_ = std::chrono::steady_clock::now();
+  run_started_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
   live_.clear();
   run_id_ = id;
   try {

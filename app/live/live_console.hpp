@@ -319,7 +319,11 @@ class LiveConsole {
   std::atomic<uint8_t> left_run_state_{0};  // STATUS: our run's state, when it is no longer Running
   std::atomic<uint8_t> left_run_watchdog_{0};
   std::string run_label_;
-  std::chrono::steady_clock::time_point run_started_{};
+  // steady clock ns: the UI thread's parameter edits read it as a run starts.
+  std::atomic<int64_t> run_started_ns_{0};
+  std::chrono::steady_clock::time_point run_started() const {
+    return std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(run_started_ns_.load()));
+  }
   // Both read by the reader thread and run_for while a stop writes them.
   std::atomic<uint16_t> decimation_{1};            // the run's: telemetry's, or an identification run's
   std::atomic<uint16_t> telemetry_decimation_{1};  // TELEMETRY_CONFIG's, put back when an identification run ends

@@ -35,7 +35,7 @@ std::optional<RunSummary> LiveConsole::end_run_simulator_gone() {
   const int64_t id = run_id_.load();
   if (id == 0) return std::nullopt;
   using clock = std::chrono::steady_clock;
-  const auto last = have_last_step_ ? clock::time_point(clock::duration(last_sample_ns_.load())) : run_started_;
+  const auto last = have_last_step_ ? clock::time_point(clock::duration(last_sample_ns_.load())) : run_started();
   const double silent_s = std::chrono::duration<double>(clock::now() - last).count();
   // The frames the run would have had from its last sample to now.
   const double rate = loop_rate_hz() > 0 ? loop_rate_hz() : 100.0;
