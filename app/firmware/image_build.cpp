@@ -294,6 +294,7 @@ BuiltImages build_images(const ImageBuild& q) {
   const std::string what = fmt::format("{}-{}{}", prefix, rig.name, q.hil_only ? "-hil" : "");
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   if (!note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), note.c_str());
+  if (!source.note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), source.note.c_str());
   if (!tty) std::fprintf(stderr, "%s: building %s for %s in %s\n", q.who.c_str(), what.c_str(), q.board.c_str(), dir.c_str());
   {
     ProgressBar bar("building " + what);

@@ -264,6 +264,18 @@ std::string pins_part(const Rig& rig, const std::string& board) {
     o += fmt::format("    {},  // {}{}\n", row, in.name, in.pwm.empty() ? "" : " on " + in.pwm);
   }
   o += "};\n";
+  // The board's row of an ADC1 channel (the loader checked it against the file's board; this board may differ).
+  auto analogue_row = [&](int channel, int line) {
+    for (size_t r = 0; r < pins->adc.size(); ++r)
+      if (pins->adc[r] == channel) return r;
+    fail(rig, line, "adc",
+         fmt::format("unknown pin: ADC1 channel {} is not wired on board {} (channels: {})", channel, board,
+                     fmt::join(pins->adc, ", ")));
+  };
+  auto analogue = [&](size_t row, double offset, double gain, const std::string& name, int channel) {
+    return fmt::format("    {{kAnalogue[{0}].pin, kAnalogue[{0}].adc_channel, {1}, {2}}},  // {3} on ADC1_IN{4}\n", row,
+                       flt(float(offset)), flt(float(gain)), name, channel);
+  };
   // Rows up to the last wired sensor; the sensors after it read 0.
   size_t rows = 0;
   for (size_t i = 0; i < rig.sensors.size(); ++i)
@@ -279,14 +291,30 @@ std::string pins_part(const Rig& rig, const std::string& board) {
       o += fmt::format("    kNoAnalogue,  // {}\n", s.name);
       continue;
     }
-    int row = -1;
-    for (size_t r = 0; r < pins->adc.size(); ++r)
-      if (pins->adc[r] == s.adc) row = int(r);
-    if (row < 0)
-      fail(rig, s.adc_line, "adc", fmt::format("unknown pin: ADC1 channel {} is not wired on board {} (channels: {})",
-                                               s.adc, board, fmt::join(pins->adc, ", ")));
-    o += fmt::format("    {{kAnalogue[{0}].pin, kAnalogue[{0}].adc_channel, {1}, {2}}},  // {3} on ADC1_IN{4}\n", row,
-                     flt(float(s.offset)), flt(float(s.gain)), s.name, s.adc);
+    o += analogue(analogue_row(s.adc, s.adc_line), s.offset, s.gain, s.name, s.adc);
+  }
+  o += "};\n";
+  // The outputs are measured only as a whole: y_true is every output or
+  // none, and a model fed half a measurement would track on a mix of its
+  // own predictions and readings. So the image reads them only when every
+  // output is source = "adc"; with any other source it reads none.
+  bool measured = true;
+  for (const RigOutput& y : rig.outputs) measured = measured && y.source == OutputSource::Adc;
+  o += "// Output j's ADC1 input and scaling (y = offset + gain * volts), scanned after the sensors:\n";
+  o += "// rows only when every output has source = \"adc\" (the image then measures y: y_true).\n";
+  o += fmt::format("constexpr int kRigOutputRows = {};\n", measured ? rig.outputs.size() : 0);
+  o += fmt::format("constexpr AnalogueInput kRigOutputAnalogue[{}] = {{\n", measured ? rig.outputs.size() : 1);
+  if (!measured) {
+    std::vector<std::string> adc;
+    for (const RigOutput& y : rig.outputs)
+      if (y.source == OutputSource::Adc) adc.push_back(y.name);
+    o += adc.empty() ? "    kNoAnalogue,  // no output is read on the board\n"
+                     : fmt::format("    kNoAnalogue,  // {} not read: not every output is source = \"adc\"\n",
+                                   fmt::join(adc, ", "));
+  }
+  for (size_t j = 0; measured && j < rig.outputs.size(); ++j) {
+    const RigOutput& y = rig.outputs[j];
+    o += analogue(analogue_row(y.adc, y.adc_line), y.offset, y.gain, y.name, y.adc);
   }
   o += "};\n}  // namespace nlsoft::fw::stm32f4\nnamespace nlsoft::fw::cortex_m {\n";
   return o;
@@ -337,6 +365,15 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
   h += capacity_part(rig, layers) + "\n";
   h += plant.empty() ? "// No [plant]: no HIL image.\n" : plant;
   h += "\n" + pins_part(rig, request.board);
+  if (request.board == "stm32f4") {
+    std::vector<std::string> adc;
+    for (const RigOutput& y : rig.outputs)
+      if (y.source == OutputSource::Adc) adc.push_back(y.name);
+    if (!adc.empty() && adc.size() < rig.outputs.size())
+      out.note = fmt::format("output{} {} on ADC1 not read: the image reads the outputs only when every one has "
+                             "source = \"adc\", so it measures no y (no y_true)",
+                             adc.size() > 1 ? "s" : "", fmt::join(adc, ", "));
+  }
   h += "\n}  // namespace nlsoft::fw::cortex_m\n";
 
   std::string model;

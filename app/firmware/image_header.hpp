@@ -27,6 +27,7 @@ struct ImageSource {
   std::string header;  // nlsoft_rig.hpp
   std::string cmake;   // image.cmake
   bool hil = false;    // the rig has a plant, so a HIL image is built too
+  std::string note;    // what the image leaves out of the file that the user should hear (one sentence), or empty
 };
 
 // Throws RigError ("file:line: ...") for what the board cannot take, and

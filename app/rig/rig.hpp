@@ -54,7 +54,8 @@ struct RigOutput {
   double rest = 0;          // the output with every input at neutral: where a trained model is centred
   OutputSource source = OutputSource::None;
   int adc = -1;
-  double gain = 1, offset = 0;
+  double gain = 1, offset = 0;  // y = offset + gain * volts
+  int adc_line = 0;             // of the adc key, for errors about the board
 };
 
 struct RigSensor {

@@ -381,6 +381,7 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
     const std::string source = s.has("source") ? s.choice("source", {"none", "adc", "external"}) : "none";
     if (source == "adc") {
       out.source = OutputSource::Adc;
+      out.adc_line = s.line("adc");
       read_adc(s, pins, out.adc, out.gain, out.offset);
     } else {
       out.source = source == "external" ? OutputSource::External : OutputSource::None;

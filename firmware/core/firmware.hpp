@@ -35,7 +35,7 @@ struct Identity {
   const char* name;  // e.g. "nlsoft-posix"
   uint8_t major, minor, patch;
   uint32_t loop_rate_hz;
-  bool has_y_true;  // the port can read the true output (simulated plant)
+  bool has_y_true;  // the port reads the true output (a simulated plant, or outputs wired to the board)
 };
 
 // Caller-owned memory, sized by the port.

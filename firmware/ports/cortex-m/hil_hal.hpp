@@ -12,6 +12,7 @@ namespace nlsoft::fw::cortex_m {
 template <class Plant>
 class HilHal final : public Hal {
  public:
+  static constexpr bool kMeasuresOutput = true;  // the simulated plant's true output
   explicit HilHal(float dt, uint32_t seed = 1) : dt_(dt) {
     plant_.reset(seed);
     Plant::neutral_input(u_);

@@ -46,7 +46,11 @@ alignas(4) uint8_t g_model_staging[kModelFileMax];
 uint8_t g_table_staging[kTableFileMax];
 float g_table_points[kTableFloats];
 
-Fw g_fw(g_hal, fw::Identity{&kRig, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz, NLSOFT_HIL != 0},
+// has_y_true: the simulated plant's output on a HIL image, the rig's ADC
+// outputs on a board whose rig file wires every output.
+Fw g_fw(g_hal,
+        fw::Identity{&kRig, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz,
+                     PortHal::kMeasuresOutput},
         fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging,
                     sizeof g_table_staging, g_table_points, kTableFloats});
 

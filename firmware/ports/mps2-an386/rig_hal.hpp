@@ -11,6 +11,7 @@ namespace nlsoft::fw::cortex_m {
 template <int M, int W>
 class RigHal final : public Hal {
  public:
+  static constexpr bool kMeasuresOutput = false;
   size_t serial_read(uint8_t* buf, size_t cap) override { return board::serial_read(buf, cap); }
   size_t serial_write(const uint8_t* data, size_t len) override { return board::serial_write(data, len); }
   uint32_t ticks() override { return board::ticks(); }

@@ -4,7 +4,10 @@
 // wired and scaled as the image's rig file says (kRigPwm, kRigAnalogue,
 // generated into nlsoft_rig.hpp from the file's pwm and adc keys over the
 // board's rows in rig_pins.hpp). An actuator without a pin is computed but
-// not driven; a sensor without a channel reads 0.
+// not driven; a sensor without a channel reads 0. The outputs are read in
+// the same scan, after the sensors, when the rig file gives every output
+// source = "adc" (kRigOutputAnalogue): read_output() then measures y, and
+// the image says so (INFO's y_true capability); otherwise it reads none.
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
 #include "firmware/ports/cortex-m/platform_config.hpp"
@@ -17,16 +20,22 @@ template <int M, int W>
 class RigHal final : public Hal {
   static_assert(M <= int(sizeof stm32f4::kRigPwm / sizeof stm32f4::kRigPwm[0]), "an actuator without a kRigPwm row");
   static constexpr int kRows = stm32f4::kRigAnalogueRows < W ? stm32f4::kRigAnalogueRows : W;
-  // The conversions ADC1 scans: the wired sensors, in sensor order.
+  // The conversions ADC1 scans: the wired sensors, in sensor order, then the outputs.
   static constexpr int scanned() {
     int count = 0;
     for (int i = 0; i < kRows; ++i) count += stm32f4::kRigAnalogue[i].adc_channel != stm32f4::kNoChannel;
     return count;
   }
-  static constexpr int kAdcCount = scanned();
+  static constexpr int kSensorScans = scanned();
+  static constexpr int kOutputs = stm32f4::kRigOutputRows;
+  static_assert(kOutputs == 0 || kOutputs == int(kRig.n), "every output is read, or none");
+  static constexpr int kAdcCount = kSensorScans + kOutputs;
   static_assert(kAdcCount <= 16, "ADC1 scans at most 16 conversions");
 
  public:
+  // The image measures y (INFO advertises y_true) when the outputs are wired.
+  static constexpr bool kMeasuresOutput = kOutputs > 0;
+
   size_t serial_read(uint8_t* buf, size_t cap) override { return board::serial_read(buf, cap); }
   size_t serial_write(const uint8_t* data, size_t len) override { return board::serial_write(data, len); }
   uint32_t ticks() override { return board::ticks(); }
@@ -47,11 +56,14 @@ class RigHal final : public Hal {
         l[i] = 0.0f;
         continue;
       }
-      const stm32f4::AnalogueInput& a = stm32f4::kRigAnalogue[i];
-      l[i] = a.offset + a.gain * float(raw_[scan++]) * (stm32f4::kAdcVref / 4095.0f);
+      l[i] = scaled(stm32f4::kRigAnalogue[i], scan++);
     }
   }
-  bool read_output(float*, int) override { return false; }  // no observer of y on a plain board
+  bool read_output(float* y, int n) override {
+    if (!kMeasuresOutput || n > kOutputs) return false;
+    for (int j = 0; j < n; ++j) y[j] = scaled(stm32f4::kRigOutputAnalogue[j], kSensorScans + j);
+    return true;
+  }
 
   void start() {
     using namespace stm32f4;
@@ -67,6 +79,11 @@ class RigHal final : public Hal {
 
  private:
   static constexpr uint32_t kDma2En = 1u << 22, kTim3En = 1u << 1, kTim4En = 1u << 2, kAdc1En = 1u << 8;
+
+  // The value of conversion `scan` of the last DMA pass: offset + gain * volts.
+  float scaled(const stm32f4::AnalogueInput& a, int scan) const {
+    return a.offset + a.gain * float(raw_[scan]) * (stm32f4::kAdcVref / 4095.0f);
+  }
 
   void start_pwm() {
     using namespace stm32f4;
@@ -98,16 +115,18 @@ class RigHal final : public Hal {
     constexpr uint32_t kDma = 0x40026400u, kS0Cr = kDma + 0x10, kS0Ndtr = kDma + 0x14, kS0Par = kDma + 0x18,
                        kS0M0ar = kDma + 0x1C, kLifcr = kDma + 0x08;
     uint32_t smpr1 = 0, smpr2 = 0, sq[3] = {0, 0, 0};
-    for (int i = 0, scan = 0; i < kRows; ++i) {
-      const AnalogueInput& a = kRigAnalogue[i];
-      if (a.adc_channel == kNoChannel) continue;
+    int scan = 0;
+    auto add = [&](const AnalogueInput& a) {
       gpio_analogue(a.pin);
       // 84 cycles per sample: source impedances up to ~20 kOhm settle.
       if (a.adc_channel < 10) smpr2 |= 4u << (3u * a.adc_channel);
       else smpr1 |= 4u << (3u * (a.adc_channel - 10u));
       sq[scan / 6] |= uint32_t(a.adc_channel) << (5u * uint32_t(scan % 6));
       ++scan;
-    }
+    };
+    for (int i = 0; i < kRows; ++i)
+      if (kRigAnalogue[i].adc_channel != kNoChannel) add(kRigAnalogue[i]);
+    for (int j = 0; j < kOutputs; ++j) add(kRigOutputAnalogue[j]);
     reg(kAdcCcr) = 1u << 16;  // ADCCLK = APB2 / 4: <= 36 MHz on all three parts
     reg(kAdc + 0x0C) = smpr1;
     reg(kAdc + 0x10) = smpr2;

@@ -174,6 +174,40 @@ TEST(ImageHeader, WiresTheFilesPinsWithEachSensorsScaling) {
   EXPECT_FALSE(contains(source_of(kRig, "mps2-an386").header, "kRigPwm"));
 }
 
+// The gripper with both outputs read on the board: a position sensor on
+// ADC1_IN7 (x = 4 V^-1 * volts - 6.6 mm) and one on IN8.
+std::string adc_outputs(const std::string& y_source = "source = \"adc\"\nadc = 8\n") {
+  std::string text = replaced(kRig, "name = \"x\"\nmin = -10.0\nmax = 10.0\n",
+                              "name = \"x\"\nmin = -10.0\nmax = 10.0\nsource = \"adc\"\nadc = 7\ngain = 4.0\n"
+                              "offset = -6.6\n");
+  return replaced(text, "name = \"y\"\nmin = -5.0\nmax = 5.0\n", "name = \"y\"\nmin = -5.0\nmax = 5.0\n" + y_source);
+}
+
+TEST(ImageHeader, ReadsTheOutputsOnTheAdcWhenEveryOutputIsWired) {
+  const std::string h = source_of(adc_outputs(), "stm32f4").header;
+  // ADC1_IN7 is the board's row 4, IN8 row 5; scaled as the file says, in output order.
+  EXPECT_TRUE(contains(h, "constexpr int kRigOutputRows = 2;")) << h;
+  EXPECT_TRUE(contains(h, "constexpr AnalogueInput kRigOutputAnalogue[2] = {\n"
+                          "    {kAnalogue[4].pin, kAnalogue[4].adc_channel, -6.6f, 4.0f},  // x on ADC1_IN7\n"
+                          "    {kAnalogue[5].pin, kAnalogue[5].adc_channel, 0.0f, 1.0f},  // y on ADC1_IN8\n};"))
+      << h;
+  // The sensors keep their rows.
+  EXPECT_TRUE(contains(h, "constexpr int kRigAnalogueRows = 4;")) << h;
+  // One output read elsewhere: y is every output or none, so the board reads none and says which it leaves.
+  const std::string mixed = source_of(adc_outputs("source = \"external\"\n"), "stm32f4").header;
+  EXPECT_TRUE(contains(mixed, "constexpr int kRigOutputRows = 0;")) << mixed;
+  EXPECT_TRUE(contains(mixed, "    kNoAnalogue,  // x not read: not every output is source = \"adc\"\n")) << mixed;
+  EXPECT_FALSE(contains(mixed, "ADC1_IN7")) << mixed;
+  EXPECT_EQ(source_of(adc_outputs("source = \"external\"\n"), "stm32f4").note,
+            "output x on ADC1 not read: the image reads the outputs only when every one has source = \"adc\", so it "
+            "measures no y (no y_true)");
+  EXPECT_EQ(source_of(adc_outputs(), "stm32f4").note, "");
+  // No output on the ADC (the gripper as written): none read.
+  const std::string none = source_of(kRig, "stm32f4").header;
+  EXPECT_TRUE(contains(none, "constexpr int kRigOutputRows = 0;")) << none;
+  EXPECT_TRUE(contains(none, "    kNoAnalogue,  // no output is read on the board\n")) << none;
+}
+
 TEST(ImageHeader, ANamedPlantMakesTheHilImage) {
   // A 2-input, 3-output, 11-sensor rig is tendon's plant's size.
   std::ifstream in(NLSOFT_SOURCE_DIR "/rigs/tendon.toml");
@@ -305,6 +339,7 @@ TEST(ImageHeader, CompilesIntoTheStm32f4ImageForCortexM4) {
 static_assert(nlsoft::fw::cortex_m::kRig.m == 3 && nlsoft::fw::cortex_m::Cap::w == 5, "the rig's size");
 static_assert(nlsoft::fw::stm32f4::kRigPwm[2].timer == 0, "the wrist is not driven");
 static_assert(nlsoft::fw::cortex_m::kRig.rate_hz == 80.0f, "80 Hz");
+static_assert(!PortHal::kMeasuresOutput, "no output on the ADC: y is not measured");
 )";
   std::string flags;
   std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
@@ -316,6 +351,33 @@ static_assert(nlsoft::fw::cortex_m::kRig.rate_hz == 80.0f, "80 Hz");
                           tmp_dir() + "/check.o 2>" + tmp_dir() + "/cc.log";
   const int rc = std::system(cmd.c_str());
   std::ifstream log(tmp_dir() + "/cc.log");
+  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(rc, 0) << text;
+}
+
+// The outputs on the ADC compiled where they go: the HAL scans them after
+// the sensors and the image says it measures y.
+TEST(ImageHeader, ReadOutputsCompileIntoTheStm32f4ImageThatMeasuresY) {
+  if (std::system("command -v arm-none-eabi-g++ >/dev/null 2>&1") != 0) GTEST_SKIP() << "no arm-none-eabi-g++";
+  const std::string dir = tmp_dir() + "/measured";
+  write_image_source(source_of(adc_outputs(), "stm32f4"), dir + "/gripper");
+  std::ofstream(dir + "/check.cpp") << R"(#define NLSOFT_HIL 0
+#define NLSOFT_FIRMWARE_NAME "nlsoft-test"
+#define NLSOFT_HAVE_MODEL 0
+#include "firmware/ports/cortex-m/main.cpp"
+static_assert(PortHal::kMeasuresOutput, "every output on the ADC: y is measured");
+static_assert(nlsoft::fw::stm32f4::kRigOutputAnalogue[1].adc_channel == 8, "y on ADC1_IN8");
+)";
+  std::string flags;
+  std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
+  for (std::string w; std::getline(warnings, w);)
+    if (!w.empty() && w[0] == '-') flags += " " + w;
+  const std::string cmd = "arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os -std=c++17 "
+                          "-fno-exceptions -fno-rtti -Werror" + flags + " -I" + dir + "/gripper -I" NLSOFT_SOURCE_DIR
+                          "/firmware/ports/stm32f4 -I" NLSOFT_SOURCE_DIR " -c " + dir + "/check.cpp -o " + dir +
+                          "/check.o 2>" + dir + "/cc.log";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream log(dir + "/cc.log");
   std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_EQ(rc, 0) << text;
 }

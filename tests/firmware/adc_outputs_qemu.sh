@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Outputs read on the board: a rig file whose every [[output]] has
+# source = "adc" (tests/app/rig/stage.toml with x on ADC1_IN8, gain 2,
+# offset 1.5, and y on IN9, offset -2.5; no [plant], so only the board's
+# image, with the shape of a small network) builds the plain stm32f4 image (`firmware build --rig --board
+# stm32f4`), which QEMU's netduinoplus2 boots as a user would boot a board
+# (its USART2 on a pty). An identification run over that port records
+# y_true (sent only by an image that says it measures y) on every sample, as
+# the HAL scales it: QEMU models ADC1 but no DMA controller, so the scan's
+# buffer stays at 0 V and y_true is each output's offset, in output order
+# (1.5, -2.5) - the ADC's values themselves only a board shows.
+# Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
+#   adc_outputs_qemu.sh CONSOLE RIG_FILE
+set -u
+console=$1
+fixture=$2  # tests/app/rig/stage.toml
+command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
+command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
+work=$(mktemp -d)
+qemu=
+trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null; rm -rf "$work"' EXIT
+cd "$work" || exit 1
+export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
+unset NLSOFT_M4_IMAGE
+fail=0
+say() { echo "FAIL: $*"; fail=1; }
+json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+
+python3 - "$fixture" <<'EOF' || exit 1
+import sys
+text = open(sys.argv[1]).read()
+# No [plant]: the board's image only; its network's shape (no model file: the image waits for an upload).
+text = text[:text.index("[plant]")] + ('[model]\n[[model.layer]]\nkind = "dense"\nunits = 8\nactivation = "tanh"\n\n'
+                                      '[[model.layer]]\nkind = "dense"\nunits = 2\nactivation = "linear"\n')
+text = text.replace('name = "x"\nunit = "mm"\nmin = -10.0\nmax = 10.0\nsource = "external"',
+                    'name = "x"\nunit = "mm"\nmin = -10.0\nmax = 10.0\nsource = "adc"\nadc = 8\ngain = 2.0\noffset = 1.5')
+text = text.replace('name = "y"\nunit = "mm"\nmin = -10.0\nmax = 10.0\nsource = "external"',
+                    'name = "y"\nunit = "mm"\nmin = -10.0\nmax = 10.0\nsource = "adc"\nadc = 9\noffset = -2.5')
+assert text.count('source = "adc"') == 7, "the fixture's outputs changed"
+open("my.toml", "w").write(text)
+EOF
+
+"$console" firmware build --rig my.toml --board stm32f4 >build.txt 2>&1 || { cat build.txt; echo "FAIL: firmware build"; exit 1; }
+cat build.txt
+elf=$(grep -- "/nlsoft-stm32f4-stage.elf\$" build.txt | awk '{print $2}')
+[ -f "$elf" ] || { echo "FAIL: no board image reported: $(cat build.txt)"; exit 1; }
+grep -q "kRigOutputRows = 2;" "$(dirname "$elf")/.rig/stage/nlsoft_rig.hpp" ||
+  say "the generated header reads no output: $(cat "$(dirname "$elf")/.rig/stage/nlsoft_rig.hpp")"
+
+qemu-system-arm -nographic -monitor none -M netduinoplus2 -serial null -serial pty -kernel "$elf" >qemu.out 2>&1 &
+qemu=$!
+port=
+for _ in $(seq 50); do
+  port=$(sed -n 's|.*redirected to \(/dev/pts/[0-9]*\) (label serial1).*|\1|p' qemu.out)
+  [ -n "$port" ] && break
+  sleep 0.1
+done
+[ -n "$port" ] || { echo "FAIL: QEMU gave no pty: $(cat qemu.out)"; exit 1; }
+
+timeout 120 "$console" ident "$port" --rig my.toml --signal prbs --duration 5s --db runs.db >ident.txt 2>&1 ||
+  say "ident: $(cat ident.txt)"
+cat ident.txt
+"$console" runs export 1 --csv run.csv --db runs.db >log.txt 2>&1 || { say "runs export: $(cat log.txt)"; exit 1; }
+python3 - run.csv <<'EOF' || say "y_true is not the outputs' ADC reading"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+print(len(rows), "samples; y_true of the first:", rows[0]["y_true0"] if rows else None, rows[0]["y_true1"] if rows else None)
+bad = [r["k"] for r in rows if r["y_true0"] == "" or r["y_true1"] == ""
+       or float(r["y_true0"]) != 1.5 or float(r["y_true1"]) != -2.5]
+if bad: print("samples without y_true = (1.5, -2.5):", bad[:5])
+sys.exit(1 if bad or len(rows) < 40 else 0)
+EOF
+[ $fail -eq 0 ] && echo "outputs on the ADC: the stm32f4 image measures y and the run records it"
+exit $fail

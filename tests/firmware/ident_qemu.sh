@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# Identification on the MCU: a rig that exists only as a file (my.toml,
+# tests/app/rig/stage.toml: 3 inputs, 2 outputs, 5 sensors, 80 Hz, a generic
+# plant) is built into each board's HIL image with a model (`firmware build
+# --rig my.toml --board B --hil --model`), and QEMU boots that image for two
+# identification runs (`ident --qemu my.toml --board B --signal prbs`, then
+# `--signal walk`), each 30 s of the firmware's steps. Each run is recorded
+# as kind ident with every step the console said it would record at the
+# decimation it printed, no frame lost and no gap; its inputs stay inside the
+# file's limits, and it carries the measured outputs (y_true, the image's
+# simulated plant) and the five sensors. `train --run` then fits a model from
+# the two runs.
+# Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
+#   ident_qemu.sh CONSOLE RIG_FILE
+set -u
+console=$1
+fixture=$2  # tests/app/rig/stage.toml
+command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
+command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work" || exit 1
+export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
+unset NLSOFT_M4_IMAGE
+fail=0
+say() { echo "FAIL: $*"; fail=1; }
+json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+
+cp "$fixture" my.toml || exit 1
+# A model for the images: the rig's shape, a short fit (identification does not use it).
+"$console" dataset --rig my.toml --out my.csv --steps 2000 >log.txt 2>&1 || { cat log.txt; echo "FAIL: dataset"; exit 1; }
+"$console" train --rig my.toml --data my.csv --out first.nlsm --epochs 2 >log.txt 2>&1 ||
+  { cat log.txt; echo "FAIL: train"; exit 1; }
+
+seconds=30
+steps=$((80 * seconds))
+for board in mps2-an386 stm32f4; do
+  "$console" firmware build --rig my.toml --board $board --hil --model first.nlsm >build.txt 2>&1 ||
+    { say "firmware build --board $board: $(cat build.txt)"; continue; }
+  hil=$(grep -E -- "/nlsoft-(m4|stm32f4)-stage-hil.elf\$" build.txt | awk '{print $2}')
+  [ -f "$hil" ] || { say "$board: no HIL image reported: $(cat build.txt)"; continue; }
+  before=$(stat -c %Y "$hil")
+  db=$board.db
+  ids=
+  for signal in prbs walk; do
+    timeout 300 "$console" ident --qemu my.toml --board $board --signal $signal --duration ${seconds}s --seed 5 \
+      --db $db >ident.txt 2>&1 || { say "$board ident $signal: $(cat ident.txt)"; continue; }
+    cat ident.txt
+    # "run 1: identification run, prbs, 2400 samples of 2400 steps (decimation 1), 0 lost frames; completed"
+    line=$(grep -E '^run [0-9]+: identification run' ident.txt)
+    id=$(sed -n 's/^run \([0-9]*\): .*/\1/p' <<<"$line")
+    dec=$(sed -n 's/.*(decimation \([0-9]*\)).*/\1/p' <<<"$line")
+    [ -n "$id" ] && [ -n "$dec" ] || { say "$board $signal: no run line: $(cat ident.txt)"; continue; }
+    [ -n "$(sed -n "s/.* of $steps steps .*/x/p" <<<"$line")" ] || say "$board $signal: not $steps steps: $line"
+    expected=$(((steps + dec - 1) / dec))
+    "$console" runs list --json --db $db >list.json 2>log.txt || { say "runs list: $(cat log.txt)"; continue; }
+    [ "$(json list.json "[r['kind'] for r in j if r['id'] == $id]")" = "['ident']" ] ||
+      say "$board $signal: run $id is not kind ident: $(cat list.json)"
+    "$console" runs show "$id" --json --db $db >show.json 2>log.txt || { say "runs show: $(cat log.txt)"; continue; }
+    echo "$board $signal: $(json show.json 'j["samples"]') samples (decimation $dec), $(json show.json 'j["lost_frames"]') lost frames, $(json show.json 'j["gaps"]') gaps"
+    [ "$(json show.json 'j["samples"]')" = $expected ] ||
+      say "$board $signal: $(json show.json 'j["samples"]') samples, expected $expected"
+    [ "$(json show.json 'j["lost_frames"], j["gaps"]')" = "0 0" ] ||
+      say "$board $signal: lost frames, gaps $(json show.json 'j["lost_frames"], j["gaps"]')"
+    "$console" runs export "$id" --csv run$id.csv --db $db >log.txt 2>&1 || { say "runs export: $(cat log.txt)"; continue; }
+    # Inputs within [0, 1], [-1, 1], [0, 2]; y_true and l0..l4 on every row.
+    python3 - run$id.csv <<'EOF' || say "$board $signal: the recorded run: see above"
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+limits = [(0.0, 1.0), (-1.0, 1.0), (0.0, 2.0)]
+bad = [r["k"] for r in rows for i, (lo, hi) in enumerate(limits) if not lo <= float(r["u%d" % i]) <= hi]
+missing = [r["k"] for r in rows if any(r[c] == "" for c in ("y_true0", "y_true1", "l0", "l1", "l2", "l3", "l4"))]
+moved = [i for i in range(3) if max(float(r["u%d" % i]) for r in rows) - min(float(r["u%d" % i]) for r in rows) < 0.1]
+if bad: print("inputs outside the rig's limits at k =", bad[:5])
+if missing: print("no y_true or sensors at k =", missing[:5])
+if moved: print("inputs that did not move:", moved)
+sys.exit(1 if bad or missing or moved or not rows else 0)
+EOF
+    ids="$ids --run $id"
+  done
+  # --qemu booted the image built with the model, as built.
+  [ "$(stat -c %Y "$hil")" = "$before" ] || say "$board: --qemu built the image again"
+  # Both runs of the board, one fit: a short train that must succeed.
+  # shellcheck disable=SC2086
+  "$console" train --rig my.toml $ids --db $db --out $board.nlsm --epochs 3 >train.txt 2>&1 ||
+    say "$board: train$ids: $(cat train.txt)"
+  [ -s $board.nlsm ] || say "$board: train --run wrote no model: $(cat train.txt)"
+done
+
+[ $fail -eq 0 ] && echo "identification on both boards' HIL images in QEMU: all checks passed"
+exit $fail
