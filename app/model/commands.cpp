@@ -196,7 +196,8 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   const TrainResult r = train(runs, target, o, validate);
   bar.finish();
   ModelFile f = r.model;
-  f.fit = fit_to_json(model_fit(r, target));
+  const ModelFit fit = model_fit(r, target);
+  f.fit = fit_to_json(fit);
   save_model_file(a.out, f);
   const std::string unit = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
   std::printf("trained %s model in %.1f s (%d epochs), %s, rows train %ld / val %ld / test %ld\n",
@@ -206,7 +207,6 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   for (size_t j = 0; j < r.test.mse.size(); ++j)
     std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit.c_str(),
                 std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit.c_str());
-  const ModelFit fit = model_fit(r, target);
   std::printf("%s", fit_table(fit).c_str());
   std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
 }
@@ -424,8 +424,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->callback([train_args, resolve, load_run] { run_train(*train_args, resolve, load_run); });
 }
 
-void add_model_command(CLI::App& app) {
-  CLI::App* model = app.add_subcommand("model", "Inspect, evaluate, import and compile model files (.nlsm).");
+void add_model_command(CLI::App& app, TargetResolver resolve, RunLoader load_run, ScriptPlotter plot) {
+  CLI::App* model = app.add_subcommand("model", "Inspect, evaluate, judge (fit), import and compile model files (.nlsm).");
   model->require_subcommand(1);
 
   auto import_args = std::make_shared<ImportArgs>();
@@ -459,6 +459,8 @@ void add_model_command(CLI::App& app) {
   CLI::App* in = model->add_subcommand("info", "Print a model's layers, shapes, parameter count and hash.");
   in->add_option("model", *info_path, "model file (required)")->type_name("MODEL");
   in->callback([info_path] { run_info(*info_path); });
+
+  add_model_fit_command(*model, resolve, load_run, plot);
 }
 
 }  // namespace nlsoft::console
