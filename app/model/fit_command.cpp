@@ -131,7 +131,7 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& l
                                 target.name,
                             f, baseline, d, d.pieces, target);
     if (!image.empty()) {
-      r.time = label_times(s, M.nd, M.dd);
+      r.time = label_times(s, M.nd, M.dd, target.rate_hz > 0 ? 1.0 / target.rate_hz : 0.0);
       r.y = measured(d, d.pieces);
       r.net = simulate_network(f, d, d.pieces).free_run;
       if (baseline) r.arx = simulate_arx(*baseline, d, d.pieces).free_run;
@@ -140,7 +140,7 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& l
   }
 
   std::string drawn;
-  if (!image.empty()) drawn = plot(fit_plot_script(fitted, a.model, a.svg.empty() ? FitImage::Png : FitImage::Svg));
+  if (!image.empty()) drawn = plot(fit_plot_script(fitted, a.model, target.y_unit, a.svg.empty() ? FitImage::Png : FitImage::Svg));
 
   if (a.json) {
     nlohmann::json j;

@@ -28,7 +28,7 @@ std::string fit_words(const Score& s) { return std::isfinite(s.fit) ? num(std::r
 
 }  // namespace
 
-Eigen::VectorXd label_times(const Series& s, int nd, int dd) {
+Eigen::VectorXd label_times(const Series& s, int nd, int dd, double period) {
   // The stretches between breaks exactly as build_dataset cuts them: a
   // stretch of hist samples or fewer gives no row.
   const long hist = std::max(nd, dd), q = s.rows();
@@ -40,14 +40,14 @@ Eigen::VectorXd label_times(const Series& s, int nd, int dd) {
   cuts.push_back(q);
   start = 0;
   for (long end : cuts) {
-    for (long k = start + hist - 1; k + 1 < end; ++k) t.push_back(s.time(k + 1));
+    for (long k = start + hist - 1; k + 1 < end; ++k) t.push_back(period > 0 ? double(k + 1) * period : s.time(k + 1));
     start = end;
   }
   return Eigen::Map<Eigen::VectorXd>(t.data(), long(t.size()));
 }
 
-std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::string& model_name, FitImage format,
-                            long max_points) {
+std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::string& model_name, const std::string& unit,
+                            FitImage format, long max_points) {
   int panels = 0;
   for (const FittedRun& r : runs) panels += int(r.y.cols());
   const int width = 1100, height = 260 * std::max(1, panels) + 60;
@@ -82,7 +82,7 @@ std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::strin
       std::string title = r.name + ", output " + o.name + ": free-run fit network " + fit_words(o.free_run);
       if (r.arx.size()) title += ", ARX " + fit_words(o.arx_free_run);
       const std::string data = "$run" + std::to_string(k), c = std::to_string(2 + 3 * j);
-      s += "set title " + quoted(title) + "\nset xlabel \"t (s)\"\nset ylabel " + quoted(o.name) + "\n";
+      s += "set title " + quoted(title) + "\nset xlabel \"t (s)\"\nset ylabel " + quoted(unit.empty() ? o.name : o.name + " (" + unit + ")") + "\n";
       s += "plot " + data + " using 1:" + c + " with lines lw 1.4 lc rgb \"#000000\" title \"measured\", \\\n";
       s += "     " + data + " using 1:" + std::to_string(3 + 3 * j) +
            " with lines lw 1.2 lc rgb \"#1f77b4\" title \"network (free run)\"";

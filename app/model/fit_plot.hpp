@@ -20,12 +20,15 @@ struct FittedRun {
   FitSection section;
 };
 
-// The label times of build_dataset(s, nd, dd)'s rows, in row order.
-Eigen::VectorXd label_times(const Series& s, int nd, int dd);
+// The label times of build_dataset(s, nd, dd)'s rows, in row order: the
+// series' own, or with period > 0 its sample index times the control
+// period (a run's firmware clock is not the rig's time under --sim-fast).
+Eigen::VectorXd label_times(const Series& s, int nd, int dd, double period = 0);
 
 enum class FitImage { Svg, Png };
 
-std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::string& model_name, FitImage format,
-                            long max_points = 4000);
+// unit: the outputs' ("" none), on the y axes.
+std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::string& model_name, const std::string& unit,
+                            FitImage format, long max_points = 4000);
 
 }  // namespace nlsoft::pipeline

@@ -170,6 +170,7 @@ std::string fit_table(const ModelFit& f) {
 
 std::string section_to_json(const FitSection& s, const std::string& unit) {
   nlohmann::json j = section_json(s);
+  for (auto& o : j["outputs"]) o.erase("one_step_nrmse"), o.erase("free_run_nrmse");  // the file's compatibility keys
   j["unit"] = unit;
   return j.dump();
 }
