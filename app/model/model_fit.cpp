@@ -131,11 +131,11 @@ ModelFit model_fit(const TrainResult& r, const PlantTarget& target) {
 std::string section_table(const FitSection& s, const std::string& unit) {
   std::string out = "fit on " + s.title + "\n";
   char line[256];
-  std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %12s %9s %8s", "output", "span", "predicts", "network RMSE",
+  std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %13s %11s %8s", "output", "span", "predicts", "network RMSE",
                 "nRMSE", "fit %");
   out += line;
   if (s.has_arx) {
-    std::snprintf(line, sizeof line, "  %12s %9s %8s", "ARX RMSE", "nRMSE", "fit %");
+    std::snprintf(line, sizeof line, "  %13s %11s %8s", "ARX RMSE", "nRMSE", "fit %");
     out += line;
   }
   out += "\n";
@@ -145,14 +145,14 @@ std::string section_table(const FitSection& s, const std::string& unit) {
     const char* names[] = {"one-step", "free-run"};
     for (int k = 0; k < 2; ++k) {
       const Score& n = *rows[k].first;
-      std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %12s %9s %8s", o.name.c_str(), (cell("%.4g", o.span) + u).c_str(),
-                    names[k], (cell("%.4g", n.rmse) + u).c_str(), (cell("%.3f", 100.0 * n.nrmse) + " %").c_str(),
+      std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %13s %11s %8s", o.name.c_str(), (cell("%.4g", o.span) + u).c_str(),
+                    names[k], (cell("%.4g", n.rmse) + u).c_str(), (cell("%#.3g", 100.0 * n.nrmse) + " %").c_str(),
                     cell("%.2f", n.fit).c_str());
       out += line;
       if (s.has_arx) {
         const Score& a = *rows[k].second;
-        std::snprintf(line, sizeof line, "  %12s %9s %8s", (cell("%.4g", a.rmse) + u).c_str(),
-                      (cell("%.3f", 100.0 * a.nrmse) + " %").c_str(), cell("%.2f", a.fit).c_str());
+        std::snprintf(line, sizeof line, "  %13s %11s %8s", (cell("%.4g", a.rmse) + u).c_str(),
+                      (cell("%#.3g", 100.0 * a.nrmse) + " %").c_str(), cell("%.2f", a.fit).c_str());
         out += line;
       }
       out += "\n";

@@ -206,6 +206,9 @@ TEST_F(ModelFit, BadInputIsRefusedWithNothingWritten) {
       {model + " --rig " + shell_quote(bend) + " --data " + q("lin.csv"),
        "was trained for rig 'lin', not for rig 'bend'"},
       {model + " --rig msd --data " + q("lin.csv"), "was trained for rig 'lin', not for rig 'msd'"},
+      // A shipped model keeps no fit: its dimensions are the rig's check.
+      {shell_quote(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/hasel.nlsm") + " --rig msd --data " + q("lin.csv"),
+       "hasel.nlsm has m=6 n=3 w=18 but rig 'msd' has m=1 n=1 w=0"},
       {model + " --rig " + shell_quote(lin) + " --run 1" + runs, "run 1 was recorded on rig 'bend', not on rig 'lin'"},
       {model + " --rig " + shell_quote(lin) + " --run 2" + runs, "run 2 has no samples"},
       {model + " --rig " + shell_quote(lin) + " --run 3" + runs, "run 3 has no measured output (y_true)"},
