@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <unistd.h>
 
 #include "app/model/arx.hpp"
 #include "app/model/fit_scores.hpp"
 #include "app/model/model_fit.hpp"
+#include "app/model/model_section.hpp"
+#include "app/model/model_store.hpp"
 
 namespace nlsoft::pipeline {
 namespace {
@@ -75,6 +79,52 @@ TEST(FitScores, AnOlderConsolesFitStillReads) {
   EXPECT_FALSE(f.sections[0].has_arx);
   EXPECT_NEAR(f.sections[0].outputs[0].free_run.nrmse, 0.02, 1e-15);
   EXPECT_NE(fit_table(f).find("no ARX baseline"), std::string::npos);
+}
+
+// The largest model the console holds (p = 88 inputs, n = 6 outputs, 7950
+// weights) with a fit and its ARX baseline, (88 + 1) x 6 coefficients,
+// after it: the file is larger than the largest model alone, and still
+// reads back, the same model and fit.
+TEST(FitScores, TheLargestModelWithItsFitAndBaselineReadsBack) {
+  ModelFile f;
+  Model<HostCapacity>& M = f.shape;
+  M.m = 8, M.n = 6, M.w = 32, M.nd = 4, M.dd = 4;
+  const int sizes[] = {88, 48, 48, 24, 6};
+  M.layer_count = 4;
+  size_t weights = 0;
+  for (int i = 0; i < 4; ++i) {
+    M.layer[i].kind = LayerKind::Dense;
+    M.layer[i].act = i < 3 ? Activation::Relu : Activation::Linear;
+    M.layer[i].in = uint16_t(sizes[i]);
+    M.layer[i].out = uint16_t(sizes[i + 1]);
+    weights += layer_weight_count(M.layer[i]);
+  }
+  f.params.assign(weights + 2 * 88 + 2 * 6, 0.25f);
+  finalize(f);
+  ArxModel a;
+  a.layout = InputLayout{8, 6, 32, 4, 4};
+  a.theta = Eigen::MatrixXd::Random(89, 6) / 3.0;
+  ModelFit fit;
+  fit.rig = "big";
+  fit.held_out = "the last 1/11 of the run (100 rows)";
+  fit.arx = arx_to_json(a);
+  FitSection sec;
+  sec.title = "held-out data of rig big: " + fit.held_out;
+  sec.rows = 100;
+  sec.has_arx = true;
+  for (int j = 0; j < 6; ++j) sec.outputs.push_back({"y" + std::to_string(j), 1.0, {}, {}, {}, {}});
+  fit.sections = {sec, sec};
+  f.fit = fit_to_json(fit);
+  const std::string path = ::testing::TempDir() + "/largest_" + std::to_string(::getpid()) + ".nlsm";
+  save_model_file(path, f);
+  const std::vector<uint8_t> bytes = encode_model_file(f);
+  EXPECT_GT(bytes.size(), model_file_max<HostCapacity>());
+  EXPECT_LE(bytes.size(), model_file_with_sections_max());
+  const ModelFile back = load_model_file(path);
+  std::remove(path.c_str());
+  EXPECT_EQ(back.shape.hash, f.shape.hash);
+  EXPECT_EQ(back.fit, f.fit);
+  EXPECT_EQ(arx_from_json(fit_from_json(back.fit, path).arx, path).theta, a.theta);
 }
 
 }  // namespace
