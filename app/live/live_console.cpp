@@ -617,7 +617,8 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   // size; the firmware's limit is checked after that.
   const uint32_t fw_limit = device_->transfer_limit(p::XferKind::Model);
   const uint64_t host_max = model_file_max<HostCapacity>();
-  InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max), false};
+  // The model's limit, and room for the sections after it (never sent).
+  InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max) + pipeline::kSectionsMax, false};
   if (fw_limit >= host_max) kind.limit_words = "this firmware takes models of at most";
   const std::string text = read_input_file(path, kind);
   // A file may carry sections after its model (train's fit) the firmware

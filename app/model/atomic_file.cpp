@@ -8,6 +8,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/model/error.hpp"
+#include "app/model/model_section.hpp"
 #include "app/output_file.hpp"
 #include "shared/model_file.hpp"
 
@@ -66,7 +67,7 @@ std::string read_text_file(const std::string& path, const console::InputKind& ki
 }
 
 std::vector<uint8_t> read_model_bytes(const std::string& path) {
-  const std::string text = read_text_file(path, {"model file", model_file_max<HostCapacity>(), false});
+  const std::string text = read_text_file(path, {"model file", model_file_with_sections_max(), false});
   return std::vector<uint8_t>(text.begin(), text.end());
 }
 

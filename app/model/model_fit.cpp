@@ -8,46 +8,184 @@
 #include "app/model/error.hpp"
 
 namespace nlsoft::pipeline {
+namespace {
+
+nlohmann::json score_json(const Score& s) {
+  // JSON has no NaN: an undefined fit (a constant output) is null.
+  return {{"rmse", s.rmse}, {"nrmse", s.nrmse},
+          {"fit_percent", std::isfinite(s.fit) ? nlohmann::json(s.fit) : nlohmann::json(nullptr)}};
+}
+
+Score score_from(const nlohmann::json& j) {
+  Score s;
+  s.rmse = j.at("rmse").get<double>();
+  s.nrmse = j.at("nrmse").get<double>();
+  s.fit = j.at("fit_percent").is_null() ? std::nan("") : j.at("fit_percent").get<double>();
+  return s;
+}
+
+nlohmann::json section_json(const FitSection& s) {
+  nlohmann::json j;
+  j["title"] = s.title;
+  j["rows"] = s.rows;
+  j["outputs"] = nlohmann::json::array();
+  for (const OutputFit& o : s.outputs) {
+    // one_step_nrmse, free_run_nrmse: what consoles before the baseline read.
+    nlohmann::json e = {{"name", o.name},
+                        {"span", o.span},
+                        {"one_step_nrmse", o.one_step.nrmse},
+                        {"free_run_nrmse", o.free_run.nrmse},
+                        {"one_step", score_json(o.one_step)},
+                        {"free_run", score_json(o.free_run)}};
+    if (s.has_arx) e["arx"] = {{"one_step", score_json(o.arx_one_step)}, {"free_run", score_json(o.arx_free_run)}};
+    j["outputs"].push_back(e);
+  }
+  return j;
+}
+
+FitSection section_from(const nlohmann::json& j, const std::string& title) {
+  FitSection s;
+  s.title = title;
+  s.rows = j.at("rows").get<long>();
+  s.has_arx = !j.at("outputs").empty();
+  for (const auto& o : j.at("outputs")) {
+    OutputFit f;
+    f.name = o.at("name").get<std::string>();
+    f.span = o.at("span").get<double>();
+    if (o.contains("one_step")) {
+      f.one_step = score_from(o.at("one_step"));
+      f.free_run = score_from(o.at("free_run"));
+    } else {  // an older console's: nRMSE only
+      f.one_step.nrmse = o.at("one_step_nrmse").get<double>();
+      f.free_run.nrmse = o.at("free_run_nrmse").get<double>();
+      f.one_step.rmse = f.one_step.nrmse * (f.span > 0 ? f.span : 1.0);
+      f.free_run.rmse = f.free_run.nrmse * (f.span > 0 ? f.span : 1.0);
+      f.one_step.fit = f.free_run.fit = std::nan("");
+    }
+    if (o.contains("arx")) {
+      f.arx_one_step = score_from(o.at("arx").at("one_step"));
+      f.arx_free_run = score_from(o.at("arx").at("free_run"));
+    } else {
+      s.has_arx = false;
+    }
+    s.outputs.push_back(f);
+  }
+  return s;
+}
+
+std::string cell(const char* fmt, double v) {
+  char buf[48];
+  if (!std::isfinite(v)) return "-";
+  std::snprintf(buf, sizeof buf, fmt, v);
+  return buf;
+}
+
+}  // namespace
+
+FitSection fit_section(const std::string& title, const ModelFile& model, const ArxModel* arx, const Dataset& d,
+                       const std::vector<RowRange>& pieces, const PlantTarget& target) {
+  FitSection s;
+  s.title = title;
+  const Eigen::MatrixXd y = measured(d, pieces);
+  s.rows = long(y.rows());
+  const Simulation net = simulate_network(model, d, pieces);
+  const std::vector<Score> one = score(y, net.one_step, target.y_span), free = score(y, net.free_run, target.y_span);
+  std::vector<Score> arx_one, arx_free;
+  if (arx) {
+    const Simulation a = simulate_arx(*arx, d, pieces);
+    arx_one = score(y, a.one_step, target.y_span);
+    arx_free = score(y, a.free_run, target.y_span);
+    s.has_arx = true;
+  }
+  for (int j = 0; j < d.layout.n; ++j) {
+    OutputFit o;
+    o.name = size_t(j) < target.y_names.size() ? target.y_names[size_t(j)] : "y" + std::to_string(j);
+    o.span = size_t(j) < target.y_span.size() ? target.y_span[size_t(j)] : 0.0;
+    o.one_step = one[size_t(j)];
+    o.free_run = free[size_t(j)];
+    if (arx) {
+      o.arx_one_step = arx_one[size_t(j)];
+      o.arx_free_run = arx_free[size_t(j)];
+    }
+    s.outputs.push_back(o);
+  }
+  return s;
+}
 
 ModelFit model_fit(const TrainResult& r, const PlantTarget& target) {
   ModelFit f;
   f.rig = target.name;
   f.held_out = r.held_out;
-  f.rows = r.test.rows;
-  for (size_t j = 0; j < r.test.mse.size(); ++j) {
-    OutputFit o;
-    o.name = j < target.y_names.size() ? target.y_names[j] : "y" + std::to_string(j);
-    o.span = j < target.y_span.size() ? target.y_span[j] : 0.0;
-    const double scale = o.span > 0 ? 1.0 / o.span : 1.0;
-    o.one_step = std::sqrt(r.test.mse[j]) * scale;
-    o.free_run = std::sqrt(r.test.free_run_mse[j]) * scale;
-    f.outputs.push_back(o);
-  }
+  f.unit = target.y_unit;
+  const ArxModel* arx = r.arx.theta.size() > 0 ? &r.arx : nullptr;
+  if (arx) f.arx = arx_to_json(r.arx);
+  f.sections.push_back(
+      fit_section("held-out data of rig " + target.name + ": " + r.held_out, r.model, arx, r.data, r.test_pieces, target));
+  if (!r.val_pieces.empty() && r.validate_run)
+    f.sections.push_back(fit_section("the training runs' validation part (the last 1/" + std::to_string(r.folds + 1) +
+                                         " of each, not trained on)",
+                                     r.model, arx, r.data, r.val_pieces, target));
   return f;
 }
 
-std::string fit_table(const ModelFit& f) {
-  std::string out = "fit on held-out data of rig " + f.rig + ": " + f.held_out + "\n";
-  char line[160];
-  std::snprintf(line, sizeof line, "  %-12s %10s %16s %16s\n", "output", "span", "one-step nRMSE", "free-run nRMSE");
+std::string section_table(const FitSection& s, const std::string& unit) {
+  std::string out = "fit on " + s.title + "\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %13s %11s %8s", "output", "span", "predicts", "network RMSE",
+                "nRMSE", "fit %");
   out += line;
-  for (const OutputFit& o : f.outputs) {
-    std::snprintf(line, sizeof line, "  %-12s %10.4g %14.3g %% %14.3g %%\n", o.name.c_str(), o.span,
-                  100.0 * o.one_step, 100.0 * o.free_run);
+  if (s.has_arx) {
+    std::snprintf(line, sizeof line, "  %13s %11s %8s", "ARX RMSE", "nRMSE", "fit %");
     out += line;
   }
+  out += "\n";
+  const std::string u = unit.empty() ? "" : " " + unit;
+  for (const OutputFit& o : s.outputs) {
+    const std::pair<const Score*, const Score*> rows[] = {{&o.one_step, &o.arx_one_step}, {&o.free_run, &o.arx_free_run}};
+    const char* names[] = {"one-step", "free-run"};
+    for (int k = 0; k < 2; ++k) {
+      const Score& n = *rows[k].first;
+      std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %13s %11s %8s", o.name.c_str(), (cell("%.4g", o.span) + u).c_str(),
+                    names[k], (cell("%.4g", n.rmse) + u).c_str(), (cell("%#.3g", 100.0 * n.nrmse) + " %").c_str(),
+                    cell("%.2f", n.fit).c_str());
+      out += line;
+      if (s.has_arx) {
+        const Score& a = *rows[k].second;
+        std::snprintf(line, sizeof line, "  %13s %11s %8s", (cell("%.4g", a.rmse) + u).c_str(),
+                      (cell("%#.3g", 100.0 * a.nrmse) + " %").c_str(), cell("%.2f", a.fit).c_str());
+        out += line;
+      }
+      out += "\n";
+    }
+  }
   return out;
+}
+
+std::string fit_table(const ModelFit& f) {
+  std::string out;
+  for (const FitSection& s : f.sections) out += section_table(s, f.unit);
+  if (f.arx.empty()) out += "(no ARX baseline kept with this fit)\n";
+  return out;
+}
+
+std::string section_to_json(const FitSection& s, const std::string& unit) {
+  nlohmann::json j = section_json(s);
+  for (auto& o : j["outputs"]) o.erase("one_step_nrmse"), o.erase("free_run_nrmse");  // the file's compatibility keys
+  j["unit"] = unit;
+  return j.dump();
 }
 
 std::string fit_to_json(const ModelFit& f) {
   nlohmann::json j;
   j["rig"] = f.rig;
+  j["unit"] = f.unit;
+  // The first section's rows at the top as before, for consoles that read only those.
   j["held_out"] = f.held_out;
-  j["rows"] = f.rows;
-  j["outputs"] = nlohmann::json::array();
-  for (const OutputFit& o : f.outputs)
-    j["outputs"].push_back({{"name", o.name}, {"span", o.span}, {"one_step_nrmse", o.one_step},
-                            {"free_run_nrmse", o.free_run}});
+  j["rows"] = f.sections.empty() ? 0L : f.sections[0].rows;
+  j["outputs"] = f.sections.empty() ? nlohmann::json::array() : section_json(f.sections[0])["outputs"];
+  j["sections"] = nlohmann::json::array();
+  for (const FitSection& s : f.sections) j["sections"].push_back(section_json(s));
+  if (!f.arx.empty()) j["arx"] = nlohmann::json::parse(f.arx);
   return j.dump();
 }
 
@@ -57,10 +195,13 @@ ModelFit fit_from_json(const std::string& text, const std::string& where) {
     ModelFit f;
     f.rig = j.at("rig").get<std::string>();
     f.held_out = j.at("held_out").get<std::string>();
-    f.rows = j.at("rows").get<long>();
-    for (const auto& o : j.at("outputs"))
-      f.outputs.push_back({o.at("name").get<std::string>(), o.at("span").get<double>(),
-                           o.at("one_step_nrmse").get<double>(), o.at("free_run_nrmse").get<double>()});
+    if (j.contains("unit")) f.unit = j.at("unit").get<std::string>();
+    if (j.contains("sections")) {
+      for (const auto& s : j.at("sections")) f.sections.push_back(section_from(s, s.at("title").get<std::string>()));
+    } else {
+      f.sections.push_back(section_from(j, "held-out data of rig " + f.rig + ": " + f.held_out));
+    }
+    if (j.contains("arx")) f.arx = j.at("arx").dump();
     return f;
   } catch (const nlohmann::json::exception& e) {
     throw PipelineError(where + ": its fit section is not readable: " + e.what());

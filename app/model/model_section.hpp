@@ -16,15 +16,18 @@
 // The console uploads, embeds in images and hashes the model part only, so
 // a firmware gets the same bytes, and reports the same hash, with or without
 // sections. Readers bound a file by the largest model the console holds
-// (model_file_max<HostCapacity>, 96.8 KiB), sections included: a fit is a
-// few hundred bytes. Header-only: the upload, `simulate` and the image
-// build use it without the model pipeline's library.
+// and room for its sections (model_file_with_sections_max): a fit with its
+// ARX baseline's coefficients, (p + 1) x n numbers, is about 13 KB at the
+// console's largest dimensions (p = 88, n = 6), a few KB for the shipped
+// rigs. Header-only: the upload, `simulate` and the image build use it
+// without the model pipeline's library.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <string>
 #include <vector>
 
+#include "shared/capacity.hpp"
 #include "shared/crc32.hpp"
 #include "shared/model_file.hpp"
 
@@ -32,6 +35,10 @@ namespace nlsoft::pipeline {
 
 constexpr uint8_t kSectionFit = 1;
 constexpr size_t kSectionOverhead = 16;
+// What the sections after a model may take in all; train refuses to write more.
+constexpr size_t kSectionsMax = 64 * 1024;
+
+constexpr size_t model_file_with_sections_max() { return model_file_max<HostCapacity>() + kSectionsMax; }
 
 struct ModelFileParts {
   size_t model_size = 0;     // the model: bytes [0, model_size)

@@ -30,6 +30,9 @@ std::vector<uint8_t> encode_model(ModelFile& f) {
 std::vector<uint8_t> encode_model_file(ModelFile& f) {
   std::vector<uint8_t> bytes = encode_model(f);
   if (!f.fit.empty()) {
+    if (f.fit.size() + kSectionOverhead > kSectionsMax)
+      throw PipelineError("the fit (" + std::to_string(f.fit.size()) + " bytes) does not fit the " +
+                          std::to_string(kSectionsMax) + " bytes a model file keeps after its model");
     const std::vector<uint8_t> section = model_section(kSectionFit, f.fit);
     bytes.insert(bytes.end(), section.begin(), section.end());
   }

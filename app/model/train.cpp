@@ -388,6 +388,18 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
   // The model file names a compiled-in platform, or none (255).
   res.model = tn.export_model(target.plant == TargetPlant::Named ? static_cast<uint8_t>(target.platform) : uint8_t(255));
   res.test = evaluate(res.model, d, pooled.test_pieces);
+  // The baseline beside it; a training part too short for its
+  // coefficients leaves none (theta empty) rather than refuse the model.
+  try {
+    res.arx = fit_arx(d, pieces_within(d, 0, P.train_end));
+  } catch (const PipelineError&) {
+    res.arx = ArxModel{};
+  }
+  res.val_pieces = pieces_within(d, P.val_begin, P.val_end);
+  res.test_pieces = pooled.test_pieces;
+  res.validate_run = validate >= 0;
+  res.folds = opt.folds;
+  res.data = std::move(pooled.d);
   res.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
   return res;
 }

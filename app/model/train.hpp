@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "app/model/arx.hpp"
 #include "app/model/dataset.hpp"
 #include "app/model/model_store.hpp"
 #include "app/model/network.hpp"
@@ -80,6 +81,14 @@ struct TrainResult {
   int epochs_run = 0;
   double seconds = 0;
   Partition split{};  // over the rows of every run: all training rows, then validation, then test
+  // The pooled rows (split as above) and, within them, the pieces each
+  // part is: what the fit (app/model/model_fit.hpp) scores.
+  Dataset data;
+  std::vector<RowRange> val_pieces, test_pieces;
+  bool validate_run = false;  // the test is a whole run held out
+  int folds = 10;
+  // The linear baseline on the same lags, fitted on the training rows.
+  ArxModel arx;
 };
 
 // Throws PipelineError when the series does not match the platform, or the

@@ -14,7 +14,7 @@ namespace nlsoft::console {
 void load_model(const std::string& path, LoadedModel& out) {
   std::string text;
   try {
-    text = read_input_file(path, {"model file", model_file_max<HostCapacity>(), false});
+    text = read_input_file(path, {"model file", pipeline::model_file_with_sections_max(), false});
   } catch (const CliError& e) {
     throw CliError(fmt::format("cannot open model file '{}': {}", path, e.what()));
   }

@@ -52,7 +52,7 @@ complete_is "compare delete export label list plot show" nlsoft-console runs ""
 complete_is "label list" nlsoft-console runs l
 complete_is "compare" nlsoft-console --db runs.db runs c
 complete_is "--json" nlsoft-console runs show 12 --j
-complete_is "eval import info" nlsoft-console model ""
+complete_is "eval fit import info" nlsoft-console model ""
 complete_is "build" nlsoft-console firmware ""
 complete_is "check list" nlsoft-console rig ""
 complete_is "hasel" nlsoft-console rig check ha
@@ -109,7 +109,7 @@ check_against_help() {
 check_against_help nlsoft-console
 for c in simulate conformance flash firmware dataset train tune runs model ports rig; do check_against_help nlsoft-console "$c"; done
 for c in list show export compare plot label delete; do check_against_help nlsoft-console runs "$c"; done
-for c in import eval info; do check_against_help nlsoft-console model "$c"; done
+for c in import eval info fit; do check_against_help nlsoft-console model "$c"; done
 for c in check list; do check_against_help nlsoft-console rig "$c"; done
 check_against_help nlsoft-console firmware build
 

@@ -1,0 +1,203 @@
+#include "app/model/fit_command.hpp"
+
+#include <sys/stat.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+
+#include "app/model/error.hpp"
+#include "app/model/fit_plot.hpp"
+#include "app/model/model_fit.hpp"
+#include "app/output_file.hpp"
+#include "shared/platform_id.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+using namespace nlsoft::pipeline;
+
+struct FitArgs {
+  std::string model, rig, db, svg, png;
+  std::vector<int64_t> runs, train_runs;
+  std::vector<std::string> data;
+  bool json = false;
+};
+
+// The image's path, checked before any work so a bad one costs nothing and
+// writes nothing: output_file's rules (a directory, a loop of links are
+// refused), and a device too: an image is a file (or "-", /dev/stdout).
+void check_image_path(const std::string& path) {
+  const OutputTarget t = output_target(path);
+  struct stat st {};
+  if (t.kind == OutputTarget::InPlace && ::stat(t.path.c_str(), &st) == 0 && (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)))
+    throw PipelineError("cannot write " + path + ": it is a device; give a file for the image (or '-')");
+}
+
+// Every run's rows stacked as one dataset, pieces kept apart: what the
+// baseline is refitted on from --train-run.
+Dataset stack(const std::vector<Dataset>& sets) {
+  Dataset d;
+  d.layout = sets.front().layout;
+  long rows = 0;
+  for (const Dataset& s : sets) rows += s.rows();
+  d.X.resize(rows, d.layout.p());
+  d.Y.resize(rows, d.layout.n);
+  long at = 0;
+  for (const Dataset& s : sets) {
+    d.X.middleRows(at, s.rows()) = s.X;
+    d.Y.middleRows(at, s.rows()) = s.Y;
+    for (const RowRange& p : s.pieces) d.pieces.push_back({p.begin + at, p.end + at});
+    at += s.rows();
+  }
+  return d;
+}
+
+Series load_run_series(const RunLoader& load_run, const std::string& db, int64_t id, const PlantTarget& target) {
+  if (!load_run) throw PipelineError("--run needs the console's database, which this build lacks");
+  return recorded_series(load_run(db, id), target);
+}
+
+void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& load_run, const ScriptPlotter& plot) {
+  if (a.model.empty()) throw PipelineError("MODEL is required (see --help)");
+  if (a.runs.empty() && a.data.empty())
+    throw PipelineError("give the data to judge the model on: --run ID (a recorded run) or --data FILE.csv");
+  if (!a.svg.empty() && !a.png.empty()) throw PipelineError("give --svg FILE or --png FILE, not both");
+  const std::string image = a.svg.empty() ? a.png : a.svg;
+  if (!image.empty()) {
+    if (!plot) throw PipelineError("--svg/--png need gnuplot through the console, which this build lacks");
+    check_image_path(image);
+  }
+
+  const ModelFile f = load_model_file(a.model);
+  const Model<HostCapacity> M = f.view();
+  const bool has_fit = !f.fit.empty();
+  const ModelFit stored = has_fit ? fit_from_json(f.fit, a.model) : ModelFit{};
+  // The rig: --rig, else the one train recorded, else the model's platform.
+  std::string rig = a.rig;
+  if (rig.empty()) rig = stored.rig;
+  if (rig.empty() && f.platform < kPlatformCount) rig = platform_name(PlatformId(f.platform));
+  if (rig.empty()) throw PipelineError(a.model + " names no rig (no fit kept with it): give --rig");
+  PlantTarget target;
+  try {
+    target = resolve(rig);
+  } catch (const std::exception& e) {
+    if (!a.rig.empty()) throw;
+    // The name train recorded: a rig file's needs its path.
+    throw PipelineError(a.model + " was trained for rig '" + rig + "', which is no rig known by name (" + e.what() +
+                        "): give --rig with its rig file");
+  }
+  if (has_fit && stored.rig != target.name)
+    throw PipelineError(a.model + " was trained for rig '" + stored.rig + "', not for rig '" + target.name +
+                        "': a model learnt on one rig does not describe another");
+  if (M.m != target.m || M.n != target.n || M.w != target.w)
+    throw PipelineError(a.model + " has m=" + std::to_string(M.m) + " n=" + std::to_string(M.n) + " w=" +
+                        std::to_string(M.w) + " but rig '" + target.name + "' has m=" + std::to_string(target.m) +
+                        " n=" + std::to_string(target.n) + " w=" + std::to_string(target.w));
+
+  // Every input read, and refused, before anything is printed or drawn.
+  std::vector<Series> series;
+  for (int64_t id : a.runs) series.push_back(load_run_series(load_run, a.db, id, target));
+  for (const std::string& file : a.data) {
+    series.push_back(read_training_csv(file, target));
+    check_dimensions(series.back(), target);
+  }
+  ArxModel arx;
+  std::string arx_from = "none";
+  if (!a.train_runs.empty()) {
+    std::vector<Dataset> sets;
+    std::string names;
+    for (int64_t id : a.train_runs) {
+      sets.push_back(build_dataset(load_run_series(load_run, a.db, id, target), M.nd, M.dd));
+      names += (names.empty() ? "run " : ", run ") + std::to_string(id);
+    }
+    const Dataset d = stack(sets);
+    arx = fit_arx(d, d.pieces);
+    arx_from = "refitted on " + names;
+  } else if (!stored.arx.empty()) {
+    arx = arx_from_json(stored.arx, a.model);
+    arx_from = "kept by train";
+  }
+  const ArxModel* baseline = arx.theta.size() > 0 ? &arx : nullptr;
+
+  std::vector<FittedRun> fitted;
+  for (const Series& s : series) {
+    const Dataset d = build_dataset(s, M.nd, M.dd);
+    FittedRun r;
+    r.name = s.name;
+    r.section = fit_section(s.name + " (" + std::to_string(d.rows()) + " rows), model " + a.model + " of rig " +
+                                target.name,
+                            f, baseline, d, d.pieces, target);
+    if (!image.empty()) {
+      r.time = label_times(s, M.nd, M.dd, target.rate_hz > 0 ? 1.0 / target.rate_hz : 0.0);
+      r.y = measured(d, d.pieces);
+      r.net = simulate_network(f, d, d.pieces).free_run;
+      if (baseline) r.arx = simulate_arx(*baseline, d, d.pieces).free_run;
+    }
+    fitted.push_back(std::move(r));
+  }
+
+  std::string drawn;
+  if (!image.empty()) drawn = plot(fit_plot_script(fitted, a.model, target.y_unit, a.svg.empty() ? FitImage::Png : FitImage::Svg));
+
+  if (a.json) {
+    nlohmann::json j;
+    j["model"] = a.model;
+    j["hash"] = M.hash;
+    j["rig"] = target.name;
+    j["unit"] = target.y_unit;
+    j["arx"] = arx_from;
+    j["runs"] = nlohmann::json::array();
+    for (const FittedRun& r : fitted) {
+      nlohmann::json s = nlohmann::json::parse(section_to_json(r.section, target.y_unit));
+      s["data"] = r.name;
+      j["runs"].push_back(s);
+    }
+    if (image != "-") std::printf("%s\n", j.dump(2).c_str());
+  } else if (image != "-") {
+    std::printf("model %s (hash 0x%08x), rig %s; ARX baseline on the same lags (nd = %d, dd = %d): %s\n",
+                a.model.c_str(), M.hash, target.name.c_str(), M.nd, M.dd, arx_from.c_str());
+    for (const FittedRun& r : fitted) std::printf("%s", section_table(r.section, target.y_unit).c_str());
+  }
+  if (!image.empty()) {
+    OutputFile out(image);
+    if (std::fwrite(drawn.data(), 1, drawn.size(), out.get()) != drawn.size())
+      throw PipelineError("cannot write " + image);
+    out.commit();
+    if (image != "-") std::fprintf(stderr, "model fit drawn to %s\n", image.c_str());
+  }
+}
+
+}  // namespace
+
+void add_model_fit_command(CLI::App& model, TargetResolver resolve, RunLoader load_run, ScriptPlotter plot) {
+  if (!resolve) resolve = platform_target_by_name;
+  auto args = std::make_shared<FitArgs>();
+  CLI::App* fit = model.add_subcommand(
+      "fit",
+      "Judge a model on recorded runs or files as system identification does: per run, a free-run\n"
+      "simulation (the y history fed the model's own predictions, driven by the run's recorded u and\n"
+      "sensors l) and one-step prediction; per output RMSE (its unit), nRMSE (of its span) and\n"
+      "fit % = 100 (1 - |y - yhat| / |y - mean(y)|), as MATLAB's compare. Beside it, the linear ARX\n"
+      "baseline on the same lags that train kept with the model (or refitted from --train-run).\n"
+      "Example: nlsoft-console model fit arm.nlsm --run 4 --svg fit.svg\n"
+      "         nlsoft-console model fit arm.nlsm --rig lab/arm.toml --data arm-test.csv --json");
+  fit->add_option("model", args->model, "model file (required)")->type_name("MODEL");
+  fit->add_option("--run", args->runs, "a recorded run to judge it on (runs list); repeat for several")
+      ->type_name("ID");
+  fit->add_option("--data", args->data, "a dataset CSV or a run export (as train --data); repeat for several")
+      ->type_name("FILE");
+  fit->add_option("--db", args->db, "the runs' database (default: the console's, as `runs list`)")->type_name("FILE");
+  fit->add_option("--rig", args->rig, "the rig (default: the one the model was trained for)")->type_name("NAME|PATH");
+  fit->add_option("--train-run", args->train_runs, "refit the ARX baseline on this run; repeat for several")
+      ->type_name("ID");
+  fit->add_option("--svg", args->svg, "draw measured against simulated outputs to an SVG ('-': standard output)")
+      ->type_name("FILE");
+  fit->add_option("--png", args->png, "the same as a PNG")->type_name("FILE");
+  fit->add_flag("--json", args->json, "print the figures as JSON");
+  fit->callback([args, resolve, load_run, plot] { run_fit(*args, resolve, load_run, plot); });
+}
+
+}  // namespace nlsoft::console
