@@ -75,9 +75,9 @@ int run_ident_command(const IdentArgs& a) {
       std::printf("%s\n", merge_words(s.run_id, a.y_from, m).c_str());
     } catch (const CliError& e) {
       throw CliError(fmt::format("{}\nrun {} is recorded without the capture; once the file is right: nlsoft-console "
-                                 "runs merge-y {} {}{}",
+                                 "runs merge-y {} {}{} --db {}",
                                  e.what(), s.run_id, s.run_id, a.y_from,
-                                 a.y_offset ? fmt::format(" --offset {}", *a.y_offset) : ""));
+                                 a.y_offset ? fmt::format(" --offset {}", *a.y_offset) : "", console.db_path()));
     }
   }
   return s.ended_early ? 1 : 0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -73,8 +74,11 @@ MergeReport merge_y(const std::string& db_path, int64_t run_id, const std::strin
     r.score = e.score;
     r.estimated = true;
   }
+  // A capture's time stamps are rounded (to the microsecond, often): a row
+  // a thousandth of a sample past the run's end is not outside it.
+  const double slack = 1e-3 * (run.t.back() - run.t.front()) / double(std::max<size_t>(1, run.rows() - 1));
   for (double t : cap.t)
-    if (t - r.offset_s >= run.t.front() - 1e-9 && t - r.offset_s <= run.t.back() + 1e-9) ++r.rows_inside;
+    if (t - r.offset_s >= run.t.front() - slack && t - r.offset_s <= run.t.back() + slack) ++r.rows_inside;
   const std::vector<double> y = resample(cap, run.t, r.offset_s);
   for (size_t k = 0; k < keys.size(); ++k)
     if (!std::isnan(y[k * size_t(n)])) ++r.samples_set;
