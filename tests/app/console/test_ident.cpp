@@ -384,6 +384,11 @@ TEST(IdentE2E, AMotionCaptureOnItsOwnClockIsPlacedOnTheRunAndBecomesItsMeasuredO
     console::Db db(t.db, console::Db::Access::ReadWrite);
     db.exec("UPDATE samples SET y_true=NULL");
   }
+  // Without its outputs the run says it has nothing to train from.
+  const ProcessResult bare = console("runs show 1 --db " + shell_quote(t.db));
+  EXPECT_NE(bare.output.find("no measured output (y_true): nothing to train a model from until one is merged"),
+            std::string::npos)
+      << bare.output;
   const ProcessResult merged = console("runs merge-y 1 " + shell_quote(cap) + " --db " + shell_quote(t.db));
   ASSERT_EQ(merged.code, 0) << merged.output;
   const double est = offset_said(merged.output);
