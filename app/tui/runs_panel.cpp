@@ -24,7 +24,8 @@ std::vector<std::string> describe(const RunRow& r, const RunMetrics& m) {
       fmt::format("loop {:.1f} Hz  compute p50 {:.1f} p99 {:.1f} us", m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us),
       fmt::format("{} samples, {:.1f} s, lost {}, gaps {}", m.samples, m.duration_s, m.lost_frames, m.gaps),
   };
-  if (!m.has_true && m.samples > 0) lines.push_back(kNoMeasuredOutput);
+  // Next to the figures it qualifies.
+  if (!m.has_true && m.samples > 0) lines.insert(lines.begin() + 1, kNoMeasuredOutput);
   return lines;
 }
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "app/link/sim_launcher.hpp"
 #include "app/record/run_store.hpp"
+#include "app/record/sqlite.hpp"
 #include "app/record/tune_log.hpp"
 #include "process_tree.hpp"
 #include "run_process.hpp"
@@ -266,6 +267,32 @@ TEST(ConsoleTui, IdentPlotsInputsOutputsAndSensorsAndF6KeepsTheRun) {
   const RunSeries series = store.series(runs[0].id);
   EXPECT_EQ(series.rows(), runs[0].samples);
   EXPECT_TRUE(series.has_u && series.has_y_true && series.has_l);
+  t.keys("q");
+}
+
+// A recorded run without a measured output (its y_true taken out of the
+// database): the runs panel's metrics say they are the model's prediction.
+TEST(ConsoleTui, TheRunsPanelSaysARunHasNoMeasuredOutput) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db"), script = dir.file("r.nls");
+  std::ofstream(script) << "ref infinity\nrun 1s\n";
+  const auto rec = run_process("env NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN " " + std::string(NLSOFT_CONSOLE_BIN) +
+                               " --sim hasel --db " + shell_quote(db) + " --script " + shell_quote(script));
+  ASSERT_EQ(rec.code, 0) << rec.output;
+  {
+    Db file(db, Db::Access::ReadWrite);
+    file.exec("UPDATE samples SET y_true=NULL");
+  }
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys("F4");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Runs ("); }, s)) << s;
+  t.keys("Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "no measured output: tracking"); }, s)) << s;
   t.keys("q");
 }
 
