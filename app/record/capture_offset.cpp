@@ -14,7 +14,8 @@
 namespace nlsoft::console {
 
 // How the offset is found (no library does this; it is a search over one
-// number with a least-squares fit inside):
+// number with a least-squares fit inside, Eigen doing the algebra and the
+// FFT, unsupported/Eigen/FFT):
 //
 // At the right offset the capture's outputs follow the run's recorded
 // inputs u (and sensors l, which respond to the same plant) causally: an

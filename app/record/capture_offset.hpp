@@ -25,7 +25,9 @@ struct OffsetEstimate {
 };
 
 // Throws CliError when no offset leaves the capture over at least half of
-// the shorter of the two spans (nothing to estimate from).
+// the shorter of the two spans (nothing to estimate from), or when the
+// capture is too long to search every offset of (over 2^22 points at the
+// run's rate).
 OffsetEstimate estimate_offset(const RunSignals& run, const Capture& cap);
 
 // The capture at each run sample (run time t[k] is capture time
