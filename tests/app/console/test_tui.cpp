@@ -270,6 +270,36 @@ TEST(ConsoleTui, IdentPlotsInputsOutputsAndSensorsAndF6KeepsTheRun) {
   t.keys("q");
 }
 
+// Ctrl-C during a `:ident`: the console ends, the identification run
+// stopped and kept with the signal named as its end.
+TEST(ConsoleTui, CtrlCDuringIdentKeepsTheRun) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db"), status = dir.file("status");
+  // The shell traps SIGINT with a handler (the console gets the default
+  // back at exec) so it lives on to write the console's status.
+  Tmux t("sh -c " + shell_quote("trap true INT; " + std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " +
+                                shell_quote(db) + " 2>/dev/null; echo $? >" + shell_quote(status)),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys(shell_quote(":ident walk 120s") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "[ident walk: ") && has_braille(x); }, s, 30))
+      << s;
+  t.keys("C-c");
+  for (int i = 0; i < 300 && !std::filesystem::exists(status); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after Ctrl-C during :ident\n" << t.screen();
+  RunStore store(db);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].kind, "ident");
+  EXPECT_FALSE(runs[0].ended_at.empty()) << "the run is closed, not left unfinished";
+  EXPECT_NE(runs[0].end_reason.find("SIGINT"), std::string::npos) << runs[0].end_reason;
+  EXPECT_GT(runs[0].samples, 0u);
+}
+
 // A recorded run without a measured output (its y_true taken out of the
 // database): the runs panel's metrics say they are the model's prediction.
 TEST(ConsoleTui, TheRunsPanelSaysARunHasNoMeasuredOutput) {
