@@ -4,12 +4,17 @@
 
 #include <cstdio>
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "app/cli_error.hpp"
 #include "app/live/connect_args.hpp"
 #include "app/live/ident_plan.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
+#include "app/record/merge_y.hpp"
+#include "app/rig/rig.hpp"
 
 namespace nlsoft::console {
 
@@ -19,6 +24,8 @@ struct IdentArgs {
   ConnectArgs link;
   IdentWords words;
   std::string label;
+  std::string y_from;               // --y-from FILE.csv: merged once the run is recorded
+  std::optional<double> y_offset;   // --y-offset S: its clock offset, else estimated
 };
 
 int run_ident_command(const IdentArgs& a) {
@@ -54,6 +61,25 @@ int run_ident_command(const IdentArgs& a) {
               static_cast<unsigned long long>(s.metrics.samples), plan.start.duration, plan.start.decimation,
               static_cast<unsigned long long>(s.metrics.lost_frames), s.end_reason.c_str());
   std::fflush(stdout);
+  if (!a.y_from.empty()) {
+    // Read only now: a capture program may write the file while the run goes.
+    // The run is recorded whatever the capture holds; a capture that cannot
+    // be merged leaves it as it is and says how to merge it later.
+    std::vector<std::string> names;
+    try {
+      for (const RigOutput& o : console.rig().outputs) names.push_back(o.name);
+    } catch (const CliError&) {
+    }
+    try {
+      const MergeReport m = merge_y(console.db_path(), s.run_id, a.y_from, a.y_offset, names);
+      std::printf("%s\n", merge_words(s.run_id, a.y_from, m).c_str());
+    } catch (const CliError& e) {
+      throw CliError(fmt::format("{}\nrun {} is recorded without the capture; once the file is right: nlsoft-console "
+                                 "runs merge-y {} {}{} --db {}",
+                                 e.what(), s.run_id, s.run_id, a.y_from,
+                                 a.y_offset ? fmt::format(" --offset {}", *a.y_offset) : "", console.db_path()));
+    }
+  }
   return s.ended_early ? 1 : 0;
 }
 
@@ -81,6 +107,12 @@ void add_ident_command(CLI::App& app) {
   c->add_option("--decimation", a->words.decimation,
                 "Record one step in N (default: every step on a simulator, else what the baud rate carries)")
       ->check(CLI::Range(1, 65535));
+  c->add_option("--y-from", a->y_from,
+                "FILE.csv, an external measurement of the outputs (motion capture: time,y0,y1,... or the rig's output "
+                "names, time on the capture's clock), read when the run ends and merged as its measured outputs "
+                "(runs merge-y)");
+  c->add_option("--y-offset", a->y_offset,
+                "The capture clock's offset in seconds (run time = capture time - S); default: estimated");
   c->add_option("--label", a->label, "The run's label (default \"ident SIGNAL seed N DURATION\")");
   c->footer(
       "The run is recorded as an identification run (runs list marks it; runs export gives u, the measured\n"
@@ -90,7 +122,9 @@ void add_ident_command(CLI::App& app) {
       "\n"
       "Example (10 simulated minutes of a rig file, well under a minute of wall time):\n"
       "  nlsoft-console ident --sim my-rig.toml --signal prbs --duration 10min --sim-fast\n"
-      "  nlsoft-console runs export 1 --csv ident.csv\n");
+      "  nlsoft-console runs export 1 --csv ident.csv\n"
+      "With the outputs measured by a motion capture (its clock's offset estimated, or --y-offset):\n"
+      "  nlsoft-console ident --sim my-rig.toml --signal prbs --duration 10min --y-from mocap.csv\n");
   c->callback([a] { throw CliExit{run_ident_command(*a)}; });
 }
 

@@ -87,6 +87,8 @@ IdentWords ident_words(const Command& c) {
         w.band = v, used = v.size();
       } else if (k == "joint") {
         w.joint = true, used = v.size();
+      } else if (k == "y_offset") {
+        used = v.size();  // the capture's, not the excitation's (script_runner merges it)
       }
       if (used != v.size()) throw std::invalid_argument(v);
     } catch (const std::logic_error&) {

@@ -63,6 +63,12 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
 // polling) are measured over the same span.
 RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0, double window_s = 0);
 
+// Said wherever a run's tracking figures are shown and the run has no
+// measured output (no y_true: a rig whose outputs nothing measures): its
+// nrmse and rmse then say how well the controller followed its own model,
+// not how the rig moved.
+inline constexpr const char* kNoMeasuredOutput = "no measured output: tracking scored on the model's prediction";
+
 // One vocabulary for every metric the console prints (CONSOLE.md,
 // "Metrics"): the names `expect`, `sweep` and `tune` accept and the keys of
 // `runs ... --json` and `simulate --json`. A name carries its unit when it

@@ -13,15 +13,18 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "app/cli_error.hpp"
 #include "app/output_file.hpp"
 #include "app/printable.hpp"
+#include "app/rig/rig_catalog.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/h5_export.hpp"
 #include "app/record/end_words.hpp"
 #include "app/record/gnuplot.hpp"
 #include "app/record/lock_gap.hpp"
+#include "app/record/merge_y.hpp"
 #include "app/record/loop_rate.hpp"
 #include "app/record/run_plot.hpp"
 #include "app/record/recorder.hpp"
@@ -45,6 +48,8 @@ struct RunsArgs {
   int64_t tune = 0;  // runs plot --tune S
   std::string csv, h5, svg, png, label;
   bool json = false, force = false;
+  std::string capture, rig;  // runs merge-y FILE.csv [--rig FILE]
+  std::optional<double> offset;
 };
 
 std::unique_ptr<RunStore> open_store(const RunsArgs& a) {
@@ -75,6 +80,7 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["samples"] = m.samples;
   j["duration_s"] = m.duration_s;
   j["tracking_signal"] = m.has_true ? "y_true" : "y_hat";
+  j["measured_output"] = m.has_true;
   j["tracked_axes"] = t.tracked;
   j["nrmse_all_axes"] = t.nrmse_all;
   j["rmse"] = t.rmse;
@@ -99,6 +105,11 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
 // An identification run tracks nothing: only its loop, samples and losses.
 void print_metrics(const RunMetrics& m, bool ident) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+  // Before any figure: what the tracking figures are (and are not) of.
+  if (!m.has_true && m.samples > 0)
+    fmt::print("  {}\n", ident ? "no measured output (y_true): nothing to train a model from until one is merged "
+                                 "(runs merge-y ID FILE.csv)"
+                               : kNoMeasuredOutput);
   if (ident) {
     fmt::print("  {}\n", loop_rate_text(m));
   } else {
@@ -242,6 +253,7 @@ void list(const RunsArgs& a) {
       j["kind"] = r.kind;
       if (!r.excitation.empty()) j["excitation"] = nlohmann::json::parse(r.excitation, nullptr, false);
       j["nrmse"] = std::isfinite(t.nrmse) ? nlohmann::json(t.nrmse) : nlohmann::json();
+      j["measured_output"] = m.has_true;
       if (const auto e = eval_of.find(r.id); e != eval_of.end()) {
         nlohmann::json tj = {{"session", e->second.session_id}, {"eval", e->second.eval}, {"point", e->second.point}};
         tj["objective"] = e->second.objective ? nlohmann::json(*e->second.objective) : nlohmann::json();
@@ -267,12 +279,16 @@ void list(const RunsArgs& a) {
              "samples", "nrmse(run)", "lost", "label", "ended");
   std::map<int64_t, const RunRow*> by_id;  // the runs shown
   for (const RunRow& r : runs) by_id[r.id] = &r;
+  bool any_predicted = false;  // a control run's nrmse scored on y_hat: marked '*'
   auto line = [&](const RunRow& r, const std::string& indent, const std::string& ended) {
     const RunMetrics m = run_metrics(*store, r.id);
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+    const bool predicted = !m.has_true && m.samples > 0 && std::isfinite(t.nrmse) && r.kind != "ident";
+    any_predicted = any_predicted || predicted;
     fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
                r.platform, r.kind == "ident" ? std::string("ident") : reference_kind(reference_of(*store, r)), r.samples,
-               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}", t.nrmse) : "-", r.lost_frames,
+               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}{}", t.nrmse, predicted ? "*" : "") : "-",
+               r.lost_frames,
                printable(r.label), printable(ended));
   };
   bool any_eval = false;
@@ -306,6 +322,7 @@ void list(const RunsArgs& a) {
              any_eval ? ", where a tuning evaluation's objective is scored over its window after the settle: the "
                         "two differ"
                       : "");
+  if (any_predicted) fmt::print("*: {}\n", kNoMeasuredOutput);
 }
 
 void show(const RunsArgs& a) {
@@ -461,6 +478,31 @@ void draw(const RunsArgs& a) {
                path);
 }
 
+// The rig's output names, accepted as the capture's column names: --rig's
+// file, else the shipped rig the run names (none when neither is found).
+std::vector<std::string> output_names(const RunsArgs& a, const RunRow& r) {
+  std::vector<std::string> names;
+  try {
+    const Rig rig = load_rig_arg(a.rig.empty() ? r.platform : a.rig);
+    if (rig.n() == r.n)
+      for (const RigOutput& o : rig.outputs) names.push_back(o.name);
+  } catch (const CliError&) {
+    if (!a.rig.empty()) throw;
+  }
+  return names;
+}
+
+void merge_capture(const RunsArgs& a) {
+  const std::string path = a.db.empty() ? default_db_path() : a.db;
+  RunRow row;
+  {
+    auto store = open_store(a);
+    row = store->run(a.id);
+  }
+  const MergeReport r = merge_y(path, a.id, a.capture, a.offset, output_names(a, row));
+  fmt::print("{}\n", merge_words(a.id, a.capture, r));
+}
+
 }  // namespace
 
 void add_runs_command(CLI::App& app) {
@@ -480,6 +522,7 @@ void add_runs_command(CLI::App& app) {
       "  nlsoft-console runs plot 12 --svg run12.svg\n"
       "  nlsoft-console runs plot 12 13 --png compare.png\n"
       "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
+      "  nlsoft-console runs merge-y 12 mocap.csv\n"
       "  nlsoft-console runs delete 12\n");
   auto db = [&](CLI::App* c) {
     c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
@@ -536,6 +579,23 @@ void add_runs_command(CLI::App& app) {
       fmt::print(stderr, "{}\n", printable(note));
     for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
   });
+  CLI::App* my = runs->add_subcommand(
+      "merge-y", "Make an external measurement of the outputs (motion capture) a run's measured outputs, y_true");
+  db(my);
+  my->add_option("ID", args->id, "Run id")->required();
+  my->add_option("FILE", args->capture,
+                 "CSV with a header time,y0,y1,... (or the rig's output names), time in seconds on the capture's own "
+                 "clock")
+      ->required();
+  my->add_option("--offset", args->offset,
+                 "The capture clock's offset in seconds (run time = capture time - S); default: estimated from the "
+                 "run's inputs and sensors");
+  my->add_option("--rig", args->rig, "The rig file whose output names the columns may carry (default: the run's rig)");
+  my->footer(
+      "The capture is interpolated linearly onto the run's samples (run time: the control step over the loop\n"
+      "rate, from the run's first step); samples outside it keep no measured output. One transaction: a bad\n"
+      "file (a missing or unknown column, a time out of order, NaN, no overlap) changes nothing, exit 2.\n");
+  my->callback([args] { merge_capture(*args); });
   CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
   db(lb);
   lb->add_option("ID", args->id, "Run id")->required();

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -313,8 +314,8 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     }
   } else if (verb == "ident") {
     const char* usage =
-        "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok]  "
-        "e.g. ident prbs 10min seed=3";
+        "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok] "
+        "[y_from=FILE.csv [y_offset=S]]  e.g. ident prbs 10min seed=3";
     need(3, usage);
     c.kind = Command::Kind::Ident;
     c.name = t[1];
@@ -326,11 +327,22 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
       else if (!split_option(t[i], kv)) throw fail(fmt::format("ident: '{}' is not key=value; usage: {}", t[i], usage));
       if (kv.first == "label") c.label = kv.second;
       else if (kv.first == "early" && kv.second == "ok") c.allow_early = true;
+      else if (kv.first == "y_from") c.capture = kv.second;
+      else if (kv.first == "y_offset") {
+        // Checked now, not after the run: a typo must not cost a run's merge.
+        char* end = nullptr;
+        const double v = std::strtod(kv.second.c_str(), &end);
+        if (kv.second.empty() || *end != '\0' || !std::isfinite(v))
+          throw fail(fmt::format("ident: y_offset={} is not a number of seconds", kv.second));
+        c.options.push_back(kv);
+      }
       else if (kv.first == "seed" || kv.first == "amplitude" || kv.first == "band" || kv.first == "joint" ||
                kv.first == "decimation")
         c.options.push_back(kv);
       else throw fail(fmt::format("ident: unknown option '{}'; usage: {}", t[i], usage));
     }
+    if (c.capture.empty() && std::any_of(c.options.begin(), c.options.end(), [](const auto& o) { return o.first == "y_offset"; }))
+      throw fail("ident: y_offset= goes with y_from=FILE.csv (the capture whose clock it places)");
     try {
       w = ident_words(c);
       c.seconds = check_ident_words(w);

@@ -65,6 +65,7 @@ struct Command {
   std::string label;                // run / start / sweep
   bool allow_early = false;         // run / sweep: early=ok
   double settle_s = 1.0;            // sweep: seconds each row runs before it is measured
+  std::string capture;              // ident: y_from=FILE.csv, merged into the run once recorded
 };
 
 struct Script {

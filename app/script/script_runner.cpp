@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <thread>
 
 #include "app/cli_error.hpp"
@@ -15,13 +16,15 @@
 #include "app/model/model_size_words.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/loop_rate.hpp"
+#include "app/record/merge_y.hpp"
 #include "app/record/run_store.hpp"
+#include "app/rig/rig.hpp"
 
 namespace nlsoft::console {
 
 namespace {
 
-std::string summary_line(const RunSummary& s) {
+std::string summary_line(const RunSummary& s, bool ident = false) {
   const RunMetrics& m = s.metrics;
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
   std::string rmse;
@@ -30,7 +33,8 @@ std::string summary_line(const RunSummary& s) {
                      "compute p50 {:.1f} us p99 {:.1f} us, lost {}{}",
                      s.run_id, s.label.empty() ? "" : " (" + printable(s.label) + ")", m.samples, m.duration_s, rmse, t.nrmse,
                      t.max_error, loop_rate_text(m), m.compute_p50_us, m.compute_p99_us, m.lost_frames,
-                     s.end_reason == "completed" ? "" : ", " + s.end_reason);
+                     s.end_reason == "completed" ? "" : ", " + s.end_reason) +
+         (m.has_true || m.samples == 0 ? "" : ident ? "; no measured output (y_true)" : std::string("; ") + kNoMeasuredOutput);
 }
 
 // What `run 1s` meant: control steps at the loop rate, the firmware's time,
@@ -55,6 +59,26 @@ std::string timed_run_words(double asked_s, double rate_hz, int decimation, cons
 
 // A run that ended before its duration measured something else than the
 // script asked for: a failure, like a failed expect, unless it said early=ok.
+// `ident ... y_from=FILE.csv [y_offset=S]`: the capture merged into the run
+// just recorded, as `ident --y-from` does; a capture that cannot be merged
+// leaves the run as recorded and says how to merge it later.
+void ScriptRunner::merge_capture(int64_t run_id, const Command& c) {
+  std::optional<double> offset;
+  for (const auto& [k, v] : c.options)
+    if (k == "y_offset") offset = std::strtod(v.c_str(), nullptr);
+  std::vector<std::string> names;
+  try {
+    for (const RigOutput& o : console_.rig().outputs) names.push_back(o.name);
+  } catch (const CliError&) {
+  }
+  try {
+    out_(merge_words(run_id, c.capture, merge_y(console_.db_path(), run_id, c.capture, offset, names)));
+  } catch (const CliError& e) {
+    throw CliError(fmt::format("{}; run {} is recorded without the capture (runs merge-y {} {} merges it later)",
+                               e.what(), run_id, run_id, c.capture));
+  }
+}
+
 void ScriptRunner::check_completed(const RunSummary& s, const Command& c, const std::string& file) {
   if (!s.ended_early || c.allow_early) return;
   ++incomplete_runs_;
@@ -205,8 +229,9 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
             [&](size_t d, size_t t) {
               if (progress_) progress_(fmt::format("ident {}", w.signal), d, t);
             });
-        out_(fmt::format("{}; identification run: {} of {} steps recorded (decimation {})", summary_line(s),
+        out_(fmt::format("{}; identification run: {} of {} steps recorded (decimation {})", summary_line(s, true),
                          s.metrics.samples, plan.start.duration, plan.start.decimation));
+        if (!c.capture.empty()) merge_capture(s.run_id, c);
         check_completed(s, c, file);
         break;
       }

@@ -52,6 +52,7 @@ class ScriptRunner {
   void sweep(const Command& c, const std::string& file);
   void tune(const Command& c);
   void check_completed(const RunSummary& s, const Command& c, const std::string& file);
+  void merge_capture(int64_t run_id, const Command& c);
   void throw_if_cancelled(const Command& c, const std::string& file) const;
   LiveConsole& console_;
   Output out_;

@@ -63,7 +63,16 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
   } else if (w.size() == 3 && w[0] == "set") {
     for (const ParamOption& o : param_options(w[1])) pool.push_back(o.name);
   } else if (w.size() == 2 && w[0] == "plot") {
-    pool = {"y", "u", "cost", "iter", "compute"};
+    pool = {"y", "u", "cost", "iter", "compute", "ident"};
+  } else if (w.size() == 2 && w[0] == "ident") {
+    pool = {"steps", "prbs", "walk", "chirp"};
+  } else if (w.size() >= 4 && w[0] == "ident") {
+    // y_from= then a file: the file name completes after the '='.
+    if (word.rfind("y_from=", 0) == 0) {
+      for (const std::string& f : paths_for(word.substr(7))) pool.push_back("y_from=" + f);
+    } else {
+      pool = {"seed=", "amplitude=", "band=", "joint", "decimation=", "label=", "early=ok", "y_from=", "y_offset="};
+    }
   } else if (w.size() == 2 && w[0] == "ref") {
     pool = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold", "load"};
   } else if (w.size() == 2 && w[0] == "params") {
@@ -90,7 +99,8 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
   }
   c.text = line.substr(0, line.size() - word.size()) + common;
   if (c.candidates.size() == 1) {
-    if (common.empty() || common.back() != '/') c.text += ' ';
+    // A folder or a key= goes on being typed: no blank after those.
+    if (common.empty() || (common.back() != '/' && common.back() != '=')) c.text += ' ';
     c.candidates.clear();
   }
   return c;

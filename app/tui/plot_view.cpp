@@ -127,6 +127,25 @@ std::vector<Strip> strips_for(const Screen& screen, const TimeView& view, const 
         out.push_back(st);
       }
       break;
+    case PlotSignal::Ident: {
+      // An identification run on 80x24: inputs, measured outputs and
+      // sensors, each kind one strip with a glyph per channel, so the three
+      // fit whatever m, n and w are.
+      Strip su{"u", {}}, sy{"y", {}}, sl{"l", {}};
+      for (int i = 0; i < last.m && i < kMaxTraces; ++i)
+        su.traces.push_back({fmt::format("u{}", i), index_glyph(i), screen.series_attr(i),
+                             [i](const Sample& s) { return field_value(s, tf::kU, i); }});
+      for (int a = 0; a < last.n && a < kMaxTraces; ++a)
+        sy.traces.push_back({fmt::format("y{}", a), index_glyph(a), screen.series_attr(a),
+                             [a](const Sample& s) { return field_value(s, tf::kYTrue, a); }});
+      for (int i = 0; i < last.w && i < kMaxTraces; ++i)
+        sl.traces.push_back({fmt::format("l{}", i), index_glyph(i), screen.series_attr(i),
+                             [i](const Sample& s) { return i < s.w ? double(s.l[i]) : kNaN; }});
+      out.push_back(su);
+      if (!sy.traces.empty()) out.push_back(sy);
+      if (!sl.traces.empty()) out.push_back(sl);
+      break;
+    }
     case PlotSignal::Cost:
       out.push_back({"cost", {{"J", '*', screen.series_attr(0),
                                [](const Sample& s) { return s.has(tf::kCost) ? double(s.cost) : kNaN; }}}});
@@ -206,12 +225,14 @@ const char* plot_signal_name(PlotSignal s) {
     case PlotSignal::Cost: return "cost";
     case PlotSignal::Iter: return "iter";
     case PlotSignal::Compute: return "compute";
+    case PlotSignal::Ident: return "ident";
   }
   return "y";
 }
 
 bool plot_signal_from_name(const std::string& name, PlotSignal* out) {
-  for (PlotSignal s : {PlotSignal::Y, PlotSignal::U, PlotSignal::Cost, PlotSignal::Iter, PlotSignal::Compute})
+  for (PlotSignal s :
+       {PlotSignal::Y, PlotSignal::U, PlotSignal::Cost, PlotSignal::Iter, PlotSignal::Compute, PlotSignal::Ident})
     if (name == plot_signal_name(s)) {
       *out = s;
       return true;
@@ -225,12 +246,13 @@ PlotSignal next_plot_signal(PlotSignal s) {
     case PlotSignal::U: return PlotSignal::Cost;
     case PlotSignal::Cost: return PlotSignal::Iter;
     case PlotSignal::Iter: return PlotSignal::Compute;
-    case PlotSignal::Compute: return PlotSignal::Y;
+    case PlotSignal::Compute: return PlotSignal::Ident;
+    case PlotSignal::Ident: return PlotSignal::Y;
   }
   return PlotSignal::Y;
 }
 
-std::string plot_signal_names() { return "y, u, cost, iter or compute"; }
+std::string plot_signal_names() { return "y, u, cost, iter, compute or ident"; }
 
 std::vector<double> time_ticks(double t0, double t1, int max_ticks) {
   std::vector<double> out;

@@ -14,9 +14,10 @@
 
 namespace nlsoft::console::tui {
 
-enum class PlotSignal { Y, U, Cost, Iter, Compute };
+// Ident: an identification run's u, measured y and sensors l, a strip each.
+enum class PlotSignal { Y, U, Cost, Iter, Compute, Ident };
 
-// "y", "u", "cost", "iter", "compute".
+// "y", "u", "cost", "iter", "compute", "ident".
 const char* plot_signal_name(PlotSignal s);
 // false for anything else.
 bool plot_signal_from_name(const std::string& name, PlotSignal* out);

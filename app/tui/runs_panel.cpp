@@ -17,13 +17,16 @@ std::vector<std::string> describe(const RunRow& r, const RunMetrics& m) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
   std::string rmse;
   for (double v : t.rmse) rmse += (rmse.empty() ? "" : " ") + fmt::format("{:.4g}", v);
-  return {
+  std::vector<std::string> lines = {
       fmt::format("run {} {} {}", r.id, printable(r.label),
                   r.ended_at.empty() ? "(running or unfinished)" : printable(r.end_reason)),
       fmt::format("rmse [{}]  nrmse {:.4f}  max {:.4g}", rmse, t.nrmse, t.max_error),
       fmt::format("loop {:.1f} Hz  compute p50 {:.1f} p99 {:.1f} us", m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us),
       fmt::format("{} samples, {:.1f} s, lost {}, gaps {}", m.samples, m.duration_s, m.lost_frames, m.gaps),
   };
+  // Next to the figures it qualifies.
+  if (!m.has_true && m.samples > 0) lines.insert(lines.begin() + 1, kNoMeasuredOutput);
+  return lines;
 }
 }  // namespace
 

@@ -52,7 +52,7 @@ const char* const kHelp[] = {
     "  v         time plots <-> 2-D path    x   change the path's axes",
     "  w         hide / show the side panel (the plot takes the whole width);",
     "            F2 F3 F4 F9 show it again",
-    "  p         plot signal: y, u, cost, iter, compute  (or :plot u)",
+    "  p         plot signal: y, u, cost, iter, compute, ident (u, y, sensors)  (or :plot u)",
     "  :overlay ID  a recorded run under the live plot ('o'); :overlay off",
     "  + -       zoom in (shorter window) / out",
     "  t         the tuning view under the plot on/off (:tune shows it)",
@@ -81,7 +81,16 @@ class App : public Ui {
         params_(console, worker_, *this),
         refs_(console, worker_, *this),
         runs_(console, worker_, *this),
-        runner_(console, [this](const std::string& s) { message(s); }) {
+        runner_(
+            console, [this](const std::string& s) { message(s); },
+            [this](const std::string& what, size_t done, size_t total) {
+              // The worker reports an identification run's steps; the UI
+              // thread reads them for the message line.
+              std::lock_guard<std::mutex> lock(ui_mu_);
+              progress_what_ = what;
+              progress_done_ = done;
+              progress_total_ = total;
+            }) {
     // Before any command runs: the worker reports each evaluation of a
     // `:tune` here, the UI thread draws a copy.
     runner_.set_tune_observer([this](const TuneEvaluation& e) {
@@ -152,7 +161,7 @@ class App : public Ui {
   void move_cursor(int columns);
   void load_older_samples();
   void merge_older_samples();
-  void draw_plot_status(int y, int w);
+  void draw_plot_status(int y, int w, bool unmeasured);
   void draw_status(int y, int w);
   double step_rate();  // control steps per second, measured when known
   void shutdown();
@@ -212,6 +221,9 @@ class App : public Ui {
   std::function<void()> confirm_yes_;
   bool quit_confirmed_ = false;
   bool shut_down_ = false;
+  // A `:ident`'s progress (under ui_mu_): total 0 when none is running.
+  std::string progress_what_;
+  size_t progress_done_ = 0, progress_total_ = 0;
   uint32_t seen_resets_ = 0;  // console_.firmware_resets() the panel has caught up with
   // The simulator has ended and not been restarted yet (R): set by the UI
   // thread, cleared by the worker's restart.
@@ -262,8 +274,9 @@ void App::stop_run() {
     try {
       const RunSummary s = console_.stop_run();
       const TrackingMetrics& t = s.metrics.has_true ? s.metrics.truth : s.metrics.predicted;
-      message(fmt::format("run {} stopped: {} samples, nrmse {:.4f}, lost {}, {}", s.run_id, s.metrics.samples, t.nrmse,
-                          s.metrics.lost_frames, loop_rate_text(s.metrics)),
+      message(fmt::format("run {} stopped: {} samples, nrmse {:.4f}, lost {}, {}{}", s.run_id, s.metrics.samples, t.nrmse,
+                          s.metrics.lost_frames, loop_rate_text(s.metrics),
+                          s.metrics.has_true || s.metrics.samples == 0 ? "" : std::string("; ") + kNoMeasuredOutput),
               Role::Ok);
     } catch (const std::exception& e) {
       message(e.what(), Role::Error);
@@ -338,11 +351,22 @@ void App::command(const std::string& line) {
   }
   try {
     const Command c = parse_command(line, "cmd", 1);
+    if (c.kind == Command::Kind::Ident) {
+      // What an identification run has to show: its inputs, the measured
+      // outputs and the sensors, not a reference it has none of.
+      signal_ = PlotSignal::Ident;
+      path_view_ = false;
+      message("identification run: u, measured y and sensors l plotted (p cycles the plots; F6 stops and keeps it)");
+    }
     worker_.post(line, [this, c] {
       try {
         runner_.execute(c, "cmd");
       } catch (const ScriptError& e) {
         message(e.message, Role::Error);
+      }
+      {
+        std::lock_guard<std::mutex> lock(ui_mu_);
+        progress_total_ = 0;
       }
       const bool many = c.kind == Command::Kind::Sweep || c.kind == Command::Kind::Tune;
       if (c.kind == Command::Kind::Set || c.kind == Command::Kind::ParamsLoad || c.kind == Command::Kind::ParamsReapply || many)
@@ -687,7 +711,13 @@ void App::draw_message_line(int y, int w) {
   const MessageLog::Entry e = log_.last();
   const std::pair<std::string, Role> last{e.text, e.role};
   const std::string busy = worker_.busy();
-  const std::string right = busy.empty() ? "" : "[" + busy + "...]";
+  std::string right = busy.empty() ? "" : "[" + busy + "...]";
+  {
+    std::lock_guard<std::mutex> lock(ui_mu_);
+    if (!busy.empty() && progress_total_ > 0)
+      right = fmt::format("[{}: {}/{} steps, {:.0f} %]", progress_what_, progress_done_, progress_total_,
+                          100.0 * double(progress_done_) / double(progress_total_));
+  }
   put(y, 0, last.first, w - int(right.size()) - 1, screen_.attr(last.second));
   if (!right.empty()) put(y, w - int(right.size()), right, int(right.size()), screen_.attr(Role::Pending));
 }
@@ -771,8 +801,14 @@ void App::draw_status(int y, int w) {
       screen_.attr(Role::Error));
 }
 
-void App::draw_plot_status(int y, int w) {
+// `unmeasured`: the samples shown track a reference without a measured
+// output, which the status then says before anything else.
+void App::draw_plot_status(int y, int w, bool unmeasured) {
   std::string text = fmt::format(" {} | window {:g} s | ", plot_signal_name(signal_), window_s_);
+  if (unmeasured) {
+    put(y, 0, fmt::format(" {} | {}", plot_signal_name(signal_), kNoMeasuredOutput), w, screen_.attr(Role::Warn));
+    return;
+  }
   if (paused_ && end_step_ >= 0 && cursor_step_ >= 0)
     text += fmt::format("PAUSED at {:.2f} s, cursor {:.2f} s  (< > move, Space live)", double(end_step_) / step_rate(),
                         double(cursor_step_) / step_rate());
@@ -838,7 +874,9 @@ void App::draw() {
     const int tune_h = show_tune_ && !tune_.empty() ? std::min(10, (main_h - 1) / 3) : 0;
     draw_time_plots(screen_, 1, 0, main_h - 1 - tune_h, left_w, samples, view);
     if (tune_h > 0) draw_tune_view(screen_, main_h - tune_h, 0, tune_h, left_w, tune_.snapshot());
-    draw_plot_status(rows - 4, left_w);
+    const bool unmeasured = !samples.empty() && samples.back().has(protocol::telemetry_field::kYRef) &&
+                            !samples.back().has(protocol::telemetry_field::kYTrue);
+    draw_plot_status(rows - 4, left_w, unmeasured);
   }
   if (panel_) {
     attrset(screen_.attr(Role::Border));

@@ -294,6 +294,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
                     r.best_eval, r.best_run, t.nrmse,
                     std::isfinite(r.start_objective) ? fmt::format(", start {:.6g}", r.start_objective) : "",
                     values_text(r.best_values)));
+    if (!r.best_metrics.has_true && r.best_metrics.samples > 0) out(fmt::format("  {}", kNoMeasuredOutput));
     if (!r.saved_to.empty() && finish_error.empty())
       out(fmt::format("best set saved to {} (params load {} puts it in force); {}", r.saved_to, r.saved_to,
                       r.applied ? "it is in force now (apply)" : "the parameters are back as they were"));

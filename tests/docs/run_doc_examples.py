@@ -170,7 +170,7 @@ def main():
     binaries = {"nlsoft-console": a.console, "nlsoft-firmware-sim": a.firmware_sim}
     failed = ran = skipped = 0
     try:
-        # Fixtures: the script the examples name, and runs 1..13 to show, export and compare.
+        # Fixtures: the script the examples name, runs 1..13 to show, export and compare, a capture.
         with open(os.path.join(work, "tune.nls"), "w") as f:
             f.write("# made by the documentation test: a short tuning session\n"
                     "ref swirl scale=1 hold=1\nset Lambda 1\nrun 3s label=baseline\nexpect nrmse < 0.2\n")
@@ -181,6 +181,26 @@ def main():
         if code != 0:
             print(out)
             return 1
+
+        # A motion capture's file (CONSOLE.md, `--y-from`): the outputs of the
+        # identification run the example records, on a clock 12.5 s ahead,
+        # as a capture program would have written them.
+        fixture_db, export = os.path.join(work, "mocap-fixture.db"), os.path.join(work, "mocap-fixture.csv")
+        code, out = run([a.console, "ident", "--sim", "hasel", "--signal", "prbs", "--duration", "60s", "--sim-fast",
+                         "--db", fixture_db], env, work, 120)
+        if code == 0:
+            code, out = run([a.console, "runs", "export", "1", "--csv", export, "--db", fixture_db], env, work, 60)
+        print(f"fixture: mocap.csv ({'ok' if code == 0 else 'FAILED'})")
+        if code != 0:
+            print(out)
+            return 1
+        with open(export, encoding="utf-8") as f, open(os.path.join(work, "mocap.csv"), "w") as capture:
+            head = f.readline().strip().split(",")
+            step, ys = head.index("step"), [i for i, h in enumerate(head) if h.startswith("y_true")]
+            capture.write("time," + ",".join(f"y{j}" for j in range(len(ys))) + "\n")
+            for line in f:
+                cells = line.strip().split(",")
+                capture.write(f"{int(cells[step]) / 130.0 + 12.5:.6f}," + ",".join(cells[i] for i in ys) + "\n")
 
         for doc in a.docs:
             for name, text in toml_files(doc).items():

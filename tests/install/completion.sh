@@ -34,7 +34,7 @@ complete_is() {
 PATH=$(dirname "$console"):$PATH
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db"
+touch "$work/tune.nls" "$work/tune2.nls" "$work/runs.db" "$work/mocap.csv"
 
 complete_is "conformance dataset firmware flash ident model ports rig runs simulate train tune" nlsoft-console ""
 complete_is "chirp" nlsoft-console ident --signal c
@@ -48,7 +48,10 @@ complete_is "mps2-an386 stm32f4" nlsoft-console --qemu hasel --board ""
 complete_is "stm32f4" nlsoft-console flash --board s
 complete_is "tune.nls tune2.nls" nlsoft-console --sim hasel --script tu
 complete_is "runs.db" nlsoft-console runs list --db r
-complete_is "compare delete export label list plot show" nlsoft-console runs ""
+complete_is "compare delete export label list merge-y plot show" nlsoft-console runs ""
+complete_is "mocap.csv" nlsoft-console ident --sim hasel --y-from mo
+complete_is "mocap.csv" nlsoft-console runs merge-y 1 mo
+complete_is "--offset" nlsoft-console runs merge-y 1 mocap.csv --o
 complete_is "label list" nlsoft-console runs l
 complete_is "compare" nlsoft-console --db runs.db runs c
 complete_is "--json" nlsoft-console runs show 12 --j
@@ -107,8 +110,8 @@ check_against_help() {
   done
 }
 check_against_help nlsoft-console
-for c in simulate conformance flash firmware dataset train tune runs model ports rig; do check_against_help nlsoft-console "$c"; done
-for c in list show export compare plot label delete; do check_against_help nlsoft-console runs "$c"; done
+for c in simulate conformance flash firmware dataset train tune ident runs model ports rig; do check_against_help nlsoft-console "$c"; done
+for c in list show export compare plot label delete merge-y; do check_against_help nlsoft-console runs "$c"; done
 for c in import eval info fit; do check_against_help nlsoft-console model "$c"; done
 for c in check list; do check_against_help nlsoft-console rig "$c"; done
 check_against_help nlsoft-console firmware build

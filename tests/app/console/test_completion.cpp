@@ -22,6 +22,10 @@ TEST(Completion, CommandsParametersOptionsSignals) {
   EXPECT_EQ(complete_command("plot co", kParams).text, "plot co");  // cost or compute
   EXPECT_EQ(complete_command("plot co", kParams).candidates, (std::vector<std::string>{"cost", "compute"}));
   EXPECT_EQ(complete_command("ref sw", kParams).text, "ref swirl ");
+  EXPECT_EQ(complete_command("ident pr", kParams).text, "ident prbs ");
+  EXPECT_EQ(complete_command("ident prbs 30s se", kParams).text, "ident prbs 30s seed=");  // no blank after '='
+  EXPECT_EQ(complete_command("ident prbs 30s y_", kParams).candidates,
+            (std::vector<std::string>{"y_from=", "y_offset="}));
 }
 
 TEST(Completion, AmbiguousWordsExtendToWhatTheyShareAndListTheChoices) {

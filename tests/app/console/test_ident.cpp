@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <fstream>
+#include <random>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
@@ -19,6 +20,7 @@
 #include "run_process.hpp"
 #include "temp_dir.hpp"
 #include "app/record/run_store.hpp"
+#include "app/record/sqlite.hpp"
 
 namespace nlsoft::test {
 namespace {
@@ -315,6 +317,145 @@ TEST(IdentE2E, CtrlCStopsTheRunAndKeepsWhatWasRecorded) {
   EXPECT_EQ(series.rows(), r.samples);
   EXPECT_TRUE(series.has_l);
   EXPECT_EQ(series.l.size(), 4 * series.rows());
+}
+
+
+// A motion capture of the outputs, on a clock of its own: a simulated run's
+// outputs (which the simulator measures) written as a capture 0.734 s
+// ahead of the run's clock, starting 1 s before the run, at noise 0.02;
+// the run's y_true wiped, the capture merged: the offset is estimated from
+// the run's inputs and sensors alone, and y_true comes back within the noise.
+struct Captured {
+  std::vector<double> t, y0, y1;  // the run's time (step / 100 Hz) and outputs
+};
+
+Captured outputs_of(Ident& t, int run) {
+  std::vector<std::string> head;
+  const auto rows = t.exported(run, head);
+  const int step = column(head, "step"), y0 = column(head, "y_true0");
+  Captured c;
+  for (const auto& row : rows) {
+    c.t.push_back(std::stod(row[size_t(step)]) / 100.0);
+    c.y0.push_back(row[size_t(y0)].empty() ? std::nan("") : std::stod(row[size_t(y0)]));
+    c.y1.push_back(row[size_t(y0) + 1].empty() ? std::nan("") : std::stod(row[size_t(y0) + 1]));
+  }
+  return c;
+}
+
+// Writes the capture: `before` rows at the first value ahead of the run, at
+// the run's sample spacing, then the run's outputs, time shifted by offset.
+void write_capture(const std::string& path, const Captured& c, double offset, double noise, const char* header) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> e(0.0, noise);
+  std::ofstream f(path);
+  f << header << "\n";
+  char line[128];
+  for (int k = -100; k < int(c.t.size()); ++k) {
+    const size_t i = size_t(std::max(k, 0));
+    std::snprintf(line, sizeof line, "%.6f,%.6f,%.6f\n", k * 0.01 + offset, c.y0[i] + e(rng), c.y1[i] + e(rng));
+    f << line;
+  }
+}
+
+double offset_said(const std::string& out) {
+  const std::string key = "capture clock offset estimated: ";
+  const size_t at = out.find(key);
+  if (at == std::string::npos) return std::nan("");
+  return std::stod(out.substr(at + key.size()));
+}
+
+double rms_difference(const Captured& a, const Captured& b) {
+  double sum = 0;
+  for (size_t k = 0; k < a.t.size(); ++k)
+    sum += (a.y0[k] - b.y0[k]) * (a.y0[k] - b.y0[k]) + (a.y1[k] - b.y1[k]) * (a.y1[k] - b.y1[k]);
+  return std::sqrt(sum / double(2 * a.t.size()));
+}
+
+TEST(IdentE2E, AMotionCaptureOnItsOwnClockIsPlacedOnTheRunAndBecomesItsMeasuredOutputs) {
+  Ident t;
+  ASSERT_EQ(t.run("--signal prbs --duration 60s").code, 0);
+  const Captured truth = outputs_of(t, 1);
+  ASSERT_EQ(truth.t.size(), 6000u);
+  const std::string cap = t.dir.file("mocap.csv");
+  const double kOffset = 0.734, kNoise = 0.02;
+  // The columns by the rig's output names, in another order than the run's.
+  write_capture(cap, truth, kOffset, kNoise, "time,y0,y1");
+  {
+    console::Db db(t.db, console::Db::Access::ReadWrite);
+    db.exec("UPDATE samples SET y_true=NULL");
+  }
+  // Without its outputs the run says it has nothing to train from.
+  const ProcessResult bare = console("runs show 1 --db " + shell_quote(t.db));
+  EXPECT_NE(bare.output.find("no measured output (y_true): nothing to train a model from until one is merged"),
+            std::string::npos)
+      << bare.output;
+  const ProcessResult merged = console("runs merge-y 1 " + shell_quote(cap) + " --db " + shell_quote(t.db));
+  ASSERT_EQ(merged.code, 0) << merged.output;
+  const double est = offset_said(merged.output);
+  std::printf("capture clock offset: true %+.4f s, estimated %+.4f s\n", kOffset, est);
+  EXPECT_NEAR(est, kOffset, 0.01) << merged.output;  // within one sample period (100 Hz)
+  EXPECT_NE(merged.output.find("6,000 of 6,100 capture rows inside the run"), std::string::npos) << merged.output;
+  EXPECT_NE(merged.output.find("y_true) of 6,000 of 6,000 samples set"), std::string::npos) << merged.output;
+  const Captured back = outputs_of(t, 1);
+  const double rms = rms_difference(back, truth);
+  std::printf("y_true restored: rms difference %.4f (capture noise %.4f)\n", rms, kNoise);
+  EXPECT_LT(rms, 2 * kNoise);
+
+  // The offset given: the same samples, exactly where they belong.
+  const ProcessResult given =
+      console("runs merge-y 1 " + shell_quote(cap) + " --offset 0.734 --db " + shell_quote(t.db));
+  ASSERT_EQ(given.code, 0) << given.output;
+  EXPECT_NE(given.output.find("capture clock offset given: +0.734 s (run time = capture time - 0.734 s)"),
+            std::string::npos)
+      << given.output;
+  EXPECT_LT(rms_difference(outputs_of(t, 1), truth), 1.2 * kNoise);
+
+  // ident --y-from: the same inputs again (same seed), the capture merged
+  // at the end of the run, its columns named for the rig's outputs.
+  write_capture(cap, truth, kOffset, kNoise, "time,x,y");
+  const ProcessResult r = t.run("--signal prbs --duration 60s --y-from " + shell_quote(cap));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NEAR(offset_said(r.output), kOffset, 0.01) << r.output;
+  EXPECT_NE(r.output.find("run 2: measured outputs (y_true) of 6,000 of 6,000 samples set"), std::string::npos)
+      << r.output;
+  EXPECT_LT(rms_difference(outputs_of(t, 2), truth), 2 * kNoise);
+}
+
+// Each bad capture: exit 2, the file and line named, the run as it was.
+TEST(IdentE2E, ABadCaptureIsRefusedNamingItsLineAndTheRunIsUnchanged) {
+  Ident t;
+  ASSERT_EQ(t.run("--signal steps --duration 5s --band 0.5:5").code, 0);
+  const std::string before = t.dir.file("before.csv"), after = t.dir.file("after.csv");
+  auto export_to = [&](const std::string& f) {
+    const ProcessResult r = console("runs export 1 --csv " + shell_quote(f) + " --db " + shell_quote(t.db));
+    EXPECT_EQ(r.code, 0) << r.output;
+    std::ifstream in(f);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  const std::string was = export_to(before);
+  const struct {
+    const char* text;
+    const char* offset;
+    const char* says;
+  } cases[] = {
+      {"time,y0\n0,1\n0.1,2\n", "", "bad.csv:1: no column for output y1 (y)"},
+      {"time,y0,y1,z\n0,1,2,3\n0.1,2,3,4\n", "", "bad.csv:1: column 4 ('z') is no output of this run"},
+      {"t,y0,y1\n0,1,2\n0.1,2,3\n", "", "bad.csv:1: the first column must be 'time'"},
+      {"time,y0,y1\n0,1,2\n0.1,2,3\n\n0.3,1,1\n0.2,1,1\n", "",
+       "bad.csv:6: time 0.2 s is not after the previous row's 0.3 s (line 5)"},
+      {"time,y0,y1\n0,1,2\n0.1,nan,3\n", "", "bad.csv:3: column 2 ('y0'): not a finite number: 'nan'"},
+      {"time,y0,y1\n0,1,2\n0.1,2\n", "", "bad.csv:3: expected 3 values, found 2"},
+      {"time,y0,y1\n0,1,2\n1,2,3\n", " --offset 100", "does not overlap run 1"},
+  };
+  const std::string bad = t.dir.file("bad.csv");
+  for (const auto& c : cases) {
+    std::ofstream(bad) << c.text;
+    const ProcessResult r =
+        console("runs merge-y 1 " + shell_quote(bad) + c.offset + " --rig " + shell_quote(t.rig) + " --db " + shell_quote(t.db));
+    EXPECT_EQ(r.code, 2) << c.text << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.says), std::string::npos) << c.text << "\n" << r.output;
+    EXPECT_EQ(export_to(after), was) << c.text;
+  }
 }
 
 }  // namespace

@@ -96,14 +96,14 @@ TEST(PlotView, TheTimeCursorStartsMidViewMovesByColumnsAndStaysInside) {
 TEST(PlotView, SignalNamesRoundTripAndTheKeyCyclesThroughAll) {
   tui::PlotSignal s = tui::PlotSignal::Y;
   std::vector<std::string> seen;
-  for (int i = 0; i < 5; ++i) {
+  for (int i = 0; i < 6; ++i) {
     seen.push_back(tui::plot_signal_name(s));
     tui::PlotSignal back;
     ASSERT_TRUE(tui::plot_signal_from_name(seen.back(), &back));
     EXPECT_EQ(back, s);
     s = tui::next_plot_signal(s);
   }
-  EXPECT_EQ(seen, (std::vector<std::string>{"y", "u", "cost", "iter", "compute"}));
+  EXPECT_EQ(seen, (std::vector<std::string>{"y", "u", "cost", "iter", "compute", "ident"}));
   EXPECT_EQ(s, tui::PlotSignal::Y);
   tui::PlotSignal x;
   EXPECT_FALSE(tui::plot_signal_from_name("J", &x));

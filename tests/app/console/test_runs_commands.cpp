@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -72,6 +73,43 @@ TEST_F(RunsCommands, ListShowsReferenceAndNrmseAndAMidRunReferenceIsRecorded) {
   r = runs("show 1");
   EXPECT_TRUE(contains(r.output, "reference = {")) << r.output;
   EXPECT_TRUE(contains(r.output, "\"kind\":\"infinity\"")) << r.output;
+}
+
+// A run whose samples carry no measured output (a rig nothing measures;
+// here run 2's y_true taken out of the database): every figure of tracking
+// says it was scored on the model's prediction, and run 1's, measured, not.
+TEST_F(RunsCommands, ARunWithoutAMeasuredOutputSaysItsTrackingIsTheModelsPrediction) {
+  record();
+  {
+    Db file(db(), Db::Access::ReadWrite);
+    file.exec("UPDATE samples SET y_true=NULL WHERE run_id=1");
+  }
+  const std::string words = "no measured output: tracking scored on the model's prediction";
+  auto r = runs("show 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "  " + words)) << r.output;
+  r = runs("show 2");
+  EXPECT_FALSE(contains(r.output, words)) << r.output;
+  r = runs("show 1 --json");
+  EXPECT_EQ(nlohmann::json::parse(r.output)["measured_output"], false) << r.output;
+
+  r = runs("list");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "*: " + words)) << r.output;
+  std::istringstream lines(r.output);
+  std::string line;
+  while (std::getline(lines, line)) {
+    if (line.rfind("    1 ", 0) == 0) {
+      EXPECT_TRUE(contains(line, "* ")) << line;  // its nrmse marked
+    }
+    if (line.rfind("    2 ", 0) == 0) {
+      EXPECT_FALSE(contains(line, "*")) << line;
+    }
+  }
+  r = runs("list --json");
+  const auto j = nlohmann::json::parse(r.output);
+  EXPECT_EQ(j[0]["measured_output"], false);
+  EXPECT_EQ(j[1]["measured_output"], true);
 }
 
 TEST_F(RunsCommands, LabelAndDeleteChangeOneRunWhole) {
@@ -338,6 +376,14 @@ TEST_F(RunsCommands, EveryRunsExampleInTheHelpRuns) {
   record();
   const auto help = console("runs --help");
   ASSERT_EQ(help.code, 0) << help.output;
+  // The capture `runs merge-y 12 mocap.csv` names: 2 s of hasel's three
+  // outputs at 100 Hz, on a clock of its own.
+  {
+    std::ofstream f(dir_.file("mocap.csv"));
+    f << "time,y0,y1,y2\n";
+    for (int k = 0; k < 200; ++k)
+      f << 40.0 + k * 0.01 << "," << std::sin(k * 0.05) << "," << std::cos(k * 0.07) << "," << 4 + std::sin(k * 0.03) << "\n";
+  }
   std::istringstream lines(help.output);
   int ran = 0;
   for (std::string line; std::getline(lines, line);) {

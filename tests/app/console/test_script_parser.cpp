@@ -92,6 +92,19 @@ TEST(ScriptParser, AnIdentLineIsParsedAndItsWordsCheckedBeforeConnecting) {
   EXPECT_EQ(error_of("ident prbs\n").find("tune.nls:1: 'ident' needs more: ident SIGNAL DURATION"), 0u) << error_of("ident prbs\n");
 }
 
+// ident's capture words: y_from= names the file merged after the run,
+// y_offset= its clock's offset, a number, and only with a file.
+TEST(ScriptParser, AnIdentLineTakesACaptureAndItsOffset) {
+  const Script s = parse_script("ident prbs 1min y_from=mocap.csv y_offset=-1.25\n", "t.nls");
+  ASSERT_EQ(s.commands.size(), 1u);
+  EXPECT_EQ(s.commands[0].capture, "mocap.csv");
+  EXPECT_EQ(s.commands[0].seconds, 60.0);
+  EXPECT_EQ(error_of("ident prbs 10s y_from=m.csv y_offset=soon\n"),
+            "tune.nls:1: ident: y_offset=soon is not a number of seconds");
+  EXPECT_EQ(error_of("ident prbs 10s y_offset=1\n"),
+            "tune.nls:1: ident: y_offset= goes with y_from=FILE.csv (the capture whose clock it places)");
+}
+
 TEST(ScriptParser, ErrorsNameFileAndLine) {
   EXPECT_EQ(error_of("echo ok\n\nfly 3\n"),
             "tune.nls:3: unknown command 'fly'; commands: set get params ref run start stop hold neutral resume wait "

@@ -14,6 +14,7 @@
 
 #include "app/link/sim_launcher.hpp"
 #include "app/record/run_store.hpp"
+#include "app/record/sqlite.hpp"
 #include "app/record/tune_log.hpp"
 #include "process_tree.hpp"
 #include "run_process.hpp"
@@ -227,6 +228,104 @@ TEST(ConsoleTui, QuitDuringATimedRunExitsCleanlyAndKeepsTheRun) {
   EXPECT_GT(runs[0].samples, 0u);
 }
 
+// `:ident` from the command line at 80x24: the plot turns to the run's
+// inputs, measured outputs and sensors, the message line counts its steps,
+// and F6 stops it early keeping what was recorded, as an identification run.
+TEST(ConsoleTui, IdentPlotsInputsOutputsAndSensorsAndF6KeepsTheRun) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db");
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN, 80, 24);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  // At 24 rows the panel shows the parameters down to u_max.
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Parameters (") && contains(x, "u_max"); }, s))
+      << s;
+  // Far longer than the test: only F6 ends it.
+  t.keys(shell_quote(":ident prbs 120s seed=3") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "[ident prbs: ") && has_braille(x); }, s, 30))
+      << s;
+  // Three strips: the inputs, the measured outputs, the sensors.
+  EXPECT_TRUE(contains(s, "u  \u2501 u0 ")) << s;
+  EXPECT_TRUE(contains(s, "y  \u2501 y0 ")) << s;
+  EXPECT_TRUE(contains(s, "l  \u2501 l0 ")) << s;
+  EXPECT_TRUE(contains(s, " ident | window")) << s;
+  EXPECT_TRUE(contains(line_with(s, "[ident prbs: "), " steps, ")) << s;
+  t.keys("F6");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "run 1 (ident prbs seed 3 120s): ") && !contains(x, "[ident"); },
+                         s, 30))
+      << s;
+  RunStore store(db);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].kind, "ident");
+  EXPECT_EQ(runs[0].label, "ident prbs seed 3 120s");
+  EXPECT_FALSE(runs[0].ended_at.empty()) << "the run is closed, not left unfinished";
+  EXPECT_GT(runs[0].samples, 0u);
+  EXPECT_LT(runs[0].samples, 120u * 130u) << "stopped early";
+  const RunSeries series = store.series(runs[0].id);
+  EXPECT_EQ(series.rows(), runs[0].samples);
+  EXPECT_TRUE(series.has_u && series.has_y_true && series.has_l);
+  t.keys("q");
+}
+
+// Ctrl-C during a `:ident`: the console ends, the identification run
+// stopped and kept with the signal named as its end.
+TEST(ConsoleTui, CtrlCDuringIdentKeepsTheRun) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db"), status = dir.file("status");
+  // The shell traps SIGINT with a handler (the console gets the default
+  // back at exec) so it lives on to write the console's status.
+  Tmux t("sh -c " + shell_quote("trap true INT; " + std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " +
+                                shell_quote(db) + " 2>/dev/null; echo $? >" + shell_quote(status)),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys(shell_quote(":ident walk 120s") + " Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "[ident walk: ") && has_braille(x); }, s, 30))
+      << s;
+  t.keys("C-c");
+  for (int i = 0; i < 300 && !std::filesystem::exists(status); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after Ctrl-C during :ident\n" << t.screen();
+  RunStore store(db);
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].kind, "ident");
+  EXPECT_FALSE(runs[0].ended_at.empty()) << "the run is closed, not left unfinished";
+  EXPECT_NE(runs[0].end_reason.find("SIGINT"), std::string::npos) << runs[0].end_reason;
+  EXPECT_GT(runs[0].samples, 0u);
+}
+
+// A recorded run without a measured output (its y_true taken out of the
+// database): the runs panel's metrics say they are the model's prediction.
+TEST(ConsoleTui, TheRunsPanelSaysARunHasNoMeasuredOutput) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db"), script = dir.file("r.nls");
+  std::ofstream(script) << "ref infinity\nrun 1s\n";
+  const auto rec = run_process("env NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN " " + std::string(NLSOFT_CONSOLE_BIN) +
+                               " --sim hasel --db " + shell_quote(db) + " --script " + shell_quote(script));
+  ASSERT_EQ(rec.code, 0) << rec.output;
+  {
+    Db file(db, Db::Access::ReadWrite);
+    file.exec("UPDATE samples SET y_true=NULL");
+  }
+  Tmux t(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db),
+         "LANG=C.UTF-8 LC_ALL=C.UTF-8 NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN);
+  ASSERT_TRUE(t.started()) << t.error();
+  std::string s;
+  ASSERT_TRUE(t.wait_until_connected(s)) << s;
+  t.keys("F4");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Runs ("); }, s)) << s;
+  t.keys("Enter");
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "no measured output: tracking"); }, s)) << s;
+  t.keys("q");
+}
+
 // The simulator killed with -9 under the TUI mid-run: the console says how
 // it ended instead of staying RUNNING / LINK DOWN, ends the run with that
 // reason and the gap since its last sample (in the database too), shows R
@@ -358,7 +457,7 @@ TEST(ConsoleTui, PlotSignalsWithoutColourPauseScrollAndZoom) {
   }
   t.keys(shell_quote(":plot J") + " Enter");
   ASSERT_TRUE(t.wait_for([](const std::string& x) {
-    return contains(x, "plot: 'J' is not a signal; use y, u, cost, iter or compute");
+    return contains(x, "plot: 'J' is not a signal; use y, u, cost, iter, compute or ident");
   }, s)) << s;
   t.keys(shell_quote(":plot y") + " Enter");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " y | window 10 s"); }, s)) << s;
