@@ -14,17 +14,7 @@
 set -u
 console=$1
 fixture=$2  # tests/app/rig/stage.toml
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
-command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
-work=$(mktemp -d)
-qemu=
-trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null; rm -rf "$work"' EXIT
-cd "$work" || exit 1
-export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
-unset NLSOFT_M4_IMAGE
-fail=0
-say() { echo "FAIL: $*"; fail=1; }
-json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+. "$(dirname "$0")/rig_image_test_prelude.sh"
 
 python3 - "$fixture" <<'EOF' || exit 1
 import sys
@@ -47,15 +37,7 @@ elf=$(grep -- "/nlsoft-stm32f4-stage.elf\$" build.txt | awk '{print $2}')
 grep -q "kRigOutputRows = 2;" "$(dirname "$elf")/.rig/stage/nlsoft_rig.hpp" ||
   say "the generated header reads no output: $(cat "$(dirname "$elf")/.rig/stage/nlsoft_rig.hpp")"
 
-qemu-system-arm -nographic -monitor none -M netduinoplus2 -serial null -serial pty -kernel "$elf" >qemu.out 2>&1 &
-qemu=$!
-port=
-for _ in $(seq 50); do
-  port=$(sed -n 's|.*redirected to \(/dev/pts/[0-9]*\) (label serial1).*|\1|p' qemu.out)
-  [ -n "$port" ] && break
-  sleep 0.1
-done
-[ -n "$port" ] || { echo "FAIL: QEMU gave no pty: $(cat qemu.out)"; exit 1; }
+boot_qemu netduinoplus2 "$elf" || { echo "FAIL: QEMU gave no pty: $(cat qemu.out)"; exit 1; }
 
 timeout 120 "$console" ident "$port" --rig my.toml --signal prbs --duration 5s --db runs.db >ident.txt 2>&1 ||
   say "ident: $(cat ident.txt)"

@@ -18,17 +18,7 @@
 set -u
 console=$1
 fixture=$2  # tests/app/rig/stage.toml
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
-command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work" || exit 1
-export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
-unset NLSOFT_M4_IMAGE
-fail=0
-say() { echo "FAIL: $*"; fail=1; }
-# json FILE EXPR: EXPR over the JSON value j, printed (python3, as the other QEMU tests use).
-json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+. "$(dirname "$0")/rig_image_test_prelude.sh"
 # recorded LABEL MIN_SAMPLES: the id of the run of that label, recorded in full
 # with at least MIN_SAMPLES samples and no frame lost, whose firmware ran the
 # trained model (`runs show`: "model <hash>"); nothing otherwise.
@@ -102,14 +92,7 @@ done
 # transfer, in one sentence, exit 2; the next session's run on the same
 # firmware still runs the trained model.
 if [ -f "${an386:-}" ]; then
-  qemu-system-arm -nographic -monitor none -M mps2-an386 -serial pty -kernel "$an386" >qemu.out 2>&1 &
-  qemu=$!
-  port=
-  for _ in $(seq 50); do
-    port=$(sed -n 's|.*redirected to \(/dev/pts/[0-9]*\).*|\1|p' qemu.out)
-    [ -n "$port" ] && break
-    sleep 0.1
-  done
+  boot_qemu mps2-an386 "$an386"
   echo "model upload other.nlsm" >other.nls
   timeout 60 "$console" "$port" --rig my.toml --script other.nls >other.txt 2>&1
   rc=$?

@@ -15,16 +15,7 @@
 set -u
 console=$1
 fixture=$2  # tests/app/rig/stage.toml
-command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
-command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-cd "$work" || exit 1
-export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
-unset NLSOFT_M4_IMAGE
-fail=0
-say() { echo "FAIL: $*"; fail=1; }
-json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+. "$(dirname "$0")/rig_image_test_prelude.sh"
 
 cp "$fixture" my.toml || exit 1
 # A model for the images: the rig's shape, a short fit (identification does not use it).
