@@ -158,7 +158,8 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& l
     if (image != "-") std::printf("%s\n", j.dump(2).c_str());
   } else if (image != "-") {
     std::printf("model %s (hash 0x%08x), rig %s; ARX baseline on the same lags (nd = %d, dd = %d): %s\n",
-                a.model.c_str(), M.hash, target.name.c_str(), M.nd, M.dd, arx_from.c_str());
+                a.model.c_str(), M.hash, target.name.c_str(), M.nd, M.dd,
+                baseline ? arx_from.c_str() : "none kept with this model (--train-run ID fits one from a recorded run)");
     for (const FittedRun& r : fitted) std::printf("%s", section_table(r.section, target.y_unit).c_str());
   }
   if (!image.empty()) {
