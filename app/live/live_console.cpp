@@ -993,13 +993,13 @@ RunSummary LiveConsole::run_steps(uint64_t target, int64_t id, const std::string
 }
 
 std::string LiveConsole::interrupt_reason() {
-  switch (interrupted_flag()) {
+  switch (interrupted_flag().load()) {
     case SIGINT: return "interrupted by SIGINT (Ctrl-C)";
     case SIGTERM: return "interrupted by SIGTERM";
     case SIGHUP: return "interrupted by SIGHUP (the terminal closed or the connection dropped)";
     case SIGPIPE: return "interrupted by SIGPIPE (standard output's reader is gone)";
     case 0: return "not interrupted";
-    default: return fmt::format("interrupted by signal {}", int(interrupted_flag()));
+    default: return fmt::format("interrupted by signal {}", interrupted_flag().load());
   }
 }
 

@@ -261,8 +261,12 @@ class LiveConsole {
   void say(const std::string& s);
   void log_reference_change(const std::string& json);
   std::string firmware_reference_json();
-  static volatile std::sig_atomic_t& interrupted_flag() {
-    static volatile std::sig_atomic_t flag = 0;
+  // A lock-free atomic, not a volatile sig_atomic_t: the handler runs on
+  // the main thread while the worker's run_for reads it, and a lock-free
+  // atomic is both async-signal-safe and free of that data race.
+  static std::atomic<int>& interrupted_flag() {
+    static_assert(std::atomic<int>::is_always_lock_free, "the signal handler must not take a lock");
+    static std::atomic<int> flag{0};
     return flag;
   }
 

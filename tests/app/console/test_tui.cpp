@@ -291,6 +291,10 @@ TEST(ConsoleTui, CtrlCDuringIdentKeepsTheRun) {
   for (int i = 0; i < 300 && !std::filesystem::exists(status); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after Ctrl-C during :ident\n" << t.screen();
+  std::ifstream status_in(status);
+  std::string code;
+  std::getline(status_in, code);
+  EXPECT_EQ(code, "0") << "the console's exit status after Ctrl-C (a sanitizer's report ends it with 66)";
   RunStore store(db);
   const auto runs = store.list();
   ASSERT_EQ(runs.size(), 1u);
