@@ -2,6 +2,7 @@
 // soon as its run is stopped from elsewhere (the TUI quitting, F6), instead
 // of polling for telemetry that will never come until its deadline.
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <unistd.h>
 
@@ -179,6 +180,30 @@ TEST_F(RunEndingBadly, AWatchdogTripEndsTheRunEarlyAndSaysSo) {
   EXPECT_NE(s.end_reason.find("link watchdog tripped"), std::string::npos) << s.end_reason;
   RunStore store(dir_.file("runs.db"));
   ASSERT_EQ(store.gaps(s.run_id).size(), 1u);
+}
+
+// A simulator the host does not schedule for longer than watchdog_ms (a
+// loaded machine; here SIGSTOP for 1.5 s) finds the console's keep-alives
+// waiting on its port when it runs again: it reads them before its next
+// step judges the link, so the run goes on. It used to step first and trip
+// the watchdog on its own absence.
+TEST_F(RunEndingBadly, ASimulatorPausedPastTheWatchdogDoesNotBlameTheConsole) {
+  connect();
+  std::atomic<bool> cancel{false};
+  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "paused", {}, &cancel); });
+  ASSERT_TRUE(wait_until_sampling());
+  ASSERT_EQ(::kill(sim_.pid(), SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // watchdog_ms is 1000
+  ASSERT_EQ(::kill(sim_.pid(), SIGCONT), 0);
+  const uint64_t before = console_->run_samples();
+  for (int i = 0; i < 300 && console_->run_samples() < before + 100; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_GE(console_->run_samples(), before + 100) << "the run's telemetry did not resume";
+  cancel = true;
+  ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+  const RunSummary s = timed.get();
+  EXPECT_FALSE(s.ended_early) << s.end_reason;
+  EXPECT_EQ(s.end_reason, "cancelled");
 }
 
 // A hold asked for by the user pauses telemetry on purpose: that is not the
