@@ -63,8 +63,7 @@ timeout 120 "$console" conformance --sim my.toml --model trained.nlsm --json >co
 # verdict.
 one_board() {
   local board=$1 fail=0 prefix=nlsoft-m4
-  mkdir -p "$work/$board" && cd "$work/$board" && cp ../my.toml ../trained.nlsm . || return 1
-  export XDG_CACHE_HOME=$work/$board/cache XDG_DATA_HOME=$work/$board/data
+  board_folder $board my.toml trained.nlsm || return 1
   [ $board = stm32f4 ] && prefix=nlsoft-stm32f4
   if ! "$console" firmware build --rig my.toml --board $board --hil --model trained.nlsm >build.txt 2>build.err; then
     say "firmware build --board $board: $(cat build.txt build.err)"
@@ -92,15 +91,7 @@ one_board() {
   return $fail
 }
 
-# The two boards at once: each is mostly QEMU running the firmware in real
-# time, so side by side the test takes about half the wall time.
-one_board mps2-an386 >mps2-an386.log 2>&1 &
-an386_job=$!
-one_board stm32f4 >stm32f4.log 2>&1 &
-f4_job=$!
-wait $an386_job || fail=1
-wait $f4_job || fail=1
-cat mps2-an386.log stm32f4.log
+both_boards one_board
 an386=$(grep -- "/nlsoft-m4-stage-hil.elf\$" mps2-an386/build.txt 2>/dev/null | awk '{print $2}')
 
 # A model of another shape, on the QEMU image a user started by hand (so

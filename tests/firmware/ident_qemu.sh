@@ -31,8 +31,7 @@ steps=$((80 * seconds))
 # caches) of its own; its exit status is its verdict.
 one_board() {
   local board=$1 fail=0
-  mkdir -p "$work/$board" && cd "$work/$board" && cp ../my.toml ../first.nlsm . || return 1
-  export XDG_CACHE_HOME=$work/$board/cache XDG_DATA_HOME=$work/$board/data
+  board_folder $board my.toml first.nlsm || return 1
   "$console" firmware build --rig my.toml --board $board --hil --model first.nlsm >build.txt 2>&1 ||
     { say "firmware build --board $board: $(cat build.txt)"; return 1; }
   hil=$(grep -E -- "/nlsoft-(m4|stm32f4)-stage-hil.elf\$" build.txt | awk '{print $2}')
@@ -99,15 +98,7 @@ EOF
   return $fail
 }
 
-# The two boards at once: most of each is QEMU running 80 s of the firmware's
-# time in real time, so side by side the test takes half the wall time.
-one_board mps2-an386 >mps2-an386.log 2>&1 &
-an386=$!
-one_board stm32f4 >stm32f4.log 2>&1 &
-f4=$!
-wait $an386 || fail=1
-wait $f4 || fail=1
-cat mps2-an386.log stm32f4.log
+both_boards one_board
 
 [ $fail -eq 0 ] && echo "identification on both boards' HIL images in QEMU: all checks passed"
 exit $fail

@@ -2,7 +2,8 @@
 # skipped (exit 77, ctest's skip) without the ARM toolchain or QEMU; a
 # scratch folder as the working directory and the console's caches, removed
 # at exit with a QEMU the test started ($qemu, when set); `say` records a
-# failure and goes on; `json FILE EXPR` prints EXPR over the JSON value j.
+# failure and goes on; `json FILE EXPR` prints EXPR over the JSON value j;
+# `both_boards FUNC` runs FUNC for each board side by side.
 command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
 command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
 work=$(mktemp -d)
@@ -29,4 +30,26 @@ boot_qemu() {
     sleep 0.1
   done
   return 1
+}
+# both_boards FUNC: `FUNC mps2-an386` and `FUNC stm32f4` at once, each output
+# to BOARD.log and printed after, a failure of either a failure of the test.
+# The boards' work is mostly QEMU running the firmware in real time, so side
+# by side it takes about half the wall time. FUNC keeps to a folder and
+# caches of its own (board_folder).
+both_boards() {
+  "$1" mps2-an386 >mps2-an386.log 2>&1 &
+  local an386=$!
+  "$1" stm32f4 >stm32f4.log 2>&1 &
+  local f4=$!
+  wait $an386 || fail=1
+  wait $f4 || fail=1
+  cat mps2-an386.log stm32f4.log
+}
+# board_folder BOARD FILE...: into a folder of the board's own with copies of
+# FILEs, XDG caches and data (images, runs) there.
+board_folder() {
+  local board=$1
+  shift
+  mkdir -p "$work/$board" && cd "$work/$board" && cp "${@/#/../}" . || return 1
+  export XDG_CACHE_HOME=$work/$board/cache XDG_DATA_HOME=$work/$board/data
 }
