@@ -91,7 +91,7 @@ one_board() {
   return $fail
 }
 
-both_boards one_board
+each_board one_board
 an386=$(grep -- "/nlsoft-m4-stage-hil.elf\$" mps2-an386/build.txt 2>/dev/null | awk '{print $2}')
 
 # A model of another shape, on the QEMU image a user started by hand (so

@@ -98,7 +98,7 @@ EOF
   return $fail
 }
 
-both_boards one_board
+each_board one_board
 
 [ $fail -eq 0 ] && echo "identification on both boards' HIL images in QEMU: all checks passed"
 exit $fail
