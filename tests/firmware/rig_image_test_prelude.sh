@@ -33,8 +33,9 @@ boot_qemu() {
 }
 # each_board FUNC: `FUNC mps2-an386`, then `FUNC stm32f4`, a failure of
 # either a failure of the test. One at a time: two QEMUs at once beside a
-# loaded machine starved one image's UART (its link watchdog tripped in the
-# stress run). FUNC keeps to a folder and caches of its own (board_folder).
+# loaded machine miss their console for seconds (measured: the RESOURCE_LOCK
+# in tests/firmware/CMakeLists.txt). FUNC keeps to a folder and caches of its
+# own (board_folder).
 each_board() {
   # A subshell each: FUNC's folder and caches stay its own.
   ("$1" mps2-an386) || fail=1
