@@ -27,15 +27,11 @@ cp "$fixture" my.toml || exit 1
 
 seconds=30
 steps=$((80 * seconds))
-# one_board BOARD: every check on one board's image, in a folder (and
-# caches) of its own; its exit status is its verdict.
-one_board() {
-  local board=$1 fail=0
-  board_folder $board my.toml first.nlsm || return 1
+for board in mps2-an386 stm32f4; do
   "$console" firmware build --rig my.toml --board $board --hil --model first.nlsm >build.txt 2>&1 ||
-    { say "firmware build --board $board: $(cat build.txt)"; return 1; }
+    { say "firmware build --board $board: $(cat build.txt)"; continue; }
   hil=$(grep -E -- "/nlsoft-(m4|stm32f4)-stage-hil.elf\$" build.txt | awk '{print $2}')
-  [ -f "$hil" ] || { say "$board: no HIL image reported: $(cat build.txt)"; return 1; }
+  [ -f "$hil" ] || { say "$board: no HIL image reported: $(cat build.txt)"; continue; }
   before=$(stat -c %Y "$hil")
   db=$board.db
   ids=
@@ -81,24 +77,21 @@ EOF
   # controller then runs on the image.
   # shellcheck disable=SC2086
   "$console" train --rig my.toml $ids --db $db --out $board.nlsm --epochs 60 >train.txt 2>&1 ||
-    { say "$board: train$ids: $(cat train.txt)"; return 1; }
-  [ -s $board.nlsm ] || { say "$board: train --run wrote no model: $(cat train.txt)"; return 1; }
+    { say "$board: train$ids: $(cat train.txt)"; continue; }
+  [ -s $board.nlsm ] || { say "$board: train --run wrote no model: $(cat train.txt)"; continue; }
   hash=$("$console" model info $board.nlsm | sed -n 's/^ *hash 0x\([0-9a-f]*\)$/\1/p')
   printf 'model upload %s\nref infinity\nrun 20s label=track\nexpect lost_frames == 0\n' $board.nlsm >track.nls
   timeout 300 "$console" --qemu my.toml --board $board --db $db --script track.nls >session.txt 2>&1 ||
-    { say "$board: --qemu session: $(tail -5 session.txt)"; return 1; }
+    { say "$board: --qemu session: $(tail -5 session.txt)"; continue; }
   grep -q "model $board.nlsm in force: hash $hash confirmed" session.txt || say "$board: model not confirmed: $(cat session.txt)"
-  "$console" runs list --json --label track --db $db >track-list.json 2>log.txt || { say "runs list: $(cat log.txt)"; return 1; }
+  "$console" runs list --json --label track --db $db >track-list.json 2>log.txt || { say "runs list: $(cat log.txt)"; continue; }
   track=$(json track-list.json 'j[-1]["id"]')
-  "$console" runs show "$track" --json --db $db >track.json 2>log.txt || { say "runs show $track: $(cat log.txt)"; return 1; }
+  "$console" runs show "$track" --json --db $db >track.json 2>log.txt || { say "runs show $track: $(cat log.txt)"; continue; }
   [ "$(json track.json 'j["tracking_signal"]')" = y_true ] || say "$board: the tracking run was scored on the prediction"
   worst=$(json track.json 'max(j["rmse"]) / 20.0')
   echo "$board: a model trained on the two identification runs tracks an Infinity at nRMSE $worst of the output span, $(json track.json 'j["lost_frames"]') lost frames"
   python3 -c "import sys; sys.exit(not (0 < $worst <= 0.05))" || say "$board: tracking nRMSE $worst of the span, above 5 %"
-  return $fail
-}
-
-each_board one_board
+done
 
 [ $fail -eq 0 ] && echo "identification on both boards' HIL images in QEMU: all checks passed"
 exit $fail

@@ -2,8 +2,7 @@
 # skipped (exit 77, ctest's skip) without the ARM toolchain or QEMU; a
 # scratch folder as the working directory and the console's caches, removed
 # at exit with a QEMU the test started ($qemu, when set); `say` records a
-# failure and goes on; `json FILE EXPR` prints EXPR over the JSON value j;
-# `each_board FUNC` runs FUNC for each board.
+# failure and goes on; `json FILE EXPR` prints EXPR over the JSON value j.
 command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
 command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
 work=$(mktemp -d)
@@ -30,22 +29,4 @@ boot_qemu() {
     sleep 0.1
   done
   return 1
-}
-# each_board FUNC: `FUNC mps2-an386`, then `FUNC stm32f4`, a failure of
-# either a failure of the test. One at a time: two QEMUs at once beside a
-# loaded machine miss their console for seconds (measured: the RESOURCE_LOCK
-# in tests/firmware/CMakeLists.txt). FUNC keeps to a folder and caches of its
-# own (board_folder).
-each_board() {
-  # A subshell each: FUNC's folder and caches stay its own.
-  ("$1" mps2-an386) || fail=1
-  ("$1" stm32f4) || fail=1
-}
-# board_folder BOARD FILE...: into a folder of the board's own with copies of
-# FILEs, XDG caches and data (images, runs) there.
-board_folder() {
-  local board=$1
-  shift
-  mkdir -p "$work/$board" && cd "$work/$board" && cp "${@/#/../}" . || return 1
-  export XDG_CACHE_HOME=$work/$board/cache XDG_DATA_HOME=$work/$board/data
 }
