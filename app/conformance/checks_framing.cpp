@@ -20,10 +20,10 @@ namespace {
 void dropped(Suite& s, const std::string& name, const std::vector<uint8_t>& bytes, const std::string& what,
              uint32_t p::Status::*counter, const char* counter_name, uint32_t at_least = 1) {
   const auto before = s.status();
-  const auto heard = s.pr.send_and_listen(bytes, std::max(Ms(300), s.pr.timeout()));
   p::Ping ping;
   ping.nonce = s.random();
-  const Frame f = s.pr.request(ping);
+  Frame f;
+  const auto heard = s.pr.send_fenced(bytes, ping, f);
   p::Pong pong;
   const bool answered = as(f, pong) && pong.nonce == ping.nonce;
   const auto after = s.status();
@@ -64,7 +64,10 @@ void damaged(Suite& s) {
   {
     // Back-to-back delimiters are idle, not errors.
     const auto before = s.status();
-    const auto heard = s.pr.send_and_listen(std::vector<uint8_t>(64, p::kDelimiter), Ms(100));
+    p::Ping ping;
+    ping.nonce = s.random();
+    Frame f;
+    const auto heard = s.pr.send_fenced(std::vector<uint8_t>(64, p::kDelimiter), ping, f);
     const auto after = s.status();
     const bool same = before && after && before->frame_errors == after->frame_errors &&
                       before->crc_errors == after->crc_errors;
@@ -135,7 +138,10 @@ void damaged(Suite& s) {
         ++frames;
       }
       const auto before = s.status();
-      const auto heard = s.pr.send_and_listen(all, std::max(Ms(500), s.pr.timeout() * 2));
+      p::Ping ping;
+      ping.nonce = s.random();
+      Frame f;
+      const auto heard = s.pr.send_fenced(all, ping, f);
       const auto after = s.status();
       const auto now = s.get(q->id);
       const bool unchanged = now && now->count == orig.count && std::memcmp(now->values, orig.values, 4u * orig.count) == 0;
@@ -220,7 +226,10 @@ void pipelined(Suite& s) {
   const auto w = Probe::wire(p::StatusGet{}, st_seq);
   bytes.insert(bytes.end(), w.begin(), w.end());
   seqs.push_back(st_seq);
-  const auto heard = s.pr.send_and_listen(bytes, std::max(Ms(400), s.pr.timeout() * 2));
+  p::Ping fence;
+  fence.nonce = s.random();
+  Frame f;
+  const auto heard = s.pr.send_fenced(bytes, fence, f);
   std::vector<std::string> got;
   bool ok = heard.size() == seqs.size();
   for (size_t i = 0; i < heard.size(); ++i) {

@@ -96,7 +96,10 @@ void check_basics(Suite& s) {
     p::Ping bogus;
     bogus.nonce = s.random();
     const uint8_t seq = s.pr.next_seq();
-    const auto heard = s.pr.send_and_listen(Probe::wire(bogus, seq, p::frame_flags::kReply), std::max(Ms(300), s.pr.timeout()));
+    p::Ping fence;
+    fence.nonce = s.random();
+    Frame fence_answer;
+    const auto heard = s.pr.send_fenced(Probe::wire(bogus, seq, p::frame_flags::kReply), fence, fence_answer);
     s.check("reply_flag_ignored", heard.empty(),
             heard.empty() ? "PING with REPLY set: no reply"
                           : fmt::format("PING with REPLY set answered by {}", describe(heard.front())));

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <thread>
 
 namespace nlsoft::console::conformance {
 
@@ -153,18 +152,32 @@ std::optional<Frame> Probe::try_exchange(uint8_t type, uint8_t seq, const std::v
   return done(type, session_.exchange(req));
 }
 
-std::vector<Frame> Probe::send_and_listen(const std::vector<uint8_t>& bytes, Ms quiet) {
-  {
-    std::lock_guard<std::mutex> lock(mu_);
-    heard_.clear();
-    listen_ignores_ = std::set<uint8_t>(taken_seqs_.begin(), taken_seqs_.end());
-    listening_ = true;
-  }
-  session_.write_raw(bytes);
-  std::this_thread::sleep_for(quiet);
+void Probe::listen() {
+  std::lock_guard<std::mutex> lock(mu_);
+  heard_.clear();
+  listen_ignores_ = std::set<uint8_t>(taken_seqs_.begin(), taken_seqs_.end());
+  listening_ = true;
+}
+
+std::vector<Frame> Probe::stop_listening() {
   std::lock_guard<std::mutex> lock(mu_);
   listening_ = false;
   return std::move(heard_);
+}
+
+std::vector<Frame> Probe::send_fenced(const std::vector<uint8_t>& bytes, const p::Ping& fence, Frame& answer) {
+  listen();
+  session_.write_raw(bytes);
+  const uint8_t seq = next_seq();
+  try {
+    answer = exchange(uint8_t(p::MsgType::Ping), seq, wire(fence, seq));
+  } catch (...) {
+    stop_listening();
+    throw;
+  }
+  std::vector<Frame> heard = stop_listening();
+  heard.erase(std::remove_if(heard.begin(), heard.end(), [seq](const Frame& f) { return f.seq == seq; }), heard.end());
+  return heard;
 }
 
 void Probe::record_telemetry(bool on) {

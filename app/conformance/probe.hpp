@@ -87,10 +87,14 @@ class Probe {
   // As exchange, but no reply is an answer too.
   std::optional<Frame> try_exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& bytes, Ms wait);
 
-  // Writes bytes that are not one awaited request and returns the replies
-  // that arrive within `quiet` (for frames that must get none, and for
-  // requests written back to back).
-  std::vector<Frame> send_and_listen(const std::vector<uint8_t>& bytes, Ms quiet);
+  // Writes bytes that are not one awaited request (frames that must get no
+  // reply, requests written back to back), then `fence` (a PING) as a
+  // request: the firmware serves
+  // its port in order, so whatever it answers the bytes with arrives before
+  // the PONG, and no quiet window need pass. Returns the replies heard
+  // before the fence's answer (its retries' copies left out); `answer` is
+  // that answer. Throws LinkError as request() does.
+  std::vector<Frame> send_fenced(const std::vector<uint8_t>& bytes, const p::Ping& fence, Frame& answer);
 
   void record_telemetry(bool on);
   std::vector<TelemetrySample> telemetry();
@@ -120,7 +124,9 @@ class Probe {
   std::set<uint8_t> types_seen_;
   std::set<uint8_t> answered_;
   std::optional<Frame> done(uint8_t type, const std::optional<Reply>& r);
-  std::vector<Frame> heard_;  // replies collected by send_and_listen
+  std::vector<Frame> heard_;  // replies collected by send_fenced
+  void listen();
+  std::vector<Frame> stop_listening();
   // Seqs whose reply was already taken, and a snapshot of them while
   // listening: a late copy of such a reply (the answer to a retry, on a slow
   // host) is not an answer to the bytes being listened after.

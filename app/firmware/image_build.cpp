@@ -234,7 +234,9 @@ BuiltImages build_images(const ImageBuild& q) {
   const Rig rig = load_rig_arg(q.rig);
   ImageRequest request;
   request.board = q.board;
-  request.model_file = q.model;
+  // Absolute: the cache folder is keyed by this name and --qemu finds the
+  // image by it (last_built_with_model), from whatever folder it is run in.
+  if (!q.model.empty()) request.model_file = fs::absolute(q.model).lexically_normal().string();
   std::string note;
   if (request.model_file.empty() && !rig.model.file.empty()) {
     request.model_file = find_model_file(rig.model.file).found;

@@ -17,12 +17,35 @@ A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
 `flash`) cannot run here and is listed as skipped with the reason, as are QEMU
-examples and `firmware build` when the images were not built (no toolchain). Interactive examples (the TUI) run
-in tmux until the parameter panel is drawn, then get `q`.
+examples and `firmware build` when the images were not built (--no-qemu: no
+toolchain). Interactive examples (the TUI) run in tmux until the parameter
+panel is drawn, then get `q`.
 
 A `tune` example must also do what it shows: its best objective no higher
 than its start's (the values in force, the presets), and no warning that
 the reference barely moves in the window it scores.
+
+The examples come in two parts, so that only the few that boot QEMU hold
+ctest's one-QEMU-at-a-time lock (tests/docs/CMakeLists.txt):
+  --part host  every example whose words do not contain `--qemu` (`firmware
+               build` among them: it only compiles), and the fixtures above;
+  --part qemu  the `--qemu` examples, in the folder the host part left, so
+               they find its rig files, its recordings and the images its
+               `firmware build` put in the image cache (`conformance --qemu
+               lab-arm.toml` boots the one `firmware build ... --hil` made);
+  --part all   (the default) both, in document order.
+--work DIR is that folder: the host and all parts empty it first (only a
+folder this script made, or an empty one) and leave it in place; the qemu
+part refuses to start unless a host (or all) part went through its examples
+there. Without --work the examples run in a temporary folder removed at the
+end. A part prints the examples it runs or skips; the other part's are only
+counted, in the last line. With --no-qemu there is no qemu part: the host
+part lists the `--qemu` examples as skipped. Each part fails if it ran no
+example.
+
+  run_doc_examples.py --console C --firmware-sim S README.md ...    # all, by hand
+  run_doc_examples.py ... --part host --work DIR README.md ...      # then:
+  run_doc_examples.py ... --part qemu --work DIR README.md ...
 
 Python rather than C++: it drives whole command lines and tmux, nothing else.
 """
@@ -133,6 +156,9 @@ def run_interactive(cmd, env, cwd, timeout):
                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     if started.returncode != 0:
         return 1, "tmux did not start: " + started.stdout.decode(errors="replace")
+    # kill-server leaves the socket file behind: removed after it.
+    socket = subprocess.run(tmux + ["display-message", "-p", "#{socket_path}"],
+                            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL).stdout.decode().strip()
     try:
         end, screen = time.time() + timeout, ""
         while time.time() < end:
@@ -152,66 +178,126 @@ def run_interactive(cmd, env, cwd, timeout):
         return 1, screen + "\n(did not exit after q)"
     finally:
         subprocess.run(tmux + ["kill-server"], stderr=subprocess.DEVNULL)
+        if socket.endswith(sock):
+            try:
+                os.remove(socket)
+            except OSError:
+                pass
+
+
+# The folder's marks: this script made it (so emptying it destroys nothing
+# else), and the host part went through every example in it.
+OWNED, HOST_DONE = ".nlsoft-doc-examples", ".nlsoft-doc-examples-host-done"
+
+
+def boots_qemu(cmd):
+    return any(w == "--qemu" or w.startswith("--qemu=") for w in cmd)
+
+
+def fresh_folder(work):
+    """Empties `work` (made if missing), refusing a folder this script did not make."""
+    if os.path.isdir(work) and os.listdir(work) and not os.path.exists(os.path.join(work, OWNED)):
+        sys.exit(f"{work} holds files this script did not put there: not emptying it (give --work an empty "
+                 "or new folder)")
+    if os.path.isdir(work):
+        shutil.rmtree(work)
+    os.makedirs(work)
+    with open(os.path.join(work, OWNED), "w") as f:
+        f.write("run_doc_examples.py's scratch folder: emptied at the start of every host or all part\n")
+
+
+def make_fixtures(a, work, env):
+    """What a reader would have made first; False if one could not be made."""
+    # The script the examples name, runs 1..13 to show, export and compare, a capture.
+    with open(os.path.join(work, "tune.nls"), "w") as f:
+        f.write("# made by the documentation test: a short tuning session\n"
+                "ref swirl scale=1 hold=1\nset Lambda 1\nrun 3s label=baseline\nexpect nrmse < 0.2\n")
+    with open(os.path.join(work, "runs.nls"), "w") as f:
+        f.write("".join(f"run 200ms label=fixture{i}\n" for i in range(1, 14)))
+    code, out = run([a.console, "--sim", "msd", "--sim-fast", "--script", "runs.nls"], env, work, 120)
+    print(f"fixture: tune.nls, and 13 runs recorded ({'ok' if code == 0 else 'FAILED'})")
+    if code != 0:
+        print(out)
+        return False
+
+    # A motion capture's file (CONSOLE.md, `--y-from`): the outputs of the
+    # identification run the example records, on a clock 12.5 s ahead,
+    # as a capture program would have written them.
+    fixture_db, export = os.path.join(work, "mocap-fixture.db"), os.path.join(work, "mocap-fixture.csv")
+    code, out = run([a.console, "ident", "--sim", "hasel", "--signal", "prbs", "--duration", "60s", "--sim-fast",
+                     "--db", fixture_db], env, work, 120)
+    if code == 0:
+        code, out = run([a.console, "runs", "export", "1", "--csv", export, "--db", fixture_db], env, work, 60)
+    print(f"fixture: mocap.csv ({'ok' if code == 0 else 'FAILED'})")
+    if code != 0:
+        print(out)
+        return False
+    with open(export, encoding="utf-8") as f, open(os.path.join(work, "mocap.csv"), "w") as capture:
+        head = f.readline().strip().split(",")
+        step, ys = head.index("step"), [i for i, h in enumerate(head) if h.startswith("y_true")]
+        capture.write("time," + ",".join(f"y{j}" for j in range(len(ys))) + "\n")
+        for line in f:
+            cells = line.strip().split(",")
+            capture.write(f"{int(cells[step]) / 130.0 + 12.5:.6f}," + ",".join(cells[i] for i in ys) + "\n")
+
+    for doc in a.docs:
+        for name, text in toml_files(doc).items():
+            with open(os.path.join(work, name), "w") as f:
+                f.write(text)
+            print(f"fixture: {name} from {os.path.basename(doc)}")
+    return True
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--console", required=True)
     ap.add_argument("--firmware-sim", required=True)
-    ap.add_argument("--no-qemu", action="store_true", help="the Cortex-M images were not built: skip QEMU examples")
+    ap.add_argument("--no-qemu", action="store_true", help="the Cortex-M images were not built: skip QEMU examples "
+                    "and `firmware build`")
+    ap.add_argument("--part", choices=("all", "host", "qemu"), default="all",
+                    help="host: the examples that do not boot QEMU (and the fixtures); qemu: those that do, "
+                         "continuing in the host part's --work folder; all (default): both in document order")
+    ap.add_argument("--work", help="the scratch folder, emptied first by the host and all parts and kept; "
+                    "default: a temporary folder removed at the end")
     ap.add_argument("docs", nargs="+")
     a = ap.parse_args()
+    if a.part == "qemu" and a.no_qemu:
+        ap.error("--part qemu runs only QEMU examples, which --no-qemu skips: nothing to run")
+    if a.part == "qemu" and not a.work:
+        ap.error("--part qemu continues in the host part's folder: give it the same --work")
     a.console, a.firmware_sim = os.path.abspath(a.console), os.path.abspath(a.firmware_sim)
 
-    work = tempfile.mkdtemp(prefix="nlsoft-doc-examples-")
+    if a.work:
+        work = os.path.abspath(a.work)
+        if a.part == "qemu":
+            if not os.path.exists(os.path.join(work, HOST_DONE)):
+                print(f"no host part finished in {work}: run docs.EveryCommandExampleRuns first (or this script "
+                      f"with --part host --work {work}); the QEMU examples continue in its folder, with its rig "
+                      "files, recordings and images")
+                return 1
+            with open(os.path.join(work, HOST_DONE)) as f:
+                print(f"continuing in {work} after the host part ({f.read().strip()})")
+        else:
+            fresh_folder(work)
+    else:
+        work = tempfile.mkdtemp(prefix="nlsoft-doc-examples-")
     # The images `firmware build` makes go to the scratch folder's cache, not the user's.
     env = dict(os.environ, XDG_DATA_HOME=os.path.join(work, "data"), XDG_CACHE_HOME=os.path.join(work, "cache"),
                NLSOFT_FIRMWARE_SIM=a.firmware_sim, LANG="C.UTF-8")
     binaries = {"nlsoft-console": a.console, "nlsoft-firmware-sim": a.firmware_sim}
-    failed = ran = skipped = 0
+    failed = ran = skipped = elsewhere = 0
     try:
-        # Fixtures: the script the examples name, runs 1..13 to show, export and compare, a capture.
-        with open(os.path.join(work, "tune.nls"), "w") as f:
-            f.write("# made by the documentation test: a short tuning session\n"
-                    "ref swirl scale=1 hold=1\nset Lambda 1\nrun 3s label=baseline\nexpect nrmse < 0.2\n")
-        with open(os.path.join(work, "runs.nls"), "w") as f:
-            f.write("".join(f"run 200ms label=fixture{i}\n" for i in range(1, 14)))
-        code, out = run([a.console, "--sim", "msd", "--sim-fast", "--script", "runs.nls"], env, work, 120)
-        print(f"fixture: tune.nls, and 13 runs recorded ({'ok' if code == 0 else 'FAILED'})")
-        if code != 0:
-            print(out)
+        if a.part != "qemu" and not make_fixtures(a, work, env):
             return 1
-
-        # A motion capture's file (CONSOLE.md, `--y-from`): the outputs of the
-        # identification run the example records, on a clock 12.5 s ahead,
-        # as a capture program would have written them.
-        fixture_db, export = os.path.join(work, "mocap-fixture.db"), os.path.join(work, "mocap-fixture.csv")
-        code, out = run([a.console, "ident", "--sim", "hasel", "--signal", "prbs", "--duration", "60s", "--sim-fast",
-                         "--db", fixture_db], env, work, 120)
-        if code == 0:
-            code, out = run([a.console, "runs", "export", "1", "--csv", export, "--db", fixture_db], env, work, 60)
-        print(f"fixture: mocap.csv ({'ok' if code == 0 else 'FAILED'})")
-        if code != 0:
-            print(out)
-            return 1
-        with open(export, encoding="utf-8") as f, open(os.path.join(work, "mocap.csv"), "w") as capture:
-            head = f.readline().strip().split(",")
-            step, ys = head.index("step"), [i for i, h in enumerate(head) if h.startswith("y_true")]
-            capture.write("time," + ",".join(f"y{j}" for j in range(len(ys))) + "\n")
-            for line in f:
-                cells = line.strip().split(",")
-                capture.write(f"{int(cells[step]) / 130.0 + 12.5:.6f}," + ",".join(cells[i] for i in ys) + "\n")
-
-        for doc in a.docs:
-            for name, text in toml_files(doc).items():
-                with open(os.path.join(work, name), "w") as f:
-                    f.write(text)
-                print(f"fixture: {name} from {os.path.basename(doc)}")
         for doc in a.docs:
             for where, text in examples(doc):
                 cmd = resolve(text)
                 cmd[0] = binaries[cmd[0]]
                 shown = " ".join(resolve(text))
+                # Without the images there is no QEMU part: the host part lists them as skipped.
+                if a.part != "all" and not a.no_qemu and (a.part == "qemu") != boots_qemu(cmd):
+                    elsewhere += 1
+                    continue
                 if any(w.startswith("/dev/tty") for w in cmd) or (len(cmd) > 1 and cmd[1] == "flash"):
                     print(f"SKIP {where}: {shown}  (needs a board on a serial port)")
                     skipped += 1
@@ -220,7 +306,7 @@ def main():
                     print(f"SKIP {where}: {shown}  (a synopsis: {', '.join(placeholders(cmd[1:]))} to fill in)")
                     skipped += 1
                     continue
-                if a.no_qemu and ("--qemu" in cmd or (len(cmd) > 1 and cmd[1] == "firmware")):
+                if a.no_qemu and (boots_qemu(cmd) or (len(cmd) > 1 and cmd[1] == "firmware")):
                     print(f"SKIP {where}: {shown}  (the Cortex-M images were not built)")
                     skipped += 1
                     continue
@@ -245,9 +331,14 @@ def main():
                 if code != 0:
                     failed += 1
                     print("  exit", code, "\n  " + "\n  ".join(out.strip().splitlines()[-15:]))
+        if a.part != "qemu":
+            with open(os.path.join(work, HOST_DONE), "w") as f:
+                f.write(f"{ran} examples run, {failed} failed\n")
     finally:
-        shutil.rmtree(work, ignore_errors=True)
-    print(f"{ran} examples run, {failed} failed, {skipped} skipped")
+        if not a.work:
+            shutil.rmtree(work, ignore_errors=True)
+    print(f"{ran} examples run, {failed} failed, {skipped} skipped"
+          + (f", {elsewhere} left to the other part" if elsewhere else ""))
     return 1 if failed or ran == 0 else 0
 
 

@@ -1,37 +1,31 @@
 #!/usr/bin/env bash
 # Identification on the MCU: a rig that exists only as a file (my.toml,
 # tests/app/rig/stage.toml: 3 inputs, 2 outputs, 5 sensors, 80 Hz, a generic
-# plant) is built into each board's HIL image with a model (`firmware build
-# --rig my.toml --board B --hil --model`), and QEMU boots that image for two
+# plant), built into each board's HIL image by any_rig_build.sh (`firmware
+# build --rig my.toml --board B --hil --model`), which QEMU boots for two
 # identification runs (`ident --qemu my.toml --board B --signal prbs`, then
-# `--signal walk`), each 30 s of the firmware's steps. Each run is recorded
+# `--signal walk`), each 12 s of the firmware's steps. Each run is recorded
 # as kind ident with every step the console said it would record at the
 # decimation it printed, no frame lost and no gap; its inputs stay inside the
 # file's limits, and it carries the measured outputs (y_true, the image's
 # simulated plant) and the five sensors. `train --run` then fits a model from
 # the two runs alone, a --qemu session uploads it to the same image and
-# tracks an Infinity on the image's plant: the worst output's RMSE (scored on
-# the measured y_true) at most 5 % of its span, no frame lost.
+# tracks an Infinity on the image's plant for 12 s: the worst output's RMSE
+# (scored on the measured y_true) at most 5 % of its span, no frame lost.
 # Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
-#   ident_qemu.sh CONSOLE RIG_FILE
+#   ident_qemu.sh CONSOLE STAGE_FOLDER (any_rig_build.sh's)
 set -u
 console=$1
-fixture=$2  # tests/app/rig/stage.toml
+stage=$2 part=qemu
 . "$(dirname "$0")/rig_image_test_prelude.sh"
+# Its own files beside the build part's, which it reads only.
+rm -rf ident && mkdir ident && cd ident && cp ../my.toml my.toml || exit 1
 
-cp "$fixture" my.toml || exit 1
-# A model for the images: the rig's shape, a short fit (identification does not use it).
-"$console" dataset --rig my.toml --out my.csv --steps 2000 >log.txt 2>&1 || { cat log.txt; echo "FAIL: dataset"; exit 1; }
-"$console" train --rig my.toml --data my.csv --out first.nlsm --epochs 2 >log.txt 2>&1 ||
-  { cat log.txt; echo "FAIL: train"; exit 1; }
-
-seconds=30
+seconds=12
 steps=$((80 * seconds))
 for board in mps2-an386 stm32f4; do
-  "$console" firmware build --rig my.toml --board $board --hil --model first.nlsm >build.txt 2>&1 ||
-    { say "firmware build --board $board: $(cat build.txt)"; continue; }
-  hil=$(grep -E -- "/nlsoft-(m4|stm32f4)-stage-hil.elf\$" build.txt | awk '{print $2}')
-  [ -f "$hil" ] || { say "$board: no HIL image reported: $(cat build.txt)"; continue; }
+  hil=$(grep -E -- "/nlsoft-(m4|stm32f4)-stage-hil.elf\$" ../build-$board.txt | awk '{print $2}')
+  [ -f "$hil" ] || { say "$board: no HIL image in the build part's build-$board.txt"; continue; }
   before=$(stat -c %Y "$hil")
   db=$board.db
   ids=
@@ -80,7 +74,7 @@ EOF
     { say "$board: train$ids: $(cat train.txt)"; continue; }
   [ -s $board.nlsm ] || { say "$board: train --run wrote no model: $(cat train.txt)"; continue; }
   hash=$("$console" model info $board.nlsm | sed -n 's/^ *hash 0x\([0-9a-f]*\)$/\1/p')
-  printf 'model upload %s\nref infinity\nrun 20s label=track\nexpect lost_frames == 0\n' $board.nlsm >track.nls
+  printf 'model upload %s\nref infinity\nrun 12s label=track\nexpect lost_frames == 0\n' $board.nlsm >track.nls
   timeout 300 "$console" --qemu my.toml --board $board --db $db --script track.nls >session.txt 2>&1 ||
     { say "$board: --qemu session: $(tail -5 session.txt)"; continue; }
   grep -q "model $board.nlsm in force: hash $hash confirmed" session.txt || say "$board: model not confirmed: $(cat session.txt)"

@@ -1,19 +1,52 @@
 # Sourced by the tests that build a rig file's image and boot it in QEMU:
 # skipped (exit 77, ctest's skip) without the ARM toolchain or QEMU; a
-# scratch folder as the working directory and the console's caches, removed
-# at exit with a QEMU the test started ($qemu, when set); `say` records a
-# failure and goes on; `json FILE EXPR` prints EXPR over the JSON value j.
+# scratch folder as the working directory and the console's caches; `say`
+# records a failure and goes on; `json FILE EXPR` prints EXPR over the JSON
+# value j.
+#
+# Such a test comes in two ctest parts that share a folder of the build
+# tree (FIXTURES_SETUP, FIXTURES_REQUIRED), set before sourcing this:
+# stage=FOLDER, part=build or qemu. The build part (training, `firmware
+# build`: no QEMU) empties the folder and marks it complete when it passes;
+# the qemu part (under RESOURCE_LOCK qemu) works in it, so that the lock is
+# held only while an image runs, not while images compile. Without $stage
+# a private folder, removed at exit.
 command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
 command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
-work=$(mktemp -d)
 qemu=
-trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null; rm -rf "$work"' EXIT
+if [ -z "${stage:-}" ]; then
+  work=$(mktemp -d)
+  trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null; rm -rf "$work"' EXIT
+elif [ "${part:-}" = build ]; then
+  work=$stage
+  rm -rf "$work" && mkdir -p "$work" || exit 1
+  trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null' EXIT
+else
+  work=$stage
+  [ -f "$work/.built" ] || { echo "FAIL: $work holds no complete build: its build part (ctest's fixture) did not pass"; exit 1; }
+  trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null' EXIT
+fi
 cd "$work" || exit 1
 export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
 unset NLSOFT_M4_IMAGE
 fail=0
 say() { echo "FAIL: $*"; fail=1; }
 json() { python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print($2)" "$1"; }
+# recorded LABEL MIN_SAMPLES HASH: the id of the run of that label in the
+# folder's database, recorded in full with at least MIN_SAMPLES samples and
+# no frame lost, whose firmware ran the model of that hash (`runs show`:
+# "model <hash>"); nothing otherwise.
+recorded() {
+  "$console" runs list --json >runs.json 2>log.txt || { say "runs list: $(cat log.txt)"; return; }
+  local id
+  id=$(json runs.json "' '.join(str(r['id']) for r in j if r['label'] == '$1' and r['end_reason'] == 'completed' and r['samples'] >= $2 and r['lost_frames'] == 0)")
+  [ -n "$id" ] && "$console" runs show "$id" | grep -q ", model $3, " && echo "$id"
+}
+# built: ends the build part, its folder marked complete when nothing failed.
+built() {
+  [ $fail -eq 0 ] && touch "$work/.built" && echo "built in $work"
+  exit $fail
+}
 # boot_qemu MACHINE ELF: QEMU started on the image in the background ($qemu),
 # $port the pty of the UART the console talks to (USART2 on netduinoplus2,
 # the second serial port); false when QEMU gave no pty in 5 s.

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# A rig file made into firmware, as a lab would (the build part;
+# firmware_build_qemu.sh runs what it builds): tendon's rig under another
+# name, at another rate and tuning (t.toml), built with `nlsoft-console
+# firmware build --rig t.toml` for both boards: the board image and the HIL
+# image of each, both named and sized in the output (build-BOARD.txt).
+# Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
+#   firmware_build.sh CONSOLE SOURCE_DIR STAGE_FOLDER
+set -u
+console=$1 src=$2
+stage=$3 part=build
+. "$(dirname "$0")/rig_image_test_prelude.sh"
+
+sed -e 's/^name = "tendon"/name = "bender"/' -e 's/^rate_hz = 120.0/rate_hz = 100.0/' \
+    -e 's/^Q = \[1e-3, 5e3, 2e3\]/Q = [1e-3, 4e3, 3e3]/' -e 's/^eps = .*/eps = 0.01/' "$src/rigs/tendon.toml" >t.toml
+grep -q '^rate_hz = 100.0' t.toml && grep -q '^Q = \[1e-3, 4e3, 3e3\]' t.toml || { echo "FAIL: t.toml not edited"; exit 1; }
+
+for board in mps2-an386 stm32f4; do
+  prefix=nlsoft-m4
+  [ $board = stm32f4 ] && prefix=nlsoft-stm32f4
+  if ! "$console" firmware build --rig t.toml --board $board >build-$board.txt 2>build.err; then
+    say "firmware build --board $board: $(cat build-$board.txt build.err)"
+    continue
+  fi
+  cat build-$board.txt
+  for image in "$prefix-bender.elf" "$prefix-bender-hil.elf"; do
+    grep -q "/$image\$" build-$board.txt || say "$board: $image not reported: $(cat build-$board.txt)"
+  done
+  [ "$(grep -cE '^ +flash [0-9]+ bytes, RAM [0-9]+ bytes$' build-$board.txt)" = 2 ] ||
+    say "$board: no sizes: $(cat build-$board.txt)"
+  hil=$(grep -- "-bender-hil.elf\$" build-$board.txt | awk '{print $2}')
+  [ -f "$hil" ] || say "$board: $hil is not there"
+done
+built
