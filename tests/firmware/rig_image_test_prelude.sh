@@ -9,22 +9,17 @@
 # stage=FOLDER, part=build or qemu. The build part (training, `firmware
 # build`: no QEMU) empties the folder and marks it complete when it passes;
 # the qemu part (under RESOURCE_LOCK qemu) works in it, so that the lock is
-# held only while an image runs, not while images compile. Without $stage
-# a private folder, removed at exit.
+# held only while an image runs, not while images compile.
 command -v arm-none-eabi-g++ >/dev/null || { echo "SKIP: arm-none-eabi-g++ is not installed"; exit 77; }
 command -v qemu-system-arm >/dev/null || { echo "SKIP: qemu-system-arm is not installed"; exit 77; }
+[ -n "${stage:-}" ] && [ "${part:-}" = build -o "${part:-}" = qemu ] || { echo "FAIL: set stage=FOLDER part=build|qemu before sourcing $BASH_SOURCE"; exit 1; }
 qemu=
-if [ -z "${stage:-}" ]; then
-  work=$(mktemp -d)
-  trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null; rm -rf "$work"' EXIT
-elif [ "${part:-}" = build ]; then
-  work=$stage
+work=$stage
+trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null' EXIT
+if [ "$part" = build ]; then
   rm -rf "$work" && mkdir -p "$work" || exit 1
-  trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null' EXIT
 else
-  work=$stage
   [ -f "$work/.built" ] || { echo "FAIL: $work holds no complete build: its build part (ctest's fixture) did not pass"; exit 1; }
-  trap '[ -n "$qemu" ] && kill "$qemu" 2>/dev/null' EXIT
 fi
 cd "$work" || exit 1
 export XDG_CACHE_HOME=$work/cache XDG_DATA_HOME=$work/data
