@@ -79,10 +79,16 @@ class Tmux {
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
+// The frame is painted down to its last row, the key bar: curses writes a
+// frame top to bottom, and under load tmux may show one half written (the
+// panel read, the rows below it still blank).
+bool key_bar_drawn(const std::string& x) { return contains(x, "qQuit"); }
+
 bool Tmux::wait_until_connected(std::string& last) const {
   // Below 100 columns the panel abbreviates the longer names.
   return wait_for([](const std::string& x) {
-    return contains(x, "Parameters (") && (contains(x, "safe_state") || contains(x, "safe_s\u2026"));
+    return contains(x, "Parameters (") && (contains(x, "safe_state") || contains(x, "safe_s\u2026")) &&
+           key_bar_drawn(x);
   }, last);
 }
 
@@ -856,7 +862,9 @@ Tmux console_in(const std::string& args, int cols, int rows) {
               kUtf8Env, cols, rows);
 }
 
-bool panel_read(const std::string& x) { return contains(x, "Parameters (") && contains(x, "Lambda"); }
+bool panel_read(const std::string& x) {
+  return contains(x, "Parameters (") && contains(x, "Lambda") && key_bar_drawn(x);
+}
 
 // 80x24, the size a terminal opens at: the plot gets most of the width (a
 // narrow parameter panel) and every key of the key bar shows.
