@@ -317,13 +317,23 @@ TEST(Session, TelemetryBetweenRequestAndReplyAndLostFrames) {
 }
 
 TEST(Session, CorruptBytesAreCountedAndTheNextFrameStillDecodes) {
-  FakePeer peer([](FakePeer& pe, const p::FrameView& f) {
+  // Only the first request's reply is damaged: under load the session may
+  // send the ping again, and that retry must not add a second error.
+  std::atomic<bool> damaged{false};
+  FakePeer peer([&damaged](FakePeer& pe, const p::FrameView& f) {
     uint8_t buf[p::kWireBufferSize];
     p::Pong reply;
     reply.nonce = 77;
     size_t n = p::encode_reply(reply, f.header.seq, buf, sizeof buf);
-    buf[3] ^= 0x40;  // flip a bit: bad CRC
-    pe.write(buf, n);
+    if (!damaged.exchange(true)) {
+      // The version byte, always 1 and always wire byte 1 (right after the
+      // first COBS code byte): flipping it can neither make a delimiter nor
+      // move a code byte. The seq byte, random per session, could do both
+      // (a seq of 0x40 flipped to 0x00 splits the frame into two errors).
+      ASSERT_EQ(buf[1], p::kProtocolVersion);
+      buf[1] ^= 0x40;
+      pe.write(buf, n);
+    }
     n = p::encode_reply(reply, f.header.seq, buf, sizeof buf);
     pe.write(buf, n);
   });
