@@ -119,11 +119,30 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
   req.write_chunk = write_chunk;
   req.chunk_gap = chunk_gap;
   note_sent(seq);
+  const LinkStats before = session_.stats();
   const auto r = done(type, session_.exchange(req));
   if (!r)
-    throw LinkError(fmt::format("no reply to {} seq {} after {} tries of {} ms", p::message_name(type), seq, tries,
-                                req.timeout.count()));
+    throw LinkError(fmt::format("no reply to {} seq {} after {} tries of {} ms; meanwhile {}", p::message_name(type),
+                                seq, tries, req.timeout.count(), heard_while_waiting(before)));
   return *r;
+}
+
+// Tells a silent device (or a stalled emulator: nothing at all arrived) from
+// one that kept sending but never answered, and whether the firmware's own
+// STATUS counted our frames as damaged.
+std::string Probe::heard_while_waiting(const LinkStats& before) const {
+  const LineHeard h = session_.heard_since(before);
+  const LinkStats now = session_.stats();
+  std::string words =
+      h.kind == LineHeard::Kind::Frames
+          ? fmt::format("{} frames arrived from {} ({} TELEMETRY), none of them the reply", h.frames, session_.port(),
+                        now.telemetry_frames - before.telemetry_frames)
+          : heard_words(h, session_.port());
+  if (now.have_status && before.have_status &&
+      (now.fw_crc_errors != before.fw_crc_errors || now.fw_frame_errors != before.fw_frame_errors))
+    words += fmt::format("; the firmware's STATUS counted crc_errors +{}, frame_errors +{}",
+                         now.fw_crc_errors - before.fw_crc_errors, now.fw_frame_errors - before.fw_frame_errors);
+  return words;
 }
 
 std::optional<Frame> Probe::done(uint8_t type, const std::optional<Reply>& r) {

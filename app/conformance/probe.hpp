@@ -121,6 +121,7 @@ class Probe {
   mutable std::mutex mu_;
   std::deque<uint8_t> recent_seqs_;  // a reply to none of these answers nothing we sent lately
   void note_sent(uint8_t seq);
+  std::string heard_while_waiting(const LinkStats& before) const;
   std::set<uint8_t> types_seen_;
   std::set<uint8_t> answered_;
   std::optional<Frame> done(uint8_t type, const std::optional<Reply>& r);

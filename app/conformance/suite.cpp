@@ -117,13 +117,18 @@ void Suite::run(std::chrono::seconds patience) {
     check_transfers(*this);
     check_rig(*this);
     check_ident(*this);
-  } catch (const LinkError&) {
+  } catch (const LinkError& e) {
+    // Whether the device answers again tells a lasting fault from a pause
+    // (a board that rebooted, an emulator its host stopped scheduling).
+    std::string after;
     try {
-      pr.request(p::RunStop{}, 2);
+      pr.request(p::RunStop{});
+      after = "; afterwards the device answered RUN_STOP";
       restore_params();
     } catch (const LinkError&) {
+      if (after.empty()) after = "; afterwards RUN_STOP got no reply either";
     }
-    throw;
+    throw LinkError(e.what() + after);
   }
   restore_params();
 
