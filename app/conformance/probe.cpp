@@ -1,5 +1,7 @@
 #include "app/conformance/probe.hpp"
 
+#include "app/link/port_openers.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -142,6 +144,10 @@ std::string Probe::heard_while_waiting(const LinkStats& before) const {
       (now.fw_crc_errors != before.fw_crc_errors || now.fw_frame_errors != before.fw_frame_errors))
     words += fmt::format("; the firmware's STATUS counted crc_errors +{}, frame_errors +{}",
                          now.fw_crc_errors - before.fw_crc_errors, now.fw_frame_errors - before.fw_frame_errors);
+  // A second reader of the port takes the bytes meant for us: name it.
+  if (const auto others = other_openers(session_.port()); !others.empty())
+    words += fmt::format("; {} also {} {} open", describe_openers(others), others.size() == 1 ? "has" : "have",
+                         session_.port());
   return words;
 }
 
