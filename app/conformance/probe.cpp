@@ -146,8 +146,7 @@ std::string Probe::heard_while_waiting(const LinkStats& before) const {
                          now.fw_crc_errors - before.fw_crc_errors, now.fw_frame_errors - before.fw_frame_errors);
   // A second reader of the port takes the bytes meant for us: name it.
   if (const auto others = other_openers(session_.port()); !others.empty())
-    words += fmt::format("; {} also {} {} open", describe_openers(others), others.size() == 1 ? "has" : "have",
-                         session_.port());
+    words += "; " + also_open_words(others, session_.port());
   return words;
 }
 

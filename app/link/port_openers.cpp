@@ -98,6 +98,10 @@ std::vector<PortOpener> other_openers(const struct stat& mine) {
   return out;
 }
 
+std::string also_open_words(const std::vector<PortOpener>& openers, const std::string& port) {
+  return fmt::format("{} also {} {} open", describe_openers(openers), openers.size() == 1 ? "has" : "have", port);
+}
+
 std::string describe_openers(const std::vector<PortOpener>& openers) {
   std::string s;
   for (size_t i = 0; i < openers.size(); ++i) {

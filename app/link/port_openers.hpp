@@ -29,5 +29,7 @@ std::vector<PortOpener> other_openers(const struct stat& device);
 
 // "PID 1234 (cat)", "PID 1234 (cat) and PID 99 (screen)".
 std::string describe_openers(const std::vector<PortOpener>& openers);
+// "PID 1234 (cat) also has PORT open": the one phrase every "no reply" uses.
+std::string also_open_words(const std::vector<PortOpener>& openers, const std::string& port);
 
 }  // namespace nlsoft::console

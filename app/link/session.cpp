@@ -242,8 +242,7 @@ void Session::supervise() {
         if (now_ns() - last_echo_ns_.load() < std::chrono::nanoseconds(options_.silence_limit).count())
           detail += "; only the console's own frames come back: the line echoes";
         if (const auto others = other_openers(link_.path()); !others.empty())
-          detail += fmt::format("; {} also {} the port open", describe_openers(others),
-                                others.size() == 1 ? "has" : "have");
+          detail += "; " + also_open_words(others, "the port");
       }
       batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed, detail});
     }
@@ -572,8 +571,7 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
     else if (h.kind != LineHeard::Kind::Frames)
       why += "; " + heard_words(h, link_.path());
     if (const auto others = other_openers(link_.path()); !others.empty())
-      why += fmt::format("; {} also {} {} open and takes bytes meant for this console", describe_openers(others),
-                         others.size() == 1 ? "has" : "have", link_.path());
+      why += "; " + also_open_words(others, link_.path()) + " and takes bytes meant for this console";
   }
   if (!link_.is_up()) {
     why += link_.will_reopen() ? fmt::format("; {} is down, reconnecting", link_.path())
