@@ -161,7 +161,7 @@ void byte_at_a_time(Suite& s) {
   p::Ping ping;
   ping.nonce = s.random();
   const uint8_t seq = s.pr.next_seq();
-  const Frame f = s.pr.exchange(uint8_t(p::MsgType::Ping), seq, Probe::wire(ping, seq), 2, 1, Ms(2));
+  const Frame f = s.pr.exchange(uint8_t(p::MsgType::Ping), seq, Probe::wire(ping, seq), 4, 1, Ms(2));
   p::Pong pong;
   s.check("byte_at_a_time", as(f, pong) && pong.nonce == ping.nonce,
           "PING written one byte per write, 2 ms apart: " + describe(f));

@@ -58,6 +58,11 @@ int run_conformance(const ConformanceArgs& a) {
   Suite suite(probe, [&](const CheckResult& r) {
     if (!a.json) std::printf("%s\n", result_line(r).c_str()), std::fflush(stdout);
   });
+  // Stderr, so --json's stdout stays one object.
+  suite.on_link_error([](const std::string& what) {
+    std::fprintf(stderr, "link error: %s; sending RUN_STOP to see whether the device answers again\n", what.c_str());
+    std::fflush(stderr);
+  });
   try {
     probe.open(summary.port, a.baud);
     // A board may be resetting, QEMU booting: ask for longer before giving up.
@@ -96,7 +101,7 @@ void add_conformance_command(CLI::App& app) {
                 "image in -M netduinoplus2)")
       ->check(CLI::IsMember(qemu_boards()));
   c->add_option("--baud", a->baud, "Baud rate (default 115200)")->check(CLI::Range(50u, 20000000u));
-  c->add_option("--timeout", a->timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
+  c->add_option("--timeout", a->timeout_ms, "Reply timeout of the first try, ms (3 retries follow, each waiting twice as long as the one before)")->check(CLI::Range(10, 60000));
   c->add_flag("--json", a->json, "One JSON object instead of PASS/FAIL lines");
   c->footer(
       "Checks, by group: handshake (INFO/INFO_EX and its limits), basics (STATUS_GET, PING, frames\n"

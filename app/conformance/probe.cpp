@@ -118,15 +118,31 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
   req.seq = seq;
   req.tries = tries;
   req.timeout = type == uint8_t(p::MsgType::XferCommit) ? std::max(timeout_, Ms(1500)) : timeout_;
+  req.backoff = true;
   req.write_chunk = write_chunk;
   req.chunk_gap = chunk_gap;
   note_sent(seq);
   const LinkStats before = session_.stats();
+  const auto began = std::chrono::steady_clock::now();
   const auto r = done(type, session_.exchange(req));
-  if (!r)
-    throw LinkError(fmt::format("no reply to {} seq {} after {} tries of {} ms; meanwhile {}", p::message_name(type),
-                                seq, tries, req.timeout.count(), heard_while_waiting(before)));
+  if (!r) {
+    std::string waits;
+    for (int i = 0; i < tries; ++i) waits += fmt::format("{}{}", i ? ", " : "", req.timeout.count() << i);
+    throw LinkError(fmt::format("no reply to {} seq {} after {} tries ({} ms); meanwhile {}", p::message_name(type),
+                                seq, tries, waits, heard_while_waiting(before)));
+  }
+  if (session_.stats().retransmits != before.retransmits) {
+    const auto waited = std::chrono::duration_cast<Ms>(std::chrono::steady_clock::now() - began);
+    std::lock_guard<std::mutex> lock(mu_);
+    ++late_.requests;
+    late_.longest = std::max(late_.longest, waited);
+  }
   return *r;
+}
+
+Probe::Late Probe::late() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return late_;
 }
 
 // Tells a silent device (or a stalled emulator: nothing at all arrived) from

@@ -76,7 +76,11 @@ class Probe {
   }
 
   // A request with a fresh seq; the frame that answers it. Throws LinkError
-  // when none came after `tries` identical copies.
+  // when none came after `tries` identical copies. Each retry waits twice as
+  // long as the try before (250, 500, 1000, 2000 ms at --timeout 250): a
+  // loaded host can leave the firmware process, or the emulator, unscheduled
+  // for a second or two, and a conformant device is not to fail for that.
+  // How often it took a retry is reported (late()), not hidden.
   template <class Req>
   Frame request(const Req& req, int tries = 4) {
     const uint8_t seq = next_seq();
@@ -105,6 +109,13 @@ class Probe {
   std::vector<p::Status> take_statuses();
   std::vector<std::string> take_logs();
 
+  // Requests answered only after a retry, and the longest wait for one.
+  struct Late {
+    unsigned requests = 0;
+    Ms longest{0};
+  };
+  Late late() const;
+
   // Request types that got an answer other than NACK.
   std::set<uint8_t> answered() const;
   // What the firmware has sent so far, by type: replies and unsolicited.
@@ -124,6 +135,7 @@ class Probe {
   std::string heard_while_waiting(const LinkStats& before) const;
   std::set<uint8_t> types_seen_;
   std::set<uint8_t> answered_;
+  Late late_;
   std::optional<Frame> done(uint8_t type, const std::optional<Reply>& r);
   std::vector<Frame> heard_;  // replies collected by send_fenced
   void listen();

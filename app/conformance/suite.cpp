@@ -120,6 +120,7 @@ void Suite::run(std::chrono::seconds patience) {
   } catch (const LinkError& e) {
     // Whether the device answers again tells a lasting fault from a pause
     // (a board that rebooted, an emulator its host stopped scheduling).
+    if (on_link_error_) on_link_error_(e.what());
     std::string after;
     try {
       pr.request(p::RunStop{});
@@ -160,10 +161,18 @@ void Suite::run(std::chrono::seconds patience) {
                                       requests_answered.size(), seen.size())
                         : join(missing, "; "));
   const unsigned foreign = pr.foreign_replies();
+  // Not a fault: a retry is the protocol's remedy for a lost frame or a
+  // stalled host; but a count well above zero says the line or the host is.
+  const Probe::Late late = pr.late();
+  const std::string retried =
+      late.requests == 0 ? ""
+                         : fmt::format("; {} request{} answered only after a retry (longest wait {} ms)", late.requests,
+                                       late.requests == 1 ? "" : "s", late.longest.count());
   check("reply_seq", foreign == 0,
-        foreign == 0 ? fmt::format("{} replies, each with the seq of a request of ours and REPLY set", pr.replies())
-                     : fmt::format("{} of {} replies answer no request of ours; first: {}", foreign, pr.replies(),
-                                   pr.first_foreign()));
+        foreign == 0 ? fmt::format("{} replies, each with the seq of a request of ours and REPLY set{}", pr.replies(),
+                                   retried)
+                     : fmt::format("{} of {} replies answer no request of ours; first: {}{}", foreign, pr.replies(),
+                                   pr.first_foreign(), retried));
 }
 
 }  // namespace nlsoft::console::conformance

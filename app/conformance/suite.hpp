@@ -31,6 +31,9 @@ class Suite {
   // link fails (LinkError propagates after that).
   void run(std::chrono::seconds patience);
   const std::vector<CheckResult>& results() const { return results_; }
+  // Told of a link error as it happens, before the seconds spent asking
+  // whether the device answers again (RUN_STOP, then the parameters).
+  void on_link_error(std::function<void(const std::string&)> f) { on_link_error_ = std::move(f); }
 
   // ---- for the check files
   void check(const std::string& name, bool pass, const std::string& detail);
@@ -53,6 +56,7 @@ class Suite {
 
  private:
   Listener on_result_;
+  std::function<void(const std::string&)> on_link_error_;
   std::vector<CheckResult> results_;
   std::string group_;
   std::mt19937 rng_{std::random_device{}()};

@@ -494,7 +494,8 @@ std::optional<Reply> Session::exchange_locked(const RawRequest& req, bool identi
     pending_type_ = req.type;
     pending_identifying_ = identifying;
   }
-  for (int attempt = 0; attempt < req.tries; ++attempt) {
+  auto wait = req.timeout;
+  for (int attempt = 0; attempt < req.tries; ++attempt, wait = req.backoff ? 2 * wait : wait) {
     if (attempt > 0) {
       std::lock_guard<std::mutex> lock(stats_mu_);
       ++stats_.retransmits;
@@ -517,7 +518,7 @@ std::optional<Reply> Session::exchange_locked(const RawRequest& req, bool identi
     std::unique_lock<std::mutex> lock(pending_mu_);
     // The reply may belong to any earlier try (same seq): whichever arrives
     // first under this mutex wins, and a later copy counts as stale.
-    if (pending_cv_.wait_for(lock, req.timeout, [this] { return pending_done_; })) {
+    if (pending_cv_.wait_for(lock, wait, [this] { return pending_done_; })) {
       pending_active_ = false;
       return pending_reply_;
     }

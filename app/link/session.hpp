@@ -95,6 +95,7 @@ struct RawRequest {
   uint8_t seq = 0;
   int tries = 1;              // identical copies sent, each after a timeout
   std::chrono::milliseconds timeout{250};
+  bool backoff = false;       // each retry waits twice as long as the try before
   size_t write_chunk = 0;     // > 0: written in pieces of this many bytes
   std::chrono::milliseconds chunk_gap{0};
 };
