@@ -9,20 +9,12 @@
 #   conformance_brief_stall.sh CONSOLE
 set -u
 console=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$console" conformance --sim msd --timeout 200 >"$work/out.txt" 2>&1 &
-pid=$!
-for _ in $(seq 1500); do grep -q "^PASS ping" "$work/out.txt" && break; sleep 0.02; done
-sim=$(pgrep -P $pid -f nlsoft-firmware-sim)
-[ -n "$sim" ] || { echo "FAIL: no simulator under the console"; cat "$work/out.txt"; kill $pid; exit 1; }
+. "$(dirname "$0")/conformance_suite_prelude.sh"
+start_suite --timeout 200
 kill -STOP $sim
 sleep 1.5
 kill -CONT $sim
-wait $pid
-rc=$?
-cat "$work/out.txt"
-[ $rc -eq 0 ] || { echo "FAIL: exit $rc, expected 0 (every check passed)"; exit 1; }
+end_suite 0 "every check passed"
 grep -qE "^PASS reply_seq: .*; [0-9]+ requests? answered only after a retry \(longest wait [0-9]+ ms\)" "$work/out.txt" ||
   { echo "FAIL: the summary does not count the requests answered after a retry"; exit 1; }
 wait_ms=$(grep -oE "longest wait [0-9]+ ms" "$work/out.txt" | grep -oE "[0-9]+")

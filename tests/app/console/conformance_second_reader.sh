@@ -5,24 +5,19 @@
 #   conformance_second_reader.sh CONSOLE
 set -u
 console=$1
-work=$(mktemp -d)
 thief=""
 cleanup() {
   [ -n "$thief" ] && kill "$thief" 2>/dev/null
   rm -rf "$work"
 }
-trap cleanup EXIT
-"$console" conformance --sim msd --timeout 500 >"$work/out.txt" 2>&1 &
-pid=$!
-for _ in $(seq 1500); do grep -q "^PASS ping" "$work/out.txt" && break; sleep 0.02; done
+. "$(dirname "$0")/conformance_suite_prelude.sh"
+trap cleanup EXIT  # after the prelude's own trap, which it replaces
+start_suite --timeout 200
 port=$(for f in /proc/$pid/fd/*; do readlink "$f"; done | grep -m1 '^/dev/pts/')
 [ -n "$port" ] || { echo "FAIL: the console holds no pseudo-terminal"; kill $pid; exit 1; }
 cat "$port" >/dev/null 2>&1 &
 thief=$!
-wait $pid
-rc=$?
-cat "$work/out.txt"
-[ $rc -eq 2 ] || { echo "FAIL: exit $rc, expected 2 (a link error)"; exit 1; }
+end_suite 2 "a link error"
 grep -qE "^link error: no reply to .*; PID $thief \(cat\) also has $port open" "$work/out.txt" ||
   { echo "FAIL: the error does not name the second reader (PID $thief, cat)"; exit 1; }
 exit 0

@@ -8,20 +8,12 @@
 #   conformance_stalled_firmware.sh CONSOLE
 set -u
 console=$1
-work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
-"$console" conformance --sim msd --timeout 200 >"$work/out.txt" 2>&1 &
-pid=$!
-for _ in $(seq 1500); do grep -q "^PASS ping" "$work/out.txt" && break; sleep 0.02; done
-sim=$(pgrep -P $pid -f nlsoft-firmware-sim)
-[ -n "$sim" ] || { echo "FAIL: no simulator under the console"; cat "$work/out.txt"; kill $pid; exit 1; }
+. "$(dirname "$0")/conformance_suite_prelude.sh"
+start_suite --timeout 200
 kill -STOP $sim
 for _ in $(seq 1500); do grep -q "sending RUN_STOP to see whether" "$work/out.txt" && break; sleep 0.02; done
 kill -CONT $sim
-wait $pid
-rc=$?
-cat "$work/out.txt"
-[ $rc -eq 2 ] || { echo "FAIL: exit $rc, expected 2 (a link error)"; exit 1; }
+end_suite 2 "a link error"
 error=$(grep "no reply to .*afterwards" "$work/out.txt")
 [ -n "$error" ] || { echo "FAIL: no 'no reply to' error"; exit 1; }
 grep -qE "after [0-9] tries \(200(, [0-9]+)* ms\); meanwhile nothing arrived from /dev/pts/[0-9]+" <<<"$error" ||
