@@ -152,6 +152,7 @@ class Firmware {
   }
   proto::RunState state() const { return state_; }
   uint32_t tx_dropped() const { return tx_dropped_; }
+  uint32_t frames_in() const { return decoder_.stats().frames_ok; }  // STATUS frames_in
 
  private:
   // ---------------------------------------------------------------- model

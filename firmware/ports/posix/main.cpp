@@ -111,6 +111,13 @@ int main(int argc, char** argv) {
                  "spend this many microseconds more in each control step of a run, as a heavier controller or a "
                  "busy machine would: a loop that cannot keep its rate (what the console reports then)")
       ->check(CLI::Range(0u, 1000000u));
+  uint32_t pause_after = 0, pause_ms = 1000;
+  app.add_option("--pause-after", pause_after,
+                 "after this many frames received, stop for --pause-ms (the port unread, no step, no telemetry), as "
+                 "a host that does not schedule the simulator would: how a console or a test rides out a stalled "
+                 "firmware, at the same point of its conversation however loaded the machine is");
+  app.add_option("--pause-ms", pause_ms, "how long --pause-after stops, ms")->capture_default_str()->check(
+      CLI::Range(1u, 600000u));
   CLI11_PARSE(app, argc, argv);
 
   // The rig and its plant, or a clear refusal before the pty exists.
@@ -192,6 +199,11 @@ int main(int argc, char** argv) {
   const uint64_t period = uint64_t(1e6 / rate);
   uint64_t next = now_us();
   while (!g_stop) {
+    if (pause_after > 0 && firmware->frames_in() >= pause_after) {
+      pause_after = 0;  // once
+      const timespec pause{time_t(pause_ms / 1000u), long(pause_ms % 1000u) * 1000000};
+      nanosleep(&pause, nullptr);
+    }
     if (fast) {  // steps back to back, the port read between every two
       hal.set_readable(true);
       firmware->poll();
