@@ -135,7 +135,10 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
     const auto waited = std::chrono::duration_cast<Ms>(std::chrono::steady_clock::now() - began);
     std::lock_guard<std::mutex> lock(mu_);
     ++late_.requests;
-    late_.longest = std::max(late_.longest, waited);
+    if (waited > late_.longest) {
+      late_.longest = waited;
+      late_.longest_request = fmt::format("{} seq {}", p::message_name(type), seq);
+    }
   }
   return *r;
 }

@@ -109,10 +109,12 @@ class Probe {
   std::vector<p::Status> take_statuses();
   std::vector<std::string> take_logs();
 
-  // Requests answered only after a retry, and the longest wait for one.
+  // Requests answered only after a retry, and the longest wait for one:
+  // which request it was says where in the conversation the host stalled.
   struct Late {
     unsigned requests = 0;
     Ms longest{0};
+    std::string longest_request;  // "PARAM_GET seq 21"
   };
   Late late() const;
 

@@ -166,8 +166,9 @@ void Suite::run(std::chrono::seconds patience) {
   const Probe::Late late = pr.late();
   const std::string retried =
       late.requests == 0 ? ""
-                         : fmt::format("; {} request{} answered only after a retry (longest wait {} ms)", late.requests,
-                                       late.requests == 1 ? "" : "s", late.longest.count());
+                         : fmt::format("; {} request{} answered only after a retry (longest wait {} ms, for {})",
+                                       late.requests, late.requests == 1 ? "" : "s", late.longest.count(),
+                                       late.longest_request);
   check("reply_seq", foreign == 0,
         foreign == 0 ? fmt::format("{} replies, each with the seq of a request of ours and REPLY set{}", pr.replies(),
                                    retried)

@@ -27,6 +27,7 @@ complete_is() {
   if [ "$got" != "$want" ]; then
     echo "FAIL: '$*' completes to '$got', want '$want'"
     failures=$((failures + 1))
+    return 1
   fi
 }
 
@@ -73,6 +74,29 @@ complete_is "infinity" nlsoft-console simulate --reference inf
 complete_is "exact fd" nlsoft-console simulate --mode ""
 complete_is "--sim --sim-fast --sim-rate" nlsoft-console --sim
 complete_is "--sim" nlsoft-console conformance --si
+
+# A Tab starts the console only where a rig's name is typed: one process
+# per Tab elsewhere made each Tab as slow as the console's start.
+mkdir "$work/bin"
+printf '#!/bin/sh\necho "$*" >>"%s/calls"\nexec "%s" "$@"\n' "$work" "$console" >"$work/bin/nlsoft-console"
+chmod +x "$work/bin/nlsoft-console"
+calls_for() {
+  local want=$1
+  shift
+  : >"$work/calls"
+  # In a subshell (PATH), so its failure is counted from its status.
+  (PATH=$work/bin:$PATH && complete_is "$@") || failures=$((failures + 1))
+  local n
+  n=$(wc -l <"$work/calls")
+  if [ "$n" -ne "$want" ]; then
+    echo "FAIL: completing '${*:2}' ran the console $n times, want $want"
+    failures=$((failures + 1))
+  fi
+}
+calls_for 0 "compare delete export label list merge-y plot show" nlsoft-console runs ""
+calls_for 0 "--json" nlsoft-console runs show 12 --j
+calls_for 1 "hasel msd tendon" nlsoft-console --sim ""
+calls_for 1 "hasel" nlsoft-console rig check ha
 
 # Every parameter of the firmware's table, no more and no less.
 params="Q Lambda s b r N N1 Nc eps u_min u_max nr_tol nr_max_iter mode feedback watchdog_ms safe_state"
