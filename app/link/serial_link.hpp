@@ -54,6 +54,11 @@ class SerialLink {
   void set_reconnect_interval(std::chrono::milliseconds ms) { reconnect_interval_ = ms; }
   // False once a port that cannot come back (a hung-up /dev/pts/N) is lost.
   bool will_reopen() const { return will_reopen_.load(); }
+  // The longest time between two writes reaching the port since the last
+  // call, the time since the last write included; then starts again. The
+  // firmware's watchdog counts the same silence from its end, so the two
+  // figures side by side say which end held the bytes back.
+  std::chrono::milliseconds take_longest_write_gap();
 
  private:
   std::string open_port();  // "" or why the port cannot serve
@@ -75,6 +80,7 @@ class SerialLink {
   std::atomic<bool> will_reopen_{true};
   uint8_t read_buf_[4096] = {};
   std::deque<std::vector<uint8_t>> write_queue_;  // I/O thread only
+  std::atomic<int64_t> last_write_ns_{0}, longest_write_gap_ns_{0};  // steady clock; set on the I/O thread
   std::atomic<unsigned> generation_{0};            // one per open(): stale writes are dropped
 };
 

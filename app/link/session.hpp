@@ -160,6 +160,9 @@ class Session {
   }
 
   LinkStats stats() const;
+  // SerialLink::take_longest_write_gap: how long the console went without
+  // writing to the port since the last call.
+  std::chrono::milliseconds take_longest_write_gap() { return link_.take_longest_write_gap(); }
   // What arrived since `before` (a stats() snapshot), for a request or a
   // handshake that got no answer.
   LineHeard heard_since(const LinkStats& before) const;

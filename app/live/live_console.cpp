@@ -754,6 +754,7 @@ int64_t LiveConsole::begin_run(const std::string& label, p::IdentStart* ident, c
                          : "the firmware is already running another run; stop it first");
     throw;
   }
+  session_->take_longest_write_gap();  // the run's own silences from here
   {
     std::lock_guard<std::mutex> lock(mu_);
     session_runs_.push_back(id);
@@ -826,16 +827,21 @@ void LiveConsole::hold(p::HoldMode mode) {
 
 namespace {
 
-std::string left_run_reason(uint8_t state, uint8_t watchdog) {
+std::string left_run_reason(uint8_t state, uint8_t watchdog, std::chrono::milliseconds console_gap) {
   // STATUS watchdog bit 2: the link went silent during this run.
   constexpr uint8_t kWatchdogTripped = 0x04;
   const char* where = state == uint8_t(p::RunState::Hold)      ? "holding"
                       : state == uint8_t(p::RunState::Neutral) ? "with the actuators neutral"
                       : state == uint8_t(p::RunState::Fault)   ? "in its fault state"
                                                                : "idle";
+  // The console's own longest silence beside it: under watchdog_ms, the
+  // bytes were written in time and held back on the way (the line, or a
+  // host that did not schedule the firmware); the firmware's LOG says how
+  // long it heard nothing.
   if (watchdog & kWatchdogTripped)
-    return fmt::format("the firmware's link watchdog tripped (nothing from the console for watchdog_ms); it is {}",
-                       where);
+    return fmt::format("the firmware's link watchdog tripped (nothing from the console for watchdog_ms; the console "
+                       "wrote at most {} ms apart during the run); it is {}",
+                       console_gap.count(), where);
   return fmt::format("the firmware left the run on its own; it is {}", where);
 }
 
@@ -919,7 +925,7 @@ RunSummary LiveConsole::run_steps(uint64_t target, int64_t id, const std::string
                       db_path_, std::chrono::duration<double>(options_.db_busy).count(), id));
     }
     if (const uint8_t st = left_run_state_.load(); st != 0 || left_run_watchdog_.load() != 0) {
-      early = left_run_reason(st, left_run_watchdog_.load());
+      early = left_run_reason(st, left_run_watchdog_.load(), session_->take_longest_write_gap());
       break;
     }
     const auto now = clock::now();

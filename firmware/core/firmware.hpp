@@ -10,6 +10,7 @@
 #include "firmware/core/clock.hpp"
 #include "firmware/core/compute_stats.hpp"
 #include "firmware/core/hal.hpp"
+#include "firmware/core/log_text.hpp"
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
 #include "firmware/core/rig_reply.hpp"
@@ -296,10 +297,18 @@ class Firmware {
 
   // ------------------------------------------------------------- requests
   void handle(const proto::FrameView& f) {
+    const uint32_t silent_ms = clock_.ms() - last_rx_ms_;
     last_rx_ms_ = clock_.ms();
     if (watchdog_ & watchdog_bits::kTripped && !link_back_reported_) {
       link_back_reported_ = true;
-      log(proto::LogLevel::Warn, "link back: it was silent during the run, actuators went to the safe state; RUN_HOLD resume continues");
+      // How long, by this firmware's clock: set beside the console's own
+      // gap between writes, it tells a silent console from a line (or a
+      // host) that held its bytes back.
+      LogText<proto::kMaxLogText> text;
+      text << "link back after " << silent_ms << " ms of silence during the run (watchdog_ms "
+           << uint32_t(settings_.watchdog_ms)
+           << "), actuators went to the safe state; RUN_HOLD resume continues";
+      log(proto::LogLevel::Warn, text.c_str());
     }
     if (f.is_reply()) return;  // not a request
     const uint8_t* wire;

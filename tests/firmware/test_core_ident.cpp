@@ -9,6 +9,8 @@
 #include <cmath>
 #include <deque>
 #include <memory>
+#include <regex>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -122,6 +124,17 @@ class IdentRun : public ::testing::Test {
       s.push_back(x);
     }
     return s;
+  }
+  // LOG texts among the frames written since the last clear.
+  std::vector<std::string> logs() {
+    std::vector<std::string> l;
+    for (const proto::FrameView& f : frames()) {
+      if (f.header.type != uint8_t(proto::MsgType::Log)) continue;
+      proto::Log x;
+      EXPECT_EQ(proto::unpack(f, x), proto::StatusCode::Ok);
+      l.emplace_back(x.text);
+    }
+    return l;
   }
   proto::Status status() {
     proto::StatusGet g;
@@ -284,6 +297,18 @@ TEST_F(IdentRun, ASilentLinkTripsTheWatchdogToTheSafeStateAsInClosedLoop) {
   const proto::Status st = status();
   EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Neutral));
   EXPECT_TRUE(st.watchdog & proto::watchdog_flags::kTripped);
+  // The first request after the silence is answered with a warning that
+  // says how long the silence lasted by the firmware's clock.
+  const std::vector<std::string> warned = logs();
+  ASSERT_EQ(warned.size(), 1u);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(warned[0], m, std::regex("^link back after ([0-9]+) ms of silence during the run "
+                                                         "\\(watchdog_ms 1000\\), actuators went to the safe state")))
+      << warned[0];
+  EXPECT_GT(std::stoul(m[1]), 1000u);
+  EXPECT_LT(std::stoul(m[1]), 3000u);  // 1500 steps, a millisecond a tick read
+  status();
+  EXPECT_TRUE(logs().empty()) << "said once";
   for (int i = 0; i < 6; ++i) EXPECT_EQ(hal_.actuated.back()[size_t(i)], rig_.u_neutral[i]);
   EXPECT_LT(st.step, 1500u);
   // Nothing resumes by itself; RUN_HOLD resume continues the signal.

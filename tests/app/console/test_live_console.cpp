@@ -12,6 +12,7 @@
 #include <chrono>
 #include <future>
 #include <mutex>
+#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -178,6 +179,12 @@ TEST_F(RunEndingBadly, AWatchdogTripEndsTheRunEarlyAndSaysSo) {
   const RunSummary s = console_->run_for(60, "watchdog");
   EXPECT_TRUE(s.ended_early);
   EXPECT_NE(s.end_reason.find("link watchdog tripped"), std::string::npos) << s.end_reason;
+  // The console's own silence beside it: its keepalive every 300 ms is
+  // longer than the 100 ms watchdog, so the console is the one to blame.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(s.end_reason, m, std::regex("the console wrote at most ([0-9]+) ms apart during the run")))
+      << s.end_reason;
+  EXPECT_GE(std::stoi(m[1]), 100) << s.end_reason;
   RunStore store(dir_.file("runs.db"));
   ASSERT_EQ(store.gaps(s.run_id).size(), 1u);
 }
