@@ -115,25 +115,22 @@ class IdentRun : public ::testing::Test {
     for (size_t i = 0; i < v.size(); ++i) v[i].payload = raw_[i].data();
     return v;
   }
-  std::vector<proto::IdentSample> samples() {
-    std::vector<proto::IdentSample> s;
+  // The messages of one type among the frames written since the last clear.
+  template <class M>
+  std::vector<M> written() {
+    std::vector<M> out;
     for (const proto::FrameView& f : frames()) {
-      if (f.header.type != uint8_t(proto::MsgType::IdentSample)) continue;
-      proto::IdentSample x;
+      if (f.header.type != uint8_t(M::kType)) continue;
+      M x;
       EXPECT_EQ(proto::unpack(f, x), proto::StatusCode::Ok);
-      s.push_back(x);
+      out.push_back(x);
     }
-    return s;
+    return out;
   }
-  // LOG texts among the frames written since the last clear.
+  std::vector<proto::IdentSample> samples() { return written<proto::IdentSample>(); }
   std::vector<std::string> logs() {
     std::vector<std::string> l;
-    for (const proto::FrameView& f : frames()) {
-      if (f.header.type != uint8_t(proto::MsgType::Log)) continue;
-      proto::Log x;
-      EXPECT_EQ(proto::unpack(f, x), proto::StatusCode::Ok);
-      l.emplace_back(x.text);
-    }
+    for (const proto::Log& g : written<proto::Log>()) l.emplace_back(g.text);
     return l;
   }
   proto::Status status() {
