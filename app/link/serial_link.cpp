@@ -1,4 +1,5 @@
 #include "app/link/serial_link.hpp"
+#include "app/link/steady_ns.hpp"
 
 #include <algorithm>
 #include <boost/asio/post.hpp>
@@ -96,15 +97,8 @@ void SerialLink::write(std::vector<uint8_t> bytes) {
   });
 }
 
-namespace {
-int64_t ns_now() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-}  // namespace
-
 std::chrono::milliseconds SerialLink::take_longest_write_gap() {
-  const int64_t now = ns_now();
+  const int64_t now = now_ns();
   const int64_t last = last_write_ns_.load();
   const int64_t longest = std::max(longest_write_gap_ns_.exchange(0), last != 0 ? now - last : 0);
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::nanoseconds(longest));
@@ -118,7 +112,7 @@ void SerialLink::start_write() {
                         if (ec != asio::error::operation_aborted) port_failed("write: " + ec.message());
                         return;
                       }
-                      const int64_t now = ns_now();
+                      const int64_t now = now_ns();
                       const int64_t before = last_write_ns_.exchange(now);
                       if (before != 0 && now - before > longest_write_gap_ns_.load()) longest_write_gap_ns_ = now - before;
                       if (!write_queue_.empty()) write_queue_.pop_front();

@@ -1,4 +1,5 @@
 #include "app/link/session.hpp"
+#include "app/link/steady_ns.hpp"
 
 #include <fmt/format.h>
 
@@ -20,10 +21,6 @@ namespace p = nlsoft::protocol;
 using Clock = std::chrono::steady_clock;
 
 namespace {
-
-int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
 
 // ACK and NACK name the request they answer; the other replies by type
 // (protocol/catalog.hpp, section 6's reply column).

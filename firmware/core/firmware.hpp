@@ -297,9 +297,10 @@ class Firmware {
 
   // ------------------------------------------------------------- requests
   void handle(const proto::FrameView& f) {
-    const uint32_t silent_ms = clock_.ms() - last_rx_ms_;
+    const uint32_t heard_before_ms = last_rx_ms_;
     last_rx_ms_ = clock_.ms();
     if (watchdog_ & watchdog_bits::kTripped && !link_back_reported_) {
+      const uint32_t silent_ms = last_rx_ms_ - heard_before_ms;
       link_back_reported_ = true;
       // How long, by this firmware's clock: set beside the console's own
       // gap between writes, it tells a silent console from a line (or a
