@@ -51,6 +51,8 @@ Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
   session_.on_any_reply([this](const p::FrameView& f) {
     std::lock_guard<std::mutex> lock(mu_);
     ++replies_;
+    ++answers_[f.header.seq];
+    answered_cv_.notify_all();
     types_seen_.insert(f.header.type);
     if (std::find(recent_seqs_.begin(), recent_seqs_.end(), f.header.seq) == recent_seqs_.end()) {
       ++foreign_;
@@ -94,7 +96,18 @@ void Probe::open(const std::string& path, unsigned baud) {
 uint8_t Probe::next_seq() {
   const uint8_t seq = session_.next_seq();
   note_sent(seq);
+  std::lock_guard<std::mutex> lock(mu_);
+  copies_[seq] = answers_[seq] = 0;  // a seq come round again starts afresh
   return seq;
+}
+
+void Probe::settle(uint8_t seq) {
+  // Every copy of a request is answered (a duplicate from the stored reply),
+  // in the order written. A copy whose answer never comes within the
+  // patience of one request (250 + 500 + 1000 + 2000 ms at --timeout 250)
+  // was lost on the line: nothing late is left to mistake.
+  std::unique_lock<std::mutex> lock(mu_);
+  answered_cv_.wait_for(lock, 15 * timeout_, [&] { return answers_[seq] >= copies_[seq]; });
 }
 
 void Probe::note_sent(uint8_t seq) {
@@ -122,9 +135,15 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
   req.write_chunk = write_chunk;
   req.chunk_gap = chunk_gap;
   note_sent(seq);
+  settle(seq);
   const LinkStats before = session_.stats();
   const auto began = std::chrono::steady_clock::now();
   const auto r = done(type, session_.exchange(req));
+  {
+    // Only this thread writes (no keepalive): every try beyond the first is one more copy.
+    std::lock_guard<std::mutex> lock(mu_);
+    copies_[seq] += 1 + unsigned(session_.stats().retransmits - before.retransmits);
+  }
   if (!r) {
     std::string waits;
     for (int i = 0; i < tries; ++i) waits += fmt::format("{}{}", i ? ", " : "", req.timeout.count() << i);
@@ -192,7 +211,11 @@ std::optional<Frame> Probe::try_exchange(uint8_t type, uint8_t seq, const std::v
   req.seq = seq;
   req.timeout = wait;
   note_sent(seq);
-  return done(type, session_.exchange(req));
+  settle(seq);
+  auto r = done(type, session_.exchange(req));
+  std::lock_guard<std::mutex> lock(mu_);
+  ++copies_[seq];
+  return r;
 }
 
 void Probe::listen() {

@@ -5,7 +5,9 @@
 // firmware sends besides the awaited reply is kept for the checks to judge:
 // every reply (a reply to nothing we sent is a fault), telemetry, STATUS and
 // LOG.
+#include <array>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <mutex>
@@ -150,6 +152,13 @@ class Probe {
   bool listening_ = false;
   unsigned replies_ = 0, foreign_ = 0;
   std::string first_foreign_;
+  // Copies written and replies heard, per seq. A check that sends a seq
+  // again (a duplicate, the same seq with another body) must not take a late
+  // answer to an earlier copy, retried on a slow host, for the firmware's
+  // answer to the new one: exchange() first waits for those (settle()).
+  std::array<unsigned, 256> copies_{}, answers_{};
+  std::condition_variable answered_cv_;
+  void settle(uint8_t seq);
   bool recording_ = false;
   std::vector<TelemetrySample> telemetry_;
   std::vector<p::IdentSample> ident_;
