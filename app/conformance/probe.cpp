@@ -134,16 +134,9 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
   req.backoff = true;
   req.write_chunk = write_chunk;
   req.chunk_gap = chunk_gap;
-  note_sent(seq);
-  settle(seq);
-  const LinkStats before = session_.stats();
+  LinkStats before;
   const auto began = std::chrono::steady_clock::now();
-  const auto r = done(type, session_.exchange(req));
-  {
-    // Only this thread writes (no keepalive): every try beyond the first is one more copy.
-    std::lock_guard<std::mutex> lock(mu_);
-    copies_[seq] += 1 + unsigned(session_.stats().retransmits - before.retransmits);
-  }
+  const auto r = send(req, before);
   if (!r) {
     std::string waits;
     for (int i = 0; i < tries; ++i) waits += fmt::format("{}{}", i ? ", " : "", req.timeout.count() << i);
@@ -160,6 +153,19 @@ Frame Probe::exchange(uint8_t type, uint8_t seq, const std::vector<uint8_t>& byt
     }
   }
   return *r;
+}
+
+std::optional<Frame> Probe::send(const RawRequest& req, LinkStats& before) {
+  note_sent(req.seq);
+  settle(req.seq);
+  before = session_.stats();
+  const auto reply = session_.exchange(req);
+  {
+    // Only this thread writes (no keepalive): every try beyond the first is one more copy.
+    std::lock_guard<std::mutex> lock(mu_);
+    copies_[req.seq] += 1 + unsigned(session_.stats().retransmits - before.retransmits);
+  }
+  return done(req.type, reply);
 }
 
 Probe::Late Probe::late() const {
@@ -210,12 +216,8 @@ std::optional<Frame> Probe::try_exchange(uint8_t type, uint8_t seq, const std::v
   req.type = type;
   req.seq = seq;
   req.timeout = wait;
-  note_sent(seq);
-  settle(seq);
-  auto r = done(type, session_.exchange(req));
-  std::lock_guard<std::mutex> lock(mu_);
-  ++copies_[seq];
-  return r;
+  LinkStats before;
+  return send(req, before);
 }
 
 void Probe::listen() {

@@ -159,6 +159,8 @@ class Probe {
   std::array<unsigned, 256> copies_{}, answers_{};
   std::condition_variable answered_cv_;
   void settle(uint8_t seq);
+  // Writes req once settled, counts the copies written; `before` is the stats as it began.
+  std::optional<Frame> send(const RawRequest& req, LinkStats& before);
   bool recording_ = false;
   std::vector<TelemetrySample> telemetry_;
   std::vector<p::IdentSample> ident_;
