@@ -366,9 +366,14 @@ void Session::on_frame(const p::FrameView& f) {
 }
 
 void Session::on_reply(const p::FrameView& f) {
-  if (any_reply_handler_) any_reply_handler_(f);
   {
     std::lock_guard<std::mutex> lock(pending_mu_);
+    // The tap runs under the lock that a new request takes to become
+    // pending: by the time a tap's user has counted this reply and sends
+    // its seq again, the session has already matched or discarded it. (Run
+    // before the lock, a late duplicate counted by the conformance probe was
+    // matched to the request it sent next with that seq: TSan under load.)
+    if (any_reply_handler_) any_reply_handler_(f);
     if (pending_active_ && !pending_done_ && f.header.seq == pending_seq_ && answers(pending_type_, f) &&
         (pending_identifying_ || peer_ == Peer::Known)) {
       pending_reply_.type = f.header.type;

@@ -123,7 +123,10 @@ class Session {
   void on_log(LogHandler h) { log_handler_ = std::move(h); }
   void on_event(EventHandler h) { event_handler_ = std::move(h); }
   // Every frame with REPLY set, matched or not (I/O thread): a tool that
-  // pipelines requests or checks for unwanted replies sees them all.
+  // pipelines requests or checks for unwanted replies sees them all. It runs
+  // before the reply can answer a request and before a request sent after it
+  // can take a reply, under the session's reply lock: it must not call the
+  // session.
   void on_any_reply(ReplyHandler h) { any_reply_handler_ = std::move(h); }
 
   void open(const std::string& path, unsigned baud);  // throws LinkError

@@ -677,5 +677,63 @@ TEST(Session, RawExchangeSendsTheBytesAsGivenAndMatchesItsSeq) {
   EXPECT_EQ(tapped.load(), 2);
 }
 
+// A tool that counts the replies to a seq before it sends that seq again
+// (the conformance probe) must find every counted reply already matched or
+// discarded: a late duplicate it has counted must not answer the request it
+// sends next. The peer answers nonce 1 twice (the second 100 ms later, as a
+// firmware answers a retried copy from its stored reply); the tap dawdles
+// 150 ms after counting the duplicate, so a request sent on its word would
+// be pending while that duplicate is still in the session's hands.
+TEST(Session, AReplyTheTapHasCountedCannotAnswerARequestSentAfterIt) {
+  FakePeer peer([](FakePeer& pe, const p::FrameView& f) {
+    p::Ping req;
+    if (p::unpack(f, req) != p::StatusCode::Ok) return;
+    p::Pong reply;
+    reply.nonce = req.nonce;
+    pe.reply(reply, f.header.seq);
+    if (req.nonce == 1) {
+      std::this_thread::sleep_for(100ms);
+      pe.reply(reply, f.header.seq);
+    }
+  });
+  Session s(fast_options());
+  std::mutex m;
+  std::condition_variable cv;
+  int counted = 0;
+  s.on_any_reply([&](const p::FrameView&) {
+    int now = 0;
+    {
+      std::lock_guard<std::mutex> lock(m);
+      now = ++counted;
+    }
+    cv.notify_all();
+    if (now == 2) std::this_thread::sleep_for(150ms);
+  });
+  s.open(peer.path(), 115200);
+  auto ping = [&](uint32_t nonce) {
+    p::Ping req;
+    req.nonce = nonce;
+    uint8_t buf[p::kWireBufferSize];
+    RawRequest r;
+    r.wire.assign(buf, buf + p::encode(req, 90, 0, buf, sizeof buf));
+    r.type = uint8_t(p::MsgType::Ping);
+    r.seq = 90;
+    const auto reply = s.exchange(r);
+    p::Pong pong;
+    EXPECT_TRUE(reply.has_value());
+    if (!reply) return uint32_t(0);
+    EXPECT_EQ(reply->type, uint8_t(p::MsgType::Pong));
+    EXPECT_EQ(p::unpack(reply->payload, reply->length, pong), p::StatusCode::Ok);
+    return pong.nonce;
+  };
+  EXPECT_EQ(ping(1), 1u);
+  {
+    std::unique_lock<std::mutex> lock(m);
+    ASSERT_TRUE(cv.wait_for(lock, 5s, [&] { return counted >= 2; })) << "the duplicate never came";
+  }
+  EXPECT_EQ(ping(2), 2u) << "the duplicate the tap had counted answered the request sent after it";
+  EXPECT_EQ(s.stats().stale_replies, 1u);
+}
+
 }  // namespace
 }  // namespace nlsoft::console
