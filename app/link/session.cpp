@@ -194,6 +194,10 @@ void Session::close() {
     event_cv_.notify_all();
     supervisor_.join();
   }
+  // What the closed link said and the supervisor had not passed on stays
+  // with it: the next open() would deliver it as the new port's own.
+  std::lock_guard<std::mutex> lock(event_mu_);
+  events_.clear();
 }
 
 void Session::post_event(LinkEvent e) {

@@ -130,6 +130,8 @@ class Session {
   void on_any_reply(ReplyHandler h) { any_reply_handler_ = std::move(h); }
 
   void open(const std::string& path, unsigned baud);  // throws LinkError
+  // After close() no handler runs for this link; link events it had not
+  // delivered yet are dropped, never passed on after the next open().
   void close();
 
   // Sends a request and waits for its reply (any type). Throws LinkError

@@ -494,6 +494,66 @@ TEST(Session, AHungUpPtyIsNotReopened) {
   }
 }
 
+// The console's simulator restart closes the session and opens it on the
+// new simulator's pty. An event the old link posted that the supervisor had
+// not passed on when close() returned belongs to the closed link: the next
+// open() must not deliver it as if the new port had said it (stress run 8 at
+// e03a5ca: the dead pty's "End of file ... (reconnecting)" came after, and
+// replaced, "simulator restarted on"). The handler holds the supervisor on
+// the first event so that the old link's Down is still queued when close()
+// stops it.
+TEST(Session, AnEventOfAClosedLinkIsNotDeliveredAfterTheNextOpen) {
+  const p::Info hasel = board_info(p::Platform::Hasel, "nlsoft-fake", 1);
+  auto old_sim = std::make_unique<FakePeer>(board(hasel, 5000));
+  FakePeer new_sim(board(hasel, 3));
+  const std::string old_port = old_sim->path();
+  SessionOptions o = fast_options();
+  o.silence_limit = 200ms;  // the first event: the old link is silent
+  Session s(o);
+  std::mutex mu;
+  std::condition_variable cv;
+  bool holding = false, release = false, reopened = false;
+  std::vector<LinkEvent> after_open;
+  s.on_event([&](const LinkEvent& e) {
+    std::unique_lock<std::mutex> lock(mu);
+    if (reopened) after_open.push_back(e);
+    if (holding) return;
+    holding = true;
+    cv.notify_all();
+    cv.wait(lock, [&] { return release; });
+  });
+  s.open(old_port, 115200);
+  {
+    std::unique_lock<std::mutex> lock(mu);
+    ASSERT_TRUE(cv.wait_for(lock, 5s, [&] { return holding; })) << "the silence was not reported";
+  }
+  old_sim.reset();  // the old simulator dies: its link posts Down
+  for (int i = 0; i < 300 && s.connected(); ++i) std::this_thread::sleep_for(10ms);
+  ASSERT_FALSE(s.connected()) << "the old link did not go down";
+  std::this_thread::sleep_for(100ms);  // Down is posted just after `connected` drops
+  std::thread closer([&] { s.close(); });
+  std::this_thread::sleep_for(300ms);  // close() has asked the supervisor to stop
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    release = true;
+  }
+  cv.notify_all();
+  closer.join();
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    reopened = true;
+  }
+  s.open(new_sim.path(), 115200);
+  EXPECT_EQ(ping(s, 2).uptime_ms, 3u);
+  std::this_thread::sleep_for(300ms);  // three supervisor rounds on the new link
+  s.close();
+  std::lock_guard<std::mutex> lock(mu);
+  // The new link may report its own silence; it never went down.
+  for (const LinkEvent& e : after_open)
+    if (e.kind == LinkEvent::Kind::Down || e.detail.find(old_port) != std::string::npos)
+      ADD_FAILURE() << "delivered after the reopen: " << link_event_name(e.kind) << ": " << e.detail;
+}
+
 TEST(Session, AnotherDeviceOnTheSamePortIsRefusedOnReconnect) {
   PrivatePort port;
   auto peer = std::make_unique<FakePeer>(board(board_info(p::Platform::Hasel, "nlsoft-fake", 1), 5000));
