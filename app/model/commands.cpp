@@ -1,7 +1,9 @@
 #include "app/model/commands.hpp"
 
 #include <array>
+#include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -92,6 +94,7 @@ void run_dataset(const DatasetArgs& a, const TargetResolver& resolve) {
 // ---------------------------------------------------------------- train
 struct TrainArgs {
   std::string rig, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise, nd, dd, db;
+  std::string objective, horizon, seeds, sim_epochs, lbfgs, activation;
   std::vector<std::string> data;
   std::vector<int64_t> runs;
   int64_t validate_run = 0;
@@ -128,6 +131,48 @@ std::vector<Series> training_runs(const TrainArgs& a, const PlantTarget& target,
   return runs;
 }
 
+// SIGINT sets a flag while it lives, then goes back to the default action
+// (so the second Ctrl-C of an impatient user still ends the process).
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    raised().store(false);
+    previous_ = std::signal(SIGINT, [](int) {
+      raised().store(true);
+      std::signal(SIGINT, SIG_DFL);
+    });
+  }
+  ~InterruptGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  const std::atomic<bool>& flag() const { return raised(); }
+
+ private:
+  static std::atomic<bool>& raised() {
+    static std::atomic<bool> f{false};
+    return f;
+  }
+  void (*previous_)(int) = SIG_DFL;
+};
+
+// What train chose and why: every candidate's validation free run.
+void print_choice(const TrainResult& r) {
+  if (r.stopped) std::printf("stopped (Ctrl-C): keeping the best model so far\n");
+  if (r.objective == Objective::OneStep) {
+    std::printf("objective one-step (the paper's): the one-step validation loss chose the weights\n");
+    return;
+  }
+  std::printf("objective simulation: kept the candidate whose free runs of the training and validation rows were "
+              "best (MSE / variance)\n");
+  for (size_t i = 0; i < r.candidates.size(); ++i) {
+    const Candidate& c = r.candidates[i];
+    std::printf("  %s %-28s seed %-3llu %5zu weights  free run %.4e (one-step warm start %.4e), %d epochs, %d L-BFGS "
+                "evaluations\n",
+                i == r.chosen ? "*" : " ", describe_layers(c.layers).c_str(), static_cast<unsigned long long>(c.seed),
+                c.weights, c.val_free_run, c.warm_free_run, c.epochs, c.evals);
+  }
+}
+
 std::string fmt_g(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
@@ -140,25 +185,49 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     throw PipelineError("give the data to train on: --run ID (a recorded run) or --data FILE.csv (see --help)");
   need(a.out, "--out");
   const PlantTarget target = resolve(a.rig);
-  TrainOptions o = default_options(target);
+  Objective objective = Objective::Simulation;
+  if (!a.objective.empty()) {
+    if (a.objective != "simulation" && a.objective != "one-step")
+      throw PipelineError("--objective must be simulation or one-step, got '" + a.objective + "'");
+    objective = a.objective == "one-step" ? Objective::OneStep : Objective::Simulation;
+  }
+  TrainOptions o = default_options(target, objective);
   // The rig's lags unless overridden, within what every controller holds.
   if (!a.nd.empty()) o.nd = static_cast<int>(to_long("--nd", a.nd, 1, HostCapacity::nd));
   if (!a.dd.empty()) o.dd = static_cast<int>(to_long("--dd", a.dd, 1, HostCapacity::nd));
   if (!a.arch.empty() || !a.hidden.empty()) {
     const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
     if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
-    std::vector<int> units = to_units(a.hidden.empty() ? "5,5" : a.hidden);
-    if (arch == "gru" && units.empty()) throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
-    const int n = target.n;
-    o.layers.clear();
-    for (size_t i = 0; i < units.size(); ++i) {
-      if (arch == "gru" && i == 0)
-        o.layers.push_back({LayerKind::Gru, units[i], Activation::Tanh, Activation::Sigmoid, true});
-      else
-        o.layers.push_back({LayerKind::Dense, units[i], Activation::Relu});
+    Activation hidden_act = Activation::Relu;
+    if (!a.activation.empty() && !activation_from_name(a.activation, &hidden_act))
+      throw PipelineError("--activation must be relu, tanh, sigmoid, hard_sigmoid or linear, got '" + a.activation +
+                          "'");
+    // Sizes separated by '/' are candidates, each trained and judged.
+    std::vector<std::vector<LayerSpec>> sizes;
+    std::stringstream alternatives(a.hidden.empty() ? "5,5" : a.hidden);
+    std::string one;
+    while (std::getline(alternatives, one, '/')) {
+      std::vector<int> units = to_units(one);
+      if (arch == "gru" && units.empty())
+        throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
+      std::vector<LayerSpec> layers;
+      for (size_t i = 0; i < units.size(); ++i) {
+        if (arch == "gru" && i == 0)
+          layers.push_back({LayerKind::Gru, units[i], Activation::Tanh, Activation::Sigmoid, true});
+        else
+          layers.push_back({LayerKind::Dense, units[i], hidden_act});
+      }
+      layers.push_back({LayerKind::Dense, target.n, units.empty() ? Activation::Linear : Activation::Tanh});
+      sizes.push_back(layers);
     }
-    o.layers.push_back({LayerKind::Dense, n, units.empty() ? Activation::Linear : Activation::Tanh});
+    if (sizes.empty()) throw PipelineError("--hidden needs a list like 5,5 (or 'none')");
+    o.layers = sizes.front();
+    o.alternatives.assign(sizes.begin() + 1, sizes.end());
   }
+  if (!a.seeds.empty()) o.seeds = static_cast<int>(to_long("--seeds", a.seeds, 1, 64));
+  if (!a.horizon.empty()) o.sim.horizon = static_cast<int>(to_long("--horizon", a.horizon, 2, 100000));
+  if (!a.sim_epochs.empty()) o.sim.epochs = static_cast<int>(to_long("--sim-epochs", a.sim_epochs, 0, 100000));
+  if (!a.lbfgs.empty()) o.sim.lbfgs_evals = static_cast<int>(to_long("--lbfgs", a.lbfgs, 0, 1000000));
   if (!a.epochs.empty()) o.epochs = static_cast<int>(to_long("--epochs", a.epochs, 1, 100000));
   if (!a.batch.empty()) o.batch = static_cast<int>(to_long("--batch", a.batch, 1, 1 << 20));
   if (!a.lr.empty()) o.lr = to_double("--lr", a.lr, 1e-9, 1.0);
@@ -193,8 +262,13 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   }
   TrainProgress bar(stderr);
   o.progress = [&bar](const Progress& p) { bar(p); };
+  // Ctrl-C ends the training with the best model so far, which is written
+  // as any other; a second Ctrl-C interrupts as usual.
+  const InterruptGuard interrupt;
+  o.stop = &interrupt.flag();
   const TrainResult r = train(runs, target, o, validate);
   bar.finish();
+  print_choice(r);
   ModelFile f = r.model;
   const ModelFit fit = model_fit(r, target);
   f.fit = fit_to_json(fit);
@@ -379,7 +453,12 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   CLI::App* tr = app.add_subcommand(
       "train",
       "Train the forward model y(k+1) = g(u(k),u(k-1),y(k),y(k-1),l(k)) on recorded runs or a dataset\n"
-      "and write a model file. From a run: u, the measured output y_true, the sensors l and the time\n"
+      "and write a model file. By default it is trained for what the controller does with it,\n"
+      "simulation: after a one-step warm start, the model is fed its own predictions over windows of\n"
+      "--horizon steps (at least the rig's N) and its simulation error minimised (Adam, then L-BFGS);\n"
+      "the weights that simulate the validation rows best are kept, over --seeds seeds and every\n"
+      "size given to --hidden (16/32: two candidates); train prints each candidate and which it kept.\n"
+      "--objective one-step trains one step ahead only (the paper's way). Ctrl-C keeps the best so far. From a run: u, the measured output y_true, the sensors l and the time\n"
       "come from the run; a gap in it (lost telemetry, a link outage) cuts it, no history spans one.\n"
       "Ten-fold time-series split of each run: its last part tests, the part before validates (early\n"
       "stopping); --validate-run holds a whole run out instead (and the runs' validation part is\n"
@@ -410,8 +489,23 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..4)")->type_name("N");
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
   tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
-  tr->add_option("--hidden", train_args->hidden, "hidden sizes, e.g. 5,5; 'none' = one linear layer")->type_name("LIST");
-  tr->add_option("--epochs", train_args->epochs, "maximum epochs (default 200)")->type_name("E");
+  tr->add_option("--hidden", train_args->hidden,
+                 "hidden sizes, e.g. 5,5; 'none' = one linear layer; '/' between candidates: 16/16,16")
+      ->type_name("LIST");
+  tr->add_option("--activation", train_args->activation, "the hidden Dense layers' (default relu)")
+      ->type_name("ACT");
+  tr->add_option("--objective", train_args->objective, "simulation (default) | one-step")->type_name("OBJ");
+  tr->add_option("--horizon", train_args->horizon,
+                 "steps a simulation window runs on the model's own predictions (default: the larger of 64\n"
+                 "and the rig's N)")
+      ->type_name("H");
+  tr->add_option("--seeds", train_args->seeds, "seeds tried per size, the best kept (default: the rig's)")->type_name("K");
+  tr->add_option("--sim-epochs", train_args->sim_epochs, "Adam epochs on the simulation objective before L-BFGS (default 0)")
+      ->type_name("E");
+  tr->add_option("--lbfgs", train_args->lbfgs, "L-BFGS evaluations at most (default 300, fewer on large data: 15 million\n"
+                 "simulated steps in all, at least 50; 0: none)")
+      ->type_name("K");
+  tr->add_option("--epochs", train_args->epochs, "maximum one-step epochs (the warm start; default 200)")->type_name("E");
   tr->add_option("--batch", train_args->batch, "mini-batch size (default 64)")->type_name("B");
   tr->add_option("--lr", train_args->lr, "Adam learning rate (default 3e-3, halved on plateaus)")->type_name("LR");
   tr->add_option("--loss", train_args->loss, "mse | huber (default mse)")->type_name("LOSS");
@@ -419,7 +513,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--patience", train_args->patience, "stop after this many epochs without a better validation loss")->type_name("P");
   tr->add_option("--y-noise", train_args->y_noise,
                  "sigma of noise added to the y-history inputs while training (normalised units),\n"
-                 "so the model stays accurate when fed its own predictions (default 0.05 hasel/tendon)")
+                 "(one-step objective: 0.05 by default for hasel/tendon, so the model survives its own\n"
+                 "predictions; simulation objective: 0)")
       ->type_name("SIGMA");
   tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd and for a rig fed back measured outputs)");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");

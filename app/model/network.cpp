@@ -40,6 +40,16 @@ double dact1(Activation a, double x) {
   return 1.0;
 }
 
+// The derivative where the activation's output gives it without a second
+// tanh or exp (the costliest part of a small network's backward pass).
+Eigen::MatrixXd derivative_from_output(Activation act, const Eigen::MatrixXd& z, const Eigen::MatrixXd& a) {
+  switch (act) {
+    case Activation::Tanh: return (1.0 - a.array().square()).matrix();
+    case Activation::Sigmoid: return (a.array() * (1.0 - a.array())).matrix();
+    default: return z.unaryExpr([act](double x) { return dact1(act, x); });
+  }
+}
+
 }  // namespace
 
 Eigen::MatrixXd activate(Activation a, const Eigen::MatrixXd& z) {
@@ -96,8 +106,10 @@ const Eigen::MatrixXd& Network::forward(const Eigen::MatrixXd& X, Cache& c) cons
     if (L.kind == LayerKind::Dense) {
       const ConstMap W(w, L.in, L.out);
       const ConstRow b(w + L.in * L.out, L.out);
-      c.pre[li] = (a * W).rowwise() + b;
-      a = activate(L.act, c.pre[li]);
+      c.pre[li].noalias() = a * W;
+      c.pre[li].rowwise() += b;
+      c.post[li] = activate(L.act, c.pre[li]);
+      a = c.post[li];
     } else {
       const int u = L.out, g3 = 3 * u;
       const ConstMap K(w, L.in, g3);
@@ -127,6 +139,11 @@ Eigen::MatrixXd Network::predict(const Eigen::MatrixXd& X) const {
 
 void Network::backward(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<double>& grad) const {
   grad.assign(theta_.size(), 0.0);
+  backward_add(c, dOut, grad, nullptr);
+}
+
+void Network::backward_add(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<double>& grad,
+                           Eigen::MatrixXd* dX) const {
   Eigen::MatrixXd d = dOut;
   for (size_t li = layers_.size(); li-- > 0;) {
     const Layer& L = layers_[li];
@@ -134,10 +151,10 @@ void Network::backward(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<
     double* g = grad.data() + L.offset;
     const Eigen::MatrixXd& x = c.in[li];
     if (L.kind == LayerKind::Dense) {
-      const Eigen::MatrixXd dz = (d.array() * activate_derivative(L.act, c.pre[li]).array()).matrix();
-      Map(g, L.in, L.out) = x.transpose() * dz;
-      Eigen::Map<Eigen::RowVectorXd>(g + L.in * L.out, L.out) = dz.colwise().sum();
-      if (li > 0) d = dz * ConstMap(w, L.in, L.out).transpose();
+      const Eigen::MatrixXd dz = (d.array() * derivative_from_output(L.act, c.pre[li], c.post[li]).array()).matrix();
+      Map(g, L.in, L.out) += x.transpose() * dz;
+      Eigen::Map<Eigen::RowVectorXd>(g + L.in * L.out, L.out) += dz.colwise().sum();
+      if (li > 0 || dX) d = dz * ConstMap(w, L.in, L.out).transpose();
     } else {
       const int u = L.out, g3 = 3 * u;
       const Eigen::MatrixXd& G = c.pre[li];
@@ -158,16 +175,17 @@ void Network::backward(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<
         const Eigen::ArrayXXd dr = dG.rightCols(u).array().rowwise() * rbh.array();
         dG.middleCols(u, u) = (dr * activate_derivative(L.rec_act, G.middleCols(u, u)).array()).matrix();
         Eigen::Map<Eigen::RowVectorXd> grb(gbias + g3, g3);
-        grb.head(2 * u) = dG.leftCols(2 * u).colwise().sum();
-        grb.tail(u) = (dG.rightCols(u).array() * r).matrix().colwise().sum();
+        grb.head(2 * u) += dG.leftCols(2 * u).colwise().sum();
+        grb.tail(u) += (dG.rightCols(u).array() * r).matrix().colwise().sum();
       } else {
         dG.middleCols(u, u).setZero();
       }
-      Map(g, L.in, g3) = x.transpose() * dG;
-      Eigen::Map<Eigen::RowVectorXd>(gbias, g3) = dG.colwise().sum();
-      if (li > 0) d = dG * ConstMap(w, L.in, g3).transpose();
+      Map(g, L.in, g3) += x.transpose() * dG;
+      Eigen::Map<Eigen::RowVectorXd>(gbias, g3) += dG.colwise().sum();
+      if (li > 0 || dX) d = dG * ConstMap(w, L.in, g3).transpose();
     }
   }
+  if (dX) *dX = std::move(d);
 }
 
 }  // namespace nlsoft::pipeline

@@ -47,7 +47,7 @@ class Network {
   struct Cache {
     std::vector<Eigen::MatrixXd> in;    // input of layer i
     std::vector<Eigen::MatrixXd> pre;   // Dense: pre-activation; GRU: gate pre-activations [z|r|h]
-    std::vector<Eigen::MatrixXd> post;  // GRU: gate values [z|r|h~]; Dense: unused
+    std::vector<Eigen::MatrixXd> post;  // GRU: gate values [z|r|h~]; Dense: the activation
     Eigen::MatrixXd out;
   };
 
@@ -56,6 +56,11 @@ class Network {
 
   // grad (resized to param_count) = d loss / d theta, given dOut = d loss / d out.
   void backward(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<double>& grad) const;
+  // The same, adding to grad (already param_count long), and d loss / d X
+  // into *dX unless null: the simulation objective carries it back to the
+  // step whose prediction filled the y-history columns.
+  void backward_add(const Cache& c, const Eigen::MatrixXd& dOut, std::vector<double>& grad,
+                    Eigen::MatrixXd* dX) const;
 
  private:
   int inputs_ = 0;

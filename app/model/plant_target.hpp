@@ -19,6 +19,7 @@ struct PlantTarget {
   std::string name;  // the rig's name, in messages
   int m = 0, n = 0, w = 0, nd = 2, dd = 2;
   double rate_hz = 0;              // the control rate (0: not known)
+  int horizon = 1;                 // the controller's prediction horizon N: the least a model is trained to simulate
   std::vector<double> u_lo, u_hi;  // the inputs' limits
   std::vector<double> y_rest;      // each output with every input at neutral: where train centres the outputs
   std::vector<double> y_span;      // each output's task-space span: what a fit's nRMSE is relative to

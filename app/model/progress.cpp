@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <string>
 
 namespace nlsoft::pipeline {
@@ -9,21 +10,30 @@ namespace nlsoft::pipeline {
 TrainProgress::TrainProgress(std::FILE* out) : out_(out), tty_(isatty(fileno(out)) != 0) {}
 
 void TrainProgress::operator()(const Progress& p) {
+  // Which of several candidates, when there are several.
+  const std::string who =
+      p.candidates > 1 ? "candidate " + std::to_string(p.candidate + 1) + "/" + std::to_string(p.candidates) + " " : "";
   if (p.epochs == 0) {  // closed-form fit, no epochs
-    std::fprintf(out_, "least-squares fit: validation loss %.3e\n", p.val_loss);
+    if (tty_ && drawn_) std::fprintf(out_, "\r\033[K");
+    std::fprintf(out_, "%sleast-squares warm start: one-step validation loss %.3e\n", who.c_str(), p.val_loss);
+    drawn_ = false;
     return;
   }
+  // One-step losses are in normalised output units; the simulation phases
+  // report the validation rows' free run (variance-weighted MSE).
+  const char* val = std::string(p.phase) == "one-step" ? "val" : "val free-run";
+  const char* step = std::string(p.phase) == "L-BFGS" ? "eval" : "epoch";
   if (tty_) {
-    const int width = 24;
-    const int filled = static_cast<int>(width * static_cast<double>(p.epoch) / p.epochs);
-    std::fprintf(out_, "\r[%s%s] epoch %d/%d  loss %.3e  val %.3e  best %.3e  ETA %.0fs \033[K",
-                 std::string(size_t(filled), '#').c_str(), std::string(size_t(width - filled), '.').c_str(), p.epoch,
-                 p.epochs, p.train_loss, p.val_loss, p.best_val, p.eta_s);
+    const int width = 20;
+    const int filled = static_cast<int>(width * std::min(1.0, static_cast<double>(p.epoch) / p.epochs));
+    std::fprintf(out_, "\r%s%s [%s%s] %s %d/%d  loss %.3e  %s %.3e  best %.3e  %.0fs \033[K", who.c_str(), p.phase,
+                 std::string(size_t(filled), '#').c_str(), std::string(size_t(width - filled), '.').c_str(), step,
+                 p.epoch, p.epochs, p.train_loss, val, p.val_loss, p.best_val, p.elapsed_s);
     std::fflush(out_);
     drawn_ = true;
-  } else if (p.epoch == 1 || p.epoch % 10 == 0 || p.epoch == p.epochs) {
-    std::fprintf(out_, "epoch %d/%d loss %.4e val %.4e best %.4e lr %.2e elapsed %.1fs\n", p.epoch, p.epochs,
-                 p.train_loss, p.val_loss, p.best_val, p.lr, p.elapsed_s);
+  } else if (p.epoch == 1 || p.epoch % 25 == 0 || p.epoch == p.epochs) {
+    std::fprintf(out_, "%s%s %s %d/%d loss %.4e %s %.4e best %.4e elapsed %.1fs\n", who.c_str(), p.phase, step,
+                 p.epoch, p.epochs, p.train_loss, val, p.val_loss, p.best_val, p.elapsed_s);
   }
 }
 

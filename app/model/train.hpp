@@ -1,8 +1,14 @@
 #pragma once
-// Training of the forward model (paper, "Learning Forward Kinematics"):
-// Adam on mini-batches, MSE or Huber loss in normalised units, early
-// stopping on the validation chunk of the ten-fold time-series split, the
-// best weights kept. Everything is seeded: one seed, one model, bit for bit.
+// Training of the forward model (paper, "Learning Forward Kinematics").
+// By default for what the controller uses it for, simulation: a one-step
+// warm start (Adam on mini-batches, MSE or Huber loss in normalised units,
+// early stopping on the validation chunk of the ten-fold time-series split),
+// then the simulation objective (app/model/train_simulation.hpp), judged by
+// free-run simulation of the validation rows. A few candidates (seeds and
+// sizes) are trained and the one that simulates the validation rows best is
+// kept. `Objective::OneStep` stops after the warm start (the paper's way).
+// Everything is seeded: one seed, one model, bit for bit, however many
+// threads train the candidates.
 //
 // Residual mode trains the network on y(k+1) - y(k) (the model file's
 // residual flag adds y(k) back), which suits plants whose output moves little
@@ -10,6 +16,7 @@
 // training (and the residual base with them), which teaches the network to
 // lean on the sensors: the soft rigs run with the y-queue fed by the model's
 // own predictions, whose errors must fade rather than accumulate.
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -20,17 +27,34 @@
 #include "app/model/model_store.hpp"
 #include "app/model/network.hpp"
 #include "app/model/plant_target.hpp"
+#include "app/model/train_simulation.hpp"
 #include "shared/platform_id.hpp"
 
 namespace nlsoft::pipeline {
 
 enum class Loss { Mse, Huber };
+enum class Objective { OneStep, Simulation };
 
 struct Progress {
+  const char* phase = "one-step";  // "one-step", "simulation", "L-BFGS"
+  int candidate = 0, candidates = 1;
   int epoch = 0, epochs = 0;
   double train_loss = 0, val_loss = 0, best_val = 0, lr = 0;
   double elapsed_s = 0, eta_s = 0;
 };
+
+// One network tried: its layers and seed, and how well it simulated the
+// training and validation rows, each stretch from its measured start
+// (MSE / variance, app/model/simulation_error.hpp).
+struct Candidate {
+  std::vector<LayerSpec> layers;
+  uint64_t seed = 1;
+  double val_free_run = 0;     // after training (what chose the candidate)
+  double warm_free_run = 0;    // after the one-step warm start
+  int epochs = 0, evals = 0;   // simulation epochs, L-BFGS evaluations
+  size_t weights = 0;
+};
+std::string describe_layers(const std::vector<LayerSpec>& layers);
 
 struct TrainOptions {
   std::vector<LayerSpec> layers;
@@ -45,6 +69,13 @@ struct TrainOptions {
   int patience = 25;         // epochs without a better validation loss
   double y_noise = 0.0;      // sigma of the y-history perturbation, normalised input units
   int folds = 10;
+  Objective objective = Objective::Simulation;
+  SimulationOptions sim;     // the simulation objective's (its seed is each candidate's)
+  // Other sizes tried beside `layers`, and seeds per size (seed, seed+1, ...).
+  std::vector<std::vector<LayerSpec>> alternatives;
+  int seeds = 1;
+  int threads = 2;           // candidates trained at once
+  const std::atomic<bool>* stop = nullptr;  // set (Ctrl-C): finish with the best model so far
   std::function<void(const Progress&)> progress;
 };
 
@@ -89,6 +120,11 @@ struct TrainResult {
   int folds = 10;
   // The linear baseline on the same lags, fitted on the training rows.
   ArxModel arx;
+  // Every candidate trained, and the index of the one kept.
+  std::vector<Candidate> candidates;
+  size_t chosen = 0;
+  Objective objective = Objective::Simulation;
+  bool stopped = false;  // cut short by TrainOptions::stop
 };
 
 // Throws PipelineError when the series does not match the platform, or the
@@ -107,9 +143,9 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
 void check_dimensions(const Series& s, const PlantTarget& target);
 
 // The architecture the paper uses on each platform (see app/models/README.md).
-TrainOptions default_options(PlatformId platform);
+TrainOptions default_options(PlatformId platform, Objective objective = Objective::Simulation);
 // A rig's: its [model] layers and history length over the defaults of its
 // plant (a named plant's shipped model, else Dense 16 tanh -> n tanh).
-TrainOptions default_options(const PlantTarget& target);
+TrainOptions default_options(const PlantTarget& target, Objective objective = Objective::Simulation);
 
 }  // namespace nlsoft::pipeline

@@ -12,6 +12,7 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   t.name = rig.name;
   t.m = rig.m(), t.n = rig.n(), t.w = rig.w(), t.nd = rig.nd, t.dd = rig.dd;
   t.rate_hz = rig.rate_hz;
+  t.horizon = rig.controller.N;
   for (const RigInput& in : rig.inputs) t.u_lo.push_back(in.min), t.u_hi.push_back(in.max);
   for (const RigOutput& o : rig.outputs) {
     t.y_rest.push_back(o.rest);

@@ -112,7 +112,7 @@ TEST(Train, LearnsAKnownFunctionRepeatably) {
 
 TEST(Train, ExportedDenseModelEqualsTrainerForward) {
   const Series s = generate_excitation(PlatformId::Hasel, 4000, 1);
-  TrainOptions o = default_options(PlatformId::Hasel);
+  TrainOptions o = default_options(PlatformId::Hasel, Objective::OneStep);
   o.epochs = 3;
   const TrainResult r = train(s, PlatformId::Hasel, o);
   EXPECT_LT(export_mismatch(r, s, 2), 1e-5);
@@ -125,7 +125,7 @@ TEST(Train, ExportedDenseModelEqualsTrainerForward) {
 
 TEST(Train, ExportedGruModelEqualsTrainerForward) {
   const Series s = generate_excitation(PlatformId::Tendon, 4000, 1);
-  TrainOptions o = default_options(PlatformId::Tendon);
+  TrainOptions o = default_options(PlatformId::Tendon, Objective::OneStep);
   o.epochs = 3;
   for (bool reset_after : {true, false}) {
     o.layers[0].reset_after = reset_after;
