@@ -22,12 +22,19 @@ std::string state_of(const std::optional<p::Status>& st) {
 
 bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
 
-// Waits until `n` samples came or `wait` passed; returns what came.
+// Waits until `n` samples came or `wait` passed; returns what came. Asks
+// for STATUS every 100 ms meanwhile, as a console does (9.8): on a slow rig
+// the samples take longer than the watchdog_ms the suite set.
 std::vector<p::IdentSample> collect(Suite& s, size_t n, Ms wait) {
   std::vector<p::IdentSample> got;
   const auto until = Clock::now() + wait;
+  auto fed = Clock::now();
   while (got.size() < n && Clock::now() < until) {
     std::this_thread::sleep_for(Ms(20));
+    if (Clock::now() - fed >= Ms(100)) {
+      s.status();
+      fed = Clock::now();
+    }
     for (p::IdentSample& x : s.pr.take_ident_samples()) got.push_back(x);
   }
   return got;
