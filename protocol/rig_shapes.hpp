@@ -77,13 +77,16 @@ constexpr size_t write_shapes(ShapeList<S...>, int m, int n, int w, int nd, uint
 
 // Fills RIG_INFO's accepted shapes from a capacity: a generic kernel takes
 // any shape within its limits, else the list of its shaped kernels for the
-// rig's dimensions. Returns false when that list does not fit the message.
+// rig's dimensions. `as_list` serves the list even with a generic kernel (a
+// simulator standing in for an MCU image). Returns false when that list does
+// not fit the message. The limits are the capacity's either way.
 template <class Cap>
-constexpr bool fill_accepted_shapes(RigInfo& r) {
+constexpr bool fill_accepted_shapes(RigInfo& r, bool as_list = false) {
+  static_assert(Cap::layers <= kMaxShapeLayers, "max_layers beyond what a header check can name (rig_reply.hpp)");
   r.max_layers = uint8_t(Cap::layers);
   r.max_width = uint16_t(Cap::width);
   r.max_weights = uint32_t(Cap::weights);
-  if (Cap::generic) {
+  if (Cap::generic && !as_list) {
     r.accept = shape_accept::kAny;
     r.shapes_size = 0;
     return true;

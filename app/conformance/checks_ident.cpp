@@ -22,12 +22,19 @@ std::string state_of(const std::optional<p::Status>& st) {
 
 bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
 
-// Waits until `n` samples came or `wait` passed; returns what came.
+// Waits until `n` samples came or `wait` passed; returns what came. Asks
+// for STATUS every 100 ms meanwhile, as a console does (9.8): on a slow rig
+// the samples take longer than the watchdog_ms the suite set.
 std::vector<p::IdentSample> collect(Suite& s, size_t n, Ms wait) {
   std::vector<p::IdentSample> got;
   const auto until = Clock::now() + wait;
+  auto fed = Clock::now();
   while (got.size() < n && Clock::now() < until) {
     std::this_thread::sleep_for(Ms(20));
+    if (Clock::now() - fed >= Ms(100)) {
+      s.status();
+      fed = Clock::now();
+    }
     for (p::IdentSample& x : s.pr.take_ident_samples()) got.push_back(x);
   }
   return got;
@@ -127,14 +134,36 @@ void check_ident(Suite& s) {
             out.empty() ? fmt::format("{} samples, every input inside u_min..u_max; {} input changes", got.size(), moved)
                         : out);
   }
-  // A retry of the same run is taken; another run is refused.
+  // A retry is known by its run_id alone: taken whatever its other fields,
+  // and the run goes on (step not restarted); another run is refused.
   {
-    const Frame again = s.pr.request(base);
+    const auto before = s.status();
+    p::IdentStart retry = base;
+    retry.signal = uint8_t(p::IdentSignal::Chirp);
+    retry.seed = base.seed ^ 0x5A5A5A5Au;
+    retry.duration = 1;
+    const Frame again = s.pr.request(retry);
+    const auto after = s.status();
     p::IdentStart other = base;
     other.run_id ^= 1;
     const Frame refused = s.pr.request(other);
-    s.check("ident_retry", acked(again, p::MsgType::IdentStart) && nacked(refused, p::StatusCode::WrongState, 0, p::kNoField),
-            fmt::format("the same IDENT_START again: {}; another run_id: {}", describe(again), describe(refused)));
+    const bool went_on = in_state(after, p::RunState::Ident) && before && after->step >= before->step;
+    s.check("ident_retry",
+            acked(again, p::MsgType::IdentStart) && went_on && nacked(refused, p::StatusCode::WrongState, 0, p::kNoField),
+            fmt::format("the same run_id with another signal, seed and duration: {}, step {} then {}; another "
+                        "run_id: {}",
+                        describe(again), before ? before->step : 0, state_of(after), describe(refused)));
+  }
+  // RUN_START with the identification run's own id is no retry of it.
+  {
+    p::RunStart r;
+    r.run_id = base.run_id;
+    const Frame f = s.pr.request(r);
+    const auto st_after = s.status();
+    s.check("ident_run_start_refused",
+            nacked(f, p::StatusCode::WrongState, 0, p::kNoField) && in_state(st_after, p::RunState::Ident) &&
+                st_after->run_id == base.run_id,
+            fmt::format("RUN_START with the identification run's run_id: {}; then {}", describe(f), state_of(st_after)));
   }
   // Hold pauses the samples, resume brings them back, RUN_HOLD and RUN_STOP as in closed loop.
   {
@@ -146,6 +175,8 @@ void check_ident(Suite& s) {
     s.pr.take_ident_samples();
     std::this_thread::sleep_for(Ms(200));
     const size_t while_held = s.pr.take_ident_samples().size();
+    const auto st_held_later = s.status();  // step stands still while held
+    const bool frozen = st_held && st_held_later && st_held_later->step == st_held->step;
     h.mode = uint8_t(p::HoldMode::Resume);
     const Frame resumed = s.pr.request(h);
     const auto st_resumed = s.status();
@@ -157,13 +188,17 @@ void check_ident(Suite& s) {
     std::this_thread::sleep_for(Ms(200));
     const size_t after_stop = s.pr.take_ident_samples().size();
     const bool ok = acked(held, p::MsgType::RunHold) && in_state(st_held, p::RunState::Hold) && while_held == 0 &&
+                    frozen &&
                     acked(resumed, p::MsgType::RunHold) && in_state(st_resumed, p::RunState::Ident) && after >= 5 &&
                     acked(stop, p::MsgType::RunStop) && in_state(st_stopped, p::RunState::Idle) && after_stop == 0;
     s.check("ident_stops_on_hold_and_stop", ok,
-            fmt::format("hold: {}, {} samples while held; resume: {}, {} samples; RUN_STOP: {}, {} samples after",
-                        state_of(st_held), while_held, state_of(st_resumed), after, state_of(st_stopped), after_stop));
+            fmt::format("hold: {}, {} samples while held, 300 ms later step {}; resume: {}, {} samples; RUN_STOP: "
+                        "{}, {} samples after",
+                        state_of(st_held), while_held, st_held_later ? st_held_later->step : 0, state_of(st_resumed),
+                        after, state_of(st_stopped), after_stop));
   }
-  // A short run ends by itself after its duration: every step sent, idle, a LOG.
+  // A short run ends by itself after its duration: every step sent, idle, a
+  // LOG, and STATUS keeps its run_id with step = duration (the steps made).
   {
     p::IdentStart shortrun = base;
     shortrun.run_id ^= 2;
@@ -176,7 +211,8 @@ void check_ident(Suite& s) {
     const auto after = s.status();
     const auto logs = s.pr.take_logs();
     const bool ok = acked(f, p::MsgType::IdentStart) && all.size() == shortrun.duration &&
-                    all.back().step == shortrun.duration - 1 && in_state(after, p::RunState::Idle) && !logs.empty();
+                    all.back().step == shortrun.duration - 1 && in_state(after, p::RunState::Idle) && !logs.empty() &&
+                    after->run_id == shortrun.run_id && after->step == shortrun.duration;
     s.check("ident_ends_after_duration", ok,
             fmt::format("{} steps asked: {} samples{}; then {}, {}", shortrun.duration, all.size(),
                         all.empty() ? "" : fmt::format(" (last step {})", all.back().step), state_of(after),

@@ -5,6 +5,7 @@
 // header, before the commit.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "app/conformance/suite.hpp"
@@ -110,6 +111,95 @@ std::vector<uint8_t> refused_model(const p::RigInfo& r) {
   return dense_model(r, units);
 }
 
+// A file of the size of the first listed shape (with accept = any, a
+// single Dense layer of n units), its header naming that shape with m + 1:
+// a size BEGIN lets in, a header of another plant. Zero weights.
+std::vector<uint8_t> other_plant(const p::RigInfo& r) {
+  p::WireShape s;
+  size_t pos = 0;
+  if (r.accept != p::shape_accept::kList || !p::next_shape(r.shapes, r.shapes_size, pos, s)) {
+    s = p::WireShape{};
+    s.layers = 1, s.kind[0] = p::kShapeDense, s.units[0] = r.n;
+  }
+  std::vector<uint8_t> f(p::model_file_sizes(r, s).min, 0);
+  const uint32_t params = uint32_t((f.size() - 4 - kModelHeaderSize - kModelLayerSize * s.layers) / 4);
+  std::memcpy(f.data(), "NLSM", 4);
+  namespace at = model_offset;
+  f[at::kVersion] = kModelFormatVersion;
+  f[at::kM] = uint8_t(r.m + 1), f[at::kN] = r.n, f[at::kW] = r.w, f[at::kNd] = r.nd, f[at::kDd] = r.dd;
+  f[at::kLayers] = s.layers;
+  f[at::kPlatform] = 255;
+  for (int i = 0; i < 4; ++i) f[at::kParams + i] = uint8_t(params >> (8 * i));
+  uint32_t in = uint32_t(input_length(r));
+  for (uint8_t l = 0; l < s.layers; ++l) {
+    uint8_t* e = f.data() + kModelHeaderSize + kModelLayerSize * l;
+    e[0] = s.kind[l];
+    e[4] = uint8_t(in), e[5] = uint8_t(in >> 8), e[6] = uint8_t(s.units[l]), e[7] = uint8_t(s.units[l] >> 8);
+    in = s.units[l];
+  }
+  const uint32_t crc = p::crc32(f.data(), f.size() - 4);
+  for (int i = 0; i < 4; ++i) f[f.size() - 4 + size_t(i)] = uint8_t(crc >> (8 * i));
+  return f;
+}
+
+// One try at uploading `model`: BEGIN, then the chunks up to the one that
+// completes the header and layer table, split after `first` bytes (0: the
+// header in one chunk), stopping at the first NACK; then COMMIT (which must
+// find no transfer open) and an ABORT whatever happened.
+struct Upload {
+  std::string refused_at;  // "XFER_BEGIN", "chunk 1", "chunk 2", or empty
+  Frame refusal;           // the NACK, or the last reply when none came
+  Frame commit;
+  bool acked_before = true;  // every chunk before the refusal ACKed with its bytes stored
+};
+
+Upload try_upload(Suite& s, const std::vector<uint8_t>& model, size_t first) {
+  Upload u;
+  p::XferBegin begin;
+  begin.kind = kModel;
+  begin.options = p::xfer_options::kRestart;
+  begin.total_size = uint32_t(model.size());
+  begin.crc32 = p::crc32(model.data(), model.size());
+  u.refusal = s.pr.request(begin);
+  if (u.refusal.type == uint8_t(p::MsgType::Nack)) {
+    u.refused_at = "XFER_BEGIN";
+  } else if (u.refusal.type == uint8_t(p::MsgType::XferAck)) {
+    const size_t header = kModelHeaderSize + kModelLayerSize * size_t(model[model_offset::kLayers]);
+    const size_t end = std::min(header, model.size());
+    size_t at = 0;
+    for (int k = 1; at < end; ++k) {
+      p::XferChunk c;
+      c.kind = kModel;
+      c.offset = uint32_t(at);
+      c.size = uint8_t(std::min<size_t>(p::kMaxChunkData, first && k == 1 ? first : end - at));
+      std::memcpy(c.data, model.data() + at, c.size);
+      u.refusal = s.pr.request(c);
+      at += c.size;
+      p::XferAck ack;
+      if (u.refusal.type == uint8_t(p::MsgType::Nack)) {
+        u.refused_at = fmt::format("chunk {}", k);
+        break;
+      }
+      u.acked_before = u.acked_before && as(u.refusal, ack) && ack.next_offset == at;
+    }
+  }
+  p::XferCommit commit;
+  commit.kind = kModel;
+  u.commit = s.pr.request(commit);
+  p::XferAbort abort;  // whatever happened, no transfer is left open
+  abort.kind = kModel;
+  s.pr.request(abort);
+  return u;
+}
+
+// The model's first `layers` Dense layers of one unit, the last of n: the
+// fewest weights for that many layers.
+std::vector<uint32_t> thin_layers(const p::RigInfo& r, int layers) {
+  std::vector<uint32_t> units(size_t(layers), 1);
+  units.back() = r.n;
+  return units;
+}
+
 }  // namespace
 
 void check_rig(Suite& s) {
@@ -165,40 +255,72 @@ void check_rig(Suite& s) {
     return;
   }
   const auto was = s.info_now();
-  p::XferBegin begin;
-  begin.kind = kModel;
-  begin.options = p::xfer_options::kRestart;
-  begin.total_size = uint32_t(model.size());
-  begin.crc32 = p::crc32(model.data(), model.size());
-  const Frame fb = s.pr.request(begin);
-  std::string where, got = describe(fb);
-  bool refused = false;
-  if (nacked(fb, p::StatusCode::Unsupported, 2, p::kNoField)) {
-    refused = true, where = "XFER_BEGIN";
-  } else if (fb.type == uint8_t(p::MsgType::XferAck)) {
-    p::XferChunk c;
-    c.kind = kModel;
-    c.size = uint8_t(std::min<size_t>(p::kMaxChunkData, model.size()));
-    std::memcpy(c.data, model.data(), c.size);
-    const Frame fc = s.pr.request(c);
-    got = describe(fc);
-    refused = nacked(fc, p::StatusCode::Unsupported, 2, p::kNoField);
-    where = "the first XFER_CHUNK";
-  }
-  p::XferCommit commit;
-  commit.kind = kModel;
-  const Frame fm = s.pr.request(commit);
-  const bool closed = nacked(fm, p::StatusCode::XferNotOpen, 0, p::kNoField);
-  p::XferAbort abort;  // whatever happened, no transfer is left open
-  abort.kind = kModel;
-  s.pr.request(abort);
+  const Upload u = try_upload(s, model, 0);
   const auto now = s.info_now();
   const bool same = was && now && was->info.model_hash == now->info.model_hash;
-  s.check("xfer_model_shape_refused", refused && closed && (same || where != "XFER_BEGIN"),
-          fmt::format("a model of a shape RIG_INFO does not accept ({} bytes): {}{}; XFER_COMMIT after it: {}; "
+  const bool closed = nacked(u.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
+  // With a list, a size no listed shape has is refused before any byte
+  // (9.4 BEGIN); any other refused shape at the chunk that brings its header.
+  const bool by_size = r.accept == p::shape_accept::kList && !p::size_fits_a_shape(r, uint32_t(model.size()));
+  const std::string expected = by_size ? "XFER_BEGIN" : "chunk 1";
+  const bool refused = nacked(u.refusal, p::StatusCode::Unsupported, 2, p::kNoField) && u.refused_at == expected;
+  // An accepted BEGIN puts the built-in model back in force (9.4): model_hash
+  // may change then, never after a refused BEGIN.
+  s.check("xfer_model_shape_refused", refused && closed && (same || u.refused_at != "XFER_BEGIN"),
+          fmt::format("a model of a shape RIG_INFO does not accept ({} bytes{}): {}; XFER_COMMIT after it: {}; "
                       "model_hash {}",
-                      model.size(), refused ? "refused at " + where + " (unsupported, field 2)" : "NOT refused: ",
-                      refused ? "" : got, describe(fm), same ? "unchanged" : "changed"));
+                      model.size(), by_size ? ", a size no listed shape has" : "",
+                      refused ? "refused at " + (by_size ? expected : std::string("the first XFER_CHUNK")) +
+                                    " (unsupported, field 2)"
+                              : "expected a refusal at " + expected + ", got " +
+                                    (u.refused_at.empty() ? "none" : "one at " + u.refused_at) + ": " +
+                                    describe(u.refusal),
+                      describe(u.commit), same ? "unchanged" : "changed"));
+
+  // A header split over two chunks is judged at the chunk that completes
+  // it, not at the one at offset 0: here a header of another plant (m + 1)
+  // in a file of an accepted size, cut after its layer count.
+  {
+    const std::vector<uint8_t> other = other_plant(r);
+    if (s.info.model_max && other.size() > s.info.model_max) {
+      s.check("xfer_model_header_split", true,
+              fmt::format("a {}-byte model is above model_max {}: nothing to check", other.size(), s.info.model_max));
+    } else {
+      const size_t cut = model_offset::kLayers + 1;
+      const Upload v = try_upload(s, other, cut);
+      const bool ok = v.refused_at == "chunk 2" && v.acked_before &&
+                      nacked(v.refusal, p::StatusCode::Inconsistent, 2, p::kNoField) &&
+                      nacked(v.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
+      s.check("xfer_model_header_split", ok,
+              fmt::format("a header naming m={} (INFO m={}) sent as {} bytes, then the rest of its {}: {}{}; "
+                          "XFER_COMMIT after it: {}",
+                          other[model_offset::kM], i.m, cut,
+                          kModelHeaderSize + kModelLayerSize * size_t(other[model_offset::kLayers]),
+                          v.refused_at.empty() ? "not refused" : "refused at " + v.refused_at + ": ",
+                          describe(v.refusal), describe(v.commit)));
+    }
+  }
+
+  // More layers than max_layers: unsupported (field 2), at BEGIN by its
+  // size or at its header, never left to COMMIT (where it would be
+  // too_large).
+  {
+    const std::vector<uint8_t> deep = dense_model(r, thin_layers(r, r.max_layers + 1));
+    if (s.info.model_max && deep.size() > s.info.model_max) {
+      s.check("xfer_model_too_many_layers", true,
+              fmt::format("a model of {} layers is {} bytes, above model_max {}: nothing to check", r.max_layers + 1,
+                          deep.size(), s.info.model_max));
+    } else {
+      const Upload v = try_upload(s, deep, 0);
+      const bool ok = (v.refused_at == "XFER_BEGIN" || v.refused_at == "chunk 1") &&
+                      nacked(v.refusal, p::StatusCode::Unsupported, 2, p::kNoField) &&
+                      nacked(v.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
+      s.check("xfer_model_too_many_layers", ok,
+              fmt::format("a model of {} layers (max_layers {}): {}{}; XFER_COMMIT after it: {}", r.max_layers + 1,
+                          r.max_layers, v.refused_at.empty() ? "not refused: " : "refused at " + v.refused_at + ": ",
+                          describe(v.refusal), describe(v.commit)));
+    }
+  }
 }
 
 }  // namespace nlsoft::console::conformance

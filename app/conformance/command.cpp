@@ -23,7 +23,7 @@ using namespace conformance;
 struct ConformanceArgs {
   std::string port, sim, qemu, model, board = "mps2-an386";
   unsigned baud = 115200;
-  bool json = false;
+  bool json = false, shape_list = false;
   int timeout_ms = 250;
 };
 
@@ -36,6 +36,8 @@ int run_conformance(const ConformanceArgs& a) {
   Summary summary;
   summary.port = a.port;
   summary.target = a.port;
+  if (a.shape_list && a.sim.empty())
+    throw CliError("--shape-list makes the simulator list its shapes; give --sim too");
   if (!a.model.empty() && !a.port.empty())
     throw CliError("--model names the model --sim or --qemu starts with; a board runs the model it holds");
   if (!a.sim.empty()) {
@@ -44,6 +46,7 @@ int run_conformance(const ConformanceArgs& a) {
     require_simulated_plant(rig, "--sim");
     std::vector<std::string> args;
     if (!a.model.empty()) args = {"--model", a.model};
+    if (a.shape_list) args.push_back("--shape-list");
     summary.port = launcher.start(rig_path(a.sim), args);
     summary.target = "sim " + rig.name;
   } else if (!a.qemu.empty()) {
@@ -100,6 +103,9 @@ void add_conformance_command(CLI::App& app) {
                 "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                 "image in -M netduinoplus2)")
       ->check(CLI::IsMember(qemu_boards()));
+  c->add_flag("--shape-list", a->shape_list,
+              "With --sim: the simulator lists the shapes it accepts (RIG_INFO accept 0), as an MCU image does, so "
+              "the refusal of a model at XFER_BEGIN by its size is checked too");
   c->add_option("--baud", a->baud, "Baud rate (default 115200)")->check(CLI::Range(50u, 20000000u));
   c->add_option("--timeout", a->timeout_ms, "Reply timeout of the first try, ms (3 retries follow, each waiting twice as long as the one before)")->check(CLI::Range(10, 60000));
   c->add_flag("--json", a->json, "One JSON object instead of PASS/FAIL lines");
@@ -111,8 +117,10 @@ void add_conformance_command(CLI::App& app) {
       "frames a byte at a time and back to back, duplicate, reused and replayed seq), run (start,\n"
       "stop, hold, neutral, resume and their refusals), telemetry (every frame received or counted\n"
       "in tx_dropped), watchdog (fed, tripped by silence, reported, resumed), transfers (a lost\n"
-      "chunk healed, interrupted at each stage and resumed, every refusal), and a summary: every\n"
-      "message answered or seen, every reply with a seq of ours.\n"
+      "chunk healed, interrupted at each stage and resumed, every refusal), rig (RIG_INFO, models\n"
+      "of refused shapes refused before their commit), ident (identification runs: refusals,\n"
+      "samples, retry, hold, end, watchdog), and a summary: every message answered or seen,\n"
+      "every reply with a seq of ours.\n"
       "Parameters it changes are set back. It leaves the hold reference selected, a small\n"
       "reference table committed (kind 1) and telemetry at decimation 1; it never uploads a model.\n"
       "Prints `PASS|FAIL name: detail` per check and `N passed, M failed`;\n"
@@ -120,6 +128,7 @@ void add_conformance_command(CLI::App& app) {
       "Examples:\n"
       "  nlsoft-console conformance --sim hasel\n"
       "  nlsoft-console conformance --sim lab-arm.toml --model lab-arm.nlsm\n"
+      "  nlsoft-console conformance --sim msd --shape-list\n"
       "  nlsoft-console conformance --qemu msd --json\n"
       "  nlsoft-console conformance --qemu hasel --board stm32f4\n"
       "  nlsoft-console conformance /dev/ttyACM0 --baud 1000000\n");

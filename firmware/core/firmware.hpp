@@ -146,6 +146,12 @@ class Firmware {
     tx_.drain(hal_);
   }
 
+  // RIG_INFO accept 0 with the capacity's shapes for this rig even where
+  // the kernel is generic: a simulator that stands in for an MCU image, so
+  // a console's refusals before XFER_BEGIN can be tried. Before begin().
+  void serve_shape_list() { shape_list_ = true; }
+  proto::RigInfo rig_info_now() const { return rig_info<Cap>(rig_.name, rig_.hash, rig_, shape_list_); }
+
   void count_overrun() { ++overruns_; }
   // Fast mode paces itself on this: a step would otherwise drop telemetry.
   bool telemetry_has_room() const {
@@ -344,7 +350,7 @@ class Firmware {
         return reply(r);
       }
       case T::InfoGet: return reply(info());  // INFO_EX: a 1.1 console reads both
-      case T::RigGet: return reply(rig_info<Cap>(rig_.name, rig_.hash, rig_));
+      case T::RigGet: return reply(rig_info_now());
       case T::ParamList: {
         proto::ParamList p;
         if (!unpack_or_nack(f, p)) return;
@@ -379,7 +385,7 @@ class Firmware {
           return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
         // After the size rules of TransferReceiver::begin (out_of_range, too_large): section 9.4's order.
         if (rx == &model_rx_ && p.total_size != 0 && p.total_size <= rx->capacity() &&
-            model_size_refused(rig_info<Cap>(rig_.name, rig_.hash, rig_), p))
+            model_size_refused(rig_info_now(), p))
           return nack(f.header.type, proto::StatusCode::Unsupported, 2, proto::kNoField);
         const proto::XferReply r = rx->begin(p);
         // Only an accepted BEGIN may touch the model in force: a NACK changes nothing.
@@ -394,7 +400,7 @@ class Firmware {
         const uint32_t before = rx->next_offset();
         const proto::XferReply r = rx->chunk(p);
         if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) {
-          const proto::StatusCode v = model_header_verdict(rig_info<Cap>(rig_.name, rig_.hash, rig_), *rx, before);
+          const proto::StatusCode v = model_header_verdict(rig_info_now(), *rx, before);
           if (v != proto::StatusCode::Ok) {
             rx->close();  // the model in force stays (the built-in one since BEGIN)
             log(proto::LogLevel::Warn, "model upload refused at its header: a shape RIG_INFO does not accept");
@@ -450,7 +456,9 @@ class Firmware {
 
   void run_start(uint8_t type, uint32_t run_id) {
     const bool active = state_ != proto::RunState::Idle;
-    if (active && run_id == run_id_) return ack(type);  // a retry
+    // A retry only of a closed-loop run: the identification run's own id
+    // is refused as IDENT_START refuses a closed-loop run's (9.5).
+    if (active && !ident_ && run_id == run_id_) return ack(type);
     if (active) return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
     if (!has_model_) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
     run_id_ = run_id;
@@ -695,6 +703,7 @@ class Firmware {
   Excitation gen_{};
   bool ident_ = false;
   uint16_t ident_decimation_ = 1;
+  bool shape_list_ = false;
 };
 
 }  // namespace nlsoft::fw

@@ -11,7 +11,9 @@ enough to build a compatible peer.
 usage: check_vectors.py PROTOCOL.md golden.txt [model_file.txt [corpus_dir]]
 
 With a golden model file it also checks that file against the model file
-layout of PROTOCOL.md 9.4: sizes, layer chain, parameter count and CRC-32.
+layout of PROTOCOL.md 9.4: sizes, layer chain, parameter count and CRC-32;
+and the example rig file beside it (rig_hash_example.toml) against the
+canonical content and rig_hash of PROTOCOL.md 7.
 With the fuzzer's seed corpus it checks that every vector is there, as its
 wire bytes after one chunk-size byte (PROTOCOL.md 14), so the fuzzer starts
 from the frames of today's layouts.
@@ -300,6 +302,23 @@ def check_model(path):
     return len(problems)
 
 
+def check_rig_hash(path):
+    """rig_hash of PROTOCOL.md 7 (canonical content of a rig file), recomputed
+    for the example rig file, which names its own hash on a comment line."""
+    data = open(path, "rb").read()
+    canonical = b""
+    for line in data.replace(b"\r", b"").split(b"\n"):
+        line = line.rstrip(b" \t")
+        if line.strip(b" \t") and not line.lstrip(b" \t").startswith(b"#"):
+            canonical += line + b"\n"
+    named = re.search(rb"^# rig_hash 0x([0-9a-f]{8})\r?$", data, re.M)
+    got = crc32(canonical)
+    ok = named is not None and int(named.group(1), 16) == got
+    print(f"rig hash: {len(canonical)} canonical bytes of {len(data)}, 0x{got:08x}"
+          + ("" if ok else f", the file names {named.group(1).decode() if named else 'none'}"))
+    return 0 if ok else 1
+
+
 def main():
     table = read_spec(sys.argv[1])
     vectors = []
@@ -325,6 +344,8 @@ def main():
     print(f"{len(vectors)} vectors, {len(table)} message types, {failures} mismatches")
     if len(sys.argv) > 3:
         failures += check_model(sys.argv[3])
+        import os
+        failures += check_rig_hash(os.path.join(os.path.dirname(sys.argv[3]), "rig_hash_example.toml"))
     if len(sys.argv) > 4:
         import os
         stale = [name for name, wire, _ in vectors

@@ -209,7 +209,9 @@ void build() {
   ident_joint.band_lo = 0.1f;
   ident_joint.band_hi = 20.0f;
   ident_joint.duration = 60000;
-  add("ident_start_chirp_joint", "Protocol 1.3: a joint chirp of 60 s at 1 kHz, one sample every 3 steps (115200 baud).",
+  add("ident_start_chirp_joint",
+      "Protocol 1.3: a joint chirp of 60 s at 1 kHz, one sample every 3 steps (333 samples/s: over full-speed USB; "
+      "at 115200 baud msd needs 4, section 7).",
       frame(ident_joint, 32));
 
   // ------------------------------------------------- replies, unsolicited

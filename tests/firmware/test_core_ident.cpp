@@ -197,7 +197,11 @@ TEST_F(IdentRun, DrivesTheInputsInsideTheLimitsAndSendsUMeasuredYAndSensorsEvery
   EXPECT_TRUE(moved);
   // Its duration over, the run ends by itself: neutral, idle, said in a LOG.
   for (int i = 0; i < 6; ++i) EXPECT_EQ(hal_.actuated.back()[size_t(i)], rig_.u_neutral[i]);
-  EXPECT_EQ(status().run_state, uint8_t(proto::RunState::Idle));
+  // STATUS keeps the ended run's id and its step count: D, not D - 1.
+  const proto::Status ended = status();
+  EXPECT_EQ(ended.run_state, uint8_t(proto::RunState::Idle));
+  EXPECT_EQ(ended.run_id, 7u);
+  EXPECT_EQ(ended.step, 200u);
   hal_.out.clear();
   steps(5);
   EXPECT_TRUE(samples().empty());
@@ -256,6 +260,61 @@ TEST_F(IdentRun, BadParametersAreRefusedNamingTheFieldAndChangeNothing) {
   EXPECT_EQ(busy.status, uint8_t(proto::StatusCode::WrongState));
   EXPECT_EQ(busy.field, 0);
   expect_ack(prbs(100));
+}
+
+// A retry is known by its run_id alone: other fields in it change nothing,
+// the run goes on as it was started (neither restarted nor re-seeded).
+TEST_F(IdentRun, ARetryWithOtherFieldsIsAckedAndTheRunGoesOnUnchanged) {
+  expect_ack(prbs(1000));
+  steps(20);
+  proto::IdentStart other = prbs(50);
+  other.signal = uint8_t(proto::IdentSignal::Chirp);
+  other.seed = 12345;
+  other.decimation = 5;
+  expect_ack(other);
+  hal_.out.clear();
+  steps(10);
+  const std::vector<proto::IdentSample> s = samples();
+  ASSERT_EQ(s.size(), 10u) << "decimation stays 1";
+  EXPECT_EQ(s.front().step, 20u) << "not restarted";
+  const proto::Status st = status();
+  EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Ident));
+  EXPECT_EQ(st.step, 30u);
+  // The same inputs as a run never retried, step for step.
+  proto::RunStop stop;
+  EXPECT_EQ(request(stop).first, uint8_t(proto::MsgType::Ack));
+  proto::IdentStart fresh = prbs(1000);
+  fresh.run_id = 8;
+  expect_ack(fresh);
+  steps(20);
+  hal_.out.clear();
+  steps(10);
+  const std::vector<proto::IdentSample> again = samples();
+  ASSERT_EQ(again.size(), 10u);
+  for (size_t k = 0; k < again.size(); ++k)
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(again[k].u[i], s[k].u[i]) << "step " << again[k].step;
+}
+
+// RUN_START with the identification run's own id is no retry of it: refused
+// wrong_state (as IDENT_START with a closed-loop run's id), the run goes on.
+TEST_F(IdentRun, RunStartWithTheIdentRunsIdIsWrongState) {
+  expect_ack(prbs(1000));
+  steps(5);
+  proto::RunStart r;
+  r.run_id = 7;
+  const auto [type, payload] = request(r);
+  ASSERT_EQ(type, uint8_t(proto::MsgType::Nack));
+  proto::Nack n;
+  ASSERT_EQ(proto::unpack(payload.data(), payload.size(), n), proto::StatusCode::Ok);
+  EXPECT_EQ(n.request_type, uint8_t(proto::MsgType::RunStart));
+  EXPECT_EQ(n.status, uint8_t(proto::StatusCode::WrongState));
+  EXPECT_EQ(n.field, 0);
+  const proto::Status st = status();
+  EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Ident));
+  EXPECT_EQ(st.step, 5u);
+  hal_.out.clear();
+  steps(3);
+  EXPECT_EQ(samples().size(), 3u);
 }
 
 TEST_F(IdentRun, HoldPausesTheSignalResumeContinuesItAndStopEndsTheRun) {

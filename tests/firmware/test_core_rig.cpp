@@ -234,4 +234,45 @@ TEST_F(HaselImage, AHeaderSplitOverChunksIsCheckedWhenItIsWhole) {
   EXPECT_EQ(n.status, uint8_t(proto::StatusCode::Unsupported));
 }
 
+// A header naming more layers than any shape list can hold (or max_layers
+// allow) is refused unsupported at the chunk that completes it, as any
+// other refused shape: COMMIT would have said too_large.
+TEST_F(HaselImage, AHeaderOfMoreLayersThanAListCanNameIsUnsupportedAtItsChunk) {
+  const auto own = dense_model({5, 5, 3});
+  std::vector<uint8_t> deep(own.size(), 0);  // the size of the listed shape: BEGIN lets it in
+  std::memcpy(deep.data(), own.data(), kModelHeaderSize);
+  const int layers = proto::kMaxShapeLayers + 5;
+  deep[model_offset::kLayers] = uint8_t(layers);
+  const uint32_t params = uint32_t((deep.size() - 4 - kModelHeaderSize - kModelLayerSize * layers) / 4);
+  for (int i = 0; i < 4; ++i) deep[model_offset::kParams + i] = uint8_t(params >> (8 * i));
+  for (int l = 0; l < layers; ++l) deep[kModelHeaderSize + kModelLayerSize * size_t(l)] = 1;
+  ASSERT_EQ(deep.size(), model_file_size(layers, params));
+  expect<proto::XferAck>(begin_of(deep));
+  EXPECT_EQ(expect<proto::XferAck>(chunk_of(deep, 0)).next_offset, proto::kMaxChunkData) << "header not whole yet";
+  const auto n = expect<proto::Nack>(chunk_of(deep, proto::kMaxChunkData));
+  EXPECT_EQ(n.status, uint8_t(proto::StatusCode::Unsupported));
+  EXPECT_EQ(n.field, 2);
+  proto::XferCommit c;
+  c.kind = uint8_t(proto::XferKind::Model);
+  EXPECT_EQ(expect<proto::Nack>(c).status, uint8_t(proto::StatusCode::XferNotOpen)) << "the transfer was discarded";
+}
+
+// A generic kernel (the simulator's) may still serve a list: accept 0 with
+// the capacity's shapes for the rig's dimensions, the limits unchanged.
+TEST(RigInfo, AGenericKernelServesItsShapesAsAListWhenAsked) {
+  const RigConfig hasel = shipped_rig(PlatformId::Hasel);
+  const proto::RigInfo any = fw::rig_info<HostCapacity>("hasel", 1, hasel);
+  EXPECT_EQ(any.accept, proto::shape_accept::kAny);
+  EXPECT_EQ(any.shapes_size, 0);
+  const proto::RigInfo list = fw::rig_info<HostCapacity>("hasel", 1, hasel, true);
+  EXPECT_EQ(list.accept, proto::shape_accept::kList);
+  EXPECT_EQ(proto::shape_count(list), 2) << "hasel's own shape and the authors'";
+  EXPECT_TRUE(proto::shapes_well_formed(list.shapes, list.shapes_size));
+  EXPECT_EQ(list.max_layers, any.max_layers);
+  EXPECT_EQ(list.max_width, any.max_width);
+  EXPECT_EQ(list.max_weights, any.max_weights);
+  EXPECT_TRUE(proto::size_fits_a_shape(list, uint32_t(dense_model({5, 5, 3}).size())));
+  EXPECT_FALSE(proto::size_fits_a_shape(list, uint32_t(dense_model({6, 5, 3}).size())));
+}
+
 }  // namespace

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "app/rig/firmware_rig.hpp"
@@ -26,6 +27,7 @@
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
+#include "protocol/rig_shapes.hpp"
 #include "shared/model_file.hpp"
 #include "shared/version.hpp"
 
@@ -82,6 +84,25 @@ bool wait_fd(int fd, short events, uint64_t timeout_us) {
   return ::ppoll(&p, 1, &t, nullptr) > 0 && (p.revents & (POLLIN | POLLERR | POLLHUP));
 }
 
+std::string fmt_rig(const protocol::RigInfo& r) {
+  return std::string("rig ") + r.rig_name + " (m " + std::to_string(r.m) + ", n " + std::to_string(r.n) + ", w " +
+         std::to_string(r.w) + ", nd = dd = " + std::to_string(r.nd) + ")";
+}
+
+// Why --shape-list cannot be served (empty when it can): a rig with no
+// listed shape would accept no model, and the model in force must be one
+// of the list, as an image's built-in model is.
+std::string shape_list_refusal(const protocol::RigInfo& r, const std::vector<uint8_t>& model) {
+  if (r.shapes_size == 0)
+    return fmt_rig(r) + ": the simulator has no kernel of a fixed shape for these dimensions, nothing to list";
+  protocol::ModelShape s;
+  if (!model.empty() && (!protocol::model_shape(model.data(), model.size(), s) ||
+                         protocol::accepts(r, s) != protocol::ShapeVerdict::Accepted))
+    return fmt_rig(r) + ": the model's shape is not one of the " + std::to_string(protocol::shape_count(r)) +
+           " listed (the simulator would serve a list its own model is not in)";
+  return {};
+}
+
 // Idle, the loop wakes for the heartbeat (STATUS every second) and catches
 // the plant up then; this is how late that may be.
 constexpr uint64_t kIdleWakeUs = 100000;
@@ -118,6 +139,11 @@ int main(int argc, char** argv) {
                  "firmware, at the same point of its conversation however loaded the machine is");
   app.add_option("--pause-ms", pause_ms, "how long --pause-after stops, ms")->capture_default_str()->check(
       CLI::Range(1u, 600000u));
+  bool shape_list = false;
+  app.add_flag("--shape-list", shape_list,
+               "serve RIG_INFO accept 0, as an MCU image does: the shapes the simulator has kernels for at the rig's "
+               "dimensions, listed, and any other model refused (at XFER_BEGIN by its size, at its header by its "
+               "shape); without it, any shape within the limits (accept 1)");
   CLI11_PARSE(app, argc, argv);
 
   // The rig and its plant, or a clear refusal before the pty exists.
@@ -178,10 +204,18 @@ int main(int argc, char** argv) {
   const fw::Buffers bufs{g_model_staging, sizeof g_model_staging, g_table_staging, sizeof g_table_staging,
                          g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
   static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
+  if (shape_list) firmware->serve_shape_list();
   const Status s = firmware->begin(model.empty() ? nullptr : model.data(), model.size());
   if (s != Status::Ok) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: model '%s' refused: %s\n", model_path.c_str(), status_name(s));
     return 2;
+  }
+  if (shape_list) {
+    const std::string refusal = shape_list_refusal(firmware->rig_info_now(), model);
+    if (!refusal.empty()) {
+      std::fprintf(stderr, "nlsoft-firmware-sim: error: --shape-list: %s\n", refusal.c_str());
+      return 2;
+    }
   }
   std::printf("%s\n", pty.path.c_str());
   std::fflush(stdout);

@@ -44,11 +44,33 @@ TEST_F(Conformance, SimulatorPassesEveryCheckOnEveryPlatform) {
           "PASS xfer_heal:", "PASS xfer_resume:", "PASS xfer_begin_too_large:", "PASS xfer_bad_checksum:",
           "PASS params_restored:", "PASS every_message:", "PASS reply_seq:", "PASS rig_info:", "PASS rig_name:",
           "PASS rig_hash_stable:", "PASS rig_shapes:", "PASS xfer_model_shape_refused:",
+          "PASS xfer_model_header_split:", "PASS xfer_model_too_many_layers:",
           // Protocol 1.3: identification runs.
           "PASS ident_refusals:", "PASS ident_starts:", "PASS ident_inputs_in_limits:", "PASS ident_retry:",
-          "PASS ident_stops_on_hold_and_stop:", "PASS ident_ends_after_duration:", "PASS ident_watchdog:"})
+          "PASS ident_stops_on_hold_and_stop:", "PASS ident_ends_after_duration:", "PASS ident_watchdog:",
+          "PASS ident_run_start_refused:"})
       EXPECT_NE(r.output.find(name), std::string::npos) << name << "\n" << r.output;
   }
+}
+
+// With --shape-list the simulator serves RIG_INFO accept 0, as an MCU
+// image: the suite then sees a model of a size no listed shape has refused
+// at XFER_BEGIN, before any byte of it, and everything else passes as well.
+TEST_F(Conformance, ASimulatorServingAShapeListRefusesAModelAtBeginByItsSize) {
+  const auto r = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance --sim msd --shape-list");
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("PASS rig_shapes: 1 listed shape, each ending in n=1 units"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("a size no listed shape has): refused at XFER_BEGIN (unsupported, field 2)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("PASS xfer_model_header_split:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("PASS xfer_model_too_many_layers:"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("FAIL "), std::string::npos) << r.output;
+  // Only the simulator can be told what to list.
+  const auto port = test::run_process(std::string(NLSOFT_CONSOLE_BIN) + " conformance /dev/null --shape-list");
+  EXPECT_EQ(port.code, 2) << port.output;
+  EXPECT_NE(port.output.find("--shape-list makes the simulator list its shapes; give --sim too"), std::string::npos)
+      << port.output;
 }
 
 TEST_F(Conformance, JsonReportsEveryCheck) {

@@ -5,7 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <fstream>
 #include <initializer_list>
+#include <iterator>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -80,6 +83,19 @@ TEST(RigHash, LayoutCommentLinesAndLineEndingsDoNotChangeTheHash) {
   EXPECT_EQ(rig_file_hash("# the HASEL rig\r\n\r\nname = \"hasel\"   \r\n   # rate\nrate_hz = 130"), h);
   EXPECT_NE(rig_file_hash("name = \"hasel\"\nrate_hz = 120\n"), h);
   EXPECT_NE(rig_file_hash("name = \"hasel\" # ours\nrate_hz = 130\n"), h) << "a comment after a value is content";
+}
+
+// The example of PROTOCOL.md 7 (CRs, trailing blanks, blank and comment
+// lines) names its own hash on a comment line; the Python peer written from
+// the document (check_vectors.py) computes the same.
+TEST(RigHash, TheProtocolsExampleRigFileHasTheHashItNames) {
+  std::ifstream in(NLSOFT_RIGS_DIR "/../protocol/vectors/rig_hash_example.toml", std::ios::binary);
+  ASSERT_TRUE(in);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_NE(text.find("\r\n"), std::string::npos) << "the example keeps its CRs";
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(text, m, std::regex("# rig_hash 0x([0-9a-f]{8})")));
+  EXPECT_EQ(rig_file_hash(text), uint32_t(std::stoul(m[1], nullptr, 16)));
 }
 
 TEST(RigHash, AnotherRigOrHashIsAWarningAnUnknownHashIsNot) {
