@@ -20,7 +20,7 @@ std::vector<std::string> describe(const RunRow& r, const RunMetrics& m) {
   std::vector<std::string> lines = {
       fmt::format("run {} {} {}", r.id, printable(r.label),
                   r.ended_at.empty() ? "(running or unfinished)" : printable(r.end_reason)),
-      fmt::format("rmse [{}]  nrmse {:.4f}  max {:.4g}", rmse, t.nrmse, t.max_error),
+      fmt::format("rmse [{}]  nrmse {}  max {:.4g}", rmse, nrmse_words(t.nrmse), t.max_error),
       fmt::format("loop {:.1f} Hz  compute p50 {:.1f} p99 {:.1f} us", m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us),
       fmt::format("{} samples, {:.1f} s, lost {}, gaps {}", m.samples, m.duration_s, m.lost_frames, m.gaps),
   };
