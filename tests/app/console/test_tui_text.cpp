@@ -230,6 +230,27 @@ TEST(ConsoleTuiText, TheHelpLeavesNothingBesideIt) {
   });
 }
 
+// F4, Enter on an identification run: what it is, its loop named for a
+// --sim-fast simulator, and no tracking figure (it has no reference).
+TEST(ConsoleTuiText, TheRunsPanelShowsNoTrackingFiguresForAnIdentificationRun) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db");
+  const auto rec = run_process("env NLSOFT_FIRMWARE_SIM=" NLSOFT_FIRMWARE_SIM_BIN " " + std::string(NLSOFT_CONSOLE_BIN) +
+                               " ident --sim hasel --signal prbs --duration 5s --sim-fast --db " + shell_quote(db));
+  ASSERT_EQ(rec.code, 0) << rec.output;
+  at_each_size("--sim hasel --db " + shell_quote(db), [](const Tmux& t, std::string& s, const Size&) {
+    t.keys("F4");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, " Runs (1)"); }, s)) << s;
+    t.keys("Enter");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "identification run"); }, s)) << s;
+    EXPECT_TRUE(contains(s, "loop 130 Hz set")) << s;
+    EXPECT_FALSE(contains(s, "nrmse")) << s;
+    EXPECT_FALSE(contains(s, "rmse [")) << s;
+    ASSERT_TRUE(quit(t, "q", s));
+  });
+}
+
 // `ident` on a terminal: its progress bar and the firmware's message that
 // the run is over ("firmware info: identification run finished ...") each
 // get a line; the message never lands after the bar's "ETA 0s".
