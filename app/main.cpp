@@ -13,6 +13,7 @@
 #include "app/live/ident_command.hpp"
 #include "app/model/commands.hpp"
 #include "app/record/gnuplot.hpp"
+#include "app/record/run_plot.hpp"
 #include "app/record/run_training.hpp"
 #include "app/record/runs_command.hpp"
 #include "app/rig/rig_command.hpp"
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
   add_flash_command(app);
   add_ident_command(app);
   add_firmware_command(app);
-  add_simulate_command(app);
+  add_simulate_command(app, [](const SimulationPicture& p) { return run_gnuplot(simulation_plot_script(p)); });
   // dataset and train take any rig file (or a shipped rig's name); train
   // reads recorded runs from the console's database.
   add_dataset_command(app, rig_target_arg);

@@ -1,11 +1,12 @@
 #pragma once
 // A one-line progress bar on stderr, drawn only when stderr is a terminal
 // so logs and CI output stay clean. Header-only: twenty lines are not worth
-// a dependency.
+// a dependency. One bar is drawn at a time.
 #include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
+#include <mutex>
 #include <string>
 
 namespace nlsoft::console {
@@ -14,27 +15,57 @@ class ProgressBar {
  public:
   explicit ProgressBar(std::string label) : label_(std::move(label)), tty_(isatty(STDERR_FILENO) != 0) {}
   ~ProgressBar() { finish(); }
+  ProgressBar(const ProgressBar&) = delete;
+  ProgressBar& operator=(const ProgressBar&) = delete;
 
-  void update(long done, long total) {
+  // `note`: what is being done now, after the bar ("compiling main.cpp").
+  void update(long done, long total, const std::string& note = "") {
     if (!tty_ || total <= 0) return;
     const double f = double(done) / double(total);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     const double eta = f > 0 ? elapsed * (1 - f) / f : 0;
     const int width = 30, filled = int(f * width);
-    std::fprintf(stderr, "\r%s [%s%s] %3d%%  ETA %4.0fs ", label_.c_str(), std::string(size_t(filled), '#').c_str(),
-                 std::string(size_t(width - filled), '.').c_str(), int(f * 100), eta);
+    char tail[64];
+    std::snprintf(tail, sizeof tail, "] %3d%%  ETA %4.0fs ", int(f * 100), eta);
+    std::lock_guard<std::mutex> lock(mu());
+    text_ = label_ + " [" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), '.') + tail + note;
+    std::fprintf(stderr, "\r%s\033[K", text_.c_str());
     std::fflush(stderr);
-    drawn_ = true;
+    shown() = this;
   }
   void finish() {
-    if (drawn_) std::fprintf(stderr, "\r\033[K");
-    drawn_ = false;
+    std::lock_guard<std::mutex> lock(mu());
+    if (shown() != this) return;
+    std::fprintf(stderr, "\r\033[K");
+    shown() = nullptr;
+  }
+
+  // A line for stderr from any thread (the firmware's log, a link notice):
+  // a bar on the terminal is cleared first and drawn again under the line,
+  // so the two never share a line ("ETA 0s firmware info: ...").
+  // `out`: stdout for a program's results, which share the terminal.
+  static void say(const std::string& line, std::FILE* out = stderr) {
+    std::lock_guard<std::mutex> lock(mu());
+    const ProgressBar* bar = shown();
+    if (bar) std::fprintf(stderr, "\r\033[K"), std::fflush(stderr);
+    std::fprintf(out, "%s\n", line.c_str());
+    std::fflush(out);
+    if (bar) std::fprintf(stderr, "%s", bar->text_.c_str()), std::fflush(stderr);
   }
 
  private:
+  static std::mutex& mu() {
+    static std::mutex m;
+    return m;
+  }
+  static const ProgressBar*& shown() {  // the bar on the terminal's last line, if any
+    static const ProgressBar* bar = nullptr;
+    return bar;
+  }
+
   std::string label_;
   bool tty_;
-  bool drawn_ = false;
+  std::string text_;  // as last drawn
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -16,6 +17,9 @@ namespace {
 void print_image(const char* what, const BuiltImage& b) {
   if (b.path.empty()) return;
   fmt::print("{:<6} {}\n       flash {} bytes, RAM {} bytes\n", what, b.path, b.flash, b.ram);
+  // stm32f4: the raw flash contents beside it, what st-flash writes.
+  const std::string bin = std::filesystem::path(b.path).replace_extension(".bin").string();
+  if (std::filesystem::exists(bin)) fmt::print("       {}\n", bin);
 }
 
 }  // namespace

@@ -87,6 +87,16 @@ int make_percent(const std::string& line) {
   return std::atoi(line.c_str() + 1);
 }
 
+// What make's line says it does, in a few words: "compiling main.cpp",
+// "linking nlsoft-stm32f4-arm.elf", "" for anything else.
+std::string make_step(const std::string& line) {
+  const size_t last = line.find_last_of(" /");
+  const std::string name = last == std::string::npos ? line : line.substr(last + 1);
+  if (line.find("] Building ") != std::string::npos) return "compiling " + name.substr(0, name.rfind(".o"));
+  if (line.find("] Linking ") != std::string::npos) return "linking " + name;
+  return "";
+}
+
 void require_toolchain(const std::string& who) {
   std::string missing;
   for (const char* tool : {"arm-none-eabi-g++", "arm-none-eabi-size", "cmake"})
@@ -301,8 +311,9 @@ BuiltImages build_images(const ImageBuild& q) {
   {
     ProgressBar bar("building " + what);
     auto progress = [&](const std::string& line) {
-      if (const int p = make_percent(line); p >= 0) bar.update(p, 100);
+      if (const int p = make_percent(line); p >= 0) bar.update(p, 100, make_step(line));
     };
+    bar.update(0, 100, "configuring (cmake)");
     const int configured = run_logged(
         {"cmake", "-S", src + "/firmware/ports/" + q.board, "-B", build,
          "-DCMAKE_TOOLCHAIN_FILE=" + src + "/firmware/ports/cortex-m/cmake/arm-none-eabi.cmake", "-DNLSOFT_ROOT=" + src,

@@ -50,7 +50,7 @@ int run_console(const ConsoleArgs& a) {
   LiveConsole console(o);
   install_interrupt_handlers();
   const bool headless = !a.script.empty();
-  if (headless) console.set_notify([](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
+  if (headless) console.set_notify([](const std::string& s) { ProgressBar::say(s); });
   connect_with_progress(console);
   if (!headless) return run_tui(console);
 
@@ -73,7 +73,7 @@ int run_console(const ConsoleArgs& a) {
   std::unique_ptr<ProgressBar> bar;
   std::string bar_what;
   ScriptRunner runner(
-      console, [](const std::string& s) { std::printf("%s\n", s.c_str()), std::fflush(stdout); },
+      console, [](const std::string& s) { ProgressBar::say(s, stdout); },
       [&](const std::string& what, size_t d, size_t t) {
         if (what != bar_what) bar = std::make_unique<ProgressBar>(what), bar_what = what;
         bar->update(long(d), long(t));

@@ -34,7 +34,7 @@ int run_ident_command(const IdentArgs& a) {
   const LiveOptions lo = live_options(a.link, "ident");
   LiveConsole console(lo);
   install_interrupt_handlers();
-  console.set_notify([](const std::string& s) { std::fprintf(stderr, "%s\n", s.c_str()); });
+  console.set_notify([](const std::string& s) { ProgressBar::say(s); });
   connect_with_progress(console);
   const protocol::Info info = console.device().info();
   IdentLine line;

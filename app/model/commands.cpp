@@ -257,8 +257,11 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
                                   last_row += " u" + std::to_string(i) + "=" + fmt_g(s.u(last, i));
     for (int j = 0; j < s.n; ++j) first_row += " y" + std::to_string(j) + "=" + fmt_g(s.y(0, j)),
                                   last_row += " y" + std::to_string(j) + "=" + fmt_g(s.y(last, j));
-    std::printf("  %s: %ld samples, %zu gap%s, %.3f s; first%s; last%s\n", s.name.c_str(), s.rows(), s.breaks.size(),
-                s.breaks.size() == 1 ? "" : "s", s.time(last), first_row.c_str(), last_row.c_str());
+    // Its length in control steps at the rig's rate: a --sim-fast firmware's clock ran far faster than that.
+    const std::string span = target.rate_hz > 0 ? fmt_g(double(s.rows()) / target.rate_hz) + " s at " + fmt_g(target.rate_hz) + " Hz"
+                                                : fmt_g(s.time(last)) + " s";
+    std::printf("  %s: %ld samples, %zu gap%s, %s; first%s; last%s\n", s.name.c_str(), s.rows(), s.breaks.size(),
+                s.breaks.size() == 1 ? "" : "s", span.c_str(), first_row.c_str(), last_row.c_str());
   }
   TrainProgress bar(stderr);
   o.progress = [&bar](const Progress& p) { bar(p); };
@@ -404,8 +407,11 @@ void run_info(const std::string& path) {
   need(path, "MODEL");
   const ModelFile f = load_model_file(path);
   const Model<HostCapacity> M = f.view();
-  const char* platform = f.platform < kPlatformCount ? platform_name(PlatformId(f.platform)) : "none";
-  std::printf("%s\n  platform %s, m=%d n=%d w=%d nd=%d dd=%d, p=%d inputs, %s output\n", path.c_str(), platform, M.m,
+  // A rig file's model has no platform id; the fit `train` keeps names its rig.
+  const std::string rig = f.platform < kPlatformCount ? std::string("platform ") + platform_name(PlatformId(f.platform))
+                          : f.fit.empty() ? std::string("rig not named (a rig file's model kept no fit)")
+                                          : "rig " + fit_from_json(f.fit, path).rig + " (a rig file)";
+  std::printf("%s\n  %s, m=%d n=%d w=%d nd=%d dd=%d, p=%d inputs, %s output\n", path.c_str(), rig.c_str(), M.m,
               M.n, M.w, M.nd, M.dd, M.p(), M.residual ? "residual (y(k) + g(x))" : "absolute");
   uint32_t weights = 0;
   for (int i = 0; i < M.layer_count; ++i) {

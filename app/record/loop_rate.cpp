@@ -19,6 +19,12 @@ bool measured(const RunMetrics& m) { return m.loop_rate_measured && m.loop_rate_
 std::string loop_rate_text(const RunMetrics& m) {
   if (!measured(m))
     return fmt::format("loop {} set (not measured: fewer than 2 samples)", rate_text(m.loop_rate_set_hz));
+  // No board's timer steps faster than it was set: a firmware that did
+  // ran without one, as a --sim-fast simulator does, and its rate against
+  // the set one says nothing.
+  if (m.loop_rate_hz > kFasterThanRealTime * m.loop_rate_set_hz)
+    return fmt::format("loop {} set, stepped as fast as the host ran it ({}: a simulator without its clock, --sim-fast)",
+                       rate_text(m.loop_rate_set_hz), rate_text(m.loop_rate_hz));
   return fmt::format("loop {} of {} set ({:.0f} %)", rate_text(m.loop_rate_hz), rate_text(m.loop_rate_set_hz),
                      100 * m.loop_rate_hz / m.loop_rate_set_hz);
 }

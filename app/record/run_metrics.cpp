@@ -1,5 +1,7 @@
 #include "app/record/run_metrics.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -168,6 +170,11 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s, double wi
     else if (p.name == "u_max") limits.hi = floats(p.value);
   }
   return run_metrics(run, s, q, store.gaps(run_id).size(), limits);
+}
+
+std::string nrmse_words(double nrmse, bool percent) {
+  if (!std::isfinite(nrmse)) return "n/a (the reference held still; see nrmse_space)";
+  return percent ? fmt::format("{:.4f} ({:.2f} %)", nrmse, 100 * nrmse) : fmt::format("{:.4f}", nrmse);
 }
 
 const std::vector<std::string>& metric_names() {

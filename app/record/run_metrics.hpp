@@ -69,6 +69,11 @@ RunMetrics run_metrics(RunStore& store, int64_t run_id, double skip_s = 0, doubl
 // not how the rig moved.
 inline constexpr const char* kNoMeasuredOutput = "no measured output: tracking scored on the model's prediction";
 
+// nrmse as printed: "0.0123", with `percent` "0.0123 (1.23 %)"; a
+// reference that held still over the run (a run shorter than its hold) has
+// no range to normalise by, which is said instead of "nan".
+std::string nrmse_words(double nrmse, bool percent = false);
+
 // One vocabulary for every metric the console prints (CONSOLE.md,
 // "Metrics"): the names `expect`, `sweep` and `tune` accept and the keys of
 // `runs ... --json` and `simulate --json`. A name carries its unit when it

@@ -25,7 +25,9 @@ std::string quoted(const std::string& s) {
   return out + "\"";
 }
 
+// A simulation (`simulate --svg`) has no id: its label names it.
 std::string run_name(const PlottedRun& r) {
+  if (r.row.id == 0) return r.row.label;
   return r.row.label.empty() ? fmt::format("run {}", r.row.id) : fmt::format("run {} ({})", r.row.id, r.row.label);
 }
 
@@ -51,9 +53,10 @@ std::vector<std::string> wrap(const std::string& text, size_t width, const std::
 std::vector<std::string> caption_lines(const PlottedRun& r) {
   constexpr size_t kWidth = 140;
   const TrackingMetrics& t = r.metrics.has_true ? r.metrics.truth : r.metrics.predicted;
-  std::vector<std::string> lines = {fmt::format("{}: {} {}, {} samples over {:.2f} s, nrmse {:.4f} ({})", run_name(r),
+  std::vector<std::string> lines = {fmt::format("{}: {} {}, {} samples over {:.2f} s, nrmse {} ({})", run_name(r),
                                                 r.row.platform, r.row.firmware, r.metrics.samples,
-                                                r.metrics.duration_s, t.nrmse, r.metrics.has_true ? "y_true" : "y_hat")};
+                                                r.metrics.duration_s, nrmse_words(t.nrmse, true),
+                                                r.metrics.has_true ? "y_true" : "y_hat")};
   if (!r.row.reference.empty())
     for (const std::string& l : wrap("  reference " + r.row.reference, kWidth, "    ")) lines.push_back(l);
   std::string params;
@@ -185,6 +188,30 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
   }
   s += "unset multiplot\n";
   return s;
+}
+
+std::string simulation_plot_script(const SimulationPicture& p, size_t max_points) {
+  const Trace& t = *p.trace;
+  PlottedRun r;
+  r.row.label = fmt::format("simulate {} on {}", p.reference, p.rig);
+  r.row.platform = p.rig;
+  r.row.firmware = "(simulated on this host)";
+  r.row.loop_rate_hz = t.dt > 0 ? 1.0 / double(t.dt) : 1.0;
+  r.row.n = t.n;
+  r.row.m = t.m;
+  // Every row a control step; y_ref, y_hat, y_true and u in each.
+  RunSeries& s = r.series;
+  s.n = t.n;
+  s.m = t.m;
+  for (long k = 0; k < t.rows(); ++k) s.step.push_back(uint32_t(k + 1));
+  s.y_ref = t.y_ref, s.y_hat = t.y_hat, s.y_true = t.y_true, s.u = t.u;
+  s.has_y_ref = s.has_y_hat = s.has_y_true = s.has_u = true;
+  r.metrics.samples = uint64_t(t.rows());
+  r.metrics.duration_s = double(t.rows()) * double(t.dt);
+  r.metrics.has_true = true;
+  r.metrics.truth = p.truth;
+  r.metrics.predicted = p.predicted;
+  return run_plot_script({r}, p.svg ? ImageFormat::Svg : ImageFormat::Png, max_points);
 }
 
 }  // namespace nlsoft::console

@@ -10,6 +10,7 @@
 
 #include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
+#include "app/simulate/simulation_picture.hpp"
 
 namespace nlsoft::console {
 
@@ -29,5 +30,9 @@ PlottedRun load_plotted_run(RunStore& store, int64_t id);
 // The gnuplot script that draws `runs` (one or two) to standard output in
 // that format. Long runs are thinned to at most max_points rows each.
 std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat format, size_t max_points = 4000);
+
+// `simulate --svg/--png`: the simulation drawn as a run, named by its label
+// ("simulate infinity on lab-arm") where a run has its id.
+std::string simulation_plot_script(const SimulationPicture& p, size_t max_points = 4000);
 
 }  // namespace nlsoft::console

@@ -99,6 +99,11 @@ nlohmann::json metrics_json(const RunRow& r, const RunMetrics& m) {
   j["wall_s"] = m.wall_s;
   j["u_effort"] = m.u_effort;
   j["u_saturated"] = m.u_saturated;
+  // An identification run has no reference: no tracking figure, not a 0.
+  if (r.kind == "ident")
+    for (const char* k : {"tracked_axes", "nrmse_all_axes", "rmse", "nrmse", "nrmse_space", "max_error", "rmse_hat",
+                          "nrmse_hat", "iterations"})
+      j[k] = nullptr;
   return j;
 }
 
@@ -113,10 +118,10 @@ void print_metrics(const RunMetrics& m, bool ident) {
   if (ident) {
     fmt::print("  {}\n", loop_rate_text(m));
   } else {
-    fmt::print("  tracking ({}): rmse {} nrmse {:.4f} ({:.2f} %) max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
-               rmse_list(t), t.nrmse, 100 * t.nrmse, t.max_error);
+    fmt::print("  tracking ({}): rmse {} nrmse {} max error {:.4g}\n", m.has_true ? "true plant" : "model prediction",
+               rmse_list(t), nrmse_words(t.nrmse, true), t.max_error);
     fmt::print("  nrmse_space {:.4f} (worst axis over the rig's task space; defined for holds and steps)\n", m.nrmse_space);
-    if (m.has_true) fmt::print("  prediction: rmse {} nrmse {:.4f}\n", rmse_list(m.predicted), m.predicted.nrmse);
+    if (m.has_true) fmt::print("  prediction: rmse {} nrmse {}\n", rmse_list(m.predicted), nrmse_words(m.predicted.nrmse));
     fmt::print("  {}, compute p50 {:.1f} us p99 {:.1f} us, {:.2f} NR iterations\n", loop_rate_text(m), m.compute_p50_us,
                m.compute_p99_us, m.mean_iterations);
   }
@@ -252,7 +257,7 @@ void list(const RunsArgs& a) {
       j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
       j["kind"] = r.kind;
       if (!r.excitation.empty()) j["excitation"] = nlohmann::json::parse(r.excitation, nullptr, false);
-      j["nrmse"] = std::isfinite(t.nrmse) ? nlohmann::json(t.nrmse) : nlohmann::json();
+      j["nrmse"] = std::isfinite(t.nrmse) && r.kind != "ident" ? nlohmann::json(t.nrmse) : nlohmann::json();
       j["measured_output"] = m.has_true;
       if (const auto e = eval_of.find(r.id); e != eval_of.end()) {
         nlohmann::json tj = {{"session", e->second.session_id}, {"eval", e->second.eval}, {"point", e->second.point}};
@@ -287,7 +292,9 @@ void list(const RunsArgs& a) {
     any_predicted = any_predicted || predicted;
     fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
                r.platform, r.kind == "ident" ? std::string("ident") : reference_kind(reference_of(*store, r)), r.samples,
-               m.samples > 0 && std::isfinite(t.nrmse) ? fmt::format("{:.4f}{}", t.nrmse, predicted ? "*" : "") : "-",
+               m.samples > 0 && std::isfinite(t.nrmse) && r.kind != "ident"
+                   ? fmt::format("{:.4f}{}", t.nrmse, predicted ? "*" : "")
+                   : "-",
                r.lost_frames,
                printable(r.label), printable(ended));
   };

@@ -29,9 +29,9 @@ std::string summary_line(const RunSummary& s, bool ident = false) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
   std::string rmse;
   for (double r : t.rmse) rmse += (rmse.empty() ? "" : " ") + fmt::format("{:.4g}", r);
-  return fmt::format("run {}{}: {} samples, {:.2f} s, rmse [{}] nrmse {:.4f} max_error {:.4g}, {}, "
+  return fmt::format("run {}{}: {} samples, {:.2f} s, rmse [{}] nrmse {} max_error {:.4g}, {}, "
                      "compute p50 {:.1f} us p99 {:.1f} us, lost {}{}",
-                     s.run_id, s.label.empty() ? "" : " (" + printable(s.label) + ")", m.samples, m.duration_s, rmse, t.nrmse,
+                     s.run_id, s.label.empty() ? "" : " (" + printable(s.label) + ")", m.samples, m.duration_s, rmse, nrmse_words(t.nrmse),
                      t.max_error, loop_rate_text(m), m.compute_p50_us, m.compute_p99_us, m.lost_frames,
                      s.end_reason == "completed" ? "" : ", " + s.end_reason) +
          (m.has_true || m.samples == 0 ? "" : ident ? "; no measured output (y_true)" : std::string("; ") + kNoMeasuredOutput);
@@ -175,7 +175,8 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
       case K::Ref: {
         const RefParams r = reference_from_spec(console_.rig(), console_.loop_rate_hz(), c.name, c.options);
         console_.select_reference(r);
-        out_(fmt::format("reference {}", reference_json(r)));
+        // Its kind first: a line cut to a narrow terminal still names it.
+        out_(fmt::format("reference {} in force: {}", reference_kind_name(r.kind), reference_json(r)));
         break;
       }
       case K::RefLoad: {

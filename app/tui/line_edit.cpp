@@ -1,6 +1,10 @@
 #include "app/tui/line_edit.hpp"
 
+#include <algorithm>
+#include <vector>
+
 #include "app/tui/curses.hpp"
+#include "app/tui/fit_text.hpp"
 #include "app/tui/screen.hpp"
 
 namespace nlsoft::console::tui {
@@ -10,11 +14,21 @@ void LineEdit::start(std::string prompt, std::string initial) {
   text_ = std::move(initial);
   cursor_ = text_.size();
   active_ = true;
+  selected_ = !text_.empty();
   hist_pos_ = history_ ? history_->size() : 0;
 }
 
 LineEdit::Result LineEdit::key(int ch) {
   choices_.clear();
+  if (selected_) {
+    selected_ = false;
+    const bool replaces = (ch >= 32 && ch < 127) || ch == KEY_BACKSPACE || ch == 127 || ch == 8 || ch == KEY_DC;
+    if (replaces) {
+      text_.clear();
+      cursor_ = 0;
+      if (ch < 32 || ch >= 127) return Result::Editing;  // the selection deleted, nothing typed
+    }
+  }
   switch (ch) {
     case '\t':
       if (completer_) {
@@ -90,12 +104,29 @@ void LineEdit::draw(int y, int x, int width, int attr) const {
   // Scroll so the cursor stays in view.
   const size_t first = cur >= size_t(width) ? cur - size_t(width) + 1 : 0;
   put(y, x, all.substr(first), width, attr);
+  if (selected_ && prompt_.size() + text_.size() > first) {
+    const size_t from = std::max(prompt_.size(), first);
+    put(y, x + int(from - first), text_.substr(from - prompt_.size()), width - int(from - first), attr | A_UNDERLINE);
+  }
   const int cx = x + int(cur - first);
   if (cx < x + width) {
     attrset(attr | A_REVERSE);
     mvaddch(y, cx, cur < all.size() ? chtype(static_cast<unsigned char>(all[cur])) : ' ');
     attrset(A_NORMAL);
   }
+}
+
+std::string LineEdit::hint(int width) const {
+  if (!active_) return "";
+  // The longest that fits: the words, not a cut, carry the meaning.
+  static const std::vector<std::string> selected = {
+      "typing replaces the value; Left/Right/Home/End edit it; Esc cancels",
+      "typing replaces it; Left/Right edit it; Esc cancels", "typing replaces it; Left/Right edit it",
+      "type to replace, arrows edit", "typing replaces it"};
+  static const std::vector<std::string> editing = {"Enter takes it; Esc cancels", "Enter takes it"};
+  for (const std::string& h : selected_ ? selected : editing)
+    if (int(text_columns(h)) <= width) return h;
+  return "";
 }
 
 }  // namespace nlsoft::console::tui

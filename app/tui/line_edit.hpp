@@ -1,7 +1,10 @@
 #pragma once
 // A one-line editor for the `:` prompt and in-place edits: arrows, Home/End,
 // Backspace/Delete, Ctrl-U (clear), Ctrl-W (word), history with Up/Down,
-// Tab completion when given a completer.
+// Tab completion when given a completer. A value it opens with (an edit in
+// place, a file name offered) is taken as selected, as editors do: the first
+// character typed replaces it, Backspace/Delete/Ctrl-U clear it, and an
+// arrow, Home or End keeps it to be edited; hint() says so meanwhile.
 #include <functional>
 #include <string>
 #include <vector>
@@ -15,10 +18,16 @@ class LineEdit {
   void start(std::string prompt, std::string initial = "");
   Result key(int ch);
   bool active() const { return active_; }
+  bool selected() const { return active_ && selected_; }  // the opening value still selected
   const std::string& text() const { return text_; }
   const std::string& prompt() const { return prompt_; }
-  // Draws prompt + text on row y, cursor visible.
+  // Draws prompt + text on row y, cursor visible; the opening value, while
+  // it is selected, underlined.
   void draw(int y, int x, int width, int attr) const;
+  // What the keys do now, in at most `width` columns ("" when nothing fits
+  // or nothing is to be said): while the opening value is selected, that
+  // typing replaces it; afterwards, how the edit ends.
+  std::string hint(int width) const;
   void set_history(std::vector<std::string>* h) { history_ = h; }
   // Tab: given the text left of the cursor, returns it completed and, when
   // the word is still ambiguous, the choices (shown after the text).
@@ -29,6 +38,7 @@ class LineEdit {
   std::string prompt_, text_;
   size_t cursor_ = 0;
   bool active_ = false;
+  bool selected_ = false;  // the opening value, until the first key
   std::vector<std::string>* history_ = nullptr;
   size_t hist_pos_ = 0;
   Completer completer_;

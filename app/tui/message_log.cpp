@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "app/record/utc_time.hpp"
+#include "app/tui/fit_text.hpp"
 
 namespace nlsoft::console::tui {
 
@@ -70,18 +71,24 @@ void MessageLog::draw(const Screen& screen, int y, int x, int h, int w, bool foc
   put(y, x, fmt::format(" Messages ({}) ", entries_.size()), w, screen.attr(focused ? Role::Title : Role::KeyName));
   const int body = h - 2;
   if (body <= 0) return;
-  back = std::min(back, entries_.size() > size_t(body) ? entries_.size() - size_t(body) : size_t(0));
-  const size_t end = entries_.size() - back;
-  const size_t begin = end > size_t(body) ? end - size_t(body) : 0;
-  for (size_t i = begin; i < end; ++i) {
-    const Entry& e = entries_[i];
-    const int ry = y + 1 + int(i - begin);
-    put(ry, x + 1, e.time, 8, screen.attr(Role::Dim));
-    put(ry, x + 10, e.text, w - 11, screen.attr(e.role));
+  back = std::min(back, entries_.size() > 0 ? entries_.size() - 1 : size_t(0));
+  // Bottom up from the newest shown: each message whole, wrapped under its
+  // text; the oldest one that does not fit loses its first lines.
+  const int text_w = std::max(1, w - 11);
+  int row = y + body + 1;  // one below the last row the messages take
+  for (size_t i = entries_.size() - back; i > 0 && row > y + 1; --i) {
+    const Entry& e = entries_[i - 1];
+    const std::vector<std::string> lines = wrap_words(e.text, size_t(text_w));
+    for (size_t l = lines.size(); l > 0 && row > y + 1; --l) {
+      --row;
+      if (l == 1) put(row, x + 1, e.time, 8, screen.attr(Role::Dim));
+      put(row, x + 10, lines[l - 1], text_w, screen.attr(e.role));
+    }
   }
   put(y + h - 1, x,
       back > 0 ? fmt::format("Up/Down PgUp/PgDn scroll, End newest ({} newer)", back)
-               : (file_.empty() ? std::string("Up/Down PgUp/PgDn scroll back") : "log: " + file_),
+               : (file_.empty() ? std::string("Up/Down PgUp/PgDn scroll back")
+                              : "log: " + elide_path(file_, size_t(std::max(0, w - 5)), screen.ellipsis())),
       w, screen.attr(Role::Dim));
 }
 

@@ -7,6 +7,7 @@
 #include "app/link/link_error.hpp"
 #include "app/live/param_text.hpp"
 #include "app/tui/curses.hpp"
+#include "app/tui/fit_text.hpp"
 
 namespace nlsoft::console::tui {
 
@@ -224,38 +225,15 @@ bool ParamPanel::key(int ch) {
   return false;
 }
 
-namespace {
-
-// Words of `text` in lines of at most `w` columns (ASCII text).
-std::vector<std::string> wrap(const std::string& text, int w) {
-  std::vector<std::string> lines;
-  std::string line, word;
-  auto flush_word = [&] {
-    if (word.empty()) return;
-    if (!line.empty() && int(line.size() + 1 + word.size()) > w) lines.push_back(line), line.clear();
-    line += (line.empty() ? "" : " ") + word;
-    word.clear();
-  };
-  for (char c : text) {
-    if (c == ' ') flush_word();
-    else word += c;
-  }
-  flush_word();
-  if (!line.empty()) lines.push_back(line);
-  return lines;
-}
-
-}  // namespace
-
 void ParamPanel::draw_details(const Screen& screen, const Row& r, int y, int x, int h, int w) {
   std::vector<std::pair<std::string, Role>> lines;
   const std::string what = param_description(r.info.name);
-  for (const auto& l : wrap(r.info.name + ": " + (what.empty() ? "(no description for this parameter)" : what), w - 2))
+  for (const auto& l : wrap_words(r.info.name + ": " + (what.empty() ? "(no description for this parameter)" : what), size_t(w - 2)))
     lines.emplace_back(l, Role::Normal);
-  for (const auto& l : wrap(param_range_text(r.info), w - 2)) lines.emplace_back(l, Role::Dim);
+  for (const auto& l : wrap_words(param_range_text(r.info), size_t(w - 2))) lines.emplace_back(l, Role::Dim);
   if (r.state == State::Refused || r.state == State::Unconfirmed || r.state == State::Reset) {
     const std::string head = r.state == State::Refused ? "refused: " : "";
-    for (const auto& l : wrap(head + r.note, w - 2))
+    for (const auto& l : wrap_words(head + r.note, size_t(w - 2)))
       lines.emplace_back(l, r.state == State::Refused ? Role::Error : Role::Warn);
   }
   attrset(screen.attr(Role::Border));
@@ -284,7 +262,7 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
   // details below the list and the edit line give the whole name.
   const bool narrow = w < 36;
   const int name_w = narrow ? 8 : 12;
-  const char* more = screen.utf8() ? "\u2026" : "~";
+  const char* more = screen.ellipsis();
   for (int i = 0; i < body && top_ + size_t(i) < rows_.size(); ++i) {
     const size_t idx = top_ + size_t(i);
     const Row& r = rows_[idx];
@@ -311,14 +289,18 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
       case State::Reset: mark = " " + r.note; role = Role::Warn; break;
     }
     const int vw = std::max(0, w - 2 - name_w);
-    if (narrow && int(value.size()) > vw && vw > 1) value = value.substr(0, size_t(vw - 1)) + more;
+    value = elide_words(value, size_t(vw), more);
     put(ry, x + 1 + name_w, value, vw, sel ? screen.attr(Role::Selected) : 0);
-    const int used = std::min(vw, int(value.size()));
-    if (!mark.empty()) put(ry, x + 1 + name_w + used, mark, vw - used, screen.attr(role));
+    const int used = std::min(vw, int(text_columns(value)));
+    if (!mark.empty() && vw - used > 1)
+      put(ry, x + 1 + name_w + used, elide_words(mark, size_t(vw - used), more), vw - used, screen.attr(role));
   }
   if (details > 0 && selected_ < rows_.size()) draw_details(screen, rows_[selected_], y + h - 1 - details, x, details, w);
-  put(y + h - 1, x, narrow ? "Enter u S L R A (F1)" : "Enter edit  u undo  S/L save/load  R reread  A reapply", w,
-      screen.attr(Role::Dim));
+  if (edit_.active())  // what the keys do to the value being edited, in place of the panel's keys
+    put(y + h - 1, x + 1, edit_.hint(w - 2), w - 2, screen.attr(Role::Pending));
+  else
+    put(y + h - 1, x, narrow ? "Enter u S L R A (F1)" : "Enter edit  u undo  S/L save/load  R reread  A reapply", w,
+        screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

@@ -9,6 +9,7 @@
 
 #include "app/tui/canvas.hpp"
 #include "app/tui/curses.hpp"
+#include "app/tui/fit_text.hpp"
 
 namespace nlsoft::console::tui {
 
@@ -179,19 +180,23 @@ void legend(const Screen& screen, int y, int x, int w, const Strip& st, const Sa
     put(y, cx, st.title, w, screen.attr(Role::KeyName));
     cx += int(st.title.size()) + 2;
   }
+  // An item is drawn whole or not at all: a value cut short would read as
+  // another number. The error, last, is the first to go.
+  auto item_fits = [&](const std::string& item) { return cx + int(text_columns(item)) <= x + w; };
   const bool braille = use_braille(screen, st);
   for (const Trace& t : st.traces) {
-    if (cx >= x + w) return;
     std::string item = fmt::format("{} {}", braille ? "\u2501" : std::string(1, t.glyph), t.name);
     if (at && !t.series) item += " " + number(t.value(*at));
+    if (!item_fits(item)) return;
     put(y, cx, item, x + w - cx, t.attr);
-    cx += int(item.size()) - (braille ? 2 : 0) + 2;  // the bar is three bytes, one column
+    cx += int(text_columns(item)) + 2;
   }
-  if (st.error_axis >= 0 && at && cx < x + w) {
+  if (st.error_axis >= 0 && at) {
     const int a = st.error_axis;
     const bool have_true = at->has(tf::kYTrue);
     const double e = field_value(*at, have_true ? tf::kYTrue : tf::kYHat, a) - field_value(*at, tf::kYRef, a);
-    put(y, cx, fmt::format("err {}", number(e)), x + w - cx, screen.attr(Role::KeyName));
+    const std::string item = fmt::format("err {}", number(e));
+    if (item_fits(item)) put(y, cx, item, x + w - cx, screen.attr(Role::KeyName));
   }
 }
 

@@ -208,7 +208,10 @@ void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focus
       : fw >= 0 && fw < int(kRefKindCount) ? fmt::format("in force: {} (the firmware's own)", reference_kind_name(RefKind(fw)))
                                            : "in force: firmware default",
       w - 2, screen.attr(Role::Dim));
-  put(y + h - 1, x, "\u2190\u2192 kind  Enter edit  a send/upload", w, screen.attr(Role::Dim));
+  if (edit_.active())
+    put(y + h - 1, x + 1, edit_.hint(w - 2), w - 2, screen.attr(Role::Pending));
+  else
+    put(y + h - 1, x, "\u2190\u2192 kind  Enter edit  a send/upload", w, screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

@@ -6,9 +6,11 @@
 #include <algorithm>
 
 #include "app/record/csv_export.hpp"
+#include "app/record/loop_rate.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/printable.hpp"
 #include "app/tui/curses.hpp"
+#include "app/tui/fit_text.hpp"
 
 namespace nlsoft::console::tui {
 
@@ -20,12 +22,16 @@ std::vector<std::string> describe(const RunRow& r, const RunMetrics& m) {
   std::vector<std::string> lines = {
       fmt::format("run {} {} {}", r.id, printable(r.label),
                   r.ended_at.empty() ? "(running or unfinished)" : printable(r.end_reason)),
-      fmt::format("rmse [{}]  nrmse {:.4f}  max {:.4g}", rmse, t.nrmse, t.max_error),
-      fmt::format("loop {:.1f} Hz  compute p50 {:.1f} p99 {:.1f} us", m.loop_rate_hz, m.compute_p50_us, m.compute_p99_us),
+      // An identification run has no reference to score against.
+      r.kind == "ident" ? std::string("identification run: no reference, no tracking figures")
+                        : fmt::format("rmse [{}]  nrmse {}  max {:.4g}", rmse, nrmse_words(t.nrmse), t.max_error),
+      r.kind == "ident" ? loop_rate_text(m)
+                        : fmt::format("{}, compute p50 {:.1f} p99 {:.1f} us", loop_rate_text(m), m.compute_p50_us,
+                                      m.compute_p99_us),
       fmt::format("{} samples, {:.1f} s, lost {}, gaps {}", m.samples, m.duration_s, m.lost_frames, m.gaps),
   };
   // Next to the figures it qualifies.
-  if (!m.has_true && m.samples > 0) lines.insert(lines.begin() + 1, kNoMeasuredOutput);
+  if (!m.has_true && m.samples > 0 && r.kind != "ident") lines.insert(lines.begin() + 1, kNoMeasuredOutput);
   return lines;
 }
 }  // namespace
@@ -138,7 +144,8 @@ void RunsPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focu
     put(y + 1 + i, x, line, w, sel ? screen.attr(Role::Selected) : 0);
   }
   for (size_t i = 0; i < detail_.size() && int(i) < 5; ++i)
-    put(y + h - 6 + int(i), x + 1, detail_[i], w - 2, screen.attr(Role::Normal));
+    put(y + h - 6 + int(i), x + 1, elide_words(detail_[i], size_t(std::max(0, w - 2)), screen.ellipsis()), w - 2,
+        screen.attr(Role::Normal));
   put(y + h - 1, x, "Enter metrics  m mark  c compare  e export  R reread", w, screen.attr(Role::Dim));
 }
 

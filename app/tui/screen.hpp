@@ -19,6 +19,8 @@ class Screen {
 
   bool utf8() const { return utf8_; }
   bool colour() const { return colour_; }
+  // What ends a shortened text: one column either way.
+  const char* ellipsis() const { return utf8_ ? "\u2026" : "~"; }
   // Attribute for a role: a colour pair, or bold/reverse/dim in monochrome.
   int attr(Role r) const;
   // Attribute of the i-th trace of a plot with several of one kind (u0, u1,

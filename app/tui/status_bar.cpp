@@ -12,22 +12,29 @@ std::string si(double v) {
 }
 }  // namespace
 
-std::string status_text(const LinkStats& s, const std::string& port) {
+// Their keep: the link's state first, then what tells of a fault (a
+// firmware dropping or overrunning, frames lost), the throughput last.
+std::vector<Field> status_fields(const LinkStats& s, const std::string& port) {
   const char* state = !s.connected ? "LINK DOWN" : s.silent ? "link silent" : "link up";
-  std::string t = fmt::format("{} {} | {} fr/s {}B/s | crc {} err {} | lost {} | loop {:.1f} Hz", state, port,
-                              si(s.frames_per_s), si(s.bytes_per_s), s.crc_errors, s.decode_errors, s.lost_telemetry,
-                              s.loop_rate_hz);
-  if (s.have_status) t += fmt::format(" | step {:.0f} us (max {:.0f})", s.compute_mean_us, s.compute_max_us);
-  if (s.timeouts || s.retransmits) t += fmt::format(" | retries {} timeouts {}", s.retransmits, s.timeouts);
-  if (s.fw_tx_dropped || s.fw_loop_overruns) t += fmt::format(" | fw dropped {} overruns {}", s.fw_tx_dropped, s.fw_loop_overruns);
-  if (s.reconnects) t += fmt::format(" | reconnects {}", s.reconnects);
-  return t;
+  std::vector<Field> f = {{fmt::format("{} {}", state, port), 20},
+                          {fmt::format("{} fr/s {}B/s", si(s.frames_per_s), si(s.bytes_per_s)), 1},
+                          {fmt::format("crc {} err {}", s.crc_errors, s.decode_errors), 4},
+                          {fmt::format("lost {}", s.lost_telemetry), 6},
+                          {fmt::format("loop {:.1f} Hz", s.loop_rate_hz), 7}};
+  if (s.have_status) f.push_back({fmt::format("step {:.0f} us (max {:.0f})", s.compute_mean_us, s.compute_max_us), 3});
+  if (s.timeouts || s.retransmits) f.push_back({fmt::format("retries {} timeouts {}", s.retransmits, s.timeouts), 5});
+  if (s.fw_tx_dropped || s.fw_loop_overruns)
+    f.push_back({fmt::format("fw dropped {} overruns {}", s.fw_tx_dropped, s.fw_loop_overruns), 8});
+  if (s.reconnects) f.push_back({fmt::format("reconnects {}", s.reconnects), 2});
+  return f;
 }
 
 void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port) {
   const Role role = !s.connected ? Role::Error : s.silent ? Role::Warn : Role::Title;
+  std::vector<Field> fields = status_fields(s, port);
+  fields.front().text = " " + fields.front().text;
   fill_row(y, 0, w, screen.attr(role));
-  put(y, 0, " " + status_text(s, port), w, screen.attr(role));
+  put(y, 0, fit_fields(fields, " | ", size_t(w), screen.ellipsis()), w, screen.attr(role));
 }
 
 namespace {

@@ -6,12 +6,14 @@
 #include <vector>
 
 #include "app/link/link_stats.hpp"
+#include "app/tui/fit_text.hpp"
 #include "app/tui/screen.hpp"
 
 namespace nlsoft::console::tui {
 
-// "link up /dev/pts/3 | 2.6k fr/s 92 kB/s | crc 0 err 0 | lost 0 | loop 130.0 Hz | step 55 us (max 329)"
-std::string status_text(const LinkStats& s, const std::string& port);
+// "link up /dev/pts/3 | 2.6k fr/s 92 kB/s | crc 0 err 0 | lost 0 | loop 130.0 Hz | step 55 us (max 329)",
+// field by field, each with how long it stays on a narrow bar.
+std::vector<Field> status_fields(const LinkStats& s, const std::string& port);
 void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port);
 // The function-key bar: every key on any width the console draws on (60
 // columns up), with its label where there is room.

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -15,6 +16,7 @@
 #include "app/script/script_runner.hpp"
 #include "app/tui/completion.hpp"
 #include "app/tui/exit_summary.hpp"
+#include "app/tui/fit_text.hpp"
 #include "app/tui/curses.hpp"
 #include "app/tui/line_edit.hpp"
 #include "app/tui/message_log.hpp"
@@ -274,7 +276,8 @@ void App::stop_run() {
     try {
       const RunSummary s = console_.stop_run();
       const TrackingMetrics& t = s.metrics.has_true ? s.metrics.truth : s.metrics.predicted;
-      message(fmt::format("run {} stopped: {} samples, nrmse {:.4f}, lost {}, {}{}", s.run_id, s.metrics.samples, t.nrmse,
+      message(fmt::format("run {} stopped: {} samples, nrmse {}, lost {}, {}{}", s.run_id, s.metrics.samples,
+                          nrmse_words(t.nrmse),
                           s.metrics.lost_frames, loop_rate_text(s.metrics),
                           s.metrics.has_true || s.metrics.samples == 0 ? "" : std::string("; ") + kNoMeasuredOutput),
               Role::Ok);
@@ -571,9 +574,10 @@ bool App::handle(int ch) {
     case 'q':
     case KEY_F(10):
       if (console_.running()) {
-        confirm("a run is active: stop it and quit?", {"the run is stopped and kept in the database"}, [this] {
-          quit_confirmed_ = true;
-        });
+        confirm("a run is active: stop it and quit?",
+                {console_.recording() ? "the run is stopped and kept in the database"
+                                      : "the run is stopped; nothing is kept (--no-record)"},
+                [this] { quit_confirmed_ = true; });
         return true;
       }
       return false;
@@ -694,17 +698,38 @@ void App::draw_title(int w) {
                         ? fmt::format("run {} {} k={}", console_.current_run(), st.run_state < 5 ? states[st.run_state] : "?",
                                       console_.run_samples())
                         : "no run";
-  const std::string t = fmt::format(" nlsoft-console | {} {}.{}.{} | {} n={} m={} {} Hz | {} | rec {}", info.firmware,
-                                    info.fw_major, info.fw_minor, info.fw_patch,
-                                    console_.rig_label(), info.n,
-                                    info.m, info.loop_rate_hz, run, console_.db_path());
+  // Narrower than the whole title: the fields least needed while working
+  // go first (the program's name, the firmware's version) while the
+  // database's path would keep less than its file name and a few folders;
+  // then the path loses its middle folders; the run's state stays.
+  std::vector<Field> fields = {{"nlsoft-console", 0},
+                               {fmt::format("{} {}.{}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch), 1},
+                               {fmt::format("{} n={} m={} {} Hz", console_.rig_label(), info.n, info.m, info.loop_rate_hz), 3},
+                               {run, 4}};
+  const std::string db = console_.db_path(), more = screen_.ellipsis();
+  const size_t width = size_t(std::max(1, w - 1));
+  const size_t least = text_columns(more + db.substr(std::min(db.size(), db.rfind('/') + 1))) + 9;
+  size_t room = 0;
+  for (;;) {
+    size_t used = 4;  // "rec "
+    for (const Field& f : fields) used += text_columns(f.text) + 3;
+    room = width > used ? width - used : 0;
+    if (room >= std::min(least, text_columns(db)) || fields.size() == 1) break;
+    fields.erase(std::min_element(fields.begin(), fields.end(),
+                                  [](const Field& a, const Field& b) { return a.keep < b.keep; }));
+  }
+  fields.push_back({"rec " + elide_path(db, std::max<size_t>(room, 1), more), 2});
   fill_row(0, 0, w, screen_.attr(Role::Title));
-  put(0, 0, t, w, screen_.attr(Role::Title));
+  put(0, 1, fit_fields(fields, " | ", width, more), int(width), screen_.attr(Role::Title));
 }
 
 void App::draw_message_line(int y, int w) {
   if (cmd_.active()) {
-    cmd_.draw(y, 0, w, 0);
+    // A value offered (a file name) says that typing replaces it.
+    const std::string hint = cmd_.selected() ? cmd_.hint(w / 2) : "";
+    const int hw = int(text_columns(hint));
+    cmd_.draw(y, 0, hint.empty() ? w : w - hw - 2, 0);
+    if (!hint.empty()) put(y, w - hw, hint, hw, screen_.attr(Role::Pending));
     return;
   }
   fill_row(y, 0, w, 0);
@@ -718,7 +743,8 @@ void App::draw_message_line(int y, int w) {
       right = fmt::format("[{}: {}/{} steps, {:.0f} %]", progress_what_, progress_done_, progress_total_,
                           100.0 * double(progress_done_) / double(progress_total_));
   }
-  put(y, 0, last.first, w - int(right.size()) - 1, screen_.attr(last.second));
+  const int room = std::max(0, w - int(text_columns(right)) - 1);
+  put(y, 0, elide_words(last.first, size_t(room), screen_.ellipsis()), room, screen_.attr(last.second));
   if (!right.empty()) put(y, w - int(right.size()), right, int(right.size()), screen_.attr(Role::Pending));
 }
 
@@ -776,6 +802,9 @@ void App::draw_help(int rows, int cols) {
   const int body = scrolls ? h - 1 : h;
   help_top_ = std::max(0, std::min(help_top_, total - body));
   const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
+  // Its rows blank across the whole width: the message and status rows it
+  // covers show no letter either side of it.
+  for (int r = 0; r < h; ++r) fill_row(y0 + r, 0, cols, 0);
   for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen_.attr(Role::Selected));
   for (int i = 0; i < body; ++i) {
     const auto& [text, bold] = lines[size_t(help_top_ + i)];
@@ -796,9 +825,10 @@ void App::draw_status(int y, int w) {
     draw_status_bar(screen_, y, w, st, console_.session().port());
     return;
   }
+  std::vector<Field> fields = {{" " + sim_gone_, 100}, {"R restarts it", 99}};
+  for (const Field& f : status_fields(st, console_.session().port())) fields.push_back(f);
   fill_row(y, 0, w, screen_.attr(Role::Error));
-  put(y, 0, " " + sim_gone_ + " | R restarts it | " + status_text(st, console_.session().port()), w,
-      screen_.attr(Role::Error));
+  put(y, 0, fit_fields(fields, " | ", size_t(w), screen_.ellipsis()), w, screen_.attr(Role::Error));
 }
 
 // `unmeasured`: the samples shown track a reference without a measured
@@ -817,7 +847,7 @@ void App::draw_plot_status(int y, int w, bool unmeasured) {
                         double(end_step_) / step_rate());
   else
     text += "live  (p signal, Space pause, +/- zoom, v path)";
-  put(y, 0, text, w, screen_.attr(paused_ ? Role::Warn : Role::Dim));
+  put(y, 0, elide_words(text, size_t(std::max(0, w)), screen_.ellipsis()), w, screen_.attr(paused_ ? Role::Warn : Role::Dim));
 }
 
 void App::draw() {

@@ -9,9 +9,10 @@ in one scratch folder whose recording database and image cache are private
 ($XDG_DATA_HOME, $XDG_CACHE_HOME),
 so `runs show 12` finds the runs recorded before it. Fixtures a reader would
 have made first (a script named tune.nls, a dozen recorded runs) are made
-here and named in the output; a fenced `toml` block whose first line is
-`# file: NAME.toml` is written to NAME.toml first, so the examples check
-the very rig file the document shows.
+here and named in the output; a fenced block whose first line is
+`# file: NAME` (a rig file, a reference table, a script, each of which
+reads `#` as a comment) is written to NAME first, so the examples check the
+very file the document shows.
 
 A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
@@ -63,15 +64,15 @@ SUBCOMMANDS = {"runs", "conformance", "simulate", "dataset", "train", "model", "
                "ident"}
 
 
-def toml_files(path):
-    """The fenced toml blocks that name their file: {NAME.toml: text}."""
+def named_files(path):
+    """The fenced blocks that name their file (a rig file, a CSV, a script): {NAME: text}."""
     files, block, inside = {}, None, False
     with open(path, encoding="utf-8") as f:
         for line in f:
             if line.startswith("```"):
                 if inside and block and block[0].startswith("# file: "):
                     files[block[0][len("# file: "):].strip()] = "".join(block)
-                inside, block = line.strip() == "```toml", []
+                inside, block = not inside, []
                 continue
             if inside:
                 block.append(line)
@@ -241,7 +242,7 @@ def make_fixtures(a, work, env):
             capture.write(f"{int(cells[step]) / 130.0 + 12.5:.6f}," + ",".join(cells[i] for i in ys) + "\n")
 
     for doc in a.docs:
-        for name, text in toml_files(doc).items():
+        for name, text in named_files(doc).items():
             with open(os.path.join(work, name), "w") as f:
                 f.write(text)
             print(f"fixture: {name} from {os.path.basename(doc)}")

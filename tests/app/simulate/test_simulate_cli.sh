@@ -27,5 +27,22 @@ csv=$(mktemp)
 [ "$(wc -l <"$csv")" -eq 51 ] || { echo "FAIL: csv has $(wc -l <"$csv") lines, want 51"; fail=1; }
 head -1 "$csv" | grep -q "^step,time_s,y_ref0" || { echo "FAIL: csv header"; fail=1; }
 rm -f "$csv"
+# --svg draws the run as `runs plot` draws a recorded one (gnuplot), named
+# by what was simulated; --svg with --png is refused.
+if command -v gnuplot >/dev/null; then
+  svg=$(mktemp --suffix=.svg)
+  out=$("$console" simulate --platform hasel --steps 400 --svg "$svg" 2>&1) || { echo "FAIL: hasel --svg: $out"; fail=1; }
+  grep -q "simulation drawn to $svg" <<<"$out" || { echo "FAIL: no 'drawn to' in: $out"; fail=1; }
+  grep -q "<svg" "$svg" && grep -q "simulate swirl on hasel" "$svg" || { echo "FAIL: $svg is not the simulation's picture"; fail=1; }
+  rm -f "$svg"
+else
+  echo "SKIP: simulate --svg (gnuplot is not installed: apt-get install gnuplot-nox)"
+fi
+expect_error "give --svg FILE or --png FILE, not both" simulate --platform msd --svg a.svg --png a.png
+# Above the README's 5 % target, the table says so; within it, nothing.
+out=$("$console" simulate --platform hasel --set Lambda=1e12,1e12,1e12,1e12,1e12,1e12 2>&1)
+grep -q "above the 5 % target" <<<"$out" || { echo "FAIL: a poor tracking (Lambda 1e12) is not called above the target: $out"; fail=1; }
+out=$("$console" simulate --platform tendon 2>&1)
+! grep -q "above the 5 % target" <<<"$out" || { echo "FAIL: tendon's Infinity (0.64 %) called above the target: $out"; fail=1; }
 [ $fail -eq 0 ] && echo "simulate CLI: all checks passed"
 exit $fail
