@@ -220,9 +220,12 @@ void LiveConsole::disconnect() {
   // UDP stream's sender thread can be stopped and joined after it.
   if (session_) session_->close();
   if (udp_) {
-    if (udp_->dropped() > 0)
-      say(fmt::format("--udp {}: {} samples sent, {} dropped (the sender fell behind)", udp_->target(), udp_->sent(),
-                      udp_->dropped()));
+    // Sends what is queued first: the count said is every datagram sent,
+    // what a receiver can check its own count against (UDP promises no
+    // delivery).
+    udp_->finish();
+    say(fmt::format("--udp {}: {} samples sent, {} dropped{}", udp_->target(), udp_->sent(), udp_->dropped(),
+                    udp_->dropped() > 0 ? " (the sender fell behind)" : ""));
     udp_.reset();
   }
   if (recorder_) {
