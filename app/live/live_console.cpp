@@ -629,7 +629,7 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   const pipeline::ModelFileParts parts =
       pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (parts.bad_trailer)
-    throw CliError(fmt::format("{}: not a usable model file: bytes after the model that are no section of one", path));
+    throw CliError(fmt::format("{}: not a usable model file: {}", path, parts.fault));
   const std::vector<uint8_t> bytes(text.begin(), text.begin() + std::ptrdiff_t(parts.model_size));
   // RIG_INFO (protocol 1.2): a shape the firmware has no kernel for would be
   // refused at its header chunk or its commit; refused here, nothing is sent.
