@@ -23,6 +23,7 @@ struct InputKind {
 inline constexpr InputKind kScriptFile{"script", 4u << 20};
 inline constexpr InputKind kParamsFile{"parameter file", 1u << 20};
 inline constexpr InputKind kReferenceCsv{"reference table CSV", 4u << 20};
+inline constexpr InputKind kRigFile{"rig file", 1u << 20, false};
 
 // Throws CliError (exit 2) naming the path and what is wrong with it.
 std::string read_input_file(const std::string& path, const InputKind& kind);

@@ -1,10 +1,13 @@
 #include "app/firmware/image_build.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -13,13 +16,16 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "app/cli_error.hpp"
+#include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
 #include "app/model/model_section.hpp"
 #include "app/paths/install_paths.hpp"
+#include "app/printable.hpp"
 #include "app/progress_bar.hpp"
 #include "app/rig/rig_catalog.hpp"
 #include "shared/crc32.hpp"
@@ -41,11 +47,40 @@ std::string read_file(const std::string& path) {
   return s.str();
 }
 
-// Runs argv with stdout and stderr into `log` (appended), handing each line
-// to on_line; returns the exit status. The build tools' output is only
-// shown when they fail.
-int run_logged(const std::vector<std::string>& argv_in, const std::string& log,
-               const std::function<void(const std::string&)>& on_line) {
+// Set by SIGINT while the build tools run (interruptible below).
+volatile std::sig_atomic_t g_interrupted = 0;
+extern "C" void on_interrupt(int) { g_interrupted = 1; }
+
+// Ctrl-C while the images build: the tools, in a process group of their
+// own, are stopped by the console, which then says what is left (the
+// images of the folder as they were) instead of dying silently.
+class Interruptible {
+ public:
+  Interruptible() {
+    g_interrupted = 0;
+    struct sigaction sa {};
+    sa.sa_handler = on_interrupt;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = 0;  // no SA_RESTART: the read of the tools' output returns EINTR
+    ::sigaction(SIGINT, &sa, &old_int_);
+    ::sigaction(SIGTERM, &sa, &old_term_);
+  }
+  ~Interruptible() {
+    ::sigaction(SIGINT, &old_int_, nullptr);
+    ::sigaction(SIGTERM, &old_term_, nullptr);
+    g_interrupted = 0;
+  }
+  Interruptible(const Interruptible&) = delete;
+  Interruptible& operator=(const Interruptible&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
+// Runs argv (no shell: its words are data) in a process group of its own,
+// handing each piece of its stdout and stderr to on_output; returns the
+// exit status. An interrupt (g_interrupted) is passed on to the group.
+int run_piped(const std::vector<std::string>& argv_in, const std::function<void(const char*, size_t)>& on_output) {
   int out[2];
   if (::pipe2(out, O_CLOEXEC) != 0) throw CliError(fmt::format("pipe: {}", std::strerror(errno)));
   std::vector<std::string> args = argv_in;
@@ -55,30 +90,46 @@ int run_logged(const std::vector<std::string>& argv_in, const std::string& log,
   const pid_t pid = ::fork();
   if (pid < 0) throw CliError(fmt::format("fork: {}", std::strerror(errno)));
   if (pid == 0) {
+    ::setpgid(0, 0);
+    ::signal(SIGINT, SIG_DFL);
+    ::signal(SIGTERM, SIG_DFL);
     ::dup2(out[1], STDOUT_FILENO);
     ::dup2(out[1], STDERR_FILENO);
     ::execvp(argv[0], argv.data());
     std::fprintf(stderr, "cannot run %s: %s\n", argv[0], std::strerror(errno));
     ::_exit(127);
   }
+  ::setpgid(pid, pid);  // also here: a signal may come before the child ran setpgid
   ::close(out[1]);
-  std::ofstream logf(log, std::ios::app);
-  std::string pending;
+  bool passed_on = false;
   char buf[4096];
   for (;;) {
+    if (g_interrupted && !passed_on) ::kill(-pid, SIGINT), passed_on = true;
     const ssize_t n = ::read(out[0], buf, sizeof buf);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;
-    logf.write(buf, n);
-    pending.append(buf, size_t(n));
-    for (size_t nl; (nl = pending.find('\n')) != std::string::npos; pending.erase(0, nl + 1))
-      on_line(pending.substr(0, nl));
+    on_output(buf, size_t(n));
   }
   ::close(out[0]);
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    if (g_interrupted && !passed_on) ::kill(-pid, SIGINT), passed_on = true;
   }
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// run_piped with the output appended to `log`, line by line to on_line.
+// The build tools' output is only shown when they fail.
+int run_logged(const std::vector<std::string>& argv, const std::string& log,
+               const std::function<void(const std::string&)>& on_line) {
+  std::ofstream logf(log, std::ios::app);
+  std::string pending;
+  return run_piped(argv, [&](const char* data, size_t n) {
+    logf.write(data, std::streamsize(n));
+    pending.append(data, n);
+    for (size_t nl; (nl = pending.find('\n')) != std::string::npos; pending.erase(0, nl + 1))
+      on_line(pending.substr(0, nl));
+  });
 }
 
 // "[ 42%] Building ..." as make prints it.
@@ -166,15 +217,9 @@ LastBuilt last_built_with_model(const Rig& rig, const std::string& board, bool h
     const std::string name = e.path().filename().string();
     if (name.rfind(prefix, 0) != 0 || name.size() != prefix.size() + 8) continue;
     const std::string cmake = read_file(e.path().string() + "/.rig/" + rig.name + "/image.cmake");
-    // The model the user named: the one embedded, or the file it was cut
-    // from when that carried sections after the model.
-    const std::string given_tag = "set(NLSOFT_IMAGE_MODEL_SOURCE \"";
-    const bool cut = cmake.find(given_tag) != std::string::npos;
-    const std::string tag = cut ? given_tag : "set(NLSOFT_IMAGE_MODEL \"";
-    const size_t at = cmake.find(tag);
-    if (at == std::string::npos) continue;
-    const size_t end = cmake.find('"', at + tag.size());
-    const std::string model = cmake.substr(at + tag.size(), end == std::string::npos ? 0 : end - at - tag.size());
+    // The model the user named (the image embeds a copy of it).
+    const std::string model =
+        cmake_bracket_value(cmake, "NLSOFT_IMAGE_MODEL_SOURCE").value_or(std::string());
     const std::string elf =
         fmt::format("{}/{}-{}{}.elf", e.path().string(), image_prefix(board), rig.name, hil ? "-hil" : "");
     if (model.empty() || !fs::exists(model, ec) || !fs::exists(elf, ec)) continue;
@@ -195,15 +240,52 @@ LastBuilt last_built_with_model(const Rig& rig, const std::string& board, bool h
 BuiltImage sized(const std::string& path) {
   BuiltImage b;
   b.path = path;
-  const std::string cmd = "arm-none-eabi-size '" + path + "' 2>/dev/null";
-  if (FILE* p = ::popen(cmd.c_str(), "r")) {
-    char line[512];
-    long text = 0, data = 0, bss = 0;
-    while (std::fgets(line, sizeof line, p))
-      if (std::sscanf(line, "%ld %ld %ld", &text, &data, &bss) == 3) b.flash = text + data, b.ram = data + bss;
-    ::pclose(p);
-  }
+  std::string text;
+  run_piped({"arm-none-eabi-size", path}, [&](const char* data, size_t n) { text.append(data, n); });
+  std::istringstream in(text);
+  long text_bytes = 0, data = 0, bss = 0;
+  for (std::string line; std::getline(in, line);)
+    if (std::sscanf(line.c_str(), "%ld %ld %ld", &text_bytes, &data, &bss) == 3)
+      b.flash = text_bytes + data, b.ram = data + bss;
   return b;
+}
+
+// The build tools take the image folder's path into CMake code, makefiles,
+// compiler options and an assembler string; in these it stays a path only
+// without the characters each of them treats as syntax.
+void check_image_folder(const std::string& dir, const std::string& option, const std::string& who) {
+  constexpr std::string_view kSyntax = "\"'\\$;#`";
+  for (const char c : dir) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte < 0x20 || byte == 0x7f || kSyntax.find(c) != std::string_view::npos)
+      throw CliError(fmt::format("{}: {} '{}': the build tools take an image folder without control characters and "
+                                 "without any of {}; choose another folder",
+                                 who, option, printable(dir), kSyntax));
+  }
+}
+
+// The folder's images replaced by the ones just built in `staged`, each
+// copied beside its final name and renamed over it: a reader (or an
+// interrupted build) never sees half an image. One the build left as it
+// was is left alone, time stamp and all.
+void publish_images(const std::string& staged, const std::string& dir, const std::string& who) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(staged, ec)) {
+    if (!e.is_regular_file()) continue;
+    const std::string name = e.path().filename().string();
+    const std::string tmp = dir + "/." + name + ".tmp", final_path = dir + "/" + name;
+    std::error_code size_ec;
+    if (fs::file_size(final_path, size_ec) == e.file_size() && !size_ec &&
+        read_file(final_path) == read_file(e.path().string()))
+      continue;
+    fs::copy_file(e.path(), tmp, fs::copy_options::overwrite_existing, ec);
+    if (!ec) fs::rename(tmp, final_path, ec);
+    if (ec) {
+      fs::remove(tmp);
+      throw CliError(fmt::format("{}: cannot write {}: {}", who, final_path, ec.message()));
+    }
+  }
+  if (ec) throw CliError(fmt::format("{}: cannot read {}: {}", who, staged, ec.message()));
 }
 
 // The last lines of a failed build that say why.
@@ -249,7 +331,9 @@ BuiltImages build_images(const ImageBuild& q) {
   if (!q.model.empty()) request.model_file = fs::absolute(q.model).lexically_normal().string();
   std::string note;
   if (request.model_file.empty() && !rig.model.file.empty()) {
-    request.model_file = find_model_file(rig.model.file).found;
+    // Absolute as --model's: image.cmake names the same file the same way whichever way it came.
+    if (const std::string found = find_model_file(rig.model.file).found; !found.empty())
+      request.model_file = fs::absolute(found).lexically_normal().string();
     if (request.model_file.empty())
       note = fmt::format("no model embedded: {} is not among the shipped models; the image waits for an upload "
                          "(or give --model)",
@@ -272,32 +356,35 @@ BuiltImages build_images(const ImageBuild& q) {
 
   const std::string dir = !q.out.empty() ? fs::absolute(q.out).lexically_normal().string()
                                          : cache_folder(rig, q.board, source, request.model_file);
-  const std::string rigs = dir + "/.rig", build = dir + "/.build", log = dir + "/build.log";
+  check_image_folder(dir, q.out.empty() ? "the cache folder" : "--out", q.who);
+  // The images are linked in .build/images and copied out once all are
+  // built: an interrupted or failed build leaves the folder's images as
+  // they were, and no part of a new one beside them.
+  const std::string rigs = dir + "/.rig", build = dir + "/.build", staged = build + "/images",
+                    log = dir + "/build.log";
   std::error_code ec;
   fs::create_directories(rigs, ec);
   if (ec) throw CliError(fmt::format("{}: cannot create {}: {}", q.who, rigs, ec.message()));
   // One rig per folder: the port project builds every rig folder it finds.
   for (const auto& e : fs::directory_iterator(rigs))
     if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
-  // The image embeds the model alone: what a file carries after it
-  // (train's fit) is not the firmware's, and its boot parse would refuse it.
+  // The image embeds a copy of the model in its folder, so the build tools
+  // never take the path the user gave. The model alone: what a file
+  // carries after it (train's fit) is not the firmware's, and its boot
+  // parse would refuse it.
   if (!request.model_file.empty()) {
-    const std::string bytes = read_file(request.model_file);
+    const std::string given = request.model_file;
+    const std::string bytes = read_file(given);
     const pipeline::ModelFileParts parts =
         pipeline::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
-    if (parts.model_size < bytes.size() && !parts.bad_trailer) {
-      const std::string given = request.model_file;
-      request.model_file = dir + "/model.nlsm";
-      // Rewritten only when it changes: a newer copy would relink the image.
-      const std::string model_part = bytes.substr(0, parts.model_size);
-      if (!fs::exists(request.model_file, ec) || read_file(request.model_file) != model_part)
-        std::ofstream(request.model_file, std::ios::binary | std::ios::trunc)
-            .write(model_part.data(), std::streamsize(model_part.size()));
-      source = image_source(rig, request);
-      // The file the user named, so --qemu FILE finds this image by it
-      // (last_built_with_model): the folder is keyed by that file.
-      source.cmake += fmt::format("set(NLSOFT_IMAGE_MODEL_SOURCE \"{}\")\n", given);
-    }
+    const bool cut = parts.model_size < bytes.size() && !parts.bad_trailer;
+    request.model_file = dir + "/model.nlsm";
+    // Rewritten only when it changes: a newer copy would relink the image.
+    write_text_if_changed(request.model_file, cut ? bytes.substr(0, parts.model_size) : bytes);
+    source = image_source(rig, request);
+    // The file the user named, so --qemu FILE finds this image by it
+    // (last_built_with_model): the folder is keyed by that file.
+    source.cmake += fmt::format("set(NLSOFT_IMAGE_MODEL_SOURCE {})\n", cmake_bracket(given));
   }
   write_image_source(source, rigs + "/" + rig.name);
   fs::remove(log, ec);
@@ -309,6 +396,11 @@ BuiltImages build_images(const ImageBuild& q) {
   if (!source.note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), source.note.c_str());
   if (!tty) std::fprintf(stderr, "%s: building %s for %s in %s\n", q.who.c_str(), what.c_str(), q.board.c_str(), dir.c_str());
   {
+    const Interruptible interruptible;
+    auto interrupted = [&] {
+      if (g_interrupted)
+        throw CliError(fmt::format("{}: interrupted: the images in {} are the ones it held before", q.who, dir), 130);
+    };
     ProgressBar bar("building " + what);
     auto progress = [&](const std::string& line) {
       if (const int p = make_percent(line); p >= 0) bar.update(p, 100, make_step(line));
@@ -318,13 +410,28 @@ BuiltImages build_images(const ImageBuild& q) {
         {"cmake", "-S", src + "/firmware/ports/" + q.board, "-B", build,
          "-DCMAKE_TOOLCHAIN_FILE=" + src + "/firmware/ports/cortex-m/cmake/arm-none-eabi.cmake", "-DNLSOFT_ROOT=" + src,
          "-DNLSOFT_RIG_DIR=" + rigs, std::string("-DNLSOFT_IMAGE_KINDS=") + (q.hil_only ? "hil" : "both"),
-         "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=" + dir},
+         "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=" + staged},
         log, [](const std::string&) {});
+    interrupted();
     if (configured != 0) throw CliError(build_failure(log, rig, q.board, q.who));
     const unsigned cores = std::thread::hardware_concurrency();
     const int built =
         run_logged({"cmake", "--build", build, "-j", std::to_string(cores > 0 ? cores : 1)}, log, progress);
+    interrupted();
     if (built != 0) throw CliError(build_failure(log, rig, q.board, q.who));
+    // Not interrupted half way: SIGINT waits until every image is in place.
+    sigset_t block, old;
+    sigemptyset(&block);
+    sigaddset(&block, SIGINT);
+    sigaddset(&block, SIGTERM);
+    ::pthread_sigmask(SIG_BLOCK, &block, &old);
+    try {
+      publish_images(staged, dir, q.who);
+    } catch (...) {
+      ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+      throw;
+    }
+    ::pthread_sigmask(SIG_SETMASK, &old, nullptr);  // a Ctrl-C meanwhile came after the build: it is done
   }
   BuiltImages out;
   out.dir = dir;

@@ -50,4 +50,8 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
 // files only whose text changed so an unchanged rig rebuilds nothing.
 void write_image_source(const ImageSource& source, const std::string& dir);
 
+// `text` into `path` through a temporary renamed over it, only when the
+// file holds other text (its time stamp then stays, and nothing relinks).
+void write_text_if_changed(const std::string& path, const std::string& text);
+
 }  // namespace nlsoft::console

@@ -2,10 +2,12 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cfloat>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <strings.h>
 
 #include "app/cli_error.hpp"
@@ -83,9 +85,15 @@ std::vector<double> parse_param_values(const ParamInfo& p, const std::vector<std
         throw CliError(fmt::format("{}: empty value in '{}'", p.name, raw));
       }
       char* end = nullptr;
+      errno = 0;
       const double v = std::strtod(t.c_str(), &end);
       if (end == t.c_str() || *end != '\0') throw CliError(fmt::format("{}: '{}' is not a number", p.name, t));
       if (!std::isfinite(v)) throw CliError(fmt::format("{}: '{}' is not a finite number", p.name, t));
+      // Nor may a value too small for the number type arrive as 0.
+      if ((errno == ERANGE && std::fabs(v) <= DBL_MIN) || (p.is_float() && v != 0 && float(v) == 0.0f))
+        throw CliError(fmt::format("{}: '{}' underflows a float32 (the firmware's number type) to 0: a magnitude "
+                                   "other than 0 must be at least {:g}",
+                                   p.name, t, double(std::numeric_limits<float>::denorm_min())));
       // The firmware keeps float32: a larger value would arrive as infinity.
       if (p.is_float() && std::fabs(v) > double(FLT_MAX))
         throw CliError(fmt::format("{}: '{}' overflows a float32 (the firmware's number type): its magnitude must be "

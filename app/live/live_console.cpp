@@ -220,9 +220,12 @@ void LiveConsole::disconnect() {
   // UDP stream's sender thread can be stopped and joined after it.
   if (session_) session_->close();
   if (udp_) {
-    if (udp_->dropped() > 0)
-      say(fmt::format("--udp {}: {} samples sent, {} dropped (the sender fell behind)", udp_->target(), udp_->sent(),
-                      udp_->dropped()));
+    // Sends what is queued first: the count said is every datagram sent,
+    // what a receiver can check its own count against (UDP promises no
+    // delivery).
+    udp_->finish();
+    say(fmt::format("--udp {}: {} samples sent, {} dropped{}", udp_->target(), udp_->sent(), udp_->dropped(),
+                    udp_->dropped() > 0 ? " (the sender fell behind)" : ""));
     udp_.reset();
   }
   if (recorder_) {
@@ -626,7 +629,7 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
   const pipeline::ModelFileParts parts =
       pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (parts.bad_trailer)
-    throw CliError(fmt::format("{}: not a usable model file: bytes after the model that are no section of one", path));
+    throw CliError(fmt::format("{}: not a usable model file: {}", path, parts.fault));
   const std::vector<uint8_t> bytes(text.begin(), text.begin() + std::ptrdiff_t(parts.model_size));
   // RIG_INFO (protocol 1.2): a shape the firmware has no kernel for would be
   // refused at its header chunk or its commit; refused here, nothing is sent.

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "app/cli_error.hpp"
@@ -45,6 +46,10 @@ ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
         continue;
       }
       if (!std::isfinite(v)) throw CliError(fmt::format("{}:{}: '{}' is not a finite number", path, lineno, printable_excerpt(cell)));
+      // The firmware holds a point as a float: beyond its range it would be inf there.
+      if (!std::isfinite(float(v)))
+        throw CliError(fmt::format("{}:{}: '{}' is beyond a float's range (+-{:g}) the firmware holds a point in",
+                                   path, lineno, printable_excerpt(cell), double(std::numeric_limits<float>::max())));
       cells.push_back(float(v));
     }
     if (!numeric) {

@@ -69,7 +69,9 @@ UdpStream::UdpStream(const std::string& target, Notify notify, size_t queue)
   thread_ = std::thread([this] { loop(); });
 }
 
-UdpStream::~UdpStream() {
+UdpStream::~UdpStream() { finish(); }
+
+void UdpStream::finish() {
   {
     std::lock_guard<std::mutex> lock(mu_);
     stop_ = true;
@@ -95,7 +97,7 @@ void UdpStream::loop() {
   std::unique_lock<std::mutex> lock(mu_);
   while (true) {
     cv_.wait(lock, [this] { return stop_ || !queue_.empty(); });
-    if (stop_) return;
+    if (queue_.empty()) return;  // stopped, and every sample sent
     const Item item = queue_.front();
     queue_.pop_front();
     lock.unlock();

@@ -45,8 +45,9 @@ class UdpStream {
   // Throws CliError. `notify` hears, from the sender thread, that nobody
   // listens at the target (once).
   explicit UdpStream(const std::string& target, Notify notify = {}, size_t queue = 8192);
-  // Stops and joins the sender thread; samples still queued are dropped.
-  ~UdpStream();
+  // Sends the samples still queued, then stops and joins the sender thread.
+  void finish();
+  ~UdpStream();  // finish()
   UdpStream(const UdpStream&) = delete;
   UdpStream& operator=(const UdpStream&) = delete;
 

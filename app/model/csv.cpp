@@ -1,6 +1,7 @@
 #include "app/model/csv.hpp"
 
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -39,6 +40,11 @@ bool blank(const std::string& line) { return trim(line).empty(); }
 
 }  // namespace
 
+std::string without_bom(std::string text) {
+  if (text.rfind("\xEF\xBB\xBF", 0) == 0) text.erase(0, 3);
+  return text;
+}
+
 Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool empty_is_nan) {
   Table t;
   std::string line;
@@ -46,11 +52,18 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool
   bool first = true;
   while (std::getline(in, line)) {
     ++lineno;
+    if (lineno == 1) line = without_bom(line);
     if (blank(line)) continue;
     std::vector<std::string> cells = split(line);
     if (first && has_header) {
-      for (const std::string& c : cells)
-        if (c.empty()) throw PipelineError(name + ":" + std::to_string(lineno) + ": empty column name in the header");
+      const std::string at = name + ":" + std::to_string(lineno) + ": ";
+      for (size_t c = 0; c < cells.size(); ++c) {
+        if (cells[c].empty()) throw PipelineError(at + "empty column name in the header");
+        for (size_t d = 0; d < c; ++d)
+          if (cells[d] == cells[c])
+            throw PipelineError(at + "columns " + std::to_string(d + 1) + " and " + std::to_string(c + 1) +
+                                " are both named '" + console::printable_excerpt(cells[c]) + "'");
+      }
       t.header = cells;
       t.cols = static_cast<int>(cells.size());
       first = false;
@@ -74,8 +87,15 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool
                                 (t.header.empty() ? std::string() : " ('" + t.header[c] + "')");
       if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + console::printable_excerpt(cell) + "'");
       if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + console::printable_excerpt(cell) + "'");
+      if (std::fabs(v) > double(FLT_MAX)) {
+        char most[32];
+        std::snprintf(most, sizeof most, "%g", double(FLT_MAX));
+        throw PipelineError(where + ": '" + console::printable_excerpt(cell) + "' is beyond a float's range (+-" +
+                            most + "), where every measurement is kept");
+      }
       t.data.push_back(v);
     }
+    t.line.push_back(lineno);
     ++t.rows;
   }
   if (in.bad()) throw PipelineError("cannot read '" + name + "'");

@@ -4,18 +4,10 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/gnuplot_text.hpp"
+
 namespace nlsoft::pipeline {
 namespace {
-
-// A double-quoted gnuplot string (backslash and quote escaped).
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c == '\n' ? ' ' : c;
-  }
-  return out + "\"";
-}
 
 std::string num(double v) {
   char buf[32];
@@ -74,7 +66,7 @@ std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::strin
     s += "EOD\n";
   }
   s += "set multiplot layout " + std::to_string(std::max(1, panels)) + ",1 title " +
-       quoted("model fit: " + model_name + ", measured against free-run simulation") + "\n";
+       console::gnuplot_string("model fit: " + model_name + ", measured against free-run simulation") + "\n";
   for (size_t k = 0; k < runs.size(); ++k) {
     const FittedRun& r = runs[k];
     for (Eigen::Index j = 0; j < r.y.cols(); ++j) {
@@ -82,7 +74,7 @@ std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::strin
       std::string title = r.name + ", output " + o.name + ": free-run fit network " + fit_words(o.free_run);
       if (r.arx.size()) title += ", ARX " + fit_words(o.arx_free_run);
       const std::string data = "$run" + std::to_string(k), c = std::to_string(2 + 3 * j);
-      s += "set title " + quoted(title) + "\nset xlabel \"t (s)\"\nset ylabel " + quoted(unit.empty() ? o.name : o.name + " (" + unit + ")") + "\n";
+      s += "set title " + console::gnuplot_string(title) + "\nset xlabel \"t (s)\"\nset ylabel " + console::gnuplot_string(unit.empty() ? o.name : o.name + " (" + unit + ")") + "\n";
       s += "plot " + data + " using 1:" + c + " with lines lw 1.4 lc rgb \"#000000\" title \"measured\", \\\n";
       s += "     " + data + " using 1:" + std::to_string(3 + 3 * j) +
            " with lines lw 1.2 lc rgb \"#1f77b4\" title \"network (free run)\"";

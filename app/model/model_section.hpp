@@ -44,6 +44,7 @@ struct ModelFileParts {
   size_t model_size = 0;     // the model: bytes [0, model_size)
   std::string fit;           // the fit section's text; empty: none
   bool bad_trailer = false;  // bytes after the model that are no section
+  std::string fault;         // with bad_trailer: what is wrong there, in words, with the byte offset
 };
 
 // Never fails: a file too short for its header, or with another magic, is
@@ -57,20 +58,24 @@ inline ModelFileParts split_model_file(const uint8_t* buf, size_t len) {
   out.model_size = model;
   size_t at = model;
   while (at < len) {
-    if (len - at < kSectionOverhead || std::memcmp(buf + at, "NLSX", 4) != 0) {
+    auto bad = [&](std::string fault) {
       out.bad_trailer = true;
+      out.fault = "after the model (" + std::to_string(model) + " bytes), " + fault;
       return out;
-    }
+    };
+    if (len - at >= 4 && std::memcmp(buf + at, "NLSX", 4) != 0)
+      return bad("the bytes at offset " + std::to_string(at) + " are no section (no \"NLSX\")");
+    if (len - at < kSectionOverhead)
+      return bad("the file ends inside the section at offset " + std::to_string(at) + " (truncated: " +
+                 std::to_string(len - at) + " of its at least " + std::to_string(kSectionOverhead) + " bytes)");
     const size_t text = detail::rd32(buf + at + 8);
-    if (text > len - at - kSectionOverhead) {
-      out.bad_trailer = true;
-      return out;
-    }
+    if (text > len - at - kSectionOverhead)
+      return bad("the file ends inside the section at offset " + std::to_string(at) + " (truncated: it holds " +
+                 std::to_string(text) + " bytes of text, the file " + std::to_string(len - at - kSectionOverhead) +
+                 ")");
     const size_t body = 12 + text;
-    if (crc32(buf + at, body) != detail::rd32(buf + at + body)) {
-      out.bad_trailer = true;
-      return out;
-    }
+    if (crc32(buf + at, body) != detail::rd32(buf + at + body))
+      return bad("the section at offset " + std::to_string(at) + " fails its CRC-32 (damaged)");
     // Kinds this console does not know are skipped: a later console may add some.
     if (buf[at + 4] == kSectionFit) out.fit.assign(reinterpret_cast<const char*>(buf + at + 12), text);
     at += body + 4;

@@ -42,7 +42,7 @@ std::vector<uint8_t> encode_model_file(ModelFile& f) {
 ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name) {
   const ModelFileParts parts = split_model_file(bytes);
   if (parts.bad_trailer)
-    throw PipelineError("'" + name + "' is not a valid model file: bytes after the model that are no section of one");
+    throw PipelineError("'" + name + "' is not a valid model file: " + parts.fault);
   ModelFile f;
   f.fit = parts.fit;
   f.params.resize(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);

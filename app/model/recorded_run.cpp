@@ -47,6 +47,24 @@ std::vector<int> prefixed(const std::vector<std::string>& h, const std::string& 
   }
 }
 
+// A run's sample counter and clock only move forward; its clock is 32-bit
+// microseconds, so a wrap goes back by nearly 2^32 us, and a row whose time
+// goes back by less is out of order (rows sorted by hand, two files joined).
+void refuse_going_back(const RecordedRun& r, const Table& t, long row, const std::string& name) {
+  // A table read from text knows its lines; one built in memory, its rows (after a header).
+  const auto line = [&](long i) { return size_t(i) < t.line.size() ? t.line[size_t(i)] : i + 2; };
+  const auto at = [&](long i) { return name + ":" + std::to_string(line(i)); };
+  const int64_t ka = r.k[size_t(row - 1)], kb = r.k[size_t(row)];
+  if (ka >= 0 && kb >= 0 && kb <= ka)
+    throw PipelineError(at(row) + ": k " + std::to_string(kb) + " does not follow k " + std::to_string(ka) + " (line " +
+                        std::to_string(line(row - 1)) + "): a run's samples come in order");
+  const int64_t ta = r.time_us[size_t(row - 1)], tb = r.time_us[size_t(row)];
+  if (ta >= 0 && tb >= 0 && tb < ta && ta - tb < (int64_t(1) << 31))
+    throw PipelineError(at(row) + ": time_us " + std::to_string(tb) + " is before the previous row's " +
+                        std::to_string(ta) + " (line " + std::to_string(line(row - 1)) +
+                        "): a run's clock only moves forward (a 32-bit wrap goes back by nearly 2^32 us)");
+}
+
 }  // namespace
 
 Series recorded_series(const RecordedRun& r, const PlantTarget& t) {
@@ -133,6 +151,7 @@ RecordedRun run_from_export(const Table& t, const std::string& name) {
     r.k.push_back(integer_cell(t.at(row, 0)));
     r.step.push_back(integer_cell(t.at(row, 1)));
     r.time_us.push_back(integer_cell(t.at(row, 2)));
+    if (row > 0) refuse_going_back(r, t, row, name);
     // The run holds float32 values and the export writes each with 9
     // digits, which names that float exactly: rounding to float gives back
     // the very value the database holds (strtod alone lands on a double near it).
@@ -144,7 +163,7 @@ RecordedRun run_from_export(const Table& t, const std::string& name) {
 }
 
 Series read_training_csv(const std::string& path, const PlantTarget& target) {
-  const std::string text = read_text_file(path, {"CSV file", uint64_t(1) << 30});
+  const std::string text = without_bom(read_text_file(path, {"CSV file", uint64_t(1) << 30}));
   std::istringstream lines(text);
   std::string first;
   while (std::getline(lines, first) && first.find_first_not_of(" \t\r") == std::string::npos) {

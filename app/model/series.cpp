@@ -1,5 +1,6 @@
 #include "app/model/series.hpp"
 
+#include <cstdio>
 #include <fstream>
 
 #include "app/model/atomic_file.hpp"
@@ -30,6 +31,12 @@ int count_prefixed(const std::vector<std::string>& h, size_t col, char prefix) {
   return count;
 }
 
+std::string seconds(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.9g s", t);
+  return text;
+}
+
 Series from_table(const Table& t, const std::string& name) {
   const std::vector<std::string>& h = t.header;
   if (h.empty() || h[0] != "time")
@@ -49,7 +56,9 @@ Series from_table(const Table& t, const std::string& name) {
   for (long r = 0; r < t.rows; ++r) {
     s.time(r) = t.at(r, 0);
     if (r > 0 && !(s.time(r) > s.time(r - 1)))
-      throw PipelineError(name + ": time does not increase at data row " + std::to_string(r + 1));
+      throw PipelineError(name + ":" + std::to_string(size_t(r) < t.line.size() ? t.line[size_t(r)] : r + 2) +
+                          ": time " + seconds(s.time(r)) + " does not follow the previous row's " +
+                          seconds(s.time(r - 1)) + ": time must increase");
     for (int i = 0; i < m; ++i) s.u(r, i) = t.at(r, 1 + i);
     for (int j = 0; j < n; ++j) s.y(r, j) = t.at(r, 1 + m + j);
     for (int i = 0; i < w; ++i) s.l(r, i) = t.at(r, 1 + m + n + i);

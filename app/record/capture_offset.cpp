@@ -233,6 +233,15 @@ OffsetEstimate estimate_offset(const RunSignals& run, const Capture& cap) {
       const double d = cap.y[r * size_t(cap.n) + size_t(j)] - y_mean[size_t(j)];
       y_var[size_t(j)] += d * d / double(cap.rows());
     }
+  // A constant capture fits every offset alike: the one found would be noise.
+  // (Constant to rounding: the mean of n equal values need not be that value.)
+  bool constant = true;
+  for (int j = 0; j < cap.n; ++j)
+    constant = constant && !(y_var[size_t(j)] > 1e-20 * (1 + y_mean[size_t(j)] * y_mean[size_t(j)]));
+  if (constant)
+    throw CliError(fmt::format("{}: every output is constant over the capture: it holds nothing to place it on the "
+                               "run's clock by; give the offset with --y-offset",
+                               cap.path));
 
   // A fit needs more rows than it has terms, and then some; and a candidate
   // must see the capture over most of what it could.

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <ctime>
 
+#include "app/cli_error.hpp"
 #include "app/record/lock_gap.hpp"
 #include "app/record/recorder_mark.hpp"
 #include "app/record/schema.hpp"
@@ -56,9 +57,23 @@ void bind_sample(Stmt& st, int base, int64_t run, const Sample& s) {
 }  // namespace
 
 std::string default_db_path() {
-  if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x) return std::string(x) + "/nlsoft/runs.db";
+  // The XDG rules: $XDG_DATA_HOME when it is an absolute path (a relative
+  // one is ignored), else $HOME/.local/share. A home that is not there is
+  // refused rather than made (as /nonexistent/.local/... at the root, or
+  // ./.local/... of whatever folder the console was started in).
+  if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x == '/') return std::string(x) + "/nlsoft/runs.db";
   const char* home = std::getenv("HOME");
-  return std::string(home && *home ? home : ".") + "/.local/share/nlsoft/runs.db";
+  const std::string fix = "set XDG_DATA_HOME or HOME to a folder, or give --db FILE";
+  if (!home || !*home) throw CliError("no folder for the recording database: HOME is not set; " + fix);
+  struct stat st {};
+  if (*home != '/')
+    throw CliError(
+        fmt::format("no folder for the recording database: HOME={} is not an absolute path; {}", home, fix));
+  const bool there = ::stat(home, &st) == 0;
+  if (!there || !S_ISDIR(st.st_mode))
+    throw CliError(fmt::format("no folder for the recording database: HOME={} {}; {}", home,
+                               there ? "is not a folder" : "does not exist", fix));
+  return std::string(home) + "/.local/share/nlsoft/runs.db";
 }
 
 void ensure_parent_dir(const std::string& path) {

@@ -39,7 +39,9 @@ struct RunInfo {
   std::string excitation;        // JSON, identification runs
 };
 
-// Default database: $XDG_DATA_HOME/nlsoft/runs.db or ~/.local/share/nlsoft/runs.db.
+// Default database: $XDG_DATA_HOME/nlsoft/runs.db (an absolute
+// XDG_DATA_HOME), else $HOME/.local/share/nlsoft/runs.db; throws CliError
+// when HOME is unset, relative or not an existing folder.
 std::string default_db_path();
 // Creates the directory of `path` if missing; throws DbError if it cannot.
 void ensure_parent_dir(const std::string& path);

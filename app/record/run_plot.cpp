@@ -5,25 +5,11 @@
 #include <algorithm>
 
 #include "app/cli_error.hpp"
+#include "app/gnuplot_text.hpp"
 
 namespace nlsoft::console {
 
 namespace {
-
-// A double-quoted gnuplot string: backslash and quote escaped; "\n" stays a
-// line break there.
-std::string quoted(const std::string& s) {
-  std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (c == '\n') {
-      out += "\\n";
-      continue;
-    }
-    out += c;
-  }
-  return out + "\"";
-}
 
 // A simulation (`simulate --svg`) has no id: its label names it.
 std::string run_name(const PlottedRun& r) {
@@ -100,7 +86,7 @@ std::string series(const std::vector<PlottedRun>& runs, size_t k, const std::str
                    const std::string& colour) {
   const std::string name = runs.size() > 1 ? fmt::format("run {} {}", runs[k].row.id, title) : title;
   return fmt::format("$run{} using {} with lines lw 1.2 dt {} lc rgb {} title {}", k, using_, k == 0 ? 1 : 2,
-                     quoted(colour), quoted(name));
+                     gnuplot_string(colour), gnuplot_string(name));
 }
 
 }  // namespace
@@ -140,10 +126,10 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
   for (size_t k = 0; k < runs.size(); ++k) s += data_block(runs[k], int(k), max_points);
   std::string title;
   for (const std::string& l : caption) title += (title.empty() ? "" : "\n") + l;
-  s += fmt::format("set multiplot layout {},1 title {} font \"monospace,8\"\n", panels, quoted(title));
+  s += fmt::format("set multiplot layout {},1 title {} font \"monospace,8\"\n", panels, gnuplot_string(title));
   const Columns c{n, m};
   for (int a = 0; a < n; ++a) {
-    s += fmt::format("set title {}\nset xlabel \"t (s)\"\nset ylabel \"y{}\"\n", quoted(fmt::format("output y{}", a)), a);
+    s += fmt::format("set title {}\nset xlabel \"t (s)\"\nset ylabel \"y{}\"\n", gnuplot_string(fmt::format("output y{}", a)), a);
     std::vector<std::string> parts;
     for (size_t k = 0; k < runs.size(); ++k) {
       const RunSeries& rs = runs[k].series;

@@ -8,6 +8,9 @@ namespace nlsoft::console {
 
 std::string db_error_words(const std::string& path, int code, const char* detail) {
   const std::string d = detail ? detail : sqlite3_errstr(code);
+  // The console's own queries name only what its schema holds: a missing
+  // table or column is a damaged file, or another program's.
+  if ((code & 0xFF) == SQLITE_ERROR && d.rfind("no such ", 0) == 0) code = SQLITE_CORRUPT;
   switch (code & 0xFF) {
     case SQLITE_BUSY:
     case SQLITE_LOCKED:
@@ -70,6 +73,11 @@ bool exists(const std::string& path) {
 }  // namespace
 
 Db::Db(const std::string& path, Access access) : path_(path) {
+  // SQLite says "disk I/O error" of a folder or a device: said here as what it is.
+  if (struct stat st {}; ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode))
+    throw DbError(fmt::format("database {} is {}, not a database file; pick a file with --db", path,
+                              S_ISDIR(st.st_mode) ? "a folder" : "not a regular file"),
+                  SQLITE_CANTOPEN);
   // Reading a file we may not write (another user's, a read-only folder):
   // SQLite would create -shm/-wal beside it (owned by us, with the file's
   // mode) or fail with "attempt to write a readonly database". mode=ro

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "app/cli_error.hpp"
+#include "app/gnuplot_text.hpp"
 #include "app/record/utc_time.hpp"
 
 namespace nlsoft::console {
@@ -127,13 +128,7 @@ std::string tune_plot_script(const TuneSessionRow& session, const std::vector<Tu
                                   session.objective, session.space, session.method, evals.size());
   if (any_ok) title += fmt::format(", best {:.5g}", best);
   title += ")";
-  std::string quoted = "\"";
-  for (char c : title) {
-    if (c == '"' || c == '\\') quoted += '\\';
-    quoted += c;
-  }
-  quoted += "\"";
-  s += fmt::format("set title {}\nset xlabel \"evaluation\"\nset ylabel \"objective\"\n", quoted);
+  s += fmt::format("set title {}\nset xlabel \"evaluation\"\nset ylabel \"objective\"\n", gnuplot_string(title));
   if (log_axis) s += "set logscale y\n";
   // Failed evaluations sit on the bottom edge: they scored nothing.
   s += fmt::format("set xrange [0:{}]\n", evals.back().eval + 1);

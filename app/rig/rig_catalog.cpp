@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "app/cli_error.hpp"
+#include "app/input_file.hpp"
 #include "app/paths/install_paths.hpp"
 
 namespace nlsoft::console {
@@ -36,7 +37,9 @@ std::vector<std::string> rig_names() {
 
 std::string rig_path(const std::string& arg) {
   if (names_a_file(arg)) {
-    if (!std::filesystem::is_regular_file(arg)) throw CliError("rig file '" + arg + "' does not exist");
+    std::error_code ec;
+    if (!std::filesystem::exists(arg, ec)) throw CliError("rig file '" + arg + "' does not exist");
+    check_input_file(arg, kRigFile);  // a device, a FIFO, a folder: said as such
     return arg;
   }
   const Lookup dir = find_rigs_dir();

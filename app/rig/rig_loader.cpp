@@ -3,13 +3,16 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include <cctype>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
 
+#include "app/cli_error.hpp"
+#include "app/input_file.hpp"
 #include "app/model/model_store.hpp"
+#include "app/printable.hpp"
 #include "app/rig/board_pins.hpp"
 #include "app/rig/rig.hpp"
 #include "shared/crc32.hpp"
@@ -127,12 +130,22 @@ class Section {
   std::string text(const std::string& key, const std::string& fallback) const {
     return has(key) ? text(key) : fallback;
   }
+  // Text shown on one line (a unit, a description): no control characters,
+  // so a newline cannot start a line of its own where the text is printed.
+  std::string line_text(const std::string& key, const std::string& fallback) const {
+    const std::string v = text(key, fallback);
+    for (const char c : v)
+      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        fail(line(key), key, fmt::format("holds the control character 0x{:02x}: one line of text, please",
+                                          static_cast<unsigned char>(c)));
+    return v;
+  }
   // One of `names`; the error lists them.
   std::string choice(const std::string& key, const std::vector<std::string>& names) const {
     const std::string v = text(key);
     for (const std::string& n : names)
       if (n == v) return v;
-    fail(line(key), key, "'" + v + "' is not one of: " + join(names));
+    fail(line(key), key, "'" + printable_excerpt(v, 40) + "' is not one of: " + join(names));
   }
 
   const toml::array& array(const std::string& key) const {
@@ -253,10 +266,21 @@ std::vector<const toml::table*> table_array(const Section& root, const toml::tab
 
 std::string nth(const std::string& table, size_t i) { return "[[" + table + "]] #" + std::to_string(i + 1); }
 
-// Names label recorded columns and the console's plots: one name, one thing.
+// Names label recorded columns, the console's plots and the generated
+// image's source: one name, one thing, spelt as an identifier with '.' and
+// '-' (the grammar docs/rig-file.md states), so it is data everywhere.
+constexpr size_t kChannelNameMax = 32;
 struct NameBook {
   std::map<std::string, std::pair<std::string, int>> seen;  // name -> (where, line)
   void add(const Section& s, const std::string& name) {
+    const bool starts = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_');
+    if (!starts || name.size() > kChannelNameMax ||
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") !=
+            std::string::npos)
+      s.fail(s.line("name"), "name",
+             fmt::format("{} is not a name: a letter or '_', then letters, digits, '_', '.' or '-', at most {} "
+                         "characters",
+                         "'" + printable_excerpt(name, 40) + "'", kChannelNameMax));
     const auto it = seen.find(name);
     if (it != seen.end())
       s.fail(s.line("name"), "name",
@@ -279,7 +303,8 @@ struct PinBook {
     for (const std::string& k : known) ok = ok || k == pin;
     if (!ok)
       s.fail(s.line("pwm"), "pwm",
-             "unknown pin '" + pin + "' on board " + board_name + " (PWM pins: " + join(known) + ")");
+             "unknown pin '" + printable_excerpt(pin, 40) + "' on board " + board_name + " (PWM pins: " + join(known) +
+                 ")");
     take(s, "pwm", pin);
   }
   void adc(const Section& s, int channel) {
@@ -318,7 +343,7 @@ void read_inputs(const std::string& file, const Section& root, const toml::table
     RigInput in;
     in.name = s.text("name");
     names.add(s, in.name);
-    in.unit = s.text("unit", "");
+    in.unit = s.line_text("unit", "");
     in.min = s.number("min");
     in.max = s.number("max");
     if (!(in.min < in.max))
@@ -369,7 +394,7 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
     RigOutput out;
     out.name = s.text("name");
     names.add(s, out.name);
-    out.unit = s.text("unit", "");
+    out.unit = s.line_text("unit", "");
     out.min = s.number("min");
     out.max = s.number("max");
     if (!(out.min < out.max))
@@ -405,7 +430,7 @@ void read_sensors(const std::string& file, const Section& root, const toml::tabl
     RigSensor sen;
     sen.name = s.text("name");
     names.add(s, sen.name);
-    sen.unit = s.text("unit", "");
+    sen.unit = s.line_text("unit", "");
     const std::string source = s.choice("source", {"adc", "none"});
     sen.line = s.line();
     if (source == "adc") {
@@ -524,7 +549,14 @@ void read_model(const std::string& file, const Section& root, const toml::table&
   const toml::table* mt = sub_table(root, t, "model");
   if (!mt) return;
   const Section s(file, *mt, "[model]", line_of(*mt), {"file", "layer"});
-  rig.model.file = s.text("file", "");
+  rig.model.file = s.line_text("file", "");
+  // A file among the models (NLSOFT_MODELS, the shipped ones), never a path
+  // out of that folder; another file is given on the command line (--model).
+  if (s.has("file") && (rig.model.file.empty() || rig.model.file.find('/') != std::string::npos ||
+                        rig.model.file == "." || rig.model.file == ".."))
+    s.fail(s.line("file"), "file",
+           "'" + rig.model.file +
+               "' is not a file name among the models (no '/'): give another model with --model FILE");
   const auto layers = table_array(s, *mt, "layer");
   for (size_t i = 0; i < layers.size(); ++i) {
     const Section l(file, *layers[i], nth("model.layer", i), line_of(*layers[i]), {"kind", "units", "activation"});
@@ -562,11 +594,6 @@ void read_generic_plant(const std::string& file, const Section& s, const toml::t
   constexpr double kBig = 1e6, kTauMax = 1e3;
   RigPlant& p = rig.plant;
   const int m = rig.m(), n = rig.n(), w = rig.w();
-  // The plant steps once per control period, at most kMaxPlantDt.
-  if (rig.rate_hz < 1.0 / double(kMaxPlantDt))
-    s.fail(s.line("kind"), "kind",
-           "a generic plant steps at most " + num(double(kMaxPlantDt)) + " s at a time: rate_hz must be >= 1, not " +
-               num(rig.rate_hz));
   const auto tables = table_array(s, pt, "actuator");
   const Section::Count per_in{"m", m, "one per [[input]]"}, per_out{"n", n, "one per [[output]]"};
   const Section::Count per_sensor{"w", w, "one per [[sensor]]"};
@@ -727,8 +754,10 @@ Rig parse_rig(const std::string& text, const std::string& file) {
     root.fail(root.line("name"), "name",
               fmt::format("'{}' is {} characters; a rig's name travels in {} at most", rig.name, rig.name.size(),
                           kRigMaxNameLen));
-  rig.description = root.text("description", "");
-  rig.rate_hz = root.positive("rate_hz");
+  rig.description = root.line_text("description", "");
+  // A period from 10 us to the longest step a simulated plant takes (1 s):
+  // what the firmware's loop and the plants take.
+  rig.rate_hz = root.bounded("rate_hz", 1.0 / double(kMaxPlantDt), 1e5, " Hz");
   // The controller keeps one history length for u and y (paper: n_d = d_d).
   rig.nd = int(root.integer("nd", 1, RigCapacity::nd));
   rig.dd = int(root.integer("dd", 1, RigCapacity::nd));
@@ -774,11 +803,13 @@ uint32_t rig_file_hash(const std::string& text) {
 }
 
 Rig load_rig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw RigError(path + ": cannot read the rig file", path, 0, "");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_rig(text.str(), path);
+  std::string text;
+  try {
+    text = read_input_file(path, kRigFile);
+  } catch (const CliError& e) {
+    throw RigError(e.what(), path, 0, "");
+  }
+  return parse_rig(text, path);
 }
 
 }  // namespace nlsoft::console

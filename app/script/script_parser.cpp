@@ -84,6 +84,12 @@ double parse_duration(const std::string& text) {
   else
     throw std::invalid_argument(fmt::format("'{}': unknown unit '{}' (use ms, s, min or h)", text, unit));
   if (!std::isfinite(v) || v <= 0) throw std::invalid_argument(fmt::format("'{}': a duration must be > 0", text));
+  // Longer than any run or session: the step counts, clocks and budgets
+  // computed from it would overflow.
+  constexpr double kMaxDays = 30;
+  if (v * scale > kMaxDays * 86400)
+    throw std::invalid_argument(
+        fmt::format("'{}': a duration is at most {:g} days ({:g}h)", text, kMaxDays, kMaxDays * 24));
   return v * scale;
 }
 

@@ -21,7 +21,8 @@ void load_model(const std::string& path, LoadedModel& out) {
   // The model alone: sections after it (train's fit) are not the controller's.
   const pipeline::ModelFileParts parts =
       pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
-  std::vector<uint8_t> bytes(text.begin(), parts.bad_trailer ? text.end() : text.begin() + std::ptrdiff_t(parts.model_size));
+  if (parts.bad_trailer) throw CliError(fmt::format("model file '{}' refused: {}", path, parts.fault));
+  std::vector<uint8_t> bytes(text.begin(), text.begin() + std::ptrdiff_t(parts.model_size));
   std::vector<float> storage(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);
   Model<HostCapacity> M;
   uint8_t platform = 255;

@@ -225,7 +225,8 @@ void add_simulate_command(CLI::App& app, SimulationPlotter plot) {
   sub->add_option("--controller", o->controller, "mpc or pid (pid: msd only)")->capture_default_str();
   sub->add_option("--mode", o->mode, "derivatives: exact (chain rule) or fd (central differences)")
       ->capture_default_str();
-  sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)");
+  sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)")
+      ->check(CLI::Range(1L, 100000000L));
   sub->add_option("--set", o->sets, "override a parameter, NAME=V[,V...], e.g. --set Q=1e6,2e6,1e6 (repeatable)");
   sub->add_option("--model", o->model, "model file (default: the rig's [model] file, among the shipped models)");
   sub->add_option("--csv", o->csv, "also write the whole trace to this CSV file");

@@ -261,7 +261,22 @@ TEST_F(TrainRuns, TheFitIsKeptInTheFileAndTheUploadedModelKeepsItsHash) {
       << "junk";
   const auto refused = console("model info " + shell_quote(junk));
   EXPECT_EQ(refused.code, 2) << refused.output;
-  EXPECT_TRUE(contains(refused.output, "bytes after the model that are no section")) << refused.output;
+  EXPECT_TRUE(contains(refused.output, "'" + junk + "' is not a valid model file: after the model (" +
+                                          std::to_string(model_size) + " bytes), the bytes at offset " +
+                                          std::to_string(model_size) + " are no section"))
+      << refused.output;
+  // Cut short inside its fit: the file and the fault named, where the cut is.
+  const std::string cut = dir_.file("cut.nlsm");
+  std::ofstream(cut, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size() - 10));
+  for (const std::string command : {"model info ", "simulate --platform msd --steps 10 --model "}) {
+    const auto truncated = console(command + shell_quote(cut));
+    EXPECT_EQ(truncated.code, 2) << truncated.output;
+    EXPECT_TRUE(contains(truncated.output, cut)) << truncated.output;
+    EXPECT_TRUE(contains(truncated.output, "the file ends inside the section at offset " + std::to_string(model_size) +
+                                               " (truncated"))
+        << truncated.output;
+  }
 }
 
 }  // namespace

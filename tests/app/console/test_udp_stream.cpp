@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -41,28 +42,32 @@ class Receiver {
     timeval tv{0, 100000};
     ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
     thread_ = std::thread([this] {
-      char buf[65536];
-      while (!stop_) {
-        const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
-        if (n > 0) datagrams_.emplace_back(buf, size_t(n));
-      }
+      while (!stop_) receive(0);
     });
   }
   ~Receiver() {
     finish();
     ::close(fd_);
   }
-  // Stops receiving; what came is in datagrams().
+  // Once the sender has exited: every datagram it sent to loopback is in
+  // the socket by then, so reading until none is left takes them all.
   void finish() {
     if (!thread_.joinable()) return;
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the last datagrams in flight
     stop_ = true;
     thread_.join();
+    while (receive(MSG_DONTWAIT)) {
+    }
   }
   uint16_t port() const { return port_; }
   const std::vector<std::string>& datagrams() const { return datagrams_; }
 
  private:
+  bool receive(int flags) {
+    char buf[65536];
+    const ssize_t n = ::recv(fd_, buf, sizeof buf, flags);
+    if (n > 0) datagrams_.emplace_back(buf, size_t(n));
+    return n > 0;
+  }
   int fd_ = -1;
   uint16_t port_ = 0;
   std::atomic<bool> stop_{false};
@@ -70,17 +75,32 @@ class Receiver {
   std::thread thread_;
 };
 
+// "--udp TARGET: N samples sent, D dropped": the console's own count.
+std::pair<long, long> said_sent_dropped(const std::string& output, const std::string& target) {
+  const std::string tag = "--udp " + target + ": ";
+  const size_t at = output.rfind(tag);
+  long sent = -1, dropped = -1;
+  if (at != std::string::npos)
+    std::sscanf(output.c_str() + at + tag.size(), "%ld samples sent, %ld dropped", &sent, &dropped);
+  return {sent, dropped};
+}
+
 TEST(UdpStream, EverySampleOfTheRunArrivesAsJsonAndTheRecordingIsUnchanged) {
   ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
   test::TempDir dir;
   const std::string script = dir.file("run.nls"), db = dir.file("runs.db");
   std::ofstream(script) << "ref swirl\nrun 1s\nexpect lost == 0\n";
   Receiver rx;
+  const std::string target = "127.0.0.1:" + std::to_string(rx.port());
   const auto r = run_process(std::string(NLSOFT_CONSOLE_BIN) + " --sim hasel --db " + shell_quote(db) + " --script " +
-                             shell_quote(script) + " --udp 127.0.0.1:" + std::to_string(rx.port()));
+                             shell_quote(script) + " --udp " + target);
   rx.finish();
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("streaming every telemetry sample to 127.0.0.1:"), std::string::npos) << r.output;
+  // What the console says it sent is what arrived; none dropped on its side.
+  const auto [sent, dropped] = said_sent_dropped(r.output, target);
+  EXPECT_EQ(dropped, 0) << r.output;
+  EXPECT_EQ(sent, long(rx.datagrams().size())) << r.output;
 
   RunStore store(db);
   const auto runs = store.list();

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "app/cli_error.hpp"
+#include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
 
 namespace {
@@ -153,7 +154,7 @@ TEST(ImageHeader, SpellsOutTheRigAndSizesTheCapacityFromIt) {
   // No [plant]: no HIL image, no Plant.
   EXPECT_FALSE(s.hil);
   EXPECT_FALSE(contains(h, "using Plant")) << h;
-  EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_RIG \"gripper\")")) << s.cmake;
+  EXPECT_EQ(cmake_bracket_value(s.cmake, "NLSOFT_IMAGE_RIG"), "gripper") << s.cmake;
   EXPECT_TRUE(contains(s.cmake, "set(NLSOFT_IMAGE_HIL 0)")) << s.cmake;
 }
 
@@ -413,6 +414,54 @@ static_assert(cm::Plant::kDt == 0.0125f, "80 Hz");
     std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
     EXPECT_EQ(rc, 0) << text;
   }
+}
+
+// A C++ string literal read back as the compiler reads one (the escapes
+// cpp_string_literal writes: \ooo and a backslash before a character).
+std::string read_literal(const std::string& text, size_t at) {
+  std::string out;
+  EXPECT_EQ(text[at], '"');
+  for (size_t i = at + 1; i < text.size() && text[i] != '"'; ++i) {
+    if (text[i] != '\\') {
+      out += text[i];
+    } else if (text[i + 1] >= '0' && text[i + 1] <= '7') {
+      out += char(std::stoi(text.substr(i + 1, 3), nullptr, 8));
+      i += 3;
+    } else {
+      out += text[++i];
+    }
+  }
+  return out;
+}
+
+const std::string kHostile =
+    "q\"b\\s\n#include \"/etc/hostname\"\r\n#error x $(touch PWNED) `id` */ \") ]] ]=] ?\?/ \xc3\xa9\x7f\x01";
+
+// Whatever a path holds stays a string in the header: on the first line,
+// inside one literal that reads back as the path.
+TEST(ImageHeader, ARigFilesPathIsOneStringLiteral) {
+  const std::string h = source_of(kRig, "mps2-an386", kHostile + ".toml").header;
+  const std::string first = h.substr(0, h.find('\n'));
+  EXPECT_TRUE(contains(first, "(rig 'gripper', CRC-32 0x")) << first;
+  EXPECT_EQ(read_literal(first, first.find('"')), kHostile + ".toml") << first;
+  EXPECT_FALSE(contains(h, "\n#include \"/etc/hostname\"")) << h;
+  EXPECT_FALSE(contains(h, "\n#error")) << h;
+}
+
+TEST(GeneratedText, EveryByteReadsBack) {
+  std::string every;
+  for (int c = 1; c < 256; ++c) every += char(c);
+  for (const std::string& text : {kHostile, every, std::string(), std::string("\n\nstarts with newlines")}) {
+    const std::string lit = cpp_string_literal(text);
+    EXPECT_EQ(lit.find('\n'), std::string::npos);
+    EXPECT_EQ(read_literal(lit, 0), text);
+    // A CMake bracket argument: closed only where it ends, whatever '=' the text holds.
+    const std::string cmake = "set(A " + cmake_bracket(text) + ")\nset(B " + cmake_bracket("b") + ")\n";
+    EXPECT_EQ(cmake_bracket_value(cmake, "A"), text) << cmake;
+    EXPECT_EQ(cmake_bracket_value(cmake, "B"), "b") << cmake;
+  }
+  EXPECT_EQ(cmake_bracket("a]]b]=]c"), "[==[\na]]b]=]c]==]");
+  EXPECT_EQ(cmake_bracket_value("set(A \"x\")\n", "A"), std::nullopt);
 }
 
 }  // namespace

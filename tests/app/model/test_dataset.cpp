@@ -138,7 +138,7 @@ TEST(SeriesCsv, RoundTripAndErrors) {
   };
   fails("time,u0,y0\n0,1,2\n0.1,x,3\n", "bad.csv:3: column 2 ('u0'): not a number");
   fails("time,u0,y0\n0,1,2\n0.1,2\n", "expected 3 values");
-  fails("time,u0,y0\n0,1,2\n0,1,2\n", "time does not increase");
+  fails("time,u0,y0\n0,1,2\n0,1,2\n", "bad.csv:3: time 0 s does not follow the previous row's 0 s: time must increase");
   fails("t,u0,y0\n0,1,2\n", "must start with 'time'");
   fails("time,u0,z0\n0,1,2\n", "at least one u column and one y column");
   fails("time,u0,y0,q\n0,1,2,3\n", "unexpected column 'q'");

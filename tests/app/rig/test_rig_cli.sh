@@ -41,6 +41,27 @@ line=$(grep -n '^max = 0.0$' bad.toml | head -1 | cut -d: -f1)
 expect_error "bad.toml:$line: [[input]] #1 max: must be > min (0 at line $((line - 1)))" rig check bad.toml
 expect_error "unknown rig 'nope'; rigs in" rig check nope
 expect_error "rig file './none.toml' does not exist" rig check ./none.toml
+# What is there but is no rig file is said as what it is.
+ln -s /dev/zero zero.toml && mkfifo fifo.toml && mkdir dir.toml || { echo "FAIL: cannot make the odd files"; fail=1; }
+expect_error "cannot read zero.toml: it is a character device, not a rig file" rig check zero.toml
+expect_error "cannot read fifo.toml: it is a FIFO, not a rig file" rig check fifo.toml
+expect_error "cannot read dir.toml: it is a directory, not a rig file" rig check dir.toml
+expect_error "cannot read fifo.toml: it is a FIFO, not a rig file" simulate --rig fifo.toml
+
+# Text that would leave its place: a name holding a line of C++, a model
+# file out of the models folder (simulate would open /etc/passwd).
+python3 - "$src/rigs/msd.toml" <<'EOF2'
+import sys
+t = open(sys.argv[1]).read()
+open("inject.toml", "w").write(t.replace('name = "u"', 'name = "a\\n#include \\"/etc/hostname\\""', 1))
+open("trav.toml", "w").write(t.replace('file = "msd.nlsm"', 'file = "../../../../../../etc/passwd"', 1))
+EOF2
+line=$(grep -n '^name = "a' inject.toml | cut -d: -f1)
+expect_error "inject.toml:$line: [[input]] #1 name: 'a\n#include \"/etc/hostname\"' is not a name" rig check inject.toml
+line=$(grep -n '^file = ' trav.toml | cut -d: -f1)
+expect_error "trav.toml:$line: [model] file: '../../../../../../etc/passwd' is not a file name among the models" \
+  rig check trav.toml
+expect_error "trav.toml:$line: [model] file:" simulate --rig trav.toml
 
 # A rig with no [plant]: checked, but neither simulated nor booted in QEMU
 # (its image has no plant in the loop).
