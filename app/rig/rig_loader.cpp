@@ -755,9 +755,10 @@ Rig parse_rig(const std::string& text, const std::string& file) {
               fmt::format("'{}' is {} characters; a rig's name travels in {} at most", rig.name, rig.name.size(),
                           kRigMaxNameLen));
   rig.description = root.line_text("description", "");
-  // A period from 10 us to the longest step a simulated plant takes (1 s):
-  // what the firmware's loop and the plants take.
-  rig.rate_hz = root.bounded("rate_hz", 1.0 / double(kMaxPlantDt), 1e5, " Hz");
+  // A period from 10 us (the firmware's loop) to 1000 s (a slow process:
+  // the cascaded tanks are sampled every 4 s); a simulated plant steps at
+  // most kMaxPlantDt, checked with [plant] below.
+  rig.rate_hz = root.bounded("rate_hz", 1e-3, 1e5, " Hz");
   // The controller keeps one history length for u and y (paper: n_d = d_d).
   rig.nd = int(root.integer("nd", 1, RigCapacity::nd));
   rig.dd = int(root.integer("dd", 1, RigCapacity::nd));
@@ -778,6 +779,11 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   read_controller(file, root, t, rig, limit_lines);
   read_model(file, root, t, rig);
   read_plant(file, root, t, rig);
+  if (!rig.plant.kind.empty() && rig.rate_hz < 1.0 / double(kMaxPlantDt))
+    root.fail(root.line("rate_hz"), "rate_hz",
+              "must be at least " + num(1.0 / double(kMaxPlantDt)) + " Hz with a [plant] (line " +
+                  std::to_string(rig.plant.line) + "): a simulated plant steps at most " + num(double(kMaxPlantDt)) +
+                  " s, not " + num(rig.rate_hz));
   read_reference(file, root, t, rig);
   return rig;
 }

@@ -120,11 +120,12 @@ TEST(RigLoader, BaseFileLoadsWithEveryValue) {
   EXPECT_TRUE(r.plant.kind.empty());
 }
 
-// The rate is a period the loop and the plants take: 1 Hz to 100 kHz.
+// The rate is a period the loop takes: 1 mHz (a slow process) to 100 kHz,
+// and at least 1 Hz where a simulated plant steps at it (at most 1 s a step).
 TEST(RigLoader, ARateNoLoopRunsAtIsRefusedAtItsLine) {
-  expect_error(edit("rate_hz = 100.0", "rate_hz = 1e308"), 2, "rate_hz", "must be in [1, 100000] Hz, not 1e+308");
-  expect_error(edit("rate_hz = 100.0", "rate_hz = 0.5"), 2, "rate_hz", "must be in [1, 100000] Hz, not 0.5");
-  EXPECT_EQ(parse_rig(edit("rate_hz = 100.0", "rate_hz = 1"), "my.toml").rate_hz, 1.0);
+  expect_error(edit("rate_hz = 100.0", "rate_hz = 1e308"), 2, "rate_hz", "must be in [0.001, 100000] Hz, not 1e+308");
+  expect_error(edit("rate_hz = 100.0", "rate_hz = 1e-4"), 2, "rate_hz", "must be in [0.001, 100000] Hz, not 0.0001");
+  EXPECT_EQ(parse_rig(edit("rate_hz = 100.0", "rate_hz = 0.25"), "my.toml").rate_hz, 0.25);
 }
 
 // Text lands in recorded columns, plots and generated C++: names keep a
@@ -311,6 +312,14 @@ TEST(RigLoader, ControllerDefaultsTakeTheParameterChecks) {
   expect_error(mode, line_of(mode, "mode ="), "[controller] mode", "'newton' is not one of: exact, fd");
   const std::string u = edit("max = 1.0", "max = 2e6");
   expect_error(u, line_of(u, "max = 2e6"), "[[input]] #1 max", "out of range: 2000000 is not in [-1000000, 1000000]");
+}
+
+// A simulated plant steps at most 1 s: a slower rig has no stand-in.
+TEST(RigLoader, ARigWithAPlantRunsAtLeastOnceASecond) {
+  const std::string slow_plant = edit("rate_hz = 50", "rate_hz = 0.5", 1, rig_of(1, 1, 0)) + "\n[plant]\nkind = \"msd\"\n";
+  expect_error(slow_plant, 2, "rate_hz", "must be at least 1 Hz with a [plant] (line " +
+                                             std::to_string(line_of(slow_plant, "kind = \"msd\"")) +
+                                             "): a simulated plant steps at most 1 s, not 0.5");
 }
 
 TEST(RigLoader, PlantMustHaveTheFilesDimensions) {
