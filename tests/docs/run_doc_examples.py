@@ -14,6 +14,9 @@ here and named in the output; a fenced block whose first line is
 reads `#` as a comment) is written to NAME first, so the examples check the
 very file the document shows.
 
+Under the sanitizers (--train-lbfgs K) a `train` example that sets no
+--lbfgs runs with --lbfgs K: there it is checked for memory faults, not fit.
+
 A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
@@ -260,6 +263,9 @@ def main():
                          "continuing in the host part's --work folder; all (default): both in document order")
     ap.add_argument("--work", help="the scratch folder, emptied first by the host and all parts and kept; "
                     "default: a temporary folder removed at the end")
+    ap.add_argument("--train-lbfgs", type=int,
+                    help="a `train` example that sets no --lbfgs gets --lbfgs K: the sanitizer builds, where "
+                         "training for simulation runs ten times slower and is checked for memory faults, not fit")
     ap.add_argument("docs", nargs="+")
     a = ap.parse_args()
     if a.part == "qemu" and a.no_qemu:
@@ -311,6 +317,9 @@ def main():
                     print(f"SKIP {where}: {shown}  (the Cortex-M images were not built)")
                     skipped += 1
                     continue
+                if a.train_lbfgs is not None and len(cmd) > 1 and cmd[1] == "train" and "--lbfgs" not in cmd:
+                    cmd += ["--lbfgs", str(a.train_lbfgs)]
+                    shown += f"  (--lbfgs {a.train_lbfgs} added: --train-lbfgs)"
                 started = time.time()
                 if cmd[0] == a.firmware_sim:
                     p = subprocess.Popen(cmd, env=env, cwd=work, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
