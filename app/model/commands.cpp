@@ -519,8 +519,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--patience", train_args->patience, "stop after this many epochs without a better validation loss")->type_name("P");
   tr->add_option("--y-noise", train_args->y_noise,
                  "sigma of noise added to the y-history inputs while training (normalised units),\n"
-                 "(one-step objective: 0.05 by default for hasel/tendon, so the model survives its own\n"
-                 "predictions; simulation objective: 0)")
+                 "(one-step objective: 0.05 by default for a rig fed its own predictions, so the model survives\n"
+                 "its own predictions; simulation objective: 0.05 in the warm start, 0 for a residual model)")
       ->type_name("SIGMA");
   tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd and for a rig fed back measured outputs)");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");

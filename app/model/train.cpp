@@ -41,11 +41,10 @@ Eigen::MatrixXd targets(const Normalisation& nz, const Eigen::MatrixXd& Y, const
   return (t.rowwise() - nz.out_offset.transpose()).array().rowwise() / nz.out_scale.transpose().array();
 }
 
-bool is_single_linear(const std::vector<Layer>& l) {
+template <class L>
+bool is_single_linear(const std::vector<L>& l) {
   return l.size() == 1 && l[0].kind == LayerKind::Dense && l[0].act == Activation::Linear;
 }
-
-const std::vector<Layer>& net_specs(const Network& net) { return net.layers(); }
 
 // A single linear layer under MSE is least squares: solve it exactly
 // (column-pivoting QR copes with the near-collinear y(k), y(k-1) columns
@@ -87,7 +86,7 @@ OneStepResult warm_start(Network& net, const OneStepData& d, const TrainOptions&
   const Eigen::MatrixXd Tval = d.T.middleRows(P.val_begin, P.val_end - P.val_begin);
   auto val_loss = [&]() { return loss_of(Loss::Mse, 1.0, net.predict(Xval), Tval).value; };
   OneStepResult res;
-  if (is_single_linear(net_specs(net)) && opt.loss == Loss::Mse &&
+  if (is_single_linear(net.layers()) && opt.loss == Loss::Mse &&
       (opt.y_noise == 0.0 || opt.objective == Objective::Simulation)) {
     solve_linear(net, d.Xn.topRows(ntrain), d.T.topRows(ntrain));
     res.best_val = val_loss();
@@ -448,8 +447,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
   }
   for (const auto& size : sizes) {
     // A single linear layer starts from least squares, whatever the seed.
-    const bool linear = size.size() == 1 && size[0].kind == LayerKind::Dense && size[0].act == Activation::Linear;
-    for (int k = 0; k < (linear ? 1 : std::max(1, opt.seeds)); ++k) {
+    for (int k = 0; k < (is_single_linear(size) ? 1 : std::max(1, opt.seeds)); ++k) {
       Candidate c;
       c.layers = size;
       c.seed = opt.seed + uint64_t(k);
@@ -564,7 +562,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
 TrainOptions default_options(const PlantTarget& target, Objective objective) {
   // A named plant keeps its shipped model's options; any other rig gets a
   // small tanh network: residual (y(k+1) - y(k)) when its controller feeds
-  // back measured outputs, as msd. Trained for simulation, no rig needs the
+  // back measured outputs. Trained for simulation, no rig needs the
   // y-history noise the one-step objective relies on to make a model that
   // survives its own predictions (an absolute model trained one step on
   // noiseless measured histories tracked a 20 mm-span rig at 1.2 mm RMSE).
@@ -596,7 +594,7 @@ TrainOptions default_options(PlatformId platform, Objective objective) {
   TrainOptions o;
   o.objective = objective;
   // The y-history noise makes a one-step model that survives its own
-  // predictions: the paper's way for hasel and tendon, and the simulation
+  // predictions: the paper's way for the rigs fed their own predictions, and the simulation
   // objective's warm start (one that blows up in free run leaves L-BFGS
   // nothing to descend: Silverbox, Dense 16 tanh, 25 vs 0.06 validation
   // free-run MSE / variance without and with it).
