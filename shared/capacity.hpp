@@ -36,8 +36,13 @@ using HaselShape = NetShape<6, 3, 18, 2, DenseLayer<5>, DenseLayer<5>, DenseLaye
 using HaselAuthorsShape = NetShape<6, 3, 18, 2, DenseLayer<10>, DenseLayer<5>, DenseLayer<3>>;
 using TendonShape = NetShape<2, 3, 11, 2, GruLayer<5>, DenseLayer<5>, DenseLayer<3>>;
 
+// nd = 32 lets a one-input, one-output system keep 32 samples of each
+// history (the Wiener-Hammerstein benchmark's two third-order blocks need
+// more than 4); a rig's input vector p = nd m + dd n + w stays within
+// `inputs`, the widest rig with 4 samples of history (4 8 + 4 6 + 32), so a
+// narrow rig trades width for history and a wide one keeps short histories.
 struct HostCapacity {
-  static constexpr int m = 8, n = 6, w = 32, nd = 4;
+  static constexpr int m = 8, n = 6, w = 32, nd = 32, inputs = 88;
   static constexpr int N = 128, Nc = 4;
   static constexpr int width = 48, layers = 8, weights = 8192;
   using Shapes = ShapeList<MsdShape, HaselShape, HaselAuthorsShape, TendonShape>;

@@ -243,10 +243,15 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   }
 
   // Where a `values` rollout leaves its cu for the stencil: in the tangent
-  // buffers, which a rollout without tangents does not use (no RAM of its own).
+  // buffers, which a rollout without tangents does not use (no RAM of its
+  // own), when they hold ND rows of sums (rollout.hpp, RolloutScratch::held).
   static float (*held_sums(RolloutScratch<Cap>& s))[Cap::width] {
-    static_assert(2 * K >= ND, "the tangent buffers hold ND rows of sums");
-    return reinterpret_cast<float(*)[Cap::width]>(&s.T[0][0][0]);
+    if constexpr (2 * K >= ND) {
+      return reinterpret_cast<float(*)[Cap::width]>(&s.T[0][0][0]);
+    } else {
+      static_assert(RolloutScratch<Cap>::kHeldRows >= ND, "the scratch holds ND rows of sums");
+      return s.held;
+    }
   }
 
   // The fd stencil's rollout: U + delta e_a changes the u-slots' products

@@ -47,6 +47,12 @@ struct RolloutScratch {
   int16_t src[kQueue];         // their source: >= 0 a U column, < -1 a prediction row (-2 - row), -1 x0
   int16_t on_u[kQueue];        // the entries holding U, and those holding predictions
   int16_t on_y[kQueue];
+  // Where a `values` rollout leaves its first-layer sums for the stencil
+  // (kernels.hpp): in T, which such a rollout does not use, unless the
+  // history is longer than T holds rows (nd > 2K: a one-input rig with a
+  // long memory), and then here.
+  static constexpr int kHeldRows = Cap::nd > 2 * K ? Cap::nd : 1;
+  float held[kHeldRows][Cap::width];
 };
 
 namespace detail {

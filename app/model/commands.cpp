@@ -11,6 +11,7 @@
 #include <memory>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "app/model/atomic_file.hpp"
@@ -195,6 +196,10 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   // The rig's lags unless overridden, within what every controller holds.
   if (!a.nd.empty()) o.nd = static_cast<int>(to_long("--nd", a.nd, 1, HostCapacity::nd));
   if (!a.dd.empty()) o.dd = static_cast<int>(to_long("--dd", a.dd, 1, HostCapacity::nd));
+  if (const int p = o.nd * target.m + o.dd * target.n + target.w; p > HostCapacity::inputs)
+    throw PipelineError(fmt::format("--nd {} --dd {}: the network's input p = nd m + dd n + w = {} exceeds {} for rig "
+                                    "'{}' (m = {}, n = {}, w = {})",
+                                    o.nd, o.dd, p, HostCapacity::inputs, target.name, target.m, target.n, target.w));
   if (!a.arch.empty() || !a.hidden.empty()) {
     const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
     if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
@@ -491,8 +496,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--validate-run", train_args->validate_run,
                  "hold this recorded run out, whole, for the fit (default: the last part of each run)")
       ->type_name("ID");
-  tr->add_option("--nd", train_args->nd, "input history length (default: the rig's nd; 1..4)")->type_name("N");
-  tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..4)")->type_name("N");
+  tr->add_option("--nd", train_args->nd, "input history length (default: the rig's nd; 1..32, with p = nd m + dd n + w <= 88)")->type_name("N");
+  tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..32, with p <= 88)")->type_name("N");
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
   tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
   tr->add_option("--hidden", train_args->hidden,

@@ -18,7 +18,9 @@ namespace nlsoft::console {
 // controller (HostCapacity) holds all of it; each MCU image holds its own
 // rig's dimensions only.
 struct RigCapacity {
-  static constexpr int m = 8, n = 6, w = 32, nd = 4;
+  static constexpr int m = 8, n = 6, w = 32, nd = HostCapacity::nd;
+  // The network's input length p = nd m + dd n + w (paper, "Problem Statement").
+  static constexpr int p = HostCapacity::inputs;
   // The horizons the console's controller holds (HostCapacity).
   static constexpr int N = HostCapacity::N, Nc = HostCapacity::Nc;
 };

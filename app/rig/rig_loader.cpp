@@ -776,6 +776,12 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   read_inputs(file, root, t, rig, names, pins, limit_lines);
   read_outputs(file, root, t, rig, names, pins);
   read_sensors(file, root, t, rig, names, pins);
+  if (const int p = rig.nd * rig.m() + rig.dd * rig.n() + rig.w(); p > RigCapacity::p)
+    root.fail(root.line("nd"), "nd",
+              fmt::format("the network's input p = nd m + dd n + w = {}*{} + {}*{} + {} = {} exceeds {}: shorten the "
+                          "histories to nd = dd <= {}",
+                          rig.nd, rig.m(), rig.dd, rig.n(), rig.w(), p, RigCapacity::p,
+                          (RigCapacity::p - rig.w()) / (rig.m() + rig.n())));
   read_controller(file, root, t, rig, limit_lines);
   read_model(file, root, t, rig);
   read_plant(file, root, t, rig);

@@ -8,17 +8,34 @@
 
 namespace nlsoft::test {
 
-using ShippedCapacities = ::testing::Types<HostCapacity, HaselCapacity, HaselAuthorsCapacity, TendonCapacity, MsdCapacity>;
+// A generated image of a one-input rig with a long memory (nd = 16 > 2 Nc m):
+// its kernels keep the first layer's sums beside the tangent buffers.
+using LongHistoryShape = NetShape<1, 1, 0, 16, DenseLayer<16>, DenseLayer<1>>;
+struct LongHistoryCapacity {
+  static constexpr int m = 1, n = 1, w = 0, nd = 16;
+  static constexpr int N = 16, Nc = 1;
+  static constexpr int width = ShapeNeeds<LongHistoryShape>::width, layers = 2;
+  static constexpr int weights = ShapeNeeds<LongHistoryShape>::weights;
+  using Shapes = ShapeList<LongHistoryShape>;
+  static constexpr bool generic = false;
+};
+
+using ShippedCapacities = ::testing::Types<HostCapacity, HaselCapacity, HaselAuthorsCapacity, TendonCapacity, MsdCapacity,
+                                           LongHistoryCapacity>;
 
 // Names the typed instances after the capacity.
 struct CapacityName {
   template <class Cap>
   static std::string GetName(int) {
-    if (std::is_same_v<Cap, HostCapacity>) return "Host";
-    if (std::is_same_v<Cap, HaselCapacity>) return "Hasel";
-    if (std::is_same_v<Cap, HaselAuthorsCapacity>) return "HaselAuthors";
-    if (std::is_same_v<Cap, TendonCapacity>) return "Tendon";
-    return "Msd";
+    if constexpr (std::is_same_v<Cap, HostCapacity>) return "Host";
+    else if constexpr (std::is_same_v<Cap, HaselCapacity>) return "Hasel";
+    else if constexpr (std::is_same_v<Cap, HaselAuthorsCapacity>) return "HaselAuthors";
+    else if constexpr (std::is_same_v<Cap, TendonCapacity>) return "Tendon";
+    else if constexpr (std::is_same_v<Cap, MsdCapacity>) return "Msd";
+    else {
+      static_assert(std::is_same_v<Cap, LongHistoryCapacity>, "name every capacity");
+      return "LongHistory";
+    }
   }
 };
 

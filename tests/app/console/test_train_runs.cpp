@@ -187,7 +187,7 @@ TEST_F(TrainRuns, AValidationRunLagsAndAGapAreTheRunsAndTheUsers) {
   r = console("model info " + shell_quote(model));
   EXPECT_TRUE(contains(r.output, "m=1 n=1 w=0 nd=3 dd=3")) << r.output;
 
-  for (const std::string& bad : {std::string("--run 1 --validate-run 1"), std::string("--run 1 --nd 5")}) {
+  for (const std::string& bad : {std::string("--run 1 --validate-run 1"), std::string("--run 1 --nd 33")}) {
     r = console("train --rig msd " + bad + " --db " + shell_quote(db()) + " --out " + shell_quote(dir_.file("n.nlsm")));
     EXPECT_EQ(r.code, 2) << bad << "\n" << r.output;
   }

@@ -240,8 +240,30 @@ TEST(RigLoader, OverCapacityNamesTheFirstTableTooMany) {
   expect_error(w33, line_of(w33, "[[sensor]]", 33), "[[sensor]] #33", "over capacity: at most w = 32 sensors");
   const std::string nc5 = rig_of(1, 1, 0, 128, 5);
   expect_error(nc5, line_of(nc5, "Nc = 5"), "[controller] Nc", "over capacity: 5 exceeds the controller's Nc <= 4");
-  const std::string nd5 = edit("nd = 2", "nd = 5");
-  expect_error(nd5, 3, "nd", "must be in [1, 4]");
+  const std::string nd33 = edit("nd = 2", "nd = 33");
+  expect_error(nd33, 3, "nd", "must be in [1, 32]");
+}
+
+// Long histories for a narrow rig, short ones for a wide rig: the limit is the
+// network's input length p = nd m + dd n + w, not nd alone.
+TEST(RigLoader, HistoriesAreBoundByTheInputLength) {
+  auto with_nd = [](std::string t, int nd) {
+    for (const char* k : {"nd = 4", "dd = 4"}) {
+      const size_t at = t.find(k);
+      t.replace(at, std::string(k).size(), std::string(k).substr(0, 5) + std::to_string(nd));
+    }
+    return t;
+  };
+  EXPECT_EQ(parse_rig(with_nd(rig_of(1, 1, 0), 32), "siso.toml").nd, 32);
+  EXPECT_EQ(parse_rig(with_nd(rig_of(1, 1, 24), 32), "siso.toml").nd, 32);  // 32 + 32 + 24 = 88
+  const std::string wide = with_nd(rig_of(8, 6, 32), 5);
+  expect_error(wide, 3, "nd",
+               "the network's input p = nd m + dd n + w = 5*8 + 5*6 + 32 = 102 exceeds 88: shorten the histories to "
+               "nd = dd <= 4");
+  const std::string siso = with_nd(rig_of(1, 1, 25), 32);
+  expect_error(siso, 3, "nd",
+               "the network's input p = nd m + dd n + w = 32*1 + 32*1 + 25 = 89 exceeds 88: shorten the histories to "
+               "nd = dd <= 31");
 }
 
 TEST(RigLoader, UnknownPinListsTheBoardsPins) {
