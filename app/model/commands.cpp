@@ -513,8 +513,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--seeds", train_args->seeds, "seeds tried per size, the best kept (default 2; one-step: 1)")->type_name("K");
   tr->add_option("--sim-epochs", train_args->sim_epochs, "Adam epochs on the simulation objective before L-BFGS (default 0)")
       ->type_name("E");
-  tr->add_option("--lbfgs", train_args->lbfgs, "L-BFGS evaluations at most (default 300, fewer on large data: 15 million\n"
-                 "simulated steps in all, at least 50; 0: none)")
+  tr->add_option("--lbfgs", train_args->lbfgs, "L-BFGS evaluations at most (default: 15 million simulated steps in all,\n"
+                 "from 50 to 2000; 0: none)")
       ->type_name("K");
   tr->add_option("--epochs", train_args->epochs, "maximum one-step epochs (the warm start; default 200)")->type_name("E");
   tr->add_option("--batch", train_args->batch, "mini-batch size (default 64)")->type_name("B");

@@ -119,7 +119,7 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
   long rows = 0;
   for (const RowRange& r : train) rows += r.end - r.begin;
   const int budget = o.lbfgs_evals >= 0 ? o.lbfgs_evals
-                                        : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 300L));
+                                        : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 2000L));
   if (budget > 0 && !stopped(o)) {
     const std::vector<long> starts = window_starts(train, H, H, 0);
     struct Halt {};

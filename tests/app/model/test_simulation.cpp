@@ -62,10 +62,10 @@ void check_simulation_gradient(const std::vector<LayerSpec>& layers, bool residu
   }
 }
 
-PlantTarget tanks_target() {
+PlantTarget tanks_target(int lags = 4) {
   PlantTarget t;
   t.name = "cascaded_tanks";
-  t.m = 1, t.n = 1, t.w = 0, t.nd = 4, t.dd = 4;
+  t.m = 1, t.n = 1, t.w = 0, t.nd = lags, t.dd = lags;
   t.rate_hz = 0.25;
   t.u_lo = {0.0};
   t.u_hi = {10.0};
@@ -137,13 +137,15 @@ TEST(SimulationObjective, ALinearLayerTrainedForSimulationBeatsArxOnTheCascadedT
 
 // train's defaults for a rig with no [model] layers (two seeds of Dense 16
 // tanh and the linear layer, the best long free run kept) beat ARX on the
-// measured tanks, in free run on the official test set.
+// measured tanks, in free run on the official test set, by a margin with the
+// bench rig's 16 samples of history (tests/bench/sysid/cascaded_tanks.toml;
+// measured 0.36 V against ARX's 0.64 V).
 TEST(SimulationObjective, TrainsDefaultsBeatArxOnTheCascadedTanks) {
-  const PlantTarget t = tanks_target();
+  const PlantTarget t = tanks_target(16);
   const Series train_s = read_training_csv(tanks("train.csv"), t), test_s = read_training_csv(tanks("test.csv"), t);
   const TrainResult r = train(train_s, t, default_options(t));
   const auto [net, arx] = free_run_rmse(r, test_s, t);
-  EXPECT_LT(net, arx) << "network " << net << " V, ARX " << arx << " V";
+  EXPECT_LT(net, 0.8 * arx) << "network " << net << " V, ARX " << arx << " V";
 }
 
 // Ctrl-C (the stop flag) ends training with a model, not an error.
