@@ -1,5 +1,4 @@
 #include "app/link/session.hpp"
-#include "app/link/steady_ns.hpp"
 
 #include <fmt/format.h>
 
@@ -9,11 +8,11 @@
 #include <string>
 #include <vector>
 
-#include "app/link/protocol_version.hpp"
-#include "protocol/catalog.hpp"
 #include "app/link/port_openers.hpp"
+#include "app/link/session_words.hpp"
+#include "app/link/steady_ns.hpp"
+#include "protocol/catalog.hpp"
 #include "protocol/encoder.hpp"
-#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 
@@ -32,76 +31,7 @@ bool answers(uint8_t request, const p::FrameView& f) {
   return true;
 }
 
-std::string platform_words(uint8_t platform) {
-  if (platform < kPlatformCount) return platform_name(PlatformId(platform));
-  return platform == uint8_t(p::Platform::Custom) ? "custom" : fmt::format("#{}", platform);
-}
-
-std::string firmware_words(const p::Info& i) {
-  return fmt::format("{} {}.{}.{}", std::string(i.firmware, strnlen(i.firmware, sizeof i.firmware)), i.fw_major,
-                     i.fw_minor, i.fw_patch);
-}
-
-std::string dimension_words(const p::Info& i) {
-  return fmt::format("m={} n={} w={} nd={} dd={} max_n={} max_nc={}", i.m, i.n, i.w, i.nd, i.dd, i.max_n, i.max_nc);
-}
-
-// How `now` is not the device `was`, in words; empty if it is the same one.
-// The same device is the same rig and firmware build. Not compared: uptime
-// (a board that reset is still the same board), model_hash and param_hash
-// (an upload changes them; the console re-reads both after a reconnect),
-// loop rate and capabilities. INFO carries no serial number, so two boards
-// of one build on one rig cannot be told apart.
-std::string identity_change(const p::Info& was, const p::Info& now) {
-  std::vector<std::string> diffs;
-  if (now.platform != was.platform)
-    diffs.push_back(fmt::format("platform {} (was {})", platform_words(now.platform), platform_words(was.platform)));
-  if (firmware_words(now) != firmware_words(was))
-    diffs.push_back(fmt::format("firmware {} (was {})", firmware_words(now), firmware_words(was)));
-  if (dimension_words(now) != dimension_words(was))
-    diffs.push_back(fmt::format("dimensions {} (was {})", dimension_words(now), dimension_words(was)));
-  std::string out;
-  for (const std::string& d : diffs) out += (out.empty() ? "" : "; ") + d;
-  return out;
-}
-
 }  // namespace
-
-std::string wait_words(Clock::duration d) {
-  const double ms = std::chrono::duration<double, std::milli>(d).count();
-  // Whole milliseconds, truncated: a wait never reads longer than it was.
-  return ms < 10000 ? fmt::format("{} ms", int64_t(ms)) : fmt::format("{:.1f} s", ms / 1000);
-}
-
-std::string heard_words(const LineHeard& h, const std::string& port) {
-  switch (h.kind) {
-    case LineHeard::Kind::Nothing: return fmt::format("nothing arrived from {}", port);
-    case LineHeard::Kind::Noise:
-      return fmt::format("{} bytes arrived from {}, none of them a valid frame (another baud rate, or not an nlsoft "
-                         "firmware?)", h.bytes, port);
-    case LineHeard::Kind::Echo:
-      return fmt::format("the console's own frames came back from {} ({} of them) and nothing else: the line echoes "
-                         "what is sent (a loopback, a terminal in echo mode, or a pseudo-terminal with nothing at its "
-                         "other end), no firmware answers there",
-                         port, h.frames);
-    case LineHeard::Kind::OtherVersion:
-      return fmt::format("the firmware at {} speaks protocol v{}, this console {}", port, h.version,
-                         protocol_version_text());
-    case LineHeard::Kind::Frames: break;
-  }
-  return "";
-}
-
-const char* link_event_name(LinkEvent::Kind k) {
-  switch (k) {
-    case LinkEvent::Kind::Down: return "down";
-    case LinkEvent::Kind::Up: return "up";
-    case LinkEvent::Kind::Silent: return "silent";
-    case LinkEvent::Kind::Resumed: return "resumed";
-    case LinkEvent::Kind::Foreign: return "foreign";
-  }
-  return "?";
-}
 
 bool unpack_info(const Reply& r, p::InfoEx& out) {
   if (r.type == uint8_t(p::MsgType::InfoEx)) return p::unpack(r.payload, r.length, out) == p::StatusCode::Ok;
@@ -150,7 +80,7 @@ void Session::open(const std::string& path, unsigned baud) {
       have_tseq_ = false;
       have_last_status_ = false;
     }
-    post_event({LinkEvent::Kind::Down, fmt::format("{}: {}", link_.path(), why)});
+    post_event({LinkEvent::Kind::Down, down_words(link_.path(), why)});
   };
   h.on_up = [this] {
     last_frame_ns_ = now_ns();
@@ -163,7 +93,7 @@ void Session::open(const std::string& path, unsigned baud) {
       stats_.connected = true;
       ++stats_.reconnects;
     }
-    post_event({LinkEvent::Kind::Up, link_.path() + " reopened"});
+    post_event({LinkEvent::Kind::Up, reopened_words(link_.path())});
   };
   {
     std::lock_guard<std::mutex> lock(identity_mu_);
@@ -237,14 +167,10 @@ void Session::supervise() {
     } else if (now_silent != silent) {
       silent = now_silent;
       frames_at_silence = frames_now;
-      std::string detail = "frames arriving again";
-      if (silent) {
-        detail = fmt::format("no valid frame for {} ms", options_.silence_limit.count());
-        if (now_ns() - last_echo_ns_.load() < std::chrono::nanoseconds(options_.silence_limit).count())
-          detail += "; only the console's own frames come back: the line echoes";
-        if (const auto others = other_openers(link_.path()); !others.empty())
-          detail += "; " + also_open_words(others, "the port");
-      }
+      const bool echoing =
+          silent && now_ns() - last_echo_ns_.load() < std::chrono::nanoseconds(options_.silence_limit).count();
+      const std::string detail = silence_words(silent, options_.silence_limit, echoing,
+                                               silent ? other_openers(link_.path()) : std::vector<PortOpener>{});
       batch.push_back({silent ? LinkEvent::Kind::Silent : LinkEvent::Kind::Resumed, detail});
     }
     const auto now = Clock::now();
@@ -433,14 +359,14 @@ void Session::check_peer() {
     if (losses_ != losses) return;
     std::string change;
     if (!unpack_info(r, now_ex))
-      change = fmt::format("it answers INFO_GET with {}", message_name(r.type));
+      change = not_info_words(r.type);
     else
       change = identity_change(identity_, now);
     if (change.empty()) {
       identity_ = now;  // the hashes may have changed; the console re-reads them
       peer_ = Peer::Known;
     } else {
-      refusal = foreign_ = fmt::format("a different device now answers at {}: {}", link_.path(), change);
+      refusal = foreign_ = foreign_words(link_.path(), change);
       peer_ = Peer::Foreign;
     }
   }
@@ -454,7 +380,7 @@ void Session::check_peer() {
     ++stats_.reconnects;
   }
   last_frame_ns_ = now_ns();
-  post_event({LinkEvent::Kind::Up, link_.path() + " reopened, the same device answers"});
+  post_event({LinkEvent::Kind::Up, same_device_words(link_.path())});
 }
 
 void Session::keepalive() {
@@ -538,7 +464,7 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
   uint8_t wire[p::kWireBufferSize];
   const uint8_t seq = next_seq_++;
   const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
-  if (n == 0) throw LinkError(fmt::format("cannot encode {}: payload breaks the message's length rule", message_name(type)));
+  if (n == 0) throw LinkError(unencodable_words(type));
   const auto per_try = type == uint8_t(p::MsgType::XferCommit) ? options_.commit_timeout : options_.timeout;
   LinkStats before;
   {
@@ -554,44 +480,31 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
   int sent = 0;
   const auto began = Clock::now();
   if (auto r = exchange_locked(req, identifying, sent)) return *r;
-  const std::string waited = wait_words(Clock::now() - began);
+  NoReply why;
+  why.waited = Clock::now() - began;
   {
     std::lock_guard<std::mutex> lock(stats_mu_);
     ++stats_.timeouts;
   }
-  // The tries and the time actually waited: --timeout is per try.
-  const std::string each = fmt::format("{} ms each", per_try.count());
-  std::string why =
-      sent == 0 ? fmt::format("{} not sent: {} was down for all {} tries ({} in all)", message_name(type), link_.path(),
-                              options_.tries, waited)
-      : sent == options_.tries
-          ? fmt::format("no reply to {} after {} {}, {} ({} in all)", message_name(type), sent,
-                        sent == 1 ? "try" : "tries", each, waited)
-          : fmt::format("no reply to {}: {} of {} tries sent ({} was down for the others), {} ({} in all)",
-                        message_name(type), sent, options_.tries, link_.path(), each, waited);
-  bool said_version = false;
-  if (link_.is_up() && peer_ == Peer::Known) {
-    const LineHeard h = heard_since(before);
-    said_version = h.kind == LineHeard::Kind::OtherVersion;
-    if (h.kind == LineHeard::Kind::Nothing)
-      why += "; " + heard_words(h, link_.path()) + ": is the firmware running? (a slow device needs a longer --timeout)";
-    else if (h.kind != LineHeard::Kind::Frames)
-      why += "; " + heard_words(h, link_.path());
-    if (const auto others = other_openers(link_.path()); !others.empty())
-      why += "; " + also_open_words(others, link_.path()) + " and takes bytes meant for this console";
+  why.type = type;
+  why.sent = sent;
+  why.tries = options_.tries;
+  why.per_try = per_try;
+  why.port = link_.path();
+  why.up = link_.is_up();
+  why.will_reopen = link_.will_reopen();
+  const Peer peer = peer_.load();
+  if (why.up && peer == Peer::Known) {
+    why.heard = heard_since(before);
+    why.others = other_openers(link_.path());
   }
-  if (!link_.is_up()) {
-    why += link_.will_reopen() ? fmt::format("; {} is down, reconnecting", link_.path())
-                               : fmt::format("; {} is down for good (a pseudo-terminal does not come back)", link_.path());
-  } else if (peer_ == Peer::Unchecked) {
-    why += fmt::format("; {} reopened, waiting for the device to identify itself", link_.path());
-  } else if (peer_ == Peer::Foreign) {
+  why.unchecked = peer == Peer::Unchecked;
+  if (peer == Peer::Foreign) {
     std::lock_guard<std::mutex> lock(identity_mu_);
-    why += "; " + foreign_;
+    why.foreign = foreign_;
   }
-  if (const uint8_t v = foreign_version_.load(); v != 0 && !said_version)
-    why += fmt::format("; the firmware speaks protocol v{}, this console {}", v, protocol_version_text());
-  throw LinkError(why);
+  why.foreign_version = foreign_version_.load();
+  throw LinkError(no_reply_words(why));
 }
 
 void Session::throw_nack(const Reply& r) const {
@@ -601,8 +514,7 @@ void Session::throw_nack(const Reply& r) const {
 }
 
 void Session::unexpected(const Reply& r, uint8_t request_type) const {
-  throw LinkError(fmt::format("unexpected reply {} ({} bytes) to {}", message_name(r.type), r.length,
-                              message_name(request_type)));
+  throw LinkError(unexpected_reply_words(r.type, r.length, request_type));
 }
 
 LineHeard Session::heard_since(const LinkStats& before) const {
@@ -624,20 +536,7 @@ LineHeard Session::heard_since(const LinkStats& before) const {
 }
 
 std::string Session::no_info_words(const LinkStats& before, Clock::duration waited, unsigned baud) const {
-  const LineHeard h = heard_since(before);
-  std::string why = fmt::format("no INFO in {} of asking: ", wait_words(waited));
-  switch (h.kind) {
-    case LineHeard::Kind::Nothing:
-      why += heard_words(h, link_.path()) + fmt::format(": is the firmware running, at {} baud?", baud);
-      break;
-    case LineHeard::Kind::Noise: why += heard_words(h, link_.path()) + fmt::format("; read at {} baud", baud); break;
-    case LineHeard::Kind::Frames:
-      why += fmt::format("{} frames arrived from {}, none of them an answer to INFO_GET", h.frames, link_.path());
-      break;
-    default: why += heard_words(h, link_.path());
-  }
-  if (!link_.is_up()) why += fmt::format("; {} is down", link_.path());
-  return why;
+  return console::no_info_words(heard_since(before), link_.path(), waited, baud, link_.is_up());
 }
 
 LinkStats Session::stats() const {

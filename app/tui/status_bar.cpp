@@ -2,6 +2,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
+#include "app/tui/key_table.hpp"
+
 namespace nlsoft::console::tui {
 
 namespace {
@@ -37,52 +41,37 @@ void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, con
   put(y, 0, fit_fields(fields, " | ", size_t(w), screen.ellipsis()), w, screen.attr(role));
 }
 
-namespace {
-
-struct Key {
-  const char* key;
-  const char* label;  // on a wide bar
-  const char* brief;  // when the wide labels do not fit
-  int keep;           // labels go lowest first when even the brief ones do not fit
-};
-
-// In bar order; `keep`: 11 is the last label to go.
-constexpr Key kKeys[] = {
-    {"F1", "Help", "Help", 10},    {"F2", "Params", "Par", 2}, {"F3", "Ref", "Ref", 1},    {"F4", "Runs", "Runs", 0},
-    {"F5", "Start", "Start", 9},   {"F6", "Stop", "Stop", 8},  {"F7", "Hold", "Hold", 4},  {"F8", "Neutral", "Neut", 3},
-    {":", "Cmd", "Cmd", 5},        {"v", "View", "View", 6},   {"w", "Panel", "Panel", 7}, {"q", "Quit", "Quit", 11}};
-// While the simulator is down: first on the bar, and its label the last to go.
-constexpr Key kRestart = {"R", "Restart", "Restart", 12};
-
-}  // namespace
-
 std::vector<std::pair<std::string, std::string>> key_bar_items(int w, bool restart) {
-  std::vector<Key> keys;
-  if (restart) keys.push_back(kRestart);
-  keys.insert(keys.end(), std::begin(kKeys), std::end(kKeys));
+  const std::vector<const KeyBinding*> keys = bar_bindings(restart);
+  std::vector<std::string> names;
+  int last_keep = 0;  // the label the bar keeps longest
+  for (const KeyBinding* k : keys) {
+    names.push_back(k->keys.front().name);
+    last_keep = std::max(last_keep, k->keep);
+  }
   const size_t kKeyCount = keys.size();
   std::vector<std::pair<std::string, std::string>> items;
   // htop's look when it fits: each label padded to 7 columns.
   int width = 0;
-  for (const Key& k : keys) width += int(std::string(k.key).size()) + 7;
+  for (const std::string& n : names) width += int(n.size()) + 7;
   if (width <= w) {
-    for (const Key& k : keys) items.emplace_back(k.key, fmt::format("{:<7}", k.label));
+    for (size_t i = 0; i < kKeyCount; ++i) items.emplace_back(names[i], fmt::format("{:<7}", keys[i]->label));
     return items;
   }
   // Narrower: every key stays; brief labels one space apart, and where even
   // those do not fit the least needed labels go, so the keys never do.
   std::vector<std::string> labels;
-  for (const Key& k : keys) labels.emplace_back(k.brief);
+  for (const KeyBinding* k : keys) labels.emplace_back(k->brief);
   auto total = [&] {
     int t = 0;
-    for (size_t i = 0; i < kKeyCount; ++i) t += int(std::string(keys[i].key).size() + labels[i].size()) + 1;
+    for (size_t i = 0; i < kKeyCount; ++i) t += int(names[i].size() + labels[i].size()) + 1;
     return t - 1;
   };
-  for (int keep = 0; keep <= kRestart.keep && total() > w; ++keep)
+  for (int keep = 0; keep <= last_keep && total() > w; ++keep)
     for (size_t i = 0; i < kKeyCount; ++i)
-      if (keys[i].keep == keep) labels[i].clear();
+      if (keys[i]->keep == keep) labels[i].clear();
   for (size_t i = 0; i < kKeyCount; ++i)
-    items.emplace_back(keys[i].key, i + 1 < kKeyCount ? labels[i] + " " : labels[i]);
+    items.emplace_back(names[i], i + 1 < kKeyCount ? labels[i] + " " : labels[i]);
   return items;
 }
 

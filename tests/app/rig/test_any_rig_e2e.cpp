@@ -9,8 +9,8 @@
 #include <sstream>
 #include <string>
 
-#include "app/console/run_process.hpp"
-#include "app/console/temp_dir.hpp"
+#include "app/support/run_process.hpp"
+#include "app/support/temp_dir.hpp"
 
 namespace nlsoft::test {
 namespace {

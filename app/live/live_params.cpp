@@ -1,0 +1,206 @@
+// Parameters by name, one element or whole, and parameter files: saved,
+// loaded all or nothing, compared with and reset to the rig's defaults.
+#include "app/live/live_console.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <sstream>
+
+#include "app/cli_error.hpp"
+#include "app/input_file.hpp"
+#include "app/live/param_defaults.hpp"
+#include "app/live/param_text.hpp"
+#include "app/output_file.hpp"
+#include "app/printable.hpp"
+#include "app/record/run_edit.hpp"
+
+namespace nlsoft::console {
+
+namespace p = nlsoft::protocol;
+
+namespace {
+
+// "Q[1]" -> ("Q", 1); "Q" -> ("Q", -1).
+std::pair<std::string, int> split_element(const std::string& name) {
+  const size_t open = name.find('[');
+  if (open != std::string::npos && name.back() == ']') {
+    const std::string idx = name.substr(open + 1, name.size() - open - 2);
+    char* end = nullptr;
+    const long i = std::strtol(idx.c_str(), &end, 10);
+    if (idx.empty() || *end != '\0' || i < 0) throw CliError(fmt::format("'{}': bad element index", name));
+    return {name.substr(0, open), int(i)};
+  }
+  return {name, -1};
+}
+
+}  // namespace
+
+std::pair<ParamInfo, int> LiveConsole::resolve_param(const std::string& name) const {
+  const auto cat = device_->catalog();
+  auto [base, element] = split_element(name);
+  const ParamInfo* info = cat->find(base);
+  if (!info && element < 0) {
+    // "Q0" = Q[0], as in `sweep Q0 1e5 1e6`.
+    size_t d = base.size();
+    while (d > 0 && std::isdigit(static_cast<unsigned char>(base[d - 1]))) --d;
+    if (d > 0 && d < base.size() && cat->find(base.substr(0, d))) {
+      element = std::atoi(base.c_str() + d);
+      info = cat->find(base.substr(0, d));
+    }
+  }
+  if (!info) cat->require(base);  // throws with the known names
+  if (element >= int(info->size))
+    throw CliError(fmt::format("{}[{}]: {} has {} element{} (0..{})", info->name, element, info->name, info->size,
+                               info->size == 1 ? "" : "s", info->size - 1));
+  return {*info, element};
+}
+
+std::vector<double> LiveConsole::set_param(const std::string& name, const std::vector<std::string>& values) {
+  const auto [pinfo, element] = resolve_param(name);
+  const ParamInfo* info = &pinfo;
+  std::vector<double> v;
+  if (element >= 0) {
+    ParamInfo one = *info;
+    one.size = 1;
+    const std::vector<double> x = parse_param_values(one, expand_param_tokens(one, values));
+    v = device_->get(*info);
+    v[size_t(element)] = x[0];
+  } else {
+    v = parse_param_values(*info, expand_param_tokens(*info, values));
+  }
+  return apply_param(*info, v);
+}
+
+std::vector<double> LiveConsole::apply_param(const ParamInfo& info, const std::vector<double>& values) {
+  const std::vector<double> echoed = device_->set(info, values);
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    edits_.erase(std::remove_if(edits_.begin(), edits_.end(), [&](const auto& e) { return e.first.name == info.name; }),
+                 edits_.end());
+    edits_.emplace_back(info, echoed);
+  }
+  if (const int64_t run = run_id_.load()) {
+    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started()).count();
+    recorder_->add_param_change(run, t, info.name, format_param_values(info, echoed));
+  }
+  return echoed;
+}
+
+std::pair<ParamInfo, std::vector<double>> LiveConsole::get_param(const std::string& name) {
+  const ParamInfo info = resolve_param(name).first;
+  return {info, device_->get(info)};
+}
+
+void LiveConsole::save_params(const std::string& path) {
+  const auto all = device_->get_all();
+  const p::Info info = device_->info();
+  OutputFile out(path);
+  fmt::print(out.get(), "# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
+             info.fw_minor, info.fw_patch, int(info.platform), utc_now());
+  fmt::print(out.get(), "# NAME VALUES...  (load with `params load FILE`)\n");
+  for (const auto& [pi, v] : all) fmt::print(out.get(), "{} {}\n", pi.name, format_param_values(pi, v));
+  out.commit();
+}
+
+std::vector<std::string> LiveConsole::load_params(const std::string& path, bool dry_run) {
+  std::istringstream in(read_input_file(path, kParamsFile));
+  const auto cat = device_->catalog();
+  std::string line;
+  int lineno = 0;
+  // Parse and check the whole file before sending anything.
+  std::vector<WantedValue> wanted;
+  while (std::getline(in, line)) {
+    ++lineno;
+    std::istringstream ls(line);
+    std::string name;
+    if (!(ls >> name) || name[0] == '#') continue;
+    const ParamInfo* info = cat->find(name);
+    if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno,
+                                            printable_excerpt(name), cat->names()));
+    std::vector<std::string> tokens;
+    std::string t;
+    while (ls >> t) tokens.push_back(t);
+    try {
+      wanted.push_back({*info, parse_param_values(*info, expand_param_tokens(*info, tokens)), fmt::format("{}:{}", path, lineno)});
+    } catch (const CliError& e) {
+      throw CliError(fmt::format("{}:{}: {}", path, lineno, e.what()));
+    }
+  }
+  return apply_values(wanted, dry_run);
+}
+
+std::vector<LiveConsole::WantedValue> LiveConsole::defaults_wanted() const {
+  const p::Info info = device_->info();
+  const Rig& r = rig();
+  if (r.m() != info.m || r.n() != info.n)
+    throw CliError(fmt::format("rig file {} has m={} n={}; the firmware runs m={} n={}", r.file, r.m(), r.n(), info.m,
+                               info.n));
+  const auto defaults = firmware_defaults(r);
+  std::vector<WantedValue> wanted;
+  for (const ParamInfo& pi : device_->catalog()->all()) {
+    const auto d = defaults.find(pi.id);
+    if (d == defaults.end() || pi.read_only() || d->second.size() != pi.size) continue;
+    wanted.push_back({pi, d->second, "default"});
+  }
+  return wanted;
+}
+
+std::vector<std::string> LiveConsole::params_diff() {
+  std::vector<std::string> lines;
+  for (const WantedValue& w : defaults_wanted()) {
+    const std::vector<double> now = device_->get(w.info);
+    if (same_values(now, w.values)) continue;
+    lines.push_back(fmt::format("{}: {} (default {})", w.info.name, format_param_named(w.info, now),
+                                format_param_named(w.info, w.values)));
+  }
+  return lines;
+}
+
+std::vector<std::string> LiveConsole::reset_params() { return apply_values(defaults_wanted(), false); }
+
+bool LiveConsole::same_values(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (float(a[i]) != float(b[i])) return false;
+  return true;
+}
+
+std::vector<std::string> LiveConsole::apply_values(const std::vector<WantedValue>& wanted, bool dry_run) {
+  struct Change {
+    const WantedValue* want;
+    std::vector<double> from;
+  };
+  std::vector<Change> changes;
+  std::vector<std::string> diff;
+  for (const WantedValue& w : wanted) {
+    const std::vector<double> from = device_->get(w.info);
+    if (same_values(from, w.values)) continue;
+    diff.push_back(fmt::format("{}: {} -> {}", w.info.name, format_param_values(w.info, from),
+                               format_param_values(w.info, w.values)));
+    changes.push_back({&w, from});
+  }
+  if (dry_run) return diff;
+  for (size_t i = 0; i < changes.size(); ++i) {
+    try {
+      apply_param(changes[i].want->info, changes[i].want->values);
+    } catch (const std::exception& e) {
+      // All or nothing, like PARAM_SET itself: put back what went through.
+      size_t restored = 0;
+      for (size_t j = i; j-- > 0;) {
+        try {
+          apply_param(changes[j].want->info, changes[j].from);
+          ++restored;
+        } catch (...) {
+        }
+      }
+      throw CliError(fmt::format("{}: {}; {} earlier change{} rolled back, nothing changed", changes[i].want->origin,
+                                 e.what(), restored, restored == 1 ? "" : "s"));
+    }
+  }
+  return diff;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,340 @@
+// LiveConsole in process against nlsoft-firmware-sim: a timed run ends as
+// soon as its run is stopped from elsewhere (the TUI quitting, F6), instead
+// of polling for telemetry that will never come until its deadline.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <fmt/format.h>
+
+#include <atomic>
+#include <chrono>
+#include <future>
+#include <mutex>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+#include "app/link/sim_launcher.hpp"
+#include "app/live/live_console.hpp"
+#include "app/record/run_store.hpp"
+#include "app/script/script_runner.hpp"
+#include "app/support/sim_console.hpp"
+#include "app/support/temp_dir.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+class LiveConsoleRun : public ::testing::Test {
+ protected:
+  void SetUp() override { console_ = test_support::connected_sim_console("msd", dir_); }
+  // Bounded poll: the run starts on another thread.
+  bool wait_until_running() {
+    for (int i = 0; i < 3000; ++i) {
+      if (console_->running() && console_->run_samples() > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
+  test::TempDir dir_;
+  std::unique_ptr<LiveConsole> console_;
+};
+
+// A 60 s run: were run_for to wait out its deadline (2 x 60 s + 5 s), the
+// future below would not be ready within its bound.
+TEST_F(LiveConsoleRun, RunForReturnsWhenAnotherThreadStopsTheRun) {
+  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "long"); });
+  ASSERT_TRUE(wait_until_running());
+  const RunSummary stopped = console_->stop_run("stopped at quit");
+  ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready)
+      << "run_for kept polling after its run was stopped";
+  const RunSummary s = timed.get();
+  EXPECT_EQ(s.run_id, stopped.run_id);
+  EXPECT_EQ(s.end_reason, "stopped at quit");
+  EXPECT_FALSE(console_->running());
+  RunStore store(dir_.file("runs.db"));
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  EXPECT_EQ(runs[0].end_reason, "stopped at quit") << "the run is closed once, by the stop that won";
+}
+
+TEST_F(LiveConsoleRun, RunForEndsWhenCancelledAndKeepsTheRun) {
+  std::atomic<bool> cancel{false};
+  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "long", {}, &cancel); });
+  ASSERT_TRUE(wait_until_running());
+  cancel = true;
+  ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+  const RunSummary s = timed.get();
+  EXPECT_EQ(s.end_reason, "cancelled");
+  EXPECT_GT(s.metrics.samples, 0u);
+  EXPECT_FALSE(console_->running());
+}
+
+// A run whose firmware goes away, or leaves the run, must not look like a
+// run that completed. The simulator is started here, not by the console, so
+// the test can end it once the run is under way. The console reaches it
+// through a link of the test's own: killed, the simulator's /dev/pts/N is
+// free for the next pty anyone opens (another test's firmware, in a
+// parallel ctest), and a console still reconnecting by that path would take
+// it; the link is removed first, so the reconnects find nothing.
+class RunEndingBadly : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+    const std::string pty = sim_.start("msd");
+    ASSERT_FALSE(pty.empty());
+    port_ = dir_.file("board");
+    ASSERT_EQ(::symlink(pty.c_str(), port_.c_str()), 0);
+  }
+  void kill_firmware() {
+    ::unlink(port_.c_str());
+    sim_.stop();
+  }
+  void connect(std::chrono::milliseconds keepalive = std::chrono::milliseconds(300)) {
+    LiveOptions o;
+    o.port = port_;
+    o.db_path = dir_.file("runs.db");
+    o.session.keepalive = keepalive;
+    console_ = std::make_unique<LiveConsole>(o);
+    console_->connect();
+  }
+  bool wait_until_sampling() {
+    for (int i = 0; i < 3000; ++i) {
+      if (console_->running() && console_->run_samples() > 0) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+  // Runs `script` while the simulator is killed once the run has samples.
+  int script_with_firmware_dying(const std::string& text, std::vector<std::string>& out) {
+    connect();
+    ScriptRunner runner(*console_, [&](const std::string& line) { out.push_back(line); });
+    Script script;
+    script.file = "dies.nls";
+    int line = 0;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) script.commands.push_back(parse_command(l, script.file, ++line));
+    auto rc = std::async(std::launch::async, [&] { return runner.run(script); });
+    EXPECT_TRUE(wait_until_sampling());
+    kill_firmware();
+    EXPECT_EQ(rc.wait_for(std::chrono::seconds(60)), std::future_status::ready);
+    return rc.get();
+  }
+
+  test::TempDir dir_;
+  SimLauncher sim_;
+  std::string port_;
+  std::unique_ptr<LiveConsole> console_;
+};
+
+TEST_F(RunEndingBadly, FirmwareDyingMidRunEndsTheRunEarlyAndRecordsTheOutage) {
+  connect();
+  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "dies"); });
+  ASSERT_TRUE(wait_until_sampling());
+  kill_firmware();
+  ASSERT_EQ(timed.wait_for(std::chrono::seconds(60)), std::future_status::ready)
+      << "run_for waited for telemetry from a firmware that is gone";
+  const RunSummary s = timed.get();
+  EXPECT_TRUE(s.ended_early);
+  EXPECT_EQ(s.end_reason.rfind("ended early: telemetry stopped arriving", 0), 0u) << s.end_reason;
+  EXPECT_GT(s.metrics.samples, 0u);
+  EXPECT_GT(s.metrics.lost_frames, 0u) << "the steps the run did not get are counted as lost";
+  EXPECT_GT(s.metrics.wall_s, s.metrics.duration_s) << "the run lasted longer than its samples span";
+
+  RunStore store(dir_.file("runs.db"));
+  const auto gaps = store.gaps(s.run_id);
+  ASSERT_EQ(gaps.size(), 1u);
+  EXPECT_EQ(gaps[0].reason.rfind("run ended early", 0), 0u) << gaps[0].reason;
+  EXPECT_GT(gaps[0].duration_s, 0.0) << "the outage is recorded with its duration";
+  EXPECT_EQ(gaps[0].after_k + 1, s.metrics.samples) << "the gap follows the last sample";
+  EXPECT_EQ(store.run(s.run_id).lost_frames, gaps[0].lost_frames);
+}
+
+TEST_F(RunEndingBadly, AScriptWhoseRunEndsEarlyExitsOne) {
+  std::vector<std::string> out;
+  EXPECT_EQ(script_with_firmware_dying("run 60s label=dies\nexpect samples > 0\n", out), 1);
+  std::string all;
+  for (const auto& l : out) all += l + "\n";
+  EXPECT_NE(all.find("dies.nls:1: run 1 did not complete: ended early"), std::string::npos) << all;
+  EXPECT_NE(all.find("ok: samples"), std::string::npos) << "later commands still run" << all;
+}
+
+TEST_F(RunEndingBadly, EarlyOkTellsTheScriptARunMayEndEarly) {
+  std::vector<std::string> out;
+  EXPECT_EQ(script_with_firmware_dying("run 60s early=ok\n", out), 0);
+  std::string all;
+  for (const auto& l : out) all += l + "\n";
+  EXPECT_EQ(all.find("did not complete"), std::string::npos) << all;
+  EXPECT_NE(all.find("ended early"), std::string::npos) << "the summary still says how the run ended" << all;
+}
+
+// The firmware's link watchdog: with the console's keepalive slower than
+// watchdog_ms, the firmware puts the actuators in the safe state and stops
+// the run's telemetry; STATUS says why, and the run ends early at once.
+TEST_F(RunEndingBadly, AWatchdogTripEndsTheRunEarlyAndSaysSo) {
+  connect(std::chrono::milliseconds(5000));
+  console_->set_param("watchdog_ms", {"100"});
+  const RunSummary s = console_->run_for(60, "watchdog");
+  EXPECT_TRUE(s.ended_early);
+  EXPECT_NE(s.end_reason.find("link watchdog tripped"), std::string::npos) << s.end_reason;
+  // The console's own silence beside it: its keepalive every 300 ms is
+  // longer than the 100 ms watchdog, so the console is the one to blame.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(s.end_reason, m, std::regex("the console wrote at most ([0-9]+) ms apart during the run")))
+      << s.end_reason;
+  EXPECT_GE(std::stoi(m[1]), 100) << s.end_reason;
+  RunStore store(dir_.file("runs.db"));
+  ASSERT_EQ(store.gaps(s.run_id).size(), 1u);
+}
+
+// A simulator the host does not schedule for longer than watchdog_ms (a
+// loaded machine; here SIGSTOP for 1.5 s) finds the console's keep-alives
+// waiting on its port when it runs again: it reads them before its next
+// step judges the link, so the run goes on. It used to step first and trip
+// the watchdog on its own absence.
+TEST_F(RunEndingBadly, ASimulatorPausedPastTheWatchdogDoesNotBlameTheConsole) {
+  connect();
+  std::atomic<bool> cancel{false};
+  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "paused", {}, &cancel); });
+  ASSERT_TRUE(wait_until_sampling());
+  ASSERT_EQ(::kill(sim_.pid(), SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // watchdog_ms is 1000
+  ASSERT_EQ(::kill(sim_.pid(), SIGCONT), 0);
+  const uint64_t before = console_->run_samples();
+  for (int i = 0; i < 300 && console_->run_samples() < before + 100; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_GE(console_->run_samples(), before + 100) << "the run's telemetry did not resume";
+  cancel = true;
+  ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+  const RunSummary s = timed.get();
+  EXPECT_FALSE(s.ended_early) << s.end_reason;
+  EXPECT_EQ(s.end_reason, "cancelled");
+}
+
+// A hold asked for by the user pauses telemetry on purpose: that is not the
+// firmware going away.
+TEST_F(RunEndingBadly, AUserHoldIsNotTakenForAnOutage) {
+  connect();
+  std::atomic<bool> cancel{false};
+  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "held", {}, &cancel); });
+  ASSERT_TRUE(wait_until_sampling());
+  console_->hold(protocol::HoldMode::Hold);
+  // Longer than the silence limit (3 s) and than a STATUS period (1 s).
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  EXPECT_EQ(timed.wait_for(std::chrono::seconds(0)), std::future_status::timeout) << "the held run was ended";
+  console_->hold(protocol::HoldMode::Resume);
+  cancel = true;
+  ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
+  const RunSummary s = timed.get();
+  EXPECT_FALSE(s.ended_early) << s.end_reason;
+  EXPECT_EQ(s.end_reason, "cancelled");
+}
+
+// A board that resets while the link is down (here: the port's name now
+// leads to a freshly started firmware) has forgotten the session's edits.
+// The console notices by the firmware's uptime, re-reads the parameters,
+// names the edits lost, and sends them again on request.
+TEST(FirmwareReset, EditsLostToAResetAreNamedAndSentAgain) {
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  test::TempDir dir;
+  auto first = std::make_unique<SimLauncher>();
+  const std::string board = dir.file("board");
+  ASSERT_EQ(::symlink(first->start("msd").c_str(), board.c_str()), 0);
+  LiveOptions o;
+  o.port = board;
+  o.db_path = dir.file("runs.db");
+  // Before the console: its link threads may still say something while it
+  // shuts down.
+  std::mutex mu;
+  std::vector<std::string> said;
+  LiveConsole console(o);
+  console.set_notify([&](const std::string& l) {
+    std::lock_guard<std::mutex> lock(mu);
+    said.push_back(l);
+  });
+  console.connect();
+  const std::vector<double> lambda = console.get_param("Lambda").second;
+  console.set_param("Lambda", {fmt::format("{:g}", lambda[0] * 4)});
+  // The second firmware must boot well after the first (the console allows
+  // half a second of reply latency in its boot-time estimate).
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  // The link goes first: the dead firmware's pty may be anyone's next.
+  ASSERT_EQ(::unlink(board.c_str()), 0);
+  first.reset();
+  SimLauncher second;
+  ASSERT_EQ(::symlink(second.start("msd").c_str(), board.c_str()), 0);
+  for (int i = 0; i < 1500 && console.firmware_resets() == 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(console.firmware_resets(), 1u);
+  const auto forgotten = console.forgotten_edits();
+  ASSERT_EQ(forgotten.size(), 1u);
+  EXPECT_EQ(forgotten[0].rfind("Lambda is ", 0), 0u) << forgotten[0];
+  {
+    std::lock_guard<std::mutex> lock(mu);
+    std::string all;
+    for (const auto& l : said) all += l + "\n";
+    EXPECT_NE(all.find("the firmware has reset (its uptime says it started again"), std::string::npos) << all;
+    EXPECT_NE(all.find("1 edit is no longer in force"), std::string::npos) << all;
+  }
+  EXPECT_FLOAT_EQ(float(console.get_param("Lambda").second[0]), float(lambda[0])) << "the new firmware's default";
+  const auto sent = console.reapply_edits();
+  ASSERT_EQ(sent.size(), 1u);
+  EXPECT_FLOAT_EQ(float(console.get_param("Lambda").second[0]), float(lambda[0] * 4));
+  EXPECT_TRUE(console.forgotten_edits().empty());
+}
+
+// --wait: a board plugged in after the console started is connected to;
+// without --wait a missing port fails at once and says how to wait.
+TEST(LiveConsoleWait, APortThatAppearsLaterIsConnectedTo) {
+  ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1);
+  test::TempDir dir;
+  SimLauncher sim;
+  const std::string pty = sim.start("msd");
+  LiveOptions o;
+  o.port = dir.file("ttyACM7");
+  o.db_path = dir.file("runs.db");
+  o.wait = std::chrono::milliseconds(30000);
+  std::mutex mu;
+  std::vector<std::string> said;  // before the console, which may still say something while it shuts down
+  LiveConsole console(o);
+  std::thread plug([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    (void)::symlink(pty.c_str(), o.port.c_str());
+  });
+  console.set_notify([&](const std::string& l) {
+    std::lock_guard<std::mutex> lock(mu);
+    said.push_back(l);
+  });
+  EXPECT_NO_THROW(console.connect());
+  plug.join();
+  EXPECT_EQ(console.rig().name, "msd");
+  std::lock_guard<std::mutex> lock(mu);
+  ASSERT_FALSE(said.empty());
+  EXPECT_EQ(said.front().rfind("waiting up to 30 s for " + o.port, 0), 0u) << said.front();
+}
+
+TEST(LiveConsoleWait, AMissingPortFailsAtOnceOrAfterTheWait) {
+  test::TempDir dir;
+  LiveOptions o;
+  o.port = dir.file("ttyACM7");
+  o.db_path = dir.file("runs.db");
+  try {
+    LiveConsole(o).connect();
+    FAIL() << "connected to nothing";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("does not exist: is the board plugged in? --wait SECONDS"), std::string::npos)
+        << e.what();
+  }
+  o.wait = std::chrono::milliseconds(200);
+  try {
+    LiveConsole(o).connect();
+    FAIL() << "connected to nothing";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("did not appear within 0.2 s"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace nlsoft::console
