@@ -4,7 +4,6 @@
 
 #include "app/cli_error.hpp"
 #include "app/rig/rig_reference.hpp"
-#include "shared/reference_presets.hpp"
 
 namespace nlsoft::console {
 
@@ -29,13 +28,6 @@ const std::vector<std::string>& reference_names() {
   return names;
 }
 
-std::string default_reference(PlatformId platform) {
-  const RefKind k = default_reference_kind(platform);
-  for (const Named& n : kNames)
-    if (n.kind == k) return n.name;
-  return "hold";
-}
-
 namespace {
 
 RefKind kind_of(const std::string& name) {
@@ -47,10 +39,6 @@ RefKind kind_of(const std::string& name) {
 }
 
 }  // namespace
-
-RefParams reference_preset(PlatformId platform, const std::string& name) {
-  return nlsoft::reference_preset(platform, kind_of(name));
-}
 
 RefParams reference_preset(const Rig& rig, const std::string& name) { return rig_reference(rig, kind_of(name)); }
 

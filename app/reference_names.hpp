@@ -1,10 +1,9 @@
 #pragma once
-// Reference paths sized for each platform's task space, by name.
+// Reference paths sized for a rig's task space (its [reference]), by name.
 #include <string>
 #include <vector>
 
 #include "app/rig/rig.hpp"
-#include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
@@ -12,14 +11,10 @@ namespace nlsoft::console {
 // Names accepted by --reference: infinity, pringle, diagonal, swirl, steps, hold.
 const std::vector<std::string>& reference_names();
 
-// Throws CliError for an unknown name.
-RefParams reference_preset(PlatformId platform, const std::string& name);
-
-// The platform's default task (paper): msd steps, hasel swirl, tendon infinity.
-std::string default_reference(PlatformId platform);
-
-// The same for a rig file: its [reference] geometry and default kind.
+// The path `name` on `rig` (its [reference] geometry); throws CliError for
+// an unknown name.
 RefParams reference_preset(const Rig& rig, const std::string& name);
+// The rig's default task: its [reference] kind.
 std::string default_reference(const Rig& rig);
 
 }  // namespace nlsoft::console

@@ -5,7 +5,7 @@
 // here so the whole loop can run without a rig: the host simulation, the
 // posix firmware port and the tests.
 //
-// Every plant class P has the same shape (SimPlant relies on it; the
+// Every plant class P has the same shape (the plant registry relies on it; the
 // generic plant, shared/plant_generic.hpp, has it with run-time m(), n(),
 // w(), dt() from its spec):
 //   static constexpr int m, n, w;       inputs, outputs, sensor channels
@@ -29,7 +29,6 @@
 #include <cmath>
 #include <cstdint>
 
-#include "shared/platform_id.hpp"
 
 namespace nlsoft {
 

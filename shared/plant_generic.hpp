@@ -47,6 +47,18 @@ constexpr int kGenericMaxW = 32;
 
 enum class GenericShape : uint8_t { Linear = 0, Tanh = 1, Saturation = 2, Power = 3 };
 
+// Each shape as a rig file's `shape` names it, indexed by GenericShape.
+struct GenericShapeName {
+  GenericShape shape;
+  const char* name;
+};
+inline constexpr GenericShapeName kGenericShapes[] = {{GenericShape::Linear, "linear"},
+                                                      {GenericShape::Tanh, "tanh"},
+                                                      {GenericShape::Saturation, "saturation"},
+                                                      {GenericShape::Power, "power"}};
+static_assert(kGenericShapes[3].shape == GenericShape::Power, "kGenericShapes is indexed by GenericShape");
+constexpr const char* generic_shape_name(GenericShape s) { return kGenericShapes[uint8_t(s)].name; }
+
 struct GenericInputSpec {
   float min = 0.0f, max = 1.0f, neutral = 0.0f;  // input units
   float gain = 1.0f;                             // actuator state per shaped input unit

@@ -51,7 +51,6 @@ namespace nlsoft {
 class HaselPlant {
  public:
   static constexpr int m = 6, n = 3, w = 18;
-  static constexpr PlatformId kId = PlatformId::Hasel;
   static constexpr float kDt = 1.0f / 130.0f;
 
   static constexpr float kPlay = 0.03f;     // h

@@ -23,7 +23,6 @@ namespace nlsoft {
 class MsdPlant {
  public:
   static constexpr int m = 1, n = 1, w = 0;
-  static constexpr PlatformId kId = PlatformId::Msd;
   static constexpr float kDt = 1e-3f;  // 1 kHz (docs/platforms.md)
 
   static constexpr float kStiffness = 40.0f;  // k, N/m

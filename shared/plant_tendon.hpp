@@ -49,7 +49,6 @@ namespace nlsoft {
 class TendonPlant {
  public:
   static constexpr int m = 2, n = 3, w = 11;
-  static constexpr PlatformId kId = PlatformId::Tendon;
   static constexpr float kDt = 1.0f / 120.0f;
 
   static constexpr float kUMax = 1.2f;     // rad

@@ -451,7 +451,7 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
     throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
   }
   const Rig rig = load_rig_arg(rig_arg);
-  if (rig.plant.kind.empty())
+  if (rig.plant.kind == nullptr)
     throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: QEMU runs an image with the simulated plant in the "
                                "loop; `firmware build --rig {}` builds its board image",
                                who, rig.name, rig.file, rig.file));

@@ -58,18 +58,6 @@ std::string layer_type(const RigLayer& l) {
   return fmt::format("{}<{}>", l.kind == "gru" ? "GruLayer" : "DenseLayer", l.units);
 }
 
-// The named plants an image can carry: the kind's header and class.
-struct NamedPlant {
-  const char* kind;
-  const char* header;
-  const char* type;
-};
-constexpr NamedPlant kNamedPlants[] = {
-    {"msd", "shared/plant_msd.hpp", "MsdPlant"},
-    {"hasel", "shared/plant_hasel.hpp", "HaselPlant"},
-    {"tendon", "shared/plant_tendon.hpp", "TendonPlant"},
-};
-
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {};
@@ -213,18 +201,14 @@ std::string generic_plant_part(const Rig& rig) {
 }  // namespace
 
 std::string plant_part(const Rig& rig) {
-  if (rig.plant.kind.empty()) return "";
+  if (rig.plant.kind == nullptr) return "";
   if (has_generic_plant(rig)) return generic_plant_part(rig);
-  for (const NamedPlant& p : kNamedPlants)
-    if (rig.plant.kind == p.kind)
-      return fmt::format("}}  // namespace nlsoft::fw::cortex_m\n#include \"{}\"\nnamespace nlsoft::fw::cortex_m {{\n"
+  const PlantEntry& p = *rig.plant.kind;
+  return fmt::format("}}  // namespace nlsoft::fw::cortex_m\n#include \"{}\"\nnamespace nlsoft::fw::cortex_m {{\n"
                          "// The simulated plant of the HIL image ([plant] kind = \"{}\").\nusing Plant = {};\n"
                          "static_assert(Plant::m == kRig.m && Plant::n == kRig.n && Plant::w == kRig.w, "
                          "\"the plant's dimensions are the rig's\");\n",
-                         p.header, p.kind, p.type);
-  fail(rig, rig.plant.line, "[plant] kind",
-       fmt::format("no image carries a '{}' plant (the HIL images carry msd, hasel, tendon and generic)",
-                   rig.plant.kind));
+                         p.header, p.name, p.type);
 }
 
 std::string pins_part(const Rig& rig, const std::string& board) {

@@ -13,7 +13,6 @@
 #include "app/progress_bar.hpp"
 #include "app/record/sqlite.hpp"
 #include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_firmware.hpp"
 #include "app/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
@@ -106,7 +105,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
     o.rig_file = rig_path(a.qemu);
   } else if (!a.sim.empty()) {
     o.sim_rig = rig_path(a.sim);
-    require_simulated_plant(load_rig_arg(o.sim_rig), who + "--sim");
+    simulated_plant(load_rig_arg(o.sim_rig), who + "--sim");
     o.rig_file = o.sim_rig;
   } else if (!a.rig.empty()) {
     o.rig_file = rig_path(a.rig);

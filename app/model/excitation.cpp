@@ -41,12 +41,26 @@ Scales scales_for(const GenericPlantSpec& g) {
   return {hold_min, hold_max, seg_min, 5.0 * seg_min, f_max / 80.0, f_max, 4.0 * T, 0.5, false, 0.03};
 }
 
-Scales scales_for(PlatformId id) {
-  switch (id) {
-    case PlatformId::Hasel: return {0.04, 1.2, 3.0, 15.0, 0.05, 4.0, 0.15, 0.6, true, 0.03};
-    case PlatformId::Tendon: return {0.04, 1.2, 3.0, 15.0, 0.05, 3.0, 0.2, 0.5, false, 0.03};
-    default: return {0.05, 2.0, 4.0, 20.0, 0.1, 8.0, 0.1, 0.35, false, 0.02};
-  }
+// The hand-written plants' scales, indexed by PlantKind.
+constexpr Scales kHandWrittenScales[] = {
+    {0.05, 2.0, 4.0, 20.0, 0.1, 8.0, 0.1, 0.35, false, 0.02},    // msd
+    {0.04, 1.2, 3.0, 15.0, 0.05, 4.0, 0.15, 0.6, true, 0.03},    // hasel
+    {0.04, 1.2, 3.0, 15.0, 0.05, 3.0, 0.2, 0.5, false, 0.03},    // tendon
+};
+static_assert(sizeof kHandWrittenScales / sizeof kHandWrittenScales[0] == size_t(PlantKind::Generic),
+              "one row per hand-written plant");
+
+// The rig's generic plant, selected and reset; throws for a spec it refuses.
+void select_generic(SimPlant& plant, const PlantTarget& t, uint32_t seed) {
+  if (!plant.select(t.generic, seed))
+    throw PipelineError("rig '" + t.name + "': its generic plant cannot run: " + generic_spec_problem(t.generic));
+}
+
+// A hand-written plant, selected and reset; throws for the generic one.
+void select_hand_written(SimPlant& plant, PlantKind kind, uint32_t seed) {
+  if (!plant.select(kind, seed))
+    throw PipelineError("plant kind " + std::to_string(int(kind)) +
+                        " is no hand-written plant (the generic plant needs its rig's spec)");
 }
 
 class Excitation {
@@ -160,17 +174,7 @@ class Excitation {
 
 }  // namespace
 
-long default_steps(PlatformId id) {
-  switch (id) {
-    case PlatformId::Hasel: return 120000;  // 15 min at 130 Hz
-    case PlatformId::Tendon: return 120000; // 17 min at 120 Hz
-    default: return 120000;                 // 2 min at 1 kHz
-  }
-}
-
-long default_steps(const PlantTarget& t) {
-  return t.plant == TargetPlant::Named ? default_steps(t.platform) : 120000;
-}
+long default_steps(const PlantTarget&) { return 120000; }
 
 namespace {
 
@@ -205,36 +209,41 @@ void settle_at_neutral(SimPlant& plant, double* y) {
 
 }  // namespace
 
-Series generate_excitation(PlatformId id, long steps, uint32_t seed) {
+Series generate_excitation(PlantKind kind, long steps, uint32_t seed) {
   if (steps < 100) throw PipelineError("--steps must be at least 100");
-  SimPlant plant(id, seed);
-  Excitation ex(scales_for(id), id == PlatformId::Msd, plant, seed);
+  SimPlant plant;
+  select_hand_written(plant, kind, seed);
+  Excitation ex(kHandWrittenScales[uint8_t(kind)], kind == PlantKind::Msd, plant, seed);
   return record(plant, ex, steps);
 }
 
 Series generate_excitation(const PlantTarget& t, long steps, uint32_t seed) {
-  if (t.plant == TargetPlant::Named) return generate_excitation(t.platform, steps, seed);
+  if (t.plant == TargetPlant::Named) return generate_excitation(t.kind, steps, seed);
   if (t.plant == TargetPlant::None)
     throw PipelineError("rig '" + t.name + "' has no [plant]: nothing simulates it, so there is no data to record "
                         "(record the rig itself, or give the rig file a [plant])");
   if (steps < 100) throw PipelineError("--steps must be at least 100");
   SimPlant plant;
-  if (!plant.select(t.generic, seed))
-    throw PipelineError("rig '" + t.name + "': its generic plant cannot run: " + generic_spec_problem(t.generic));
+  select_generic(plant, t, seed);
   Excitation ex(scales_for(t.generic), false, plant, seed);
   return record(plant, ex, steps);
 }
 
-void neutral_output(PlatformId id, double* y) {
-  SimPlant plant(id, 0);
+void neutral_output(PlantKind kind, double* y) {
+  SimPlant plant;
+  select_hand_written(plant, kind, 0);
   settle_at_neutral(plant, y);
 }
 
 void neutral_output(const PlantTarget& t, double* y) {
-  if (t.plant == TargetPlant::Named) return neutral_output(t.platform, y);
+  if (t.plant == TargetPlant::Named) return neutral_output(t.kind, y);
+  if (t.plant == TargetPlant::None) {
+    for (int j = 0; j < t.n; ++j) y[j] = t.y_rest[size_t(j)];
+    return;
+  }
   SimPlant plant;
-  if (t.plant == TargetPlant::Generic && plant.select(t.generic, 0)) return settle_at_neutral(plant, y);
-  for (int j = 0; j < t.n; ++j) y[j] = t.y_rest[size_t(j)];
+  select_generic(plant, t, 0);
+  settle_at_neutral(plant, y);
 }
 
 }  // namespace nlsoft::pipeline

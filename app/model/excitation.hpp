@@ -14,24 +14,26 @@
 
 #include "app/model/plant_target.hpp"
 #include "app/model/series.hpp"
-#include "shared/platform_id.hpp"
+#include "shared/plant_registry.hpp"
 
 namespace nlsoft::pipeline {
 
-long default_steps(PlatformId id);
+// 120000 steps: 2 min of msd at 1 kHz, 15 of hasel at 130 Hz.
 long default_steps(const PlantTarget& t);
 
-// Row k holds u(k), y(k), l(k); the plant then advances one period with
-// u(k) held. Deterministic for (id, steps, seed).
-Series generate_excitation(PlatformId id, long steps, uint32_t seed);
+// Row k holds u(k), y(k), l(k) of the hand-written plant `kind`; the plant
+// then advances one period with u(k) held. Deterministic for (kind, steps,
+// seed); throws PipelineError for the generic plant (it needs its spec).
+Series generate_excitation(PlantKind kind, long steps, uint32_t seed);
 // The same for a rig's plant: a named one exactly as above, a generic one
 // with time scales from its lags; throws PipelineError for a rig without one.
 Series generate_excitation(const PlantTarget& t, long steps, uint32_t seed);
 
 // y of the plant resting at its neutral input: the point the outputs are
 // normalised around.
-void neutral_output(PlatformId id, double* y);
-// A rig without a plant: the middle of each output's range.
+void neutral_output(PlantKind kind, double* y);
+// A rig without a plant: its y_rest; a generic plant whose spec it refuses
+// throws PipelineError.
 void neutral_output(const PlantTarget& t, double* y);
 
 }  // namespace nlsoft::pipeline

@@ -1,13 +1,16 @@
 #include "app/model/plant_target.hpp"
 
 #include "app/model/error.hpp"
+#include "app/model/train.hpp"
 #include "shared/platform.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::pipeline {
 
 PlantTarget platform_target(PlatformId id) {
-  const SimPlant plant(id);
+  SimPlant plant;
+  const PlantEntry* e = find_plant(platform_name(id));
+  if (e == nullptr || !plant.select(e->kind)) throw PipelineError(std::string("no plant simulates ") + platform_name(id));
   PlantTarget t;
   t.name = platform_name(id);
   t.m = plant.m(), t.n = plant.n(), t.w = plant.w();
@@ -25,7 +28,10 @@ PlantTarget platform_target(PlatformId id) {
   }
   t.y_unit = id == PlatformId::Msd ? "m" : "mm";
   t.plant = TargetPlant::Named;
-  t.platform = id;
+  t.kind = e->kind;
+  t.measured_feedback = preset(id).feedback == Feedback::Measured;
+  t.layers = default_options(id).layers;
+  t.platform = uint8_t(id);
   return t;
 }
 

@@ -9,6 +9,7 @@
 
 #include "app/model/network.hpp"
 #include "shared/plant_generic.hpp"
+#include "shared/plant_registry.hpp"
 #include "shared/platform_id.hpp"
 
 namespace nlsoft::pipeline {
@@ -29,7 +30,8 @@ struct PlantTarget {
   // scales and training defaults), a generic one, or none (data from the
   // rig itself; train centres the outputs on y_rest).
   TargetPlant plant = TargetPlant::None;
-  PlatformId platform = PlatformId::Msd;  // TargetPlant::Named
+  PlantKind kind = PlantKind::Msd;        // TargetPlant::Named
+  uint8_t platform = 255;                 // the model file's platform number (INFO's), 255: none
   GenericPlantSpec generic{};             // TargetPlant::Generic
   std::vector<LayerSpec> layers;          // the rig's [model] layers; empty: the defaults
   // The controller feeds back the measured output (else its own

@@ -541,7 +541,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
   res.stopped = opt.stop && opt.stop->load();
 
   // The model file names a compiled-in platform, or none (255).
-  res.model = tn.export_model(target.plant == TargetPlant::Named ? static_cast<uint8_t>(target.platform) : uint8_t(255));
+  res.model = tn.export_model(target.platform);
   res.test = evaluate(res.model, d, pooled.test_pieces);
   // The baseline beside it; a training part too short for its
   // coefficients leaves none (theta empty) rather than refuse the model.
@@ -560,27 +560,22 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
 }
 
 TrainOptions default_options(const PlantTarget& target, Objective objective) {
-  // A named plant keeps its shipped model's options; any other rig gets a
-  // small tanh network: residual (y(k+1) - y(k)) when its controller feeds
-  // back measured outputs. Trained for simulation, no rig needs the
+  // The rig's [model] layers, or a small tanh network: residual
+  // (y(k+1) - y(k)) when its controller feeds back measured outputs. Trained for simulation, no rig needs the
   // y-history noise the one-step objective relies on to make a model that
   // survives its own predictions (an absolute model trained one step on
   // noiseless measured histories tracked a 20 mm-span rig at 1.2 mm RMSE).
   TrainOptions o;
-  if (target.plant == TargetPlant::Named) {
-    o = default_options(target.platform, objective);
-  } else {
-    o.objective = objective;
-    o.layers = {{LayerKind::Dense, 16, Activation::Tanh}, {LayerKind::Dense, target.n, Activation::Tanh}};
-    o.residual = target.measured_feedback;
-    o.y_noise = target.measured_feedback ? 0.0 : 0.05;
-    // With no shape in the rig file, a single linear layer (the output-error
-    // model) is a candidate too: where the network does not simulate the
-    // validation rows better, the rig gets the linear model, which
-    // contains ARX's.
-    if (target.layers.empty() && objective == Objective::Simulation)
-      o.alternatives.push_back({{LayerKind::Dense, target.n, Activation::Linear}});
-  }
+  o.objective = objective;
+  o.layers = {{LayerKind::Dense, 16, Activation::Tanh}, {LayerKind::Dense, target.n, Activation::Tanh}};
+  o.residual = target.measured_feedback;
+  o.y_noise = target.measured_feedback ? 0.0 : 0.05;
+  // With no shape in the rig file, a single linear layer (the output-error
+  // model) is a candidate too: where the network does not simulate the
+  // validation rows better, the rig gets the linear model, which
+  // contains ARX's.
+  if (target.layers.empty() && objective == Objective::Simulation)
+    o.alternatives.push_back({{LayerKind::Dense, target.n, Activation::Linear}});
   if (!target.layers.empty()) o.layers = target.layers;
   o.nd = target.nd;
   o.dd = target.dd;

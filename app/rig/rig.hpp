@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "shared/params.hpp"
+#include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
@@ -91,13 +92,15 @@ struct RigModel {
 // One actuator of a generic plant ([[plant.actuator]], shared/plant_generic.hpp).
 struct RigActuator {
   double gain = 1;
-  std::string shape = "linear";  // linear, tanh, saturation, power
+  GenericShape shape = GenericShape::Linear;
   double knee = 1, exponent = 1;  // tanh/saturation; power
   double play = 0, tau = 0;       // hysteresis half-width (input units); lag, s
 };
 
 struct RigPlant {
-  std::string kind;  // msd, hasel, tendon (a hand-written plant), generic; empty: none
+  // The plant registry's row `kind` names (shared/plant_registry.hpp);
+  // nullptr: the file has no [plant].
+  const PlantEntry* kind = nullptr;
   int line = 0;
   // kind = "generic": every constant of the plant, in the rig's units.
   std::vector<RigActuator> actuators;              // one per [[input]]

@@ -6,6 +6,7 @@
 
 #include "app/cli_error.hpp"
 #include "app/rig/rig_catalog.hpp"
+#include "app/rig/rig_plant.hpp"
 #include "app/rig/rig_reference.hpp"
 
 namespace nlsoft::console {
@@ -55,12 +56,12 @@ nlohmann::json to_json(const Rig& r) {
     layers.push_back(e);
   }
   j["model"] = {{"file", r.model.file}, {"layers", layers}};
-  j["plant"] = r.plant.kind.empty() ? json(nullptr) : json(r.plant.kind);
-  if (r.plant.kind == "generic") {
+  j["plant"] = r.plant.kind == nullptr ? json(nullptr) : json(r.plant.kind->name);
+  if (has_generic_plant(r)) {
     const RigPlant& p = r.plant;
     json acts = json::array();
     for (const RigActuator& a : p.actuators)
-      acts.push_back({{"gain", a.gain}, {"shape", a.shape}, {"knee", a.knee}, {"exponent", a.exponent},
+      acts.push_back({{"gain", a.gain}, {"shape", generic_shape_name(a.shape)}, {"knee", a.knee}, {"exponent", a.exponent},
                       {"play", a.play}, {"tau", a.tau}});
     j["generic_plant"] = {{"actuators", acts},           {"coupling", p.coupling},
                           {"output_offset", p.output_offset}, {"output_tau", p.output_tau},
@@ -110,9 +111,9 @@ void print_summary(const Rig& r) {
   fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : r.model.file,
              layers.empty() ? "" : " (" + layers + ")");
   std::string shapes;
-  for (const RigActuator& a : r.plant.actuators) shapes += (shapes.empty() ? "" : ", ") + a.shape;
-  fmt::print("  simulated plant: {}{}\n", r.plant.kind.empty() ? "none" : r.plant.kind,
-             r.plant.kind == "generic" ? " (actuators " + shapes + ")" : "");
+  for (const RigActuator& a : r.plant.actuators) shapes += (shapes.empty() ? "" : ", ") + std::string(generic_shape_name(a.shape));
+  fmt::print("  simulated plant: {}{}\n", r.plant.kind == nullptr ? "none" : r.plant.kind->name,
+             has_generic_plant(r) ? " (actuators " + shapes + ")" : "");
   fmt::print("  default reference: {}\n", reference_kind_name(r.reference.kind));
 }
 

@@ -147,6 +147,16 @@ class Section {
       if (n == v) return v;
     fail(line(key), key, "'" + printable_excerpt(v, 40) + "' is not one of: " + join(names));
   }
+  // The value `key` names among `values`; the error lists the names.
+  template <class E>
+  E choice(const std::string& key, const std::vector<std::pair<std::string, E>>& values) const {
+    std::vector<std::string> names;
+    for (const auto& v : values) names.push_back(v.first);
+    const std::string v = choice(key, names);
+    for (const auto& c : values)
+      if (c.first == v) return c.second;
+    fail(line(key), key, "'" + v + "' has no value");  // unreachable: choice() refused it
+  }
 
   const toml::array& array(const std::string& key) const {
     const toml::node& n = node(key);
@@ -608,15 +618,19 @@ void read_generic_plant(const std::string& file, const Section& s, const toml::t
     RigActuator act;
     act.gain = a.has("gain") ? a.bounded("gain", -kBig, kBig) : 1.0;
     if (act.gain == 0) a.fail(a.line("gain"), "gain", "must not be 0 (the actuator would move nothing)");
-    if (a.has("shape")) act.shape = a.choice("shape", {"linear", "tanh", "saturation", "power"});
-    const bool kneed = act.shape == "tanh" || act.shape == "saturation";
+    if (a.has("shape")) {
+      std::vector<std::pair<std::string, GenericShape>> shapes;
+      for (const GenericShapeName& g : kGenericShapes) shapes.emplace_back(g.name, g.shape);
+      act.shape = a.choice("shape", shapes);
+    }
+    const bool kneed = act.shape == GenericShape::Tanh || act.shape == GenericShape::Saturation;
     if (kneed) {
       act.knee = a.bounded("knee", 0, kBig);
       if (!(act.knee > 0)) a.fail(a.line("knee"), "knee", "must be > 0, not " + num(act.knee));
     } else if (a.has("knee")) {
       a.fail(a.line("knee"), "knee", "only for shape = \"tanh\" or \"saturation\"");
     }
-    if (act.shape == "power") {
+    if (act.shape == GenericShape::Power) {
       act.exponent = a.bounded("exponent", 0, 8);
       if (!(act.exponent > 0)) a.fail(a.line("exponent"), "exponent", "must be > 0, not " + num(act.exponent));
     } else if (a.has("exponent")) {
@@ -662,27 +676,24 @@ void read_plant(const std::string& file, const Section& root, const toml::table&
   known.insert(known.end(), generic_keys.begin(), generic_keys.end());
   const Section s(file, *pt, "[plant]", line_of(*pt), known);
   std::vector<std::string> kinds;
-  for (int i = 0; i < kPlatformCount; ++i) kinds.push_back(platform_name(PlatformId(i)));
-  kinds.push_back("generic");
-  rig.plant.kind = s.choice("kind", kinds);
+  for (const PlantEntry& e : kPlantRegistry) kinds.push_back(e.name);
+  const PlantEntry* plant = find_plant(s.choice("kind", kinds).c_str());
+  rig.plant.kind = plant;
   rig.plant.line = s.line("kind");
-  if (rig.plant.kind == "generic") return read_generic_plant(file, s, *pt, rig);
+  if (plant->kind == PlantKind::Generic) return read_generic_plant(file, s, *pt, rig);
   for (const std::string& k : generic_keys)
     if (s.has(k))
       s.fail(s.line(k), k,
-             "only for kind = \"generic\" (plant '" + rig.plant.kind + "' has its constants compiled in)");
-  PlatformId id = PlatformId::Msd;
-  platform_from_name(rig.plant.kind.c_str(), &id);
-  const SimPlant plant(id);
+             std::string("only for kind = \"generic\" (plant '") + plant->name + "' has its constants compiled in)");
   auto same = [&](const char* dim, int plant_dim, int file_dim, const char* tables) {
     if (plant_dim != file_dim)
       s.fail(s.line("kind"), "kind",
-             "plant '" + rig.plant.kind + "' has " + dim + " = " + std::to_string(plant_dim) + ", but the file has " +
-                 std::to_string(file_dim) + " " + tables);
+             std::string("plant '") + plant->name + "' has " + dim + " = " + std::to_string(plant_dim) +
+                 ", but the file has " + std::to_string(file_dim) + " " + tables);
   };
-  same("m", plant.m(), rig.m(), "[[input]] tables");
-  same("n", plant.n(), rig.n(), "[[output]] tables");
-  same("w", plant.w(), rig.w(), "[[sensor]] tables");
+  same("m", plant->m, rig.m(), "[[input]] tables");
+  same("n", plant->n, rig.n(), "[[output]] tables");
+  same("w", plant->w, rig.w(), "[[sensor]] tables");
   // The plant steps at the rig's period (the simulator's and the HIL
   // image's loop), whatever rate the hand-written plant was tuned at.
 }
@@ -785,7 +796,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   read_controller(file, root, t, rig, limit_lines);
   read_model(file, root, t, rig);
   read_plant(file, root, t, rig);
-  if (!rig.plant.kind.empty() && rig.rate_hz < 1.0 / double(kMaxPlantDt))
+  if (rig.plant.kind != nullptr && rig.rate_hz < 1.0 / double(kMaxPlantDt))
     root.fail(root.line("rate_hz"), "rate_hz",
               "must be at least " + num(1.0 / double(kMaxPlantDt)) + " Hz with a [plant] (line " +
                   std::to_string(rig.plant.line) + "): a simulated plant steps at most " + num(double(kMaxPlantDt)) +

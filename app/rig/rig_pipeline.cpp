@@ -21,14 +21,16 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   }
   t.y_unit = rig.outputs.empty() ? "" : rig.outputs[0].unit;
   t.measured_feedback = rig.controller.feedback == Feedback::Measured;
-  PlatformId id;
   if (has_generic_plant(rig)) {
     t.plant = TargetPlant::Generic;
     t.generic = generic_plant_spec(rig);
-  } else if (!rig.plant.kind.empty() && platform_from_name(rig.plant.kind.c_str(), &id)) {
+  } else if (rig.plant.kind != nullptr) {
     t.plant = TargetPlant::Named;
-    t.platform = id;
+    t.kind = rig.plant.kind->kind;
   }
+  // The model file names a shipped rig by its INFO number, any other 255.
+  PlatformId id;
+  if (platform_from_name(rig.name.c_str(), &id)) t.platform = uint8_t(id);
   for (const RigLayer& l : rig.model.layers) {
     pipeline::LayerSpec L;
     L.units = l.units;

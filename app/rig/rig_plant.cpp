@@ -1,22 +1,12 @@
 #include "app/rig/rig_plant.hpp"
 
-#include "app/rig/rig_firmware.hpp"
+#include <fmt/format.h>
 
+#include "app/cli_error.hpp"
 
 namespace nlsoft::console {
 
-namespace {
-
-GenericShape shape_of(const std::string& name) {
-  if (name == "tanh") return GenericShape::Tanh;
-  if (name == "saturation") return GenericShape::Saturation;
-  if (name == "power") return GenericShape::Power;
-  return GenericShape::Linear;
-}
-
-}  // namespace
-
-bool has_generic_plant(const Rig& rig) { return rig.plant.kind == "generic"; }
+bool has_generic_plant(const Rig& rig) { return rig.plant.kind != nullptr && rig.plant.kind->kind == PlantKind::Generic; }
 
 GenericPlantSpec generic_plant_spec(const Rig& rig) {
   const RigPlant& p = rig.plant;
@@ -26,7 +16,7 @@ GenericPlantSpec generic_plant_spec(const Rig& rig) {
   for (size_t i = 0; i < rig.inputs.size() && i < p.actuators.size(); ++i) {
     const RigInput& in = rig.inputs[i];
     const RigActuator& a = p.actuators[i];
-    s.input[i] = {float(in.min), float(in.max), float(in.neutral), float(a.gain), shape_of(a.shape),
+    s.input[i] = {float(in.min), float(in.max), float(in.neutral), float(a.gain), a.shape,
                   float(a.knee), float(a.exponent), float(a.play), float(a.tau)};
   }
   for (size_t j = 0; j < rig.outputs.size(); ++j) {
@@ -41,8 +31,15 @@ GenericPlantSpec generic_plant_spec(const Rig& rig) {
   return s;
 }
 
-void require_simulated_plant(const Rig& rig, const std::string& what) {
-  if (!has_generic_plant(rig)) simulated_plant(rig, what);
+const PlantEntry& simulated_plant(const Rig& rig, const std::string& what) {
+  if (rig.plant.kind == nullptr) {
+    std::string names;
+    for (const PlantEntry& e : kPlantRegistry) names += std::string(names.empty() ? "" : ", ") + e.name;
+    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: nothing simulates it (give it [plant] kind = one of "
+                               "{}; generic with the plant's constants: docs/rig-file.md)",
+                               what, rig.name, rig.file, names));
+  }
+  return *rig.plant.kind;
 }
 
 }  // namespace nlsoft::console

@@ -1,6 +1,9 @@
 #pragma once
-// A rig's generic simulated stand-in: the plant's spec from a
-// `[plant] kind = "generic"` table (docs/rig-file.md).
+// A rig's simulated stand-in (`[plant] kind`, docs/rig-file.md): one of the
+// plant registry's rows (shared/plant_registry.hpp), the generic one with
+// its spec from the file's [plant] table.
+#include <string>
+
 #include "app/rig/rig.hpp"
 #include "shared/plant_generic.hpp"
 
@@ -14,8 +17,8 @@ bool has_generic_plant(const Rig& rig);
 // [plant] constants, in float. Only for has_generic_plant(rig).
 GenericPlantSpec generic_plant_spec(const Rig& rig);
 
-// Refuses (CliError, `what` first) a rig with no plant to simulate: neither
-// a generic one nor one of the named kinds.
-void require_simulated_plant(const Rig& rig, const std::string& what);
+// The registry's row of the plant that simulates `rig`; throws CliError
+// (`what` first) for a rig without a [plant].
+const PlantEntry& simulated_plant(const Rig& rig, const std::string& what);
 
 }  // namespace nlsoft::console

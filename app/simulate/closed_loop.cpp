@@ -18,7 +18,8 @@ namespace {
 using Cap = HostCapacity;
 
 std::string plant_name(const LoopSetup& s) {
-  return s.plant_name.empty() ? std::string(platform_name(s.platform)) : s.plant_name;
+  const PlantEntry* e = plant_entry(s.plant);
+  return !s.plant_name.empty() ? s.plant_name : e != nullptr ? e->name : "?";
 }
 
 void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
@@ -33,9 +34,11 @@ void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
 
 Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
   SimPlant plant;
-  if (s.generic == nullptr)
-    plant.select(s.platform, s.seed);
-  else if (!plant.select(*s.generic, s.seed))
+  if (s.generic == nullptr) {
+    if (!plant.select(s.plant, s.seed))
+      throw CliError(fmt::format("plant kind {} is no hand-written plant (the generic plant needs its rig's spec)",
+                                 int(s.plant)));
+  } else if (!plant.select(*s.generic, s.seed))
     throw CliError(fmt::format("the generic plant of '{}' cannot run: {}", plant_name(s), generic_spec_problem(*s.generic)));
   const int m = plant.m(), n = plant.n();
   const float dt = plant.dt();

@@ -10,7 +10,7 @@
 #include "shared/model.hpp"
 #include "shared/plant_generic.hpp"
 #include "shared/params.hpp"
-#include "shared/platform_id.hpp"
+#include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
@@ -18,9 +18,9 @@ namespace nlsoft::console {
 enum class ControllerKind { Mpc, Pid };
 
 struct LoopSetup {
-  PlatformId platform = PlatformId::Hasel;
-  // A rig's generic plant instead of the named `platform` (the caller keeps
-  // it alive); `plant_name` names either in errors ("" : the platform's).
+  PlantKind plant = PlantKind::Hasel;
+  // A rig's generic plant instead of the hand-written `plant` (the caller
+  // keeps it alive); `plant_name` names either in errors ("" : the plant's).
   const GenericPlantSpec* generic = nullptr;
   std::string plant_name;
   ControllerKind controller = ControllerKind::Mpc;

@@ -39,12 +39,4 @@ void load_model(const std::string& path, LoadedModel& out) {
   out.platform = platform;
 }
 
-std::string default_model_path(PlatformId id) {
-  return find_model_file(std::string(platform_name(id)) + ".nlsm").found;
-}
-
-std::string default_model_places(PlatformId id) {
-  return find_model_file(std::string(platform_name(id)) + ".nlsm").tried_lines();
-}
-
 }  // namespace nlsoft::console

@@ -23,12 +23,4 @@ struct LoadedModel {
 // Throws CliError with the file name and the reason on any failure.
 void load_model(const std::string& path, LoadedModel& out);
 
-// The shipped model for a platform (find_model_file); empty when none is
-// installed.
-std::string default_model_path(PlatformId id);
-
-// Where default_model_path looked, "\n  <place>" each, for the error that
-// says it found nothing.
-std::string default_model_places(PlatformId id);
-
 }  // namespace nlsoft::console

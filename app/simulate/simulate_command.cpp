@@ -17,7 +17,6 @@
 #include "app/paths/install_paths.hpp"
 #include "app/reference_names.hpp"
 #include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_firmware.hpp"
 #include "app/rig/rig_params.hpp"
 #include "app/rig/rig_plant.hpp"
 
@@ -74,7 +73,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
     generic = generic_plant_spec(rig);
     setup.generic = &generic;
   } else {
-    setup.platform = simulated_plant(rig, "simulate");
+    setup.plant = simulated_plant(rig, "simulate").kind;
   }
   setup.plant_name = rig.name;
   setup.reference = reference_preset(rig, ref_name);

@@ -15,10 +15,8 @@
 #include "app/live/reference_spec.hpp"
 #include "app/record/tune_log.hpp"
 #include "app/script/script_parser.hpp"
-#include "app/record/task_space.hpp"
 #include "app/tune/motion_check.hpp"
 #include "app/tune/objective.hpp"
-#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 
@@ -92,10 +90,10 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   out(fmt::format("budget {}; start {}; Ctrl-C stops and keeps the best", budget, space.describe(space.start())));
   for (const std::string& c : space.clamped()) out("  " + c);
 
-  // The rig's task space: what "the reference barely moves" is measured against.
-  const uint8_t platform = console.device().info().platform;
-  const std::vector<double> task =
-      platform < kPlatformCount ? task_space(platform_name(PlatformId(platform))) : std::vector<double>{};
+  // The rig's task space (each output's span): what "the reference barely
+  // moves" is measured against; the console's rig, shipped or a rig file.
+  std::vector<double> task;
+  for (const RigOutput& o : console.rig().outputs) task.push_back(o.span);
   bool motion_checked = false;
   Stop stop = Stop::None;
   std::exception_ptr error;

@@ -46,7 +46,7 @@ int run(PlatformId id, DerivMode mode, int steps, const char* model) {
   preset_params(preset(id), P);
   P.mode = mode;
   SimPlant plant;
-  plant.select(id, 1);
+  if (!plant.select(find_plant(platform_name(id))->kind, 1)) return 2;
   plant.input_limits(P.u_min, P.u_max);
   float u[Cap::m], l[Cap::w + 1] = {}, y[Cap::n];
   plant.neutral_input(u);

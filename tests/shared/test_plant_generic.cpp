@@ -347,7 +347,8 @@ constexpr GenericPlantSpec kEmbedded = [] {
 }();
 
 TEST(SimPlant, HoldsAGenericPlantBesideTheNamedOnes) {
-  SimPlant s(PlatformId::Hasel, 3);
+  SimPlant s;
+  ASSERT_TRUE(s.select(PlantKind::Hasel, 3));
   EXPECT_FALSE(s.is_generic());
   const GenericPlantSpec spec = three_by_two();
   ASSERT_TRUE(s.select(spec, 21));
@@ -376,7 +377,7 @@ TEST(SimPlant, HoldsAGenericPlantBesideTheNamedOnes) {
   bad.input[0].tau = -1.0f;
   EXPECT_FALSE(s.select(bad));
   EXPECT_EQ(s.m(), 3);
-  s.select(PlatformId::Tendon);
+  ASSERT_TRUE(s.select(PlantKind::Tendon));
   EXPECT_FALSE(s.is_generic());
   EXPECT_EQ(s.m(), 2);
   EXPECT_EQ(s.w(), 11);

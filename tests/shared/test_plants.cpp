@@ -556,28 +556,61 @@ TEST(TendonPlant, InfinityIsApproximatelyReachable) {
 // ---------------------------------------------------------------- SimPlant
 
 TEST(SimPlant, DimensionsAndPeriods) {
-  SimPlant s(PlatformId::Msd);
+  SimPlant s;
+  ASSERT_TRUE(s.select(PlantKind::Msd));
   EXPECT_EQ(s.m(), 1);
   EXPECT_EQ(s.n(), 1);
   EXPECT_EQ(s.w(), 0);
   EXPECT_FLOAT_EQ(s.dt(), 1e-3f);
-  s.select(PlatformId::Hasel);
+  ASSERT_TRUE(s.select(PlantKind::Hasel));
   EXPECT_EQ(s.m(), 6);
   EXPECT_EQ(s.n(), 3);
   EXPECT_EQ(s.w(), 18);
   EXPECT_FLOAT_EQ(s.dt(), 1.0f / 130.0f);
-  s.select(PlatformId::Tendon);
+  ASSERT_TRUE(s.select(PlantKind::Tendon));
   EXPECT_EQ(s.m(), 2);
   EXPECT_EQ(s.n(), 3);
   EXPECT_EQ(s.w(), 11);
   EXPECT_FLOAT_EQ(s.dt(), 1.0f / 120.0f);
-  s.select(static_cast<PlatformId>(9));
-  EXPECT_EQ(s.id(), PlatformId::Msd);
+}
+
+// A kind no registry row carries, and the generic plant without its spec,
+// are refused and change nothing: no plant stands in for another.
+TEST(SimPlant, RefusesAKindItCannotRun) {
+  SimPlant s;
+  ASSERT_TRUE(s.select(PlantKind::Tendon));
+  EXPECT_FALSE(s.select(static_cast<PlantKind>(9)));
+  EXPECT_EQ(s.kind(), PlantKind::Tendon);
+  EXPECT_FALSE(s.select(PlantKind::Generic));
+  EXPECT_EQ(s.kind(), PlantKind::Tendon);
+  EXPECT_EQ(s.m(), 2);
+}
+
+// The registry is the one list: each row's name finds it, its dimensions
+// and period are its plant's, and no other name finds a plant.
+TEST(PlantRegistry, EachRowIsItsPlant) {
+  for (const PlantEntry& e : kPlantRegistry) {
+    ASSERT_EQ(find_plant(e.name), &e) << e.name;
+    ASSERT_EQ(plant_entry(e.kind), &e) << e.name;
+    SimPlant s;
+    if (e.kind == PlantKind::Generic) continue;
+    ASSERT_TRUE(s.select(e.kind)) << e.name;
+    EXPECT_EQ(s.m(), e.m) << e.name;
+    EXPECT_EQ(s.n(), e.n) << e.name;
+    EXPECT_EQ(s.w(), e.w) << e.name;
+    EXPECT_EQ(s.dt(), e.period) << e.name;
+  }
+  EXPECT_EQ(find_plant("has"), nullptr);
+  EXPECT_EQ(find_plant("haselx"), nullptr);
+  EXPECT_EQ(find_plant(""), nullptr);
+  EXPECT_EQ(find_plant(nullptr), nullptr);
+  EXPECT_EQ(plant_entry(static_cast<PlantKind>(kPlantCount)), nullptr);
 }
 
 template <class P>
-void expect_same_as_direct(PlatformId id) {
-  SimPlant s(id, 21);
+void expect_same_as_direct(PlantKind kind) {
+  SimPlant s;
+  ASSERT_TRUE(s.select(kind, 21));
   P p;
   p.reset(21);
   Rng r(2);
@@ -599,9 +632,9 @@ void expect_same_as_direct(PlatformId id) {
 }
 
 TEST(SimPlant, ForwardsToTheSelectedPlant) {
-  expect_same_as_direct<MsdPlant>(PlatformId::Msd);
-  expect_same_as_direct<HaselPlant>(PlatformId::Hasel);
-  expect_same_as_direct<TendonPlant>(PlatformId::Tendon);
+  expect_same_as_direct<MsdPlant>(PlantKind::Msd);
+  expect_same_as_direct<HaselPlant>(PlantKind::Hasel);
+  expect_same_as_direct<TendonPlant>(PlantKind::Tendon);
 }
 
 TEST(PlatformId, NamesRoundTrip) {

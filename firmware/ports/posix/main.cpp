@@ -22,7 +22,6 @@
 
 #include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_firmware.hpp"
 #include "app/rig/rig_plant.hpp"
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
@@ -149,14 +148,12 @@ int main(int argc, char** argv) {
   // The rig and its plant, or a clear refusal before the pty exists.
   static console::Rig rig;
   static RigConfig rig_config{};
-  PlatformId plant = PlatformId::Msd;
+  PlantKind plant{};
   GenericPlantSpec generic{};
-  bool is_generic = false;
   try {
     rig = console::load_rig_arg(rig_arg);
-    is_generic = console::has_generic_plant(rig);
-    if (is_generic) generic = console::generic_plant_spec(rig);
-    else plant = console::simulated_plant(rig, "--rig");
+    plant = console::simulated_plant(rig, "--rig").kind;
+    if (plant == PlantKind::Generic) generic = console::generic_plant_spec(rig);
     rig_config = console::firmware_rig(rig);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: %s\n", e.what());
@@ -194,8 +191,8 @@ int main(int argc, char** argv) {
   signal(SIGTERM, on_signal);
   signal(SIGPIPE, SIG_IGN);
 
-  static fw::posix::SimHal hal(pty.master, plant, seed);
-  if (is_generic && !hal.use_generic(generic, seed)) {
+  static fw::posix::SimHal hal(pty.master);
+  if (!(plant == PlantKind::Generic ? hal.use_generic(generic, seed) : hal.use_plant(plant, seed))) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: %s: the [plant] cannot be simulated\n", rig.file.c_str());
     return 2;
   }

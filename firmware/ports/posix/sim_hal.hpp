@@ -12,12 +12,16 @@ namespace nlsoft::fw::posix {
 
 class SimHal final : public Hal {
  public:
-  SimHal(int fd, PlatformId platform, uint32_t seed) : fd_(fd) {
-    plant_.select(platform, seed);
+  explicit SimHal(int fd) : fd_(fd) {}
+  // Runs the hand-written plant `kind`; false (nothing changed) for one the
+  // registry has not (shared/plant_registry.hpp).
+  bool use_plant(PlantKind kind, uint32_t seed) {
+    if (!plant_.select(kind, seed)) return false;
     dt_ = plant_.dt();
+    return true;
   }
-  // Replaces the plant by a rig's generic one; false (nothing changed) when
-  // the spec is refused (generic_spec_problem).
+  // Runs a rig's generic plant; false (nothing changed) when the spec is
+  // refused (generic_spec_problem).
   bool use_generic(const GenericPlantSpec& spec, uint32_t seed) {
     if (!plant_.select(spec, seed)) return false;
     dt_ = plant_.dt();
@@ -60,7 +64,7 @@ class SimHal final : public Hal {
  private:
   int fd_;
   SimPlant plant_;
-  float dt_;
+  float dt_ = 0.0f;
   size_t bytes_in_ = 0;
   bool readable_ = false;  // until ppoll says so
 };

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <sstream>
 
 #include "app/model/dataset.hpp"
@@ -60,7 +61,7 @@ TEST(Dataset, LongerInputHistory) {
 }
 
 TEST(Dataset, NoLabelLeak) {
-  const Series s = generate_excitation(PlatformId::Tendon, 2000, 3);
+  const Series s = generate_excitation(PlantKind::Tendon, 2000, 3);
   const Dataset d = build_dataset(s, 2, 2);
   const InputLayout& L = d.layout;
   for (int j = 0; j < L.n; ++j) {
@@ -71,7 +72,7 @@ TEST(Dataset, NoLabelLeak) {
 }
 
 TEST(Dataset, NormalisationRange) {
-  const Series s = generate_excitation(PlatformId::Hasel, 5000, 2);
+  const Series s = generate_excitation(PlantKind::Hasel, 5000, 2);
   const Dataset d = build_dataset(s, 2, 2);
   const Partition P = partition(d.rows());
   NormalisationSpec spec;
@@ -116,7 +117,7 @@ TEST(Dataset, TimeSeriesSplitMatchesSklearn) {
 }
 
 TEST(SeriesCsv, RoundTripAndErrors) {
-  const Series s = generate_excitation(PlatformId::Tendon, 300, 5);
+  const Series s = generate_excitation(PlantKind::Tendon, 300, 5);
   std::stringstream ss;
   write_series_csv(ss, s);
   std::string header;
@@ -147,9 +148,9 @@ TEST(SeriesCsv, RoundTripAndErrors) {
 }
 
 TEST(Excitation, DeterministicInsideLimitsAndCoversTheTaskSpace) {
-  const Series a = generate_excitation(PlatformId::Hasel, 20000, 7);
-  const Series b = generate_excitation(PlatformId::Hasel, 20000, 7);
-  const Series c = generate_excitation(PlatformId::Hasel, 20000, 8);
+  const Series a = generate_excitation(PlantKind::Hasel, 20000, 7);
+  const Series b = generate_excitation(PlantKind::Hasel, 20000, 7);
+  const Series c = generate_excitation(PlantKind::Hasel, 20000, 8);
   EXPECT_TRUE(a.u == b.u && a.l == b.l);
   EXPECT_FALSE(a.u == c.u);
   EXPECT_GE(a.u.minCoeff(), 0.0);
@@ -160,9 +161,34 @@ TEST(Excitation, DeterministicInsideLimitsAndCoversTheTaskSpace) {
   EXPECT_LT(a.y.col(0).minCoeff(), -6.0);
   EXPECT_GT(a.y.col(0).maxCoeff(), 6.0);
 
-  const Series m = generate_excitation(PlatformId::Msd, 50000, 1);
+  const Series m = generate_excitation(PlantKind::Msd, 50000, 1);
   EXPECT_LE(m.u.cwiseAbs().maxCoeff(), 2000.0);
-  EXPECT_THROW(generate_excitation(PlatformId::Msd, 10, 1), PipelineError);
+  EXPECT_THROW(generate_excitation(PlantKind::Msd, 10, 1), PipelineError);
+}
+
+// What no plant can run is refused by name, never stood in for: the
+// generic plant without its spec, a kind the registry has no row for, and a
+// generic spec the plant refuses (it once fell back to the outputs' middle).
+TEST(Excitation, RefusesAPlantThatCannotRun) {
+  auto says = [](const std::function<void()>& f, const std::string& words) {
+    try {
+      f();
+      ADD_FAILURE() << "not refused: " << words;
+    } catch (const PipelineError& e) {
+      EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+    }
+  };
+  says([] { generate_excitation(PlantKind::Generic, 1000, 1); }, "is no hand-written plant");
+  says([] { generate_excitation(static_cast<PlantKind>(9), 1000, 1); }, "is no hand-written plant");
+  PlantTarget t;
+  t.name = "bent";
+  t.n = 1;
+  t.y_rest = {0.5};
+  t.plant = TargetPlant::Generic;
+  t.generic.m = 0;  // no input: generic_spec_problem refuses it
+  double y[1] = {};
+  says([&] { neutral_output(t, y); }, "rig 'bent': its generic plant cannot run");
+  says([&] { generate_excitation(t, 1000, 1); }, "rig 'bent': its generic plant cannot run");
 }
 
 // A gap in a recorded run cuts it: each stretch gives its own rows and no

@@ -12,7 +12,7 @@ using namespace nlsoft::pipeline;
 
 TEST(Regenerate, MsdModelMatchesTheShippedQuality) {
   const ModelFile shipped = load_model_file(std::string(NLSOFT_SOURCE_DIR) + "/app/models/msd.nlsm");
-  const Series s = generate_excitation(PlatformId::Msd, default_steps(PlatformId::Msd), 1);
+  const Series s = generate_excitation(PlantKind::Msd, default_steps(platform_target(PlatformId::Msd)), 1);
   const TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
   const Dataset d = build_dataset(s, 2, 2);
   const Evaluation old = evaluate(shipped, d, r.split.test_begin, r.split.test_end);

@@ -111,7 +111,7 @@ TEST(Train, LearnsAKnownFunctionRepeatably) {
 }
 
 TEST(Train, ExportedDenseModelEqualsTrainerForward) {
-  const Series s = generate_excitation(PlatformId::Hasel, 4000, 1);
+  const Series s = generate_excitation(PlantKind::Hasel, 4000, 1);
   TrainOptions o = default_options(PlatformId::Hasel, Objective::OneStep);
   o.epochs = 3;
   const TrainResult r = train(s, PlatformId::Hasel, o);
@@ -124,7 +124,7 @@ TEST(Train, ExportedDenseModelEqualsTrainerForward) {
 }
 
 TEST(Train, ExportedGruModelEqualsTrainerForward) {
-  const Series s = generate_excitation(PlatformId::Tendon, 4000, 1);
+  const Series s = generate_excitation(PlantKind::Tendon, 4000, 1);
   TrainOptions o = default_options(PlatformId::Tendon, Objective::OneStep);
   o.epochs = 3;
   for (bool reset_after : {true, false}) {
@@ -139,7 +139,7 @@ TEST(Train, ExportedGruModelEqualsTrainerForward) {
 TEST(Train, LinearModelIsExactOnTheMassSpringDamper) {
   // The msd is linear: its ZOH discretisation is exactly an ARX(2,2) model,
   // so the least-squares fit must be near float precision.
-  const Series s = generate_excitation(PlatformId::Msd, 20000, 3);
+  const Series s = generate_excitation(PlantKind::Msd, 20000, 3);
   const TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
   EXPECT_EQ(r.epochs_run, 0);
   EXPECT_LT(r.test.mse[0], 1e-10);
@@ -150,7 +150,7 @@ TEST(Train, LinearModelIsExactOnTheMassSpringDamper) {
 // rig file makes), not from a plant simulated to its rest: a rig whose
 // outputs range over [10, 30] is centred on 20, whatever the data.
 TEST(Train, LimitsAndCentreComeFromTheRigNotASimulatedPlant) {
-  const Series s = generate_excitation(PlatformId::Msd, 2000, 1);
+  const Series s = generate_excitation(PlantKind::Msd, 2000, 1);
   PlantTarget t = platform_target(PlatformId::Msd);
   t.plant = TargetPlant::Named;  // a simulated plant stands by, and is not asked
   t.u_lo = {-4000.0};
@@ -168,7 +168,7 @@ TEST(Train, LimitsAndCentreComeFromTheRigNotASimulatedPlant) {
 
 // --nd/--dd: the lags the rows are built with and the model file records.
 TEST(Train, LagsOtherThanTheRigsAreTrainedAndRecorded) {
-  const Series s = generate_excitation(PlatformId::Msd, 3000, 1);
+  const Series s = generate_excitation(PlantKind::Msd, 3000, 1);
   TrainOptions o = default_options(PlatformId::Msd);
   o.nd = 3;
   o.dd = 4;
@@ -180,7 +180,7 @@ TEST(Train, LagsOtherThanTheRigsAreTrainedAndRecorded) {
 }
 
 TEST(Train, RefusesMismatchedData) {
-  const Series s = generate_excitation(PlatformId::Tendon, 500, 1);
+  const Series s = generate_excitation(PlantKind::Tendon, 500, 1);
   EXPECT_THROW(train(s, PlatformId::Hasel, default_options(PlatformId::Hasel)), PipelineError);
   TrainOptions o = default_options(PlatformId::Tendon);
   o.layers.back().units = 2;
@@ -188,7 +188,7 @@ TEST(Train, RefusesMismatchedData) {
 }
 
 TEST(ModelStore, SaveLoadRoundTripAndAtomicity) {
-  const Series s = generate_excitation(PlatformId::Msd, 2000, 1);
+  const Series s = generate_excitation(PlantKind::Msd, 2000, 1);
   TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
   const std::string path = ::testing::TempDir() + "/store_test.nlsm";
   save_model_file(path, r.model);

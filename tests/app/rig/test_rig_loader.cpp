@@ -117,7 +117,7 @@ TEST(RigLoader, BaseFileLoadsWithEveryValue) {
   EXPECT_EQ(r.controller.N1, 1);  // default
   EXPECT_EQ(r.controller.mode, DerivMode::Exact);
   EXPECT_EQ(r.board, "stm32f4");
-  EXPECT_TRUE(r.plant.kind.empty());
+  EXPECT_EQ(r.plant.kind, nullptr);
 }
 
 // The rate is a period the loop takes: 1 mHz (a slow process) to 100 kHz,
@@ -355,6 +355,34 @@ TEST(RigLoader, PlantMustHaveTheFilesDimensions) {
   expect_error(k, line_of(k, "kind = \"robot\""), "[plant] kind", "'robot' is not one of: msd, hasel, tendon");
 }
 
+// Every kind a rig file names is read once, here, into the value it stands
+// for: an unknown one is refused at its line with the known ones listed,
+// never taken for a default.
+TEST(RigLoader, EveryKindIsOneOfItsValuesOrRefusedAtItsLine) {
+  struct Case {
+    std::string text, needle, label, what;
+  };
+  const std::string base(kBase);
+  const std::vector<Case> cases = {
+      {base + "\n[plant]\nkind = \"Hasel\"\n", "kind = \"Hasel\"", "[plant] kind",
+       "'Hasel' is not one of: msd, hasel, tendon, generic"},
+      {base + "\n[reference]\nkind = \"circle\"\n", "kind = \"circle\"", "[reference] kind",
+       "'circle' is not one of: infinity, pringle, diagonal, swirl, steps"},
+      {base + "\n[model]\n[[model.layer]]\nkind = \"lstm\"\nunits = 1\n", "kind = \"lstm\"",
+       "[[model.layer]] #1 kind", "'lstm' is not one of: dense, gru"},
+      {base + "\n[model]\n[[model.layer]]\nkind = \"dense\"\nunits = 1\nactivation = \"softmax\"\n",
+       "activation = \"softmax\"", "[[model.layer]] #1 activation", "'softmax' is not one of: "},
+      {edit("eps = 0.01", "eps = 0.01\nfeedback = \"both\""), "feedback =", "[controller] feedback",
+       "'both' is not one of: predicted, measured"},
+      {edit("eps = 0.01", "eps = 0.01\nmode = \"newton\""), "mode =", "[controller] mode",
+       "'newton' is not one of: exact, fd"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.label);
+    expect_error(c.text, line_of(c.text, c.needle), c.label, c.what);
+  }
+}
+
 TEST(RigLoader, ModelLayersEndInTheOutputs) {
   const std::string t = std::string(kBase) +
                         "\n[model]\n[[model.layer]]\nkind = \"gru\"\nunits = 5\n[[model.layer]]\nkind = \"dense\"\n"
@@ -430,7 +458,7 @@ TEST(RigLoader, GenericPlantLoadsEveryKeyIntoTheSpec) {
   const Rig r = parse_rig(kGeneric, "my.toml");
   ASSERT_TRUE(has_generic_plant(r));
   ASSERT_EQ(r.plant.actuators.size(), 2u);
-  EXPECT_EQ(r.plant.actuators[0].shape, "tanh");
+  EXPECT_EQ(r.plant.actuators[0].shape, GenericShape::Tanh);
   EXPECT_EQ(r.plant.actuators[1].gain, 1.0);  // default
   const GenericPlantSpec s = generic_plant_spec(r);
   EXPECT_EQ(generic_spec_problem(s), nullptr);
