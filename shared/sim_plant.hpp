@@ -76,6 +76,13 @@ class SimPlant {
     }
   }
 
+  // The noise starts over from `seed`, the state untouched (msd has none).
+  void reseed_noise(uint32_t seed) {
+    hasel_.reseed_noise(seed);
+    tendon_.reseed_noise(seed);
+    generic_.reseed_noise(seed);
+  }
+
   void step(const float* u, float dt) {
     if (generic_selected_) return generic_.step(u, dt);
     switch (id_) {

@@ -292,6 +292,7 @@ class Firmware {
     run_id_ = p.run_id;
     step_ = 0;
     stats_.reset();
+    hal_.run_begins();
     ident_ = true;
     ident_decimation_ = p.decimation;
     watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;
@@ -464,6 +465,7 @@ class Firmware {
     run_id_ = run_id;
     step_ = 0;
     stats_.reset();
+    hal_.run_begins();
     ident_ = false;
     ref_.restart();
     watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;

@@ -582,3 +582,62 @@ TEST_F(PosixFirmware, AnIdentificationRunIsServedWholeAndEndsByItself) {
   EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Idle));
   EXPECT_EQ(st.step, start.duration);
 }
+
+namespace {
+
+// The first `steps` samples of a PRBS identification run on a fresh
+// simulator of hasel (18 noisy sensors) that idled `idle_ms` before it.
+std::vector<proto::IdentSample> ident_after_idling(int idle_ms, uint32_t steps) {
+  SimProcess sim({NLSOFT_FIRMWARE_SIM, "--platform", "hasel", "--fast"});
+  EXPECT_FALSE(sim.path().empty()) << "the simulator printed no pty path";
+  Peer peer(sim.path());
+  EXPECT_TRUE(peer.ok());
+  std::vector<proto::IdentSample> s;
+  if (sim.path().empty() || !peer.ok()) return s;
+  proto::ParamSet wd;  // listening only while the run goes
+  wd.id = uint16_t(fw::FwParamId::WatchdogMs);
+  wd.count = 1;
+  wd.values[0] = 0;
+  auto r = peer.request(wd);
+  EXPECT_TRUE(r && r->header.type == uint8_t(proto::MsgType::ParamValue)) << "PARAM_SET watchdog_ms";
+  // Idle, a fast simulator steps back to back, reading its sensors each step.
+  std::this_thread::sleep_for(std::chrono::milliseconds(idle_ms));
+  proto::IdentStart start;
+  start.run_id = 3;
+  start.signal = uint8_t(proto::IdentSignal::Prbs);
+  start.decimation = 1;
+  start.seed = 5;
+  start.amplitude = 1.0f;
+  start.band_lo = 1.0f;
+  start.band_hi = 20.0f;
+  start.duration = steps;
+  r = peer.request(start);
+  EXPECT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Ack)) << "IDENT_START";
+  while (s.size() < steps) {
+    r = peer.wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::IdentSample); }, 2000);
+    if (!r) break;
+    for (auto& u : peer.unsolicited)
+      if (u.header.type == uint8_t(proto::MsgType::IdentSample)) s.push_back(as<proto::IdentSample>(u));
+    peer.unsolicited.clear();
+    s.push_back(as<proto::IdentSample>(*r));
+  }
+  return s;
+}
+
+}  // namespace
+
+// The plant's noise starts over from the simulator's seed when a run
+// begins: the same identification run gives the same data however long the
+// simulator idled first (it reads its noisy sensors at every idle step).
+TEST(PosixFirmwareNoise, TheSameIdentificationRunGivesTheSameDataAfterAnyIdleTime) {
+  const auto a = ident_after_idling(0, 300), b = ident_after_idling(400, 300);
+  ASSERT_EQ(a.size(), 300u);
+  ASSERT_EQ(b.size(), 300u);
+  for (size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a[k].w, 18);
+    ASSERT_EQ(a[k].step, b[k].step);
+    for (int i = 0; i < a[k].m; ++i) ASSERT_EQ(a[k].u[i], b[k].u[i]) << "step " << k << " u" << i;
+    for (int j = 0; j < a[k].n; ++j) ASSERT_EQ(a[k].y[j], b[k].y[j]) << "step " << k << " y" << j;
+    for (int j = 0; j < a[k].w; ++j) ASSERT_EQ(a[k].l[j], b[k].l[j]) << "step " << k << " l" << j;
+  }
+}

@@ -12,7 +12,7 @@ namespace nlsoft::fw::posix {
 
 class SimHal final : public Hal {
  public:
-  SimHal(int fd, PlatformId platform, uint32_t seed) : fd_(fd) {
+  SimHal(int fd, PlatformId platform, uint32_t seed) : fd_(fd), seed_(seed) {
     plant_.select(platform, seed);
     dt_ = plant_.dt();
   }
@@ -20,6 +20,7 @@ class SimHal final : public Hal {
   // the spec is refused (generic_spec_problem).
   bool use_generic(const GenericPlantSpec& spec, uint32_t seed) {
     if (!plant_.select(spec, seed)) return false;
+    seed_ = seed;
     dt_ = plant_.dt();
     return true;
   }
@@ -56,10 +57,12 @@ class SimHal final : public Hal {
     plant_.output(y);
     return true;
   }
+  void run_begins() override { plant_.reseed_noise(seed_); }
 
  private:
   int fd_;
   SimPlant plant_;
+  uint32_t seed_;
   float dt_;
   size_t bytes_in_ = 0;
   bool readable_ = false;  // until ppoll says so
