@@ -62,6 +62,15 @@ class ConsoleE2E : public ::testing::Test {
     return false;
   }
 
+  // A console started in the background, ended: its wait status (-1 if
+  // waitpid failed) and what it wrote to `out`.
+  static std::pair<int, std::string> wait_for_console(pid_t pid, const std::string& out) {
+    int status = 0;
+    if (::waitpid(pid, &status, 0) != pid) status = -1;
+    std::ifstream in(out);
+    return {status, std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>())};
+  }
+
   // The simulator under a console started in the background, once the
   // console records; 0 (the console killed) if either never comes.
   pid_t simulator_once_recording(pid_t console) const {
@@ -291,10 +300,8 @@ TEST_F(ConsoleE2E, ADatabaseLockedPastTheBusyWindowIsAGapWithItsReason) {
     std::this_thread::sleep_for(std::chrono::seconds(4));
     shell.exec("ROLLBACK");
   }
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << text;
   EXPECT_EQ(WEXITSTATUS(status), 0) << text;
   EXPECT_NE(text.find("has been locked by another process for over 1 s (--db-busy)"), std::string::npos) << text;
@@ -333,10 +340,8 @@ TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
   const pid_t sim = simulator_once_recording(pid);
   ASSERT_GT(sim, 0) << "the run never started, or no simulator under the console";
   ASSERT_EQ(run_process("kill -9 " + std::to_string(sim)).code, 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << text;
   EXPECT_EQ(WEXITSTATUS(status), 1) << text;
   EXPECT_NE(text.find("ended early: simulator killed by signal 9 (SIGKILL)"), std::string::npos) << text;
@@ -364,10 +369,8 @@ TEST_F(ConsoleE2E, AStoppedSimulatorsGapIsTheSilenceNotMoreThanTheRunLasted) {
   ASSERT_EQ(::kill(sim, SIGSTOP), 0);
   std::this_thread::sleep_for(std::chrono::seconds(4));
   ASSERT_EQ(::kill(sim, SIGCONT), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << text;
   EXPECT_EQ(WEXITSTATUS(status), 1) << text;
   RunStore store(db());
@@ -409,10 +412,8 @@ TEST_F(ConsoleE2E, AHangupStopsTheRunAndRecordsWhichSignalEndedIt) {
   const bool recording = wait_until_recording();
   ASSERT_TRUE(recording) << "the run never started";
   ASSERT_EQ(::kill(pid, SIGHUP), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << text;
   EXPECT_EQ(WEXITSTATUS(status), 2) << text;
   EXPECT_NE(text.find("interrupted by SIGHUP (the terminal closed or the connection dropped): run 1 stopped and kept"),
