@@ -163,6 +163,7 @@ constexpr const char* generic_spec_problem(const GenericPlantSpec& s) {
 // constexpr one where it lies (in a HIL image's flash, not copied to RAM).
 class GenericPlantState {
  public:
+  void reseed_noise(uint32_t seed) { rng_.reseed(seed); }
   void reset(const GenericPlantSpec& spec, uint32_t seed) {
     rng_.reseed(seed);
     for (int i = 0; i < kGenericMaxM; ++i) {
@@ -262,6 +263,7 @@ class GenericPlant {
   float dt() const { return spec_.dt; }
 
   void reset(uint32_t seed = 0) { state_.reset(spec_, seed); }
+  void reseed_noise(uint32_t seed) { state_.reseed_noise(seed); }
   void step(const float* u, float dt) { state_.step(spec_, u, dt); }
   void output(float* y) const { state_.output(spec_, y); }
   void sensors(float* l) { state_.sensors(spec_, l); }

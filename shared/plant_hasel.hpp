@@ -65,6 +65,7 @@ class HaselPlant {
   static constexpr float kSwirlScale = 1.0f;
   static constexpr float kSwirlCentre[3] = {0.0f, 0.0f, 4.0f};
 
+  void reseed_noise(uint32_t seed) { rng_.reseed(seed); }
   void reset(uint32_t seed = 0) {
     rng_.reseed(seed);
     for (int i = 0; i < m; ++i) {

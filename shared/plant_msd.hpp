@@ -37,6 +37,7 @@ class MsdPlant {
   static constexpr float kOutputBound = 26.0f;
 
   void reset(uint32_t /*seed*/ = 0) { set_state(0.0f, 0.0f); }
+  void reseed_noise(uint32_t /*seed*/) {}  // noiseless
 
   void set_state(float position, float velocity) {
     x_ = std::isfinite(position) ? position : 0.0f;

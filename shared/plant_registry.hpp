@@ -29,6 +29,7 @@ struct PlantOps {
   int (*w)(const PlantSet&);
   float (*dt)(const PlantSet&);
   void (*reset)(PlantSet&, uint32_t seed);
+  void (*reseed_noise)(PlantSet&, uint32_t seed);
   void (*step)(PlantSet&, const float* u, float dt);
   void (*output)(const PlantSet&, float* y);
   void (*sensors)(PlantSet&, float* l);
@@ -63,6 +64,7 @@ constexpr PlantOps ops_of() {
       [](const PlantSet& s) { return Shape<P>::w(std::get<P>(s)); },
       [](const PlantSet& s) { return Shape<P>::dt(std::get<P>(s)); },
       [](PlantSet& s, uint32_t seed) { std::get<P>(s).reset(seed); },
+      [](PlantSet& s, uint32_t seed) { std::get<P>(s).reseed_noise(seed); },
       [](PlantSet& s, const float* u, float dt) { std::get<P>(s).step(u, dt); },
       [](const PlantSet& s, float* y) { std::get<P>(s).output(y); },
       [](PlantSet& s, float* l) { std::get<P>(s).sensors(l); },

@@ -66,6 +66,7 @@ class TendonPlant {
   static constexpr float kPringle[3] = {4.0f, 12.0f, 12.0f};   // A, B, C
   static constexpr float kCentre[3] = {0.0f, 0.0f, 0.0f};
 
+  void reseed_noise(uint32_t seed) { rng_.reseed(seed); }
   void reset(uint32_t seed = 0) {
     rng_.reseed(seed);
     for (int i = 0; i < m; ++i) theta_[i] = q_[i] = 0.0f;

@@ -48,6 +48,8 @@ class SimPlant {
   float dt() const { return entry_->ops.dt(plants_); }
 
   void reset(uint32_t seed) { entry_->ops.reset(plants_, seed); }
+  // The noise starts over from `seed`, the state untouched.
+  void reseed_noise(uint32_t seed) { entry_->ops.reseed_noise(plants_, seed); }
   void step(const float* u, float dt) { entry_->ops.step(plants_, u, dt); }
   void output(float* y) const { entry_->ops.output(plants_, y); }
   void sensors(float* l) { entry_->ops.sensors(plants_, l); }

@@ -287,28 +287,33 @@ RunSummary LiveConsole::run_steps(uint64_t target, int64_t id, const std::string
   }
   timed_run_ = false;
   if (!early.empty() && run_id_.load() == id) {
-    // What the run did not get, as a gap that says for how long.
-    const uint64_t done = have_last_step_ ? uint64_t(last_step_.load() - first_step_.load()) + decimation_ : 0;
-    const uint64_t missing = done >= target ? 0 : (target - done + decimation_ - 1) / std::max<uint16_t>(decimation_.load(), 1);
+    // The silence the run ended in, as a gap: the frames that fell due in
+    // it at the run's rate, at most the steps it still had to go. The steps
+    // it never reached after that are no gap (the run ended, as its end
+    // says), or a gap would outlast the run itself.
+    const uint16_t d = std::max<uint16_t>(decimation_.load(), 1);
+    const uint64_t done = have_last_step_ ? uint64_t(last_step_.load() - first_step_.load()) + d : 0;
+    const uint64_t missing = done >= target ? 0 : (target - done + d - 1) / d;
     const auto last = have_last_step_ ? clock::time_point(clock::duration(last_sample_ns_.load())) : started;
+    const double silent_s = std::chrono::duration<double>(clock::now() - last).count();
+    const uint64_t lost = std::min(missing, uint64_t(silent_s * rate / d));
     const uint64_t k = run_k_.load();
     if (missing > 0) {
-      run_lost_ += missing;
-      recorder_->add_gap(id, k == 0 ? 0 : k - 1, missing, "run ended early: " + early,
-                         std::chrono::duration<double>(clock::now() - last).count());
+      run_lost_ += lost;
+      recorder_->add_gap(id, k == 0 ? 0 : k - 1, lost, "run ended early: " + early, silent_s);
     }
   }
   if (!record_error.empty()) {
     // The run is stopped on the firmware whatever the database says; closing
     // its row may fail like the rest of the writes did.
-    const uint64_t received = run_k_.load();
     std::string saved;
     try {
-      saved = fmt::format("{} of {} samples saved", finish_run(id, label, "recording failed: " + record_error).metrics.samples,
-                          received);
+      const uint64_t kept = finish_run(id, label, "recording failed: " + record_error).metrics.samples;
+      // Counted once the run is stopped: what came until RUN_STOP's ACK too.
+      saved = fmt::format("{} of {} samples saved", kept, run_k_.load());
     } catch (const std::exception&) {
       // The same failure again, most likely: not worth repeating.
-      saved = fmt::format("{} samples received; the run's row could not be closed either", received);
+      saved = fmt::format("{} samples received; the run's row could not be closed either", run_k_.load());
     }
     throw CliError(fmt::format("run {} stopped at once: recording failed ({}); {}", id, record_error, saved));
   }

@@ -175,7 +175,7 @@ bool Recorder::add_sample(int64_t run_id, const Sample& s) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     if (!error_.empty()) {
-      dropped_total_++;
+      lose_unwritten(run_id, 1);
       return false;
     }
     if (locked_out_.load()) {
@@ -226,7 +226,8 @@ int64_t Recorder::sync(SyncItem item) {
   item.done = done;
   {
     std::lock_guard<std::mutex> lock(mu_);
-    if (!error_.empty()) throw DbError("recording stopped: " + error_, SQLITE_ERROR);
+    // A run's end is still tried after a failed write (close_after_failure).
+    if (!error_.empty() && item.end_run == 0) throw DbError("recording stopped: " + error_, SQLITE_ERROR);
     queue_.push_back(std::move(item));
     urgent_ = true;
   }
@@ -255,6 +256,40 @@ Recorder::Loss Recorder::loss(int64_t run_id) const {
   std::lock_guard<std::mutex> lock(mu_);
   const auto it = losses_.find(run_id);
   return it == losses_.end() ? Loss{} : it->second;
+}
+
+void Recorder::lose_unwritten(int64_t run, uint64_t samples) {
+  Loss& loss = losses_[run];
+  loss.samples += samples;
+  loss.reason = "not written: " + error_;
+  dropped_total_ += samples;
+}
+
+void Recorder::close_after_failure(const SyncItem& end) {
+  // The log's pages copied into the database, so the close is written at
+  // the start of the log, over pages already copied, needing no new room.
+  sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_RESTART, nullptr, nullptr);
+  try {
+    db_->exec("BEGIN");
+    write_end(end, utc_now());
+    db_->exec("COMMIT");
+    open_runs_.erase(std::remove(open_runs_.begin(), open_runs_.end(), end.end_run), open_runs_.end());
+    end.done->set_value(0);
+  } catch (const DbError& e) {
+    sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
+    end.done->set_exception(std::make_exception_ptr(
+        DbError(fmt::format("recording stopped: {}; closing run {} failed too: {}", error(), end.end_run, e.what()),
+                SQLITE_ERROR)));
+  }
+}
+
+void Recorder::write_end(const SyncItem& end, const std::string& now) {
+  // The samples this recorder could not save are the run's losses too:
+  // the caller counts what arrived.
+  const uint64_t unsaved = loss(end.end_run).samples;
+  end_run_.bind(1, now).bind(2, end.end_reason)
+      .bind(3, int64_t(end.samples - std::min(unsaved, end.samples))).bind(4, int64_t(end.lost + unsaved))
+      .bind(5, end.end_run).exec();
 }
 
 void Recorder::lose_to_lock(int64_t run, const Sample& s) {
@@ -437,12 +472,7 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
             for (const auto& [name, value] : r.params)
               insert_param_.bind(1, result).bind(2, 0.0).bind(3, int64_t(1)).bind(4, name).bind(5, value).exec();
           } else if (sy->end_run > 0) {
-            // The samples this recorder could not save are the run's
-            // losses too: the caller counts what arrived.
-            const uint64_t unsaved = loss(sy->end_run).samples;
-            end_run_.bind(1, now).bind(2, sy->end_reason)
-                .bind(3, int64_t(sy->samples - std::min(unsaved, sy->samples))).bind(4, int64_t(sy->lost + unsaved))
-                .bind(5, sy->end_run).exec();
+            write_end(*sy, now);
             ended.push_back(sy->end_run);
           }
           waiting.push_back(sy->done);
@@ -499,19 +529,29 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
       failed = e.what();
       std::lock_guard<std::mutex> lock(mu_);
       if (error_.empty()) error_ = failed;
-      // Whatever this batch held is not in the file; say how much.
-      error_ += fmt::format(" ({} samples of the last batch not written)", samples);
       failed = error_;
-      dropped_total_ += samples;
     }
   }
   if (failed.empty()) {
     for (size_t i = 0; i < waiting.size(); ++i) waiting[i]->set_value(results[i]);
-  } else {
-    for (Item& item : batch)
-      if (auto* sy = std::get_if<SyncItem>(&item))
-        sy->done->set_exception(std::make_exception_ptr(DbError("recording stopped: " + failed, SQLITE_ERROR)));
+    return;
   }
+  // Nothing of this batch is in the file (its transaction rolled back, or
+  // an earlier write failed): every sample counts lost to its run, which
+  // is then closed with those losses if the file still takes that much (a
+  // full disk has the room the rolled-back batch left).
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    for (const Item& item : batch)
+      if (const auto* si = std::get_if<SampleItem>(&item)) lose_unwritten(si->run, 1);
+  }
+  for (Item& item : batch)
+    if (auto* sy = std::get_if<SyncItem>(&item)) {
+      if (sy->end_run > 0)
+        close_after_failure(*sy);
+      else
+        sy->done->set_exception(std::make_exception_ptr(DbError("recording stopped: " + failed, SQLITE_ERROR)));
+    }
 }
 
 }  // namespace nlsoft::console

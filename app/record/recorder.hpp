@@ -163,6 +163,9 @@ class Recorder {
     bool timed = false;
   };
   void lose_to_lock(int64_t run, const Sample& s);  // mu_ held
+  void lose_unwritten(int64_t run, uint64_t samples);  // mu_ held, error_ set
+  void write_end(const SyncItem& end, const std::string& now);  // in a transaction
+  void close_after_failure(const SyncItem& end);
   void give_up_waiting_samples(std::vector<Item>& batch);  // mu_ held
   void write_lock_gaps(double locked_s);
   std::vector<LockLoss> lock_losses_;

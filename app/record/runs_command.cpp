@@ -131,10 +131,11 @@ void print_metrics(const RunMetrics& m, bool ident) {
              m.lost_frames == 1 ? "" : "s", m.gaps, m.gaps == 1 ? "" : "s");
 }
 
-// "gap after sample 383: 3516 frames lost (27.0 s at 130 Hz); telemetry
-// silent for 3.00 s". The frames are the steps the run did not get, at the
-// run's telemetry rate; the silence is how long nothing came before the run
-// gave up: two different times, each named for what it is.
+// "gap after sample 383: 351 frames lost (2.7 s at 130 Hz); telemetry
+// silent for 3.00 s". The frames are the steps that never arrived, at the
+// run's telemetry rate; the silence is how long nothing came (before the
+// run gave up, for a run that ended early): two different times, each named
+// for what it is.
 std::string gap_words(const RunRow& r, const GapRecord& g) {
   std::string s = fmt::format("gap after sample {}: {} frame{} lost", g.after_k, g.lost_frames, g.lost_frames == 1 ? "" : "s");
   const double rate = r.loop_rate_hz / double(r.decimation > 0 ? r.decimation : 1);

@@ -10,7 +10,9 @@
 #include "firmware/core/clock.hpp"
 #include "firmware/core/compute_stats.hpp"
 #include "firmware/core/hal.hpp"
+#include "firmware/core/ident_run.hpp"
 #include "firmware/core/log_text.hpp"
+#include "firmware/core/model_slot.hpp"
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
 #include "firmware/core/rig_reply.hpp"
@@ -20,9 +22,6 @@
 #include "protocol/messages.hpp"
 #include "protocol/reply_cache.hpp"
 #include "protocol/transfer.hpp"
-#include "shared/controller.hpp"
-#include "shared/excitation.hpp"
-#include "shared/model_file.hpp"
 #include "shared/rig_config.hpp"
 
 namespace nlsoft::fw {
@@ -55,10 +54,10 @@ class Firmware {
   Firmware(Hal& hal, const Identity& id, const Buffers& b)
       : hal_(hal),
         id_(id),
-        buf_(b),
         rig_(*id.rig),
         params_svc_(params_, rig_.m, rig_.n, settings_),
         ref_(b.table_points, b.table_points_cap),
+        model_(rig_, params_, b.model_staging, b.model_staging_cap),
         model_rx_(uint8_t(proto::XferKind::Model), b.model_staging, b.model_staging_cap),
         table_rx_(uint8_t(proto::XferKind::RefTable), b.table_staging, table_max(b)) {
     if (!id.has_y_true) mask_ &= uint8_t(~proto::telemetry_field::kYTrue);
@@ -75,13 +74,7 @@ class Firmware {
     neutral(u_);
     // Until the console selects one, a run follows the rig's own task.
     ref_.select(rig_.reference);
-    if (model_file) {
-      s = load_model(model_file, model_len);
-      if (s != Status::Ok) return s;
-      builtin_ = model_file;
-      builtin_len_ = model_len;
-    }
-    return Status::Ok;
+    return model_file ? model_.begin(model_file, model_len) : Status::Ok;
   }
 
   // The largest table object worth receiving: one that fits the staging
@@ -124,7 +117,7 @@ class Firmware {
     have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
     watchdog_check();
 
-    if (state_ == proto::RunState::Ident || (ident_ && state_ != proto::RunState::Idle)) return ident_step(t0, l_);
+    if (state_ == proto::RunState::Ident || (ident_.active() && state_ != proto::RunState::Idle)) return ident_step(t0, l_);
     if (state_ != proto::RunState::Running) {
       if (state_ != proto::RunState::Hold) neutral(u_);
       hal_.actuate(u_, m);
@@ -134,7 +127,7 @@ class Firmware {
     float ref[Cap::N * Cap::n];
     ref_.rows(ref, params_.N, n);
     // Built in place: the controller writes only the fields it fills.
-    const StepResult<Cap> r = ctl_.step(ref, l_, have_y_true_ ? y_true_ : nullptr);
+    const StepResult<Cap> r = model_.controller().step(ref, l_, have_y_true_ ? y_true_ : nullptr);
     for (int i = 0; i < m; ++i) u_[i] = r.u[i];
     for (int j = 0; j < n; ++j) y_ref_[j] = ref[j];
     ref_.advance();
@@ -162,77 +155,25 @@ class Firmware {
   uint32_t frames_in() const { return decoder_.stats().frames_ok; }  // STATUS frames_in
 
  private:
-  // ---------------------------------------------------------------- model
-  // The model in force is read where its file lies (parse_model in place):
-  // the built-in one in flash, an uploaded one in the transfer buffer. So
-  // each model transfer, which overwrites that buffer, first puts the
-  // built-in model back in force (or none, in an image without one); and a
-  // model transfer is refused during a run.
-  Status load_model(const uint8_t* file, size_t len) {
-    Model<Cap> M;
-    const Status s = parse_model(file, len, M, nullptr, 0);
-    if (s != Status::Ok) return s;
-    return adopt(M);
-  }
-  Status adopt(const Model<Cap>& M) {
-    if (M.m != rig_.m || M.n != rig_.n || M.w != rig_.w) return Status::Inconsistent;
-    const Model<Cap> previous = model_;
-    model_ = M;
-    const Status s = ctl_.configure(&model_, params_);
-    if (s != Status::Ok) {
-      model_ = previous;  // the controller still runs the previous model
-      return s;
-    }
-    has_model_ = true;
-    return Status::Ok;
-  }
-  bool model_in_staging() const {
-    return has_model_ && model_.params != nullptr && reinterpret_cast<const uint8_t*>(model_.params) >= buf_.model_staging &&
-           reinterpret_cast<const uint8_t*>(model_.params) < buf_.model_staging + buf_.model_staging_cap;
-  }
-  // Before a model transfer writes over the buffer of the model in force.
-  void restore_builtin_model() {
-    if (!model_in_staging()) return;
-    has_model_ = false;
-    if (builtin_ && load_model(builtin_, builtin_len_) == Status::Ok) return;
-    model_ = Model<Cap>{};
-  }
-  proto::StatusCode commit_model() {
-    Model<Cap> probe;
-    const uint8_t* f = model_rx_.data();
-    const size_t len = model_rx_.size();
-    namespace at = model_offset;
-    if (len < kModelHeaderSize || f[at::kM] != rig_.m || f[at::kN] != rig_.n || f[at::kW] != rig_.w)
-      return proto::StatusCode::Inconsistent;
-    const Status s = parse_model(f, len, probe, nullptr, 0);
-    if (s != Status::Ok) return proto::StatusCode(uint8_t(s));
-    const Status a = adopt(probe);
-    return a == Status::Ok ? proto::StatusCode::Ok
-                           : (a == Status::Unsupported ? proto::StatusCode::Unsupported : proto::StatusCode::Inconsistent);
-  }
-
   // ------------------------------------------------- identification run
-  // Open loop (protocol 9.9): the excitation's u, clamped to the limits in
-  // force, goes to the actuators; hold and neutral (RUN_HOLD, the watchdog's
-  // safe state) pause the signal.
+  // Open loop (protocol 9.9): the signal's u goes to the actuators; hold and
+  // neutral (RUN_HOLD, the watchdog's safe state) pause the signal.
   void ident_step(uint32_t t0, const float* l) {
     const int m = rig_.m;
     const bool driving = state_ == proto::RunState::Ident;
     if (driving) {
-      gen_.next(u_);
-      for (int i = 0; i < m; ++i)
-        u_[i] = u_[i] < params_.u_min[i] ? params_.u_min[i] : (u_[i] > params_.u_max[i] ? params_.u_max[i] : u_[i]);
+      ident_.next(u_, params_.u_min, params_.u_max, m);
     } else if (state_ == proto::RunState::Neutral) {
       neutral(u_);
     }
     hal_.actuate(u_, m);
     if (driving) {
       stats_.add(hal_.ticks() - t0);
-      if (step_ % ident_decimation_ == 0) send_ident_sample(l);
+      if (step_ % ident_.decimation() == 0) send_ident_sample(l);
       ++step_;
-      if (gen_.done()) {
+      if (ident_.done()) {
         state_ = proto::RunState::Idle;
-        ident_ = false;
+        ident_.end();
         watchdog_ = 0;
         neutral(u_);
         hal_.actuate(u_, m);
@@ -258,42 +199,17 @@ class Firmware {
     if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
   }
 
-  // Field numbers of IDENT_START's table for each refusal of the signal's checks.
-  static uint8_t ident_field(ExcitationField f) {
-    switch (f) {
-      case ExcitationField::Signal: return 1;
-      case ExcitationField::Amplitude: return 5;
-      case ExcitationField::BandLo: return 6;
-      case ExcitationField::BandHi: return 7;
-      case ExcitationField::Duration: return 8;
-      case ExcitationField::None: break;
-    }
-    return proto::kNoField;
-  }
-
   void ident_start(uint8_t type, const proto::IdentStart& p) {
     if (state_ != proto::RunState::Idle) {
-      if (ident_ && p.run_id == run_id_) return ack(type);  // a retry
+      if (ident_.active() && p.run_id == run_id_) return ack(type);  // a retry
       return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
     }
-    if (p.signal >= kExcitationSignalCount) return nack(type, proto::StatusCode::OutOfRange, 1, proto::kNoField);
-    if (p.decimation == 0) return nack(type, proto::StatusCode::OutOfRange, 3, proto::kNoField);
-    ExcitationSpec spec;
-    spec.signal = ExcitationSignal(p.signal);
-    spec.joint = (p.options & proto::ident_options::kJoint) != 0;
-    spec.seed = p.seed;
-    spec.amplitude = p.amplitude;
-    spec.band_lo = p.band_lo;
-    spec.band_hi = p.band_hi;
-    spec.duration = p.duration;
-    const ExcitationCheck c =
-        gen_.configure(spec, float(id_.loop_rate_hz), params_.u_min, params_.u_max, rig_.u_neutral, rig_.m);
-    if (c.status != Status::Ok) return nack(type, proto::StatusCode(uint8_t(c.status)), ident_field(c.field), proto::kNoField);
+    const IdentRefusal r = ident_.start(p, float(id_.loop_rate_hz), params_.u_min, params_.u_max, rig_);
+    if (r.status != proto::StatusCode::Ok) return nack(type, r.status, r.field, proto::kNoField);
     run_id_ = p.run_id;
     step_ = 0;
     stats_.reset();
-    ident_ = true;
-    ident_decimation_ = p.decimation;
+    hal_.run_begins();
     watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;
     link_back_reported_ = false;
     last_rx_ms_ = clock_.ms();
@@ -367,7 +283,7 @@ class Firmware {
         proto::ParamSet p;
         if (!unpack_or_nack(f, p)) return;
         const ParamReply r = params_svc_.set(p);
-        if (r.status == proto::StatusCode::Ok && has_model_) ctl_.configure(&model_, params_);
+        if (r.status == proto::StatusCode::Ok) model_.reconfigure();
         return param_reply(f.header.type, r);
       }
       case T::RefSelect: {
@@ -381,7 +297,7 @@ class Firmware {
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
         if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
-        if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_in_staging())
+        if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_.in_staging())
           return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
         // After the size rules of TransferReceiver::begin (out_of_range, too_large): section 9.4's order.
         if (rx == &model_rx_ && p.total_size != 0 && p.total_size <= rx->capacity() &&
@@ -389,7 +305,7 @@ class Firmware {
           return nack(f.header.type, proto::StatusCode::Unsupported, 2, proto::kNoField);
         const proto::XferReply r = rx->begin(p);
         // Only an accepted BEGIN may touch the model in force: a NACK changes nothing.
-        if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) restore_builtin_model();
+        if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) model_.restore_builtin();
         return xfer_reply(f.header.type, r);
       }
       case T::XferChunk: {
@@ -432,7 +348,7 @@ class Firmware {
       }
       case T::RunStop:
         state_ = proto::RunState::Idle;
-        ident_ = false;
+        ident_.end();
         watchdog_ = 0;
         return ack(f.header.type);
       case T::RunHold: {
@@ -458,13 +374,14 @@ class Firmware {
     const bool active = state_ != proto::RunState::Idle;
     // A retry only of a closed-loop run: the identification run's own id
     // is refused as IDENT_START refuses a closed-loop run's (9.5).
-    if (active && !ident_ && run_id == run_id_) return ack(type);
+    if (active && !ident_.active() && run_id == run_id_) return ack(type);
     if (active) return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
-    if (!has_model_) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
+    if (!model_.has()) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
     run_id_ = run_id;
     step_ = 0;
     stats_.reset();
-    ident_ = false;
+    hal_.run_begins();
+    ident_.end();
     ref_.restart();
     watchdog_ = settings_.watchdog_ms ? watchdog_bits::kArmed : 0;
     link_back_reported_ = false;
@@ -473,9 +390,9 @@ class Firmware {
     float l[Cap::w + 1] = {};
     hal_.read_sensors(l, rig_.w);
     if (params_.feedback == Feedback::Measured && id_.has_y_true && hal_.read_output(y_true_, rig_.n))
-      ctl_.reset(u_, y_true_, l);
+      model_.controller().reset(u_, y_true_, l);
     else
-      ctl_.reset_at_rest(u_, l);
+      model_.controller().reset_at_rest(u_, l);
     state_ = proto::RunState::Running;
     ack(type);
   }
@@ -486,7 +403,7 @@ class Firmware {
       case proto::HoldMode::Hold: state_ = proto::RunState::Hold; break;
       case proto::HoldMode::Neutral: state_ = proto::RunState::Neutral; break;
       case proto::HoldMode::Resume: {
-        if (ident_) {  // the signal continues where it paused
+        if (ident_.active()) {  // the signal continues where it paused
           watchdog_ &= uint8_t(~watchdog_bits::kTripped);
           link_back_reported_ = false;
           state_ = proto::RunState::Ident;
@@ -495,7 +412,7 @@ class Firmware {
         if (state_ != proto::RunState::Running) {
           float l[Cap::w + 1] = {};
           hal_.read_sensors(l, rig_.w);
-          ctl_.reset_at_rest(u_, l);  // histories restart from where the actuators are
+          model_.controller().reset_at_rest(u_, l);  // histories restart from where the actuators are
           watchdog_ &= uint8_t(~watchdog_bits::kTripped);
           link_back_reported_ = false;
         }
@@ -515,7 +432,7 @@ class Firmware {
     proto::StatusCode s;
     if (kind == uint8_t(proto::XferKind::Model)) {
       if (state_ != proto::RunState::Idle) return nack(type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
-      s = commit_model();
+      s = model_.commit(rx->data(), rx->size());
     } else {
       s = ref_.commit_table(rx->data(), rx->size(), rig_.n);
     }
@@ -576,7 +493,7 @@ class Firmware {
     i.max_nc = uint8_t(Cap::Nc);
     i.fw_major = id_.major, i.fw_minor = id_.minor, i.fw_patch = id_.patch;
     i.loop_rate_hz = id_.loop_rate_hz;
-    i.model_hash = has_model_ ? model_.hash : 0;
+    i.model_hash = model_.hash();
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
@@ -664,18 +581,13 @@ class Firmware {
 
   Hal& hal_;
   Identity id_;
-  Buffers buf_;
   const RigConfig& rig_;
   Params<Cap> params_{};
   FwSettings settings_{};
   ParamService<Cap> params_svc_;
   ReferenceSlot ref_;
+  ModelSlot<Cap> model_;
   proto::TransferReceiver model_rx_, table_rx_;
-  Model<Cap> model_{};
-  bool has_model_ = false;
-  const uint8_t* builtin_ = nullptr;  // the image's own model file, or none
-  size_t builtin_len_ = 0;
-  Controller<Cap> ctl_{};
 
   proto::Decoder decoder_{};
   TxQueue<TxCapacity> tx_{};
@@ -699,10 +611,7 @@ class Firmware {
   float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
   float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
   bool have_y_true_ = false;
-  // The identification run's signal; ident_ stays set while it is held.
-  Excitation gen_{};
-  bool ident_ = false;
-  uint16_t ident_decimation_ = 1;
+  IdentRun ident_{};
   bool shape_list_ = false;
 };
 

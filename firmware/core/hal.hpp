@@ -24,6 +24,10 @@ class Hal {
   // plant, motion capture); false on a plain board. Telemetry only: the
   // controller never sees it unless its feedback parameter says so.
   virtual bool read_output(float* y, int n) = 0;
+  // A run or an identification run begins. A simulated plant starts its
+  // noise over from its seed here, so the same commands give the same data
+  // however long the port idled before; a board has nothing to do.
+  virtual void run_begins() {}
 
  protected:
   ~Hal() = default;

@@ -17,6 +17,13 @@ very file the document shows.
 Under the sanitizers (--train-lbfgs K) a `train` example that sets no
 --lbfgs runs with --lbfgs K: there it is checked for memory faults, not fit.
 
+A fenced block right after a line `<!-- output of: WORDS -->` is what the
+last example before it whose command starts with WORDS prints: each of its
+lines must be a line of that example's output, so the figures a document
+quotes (a model's hash, its fit, a tracking error) are the ones its own
+commands give. Not checked under --train-lbfgs, whose cut-short training
+gives other figures by design.
+
 A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
@@ -104,6 +111,45 @@ def examples(path):
                 else:
                     out.append((where, text))
     return out
+
+
+def quoted_outputs(path):
+    """The outputs a document quotes: [(line of the marker, WORDS, [lines])]."""
+    out, words, where, block, fenced = [], None, 0, None, False
+    with open(path, encoding="utf-8") as f:
+        for n, line in enumerate(f, 1):
+            m = re.fullmatch(r"<!-- output of: (.+?) -->\s*", line)
+            if m and not fenced:
+                words, where = m.group(1).strip(), n
+                continue
+            if line.startswith("```"):
+                fenced = not fenced
+                if fenced and words is not None:
+                    block = []
+                elif not fenced and block is not None:
+                    out.append((where, words, block))
+                    words, block = None, None
+                continue
+            if block is not None:
+                block.append(line.rstrip())
+            elif not fenced and line.strip():
+                words = None  # the marker must be right before its block
+    return out
+
+
+def output_verdict(quoted, ran):
+    """Why a quoted output is not what its example printed, or None.
+    `ran`: [(line, shown command, output)] of the document's examples run here."""
+    where, words, lines = quoted
+    before = [r for r in ran if r[0] < where and r[1].startswith(words)]
+    if not before:
+        return f"no example before it starts with '{words}'"
+    printed = {l.rstrip() for l in before[-1][2].splitlines()}
+    missing = [l for l in lines if l.strip() and l not in printed]
+    if missing:
+        return ("the document quotes lines its example did not print:\n    " + "\n    ".join(missing) +
+                "\n  it printed:\n    " + "\n    ".join(before[-1][2].strip().splitlines()[-15:]))
+    return None
 
 
 def placeholders(words):
@@ -297,6 +343,7 @@ def main():
         if a.part != "qemu" and not make_fixtures(a, work, env):
             return 1
         for doc in a.docs:
+            ran_here = []  # (line, shown command, output) of this document's examples run in this part
             for where, text in examples(doc):
                 cmd = resolve(text)
                 cmd[0] = binaries[cmd[0]]
@@ -336,11 +383,22 @@ def main():
                         if why:
                             code, out = 1, out + "\n" + why
                 ran += 1
+                ran_here.append((int(where.rsplit(":", 1)[1]), shown, out))
                 verdict = "PASS" if code == 0 else "FAIL"
                 print(f"{verdict} {where}: {shown}  ({time.time() - started:.1f} s)")
                 if code != 0:
                     failed += 1
                     print("  exit", code, "\n  " + "\n  ".join(out.strip().splitlines()[-15:]))
+            for quoted in quoted_outputs(doc):
+                # Its example runs in the other part (a QEMU one): checked there.
+                if not any(r[1].startswith(quoted[1]) for r in ran_here) or a.train_lbfgs is not None:
+                    continue
+                why = output_verdict(quoted, ran_here)
+                print(f"{'FAIL' if why else 'PASS'} {os.path.basename(doc)}:{quoted[0]}: the output of '{quoted[1]}' "
+                      "as quoted")
+                if why:
+                    failed += 1
+                    print("  " + why)
         if a.part != "qemu":
             with open(os.path.join(work, HOST_DONE), "w") as f:
                 f.write(f"{ran} examples run, {failed} failed\n")

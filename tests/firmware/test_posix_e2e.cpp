@@ -61,6 +61,45 @@ ModelXfer model_xfer(const std::vector<uint8_t>& file) {
   return x;
 }
 
+// PARAM_SET watchdog_ms 0: the peer only listens while a run goes.
+proto::ParamSet watchdog_off() {
+  proto::ParamSet wd;
+  wd.id = uint16_t(fw::FwParamId::WatchdogMs);
+  wd.count = 1;
+  wd.values[0] = 0;
+  return wd;
+}
+
+// IDENT_START of a PRBS over each input's whole range, 1-20 Hz, every step sampled.
+proto::IdentStart prbs_ident(uint32_t run_id, uint32_t seed, uint32_t steps) {
+  proto::IdentStart start;
+  start.run_id = run_id;
+  start.signal = uint8_t(proto::IdentSignal::Prbs);
+  start.decimation = 1;
+  start.seed = seed;
+  start.amplitude = 1.0f;
+  start.band_lo = 1.0f;
+  start.band_hi = 20.0f;
+  start.duration = steps;
+  return start;
+}
+
+// The identification run's samples as they arrive, until `steps` or until
+// none comes for 2 s.
+std::vector<proto::IdentSample> ident_samples(Peer& peer, uint32_t steps) {
+  std::vector<proto::IdentSample> s;
+  while (s.size() < steps) {
+    auto r = peer.wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::IdentSample); },
+                           2000);
+    if (!r) break;
+    for (auto& u : peer.unsolicited)
+      if (u.header.type == uint8_t(proto::MsgType::IdentSample)) s.push_back(as<proto::IdentSample>(u));
+    peer.unsolicited.clear();
+    s.push_back(as<proto::IdentSample>(*r));
+  }
+  return s;
+}
+
 class PosixFirmware : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -536,32 +575,12 @@ TEST_F(PosixFirmware, TheGoldenModelFileUploadsAndRefusedBeginsChangeNothing) {
 // the plant's output and no sensors (msd has none), loses no frame, keeps
 // u inside msd's limits, and ends by itself.
 TEST_F(PosixFirmware, AnIdentificationRunIsServedWholeAndEndsByItself) {
-  proto::ParamSet wd;  // listening only while the run goes, as above
-  wd.id = uint16_t(fw::FwParamId::WatchdogMs);
-  wd.count = 1;
-  wd.values[0] = 0;
-  ASSERT_EQ(must(peer_->request(wd), "PARAM_SET watchdog_ms").header.type, uint8_t(proto::MsgType::ParamValue));
-  proto::IdentStart start;
-  start.run_id = 9;
-  start.signal = uint8_t(proto::IdentSignal::Prbs);
-  start.decimation = 1;
-  start.seed = 11;
-  start.amplitude = 1.0f;
-  start.band_lo = 1.0f;
-  start.band_hi = 20.0f;
-  start.duration = 2000;
+  ASSERT_EQ(must(peer_->request(watchdog_off()), "PARAM_SET watchdog_ms").header.type,
+            uint8_t(proto::MsgType::ParamValue));
+  const proto::IdentStart start = prbs_ident(9, 11, 2000);
   ASSERT_EQ(must(peer_->request(start), "IDENT_START").header.type, uint8_t(proto::MsgType::Ack));
-  std::vector<proto::IdentSample> s;
-  while (s.size() < start.duration) {
-    auto r = peer_->wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::IdentSample); },
-                             2000);
-    ASSERT_TRUE(r.has_value()) << "samples stopped after " << s.size();
-    for (auto& u : peer_->unsolicited)
-      if (u.header.type == uint8_t(proto::MsgType::IdentSample)) s.push_back(as<proto::IdentSample>(u));
-    peer_->unsolicited.clear();
-    s.push_back(as<proto::IdentSample>(*r));
-  }
-  ASSERT_EQ(s.size(), size_t(start.duration));
+  const std::vector<proto::IdentSample> s = ident_samples(*peer_, start.duration);
+  ASSERT_EQ(s.size(), size_t(start.duration)) << "samples stopped";
   float lo = 1e9f, hi = -1e9f, ylo = 1e9f, yhi = -1e9f;
   for (size_t k = 0; k < s.size(); ++k) {
     ASSERT_EQ(s[k].step, k);
@@ -581,4 +600,41 @@ TEST_F(PosixFirmware, AnIdentificationRunIsServedWholeAndEndsByItself) {
   const auto st = as<proto::Status>(must(peer_->request(proto::StatusGet{}), "STATUS_GET"));
   EXPECT_EQ(st.run_state, uint8_t(proto::RunState::Idle));
   EXPECT_EQ(st.step, start.duration);
+}
+
+namespace {
+
+// The first `steps` samples of a PRBS identification run on a fresh
+// simulator of hasel (18 noisy sensors) that idled `idle_ms` before it.
+std::vector<proto::IdentSample> ident_after_idling(int idle_ms, uint32_t steps) {
+  SimProcess sim({NLSOFT_FIRMWARE_SIM, "--platform", "hasel", "--fast"});
+  EXPECT_FALSE(sim.path().empty()) << "the simulator printed no pty path";
+  Peer peer(sim.path());
+  EXPECT_TRUE(peer.ok());
+  if (sim.path().empty() || !peer.ok()) return {};
+  auto r = peer.request(watchdog_off());
+  EXPECT_TRUE(r && r->header.type == uint8_t(proto::MsgType::ParamValue)) << "PARAM_SET watchdog_ms";
+  // Idle, a fast simulator steps back to back, reading its sensors each step.
+  std::this_thread::sleep_for(std::chrono::milliseconds(idle_ms));
+  r = peer.request(prbs_ident(3, 5, steps));
+  EXPECT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Ack)) << "IDENT_START";
+  return ident_samples(peer, steps);
+}
+
+}  // namespace
+
+// The plant's noise starts over from the simulator's seed when a run
+// begins: the same identification run gives the same data however long the
+// simulator idled first (it reads its noisy sensors at every idle step).
+TEST(PosixFirmwareNoise, TheSameIdentificationRunGivesTheSameDataAfterAnyIdleTime) {
+  const auto a = ident_after_idling(0, 300), b = ident_after_idling(400, 300);
+  ASSERT_EQ(a.size(), 300u);
+  ASSERT_EQ(b.size(), 300u);
+  for (size_t k = 0; k < a.size(); ++k) {
+    ASSERT_EQ(a[k].w, 18);
+    ASSERT_EQ(a[k].step, b[k].step);
+    for (int i = 0; i < a[k].m; ++i) ASSERT_EQ(a[k].u[i], b[k].u[i]) << "step " << k << " u" << i;
+    for (int j = 0; j < a[k].n; ++j) ASSERT_EQ(a[k].y[j], b[k].y[j]) << "step " << k << " y" << j;
+    for (int j = 0; j < a[k].w; ++j) ASSERT_EQ(a[k].l[j], b[k].l[j]) << "step " << k << " l" << j;
+  }
 }

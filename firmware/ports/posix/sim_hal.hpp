@@ -17,6 +17,7 @@ class SimHal final : public Hal {
   // registry has not (shared/plant_registry.hpp).
   bool use_plant(PlantKind kind, uint32_t seed) {
     if (!plant_.select(kind, seed)) return false;
+    seed_ = seed;
     dt_ = plant_.dt();
     return true;
   }
@@ -24,6 +25,7 @@ class SimHal final : public Hal {
   // refused (generic_spec_problem).
   bool use_generic(const GenericPlantSpec& spec, uint32_t seed) {
     if (!plant_.select(spec, seed)) return false;
+    seed_ = seed;
     dt_ = plant_.dt();
     return true;
   }
@@ -60,10 +62,12 @@ class SimHal final : public Hal {
     plant_.output(y);
     return true;
   }
+  void run_begins() override { plant_.reseed_noise(seed_); }
 
  private:
   int fd_;
   SimPlant plant_;
+  uint32_t seed_ = 0;
   float dt_ = 0.0f;
   size_t bytes_in_ = 0;
   bool readable_ = false;  // until ppoll says so

@@ -140,7 +140,7 @@ TEST_F(RunEndingBadly, FirmwareDyingMidRunEndsTheRunEarlyAndRecordsTheOutage) {
   EXPECT_TRUE(s.ended_early);
   EXPECT_EQ(s.end_reason.rfind("ended early: telemetry stopped arriving", 0), 0u) << s.end_reason;
   EXPECT_GT(s.metrics.samples, 0u);
-  EXPECT_GT(s.metrics.lost_frames, 0u) << "the steps the run did not get are counted as lost";
+  EXPECT_GT(s.metrics.lost_frames, 0u) << "the frames due in the silence it ended in are counted lost";
   EXPECT_GT(s.metrics.wall_s, s.metrics.duration_s) << "the run lasted longer than its samples span";
 
   RunStore store(dir_.file("runs.db"));

@@ -220,10 +220,10 @@ TEST_F(RunsCommands, ARunBeingRecordedIsNotDeletedUntilItsRecorderIsGone) {
   EXPECT_EQ(left[0].label, "short");
 }
 
-// A firmware that died 3 s into a 30 s run at 130 Hz: the steps the run did
-// not get are 27 s of frames, the telemetry was silent for 3 s before the
-// run gave up. Each time is named for what it is, and the frames' time is
-// what they are at the run's rate.
+// A firmware that died 3 s into a 30 s run at 130 Hz: the telemetry was
+// silent for 3 s before the run gave up, 351 frames lost in it (a slower
+// loop than set). Each time is named for what it is, and the frames' time
+// is what they are at the run's rate.
 TEST_F(RunsCommands, AGapSaysItsFramesTimeAtTheRunsRateAndTheSilenceApart) {
   int64_t id = 0;
   {
@@ -234,12 +234,12 @@ TEST_F(RunsCommands, AGapSaysItsFramesTimeAtTheRunsRateAndTheSilenceApart) {
     ri.m = 6;
     ri.loop_rate_hz = 130;
     id = rec.begin_run(ri);
-    rec.add_gap(id, 383, 3510, "run ended early: telemetry stopped arriving", 3.0);
-    rec.end_run(id, "ended early: telemetry stopped arriving (none for 3.0 s: firmware stopped or link lost)", 384, 3510);
+    rec.add_gap(id, 383, 351, "run ended early: telemetry stopped arriving", 3.0);
+    rec.end_run(id, "ended early: telemetry stopped arriving (none for 3.0 s: firmware stopped or link lost)", 384, 351);
   }
   const auto r = runs("show " + std::to_string(id));
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(contains(r.output, "gap after sample 383: 3510 frames lost (27.0 s at 130 Hz); telemetry silent for 3.00 s"))
+  EXPECT_TRUE(contains(r.output, "gap after sample 383: 351 frames lost (2.7 s at 130 Hz); telemetry silent for 3.00 s"))
       << r.output;
   EXPECT_FALSE(contains(r.output, "lost over")) << r.output;
 }

@@ -17,6 +17,7 @@
 
 #include "app/link/sim_launcher.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/sqlite.hpp"
 #include "app/support/process_tree.hpp"
@@ -59,6 +60,25 @@ class ConsoleE2E : public ::testing::Test {
       }
     }
     return false;
+  }
+
+  // A console started in the background, ended: its wait status (-1 if
+  // waitpid failed) and what it wrote to `out`.
+  static std::pair<int, std::string> wait_for_console(pid_t pid, const std::string& out) {
+    int status = 0;
+    if (::waitpid(pid, &status, 0) != pid) status = -1;
+    std::ifstream in(out);
+    return {status, std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>())};
+  }
+
+  // The simulator under a console started in the background, once the
+  // console records; 0 (the console killed) if either never comes.
+  pid_t simulator_once_recording(pid_t console) const {
+    const bool recording = wait_until_recording();
+    const pid_t sim = test::descendant_named(console, "nlsoft-firmware-sim");
+    if (recording && sim > 0) return sim;
+    ::kill(console, SIGKILL);
+    return 0;
   }
 
   test::TempDir dir_;
@@ -236,13 +256,28 @@ TEST_F(ConsoleE2E, SweepRowsSettleBeforeTheyAreMeasured) {
 // into a ten-minute run, and the console stops the run at once and says so,
 // exit 2, instead of dying without a word (exit 153) or running on
 // unrecorded. `timeout` turns waiting out the run into a failure here.
-TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnce) {
+// The run is closed all the same, in the room the failed write left: every
+// sample that arrived and is not in the file counts lost, in the database
+// and in what the console says.
+TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnceAndCountsEveryUnsavedSampleLost) {
   script_ = dir_.file("full.nls");
   std::ofstream(script_) << "run 600s label=full\n";
   const auto r = run_process("ulimit -f 600; exec timeout 80 " + fmt_command("msd", "--sim-rate 5000"));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("stopped at once: recording failed"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("samples received"), std::string::npos) << r.output;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  const RunRow& run = runs[0];
+  EXPECT_EQ(run.end_reason.rfind("recording failed: ", 0), 0u) << run.end_reason;
+  const uint64_t saved = store.series(run.id).rows();
+  EXPECT_EQ(run.samples, saved);
+  EXPECT_GT(run.lost_frames, 0u) << "a failed write loses its batch at least";
+  const std::string counts = fmt::format("{} of {} samples saved", saved, saved + run.lost_frames);
+  EXPECT_NE(r.output.find(counts), std::string::npos) << counts << "\n" << r.output;
+  EXPECT_NE(r.output.find(fmt::format("{} lost: not written: ", run.lost_frames)), std::string::npos) << r.output;
+  const auto show = run_process(std::string(NLSOFT_CONSOLE_BIN) + " runs show 1 --db " + shell_quote(db()));
+  EXPECT_NE(show.output.find(fmt::format("{} lost frame", run.lost_frames)), std::string::npos) << show.output;
 }
 
 // A colleague's sqlite3 shell holds the database in BEGIN EXCLUSIVE for 4 s
@@ -265,10 +300,8 @@ TEST_F(ConsoleE2E, ADatabaseLockedPastTheBusyWindowIsAGapWithItsReason) {
     std::this_thread::sleep_for(std::chrono::seconds(4));
     shell.exec("ROLLBACK");
   }
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << text;
   EXPECT_EQ(WEXITSTATUS(status), 0) << text;
   EXPECT_NE(text.find("has been locked by another process for over 1 s (--db-busy)"), std::string::npos) << text;
@@ -304,16 +337,11 @@ TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
   const std::string command = "exec " + fmt_command("hasel", "") + " >" + shell_quote(out) + " 2>&1";
   const pid_t pid = test::start_shell(command);
   ASSERT_GT(pid, 0);
-  const bool recording = wait_until_recording();
-  const pid_t sim = test::descendant_named(pid, "nlsoft-firmware-sim");
-  if (!recording || sim <= 0) ::kill(pid, SIGKILL);
-  ASSERT_TRUE(recording) << "the run never started";
-  ASSERT_GT(sim, 0) << "no simulator under the console";
+  const pid_t sim = simulator_once_recording(pid);
+  ASSERT_GT(sim, 0) << "the run never started, or no simulator under the console";
   ASSERT_EQ(run_process("kill -9 " + std::to_string(sim)).code, 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << text;
   EXPECT_EQ(WEXITSTATUS(status), 1) << text;
   EXPECT_NE(text.find("ended early: simulator killed by signal 9 (SIGKILL)"), std::string::npos) << text;
@@ -324,6 +352,40 @@ TEST_F(ConsoleE2E, AKilledSimulatorEndsAScriptsRunSayingHow) {
   const auto gaps = store.gaps(runs[0].id);
   ASSERT_EQ(gaps.size(), 1u);
   EXPECT_EQ(gaps[0].reason, "run ended early: simulator killed by signal 9 (SIGKILL)");
+}
+
+// The simulator stopped (SIGSTOP) for 4 s of an 8 s run, then continued:
+// after 3 s without telemetry the run ends early, and the gap it records is
+// the silence it ended in (its frames those that fell due in it), never
+// the rest of the run it did not reach: no gap outlasts the run.
+TEST_F(ConsoleE2E, AStoppedSimulatorsGapIsTheSilenceNotMoreThanTheRunLasted) {
+  script_ = dir_.file("stopped.nls");
+  std::ofstream(script_) << "run 8s label=stopped\n";
+  const std::string out = dir_.file("console.out");
+  const pid_t pid = test::start_shell("exec " + fmt_command("hasel", "") + " >" + shell_quote(out) + " 2>&1");
+  ASSERT_GT(pid, 0);
+  const pid_t sim = simulator_once_recording(pid);
+  ASSERT_GT(sim, 0) << "the run never started, or no simulator under the console";
+  ASSERT_EQ(::kill(sim, SIGSTOP), 0);
+  std::this_thread::sleep_for(std::chrono::seconds(4));
+  ASSERT_EQ(::kill(sim, SIGCONT), 0);
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 1) << text;
+  RunStore store(db());
+  const auto runs = store.list();
+  ASSERT_EQ(runs.size(), 1u);
+  const RunMetrics m = run_metrics(store, runs[0].id);
+  ASSERT_GT(m.wall_s, 0.0);
+  const auto gaps = store.gaps(runs[0].id);
+  ASSERT_EQ(gaps.size(), 1u) << text;
+  const GapRecord& g = gaps[0];
+  EXPECT_EQ(g.reason.rfind("run ended early: telemetry stopped arriving", 0), 0u) << g.reason;
+  EXPECT_LE(g.duration_s, m.wall_s) << "a silence longer than the run";
+  EXPECT_LE(double(g.lost_frames), g.duration_s * runs[0].loop_rate_hz) << "more frames than fell due in the silence";
+  EXPECT_LE(double(g.lost_frames) / runs[0].loop_rate_hz, m.wall_s) << "a gap longer than the run";
+  EXPECT_EQ(runs[0].lost_frames, g.lost_frames);
 }
 
 // The same on the HASEL rig at its own rate, a minute's run under a smaller
@@ -350,10 +412,8 @@ TEST_F(ConsoleE2E, AHangupStopsTheRunAndRecordsWhichSignalEndedIt) {
   const bool recording = wait_until_recording();
   ASSERT_TRUE(recording) << "the run never started";
   ASSERT_EQ(::kill(pid, SIGHUP), 0);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  std::ifstream in(out);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto [status, text] = wait_for_console(pid, out);
+  ASSERT_NE(status, -1) << "waitpid failed";
   ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status) << "\n" << text;
   EXPECT_EQ(WEXITSTATUS(status), 2) << text;
   EXPECT_NE(text.find("interrupted by SIGHUP (the terminal closed or the connection dropped): run 1 stopped and kept"),

@@ -1,0 +1,79 @@
+#pragma once
+// The identification run's signal (protocol 9.9): IDENT_START's checks, the
+// excitation it configures, and each step's u clamped to the limits in
+// force. The firmware keeps the run's state (driving, held, neutral) and
+// sends the samples.
+#include <cstdint>
+
+#include "protocol/messages.hpp"
+#include "protocol/status.hpp"
+#include "shared/excitation.hpp"
+#include "shared/rig_config.hpp"
+
+namespace nlsoft::fw {
+
+namespace proto = nlsoft::protocol;
+
+// An IDENT_START refused, as NACK reports it.
+struct IdentRefusal {
+  proto::StatusCode status = proto::StatusCode::Ok;
+  uint8_t field = proto::kNoField;
+};
+
+class IdentRun {
+ public:
+  // Checks IDENT_START's fields in wire order and, when they pass, sets the
+  // signal up and marks the run active; a refusal changes nothing.
+  IdentRefusal start(const proto::IdentStart& p, float rate_hz, const float* u_min, const float* u_max,
+                     const RigConfig& rig) {
+    if (p.signal >= kExcitationSignalCount) return {proto::StatusCode::OutOfRange, 1};
+    if (p.decimation == 0) return {proto::StatusCode::OutOfRange, 3};
+    ExcitationSpec spec;
+    spec.signal = ExcitationSignal(p.signal);
+    spec.joint = (p.options & proto::ident_options::kJoint) != 0;
+    spec.seed = p.seed;
+    spec.amplitude = p.amplitude;
+    spec.band_lo = p.band_lo;
+    spec.band_hi = p.band_hi;
+    spec.duration = p.duration;
+    const ExcitationCheck c = gen_.configure(spec, rate_hz, u_min, u_max, rig.u_neutral, rig.m);
+    if (c.status != Status::Ok) return {proto::StatusCode(uint8_t(c.status)), field(c.field)};
+    active_ = true;
+    decimation_ = p.decimation;
+    return {};
+  }
+
+  // Set from an accepted IDENT_START until the signal is over or the run
+  // stopped; it stays set while the run is held.
+  bool active() const { return active_; }
+  void end() { active_ = false; }
+  uint16_t decimation() const { return decimation_; }
+
+  // The signal's next u, clamped to the limits in force (a tuned u_min or
+  // u_max may have narrowed them during the run).
+  void next(float* u, const float* u_min, const float* u_max, int m) {
+    gen_.next(u);
+    for (int i = 0; i < m; ++i) u[i] = u[i] < u_min[i] ? u_min[i] : (u[i] > u_max[i] ? u_max[i] : u[i]);
+  }
+  bool done() const { return gen_.done(); }
+
+ private:
+  // Field numbers of IDENT_START's table for each refusal of the signal's checks.
+  static uint8_t field(ExcitationField f) {
+    switch (f) {
+      case ExcitationField::Signal: return 1;
+      case ExcitationField::Amplitude: return 5;
+      case ExcitationField::BandLo: return 6;
+      case ExcitationField::BandHi: return 7;
+      case ExcitationField::Duration: return 8;
+      case ExcitationField::None: break;
+    }
+    return proto::kNoField;
+  }
+
+  Excitation gen_{};
+  bool active_ = false;
+  uint16_t decimation_ = 1;
+};
+
+}  // namespace nlsoft::fw
