@@ -69,8 +69,12 @@ EOF
   [ "$(stat -c %Y "$hil")" = "$before" ] || say "$board: --qemu built the image again"
   # Both runs of the board, one fit, and nothing else: the model the
   # controller then runs on the image.
+  # The image runs the shape it was built with (the build part's model,
+  # Dense 16 tanh): train that shape, not train's candidates (a linear
+  # layer may simulate these runs better and is then refused at upload).
   # shellcheck disable=SC2086
-  "$console" train --rig my.toml $ids --db $db --out $board.nlsm --epochs 60 >train.txt 2>&1 ||
+  "$console" train --rig my.toml $ids --db $db --out $board.nlsm --epochs 60 --hidden 16 --activation tanh \
+    >train.txt 2>&1 ||
     { say "$board: train$ids: $(cat train.txt)"; continue; }
   [ -s $board.nlsm ] || { say "$board: train --run wrote no model: $(cat train.txt)"; continue; }
   hash=$("$console" model info $board.nlsm | sed -n 's/^ *hash 0x\([0-9a-f]*\)$/\1/p')
