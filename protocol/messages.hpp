@@ -61,7 +61,7 @@ constexpr uint8_t kRestart = 0x01;  // discard a matching partial transfer inste
 enum class RunState : uint8_t { Idle = 0, Running = 1, Hold = 2, Neutral = 3, Fault = 4, Ident = 5 };
 enum class HoldMode : uint8_t { Hold = 0, Neutral = 1, Resume = 2 };
 enum class LogLevel : uint8_t { Debug = 0, Info = 1, Warn = 2, Error = 3 };
-// Numbering shared with shared/platform_id.hpp.
+// Numbering shared with shared/platform_id.hpp (a static_assert in firmware/core/firmware.hpp).
 enum class Platform : uint8_t { Msd = 0, Hasel = 1, Tendon = 2, Custom = 0xFF };
 // Numbering shared with shared/reference.hpp's RefKind.
 enum class RefId : uint8_t {

@@ -30,6 +30,14 @@ namespace proto = nlsoft::protocol;
 
 namespace watchdog_bits = proto::watchdog_flags;
 
+// INFO's platform byte is the rig's PlatformId as it is (uint8_t(rig_.platform)
+// below): the two enumerations are one numbering, checked here where both meet.
+static_assert(uint8_t(PlatformId::Msd) == uint8_t(proto::Platform::Msd) &&
+                  uint8_t(PlatformId::Hasel) == uint8_t(proto::Platform::Hasel) &&
+                  uint8_t(PlatformId::Tendon) == uint8_t(proto::Platform::Tendon) &&
+                  uint8_t(PlatformId::Custom) == uint8_t(proto::Platform::Custom),
+              "PlatformId and protocol::Platform number the rigs alike");
+
 struct Identity {
   const RigConfig* rig;  // the port's, alive as long as the firmware
   const char* name;  // e.g. "nlsoft-posix"
