@@ -93,7 +93,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   // The rig's task space (each output's span): what "the reference barely
   // moves" is measured against; the console's rig, shipped or a rig file.
   std::vector<double> task;
-  for (const RigOutput& o : console.rig().outputs) task.push_back(o.span);
+  for (const RigOutput& output : console.rig().outputs) task.push_back(output.span);
   bool motion_checked = false;
   Stop stop = Stop::None;
   std::exception_ptr error;
