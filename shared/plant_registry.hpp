@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <tuple>
 
 #include "shared/plant.hpp"
@@ -123,12 +124,8 @@ static_assert(kGenericMaxM <= kMaxPlantM && kGenericMaxN <= kMaxPlantN && kGener
 // The registered plant so named; nullptr for any other name.
 inline const PlantEntry* find_plant(const char* name) {
   if (name == nullptr) return nullptr;
-  for (const PlantEntry& e : kPlantRegistry) {
-    const char* a = e.name;
-    const char* b = name;
-    while (*a != '\0' && *a == *b) ++a, ++b;
-    if (*a == '\0' && *b == '\0') return &e;
-  }
+  for (const PlantEntry& e : kPlantRegistry)
+    if (std::strcmp(e.name, name) == 0) return &e;
   return nullptr;
 }
 

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 
 namespace nlsoft {
 
@@ -30,13 +31,7 @@ inline bool platform_from_name(const char* name, PlatformId* out) {
   if (name == nullptr || out == nullptr) return false;
   for (int i = 0; i < kPlatformCount; ++i) {
     const PlatformId id = static_cast<PlatformId>(i);
-    const char* a = platform_name(id);
-    const char* b = name;
-    while (*a != '\0' && *a == *b) {
-      ++a;
-      ++b;
-    }
-    if (*a == '\0' && *b == '\0') {
+    if (std::strcmp(platform_name(id), name) == 0) {
       *out = id;
       return true;
     }
