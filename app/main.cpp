@@ -17,6 +17,7 @@
 #include "app/record/run_training.hpp"
 #include "app/record/runs_command.hpp"
 #include "app/rig/rig_command.hpp"
+#include "app/rig/rig_catalog.hpp"
 #include "app/rig/rig_pipeline.hpp"
 #include "app/simulate/simulate_command.hpp"
 #include "app/tune/tune_command.hpp"
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
   // reads recorded runs from the console's database.
   add_dataset_command(app, rig_target_arg);
   add_train_command(app, rig_target_arg, load_recorded_run);
-  add_model_command(app, rig_target_arg, load_recorded_run, run_gnuplot);
+  add_model_command(app, rig_target_arg, rig_name_of_platform, load_recorded_run, run_gnuplot);
   add_rig_command(app);
   // Last: CLI11 copies the main app's footer into every subcommand made
   // after it is set, and the live console's footer (its examples and script

@@ -40,7 +40,7 @@ RefKind kind_of(const std::string& name) {
 
 }  // namespace
 
-RefParams reference_preset(const Rig& rig, const std::string& name) { return rig_reference(rig, kind_of(name)); }
+RefParams reference_by_name(const Rig& rig, const std::string& name) { return rig_reference(rig, kind_of(name)); }
 
 std::string default_reference(const Rig& rig) {
   for (const Named& n : kNames)

@@ -13,7 +13,7 @@ const std::vector<std::string>& reference_names();
 
 // The path `name` on `rig` (its [reference] geometry); throws CliError for
 // an unknown name.
-RefParams reference_preset(const Rig& rig, const std::string& name);
+RefParams reference_by_name(const Rig& rig, const std::string& name);
 // The rig's default task: its [reference] kind.
 std::string default_reference(const Rig& rig);
 

@@ -1,8 +1,8 @@
 #pragma once
 // The firmware's own settings, listed after the controller's parameter
-// table (shared/params.hpp) with ids from 100. Their defaults live here, with
-// the controller's presets (shared/platform.hpp), so the console knows every
-// value a freshly booted firmware holds (`params diff`, `params reset`).
+// table (shared/params.hpp) with ids from 100. Their defaults live here, and
+// the controller's in the rig file (rigs/*.toml [controller]), so the console
+// knows every value a freshly booted firmware holds (`params diff`, `params reset`).
 #include <cstdint>
 
 namespace nlsoft {

@@ -20,6 +20,7 @@
 //   static void input_limits(float* umin, float* umax);
 //   static void neutral_input(float* u);
 //   static void output_box(float* lo, float* hi);  bounds y never leaves
+//   static constexpr DatasetScales kDataset;  how `dataset` excites it
 //
 // Guarantees for any input sequence: a non-finite input component acts as
 // the neutral input, a non-finite or negative dt does not advance the state,
@@ -37,6 +38,20 @@ namespace nlsoft {
 constexpr int kMaxPlantM = 8;
 constexpr int kMaxPlantN = 6;
 constexpr int kMaxPlantW = 32;
+
+// How `dataset` excites a hand-written plant (app/model/excitation.cpp),
+// chosen around its dominant time constant; seconds unless said. Host data:
+// an image that never reads it carries none of it.
+struct DatasetScales {
+  double hold_min, hold_max;  // a level held this long
+  double seg_min, seg_max;    // a segment of one kind of signal
+  double f_min, f_max;        // Hz, the band a chirp sweeps
+  double walk_tau;            // a random walk's smoothing
+  double spread;              // half-width of levels around the common level, [0,1] units
+  bool common_level;          // draw a common level for all inputs, or keep it central
+  double dither;              // max dither amplitude, [0,1] units
+  bool paper_input;           // segments of the paper's own input, u(t) = 1000 sin t cos t
+};
 
 // Longest period one step() call will integrate; guards against a stalled
 // host loop asking for a huge catch-up step.

@@ -52,6 +52,8 @@ class HaselPlant {
  public:
   static constexpr int m = 6, n = 3, w = 18;
   static constexpr float kDt = 1.0f / 130.0f;
+  // Around the 25-45 ms lag; the six actuators share a common level (the plate's height).
+  static constexpr DatasetScales kDataset = {0.04, 1.2, 3.0, 15.0, 0.05, 4.0, 0.15, 0.6, true, 0.03, false};
 
   static constexpr float kPlay = 0.03f;     // h
   static constexpr float kTauUp = 0.025f;   // s

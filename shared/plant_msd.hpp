@@ -24,6 +24,8 @@ class MsdPlant {
  public:
   static constexpr int m = 1, n = 1, w = 0;
   static constexpr float kDt = 1e-3f;  // 1 kHz (docs/platforms.md)
+  // Around omega0 = 20 rad/s; with the paper's own input.
+  static constexpr DatasetScales kDataset = {0.05, 2.0, 4.0, 20.0, 0.1, 8.0, 0.1, 0.35, false, 0.02, true};
 
   static constexpr float kStiffness = 40.0f;  // k, N/m
   static constexpr float kDamping = 0.5f;     // c, N s/m

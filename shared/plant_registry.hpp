@@ -89,11 +89,14 @@ struct PlantEntry {
   const char* header;
   const char* type;
   PlantOps ops;  // the factory: how SimPlant runs this plant
+  // How `dataset` excites it; the generic plant's come from its spec.
+  DatasetScales dataset;
 };
 
 template <class P>
 constexpr PlantEntry hand_written(PlantKind kind, const char* name, const char* header, const char* type) {
-  return {kind, name, uint8_t(P::m), uint8_t(P::n), uint8_t(P::w), P::kDt, header, type, plant_detail::ops_of<P>()};
+  return {kind,   name, uint8_t(P::m), uint8_t(P::n), uint8_t(P::w), P::kDt, header, type, plant_detail::ops_of<P>(),
+          P::kDataset};
 }
 
 inline constexpr PlantEntry kPlantRegistry[] = {
@@ -101,7 +104,7 @@ inline constexpr PlantEntry kPlantRegistry[] = {
     hand_written<HaselPlant>(PlantKind::Hasel, "hasel", "shared/plant_hasel.hpp", "HaselPlant"),
     hand_written<TendonPlant>(PlantKind::Tendon, "tendon", "shared/plant_tendon.hpp", "TendonPlant"),
     {PlantKind::Generic, "generic", 0, 0, 0, 0.0f, "shared/plant_generic.hpp", nullptr,
-     plant_detail::ops_of<GenericPlant>()},
+     plant_detail::ops_of<GenericPlant>(), DatasetScales{}},
 };
 constexpr int kPlantCount = int(sizeof(kPlantRegistry) / sizeof(kPlantRegistry[0]));
 

@@ -50,6 +50,8 @@ class TendonPlant {
  public:
   static constexpr int m = 2, n = 3, w = 11;
   static constexpr float kDt = 1.0f / 120.0f;
+  // Around the 50 ms servo.
+  static constexpr DatasetScales kDataset = {0.04, 1.2, 3.0, 15.0, 0.05, 3.0, 0.2, 0.5, false, 0.03, false};
 
   static constexpr float kUMax = 1.2f;     // rad
   static constexpr float kTau = 0.05f;     // s, servo

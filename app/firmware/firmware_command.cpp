@@ -57,6 +57,35 @@ void add_firmware_command(CLI::App& app) {
     print_image("board", b.board);
     print_image("hil", b.hil);
   });
+
+  struct HeaderArgs {
+    std::string rig, model, out;
+  };
+  auto h = std::make_shared<HeaderArgs>();
+  CLI::App* header = fw->add_subcommand(
+      "header", "Write the rig's nlsoft_rig.hpp alone, for a port another tool builds (the Teensy sketch)");
+  header->add_option("--rig", h->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
+      ->required()
+      ->check(rig_arg_validator());
+  header->add_option("--model", h->model, "model file whose layer table is the compiled shape (default: the rig's [model] layers)")
+      ->check(CLI::ExistingFile);
+  header->add_option("--out", h->out, "folder to write nlsoft_rig.hpp into (created)")->required();
+  header->footer(
+      "The header every image is compiled from (kRig: the rig's values; Cap: the capacity sized from its\n"
+      "dimensions, horizons and one network shape), without a board's pins.\n"
+      "Example:\n"
+      "  nlsoft-console firmware header --rig hasel --out firmware/ports/teensy/nlsoft\n");
+  header->callback([h] {
+    const Rig rig = load_rig_arg(h->rig);
+    ImageRequest request;
+    request.board = kPortableBoard;
+    request.model_file = h->model;
+    const ImageSource source = image_source(rig, request);
+    std::filesystem::create_directories(h->out);
+    const std::string path = h->out + "/nlsoft_rig.hpp";
+    write_text_if_changed(path, source.header);
+    fmt::print("wrote {} (rig {}, CRC-32 0x{:08x})\n", path, rig.name, rig.hash);
+  });
 }
 
 }  // namespace nlsoft::console

@@ -33,15 +33,6 @@ std::string flt(float v) {
   return s + "f";
 }
 
-const char* platform_literal(PlatformId id) {
-  switch (id) {
-    case PlatformId::Msd: return "PlatformId::Msd";
-    case PlatformId::Hasel: return "PlatformId::Hasel";
-    case PlatformId::Tendon: return "PlatformId::Tendon";
-    default: return "PlatformId::Custom";
-  }
-}
-
 const char* ref_kind_literal(RefKind k) {
   switch (k) {
     case RefKind::Infinity: return "RefKind::Infinity";
@@ -91,8 +82,9 @@ std::string rig_config_part(const Rig& rig) {
   std::string o;
   o += "// The rig the image serves (shared/rig_config.hpp): every value as the console computes it from the file.\n";
   o += "constexpr RigConfig image_rig() {\n  RigConfig c{};\n";
-  o += fmt::format("  c.name = {};\n  c.hash = 0x{:08x}u;\n  c.platform = {};\n", cpp_string_literal(rig.name), c.hash,
-                   platform_literal(c.platform));
+  // INFO's platform byte: the rig file's info_platform, 255 (Custom) without one.
+  o += fmt::format("  c.name = {};\n  c.hash = 0x{:08x}u;\n  c.platform = PlatformId({});\n",
+                   cpp_string_literal(rig.name), c.hash, unsigned(c.platform));
   o += fmt::format("  c.m = {}, c.n = {}, c.w = {}, c.nd = {}, c.dd = {};\n", c.m, c.n, c.w, c.nd, c.dd);
   o += fmt::format("  c.rate_hz = {};\n", flt(c.rate_hz));
   for (int i = 0; i < c.m; ++i)
@@ -318,7 +310,7 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
 }
 
 ImageSource image_source(const Rig& rig, const ImageRequest& request) {
-  bool known = false;
+  bool known = request.board == kPortableBoard;
   for (const std::string& b : image_boards()) known = known || b == request.board;
   if (!known)
     throw CliError(fmt::format("--board {}: the images are built for {}", request.board, fmt::join(image_boards(), ", ")));

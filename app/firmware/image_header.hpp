@@ -16,6 +16,9 @@ namespace nlsoft::console {
 
 // The boards the images are built for (firmware/ports/<board>).
 const std::vector<std::string>& image_boards();
+// The board of a header with no board's pins: for a port another tool
+// builds (the Teensy sketch, `firmware header`).
+inline const char* const kPortableBoard = "portable";
 
 struct ImageRequest {
   std::string board;                // one of image_boards()

@@ -8,7 +8,7 @@
 #include "app/cli_error.hpp"
 #include "app/link/protocol_version.hpp"
 #include "app/printable.hpp"
-#include "shared/platform_id.hpp"
+#include "app/link/session_words.hpp"
 #include "protocol/crc.hpp"
 
 namespace nlsoft::console {
@@ -44,8 +44,7 @@ std::optional<p::RigInfo> Device::rig() const {
 std::string Device::rig_label() const {
   std::lock_guard<std::mutex> lock(mu_);
   if (rig_ && rig_->rig_name[0] != '\0') return printable(rig_->rig_name);
-  const uint8_t pl = info_.info.platform;
-  return pl <= uint8_t(PlatformId::Tendon) ? platform_name(PlatformId(pl)) : "custom";
+  return platform_words(info_.info.platform);
 }
 
 p::Info Device::info() const {

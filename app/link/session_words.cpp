@@ -6,7 +6,7 @@
 
 #include "app/link/protocol_version.hpp"
 #include "protocol/catalog.hpp"
-#include "shared/platform_id.hpp"
+#include "app/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 
@@ -14,10 +14,15 @@ namespace p = nlsoft::protocol;
 
 namespace {
 
+}  // namespace
+
 std::string platform_words(uint8_t platform) {
-  if (platform < kPlatformCount) return platform_name(PlatformId(platform));
+  const std::string shipped = rig_name_of_platform(platform);
+  if (!shipped.empty()) return shipped;
   return platform == uint8_t(p::Platform::Custom) ? "custom" : fmt::format("#{}", platform);
 }
+
+namespace {
 
 std::string firmware_words(const p::Info& i) {
   return fmt::format("{} {}.{}.{}", std::string(i.firmware, strnlen(i.firmware, sizeof i.firmware)), i.fw_major,

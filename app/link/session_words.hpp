@@ -18,6 +18,10 @@ namespace nlsoft::console {
 // heard_words, wait_words and link_event_name, declared with the facts they
 // say in session.hpp, are written in this file's .cpp too.
 
+// INFO's platform byte in words: the shipped rig whose file gives it that
+// number (rigs/*.toml info_platform), "custom" for 255, else "#N".
+std::string platform_words(uint8_t platform);
+
 // How `now` is not the device `was`, in words; empty if it is the same one.
 // The same device is the same rig and firmware build. Not compared: uptime
 // (a board that reset is still the same board), model_hash and param_hash

@@ -15,13 +15,14 @@
 #include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/rig/rig_catalog.hpp"
+#include "app/rig_option.hpp"
 
 namespace nlsoft::console {
 
 namespace {
 
 struct FlashArgs {
-  std::string board = "stm32f4", platform, image, port = "/dev/ttyACM0", script;
+  std::string board = "stm32f4", rig, image, port = "/dev/ttyACM0", script;
   bool hil = false, no_connect = false;
 };
 
@@ -47,6 +48,7 @@ int run_child(const std::vector<std::string>& args) {
 }
 
 int run_flash(const FlashArgs& a) {
+  if (a.rig.empty()) throw CliError("flash: --rig is required (the rig whose image is written)");
   // Before anything else: without the flasher nothing below can help.
   const std::string openocd = find_on_path("openocd");
   if (openocd.empty())
@@ -54,7 +56,7 @@ int run_flash(const FlashArgs& a) {
         "openocd is not installed or not on PATH: apt-get install openocd (or write the .bin yourself with st-flash "
         "from stlink-tools; see firmware/ports/stm32f4/README.md)");
   // The rig's image: a shipped one, or built from its file (firmware build).
-  const std::string image = !a.image.empty() ? a.image : stm32f4_image_for(a.platform, a.hil, "--rig");
+  const std::string image = !a.image.empty() ? a.image : stm32f4_image_for(a.rig, a.hil, "--rig");
   if (::access(image.c_str(), R_OK) != 0) throw CliError(fmt::format("cannot read the image {}", image));
   std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), kOpenocdBoard);
   const int rc = run_child({openocd, "-f", kOpenocdBoard, "-c", fmt::format("program {{{}}} verify reset exit", image)});
@@ -86,9 +88,9 @@ void add_flash_command(CLI::App& app) {
   CLI::App* c = app.add_subcommand("flash", "Write the firmware to a board with openocd, then connect to it");
   c->add_option("--board", a->board, "The board: stm32f4 (a Nucleo-64 through its on-board ST-LINK)")
       ->check(CLI::IsMember({"stm32f4"}));
-  c->add_option("--platform,--rig", a->platform,
-                "Whose image: the rig, " + rig_arg_help() + "; a rig file's image is built from it (firmware build)")
-      ->required()
+  add_rig_option(c, a->rig,
+                 "Whose image (required): the rig, " + rig_arg_help() +
+                     "; a rig file's image is built from it (firmware build)")
       ->check(rig_arg_validator());
   c->add_flag("--hil", a->hil, "The image with the simulated plant on the MCU (a bare board, nothing wired)");
   c->add_option("--image", a->image, "Flash this ELF instead of the built one");
@@ -101,8 +103,8 @@ void add_flash_command(CLI::App& app) {
       "Images: build/firmware/stm32f4/nlsoft-stm32f4-<rig>[-hil].elf for a shipped rig (bash cmake/dev build),\n"
       "otherwise the one `firmware build --rig FILE --board stm32f4` made, built now if it is not there.\n"
       "Examples:\n"
-      "  nlsoft-console flash --board stm32f4 --platform hasel --hil\n"
-      "  nlsoft-console flash --board stm32f4 --platform tendon --port /dev/ttyACM1\n");
+      "  nlsoft-console flash --board stm32f4 --rig hasel --hil\n"
+      "  nlsoft-console flash --board stm32f4 --rig tendon --port /dev/ttyACM1\n");
   c->callback([a] { throw CliExit{run_flash(*a)}; });
 }
 

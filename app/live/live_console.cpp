@@ -17,7 +17,6 @@
 
 #include "app/cli_error.hpp"
 #include "app/rig/rig_catalog.hpp"
-#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 
@@ -57,10 +56,10 @@ const Rig& LiveConsole::rig() const {
     rig_ = load_rig_arg(options_.rig_file);
     return *rig_;
   }
-  const uint8_t pl = device_->info().platform;
-  if (pl >= kPlatformCount)
+  const std::string shipped = rig_name_of_platform(device_->info().platform);
+  if (shipped.empty())
     throw CliError("the firmware runs a rig of its own (no shipped rig's number); give its rig file: --rig FILE");
-  rig_ = load_rig_arg(platform_name(PlatformId(pl)));
+  rig_ = load_rig_arg(shipped);
   return *rig_;
 }
 

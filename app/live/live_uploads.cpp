@@ -16,8 +16,7 @@
 #include "app/model/model_section.hpp"
 #include "shared/capacity.hpp"
 #include "shared/model_file.hpp"
-#include "shared/platform_id.hpp"
-#include "shared/reference_presets.hpp"
+#include "app/link/session_words.hpp"
 
 namespace nlsoft::console {
 
@@ -96,8 +95,8 @@ LiveConsole::ModelUpload LiveConsole::upload_model(const std::string& path, cons
     throw CliError(fmt::format("{}: the model has m={} n={} w={}, the firmware's plant m={} n={} w={}", path, m.m, m.n,
                                m.w, info.m, info.n, info.w));
   if (file_platform != 255 && file_platform != info.platform)
-    throw CliError(fmt::format("{}: a model of the {} platform; the firmware runs {}", path,
-                               platform_name(PlatformId(file_platform)), platform_name(PlatformId(info.platform))));
+    throw CliError(fmt::format("{}: a model of rig {}; the firmware runs {}", path, platform_words(file_platform),
+                               platform_words(info.platform)));
   const uint32_t limit = device_->transfer_limit(p::XferKind::Model);
   if (limit != 0 && bytes.size() > limit)
     throw CliError(fmt::format("{}: {} bytes; this firmware takes models of at most {} bytes", path, bytes.size(), limit));

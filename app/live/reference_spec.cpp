@@ -117,7 +117,7 @@ std::string reference_key_value(const RefParams& r, double rate, const std::stri
 
 RefParams reference_from_spec(const Rig& rig, double rate, const std::string& name,
                               const std::vector<std::pair<std::string, std::string>>& options) {
-  RefParams r = reference_preset(rig, name == "step" ? "steps" : name);
+  RefParams r = reference_by_name(rig, name == "step" ? "steps" : name);
   for (const auto& [k, v] : options) set_reference_key(r, rate, k, v);
   if (const char* why = reference_check(r)) throw CliError(fmt::format("ref {}: {}", name, why));
   return r;

@@ -23,8 +23,8 @@
 #include "app/model/model_size_words.hpp"
 #include "app/model/progress.hpp"
 #include "app/model/train.hpp"
+#include "app/rig_option.hpp"
 #include "shared/forward.hpp"
-#include "shared/platform.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -53,12 +53,6 @@ double to_double(const std::string& opt, const std::string& s, double lo, double
   return v;
 }
 
-PlatformId to_platform(const std::string& s) {
-  PlatformId id;
-  if (!platform_from_name(s.c_str(), &id))
-    throw PipelineError("unknown platform '" + s + "' (choose msd, hasel or tendon)");
-  return id;
-}
 
 void need(const std::string& value, const std::string& opt) {
   if (value.empty()) throw PipelineError(opt + " is required (see --help)");
@@ -295,7 +289,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
 
 // ---------------------------------------------------------------- model import
 struct ImportArgs {
-  std::string file, out, platform, dims, norm;
+  std::string file, out, rig, dims, norm;
   bool residual = false;
 };
 
@@ -311,11 +305,14 @@ std::vector<double> json_vector(const nlohmann::json& j, const char* key, size_t
   return v;
 }
 
-void run_import(const ImportArgs& a) {
+void run_import(const ImportArgs& a, const TargetResolver& resolve) {
   need(a.file, "FILE.h5");
   need(a.out, "--out");
-  if (!a.platform.empty() && !a.dims.empty()) throw PipelineError("give --platform or --dims, not both");
+  if (!a.rig.empty() && !a.dims.empty()) throw PipelineError("give --rig or --dims, not both");
   const KerasNetwork k = read_keras_h5(a.file);
+  // No guess from the input count: two rigs may share it.
+  if (a.rig.empty() && a.dims.empty())
+    throw PipelineError("give the rig the network is of: --rig NAME|PATH, or --dims m,n,w,nd,dd");
   ModelFile f;
   Model<HostCapacity>& M = f.shape;
   if (!a.dims.empty()) {
@@ -330,22 +327,13 @@ void run_import(const ImportArgs& a) {
     M.nd = uint8_t(d[3]);
     M.dd = uint8_t(d[4]);
   } else {
-    const Preset* p = nullptr;
-    if (!a.platform.empty()) {
-      p = &preset(to_platform(a.platform));
-    } else {
-      for (const Preset& c : kPresets)
-        if (c.nd * c.m + c.dd * c.n + c.w == k.inputs) p = &c;
-      if (p == nullptr)
-        throw PipelineError("the network has " + std::to_string(k.inputs) +
-                            " inputs, which matches no platform; give --dims m,n,w,nd,dd");
-    }
-    M.m = p->m;
-    M.n = p->n;
-    M.w = p->w;
-    M.nd = p->nd;
-    M.dd = p->dd;
-    f.platform = static_cast<uint8_t>(p->id);
+    const PlantTarget t = resolve(a.rig);
+    M.m = uint8_t(t.m);
+    M.n = uint8_t(t.n);
+    M.w = uint8_t(t.w);
+    M.nd = uint8_t(t.nd);
+    M.dd = uint8_t(t.dd);
+    f.platform = t.platform;
   }
   if (M.p() != k.inputs)
     throw PipelineError("the network takes " + std::to_string(k.inputs) + " inputs but the dimensions give p = " +
@@ -408,12 +396,13 @@ void run_eval(const std::string& model, const std::string& input, const std::str
 }
 
 // ---------------------------------------------------------------- model info
-void run_info(const std::string& path) {
+void run_info(const std::string& path, const PlatformNamer& name_platform) {
   need(path, "MODEL");
   const ModelFile f = load_model_file(path);
   const Model<HostCapacity> M = f.view();
-  // A rig file's model has no platform id; the fit `train` keeps names its rig.
-  const std::string rig = f.platform < kPlatformCount ? std::string("platform ") + platform_name(PlatformId(f.platform))
+  // A shipped rig's model carries its INFO number; the fit `train` keeps names any rig.
+  const std::string shipped = name_platform(f.platform);
+  const std::string rig = !shipped.empty() ? "rig " + shipped + " (shipped, platform " + std::to_string(f.platform) + ")"
                           : f.fit.empty() ? std::string("rig not named (a rig file's model kept no fit)")
                                           : "rig " + fit_from_json(f.fit, path).rig + " (a rig file)";
   std::printf("%s\n  %s, m=%d n=%d w=%d nd=%d dd=%d, p=%d inputs, %s output\n", path.c_str(), rig.c_str(), M.m,
@@ -441,17 +430,15 @@ void run_info(const std::string& path) {
 }  // namespace
 
 void add_dataset_command(CLI::App& app, TargetResolver resolve) {
-  if (!resolve) resolve = platform_target_by_name;
   auto dataset_args = std::make_shared<DatasetArgs>();
   CLI::App* ds = app.add_subcommand(
       "dataset",
       "Record identification data from a rig's simulated plant into CSV (columns time,u0..,y0..,l0..).\n"
       "Random steps, smoothed random walks and chirps inside the input limits (plus the paper's\n"
       "u(t) = 1000 sin t cos t for msd), so the model sees the whole task space and how each input moves it.\n"
-      "Example: nlsoft-console dataset --platform hasel --out hasel.csv --seed 1\n"
+      "Example: nlsoft-console dataset --rig hasel --out hasel.csv --seed 1\n"
       "Any rig file with a [plant]: nlsoft-console dataset --rig lab/arm.toml --out arm.csv");
-  ds->add_option("--rig,--platform", dataset_args->rig, "the rig: a shipped rig's name or a rig file (required)")
-      ->type_name("NAME|PATH");
+  add_rig_option(ds, dataset_args->rig, "the rig: a shipped rig's name or a rig file (required)");
   ds->add_option("--out", dataset_args->out, "CSV file to write (required; replaced atomically)")->type_name("FILE");
   ds->add_option("--steps", dataset_args->steps, "number of samples (default 120000)")->type_name("K");
   ds->add_option("--seed", dataset_args->seed, "seed of the excitation and the sensor noise (default 1)")->type_name("S");
@@ -459,7 +446,6 @@ void add_dataset_command(CLI::App& app, TargetResolver resolve) {
 }
 
 void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run) {
-  if (!resolve) resolve = platform_target_by_name;
   auto train_args = std::make_shared<TrainArgs>();
   CLI::App* tr = app.add_subcommand(
       "train",
@@ -482,10 +468,9 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
       "5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh; another rig: its [model] layers, else\n"
       "Dense 16 tanh, n tanh, residual when its controller feeds back measured outputs.\n"
       "Example: nlsoft-console train --rig msd --run 12 --run 13 --out msd-rig.nlsm\n"
-      "         nlsoft-console train --platform hasel --data hasel.csv --out hasel.nlsm\n"
+      "         nlsoft-console train --rig hasel --data hasel.csv --out hasel.nlsm\n"
       "Any rig file: nlsoft-console train --rig lab/arm.toml --data arm.csv --out arm.nlsm");
-  tr->add_option("--rig,--platform", train_args->rig, "the rig: a shipped rig's name or a rig file (required)")
-      ->type_name("NAME|PATH");
+  add_rig_option(tr, train_args->rig, "the rig: a shipped rig's name or a rig file (required)");
   tr->add_option("--data", train_args->data,
                  "CSV from 'dataset' (time,u0..,y0..,l0..) or of a recorded run as 'runs export ID --csv'\n"
                  "writes it (k,step,time_us,...); repeat for several")
@@ -532,7 +517,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->callback([train_args, resolve, load_run] { run_train(*train_args, resolve, load_run); });
 }
 
-void add_model_command(CLI::App& app, TargetResolver resolve, RunLoader load_run, ScriptPlotter plot) {
+void add_model_command(CLI::App& app, TargetResolver resolve, PlatformNamer name_platform, RunLoader load_run,
+                       ScriptPlotter plot) {
   CLI::App* model = app.add_subcommand("model", "Inspect, evaluate, judge (fit), import and compile model files (.nlsm).");
   model->require_subcommand(1);
 
@@ -540,17 +526,17 @@ void add_model_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   CLI::App* im = model->add_subcommand(
       "import",
       "Convert a Keras HDF5 Sequential model (InputLayer, Flatten, Dense, GRU, Dropout) to a model file.\n"
-      "The dimensions come from --platform, --dims, or the preset whose p matches the input size.\n"
+      "The dimensions come from the rig (--rig) or --dims.\n"
       "Normalisation is the identity unless --norm gives a JSON file with in_offset[p], in_scale[p],\n"
       "out_offset[n], out_scale[n].\n"
-      "Example: nlsoft-console model import hasel.h5 --out hasel.nlsm --platform hasel");
+      "Example: nlsoft-console model import hasel.h5 --out hasel.nlsm --rig hasel");
   im->add_option("file", import_args->file, "Keras .h5 file (required)")->type_name("FILE.h5");
   im->add_option("--out", import_args->out, "model file to write (required)")->type_name("FILE");
-  im->add_option("--platform", import_args->platform, "msd | hasel | tendon")->type_name("NAME");
+  add_rig_option(im, import_args->rig, "the rig the network is of: a shipped rig's name or a rig file");
   im->add_option("--dims", import_args->dims, "m,n,w,nd,dd")->type_name("m,n,w,nd,dd");
   im->add_option("--norm", import_args->norm, "normalisation JSON")->type_name("FILE.json");
   im->add_flag("--residual", import_args->residual, "the network predicts y(k+1) - y(k)");
-  im->callback([import_args] { run_import(*import_args); });
+  im->callback([import_args, resolve] { run_import(*import_args, resolve); });
 
   auto eval_args = std::make_shared<std::array<std::string, 3>>();
   CLI::App* ev = model->add_subcommand(
@@ -566,9 +552,9 @@ void add_model_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   auto info_path = std::make_shared<std::string>();
   CLI::App* in = model->add_subcommand("info", "Print a model's layers, shapes, parameter count and hash.");
   in->add_option("model", *info_path, "model file (required)")->type_name("MODEL");
-  in->callback([info_path] { run_info(*info_path); });
+  in->callback([info_path, name_platform] { run_info(*info_path, name_platform); });
 
-  add_model_fit_command(*model, resolve, load_run, plot);
+  add_model_fit_command(*model, resolve, name_platform, load_run, plot);
 }
 
 }  // namespace nlsoft::console

@@ -11,16 +11,16 @@
 
 namespace nlsoft::console {
 
-// `--rig ARG` (`--platform` its synonym) goes through `resolve`; without
-// one, only the compiled-in platforms' names are known
-// (pipeline::platform_target_by_name).
-void add_dataset_command(CLI::App& app, pipeline::TargetResolver resolve = {});
+// `--rig ARG` (`--platform` its deprecated synonym) goes through `resolve`
+// (the console's: app/rig/rig_pipeline.hpp rig_target_arg).
+void add_dataset_command(CLI::App& app, pipeline::TargetResolver resolve);
 // `train --run ID` reads runs through `load_run` (the console's database,
 // app/record/run_training.hpp); without one --run is refused.
-void add_train_command(CLI::App& app, pipeline::TargetResolver resolve = {}, pipeline::RunLoader load_run = {});
-// model import|eval|info|fit; `model fit` resolves rigs, reads runs and
-// draws through these (each empty: the pipeline's own, none, none).
-void add_model_command(CLI::App& app, pipeline::TargetResolver resolve = {}, pipeline::RunLoader load_run = {},
-                       ScriptPlotter plot = {});
+void add_train_command(CLI::App& app, pipeline::TargetResolver resolve, pipeline::RunLoader load_run = {});
+// model import|eval|info|fit: rigs resolved through `resolve`, a model
+// file's platform number named through `name_platform`; `model fit` reads
+// runs and draws through the last two (each empty: none).
+void add_model_command(CLI::App& app, pipeline::TargetResolver resolve, pipeline::PlatformNamer name_platform,
+                       pipeline::RunLoader load_run = {}, ScriptPlotter plot = {});
 
 }  // namespace nlsoft::console

@@ -15,15 +15,7 @@ constexpr double kTwoPi = 6.283185307179586;
 
 enum class Mode { Steps, Walk, Chirp, Paper };
 
-// Time scales per platform, in seconds: how long a level is held and the
-// band a chirp sweeps. Chosen around each plant's dominant time constant
-// (msd: omega0 = 20 rad/s; hasel: 25-45 ms lag; tendon: 50 ms servo).
-struct Scales {
-  double hold_min, hold_max, seg_min, seg_max, f_min, f_max, walk_tau;
-  double spread;        // half-width of levels around the common level, [0,1] units
-  bool common_level;    // draw the common level (hasel) or keep it central
-  double dither;        // max dither amplitude, [0,1] units
-};
+using Scales = DatasetScales;
 
 // A generic plant's scales from its slowest lag T (two periods when it has
 // none), proportioned as hasel's are to its 25-45 ms: levels held from T to
@@ -38,17 +30,8 @@ Scales scales_for(const GenericPlantSpec& g) {
   const double hold_min = T, hold_max = std::max(4.0 * hold_min, 35.0 * T);
   const double seg_min = std::max(3.0, 2.0 * hold_max);
   const double f_max = std::min(0.25 / dt, 1.0 / (kTwoPi * T));
-  return {hold_min, hold_max, seg_min, 5.0 * seg_min, f_max / 80.0, f_max, 4.0 * T, 0.5, false, 0.03};
+  return {hold_min, hold_max, seg_min, 5.0 * seg_min, f_max / 80.0, f_max, 4.0 * T, 0.5, false, 0.03, false};
 }
-
-// The hand-written plants' scales, indexed by PlantKind.
-constexpr Scales kHandWrittenScales[] = {
-    {0.05, 2.0, 4.0, 20.0, 0.1, 8.0, 0.1, 0.35, false, 0.02},    // msd
-    {0.04, 1.2, 3.0, 15.0, 0.05, 4.0, 0.15, 0.6, true, 0.03},    // hasel
-    {0.04, 1.2, 3.0, 15.0, 0.05, 3.0, 0.2, 0.5, false, 0.03},    // tendon
-};
-static_assert(sizeof kHandWrittenScales / sizeof kHandWrittenScales[0] == size_t(PlantKind::Generic),
-              "one row per hand-written plant");
 
 // The rig's generic plant, selected and reset; throws for a spec it refuses.
 void select_generic(SimPlant& plant, const PlantTarget& t, uint32_t seed) {
@@ -65,9 +48,8 @@ void select_hand_written(SimPlant& plant, PlantKind kind, uint32_t seed) {
 
 class Excitation {
  public:
-  // `paper`: msd's segments include the paper's own input.
-  Excitation(const Scales& scales, bool paper, const SimPlant& plant, uint32_t seed)
-      : paper_(paper), s_(scales), rng_(seed ^ 0x9e3779b97f4a7c15ull), m_(plant.m()), dt_(plant.dt()) {
+  Excitation(const Scales& scales, const SimPlant& plant, uint32_t seed)
+      : paper_(scales.paper_input), s_(scales), rng_(seed ^ 0x9e3779b97f4a7c15ull), m_(plant.m()), dt_(plant.dt()) {
     float lo[kMaxPlantM], hi[kMaxPlantM];
     plant.input_limits(lo, hi);
     lo_.assign(lo, lo + m_);
@@ -213,7 +195,7 @@ Series generate_excitation(PlantKind kind, long steps, uint32_t seed) {
   if (steps < 100) throw PipelineError("--steps must be at least 100");
   SimPlant plant;
   select_hand_written(plant, kind, seed);
-  Excitation ex(kHandWrittenScales[uint8_t(kind)], kind == PlantKind::Msd, plant, seed);
+  Excitation ex(plant_entry(kind)->dataset, plant, seed);
   return record(plant, ex, steps);
 }
 
@@ -225,7 +207,7 @@ Series generate_excitation(const PlantTarget& t, long steps, uint32_t seed) {
   if (steps < 100) throw PipelineError("--steps must be at least 100");
   SimPlant plant;
   select_generic(plant, t, seed);
-  Excitation ex(scales_for(t.generic), false, plant, seed);
+  Excitation ex(scales_for(t.generic), plant, seed);
   return record(plant, ex, steps);
 }
 

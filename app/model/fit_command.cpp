@@ -12,7 +12,6 @@
 #include "app/model/fit_plot.hpp"
 #include "app/model/model_fit.hpp"
 #include "app/output_file.hpp"
-#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -60,7 +59,8 @@ Series load_run_series(const RunLoader& load_run, const std::string& db, int64_t
   return recorded_series(load_run(db, id), target);
 }
 
-void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& load_run, const ScriptPlotter& plot) {
+void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformNamer& name_platform,
+             const RunLoader& load_run, const ScriptPlotter& plot) {
   if (a.model.empty()) throw PipelineError("MODEL is required (see --help)");
   if (a.runs.empty() && a.data.empty())
     throw PipelineError("give the data to judge the model on: --run ID (a recorded run) or --data FILE.csv");
@@ -78,7 +78,7 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& l
   // The rig: --rig, else the one train recorded, else the model's platform.
   std::string rig = a.rig;
   if (rig.empty()) rig = stored.rig;
-  if (rig.empty() && f.platform < kPlatformCount) rig = platform_name(PlatformId(f.platform));
+  if (rig.empty()) rig = name_platform(f.platform);
   if (rig.empty()) throw PipelineError(a.model + " names no rig (no fit kept with it): give --rig");
   PlantTarget target;
   try {
@@ -173,8 +173,8 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const RunLoader& l
 
 }  // namespace
 
-void add_model_fit_command(CLI::App& model, TargetResolver resolve, RunLoader load_run, ScriptPlotter plot) {
-  if (!resolve) resolve = platform_target_by_name;
+void add_model_fit_command(CLI::App& model, TargetResolver resolve, PlatformNamer name_platform, RunLoader load_run,
+                           ScriptPlotter plot) {
   auto args = std::make_shared<FitArgs>();
   CLI::App* fit = model.add_subcommand(
       "fit",
@@ -198,7 +198,7 @@ void add_model_fit_command(CLI::App& model, TargetResolver resolve, RunLoader lo
       ->type_name("FILE");
   fit->add_option("--png", args->png, "the same as a PNG")->type_name("FILE");
   fit->add_flag("--json", args->json, "print the figures as JSON");
-  fit->callback([args, resolve, load_run, plot] { run_fit(*args, resolve, load_run, plot); });
+  fit->callback([args, resolve, name_platform, load_run, plot] { run_fit(*args, resolve, name_platform, load_run, plot); });
 }
 
 }  // namespace nlsoft::console

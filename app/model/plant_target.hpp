@@ -10,7 +10,6 @@
 #include "app/model/network.hpp"
 #include "shared/plant_generic.hpp"
 #include "shared/plant_registry.hpp"
-#include "shared/platform_id.hpp"
 
 namespace nlsoft::pipeline {
 
@@ -43,11 +42,8 @@ struct PlantTarget {
 // exception derived from std::runtime_error with the reason (exit 2).
 using TargetResolver = std::function<PlantTarget(const std::string& arg)>;
 
-// A compiled-in platform as a target (what `--platform NAME` meant before
-// rig files): its plant, limits and default network.
-PlantTarget platform_target(PlatformId id);
-
-// The names msd, hasel, tendon, refused otherwise in the pipeline's words.
-PlantTarget platform_target_by_name(const std::string& name);
+// The shipped rig a model file's platform number names (INFO's, the rig
+// file's info_platform); empty when no shipped rig has that number.
+using PlatformNamer = std::function<std::string(uint8_t platform)>;
 
 }  // namespace nlsoft::pipeline

@@ -365,10 +365,6 @@ Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int
 
 }  // namespace
 
-TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt) {
-  return train(s, platform_target(platform), opt);
-}
-
 void check_dimensions(const Series& s, const PlantTarget& target) {
   if (s.m != target.m || s.n != target.n || s.w != target.w)
     throw PipelineError((s.name.empty() ? std::string("the data") : s.name) + " has m=" + std::to_string(s.m) +
@@ -540,7 +536,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
   res.objective = opt.objective;
   res.stopped = opt.stop && opt.stop->load();
 
-  // The model file names a compiled-in platform, or none (255).
+  // The model file names a shipped rig by its INFO number, or none (255).
   res.model = tn.export_model(target.platform);
   res.test = evaluate(res.model, d, pooled.test_pieces);
   // The baseline beside it; a training part too short for its
@@ -585,33 +581,6 @@ TrainOptions default_options(const PlantTarget& target, Objective objective) {
   return o;
 }
 
-TrainOptions default_options(PlatformId platform, Objective objective) {
-  TrainOptions o;
-  o.objective = objective;
-  // The y-history noise makes a one-step model that survives its own
-  // predictions: the paper's way for the rigs fed their own predictions, and the simulation
-  // objective's warm start (one that blows up in free run leaves L-BFGS
-  // nothing to descend: Silverbox, Dense 16 tanh, 25 vs 0.06 validation
-  // free-run MSE / variance without and with it).
-  const double noise = 0.05;
-  switch (platform) {
-    case PlatformId::Hasel:
-      o.layers = {{LayerKind::Dense, 5, Activation::Relu}, {LayerKind::Dense, 5, Activation::Relu},
-                  {LayerKind::Dense, 3, Activation::Tanh}};
-      o.y_noise = noise;
-      break;
-    case PlatformId::Tendon:
-      o.layers = {{LayerKind::Gru, 5, Activation::Tanh, Activation::Sigmoid, true},
-                  {LayerKind::Dense, 5, Activation::Relu}, {LayerKind::Dense, 3, Activation::Tanh}};
-      o.y_noise = noise;
-      break;
-    default:
-      o.layers = {{LayerKind::Dense, 1, Activation::Linear}};
-      o.residual = true;
-      break;
-  }
-  return o;
-}
 
 std::string describe_layers(const std::vector<LayerSpec>& layers) {
   std::string out;

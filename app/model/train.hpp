@@ -28,7 +28,6 @@
 #include "app/model/network.hpp"
 #include "app/model/plant_target.hpp"
 #include "app/model/train_simulation.hpp"
-#include "shared/platform_id.hpp"
 
 namespace nlsoft::pipeline {
 
@@ -127,11 +126,9 @@ struct TrainResult {
   bool stopped = false;  // cut short by TrainOptions::stop
 };
 
-// Throws PipelineError when the series does not match the platform, or the
-// options are unusable.
-TrainResult train(const Series& s, PlatformId platform, const TrainOptions& opt);
-// The same for any rig: its dimensions, input limits and the middle of its
-// outputs' ranges (the rig file's, no simulated plant).
+// Throws PipelineError when the series does not match the rig, or the
+// options are unusable. The rig: its dimensions, input limits and the
+// middle of its outputs' ranges (the rig file's, no simulated plant).
 TrainResult train(const Series& s, const PlantTarget& target, const TrainOptions& opt);
 // Several runs of one rig. Each run is split as one series is (ten-fold
 // time-series split: its last part tests, the part before validates), and
@@ -142,8 +139,6 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
 // Throws PipelineError, naming the series, when its m, n, w are not the rig's.
 void check_dimensions(const Series& s, const PlantTarget& target);
 
-// The architecture the paper uses on each platform (see app/models/README.md).
-TrainOptions default_options(PlatformId platform, Objective objective = Objective::Simulation);
 // A rig's: its [model] layers and history length over the defaults of its
 // plant (a named plant's shipped model, else Dense 16 tanh -> n tanh).
 TrainOptions default_options(const PlantTarget& target, Objective objective = Objective::Simulation);

@@ -8,8 +8,7 @@ RigConfig firmware_rig(const Rig& rig) {
   RigConfig c{};
   c.name = rig.name.c_str();
   c.hash = rig.hash;
-  c.platform = PlatformId::Custom;
-  platform_from_name(rig.name.c_str(), &c.platform);  // a shipped rig keeps its INFO number
+  c.platform = PlatformId(rig.info_platform);
   c.m = uint8_t(rig.m()), c.n = uint8_t(rig.n()), c.w = uint8_t(rig.w());
   c.nd = uint8_t(rig.nd), c.dd = uint8_t(rig.dd);
   c.rate_hz = float(rig.rate_hz);

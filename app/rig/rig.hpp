@@ -122,6 +122,10 @@ struct Rig {
   std::string file;  // as given to load_rig
   uint32_t hash = 0;  // rig_file_hash of the file: which rig an image or a simulator was built from
   std::string name, description;
+  // INFO's platform byte for this rig's images: a number protocol/PROTOCOL.md
+  // assigns (section "Platform"), given by the shipped rigs' files; any
+  // other rig's images send Custom (255) and name themselves in RIG_INFO.
+  uint8_t info_platform = 255;
   double rate_hz = 0;
   int nd = 0, dd = 0;
   std::string board;

@@ -6,6 +6,7 @@
 #include "app/cli_error.hpp"
 #include "app/input_file.hpp"
 #include "app/paths/install_paths.hpp"
+#include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
 
@@ -60,6 +61,18 @@ Rig load_rig_arg(const std::string& arg) {
   } catch (const RigError& e) {
     throw CliError(e.what());
   }
+}
+
+std::string rig_name_of_platform(uint8_t info_platform) {
+  if (info_platform == uint8_t(PlatformId::Custom)) return {};
+  for (const std::string& name : rig_names()) {
+    // A shipped file that does not load names no rig here; `rig check` says why.
+    try {
+      if (load_rig_arg(name).info_platform == info_platform) return name;
+    } catch (const CliError&) {
+    }
+  }
+  return {};
 }
 
 CLI::Validator rig_arg_validator() {

@@ -1,6 +1,6 @@
 #pragma once
-// Rigs by name or path: `--rig hasel` is the shipped rigs folder's
-// hasel.toml (app/paths: $NLSOFT_RIGS, the build tree, the install prefix),
+// Rigs by name or path: `--rig NAME` is the shipped rigs folder's
+// NAME.toml (app/paths: $NLSOFT_RIGS, the build tree, the install prefix),
 // `--rig my.toml` or `--rig ./lab/arm.toml` a file.
 #include <CLI/CLI.hpp>
 #include <string>
@@ -22,11 +22,15 @@ std::string rig_path(const std::string& arg);
 // file:line message.
 Rig load_rig_arg(const std::string& arg);
 
+// The shipped rig whose file gives `info_platform` this number (what a
+// firmware's INFO or a model file carries); empty when none does.
+std::string rig_name_of_platform(uint8_t info_platform);
+
 // For CLI options taking NAME|PATH: refuses what rig_path refuses, with its
 // message, before the command runs.
 CLI::Validator rig_arg_validator();
 
-// "NAME|PATH (hasel, msd, tendon)" for option help.
+// "NAME|PATH (the shipped rigs' names)" for option help.
 std::string rig_arg_help();
 
 }  // namespace nlsoft::console

@@ -753,7 +753,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
     throw RigError(file + ":" + std::to_string(line) + ": " + std::string(e.description()), file, line, "");
   }
   const Section root(file, t, "", 1,
-                     {"name", "description", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "controller",
+                     {"name", "description", "info_platform", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "controller",
                       "model", "plant", "reference"});
   Rig rig;
   rig.file = file;
@@ -766,6 +766,9 @@ Rig parse_rig(const std::string& text, const std::string& file) {
               fmt::format("'{}' is {} characters; a rig's name travels in {} at most", rig.name, rig.name.size(),
                           kRigMaxNameLen));
   rig.description = root.line_text("description", "");
+  if (root.has("info_platform"))
+    rig.info_platform = uint8_t(root.integer("info_platform", 0, kPlatformCount - 1,
+                                             " (the numbers protocol/PROTOCOL.md assigns to shipped rigs)"));
   // A period from 10 us (the firmware's loop) to 1000 s (a slow process:
   // the cascaded tanks are sampled every 4 s); a simulated plant steps at
   // most kMaxPlantDt, checked with [plant] below.

@@ -1,6 +1,6 @@
 #pragma once
 // A rig's controller defaults as the parameter set the controller runs
-// (what shared/platform.hpp preset_params gives for a compiled-in preset).
+// (Params<Cap>, shared/params.hpp).
 #include "app/rig/rig.hpp"
 #include "shared/params.hpp"
 

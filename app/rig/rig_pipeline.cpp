@@ -29,8 +29,7 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
     t.kind = rig.plant.kind->kind;
   }
   // The model file names a shipped rig by its INFO number, any other 255.
-  PlatformId id;
-  if (platform_from_name(rig.name.c_str(), &id)) t.platform = uint8_t(id);
+  t.platform = rig.info_platform;
   for (const RigLayer& l : rig.model.layers) {
     pipeline::LayerSpec L;
     L.units = l.units;

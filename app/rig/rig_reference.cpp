@@ -3,8 +3,8 @@
 namespace nlsoft::console {
 
 RefParams rig_reference(const Rig& rig, RefKind kind) {
-  // In float, step for step as shared/reference_presets.hpp, so a shipped
-  // rig's paths are bit for bit those of its preset.
+  // In float, as the MCU computes from these parameters: the console's
+  // prediction of a path is the firmware's, bit for bit.
   constexpr float kPi = 3.14159265358979f;
   constexpr float kPeriodS = 8.0f;
   const float rate = float(rig.rate_hz);

@@ -7,8 +7,7 @@
 namespace nlsoft::console {
 
 // Periodic paths take 8 s per lap at the rig's rate, Swirl holds each point
-// 10 steps, Step holds each level 10 s: as shared/reference_presets.hpp
-// sizes the compiled-in rigs.
+// 10 steps, Step holds each level 10 s.
 RefParams rig_reference(const Rig& rig, RefKind kind);
 
 // The kind's name as a rig file, a script and the console write it.

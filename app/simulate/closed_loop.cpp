@@ -8,7 +8,6 @@
 #include "app/cli_error.hpp"
 #include "shared/controller.hpp"
 #include "shared/pid.hpp"
-#include "shared/platform.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::console {
@@ -26,7 +25,7 @@ void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
   if (!s.model) throw CliError("the MPC controller needs a model (--model FILE)");
   const Model<Cap>& M = *s.model;
   if (M.m != plant.m() || M.n != plant.n() || M.w != plant.w())
-    throw CliError(fmt::format("model dimensions m={} n={} w={} do not match platform '{}' (m={} n={} w={})", M.m,
+    throw CliError(fmt::format("model dimensions m={} n={} w={} do not match rig '{}' (m={} n={} w={})", M.m,
                                M.n, M.w, plant_name(s), plant.m(), plant.n(), plant.w()));
 }
 

@@ -19,6 +19,7 @@
 #include "app/rig/rig_catalog.hpp"
 #include "app/rig/rig_params.hpp"
 #include "app/rig/rig_plant.hpp"
+#include "app/rig_option.hpp"
 
 namespace nlsoft::console {
 
@@ -28,7 +29,7 @@ namespace {
 constexpr double kTrackingTarget = 0.05;
 
 struct SimulateOptions {
-  std::string platform = "hasel";
+  std::string rig = "hasel";
   std::string reference;
   std::string controller = "mpc";
   std::string mode = "exact";
@@ -64,7 +65,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
   if (!image.empty() && !plot) throw CliError("simulate --svg/--png: this build has no plotting (runs plot)");
   // The rig by name or file: its plant, controller defaults, references,
   // model and rate.
-  const Rig rig = load_rig_arg(o.platform);
+  const Rig rig = load_rig_arg(o.rig);
   const std::string ref_name = o.reference.empty() ? default_reference(rig) : o.reference;
 
   LoopSetup setup;
@@ -76,7 +77,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
     setup.plant = simulated_plant(rig, "simulate").kind;
   }
   setup.plant_name = rig.name;
-  setup.reference = reference_preset(rig, ref_name);
+  setup.reference = reference_by_name(rig, ref_name);
   // Outputs beyond the paths' three hold the middle of their range.
   for (int j = kRefMaxDim; j < rig.n(); ++j)
     setup.ref_hold[j] = float(0.5 * (rig.outputs[size_t(j)].min + rig.outputs[size_t(j)].max));
@@ -111,7 +112,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
       if (found.found.empty())
         throw CliError(fmt::format("no model for '{}'; looked in:{}\npass --model FILE (a model file from "
                                    "`nlsoft-console train`) or set NLSOFT_MODELS",
-                                   o.platform, found.tried_lines()));
+                                   o.rig, found.tried_lines()));
       path = found.found;
     }
     load_model(path, *model);
@@ -125,7 +126,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
 
   Trace t;
   {
-    ProgressBar bar(fmt::format("simulate {} {}", o.platform, ref_name));
+    ProgressBar bar(fmt::format("simulate {} {}", o.rig, ref_name));
     t = run_closed_loop(setup, [&](long d, long n) { bar.update(d, n); });
   }
   if (!o.csv.empty()) write_trace_csv(o.csv, t);
@@ -150,7 +151,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
 
   if (o.json) {
     nlohmann::json j;
-    j["platform"] = o.platform;
+    j["platform"] = o.rig;
     j["reference"] = ref_name;
     j["controller"] = o.controller;
     j["mode"] = o.mode;
@@ -176,7 +177,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
     fmt::print("{}\n", j.dump());
     return 0;
   }
-  fmt::print("{} on {}, {} steps ({:.1f} s), controller {}{}\n", ref_name, o.platform, t.rows(),
+  fmt::print("{} on {}, {} steps ({:.1f} s), controller {}{}\n", ref_name, o.rig, t.rows(),
              double(t.rows()) * double(t.dt), o.controller, setup.controller == ControllerKind::Mpc ? ", mode " + o.mode : "");
   if (setup.model) fmt::print("model       {}\n", model->path);
   std::string rm;
@@ -212,11 +213,11 @@ void add_simulate_command(CLI::App& app, SimulationPlotter plot) {
       "Run plant + controller offline on this machine and print tracking metrics.\n"
       "The plant is a simulated rig; the controller only sees the learned model.\n"
       "Examples:\n"
-      "  nlsoft-console simulate --platform hasel                 (Swirl, default model)\n"
-      "  nlsoft-console simulate --platform msd --controller pid  (the paper's baseline)\n"
-      "  nlsoft-console simulate --platform tendon --set Q=0,5e3,2e3 --mode fd --json\n"
-      "  nlsoft-console simulate --rig my-hasel.toml              (a rig file: docs/rig-file.md)");
-  sub->add_option("--platform,--rig", o->platform, "the rig: " + rig_arg_help() + "; it needs a [plant]")
+      "  nlsoft-console simulate --rig hasel                 (Swirl, default model)\n"
+      "  nlsoft-console simulate --rig msd --controller pid  (the paper's baseline)\n"
+      "  nlsoft-console simulate --rig tendon --set Q=0,5e3,2e3 --mode fd --json\n"
+      "  nlsoft-console simulate --rig my-hasel.toml         (a rig file: docs/rig-file.md)");
+  add_rig_option(sub, o->rig, "the rig: " + rig_arg_help() + "; it needs a [plant]")
       ->check(rig_arg_validator())
       ->capture_default_str();
   sub->add_option("--reference", o->reference,

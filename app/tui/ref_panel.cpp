@@ -11,7 +11,7 @@ namespace nlsoft::console::tui {
 namespace {
 struct Kind {
   const char* label;
-  const char* preset;  // reference_presets name; nullptr for the CSV table
+  const char* preset;  // the reference's name (app/reference_names.cpp); nullptr for the CSV table
 };
 constexpr Kind kKinds[] = {{"Infinity", "infinity"}, {"Pringle", "pringle"}, {"Diagonal", "diagonal"},
                            {"Swirl", "swirl"},       {"Step", "steps"},      {"CSV", nullptr}};

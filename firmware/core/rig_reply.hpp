@@ -11,7 +11,7 @@
 
 namespace nlsoft::fw {
 
-// `dims` is whatever holds the rig's m, n, w, nd and dd (a Preset today).
+// `dims` is whatever holds the rig's m, n, w, nd and dd (a RigConfig).
 // `as_list`: a shape list even from a generic kernel (fill_accepted_shapes).
 template <class Cap, class Dims>
 protocol::RigInfo rig_info(const char* rig_name, uint32_t rig_hash, const Dims& p, bool as_list = false) {

@@ -50,11 +50,21 @@ size_t embedded_check_transfer(const XferBegin& b, const XferChunk& c, uint8_t* 
 
 namespace nlsoft::protocol {
 
+// An image's capacity as the generator writes one: a hasel-sized rig with
+// one Dense 5-5-3 shape.
+struct EmbeddedCheckCapacity {
+  static constexpr int m = 6, n = 3, w = 18, nd = 2;
+  static constexpr int N = 4, Nc = 1;
+  static constexpr int width = ShapeNeeds<HaselShape>::width, layers = 4, weights = ShapeNeeds<HaselShape>::weights;
+  using Shapes = ShapeList<HaselShape>;
+  static constexpr bool generic = false;
+};
+
 // RIG_INFO's shapes from an MCU capacity and the verdict on a model header.
 bool embedded_check_shapes(const uint8_t* header, size_t len, uint8_t* out, size_t out_cap) {
   RigInfo r;
   r.m = 6, r.n = 3, r.w = 18, r.nd = r.dd = 2;
-  if (!fill_accepted_shapes<HaselCapacity>(r)) return false;
+  if (!fill_accepted_shapes<EmbeddedCheckCapacity>(r)) return false;
   ModelShape s;
   if (!model_shape(header, len, s)) return false;
   return accepts(r, s) == ShapeVerdict::Accepted && size_fits_a_shape(r, uint32_t(len)) &&

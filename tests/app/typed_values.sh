@@ -79,7 +79,7 @@ script 'ref load ref.csv\nrun 100ms\n'
 [ "$(db_runs "$db")" = 1 ] || say "bad.nls recorded a run"
 
 # Options and rig keys.
-refused "--steps: Value -5 not in range 1 to 100000000" simulate --platform msd --steps -5
+refused "--steps: Value -5 not in range 1 to 100000000" simulate --rig msd --steps -5
 sed 's/^rate_hz = .*/rate_hz = 1e308/' "$src/rigs/msd.toml" >fast.toml
 refused "fast.toml:$(grep -n '^rate_hz' fast.toml | cut -d: -f1): rate_hz: must be in [0.001, 100000] Hz, not 1e+308" \
   rig check fast.toml
@@ -104,7 +104,7 @@ put("huge.csv", "\n".join([head] + rows[:4] + [",".join(r)] + rows[5:]) + "\n")
 # Rows 6 and 7 (file lines 7, 8) swapped: k and the clock go back.
 put("back.csv", "\n".join([head] + rows[:5] + [rows[6], rows[5]] + rows[7:]) + "\n")
 EOF
-train() { "$console" train --platform msd --data "$1" --out "$2" --epochs 1 2>&1; }
+train() { "$console" train --rig msd --data "$1" --out "$2" --epochs 1 2>&1; }
 out=$(train dup.csv dup.nlsm); [ $? -eq 2 ] && grep -qF "dup.csv:1: columns" <<<"$out" && grep -qF "are both named 'u0'" <<<"$out" ||
   say "duplicated u0: $out"
 out=$(train huge.csv huge.nlsm); [ $? -eq 2 ] && grep -qF "huge.csv:6: column" <<<"$out" &&

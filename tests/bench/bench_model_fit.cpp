@@ -9,13 +9,14 @@
 #include "app/model/excitation.hpp"
 #include "app/model/model_fit.hpp"
 #include "app/model/train.hpp"
+#include "support/shipped_rigs.hpp"
 
 namespace {
 
 using namespace nlsoft::pipeline;
 
 void BM_ModelFit50k(benchmark::State& state) {
-  const PlantTarget target = platform_target(nlsoft::PlatformId::Hasel);
+  const PlantTarget target = nlsoft::test::shipped_target("hasel");
   // A model trained briefly on other data: its accuracy is not what is timed.
   TrainOptions o = default_options(target);
   o.epochs = 1;

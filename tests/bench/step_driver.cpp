@@ -14,12 +14,12 @@
 
 #include "shared/controller.hpp"
 #include "shared/model_file.hpp"
-#include "shared/platform.hpp"
-#include "shared/plant_hasel.hpp"
-#include "shared/plant_tendon.hpp"
 #include "shared/reference.hpp"
 #include "shared/sim_plant.hpp"
 #include "app/metrics/tracking_metrics.hpp"
+#include "app/rig/rig_reference.hpp"
+#include "support/rig_capacities.hpp"
+#include "support/shipped_rigs.hpp"
 
 namespace {
 
@@ -28,10 +28,12 @@ using namespace nlsoft;
 // run()'s answer for a model whose shape the capacity has no kernel for.
 constexpr int kOtherShape = 3;
 
+// The rig's own task (its file's [reference]) on its simulated plant, with
+// its controller defaults.
 template <class Cap>
-int run(PlatformId id, DerivMode mode, int steps, const char* model) {
-  const std::string path =
-      model ? std::string(model) : std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + platform_name(id) + ".nlsm";
+int run(const console::Rig& rig, DerivMode mode, int steps, const char* model) {
+  if (Cap::m != rig.m() || Cap::n != rig.n() || Cap::w != rig.w()) return kOtherShape;
+  const std::string path = model ? std::string(model) : std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + rig.model.file;
   std::ifstream in(path, std::ios::binary);
   const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   static float storage[Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n];
@@ -42,11 +44,10 @@ int run(PlatformId id, DerivMode mode, int steps, const char* model) {
     std::fprintf(stderr, "cannot load %s\n", path.c_str());
     return 2;
   }
-  Params<Cap> P;
-  preset_params(preset(id), P);
+  Params<Cap> P = test::shipped_params<Cap>(rig.name);
   P.mode = mode;
   SimPlant plant;
-  if (!plant.select(find_plant(platform_name(id))->kind, 1)) return 2;
+  if (rig.plant.kind == nullptr || !plant.select(rig.plant.kind->kind, 1)) return 2;
   plant.input_limits(P.u_min, P.u_max);
   float u[Cap::m], l[Cap::w + 1] = {}, y[Cap::n];
   plant.neutral_input(u);
@@ -61,22 +62,7 @@ int run(PlatformId id, DerivMode mode, int steps, const char* model) {
     ctl.reset(u, y, l);
   else
     ctl.reset_at_rest(u, l);
-  RefParams r{};
-  r.hold = 10;
-  r.scale = 1.0f;
-  if (id == PlatformId::Hasel) {
-    r.kind = RefKind::Swirl;
-    for (int i = 0; i < 3; ++i) r.c[i] = HaselPlant::kSwirlCentre[i];
-  } else if (id == PlatformId::Tendon) {
-    r.kind = RefKind::Infinity;
-    r.A = TendonPlant::kInfinity[0], r.B = TendonPlant::kInfinity[1], r.C = TendonPlant::kInfinity[2];
-    r.omega = 2.0f * 3.14159265f / 960.0f;
-  } else {
-    r.kind = RefKind::Step;
-    r.level_count = 1;
-    r.levels[0] = 0.5f;
-    r.hold = 60000;
-  }
+  const RefParams r = console::rig_reference(rig, rig.reference.kind);
   long iterations = 0;
   std::vector<float> y_ref, y_true;
   for (int k = 0; k < steps; ++k) {
@@ -99,25 +85,21 @@ int run(PlatformId id, DerivMode mode, int steps, const char* model) {
 
 int main(int argc, char** argv) {
   if (argc != 4 && argc != 5) {
-    std::fprintf(stderr, "usage: %s msd|hasel|tendon exact|fd STEPS [MODEL_FILE]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s RIG exact|fd STEPS [MODEL_FILE]  (RIG: a rig of rigs/ with a hand-written plant)\n",
+                 argv[0]);
     return 2;
   }
-  PlatformId id;
-  if (!platform_from_name(argv[1], &id)) return 2;
+  const console::Rig& rig = test::shipped_rig_file(argv[1]);
   const DerivMode mode = std::strcmp(argv[2], "fd") == 0 ? DerivMode::Fd : DerivMode::Exact;
   const int steps = std::atoi(argv[3]);
   const char* model = argc == 5 ? argv[4] : nullptr;
-  switch (id) {
-    case PlatformId::Msd: return run<MsdCapacity>(id, mode, steps, model) == 0 ? 0 : 2;
-    case PlatformId::Hasel: {
-      // each hasel image compiles one shape: ours, or the authors' 36-10-5-3
-      int rc = run<HaselCapacity>(id, mode, steps, model);
-      if (rc == kOtherShape) rc = run<HaselAuthorsCapacity>(id, mode, steps, model);
-      if (rc == kOtherShape) std::fprintf(stderr, "no hasel image compiles the shape of this model\n");
-      return rc == 0 ? 0 : 2;
-    }
-    case PlatformId::Tendon: return run<TendonCapacity>(id, mode, steps, model) == 0 ? 0 : 2;
-    default: break;
-  }
-  return 2;
+  // The capacity an image of the rig is generated with: the one of the
+  // rig's dimensions whose shape the model has (hasel: ours, or the
+  // authors' 36-10-5-3).
+  int rc = run<MsdCapacity>(rig, mode, steps, model);
+  if (rc == kOtherShape) rc = run<HaselCapacity>(rig, mode, steps, model);
+  if (rc == kOtherShape) rc = run<HaselAuthorsCapacity>(rig, mode, steps, model);
+  if (rc == kOtherShape) rc = run<TendonCapacity>(rig, mode, steps, model);
+  if (rc == kOtherShape) std::fprintf(stderr, "no image capacity of rig %s compiles this model's shape\n", argv[1]);
+  return rc == 0 ? 0 : 2;
 }

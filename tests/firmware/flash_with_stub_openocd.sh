@@ -14,11 +14,11 @@ printf '%s\n' "\$@" > "$dir/args"
 exit \${STUB_STATUS:-0}
 STUB
 chmod +x "$dir/openocd"
-PATH="$dir:$PATH" "$console" flash --board stm32f4 --platform hasel --hil --image "$image" --no-connect ||
+PATH="$dir:$PATH" "$console" flash --board stm32f4 --rig hasel --hil --image "$image" --no-connect ||
   { echo "FAIL: flash with a working openocd failed"; exit 1; }
 expected=$(printf '%s\n' -f board/st_nucleo_f4.cfg -c "program {$image} verify reset exit")
 [ "$(cat "$dir/args")" = "$expected" ] || { echo "FAIL: openocd ran with:"; cat "$dir/args"; exit 1; }
-out=$(STUB_STATUS=1 PATH="$dir:$PATH" "$console" flash --board stm32f4 --platform hasel --image "$image" 2>&1)
+out=$(STUB_STATUS=1 PATH="$dir:$PATH" "$console" flash --board stm32f4 --rig hasel --image "$image" 2>&1)
 rc=$?
 echo "$out"
 [ "$rc" -ne 0 ] || { echo "FAIL: a failing openocd did not fail flash"; exit 1; }

@@ -4,7 +4,7 @@
 # so openocd cannot be found however the host is set up.
 set -u
 console=$1
-out=$(env PATH=/nonexistent "$console" flash --board stm32f4 --platform hasel 2>&1)
+out=$(env PATH=/nonexistent "$console" flash --board stm32f4 --rig hasel 2>&1)
 rc=$?
 echo "$out"
 [ "$rc" -ne 0 ] || { echo "FAIL: exit status 0 without openocd"; exit 1; }

@@ -18,7 +18,8 @@
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
 #include "shared/capacity.hpp"
-#include "shared/reference_presets.hpp"
+#include "support/rig_capacities.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 namespace proto = nlsoft::protocol;
@@ -63,7 +64,7 @@ class IdentRun : public ::testing::Test {
  protected:
   RigConfig rig_{};
   void SetUp() override {
-    rig_ = shipped_rig(PlatformId::Hasel);
+    rig_ = test::shipped_config("hasel");
     const fw::Identity id{&rig_, "nlsoft-test", 0, 1, 0, 130, true};
     const fw::Buffers b{staging_, sizeof staging_, table_, sizeof table_, points_, 30};
     fw_ = std::make_unique<Fw>(hal_, id, b);

@@ -18,7 +18,8 @@
 #include "shared/capacity.hpp"
 #include "shared/crc32.hpp"
 #include "shared/model_file.hpp"
-#include "shared/reference_presets.hpp"
+#include "support/rig_capacities.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 namespace proto = nlsoft::protocol;
@@ -57,7 +58,7 @@ class HaselImage : public ::testing::Test {
  protected:
   RigConfig rig_{};
   void SetUp() override {
-    rig_ = shipped_rig(PlatformId::Hasel);
+    rig_ = test::shipped_config("hasel");
     rig_.hash = 0x5A17C0DEu;
     const fw::Identity id{&rig_, "nlsoft-test", 0, 1, 0, 130, false};
     const fw::Buffers b{staging_, sizeof staging_, table_, sizeof table_, points_, 30};
@@ -260,7 +261,7 @@ TEST_F(HaselImage, AHeaderOfMoreLayersThanAListCanNameIsUnsupportedAtItsChunk) {
 // A generic kernel (the simulator's) may still serve a list: accept 0 with
 // the capacity's shapes for the rig's dimensions, the limits unchanged.
 TEST(RigInfo, AGenericKernelServesItsShapesAsAListWhenAsked) {
-  const RigConfig hasel = shipped_rig(PlatformId::Hasel);
+  const RigConfig hasel = test::shipped_config("hasel");
   const proto::RigInfo any = fw::rig_info<HostCapacity>("hasel", 1, hasel);
   EXPECT_EQ(any.accept, proto::shape_accept::kAny);
   EXPECT_EQ(any.shapes_size, 0);

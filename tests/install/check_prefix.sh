@@ -55,7 +55,7 @@ out=$(run "$console" --version)
 out=$(run timeout 60 "$console" --sim hasel --no-record --script "$here/session.nls" 2>&1) ||
   fail "--sim hasel session from $prefix: $out"
 echo "$out"
-out=$(run timeout 60 "$console" simulate --platform hasel --steps 50 2>&1) || fail "simulate from $prefix: $out"
+out=$(run timeout 60 "$console" simulate --rig hasel --steps 50 2>&1) || fail "simulate from $prefix: $out"
 if [ $images = 1 ] && [ -x /usr/bin/qemu-system-arm ]; then
   out=$(run timeout 60 "$console" --qemu hasel --no-record --script "$here/connect.nls" 2>&1) ||
     fail "--qemu hasel session from $prefix: $out"

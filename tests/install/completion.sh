@@ -44,7 +44,7 @@ complete_is "--json" nlsoft-console ports --j
 complete_is "simulate" nlsoft-console si
 complete_is "hasel msd tendon" nlsoft-console --sim ""
 complete_is "hasel" nlsoft-console --qemu h
-complete_is "tendon" nlsoft-console simulate --platform t
+complete_is "tendon" nlsoft-console simulate --rig t
 complete_is "mps2-an386 stm32f4" nlsoft-console --qemu hasel --board ""
 complete_is "stm32f4" nlsoft-console flash --board s
 complete_is "tune.nls tune2.nls" nlsoft-console --sim hasel --script tu
@@ -57,7 +57,7 @@ complete_is "label list" nlsoft-console runs l
 complete_is "compare" nlsoft-console --db runs.db runs c
 complete_is "--json" nlsoft-console runs show 12 --j
 complete_is "eval fit import info" nlsoft-console model ""
-complete_is "build" nlsoft-console firmware ""
+complete_is "build header" nlsoft-console firmware ""
 complete_is "check list" nlsoft-console rig ""
 complete_is "hasel" nlsoft-console rig check ha
 complete_is "--json" nlsoft-console rig check hasel --j
@@ -112,7 +112,7 @@ help_words() {
     section == "Subcommands:" && /^  [a-z]/ { print $1 }
     section == "Options:" && /^  +(-[a-z], *)?--/ {
       sub(/^ +(-[a-z], *)?/, ""); sub(/[ :=].*/, "")
-      n = split($0, names, ","); for (i = 1; i <= n; i++) print names[i]  # aliases: --platform,--rig
+      n = split($0, names, ","); for (i = 1; i <= n; i++) print names[i]  # aliases: --name,--alias
     }'
 }
 check_against_help() {
@@ -139,6 +139,7 @@ for c in list show export compare plot label delete merge-y; do check_against_he
 for c in import eval info fit; do check_against_help nlsoft-console model "$c"; done
 for c in check list; do check_against_help nlsoft-console rig "$c"; done
 check_against_help nlsoft-console firmware build
+check_against_help nlsoft-console firmware header
 
 [ "$(help_words | wc -l)" -gt 10 ] || { echo "FAIL: could not read the console's --help"; failures=$((failures + 1)); }
 if [ $failures -gt 0 ]; then

@@ -12,7 +12,7 @@
 #include "protocol/encoder.hpp"
 #include "protocol/reply_cache.hpp"
 #include "protocol/rig_shapes.hpp"
-#include "shared/capacity.hpp"
+#include "support/rig_capacities.hpp"
 
 namespace np = nlsoft::protocol;
 

@@ -4,7 +4,7 @@
 // sanitizers too.
 #include <gtest/gtest.h>
 
-#include "shared/capacity.hpp"
+#include "../support/rig_capacities.hpp"
 
 namespace nlsoft::test {
 

@@ -1,10 +1,10 @@
-// Runs one control step of each preset-sized controller. Built with the
+// Runs one control step of a controller of each shipped rig's size. Built with the
 // embedded flags and, in CMake, linked with every allocation function
 // wrapped away: it links only if nothing reachable allocates.
 #include "shared/controller.hpp"
 #include "shared/excitation.hpp"
 #include "shared/plant_generic.hpp"
-#include "shared/platform.hpp"
+#include "../support/rig_capacities.hpp"
 
 namespace {
 
@@ -34,16 +34,18 @@ struct First<nlsoft::ShapeList<S, More...>> {
   using type = S;
 };
 
+// A rig as large as the capacity (these capacities are tight fits: their
+// m, n, w, nd are a rig's), with plain parameters: enough to make every
+// path of the step reachable.
 template <class Cap>
-int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
+int run_one(float* params, unsigned count) {
   using namespace nlsoft;
-  const Preset& pr = preset(id);
   Model<Cap> M;
-  M.m = pr.m;
-  M.n = pr.n;
-  M.w = pr.w;
-  M.nd = pr.nd;
-  M.dd = pr.dd;
+  M.m = Cap::m;
+  M.n = Cap::n;
+  M.w = Cap::w;
+  M.nd = Cap::nd;
+  M.dd = Cap::nd;
   ShapeLayers<Cap, typename First<typename Cap::Shapes>::type>::fill(M);
   M.param_count = M.norm_count();
   for (int l = 0; l < M.layer_count; ++l) M.param_count += layer_weight_count(M.layer[l]);
@@ -53,7 +55,11 @@ int run_one(nlsoft::PlatformId id, float* params, unsigned count) {
   if (finalize_model(M) != Status::Ok) return 2;
   static Controller<Cap> ctl;
   Params<Cap> P;
-  if (preset_params(pr, P) != Status::Ok) return 3;
+  for (int i = 0; i < Cap::n; ++i) P.Q[i] = 1.0f;
+  for (int i = 0; i < Cap::m; ++i) P.Lambda[i] = 1.0f, P.u_min[i] = -1.0f, P.u_max[i] = 1.0f;
+  P.N = uint8_t(Cap::N < 8 ? Cap::N : 8);
+  P.Nc = uint8_t(Cap::Nc);
+  P.nr_max_iter = 1;
   if (ctl.configure(&M, P) != Status::Ok) return 4;
   float u0[Cap::m] = {}, y0[Cap::n] = {}, l0[Cap::w + 1] = {}, ref[Cap::N * Cap::n] = {};
   ctl.reset(u0, y0, l0);
@@ -125,9 +131,9 @@ int run_excitation() {
 
 int main() {
   using namespace nlsoft;
-  int rc = run_one<HaselCapacity>(PlatformId::Hasel, storage, 600);
-  rc |= run_one<TendonCapacity>(PlatformId::Tendon, storage, 600) << 3;
-  rc |= run_one<MsdCapacity>(PlatformId::Msd, storage, 600) << 6;
+  int rc = run_one<HaselCapacity>(storage, 600);
+  rc |= run_one<TendonCapacity>(storage, 600) << 3;
+  rc |= run_one<MsdCapacity>(storage, 600) << 6;
   rc |= run_generic() << 9;
   rc |= run_excitation() << 10;
   return rc;

@@ -6,8 +6,9 @@
 #include <random>
 
 #include "shared/controller.hpp"
-#include "shared/platform.hpp"
 #include "support/random_model.hpp"
+#include "support/rig_capacities.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 using Cap = HostCapacity;
@@ -35,7 +36,7 @@ TEST_P(HostileParams, OutputStaysFiniteAndClamped) {
   auto o = tendon_like(3);
   ASSERT_EQ(finalize_model(o.model), Status::Ok);
   Params<Cap> P;
-  ASSERT_EQ(preset_params(preset(PlatformId::Tendon), P), Status::Ok);
+  P = test::shipped_params<Cap>("tendon");
   GetParam().apply(P);
   static Controller<Cap> ctl;
   ASSERT_EQ(ctl.configure(&o.model, P), Status::Ok);
@@ -150,7 +151,7 @@ TEST(Controller, RefusedParameterWriteKeepsTheRunningSet) {
   auto o = tendon_like(1);
   ASSERT_EQ(finalize_model(o.model), Status::Ok);
   Params<Cap> P;
-  ASSERT_EQ(preset_params(preset(PlatformId::Tendon), P), Status::Ok);
+  P = test::shipped_params<Cap>("tendon");
   static Controller<Cap> ctl;
   ASSERT_EQ(ctl.configure(&o.model, P), Status::Ok);
   const float bad[3] = {1.0f, std::nanf(""), 2.0f};
@@ -163,21 +164,8 @@ TEST(Controller, RefusedParameterWriteKeepsTheRunningSet) {
   EXPECT_EQ(ctl.params().Nc, 3);
 }
 
-TEST(Presets, MatchThePaper) {
-  const Preset& h = preset(PlatformId::Hasel);
-  EXPECT_EQ(h.m, 6);
-  EXPECT_EQ(h.n, 3);
-  EXPECT_EQ(h.w, 18);
-  EXPECT_EQ(int(h.nd) * h.m + int(h.dd) * h.n + h.w, 36);  // Dense 36 -> 5 -> 5 -> 3
-  EXPECT_FLOAT_EQ(h.Q[1], 2e6f);
-  EXPECT_FLOAT_EQ(h.r, 4e2f);
-  const Preset& t = preset(PlatformId::Tendon);
-  EXPECT_EQ(t.N, 3);
-  EXPECT_EQ(t.Nc, 3);
-  EXPECT_FLOAT_EQ(t.Q[0], 1e-3f);
-  EXPECT_FLOAT_EQ(t.b, 1e-10f);
-  Params<HaselCapacity> hp;
-  EXPECT_EQ(preset_params(h, hp), Status::Ok);
-  Params<HaselCapacity> tp;
-  EXPECT_EQ(preset_params(t, tp), Status::TooLarge);  // Nc = 3 does not fit the hasel capacity
+TEST(RigParams, ACapacityTooSmallForTheRigIsRefused) {
+  Params<HaselCapacity> P;
+  EXPECT_EQ(console::rig_params(test::shipped_rig_file("hasel"), P), Status::Ok);
+  EXPECT_EQ(console::rig_params(test::shipped_rig_file("tendon"), P), Status::TooLarge);  // Nc = 3 > 1
 }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "shared/forward.hpp"
+#include "support/rig_capacities.hpp"
 #include "support/random_model.hpp"
 
 using namespace nlsoft;

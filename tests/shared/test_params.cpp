@@ -5,14 +5,14 @@
 #include <cstring>
 
 #include "shared/params.hpp"
-#include "shared/platform.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 using Cap = HostCapacity;
 
 class ParamTable : public ::testing::Test {
  protected:
-  void SetUp() override { ASSERT_EQ(preset_params(preset(PlatformId::Hasel), P), Status::Ok); }
+  void SetUp() override { P = test::shipped_params<Cap>("hasel"); }
   bool unchanged() const {
     for (int i = 0; i < int(ParamId::Count); ++i) {
       float a[8], b[8];

@@ -637,20 +637,5 @@ TEST(SimPlant, ForwardsToTheSelectedPlant) {
   expect_same_as_direct<TendonPlant>(PlantKind::Tendon);
 }
 
-TEST(PlatformId, NamesRoundTrip) {
-  for (int i = 0; i < kPlatformCount; ++i) {
-    const PlatformId id = static_cast<PlatformId>(i);
-    PlatformId back = PlatformId::Msd;
-    ASSERT_TRUE(platform_from_name(platform_name(id), &back));
-    EXPECT_EQ(back, id);
-  }
-  PlatformId out = PlatformId::Tendon;
-  EXPECT_FALSE(platform_from_name("has", &out));
-  EXPECT_FALSE(platform_from_name("haselx", &out));
-  EXPECT_FALSE(platform_from_name("", &out));
-  EXPECT_FALSE(platform_from_name(nullptr, &out));
-  EXPECT_EQ(out, PlatformId::Tendon);
-}
-
 }  // namespace
 }  // namespace nlsoft

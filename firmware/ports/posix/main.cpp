@@ -23,6 +23,7 @@
 #include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig_catalog.hpp"
 #include "app/rig/rig_plant.hpp"
+#include "app/rig_option.hpp"
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
@@ -118,8 +119,8 @@ int main(int argc, char** argv) {
   double rate = 0;
   bool fast = false;
   uint32_t seed = 1;
-  app.add_option("--rig,--platform", rig_arg,
-                 "the rig: a shipped rig's name or a rig file (docs/rig-file.md) with a [plant] to simulate")
+  nlsoft::console::add_rig_option(&app, rig_arg,
+                                  "the rig: a shipped rig's name or a rig file (docs/rig-file.md) with a [plant] to simulate")
       ->capture_default_str();
   app.add_option("--rate", rate, "control loop rate in Hz (default: the rig's rate_hz, e.g. 130 for hasel)")
       ->check(CLI::Range(1.0, 100000.0));

@@ -8,8 +8,8 @@
 // the table for whoever wires the rig.
 //
 // Actuators: 20 kHz PWM over the platform's whole input range, duty =
-// (u - u_min) / (u_max - u_min) with the preset's limits (shared/platform.hpp:
-// hasel 0..1, tendon -1.2..1.2, msd -2000..2000 N), so a bidirectional input
+// (u - u_min) / (u_max - u_min) with the rig file's limits ([[input]] min and
+// max: hasel 0..1, tendon -1.2..1.2, msd -2000..2000 N), so a bidirectional input
 // puts u = 0 at 50 %; a driver stage (MOSFET, HV amplifier, H-bridge) turns
 // the duty into the actuator's input. Sensors: ADC1, 12 bits over 0..3.3 V, read
 // continuously by DMA2 stream 0; l = offset + gain * volts.

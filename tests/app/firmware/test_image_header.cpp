@@ -138,7 +138,7 @@ TEST(ImageHeader, SpellsOutTheRigAndSizesTheCapacityFromIt) {
   const ImageSource s = source_of(kRig, "stm32f4");
   const std::string& h = s.header;
   EXPECT_TRUE(contains(h, "c.name = \"gripper\";")) << h;
-  EXPECT_TRUE(contains(h, "c.platform = PlatformId::Custom;")) << h;
+  EXPECT_TRUE(contains(h, "c.platform = PlatformId(255);")) << h;  // no info_platform: Custom
   EXPECT_TRUE(contains(h, "c.m = 3, c.n = 2, c.w = 5, c.nd = 2, c.dd = 2;")) << h;
   EXPECT_TRUE(contains(h, "c.rate_hz = 80.0f;")) << h;
   EXPECT_TRUE(contains(h, "c.u_min[0] = 0.0f, c.u_max[0] = 2.0f, c.u_neutral[0] = 0.25f, c.Lambda[0] = 1.0f;")) << h;

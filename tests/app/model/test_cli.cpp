@@ -26,10 +26,10 @@ std::string slurp(const std::string& path) {
 
 TEST(Cli, DatasetTrainInfoEval) {
   const std::string csv = tmp("t.csv"), model = tmp("t.nlsm");
-  auto r = run_cli("dataset --platform tendon --out " + csv + " --steps 3000 --seed 4");
+  auto r = run_cli("dataset --rig tendon --out " + csv + " --steps 3000 --seed 4");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(slurp(csv).substr(0, 16), "time,u0,u1,y0,y1");
-  r = run_cli("train --platform tendon --data " + csv + " --out " + model + " --epochs 2 --seed 3");
+  r = run_cli("train --rig tendon --data " + csv + " --out " + model + " --epochs 2 --seed 3");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("test y2: MSE"), std::string::npos) << r.output;
 
@@ -48,10 +48,23 @@ TEST(Cli, DatasetTrainInfoEval) {
   EXPECT_EQ(std::count(y.begin(), y.end(), ','), 4);
 }
 
+// `--platform`, the old spelling of --rig: still taken, said to be
+// deprecated on stderr, and not both at once.
+TEST(Cli, PlatformIsADeprecatedSpellingOfRig) {
+  const std::string csv = tmp("old.csv");
+  auto r = run_cli("dataset --platform msd --out " + csv + " --steps 500");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("--platform is deprecated; say --rig msd"), std::string::npos) << r.output;
+  EXPECT_EQ(slurp(csv).substr(0, 10), "time,u0,y0");
+  r = run_cli("dataset --platform msd --rig msd --out " + tmp("both.csv") + " --steps 500");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("excludes"), std::string::npos) << r.output;
+}
+
 TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
   const std::string csv = tmp("ok.csv"), model = tmp("ok.nlsm");
-  ASSERT_EQ(run_cli("dataset --platform msd --out " + csv + " --steps 500").code, 0);
-  ASSERT_EQ(run_cli("train --platform msd --data " + csv + " --out " + model).code, 0);
+  ASSERT_EQ(run_cli("dataset --rig msd --out " + csv + " --steps 500").code, 0);
+  ASSERT_EQ(run_cli("train --rig msd --data " + csv + " --out " + model).code, 0);
   const std::string good_model = slurp(model);
 
   const std::string bad_csv = tmp("bad.csv");
@@ -65,17 +78,17 @@ TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
     std::string args, message;
   };
   const std::vector<Case> cases = {
-      {"dataset --platform mars --out " + tmp("n1.csv"), "unknown platform 'mars'"},
-      {"dataset --platform msd", "--out is required"},
-      {"dataset --platform msd --out " + tmp("n1.csv") + " --steps 12x", "--steps must be an integer"},
-      {"dataset --platform msd --out " + tmp("n1.csv") + " --steps 5", "--steps"},
-      {"train --platform msd --data " + tmp("missing.csv") + " --out " + tmp("n2.nlsm"), "cannot open"},
-      {"train --platform msd --data " + bad_csv + " --out " + tmp("n2.nlsm"), "not a number: 'oops'"},
-      {"train --platform hasel --data " + csv + " --out " + tmp("n2.nlsm"), "rig 'hasel' has m=6"},
-      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --epochs -3", "--epochs"},
-      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --lr abc", "--lr"},
-      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --loss l1", "--loss"},
-      {"train --platform msd --data " + csv + " --out " + tmp("n2.nlsm") + " --arch lstm", "--arch"},
+      {"dataset --rig mars --out " + tmp("n1.csv"), "unknown rig 'mars'"},
+      {"dataset --rig msd", "--out is required"},
+      {"dataset --rig msd --out " + tmp("n1.csv") + " --steps 12x", "--steps must be an integer"},
+      {"dataset --rig msd --out " + tmp("n1.csv") + " --steps 5", "--steps"},
+      {"train --rig msd --data " + tmp("missing.csv") + " --out " + tmp("n2.nlsm"), "cannot open"},
+      {"train --rig msd --data " + bad_csv + " --out " + tmp("n2.nlsm"), "not a number: 'oops'"},
+      {"train --rig hasel --data " + csv + " --out " + tmp("n2.nlsm"), "rig 'hasel' has m=6"},
+      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --epochs -3", "--epochs"},
+      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --lr abc", "--lr"},
+      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --loss l1", "--loss"},
+      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --arch lstm", "--arch"},
       {"model info " + corrupt, "not a valid model file"},
       {"model info " + tmp("missing.nlsm"), "cannot open"},
       {"model eval " + model + " --input " + short_rows + " --output " + tmp("n3.csv"), "the model takes p = 4"},
@@ -90,7 +103,7 @@ TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
   for (const char* f : {"n1.csv", "n2.nlsm", "n3.csv", "n5.nlsm"}) EXPECT_FALSE(file_exists(tmp(f))) << f;
 
   // a failed run over an existing file leaves it as it was
-  EXPECT_EQ(run_cli("train --platform msd --data " + bad_csv + " --out " + model).code, 2);
+  EXPECT_EQ(run_cli("train --rig msd --data " + bad_csv + " --out " + model).code, 2);
   EXPECT_EQ(slurp(model), good_model);
 }
 

@@ -10,6 +10,7 @@
 #include "app/model/excitation.hpp"
 #include "app/model/recorded_run.hpp"
 #include "shared/sim_plant.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 using namespace nlsoft::pipeline;
@@ -231,7 +232,7 @@ TEST(RecordedRun, StepJumpsAndIncompleteSamplesBreakTheSeries) {
     r.u.push_back(double(i));
     r.y.push_back(i == 5 ? std::nan("") : 0.1 * i);
   }
-  const PlantTarget t = platform_target(PlatformId::Msd);
+  const PlantTarget t = test::shipped_target("msd");
   const Series s = recorded_series(r, t);
   ASSERT_EQ(s.rows(), 7);
   EXPECT_EQ(s.breaks, (std::vector<long>{3, 5}));

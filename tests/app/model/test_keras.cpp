@@ -87,7 +87,7 @@ TEST(KerasImport, DenseWithDropout) {
     w.array("dense_1", "dense_1/bias:0", {1}, b1);
   }
   const std::string out = tmp("dense.nlsm");
-  const auto r = run_cli("model import " + h5 + " --out " + out);  // p = 4: msd dims inferred
+  const auto r = run_cli("model import " + h5 + " --out " + out + " --rig msd");  // p = 4: msd's dims
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(load_model_file(out).platform, uint8_t(PlatformId::Msd));
   for (int row = 0; row < 5; ++row) {
@@ -197,13 +197,13 @@ TEST(KerasImport, NormalisationFromJson) {
   const std::string norm = tmp("norm.json");
   std::ofstream(norm) << R"({"in_offset": [1, 2, 3, 4], "in_scale": [0.5, 0.5, 2, 2], "out_offset": [10], "out_scale": [3]})";
   const std::string out = tmp("norm.nlsm");
-  ASSERT_EQ(run_cli("model import " + h5 + " --out " + out + " --platform msd --norm " + norm).code, 0);
+  ASSERT_EQ(run_cli("model import " + h5 + " --out " + out + " --rig msd --norm " + norm).code, 0);
   const auto x = input(4, 1);
   std::vector<double> xn = {(x[0] - 1) * 0.5, (x[1] - 2) * 0.5, (x[2] - 3) * 2, (x[3] - 4) * 2};
   expect_close(run_model(out, x), {affine(xn, W, &b, 1)[0] * 3 + 10});
 
   std::ofstream(norm) << R"({"in_offset": [1, 2, 3], "in_scale": [1, 1, 1, 1], "out_offset": [0], "out_scale": [1]})";
-  const auto bad = run_cli("model import " + h5 + " --out " + tmp("norm2.nlsm") + " --platform msd --norm " + norm);
+  const auto bad = run_cli("model import " + h5 + " --out " + tmp("norm2.nlsm") + " --rig msd --norm " + norm);
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.output.find("in_offset"), std::string::npos) << bad.output;
   EXPECT_FALSE(nlsoft::test::file_exists(tmp("norm2.nlsm")));
@@ -221,7 +221,7 @@ void expect_refused(const std::string& config, const std::string& layer_name, co
   } catch (const PipelineError& e) {
     EXPECT_NE(std::string(e.what()).find(layer_name), std::string::npos) << e.what();
   }
-  const auto r = run_cli("model import " + h5 + " --out " + tmp(h5name + ".nlsm"));
+  const auto r = run_cli("model import " + h5 + " --out " + tmp(h5name + ".nlsm") + " --rig msd");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find(layer_name), std::string::npos) << r.output;
   EXPECT_FALSE(nlsoft::test::file_exists(tmp(h5name + ".nlsm")));

@@ -6,14 +6,16 @@
 #include "app/model/excitation.hpp"
 #include "app/model/model_store.hpp"
 #include "app/model/train.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 using namespace nlsoft::pipeline;
 
 TEST(Regenerate, MsdModelMatchesTheShippedQuality) {
   const ModelFile shipped = load_model_file(std::string(NLSOFT_SOURCE_DIR) + "/app/models/msd.nlsm");
-  const Series s = generate_excitation(PlantKind::Msd, default_steps(platform_target(PlatformId::Msd)), 1);
-  const TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
+  const PlantTarget msd = test::shipped_target("msd");
+  const Series s = generate_excitation(msd, default_steps(msd), 1);
+  const TrainResult r = train(s, msd, default_options(msd));
   const Dataset d = build_dataset(s, 2, 2);
   const Evaluation old = evaluate(shipped, d, r.split.test_begin, r.split.test_end);
   // within a factor of 3 either way; both far below a millimetre squared

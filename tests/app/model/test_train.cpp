@@ -9,6 +9,7 @@
 #include "app/model/network.hpp"
 #include "app/model/train.hpp"
 #include "shared/forward.hpp"
+#include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
 using namespace nlsoft::pipeline;
@@ -96,41 +97,41 @@ TEST(Train, LearnsAKnownFunctionRepeatably) {
   o.layers = {{LayerKind::Dense, 8, Activation::Tanh}, {LayerKind::Dense, 1, Activation::Linear}};
   o.epochs = 150;
   o.seed = 11;
-  const TrainResult a = train(s, PlatformId::Msd, o);
+  const TrainResult a = train(s, test::shipped_target("msd"), o);
   const double var = (s.y.array() - s.y.mean()).square().mean();
   EXPECT_LT(a.test.mse[0], 1e-3 * var) << "variance " << var;
-  const TrainResult b = train(s, PlatformId::Msd, o);
+  const TrainResult b = train(s, test::shipped_target("msd"), o);
   EXPECT_EQ(a.model.params, b.model.params);  // bit for bit
   o.seed = 12;
-  const TrainResult c = train(s, PlatformId::Msd, o);
+  const TrainResult c = train(s, test::shipped_target("msd"), o);
   EXPECT_NE(a.model.params, c.model.params);
   o.loss = Loss::Huber;
   o.seed = 11;
-  const TrainResult h = train(s, PlatformId::Msd, o);
+  const TrainResult h = train(s, test::shipped_target("msd"), o);
   EXPECT_LT(h.test.mse[0], 1e-2 * var);
 }
 
 TEST(Train, ExportedDenseModelEqualsTrainerForward) {
   const Series s = generate_excitation(PlantKind::Hasel, 4000, 1);
-  TrainOptions o = default_options(PlatformId::Hasel, Objective::OneStep);
+  TrainOptions o = default_options(test::shipped_target("hasel"), Objective::OneStep);
   o.epochs = 3;
-  const TrainResult r = train(s, PlatformId::Hasel, o);
+  const TrainResult r = train(s, test::shipped_target("hasel"), o);
   EXPECT_LT(export_mismatch(r, s, 2), 1e-5);
   o.residual = true;
   o.layers[1].act = Activation::Sigmoid;
-  const TrainResult rr = train(s, PlatformId::Hasel, o);
+  const TrainResult rr = train(s, test::shipped_target("hasel"), o);
   EXPECT_TRUE(rr.model.shape.residual);
   EXPECT_LT(export_mismatch(rr, s, 2), 1e-5);
 }
 
 TEST(Train, ExportedGruModelEqualsTrainerForward) {
   const Series s = generate_excitation(PlantKind::Tendon, 4000, 1);
-  TrainOptions o = default_options(PlatformId::Tendon, Objective::OneStep);
+  TrainOptions o = default_options(test::shipped_target("tendon"), Objective::OneStep);
   o.epochs = 3;
   for (bool reset_after : {true, false}) {
     o.layers[0].reset_after = reset_after;
     o.layers[0].rec_act = reset_after ? Activation::Sigmoid : Activation::HardSigmoid;
-    const TrainResult r = train(s, PlatformId::Tendon, o);
+    const TrainResult r = train(s, test::shipped_target("tendon"), o);
     EXPECT_EQ(r.model.shape.layer[0].kind, LayerKind::Gru);
     EXPECT_LT(export_mismatch(r, s, 2), 1e-5) << "reset_after " << reset_after;
   }
@@ -140,7 +141,7 @@ TEST(Train, LinearModelIsExactOnTheMassSpringDamper) {
   // The msd is linear: its ZOH discretisation is exactly an ARX(2,2) model,
   // so the least-squares fit must be near float precision.
   const Series s = generate_excitation(PlantKind::Msd, 20000, 3);
-  const TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
+  const TrainResult r = train(s, test::shipped_target("msd"), default_options(test::shipped_target("msd")));
   EXPECT_EQ(r.epochs_run, 0);
   EXPECT_LT(r.test.mse[0], 1e-10);
   EXPECT_LT(export_mismatch(r, s, 2), 1e-5);
@@ -151,7 +152,7 @@ TEST(Train, LinearModelIsExactOnTheMassSpringDamper) {
 // outputs range over [10, 30] is centred on 20, whatever the data.
 TEST(Train, LimitsAndCentreComeFromTheRigNotASimulatedPlant) {
   const Series s = generate_excitation(PlantKind::Msd, 2000, 1);
-  PlantTarget t = platform_target(PlatformId::Msd);
+  PlantTarget t = test::shipped_target("msd");
   t.plant = TargetPlant::Named;  // a simulated plant stands by, and is not asked
   t.u_lo = {-4000.0};
   t.u_hi = {6000.0};
@@ -169,10 +170,10 @@ TEST(Train, LimitsAndCentreComeFromTheRigNotASimulatedPlant) {
 // --nd/--dd: the lags the rows are built with and the model file records.
 TEST(Train, LagsOtherThanTheRigsAreTrainedAndRecorded) {
   const Series s = generate_excitation(PlantKind::Msd, 3000, 1);
-  TrainOptions o = default_options(PlatformId::Msd);
+  TrainOptions o = default_options(test::shipped_target("msd"));
   o.nd = 3;
   o.dd = 4;
-  const TrainResult r = train(s, platform_target(PlatformId::Msd), o);
+  const TrainResult r = train(s, test::shipped_target("msd"), o);
   EXPECT_EQ(r.model.shape.nd, 3);
   EXPECT_EQ(r.model.shape.dd, 4);
   EXPECT_EQ(r.model.shape.p(), 3 * 1 + 4 * 1 + 0);
@@ -181,20 +182,20 @@ TEST(Train, LagsOtherThanTheRigsAreTrainedAndRecorded) {
 
 TEST(Train, RefusesMismatchedData) {
   const Series s = generate_excitation(PlantKind::Tendon, 500, 1);
-  EXPECT_THROW(train(s, PlatformId::Hasel, default_options(PlatformId::Hasel)), PipelineError);
-  TrainOptions o = default_options(PlatformId::Tendon);
+  EXPECT_THROW(train(s, test::shipped_target("hasel"), default_options(test::shipped_target("hasel"))), PipelineError);
+  TrainOptions o = default_options(test::shipped_target("tendon"));
   o.layers.back().units = 2;
-  EXPECT_THROW(train(s, PlatformId::Tendon, o), PipelineError);
+  EXPECT_THROW(train(s, test::shipped_target("tendon"), o), PipelineError);
 }
 
 TEST(ModelStore, SaveLoadRoundTripAndAtomicity) {
   const Series s = generate_excitation(PlantKind::Msd, 2000, 1);
-  TrainResult r = train(s, PlatformId::Msd, default_options(PlatformId::Msd));
+  TrainResult r = train(s, test::shipped_target("msd"), default_options(test::shipped_target("msd")));
   const std::string path = ::testing::TempDir() + "/store_test.nlsm";
   save_model_file(path, r.model);
   const ModelFile back = load_model_file(path);
   EXPECT_EQ(back.params, r.model.params);
-  EXPECT_EQ(back.platform, uint8_t(PlatformId::Msd));
+  EXPECT_EQ(back.platform, 0);  // rigs/msd.toml info_platform
   EXPECT_EQ(back.shape.hash, r.model.shape.hash);
   // a model that cannot be written leaves the old file alone
   ModelFile bad = r.model;

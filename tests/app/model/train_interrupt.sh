@@ -8,8 +8,8 @@ console=$1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work" || exit 1
-"$console" dataset --platform hasel --out hasel.csv --steps 40000 >/dev/null || { echo "FAIL: dataset"; exit 1; }
-"$console" train --platform hasel --data hasel.csv --out m.nlsm >out.txt 2>err.txt &
+"$console" dataset --rig hasel --out hasel.csv --steps 40000 >/dev/null || { echo "FAIL: dataset"; exit 1; }
+"$console" train --rig hasel --data hasel.csv --out m.nlsm >out.txt 2>err.txt &
 pid=$!
 for _ in $(seq 600); do
   grep -q "L-BFGS" err.txt && break

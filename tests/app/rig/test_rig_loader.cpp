@@ -289,7 +289,7 @@ TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
   expect_error(t, line_of(t, "pmw"), "[[input]] #1 pmw", "unknown key (known: name, unit, min, max, neutral, pwm)");
   const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
   expect_error(tab, line_of(tab, "[plnt]"), "plnt",
-               "unknown table (known: name, description, rate_hz, nd, dd, board, input, output, sensor, controller, "
+               "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, controller, "
                "model, plant, reference)");
   const std::string c = edit("eps = 0.01", "eps = 0.01\nlambda = [1.0, 1.0]");
   expect_error(c, line_of(c, "lambda ="), "[controller] lambda", "unknown key (known: Q, Lambda, s, b, r, N, N1, Nc, eps,");

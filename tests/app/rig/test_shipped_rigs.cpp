@@ -1,10 +1,11 @@
-// The shipped rig files against the compiled-in data they mirror (presets,
-// simulated plants, reference presets, the stm32f4 pin table, the shipped
-// models' shapes): while both exist, neither can drift from the other.
+// The shipped rig files: the paper's rigs as the paper gives them, each
+// file in step with the hand-written plant that stands in for its rig, the
+// stm32f4 pin table and the shipped model it names.
 #include <gtest/gtest.h>
 
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "app/model/model_store.hpp"
 #include "app/rig/board_pins.hpp"
@@ -15,53 +16,63 @@
 #include "app/rig/rig_pipeline.hpp"
 #include "app/rig/rig_reference.hpp"
 #include "firmware/ports/stm32f4/rig_pins.hpp"
-#include "shared/platform.hpp"
-#include "shared/reference_presets.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::console {
 namespace {
 
-class ShippedRig : public ::testing::TestWithParam<PlatformId> {
- protected:
-  Rig rig = load_rig(std::string(NLSOFT_RIGS_DIR) + "/" + platform_name(GetParam()) + ".toml");
-  const Preset& p = preset(GetParam());
-};
+Rig shipped(const std::string& name) { return load_rig(std::string(NLSOFT_RIGS_DIR) + "/" + name + ".toml"); }
 
-TEST_P(ShippedRig, DimensionsAndRateAreThePresets) {
-  EXPECT_EQ(rig.name, platform_name(GetParam()));
-  EXPECT_EQ(rig.m(), p.m);
-  EXPECT_EQ(rig.n(), p.n);
-  EXPECT_EQ(rig.w(), p.w);
-  EXPECT_EQ(rig.nd, p.nd);
-  EXPECT_EQ(rig.dd, p.dd);
-  EXPECT_EQ(float(rig.rate_hz), p.rate_hz);
-  ASSERT_NE(rig.plant.kind, nullptr);
-  EXPECT_STREQ(rig.plant.kind->name, platform_name(GetParam()));
-}
-
-TEST_P(ShippedRig, ControllerDefaultsAreThePresetsParameters) {
-  Params<HostCapacity> want, got;
-  ASSERT_EQ(preset_params(p, want), Status::Ok);
-  ASSERT_EQ(rig_params(rig, got), Status::Ok);
-  for (int i = 0; i < p.n; ++i) EXPECT_EQ(got.Q[i], want.Q[i]) << "Q[" << i << "]";
-  for (int i = 0; i < p.m; ++i) {
-    EXPECT_EQ(got.Lambda[i], want.Lambda[i]) << "Lambda[" << i << "]";
-    EXPECT_EQ(got.u_min[i], want.u_min[i]) << "u_min[" << i << "]";
-    EXPECT_EQ(got.u_max[i], want.u_max[i]) << "u_max[" << i << "]";
+// The one place the tests know the shipped rigs: the paper's dimensions,
+// rates and tunings ("Results"; msd's N and Lambda are ours, rigs/msd.toml
+// says why), their tasks, and the INFO numbers protocol/PROTOCOL.md gives.
+TEST(ShippedRigs, AreThePapersRigs) {
+  struct Paper {
+    const char* name;
+    int m, n, w, info;
+    double rate_hz;
+    std::vector<double> Q, Lambda;
+    double s, b, r, eps;
+    int N, Nc;
+    RefKind task;
+  };
+  const Paper papers[] = {
+      {"msd", 1, 1, 0, 0, 1000.0, {1.0}, {4e-2}, 1e-20, 1e-5, 4e2, 1e-3, 100, 1, RefKind::Step},
+      {"hasel", 6, 3, 18, 1, 130.0, {1e6, 2e6, 1e6}, {1, 1, 1, 1, 1, 1}, 1e-25, 1e-5, 4e2, 1.0 / 130, 3, 1,
+       RefKind::Swirl},
+      {"tendon", 2, 3, 11, 2, 120.0, {1e-3, 5e3, 2e3}, {1, 1}, 1e-20, 1e-10, 4e5, 1.0 / 120, 3, 3, RefKind::Infinity},
+  };
+  for (const Paper& p : papers) {
+    SCOPED_TRACE(p.name);
+    const Rig rig = shipped(p.name);
+    EXPECT_EQ(rig.name, p.name);
+    EXPECT_EQ(rig.m(), p.m);
+    EXPECT_EQ(rig.n(), p.n);
+    EXPECT_EQ(rig.w(), p.w);
+    EXPECT_EQ(rig.nd, 2);
+    EXPECT_EQ(rig.info_platform, p.info);
+    EXPECT_EQ(firmware_rig(rig).platform, PlatformId(p.info));
+    EXPECT_EQ(rig_plant_target(rig).platform, p.info);
+    EXPECT_EQ(rig.rate_hz, p.rate_hz);
+    EXPECT_EQ(rig.controller.Q, p.Q);
+    EXPECT_EQ(rig.controller.Lambda, p.Lambda);
+    EXPECT_EQ(rig.controller.s, p.s);
+    EXPECT_EQ(rig.controller.b, p.b);
+    EXPECT_EQ(rig.controller.r, p.r);
+    EXPECT_NEAR(rig.controller.eps, p.eps, 1e-15);
+    EXPECT_EQ(rig.controller.N, p.N);
+    EXPECT_EQ(rig.controller.Nc, p.Nc);
+    EXPECT_EQ(rig.controller.nr_max_iter, 1);  // as the paper's firmware ran
+    EXPECT_EQ(rig.reference.kind, p.task);
+    ASSERT_NE(rig.plant.kind, nullptr);
+    EXPECT_STREQ(rig.plant.kind->name, p.name);
   }
-  EXPECT_EQ(got.s, want.s);
-  EXPECT_EQ(got.b, want.b);
-  EXPECT_EQ(got.r, want.r);
-  EXPECT_EQ(got.eps, want.eps);
-  EXPECT_EQ(got.N, want.N);
-  EXPECT_EQ(got.N1, want.N1);
-  EXPECT_EQ(got.Nc, want.Nc);
-  EXPECT_EQ(got.nr_tol, want.nr_tol);
-  EXPECT_EQ(got.nr_max_iter, want.nr_max_iter);
-  EXPECT_EQ(got.mode, want.mode);
-  EXPECT_EQ(got.feedback, want.feedback);
 }
+
+class ShippedRig : public ::testing::TestWithParam<std::string> {
+ protected:
+  Rig rig = shipped(GetParam());
+};
 
 TEST_P(ShippedRig, LimitsNeutralAndOutputBoxAreThePlants) {
   SimPlant plant;
@@ -80,81 +91,6 @@ TEST_P(ShippedRig, LimitsNeutralAndOutputBoxAreThePlants) {
     EXPECT_EQ(float(rig.outputs[size_t(i)].max), hi[i]) << i;
   }
   EXPECT_EQ(float(1.0 / rig.rate_hz), plant.dt());
-}
-
-// What the simulator serves for a rig file is what the images compiled for
-// that rig hold, field for field, start-up reference included.
-TEST_P(ShippedRig, TheFirmwaresRigDataFromTheFileIsTheCompiledIn) {
-  const RigConfig got = firmware_rig(rig), want = shipped_rig(GetParam());
-  EXPECT_STREQ(got.name, want.name);
-  EXPECT_NE(got.hash, 0u);
-  EXPECT_EQ(got.platform, want.platform);
-  EXPECT_EQ(got.m, want.m);
-  EXPECT_EQ(got.n, want.n);
-  EXPECT_EQ(got.w, want.w);
-  EXPECT_EQ(got.nd, want.nd);
-  EXPECT_EQ(got.dd, want.dd);
-  EXPECT_EQ(got.rate_hz, want.rate_hz);
-  for (int i = 0; i < want.m; ++i) {
-    EXPECT_EQ(got.u_min[i], want.u_min[i]) << i;
-    EXPECT_EQ(got.u_max[i], want.u_max[i]) << i;
-    EXPECT_EQ(got.u_neutral[i], want.u_neutral[i]) << i;
-    EXPECT_EQ(got.Lambda[i], want.Lambda[i]) << i;
-  }
-  for (int i = 0; i < want.n; ++i) EXPECT_EQ(got.Q[i], want.Q[i]) << i;
-  EXPECT_EQ(got.s, want.s);
-  EXPECT_EQ(got.b, want.b);
-  EXPECT_EQ(got.r, want.r);
-  EXPECT_EQ(got.eps, want.eps);
-  EXPECT_EQ(got.nr_tol, want.nr_tol);
-  EXPECT_EQ(got.N, want.N);
-  EXPECT_EQ(got.N1, want.N1);
-  EXPECT_EQ(got.Nc, want.Nc);
-  EXPECT_EQ(got.nr_max_iter, want.nr_max_iter);
-  EXPECT_EQ(got.mode, want.mode);
-  EXPECT_EQ(got.feedback, want.feedback);
-  EXPECT_EQ(std::memcmp(&got.reference, &want.reference, sizeof got.reference), 0)
-      << "start-up reference (kind " << int(got.reference.kind) << " vs " << int(want.reference.kind) << ")";
-}
-
-// `dataset --platform NAME` and `train --platform NAME` resolve to the
-// shipped file: the pipeline must see in it exactly the compiled-in
-// platform (same plant, limits, history, network, training options).
-TEST_P(ShippedRig, PipelineTargetIsTheCompiledInPlatforms) {
-  const pipeline::PlantTarget got = rig_plant_target(rig), want = pipeline::platform_target(GetParam());
-  EXPECT_EQ(got.plant, pipeline::TargetPlant::Named);
-  EXPECT_EQ(got.platform, uint8_t(GetParam()));
-  EXPECT_EQ(got.kind, want.kind);
-  EXPECT_EQ(got.m, want.m);
-  EXPECT_EQ(got.n, want.n);
-  EXPECT_EQ(got.w, want.w);
-  EXPECT_EQ(got.nd, want.nd);
-  for (int i = 0; i < got.m; ++i) {
-    EXPECT_EQ(float(got.u_lo[size_t(i)]), float(want.u_lo[size_t(i)])) << i;
-    EXPECT_EQ(float(got.u_hi[size_t(i)]), float(want.u_hi[size_t(i)])) << i;
-  }
-  const pipeline::TrainOptions a = pipeline::default_options(got), b = pipeline::default_options(GetParam());
-  ASSERT_EQ(a.layers.size(), b.layers.size());
-  for (size_t l = 0; l < a.layers.size(); ++l) {
-    EXPECT_EQ(a.layers[l].kind, b.layers[l].kind) << l;
-    EXPECT_EQ(a.layers[l].units, b.layers[l].units) << l;
-    EXPECT_EQ(a.layers[l].act, b.layers[l].act) << l;
-    EXPECT_EQ(a.layers[l].rec_act, b.layers[l].rec_act) << l;
-    EXPECT_EQ(a.layers[l].reset_after, b.layers[l].reset_after) << l;
-  }
-  EXPECT_EQ(a.nd, b.nd);
-  EXPECT_EQ(a.dd, b.dd);
-  EXPECT_EQ(a.residual, b.residual);
-  EXPECT_EQ(a.y_noise, b.y_noise);
-}
-
-TEST_P(ShippedRig, ReferencesAreThePresetPaths) {
-  EXPECT_EQ(rig.reference.kind, default_reference_kind(GetParam()));
-  for (RefKind k : {RefKind::Infinity, RefKind::Pringle, RefKind::Diagonal, RefKind::Swirl, RefKind::Step,
-                    RefKind::Hold}) {
-    const RefParams want = reference_preset(GetParam(), k), got = rig_reference(rig, k);
-    EXPECT_EQ(std::memcmp(&want, &got, sizeof want), 0) << "kind " << int(k);
-  }
 }
 
 // Actuator i drives PWM row i, sensor i reads analogue row i; sensors beyond
@@ -196,14 +132,14 @@ TEST_P(ShippedRig, TheModelFileHasTheLayers) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Rigs, ShippedRig, ::testing::Values(PlatformId::Msd, PlatformId::Hasel, PlatformId::Tendon),
-                         [](const ::testing::TestParamInfo<PlatformId>& p) { return std::string(platform_name(p.param)); });
+INSTANTIATE_TEST_SUITE_P(Rigs, ShippedRig, ::testing::Values("msd", "hasel", "tendon"),
+                         [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
 // hasel declares 18 sensors, the board brings out 13 analogue inputs: the
 // other five are there, explicitly unwired, and a 14th analogue sensor
 // cannot be declared (every channel is taken).
 TEST(ShippedRigs, HaselsUnwiredSensorsAreExplicit) {
-  const Rig rig = load_rig(std::string(NLSOFT_RIGS_DIR) + "/hasel.toml");
+  const Rig rig = shipped("hasel");
   int none = 0;
   for (const RigSensor& s : rig.sensors) none += s.source == SensorSource::None;
   EXPECT_EQ(none, 18 - fw::stm32f4::kAnalogueCount);

@@ -39,7 +39,7 @@ std::unique_ptr<Run> run(const std::string& name, const std::string& ref, Contro
   LoopSetup& s = r->setup;
   s.plant = rig.plant.kind->kind;
   s.controller = kind;
-  s.reference = reference_preset(rig, ref);
+  s.reference = reference_by_name(rig, ref);
   EXPECT_EQ(rig_params(rig, s.params), Status::Ok);
   s.params.mode = mode;
   LoadedModel& lm = models[name];
@@ -104,7 +104,7 @@ TEST(ClosedLoop, RefusesWhatCannotRun) {
   LoopSetup s;
   s.plant = PlantKind::Hasel;
   s.steps = 10;
-  s.reference = reference_preset(shipped("hasel"), "hold");
+  s.reference = reference_by_name(shipped("hasel"), "hold");
   EXPECT_THROW(run_closed_loop(s), CliError);  // MPC without a model
   s.controller = ControllerKind::Pid;
   EXPECT_THROW(run_closed_loop(s), CliError);  // PID on a 6-input rig

@@ -11,19 +11,19 @@ expect_error() {  # expect_error "pattern" args...
     echo "FAIL: '$*' gave rc=$rc: $out"; fail=1
   fi
 }
-expect_error "unknown rig 'nope'; rigs in" simulate --platform nope
-expect_error "Q takes 1 value" simulate --platform msd --set Q=1,2
-expect_error "Q\[0\] = -1 is out of range" simulate --platform msd --set Q=-1
-expect_error "unknown parameter 'Qx'" simulate --platform msd --set Qx=1
-expect_error "not a number" simulate --platform msd --set Q=abc
-expect_error "cannot open model file" simulate --platform msd --model /nonexistent.nlsm
-expect_error "PID baseline is defined for msd only" simulate --platform hasel --controller pid
-expect_error "unknown reference 'circle'" simulate --platform hasel --reference circle
-expect_error "would break a rule" simulate --platform tendon --set Nc=4
-json=$("$console" simulate --platform msd --steps 2000 --json) || { echo "FAIL: msd run"; fail=1; }
+expect_error "unknown rig 'nope'; rigs in" simulate --rig nope
+expect_error "Q takes 1 value" simulate --rig msd --set Q=1,2
+expect_error "Q\[0\] = -1 is out of range" simulate --rig msd --set Q=-1
+expect_error "unknown parameter 'Qx'" simulate --rig msd --set Qx=1
+expect_error "not a number" simulate --rig msd --set Q=abc
+expect_error "cannot open model file" simulate --rig msd --model /nonexistent.nlsm
+expect_error "PID baseline is defined for msd only" simulate --rig hasel --controller pid
+expect_error "unknown reference 'circle'" simulate --rig hasel --reference circle
+expect_error "would break a rule" simulate --rig tendon --set Nc=4
+json=$("$console" simulate --rig msd --steps 2000 --json) || { echo "FAIL: msd run"; fail=1; }
 grep -q '"nrmse"' <<<"$json" || { echo "FAIL: no nrmse in $json"; fail=1; }
 csv=$(mktemp)
-"$console" simulate --platform tendon --steps 50 --csv "$csv" >/dev/null || { echo "FAIL: tendon csv run"; fail=1; }
+"$console" simulate --rig tendon --steps 50 --csv "$csv" >/dev/null || { echo "FAIL: tendon csv run"; fail=1; }
 [ "$(wc -l <"$csv")" -eq 51 ] || { echo "FAIL: csv has $(wc -l <"$csv") lines, want 51"; fail=1; }
 head -1 "$csv" | grep -q "^step,time_s,y_ref0" || { echo "FAIL: csv header"; fail=1; }
 rm -f "$csv"
@@ -31,18 +31,18 @@ rm -f "$csv"
 # by what was simulated; --svg with --png is refused.
 if command -v gnuplot >/dev/null; then
   svg=$(mktemp --suffix=.svg)
-  out=$("$console" simulate --platform hasel --steps 400 --svg "$svg" 2>&1) || { echo "FAIL: hasel --svg: $out"; fail=1; }
+  out=$("$console" simulate --rig hasel --steps 400 --svg "$svg" 2>&1) || { echo "FAIL: hasel --svg: $out"; fail=1; }
   grep -q "simulation drawn to $svg" <<<"$out" || { echo "FAIL: no 'drawn to' in: $out"; fail=1; }
   grep -q "<svg" "$svg" && grep -q "simulate swirl on hasel" "$svg" || { echo "FAIL: $svg is not the simulation's picture"; fail=1; }
   rm -f "$svg"
 else
   echo "SKIP: simulate --svg (gnuplot is not installed: apt-get install gnuplot-nox)"
 fi
-expect_error "give --svg FILE or --png FILE, not both" simulate --platform msd --svg a.svg --png a.png
+expect_error "give --svg FILE or --png FILE, not both" simulate --rig msd --svg a.svg --png a.png
 # Above the README's 5 % target, the table says so; within it, nothing.
-out=$("$console" simulate --platform hasel --set Lambda=1e12,1e12,1e12,1e12,1e12,1e12 2>&1)
+out=$("$console" simulate --rig hasel --set Lambda=1e12,1e12,1e12,1e12,1e12,1e12 2>&1)
 grep -q "above the 5 % target" <<<"$out" || { echo "FAIL: a poor tracking (Lambda 1e12) is not called above the target: $out"; fail=1; }
-out=$("$console" simulate --platform tendon 2>&1)
+out=$("$console" simulate --rig tendon 2>&1)
 ! grep -q "above the 5 % target" <<<"$out" || { echo "FAIL: tendon's Infinity (0.64 %) called above the target: $out"; fail=1; }
 [ $fail -eq 0 ] && echo "simulate CLI: all checks passed"
 exit $fail

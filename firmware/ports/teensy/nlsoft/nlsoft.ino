@@ -1,7 +1,9 @@
 // nlsoft on a Teensy 3.6 / 4.x: the learned-model predictive controller,
 // tuned live from nlsoft-console over the USB serial port.
 //
-//   1. Pick the platform below (and the capacity that fits it).
+//   1. Generate the rig's header beside this sketch (its values and the
+//      capacity sized for it; README.md):
+//        nlsoft-console firmware header --rig hasel --out firmware/ports/teensy/nlsoft
 //   2. Generate model_data.h from the trained model (README.md):
 //        xxd -i -n nlsoft_model app/models/hasel.nlsm > model_data.h
 //   3. Fill in board_actuate() and board_read_sensors() for your rig.
@@ -14,17 +16,17 @@
 #include "firmware/core/firmware.hpp"
 #include "model_data.h"  // unsigned char nlsoft_model[]; unsigned int nlsoft_model_len;
 #include "shared/model_file.hpp"
-#include "shared/reference_presets.hpp"
+#include "nlsoft_rig.hpp"  // kRig, Cap: `nlsoft-console firmware header --rig RIG`
 #include "shared/version.hpp"
 #include "teensy_hal.hpp"
 
 namespace {
 
-using Cap = nlsoft::HaselCapacity;  // TendonCapacity, MsdCapacity for the other rigs
+using Cap = nlsoft::fw::cortex_m::Cap;
 using Fw = nlsoft::fw::Firmware<Cap, 1024>;
 
 // The rig: dimensions, limits, defaults, start-up reference (shared/rig_config.hpp).
-constexpr nlsoft::RigConfig kRig = nlsoft::shipped_rig(nlsoft::PlatformId::Hasel);
+constexpr const nlsoft::RigConfig& kRig = nlsoft::fw::cortex_m::kRig;
 constexpr uint32_t kRateHz = uint32_t(kRig.rate_hz);
 
 // An upload in transit (then the uploaded model in force), and an uploaded

@@ -1,0 +1,27 @@
+#pragma once
+// `--rig NAME|PATH`, the one option every command names a rig with, and
+// `--platform`, its old spelling: still accepted for the scripts that use
+// it, hidden from --help, and said to be deprecated on stderr (never on
+// stdout, which may be JSON).
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <string>
+
+namespace nlsoft::console {
+
+inline CLI::Option* add_rig_option(CLI::App* app, std::string& rig, const std::string& help) {
+  CLI::Option* opt = app->add_option("--rig", rig, help)->type_name("NAME|PATH");
+  app->add_option_function<std::string>(
+         "--platform",
+         [&rig](const std::string& v) {
+           std::fprintf(stderr, "nlsoft: --platform is deprecated; say --rig %s\n", v.c_str());
+           rig = v;
+         },
+         "deprecated spelling of --rig")
+      ->group("")
+      ->excludes(opt);
+  return opt;
+}
+
+}  // namespace nlsoft::console
