@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <string>
 
+#include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig.hpp"
 #include "app/rig/rig_plant.hpp"
 
@@ -246,6 +247,20 @@ TEST(RigLoader, OverCapacityNamesTheFirstTableTooMany) {
 
 // Long histories for a narrow rig, short ones for a wide rig: the limit is the
 // network's input length p = nd m + dd n + w, not nd alone.
+// INFO's platform number is the file's to give: a rig named like a shipped
+// one does not get that rig's number by its name, and a number the
+// protocol has not assigned is refused at its line.
+TEST(RigLoader, ThePlatformNumberIsTheFilesNotTheNames) {
+  const std::string named = edit("name = \"probe\"", "name = \"hasel\"");
+  const Rig rig = parse_rig(named, "my.toml");
+  EXPECT_EQ(rig.info_platform, 255);
+  EXPECT_EQ(firmware_rig(rig).platform, PlatformId::Custom);
+  const Rig given = parse_rig(edit("rate_hz = 100.0", "info_platform = 2\nrate_hz = 100.0"), "my.toml");
+  EXPECT_EQ(firmware_rig(given).platform, PlatformId::Tendon);
+  const std::string bad = edit("rate_hz = 100.0", "info_platform = 3\nrate_hz = 100.0");
+  expect_error(bad, line_of(bad, "info_platform"), "info_platform", "must be in [0, 2]");
+}
+
 TEST(RigLoader, HistoriesAreBoundByTheInputLength) {
   auto with_nd = [](std::string t, int nd) {
     for (const char* k : {"nd = 4", "dd = 4"}) {
