@@ -13,7 +13,7 @@
 #include "app/rig/board_pins.hpp"
 #include "app/rig/firmware_rig.hpp"
 #include "app/rig/rig_plant.hpp"
-#include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "shared/board_stm32f4.hpp"
 #include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
@@ -215,9 +215,9 @@ std::string pins_part(const Rig& rig, const std::string& board) {
                      fmt::join(pins->pwm, ", "), rig.m()));
   }
   std::string o;
-  o += "}  // namespace nlsoft::fw::cortex_m\n#include \"firmware/ports/stm32f4/rig_pins.hpp\"\n";
+  o += "}  // namespace nlsoft::fw::cortex_m\n#include \"shared/board_stm32f4.hpp\"\n";
   o += "namespace nlsoft::fw::stm32f4 {\n";
-  o += "// Actuator i's PWM output, a row of the board's table (rig_pins.hpp); kNoPwm: not driven.\n";
+  o += "// Actuator i's PWM output, a row of the board's table (shared/board_stm32f4.hpp); kNoPwm: not driven.\n";
   o += "constexpr PwmOutput kRigPwm[] = {\n";
   for (const RigInput& in : rig.inputs) {
     std::string row = "kNoPwm";

@@ -1,6 +1,6 @@
 #include "app/rig/board_pins.hpp"
 
-#include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "shared/board_stm32f4.hpp"
 
 namespace nlsoft::console {
 

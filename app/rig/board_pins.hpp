@@ -1,6 +1,6 @@
 #pragma once
 // The pins a rig file may name, per board: what the firmware's own pin tables
-// wire (firmware/ports/stm32f4/rig_pins.hpp), read from those tables so the
+// wire (shared/board_stm32f4.hpp), read from those tables so the
 // file and the image cannot disagree about which pins exist.
 #include <string>
 #include <vector>

@@ -7,11 +7,6 @@
 
 namespace nlsoft::fw::stm32f4 {
 
-struct Pin {
-  uint32_t port;  // kGpioA, kGpioB, kGpioC
-  uint8_t number;
-};
-
 // RCC AHB1ENR bit of a GPIO port: A = 0, B = 1, ...
 inline uint32_t gpio_clock_bit(uint32_t port) { return 1u << ((port - kGpioA) / 0x400u); }
 

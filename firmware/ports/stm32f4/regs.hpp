@@ -4,6 +4,8 @@
 // toolchain ships none, and the port needs a few dozen words.
 #include <cstdint>
 
+#include "shared/board_stm32f4.hpp"  // the GPIO ports (kGpioA..C), with the board's pins
+
 namespace nlsoft::fw::stm32f4 {
 
 inline volatile uint32_t& reg(uint32_t address) { return *reinterpret_cast<volatile uint32_t*>(address); }
@@ -19,8 +21,6 @@ constexpr uint32_t kCr = 0x40007000u, kCsr = 0x40007004u;
 }
 
 constexpr uint32_t kFlashAcr = 0x40023C00u;
-
-constexpr uint32_t kGpioA = 0x40020000u, kGpioB = 0x40020400u, kGpioC = 0x40020800u;
 
 // A read of a clock-enable register after writing it: the enable takes
 // effect before the peripheral it clocks is written (errata: two cycles).

@@ -3,7 +3,7 @@
 // actuators are timer PWM outputs and the sensors ADC1 inputs read by DMA,
 // wired and scaled as the image's rig file says (kRigPwm, kRigAnalogue,
 // generated into nlsoft_rig.hpp from the file's pwm and adc keys over the
-// board's rows in rig_pins.hpp). An actuator without a pin is computed but
+// board's rows in shared/board_stm32f4.hpp). An actuator without a pin is computed but
 // not driven; a sensor without a channel reads 0. The outputs are read in
 // the same scan, after the sensors, when the rig file gives every output
 // source = "adc" (kRigOutputAnalogue): read_output() then measures y, and
@@ -12,7 +12,8 @@
 #include "firmware/ports/cortex-m/board.hpp"
 #include "firmware/ports/cortex-m/platform_config.hpp"
 #include "firmware/ports/stm32f4/clock_tree.hpp"
-#include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "firmware/ports/stm32f4/gpio.hpp"
+#include "shared/board_stm32f4.hpp"
 
 namespace nlsoft::fw::cortex_m {
 

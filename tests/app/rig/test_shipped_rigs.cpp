@@ -15,7 +15,7 @@
 #include "app/rig/rig_params.hpp"
 #include "app/rig/rig_pipeline.hpp"
 #include "app/rig/rig_reference.hpp"
-#include "firmware/ports/stm32f4/rig_pins.hpp"
+#include "shared/board_stm32f4.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::console {

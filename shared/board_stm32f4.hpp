@@ -1,11 +1,12 @@
 #pragma once
-// The pins a Nucleo-64 offers a rig: the timer channels that can drive an
-// actuator and the ADC channels that can read a sensor. An image's own
-// wiring (which row drives actuator i, which reads sensor i, with the
-// sensor's scaling) is generated from its rig file's pwm and adc keys
-// (kRigPwm, kRigAnalogue in the image's nlsoft_rig.hpp); the console checks
-// rig files against these rows (app/rig/board_pins.cpp). README.md prints
-// the table for whoever wires the rig.
+// The stm32f4 board (a Nucleo-64) as a rig sees it: the timer channels that
+// can drive an actuator and the ADC channels that can read a sensor. Both
+// halves read this one description: the firmware's stm32f4 port drives and
+// reads these pins, the console checks rig files against them
+// (app/rig/board_pins.cpp) and generates an image's own wiring from them
+// (which row drives actuator i, which reads sensor i, with the sensor's
+// scaling: kRigPwm, kRigAnalogue in the image's nlsoft_rig.hpp). README.md
+// prints the table for whoever wires the rig.
 //
 // Actuators: 20 kHz PWM over the platform's whole input range, duty =
 // (u - u_min) / (u_max - u_min) with the rig file's limits ([[input]] min and
@@ -15,9 +16,14 @@
 // continuously by DMA2 stream 0; l = offset + gain * volts.
 #include <cstdint>
 
-#include "firmware/ports/stm32f4/gpio.hpp"
-
 namespace nlsoft::fw::stm32f4 {
+
+// The GPIO ports' register blocks (RM0390 memory map) and a pin on one.
+constexpr uint32_t kGpioA = 0x40020000u, kGpioB = 0x40020400u, kGpioC = 0x40020800u;
+struct Pin {
+  uint32_t port;  // kGpioA, kGpioB, kGpioC
+  uint8_t number;
+};
 
 struct PwmOutput {
   Pin pin;
