@@ -4,7 +4,7 @@
 #include <csignal>
 #include <cstdio>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/conformance/command.hpp"
 #include "app/firmware/firmware_command.hpp"
 #include "app/link/ports_command.hpp"
@@ -17,7 +17,7 @@
 #include "app/record/run_training.hpp"
 #include "app/record/runs_command.hpp"
 #include "app/rig/rig_command.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 #include "app/rig/rig_pipeline.hpp"
 #include "app/simulate/simulate_command.hpp"
 #include "app/tune/tune_command.hpp"

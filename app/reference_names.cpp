@@ -2,8 +2,8 @@
 
 #include <fmt/format.h>
 
-#include "app/cli_error.hpp"
-#include "app/rig/rig_reference.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/rig/rig_reference.hpp"
 
 namespace nlsoft::console {
 

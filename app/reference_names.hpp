@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {

@@ -1,6 +1,6 @@
 # The shipped rig files (rigs/*.toml, docs/rig-file.md): staged into the
 # build tree's share/nlsoft/rigs as an install prefix has them, so
-# `--rig hasel` finds them relative to the binary in both (app/paths), and
+# `--rig hasel` finds them relative to the binary in both (host/paths), and
 # installed to <prefix>/share/nlsoft/rigs.
 file(GLOB NLSOFT_SHIPPED_RIGS CONFIGURE_DEPENDS ${NLSOFT_ROOT}/rigs/*.toml)
 set(_staged "")

@@ -13,6 +13,18 @@ enum class Activation : uint8_t { Linear = 0, Relu = 1, Tanh = 2, Sigmoid = 3, H
 
 inline bool activation_valid(uint8_t a) { return a <= static_cast<uint8_t>(Activation::HardSigmoid); }
 
+// Keras' name of an activation, as model files, rig files and messages spell it.
+constexpr const char* activation_name(Activation a) {
+  switch (a) {
+    case Activation::Relu: return "relu";
+    case Activation::Tanh: return "tanh";
+    case Activation::Sigmoid: return "sigmoid";
+    case Activation::HardSigmoid: return "hard_sigmoid";
+    case Activation::Linear: return "linear";
+  }
+  return "?";
+}
+
 struct ActValue {
   float f, df, d2f;
 };

@@ -3,7 +3,7 @@
 // can drive an actuator and the ADC channels that can read a sensor. Both
 // halves read this one description: the firmware's stm32f4 port drives and
 // reads these pins, the console checks rig files against them
-// (app/rig/board_pins.cpp) and generates an image's own wiring from them
+// (host/rig/board_pins.cpp) and generates an image's own wiring from them
 // (which row drives actuator i, which reads sensor i, with the sensor's
 // scaling: kRigPwm, kRigAnalogue in the image's nlsoft_rig.hpp). README.md
 // prints the table for whoever wires the rig.

@@ -4,7 +4,7 @@
 // the RAM it costs. A firmware image's is generated from its rig file, sized
 // to the rig and its one network shape (app/firmware/image_header.cpp); the
 // console uses HostCapacity, which fits every rig a rig file may describe
-// (app/rig/rig.hpp RigCapacity: n <= 6, w <= 32).
+// (host/rig/rig.hpp RigCapacity: n <= 6, w <= 32).
 //
 // A capacity struct provides:
 //   m, n, w      max actuators, outputs, sensor channels        (paper: m, n, w)

@@ -81,7 +81,7 @@ struct GenericSensorSpec {
 };
 
 // POD: a firmware image holds one as a constexpr, the console fills one from
-// a rig file (app/rig/rig_plant.cpp). About 2.5 kB.
+// a rig file (host/rig/rig_plant.cpp). About 2.5 kB.
 struct GenericPlantSpec {
   uint8_t m = 1, n = 1, w = 0;
   float dt = 0.01f;  // the control period, s

@@ -1,7 +1,7 @@
 // INFO's platform byte: the number a shipped rig's images send (protocol/
 // PROTOCOL.md, INFO), given by its rig file's info_platform. Which rig a
 // number stands for is the rig files' business, not the code's: the
-// console finds it by reading them (app/rig/rig_catalog.hpp).
+// console finds it by reading them (host/rig/rig_catalog.hpp).
 #pragma once
 
 #include <cstdint>

@@ -6,13 +6,13 @@
 #include <memory>
 #include <string>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/conformance/report.hpp"
 #include "app/conformance/suite.hpp"
 #include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_plant.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 

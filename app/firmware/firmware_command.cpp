@@ -8,7 +8,7 @@
 
 #include "app/firmware/image_build.hpp"
 #include "app/firmware/image_header.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 

@@ -20,14 +20,14 @@
 #include <thread>
 #include <vector>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
 #include "app/model/model_section.hpp"
-#include "app/paths/install_paths.hpp"
-#include "app/printable.hpp"
+#include "host/paths/install_paths.hpp"
+#include "host/files/printable.hpp"
 #include "app/progress_bar.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 #include "shared/crc32.hpp"
 
 namespace nlsoft::console {

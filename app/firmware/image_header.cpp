@@ -7,12 +7,12 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
 #include "app/model/model_store.hpp"
-#include "app/rig/board_pins.hpp"
-#include "app/rig/firmware_rig.hpp"
-#include "app/rig/rig_plant.hpp"
+#include "host/rig/board_pins.hpp"
+#include "host/rig/firmware_rig.hpp"
+#include "host/rig/rig_plant.hpp"
 #include "shared/board_stm32f4.hpp"
 #include "shared/platform_id.hpp"
 
@@ -156,7 +156,7 @@ std::string generic_plant_part(const Rig& rig) {
   o += "}  // namespace nlsoft::fw::cortex_m\n#include \"shared/plant_generic.hpp\"\n";
   o += "namespace nlsoft::fw::cortex_m {\n";
   o += "// The simulated plant of the HIL image ([plant] kind = \"generic\"): its constants as the console's\n";
-  o += "// simulator takes them from the file (app/rig/rig_plant.cpp), kept in flash.\n";
+  o += "// simulator takes them from the file (host/rig/rig_plant.cpp), kept in flash.\n";
   o += "constexpr GenericPlantSpec image_plant_spec() {\n  GenericPlantSpec s{};\n";
   o += fmt::format("  s.m = {}, s.n = {}, s.w = {};\n  s.dt = {};\n", s.m, s.n, s.w, flt(s.dt));
   o += "  // {min, max, neutral, gain, shape, knee, exponent, play, tau}\n";

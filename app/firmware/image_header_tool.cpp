@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/firmware/image_header.hpp"
 
 int main(int argc, char** argv) {

@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cstring>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/protocol_version.hpp"
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 #include "app/link/session_words.hpp"
 #include "protocol/crc.hpp"
 

@@ -4,7 +4,7 @@
 
 #include <cstring>
 
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 
 namespace nlsoft::console {
 

@@ -10,7 +10,7 @@
 #include <limits>
 #include <strings.h>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/link_error.hpp"
 
 namespace nlsoft::console {

@@ -5,7 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/serial_ports.hpp"
 
 namespace nlsoft::console {

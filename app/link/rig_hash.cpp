@@ -4,10 +4,10 @@
 
 #include <sstream>
 
-#include "app/input_file.hpp"
-#include "app/printable.hpp"
-#include "app/rig/rig.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/files/input_file.hpp"
+#include "host/files/printable.hpp"
+#include "host/rig/rig.hpp"
+#include "host/rig/rig_catalog.hpp"
 #include "shared/crc32.hpp"
 
 namespace nlsoft::console {

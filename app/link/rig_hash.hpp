@@ -1,6 +1,6 @@
 #pragma once
 // The rig file the console was given as RIG_INFO names it (its rig_hash,
-// PROTOCOL.md 7: Rig::hash, app/rig/rig_loader.cpp), and what the console says when the firmware names another rig
+// PROTOCOL.md 7: Rig::hash, host/rig/rig_loader.cpp), and what the console says when the firmware names another rig
 // than the file it was started with.
 #include <cstdint>
 #include <string>

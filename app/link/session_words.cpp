@@ -6,7 +6,7 @@
 
 #include "app/link/protocol_version.hpp"
 #include "protocol/catalog.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 

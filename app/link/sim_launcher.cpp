@@ -16,8 +16,8 @@
 #include <fstream>
 #include <fmt/format.h>
 
-#include "app/cli_error.hpp"
-#include "app/paths/install_paths.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/paths/install_paths.hpp"
 
 namespace nlsoft::console {
 

@@ -10,7 +10,7 @@
 #include <thread>
 #include <vector>
 
-#include "app/paths/install_paths.hpp"
+#include "host/paths/install_paths.hpp"
 
 namespace nlsoft::console {
 

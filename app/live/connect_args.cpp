@@ -5,15 +5,15 @@
 #include <csignal>
 #include <cstdio>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/firmware/image_build.hpp"
 #include "app/link/link_error.hpp"
 #include "app/link/serial_ports.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/progress_bar.hpp"
 #include "app/record/sqlite.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_plant.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 

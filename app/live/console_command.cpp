@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/live/connect_args.hpp"
 #include "app/live/live_console.hpp"

@@ -11,11 +11,11 @@
 #include <string>
 #include <vector>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig_option.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 

@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/live/connect_args.hpp"
 #include "app/live/ident_plan.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
 #include "app/record/merge_y.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 

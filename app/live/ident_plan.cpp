@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/script/script_parser.hpp"
 
 namespace nlsoft::console {

@@ -15,8 +15,8 @@
 #include <cstring>
 #include <filesystem>
 
-#include "app/cli_error.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 

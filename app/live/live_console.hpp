@@ -21,7 +21,7 @@
 #include "app/live/udp_stream.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_metrics.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
 

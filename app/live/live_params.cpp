@@ -9,12 +9,12 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
 #include "app/live/param_defaults.hpp"
 #include "app/live/param_text.hpp"
-#include "app/output_file.hpp"
-#include "app/printable.hpp"
+#include "host/files/output_file.hpp"
+#include "host/files/printable.hpp"
 #include "app/record/run_edit.hpp"
 
 namespace nlsoft::console {

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <thread>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/record/loop_rate.hpp"

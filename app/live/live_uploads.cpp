@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <chrono>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
 #include "app/link/model_shape_words.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"

@@ -1,6 +1,6 @@
 #include "app/live/param_defaults.hpp"
 
-#include "app/rig/rig_params.hpp"
+#include "host/rig/rig_params.hpp"
 #include "shared/capacity.hpp"
 #include "shared/firmware_settings.hpp"
 #include "shared/params.hpp"

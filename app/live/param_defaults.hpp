@@ -10,7 +10,7 @@
 #include <map>
 #include <vector>
 
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 

@@ -5,7 +5,7 @@
 
 #include <cstdlib>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 namespace nlsoft::console {
 

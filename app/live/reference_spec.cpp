@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <nlohmann/json.hpp>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/reference_names.hpp"
 
 namespace nlsoft::console {

@@ -6,8 +6,8 @@
 #include <utility>
 #include <vector>
 
-#include "app/rig/rig_reference.hpp"  // reference_kind_name
-#include "app/rig/rig.hpp"
+#include "host/rig/rig_reference.hpp"  // reference_kind_name
+#include "host/rig/rig.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {

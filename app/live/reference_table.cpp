@@ -9,9 +9,9 @@
 #include <limits>
 #include <sstream>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
-#include "app/printable.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
+#include "host/files/printable.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {

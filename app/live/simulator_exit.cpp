@@ -8,7 +8,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/live/live_console.hpp"
 
 namespace nlsoft::console {

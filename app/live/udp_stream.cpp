@@ -8,7 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 namespace nlsoft::console {
 

@@ -6,10 +6,10 @@
 #include <cstdio>
 #include <cstring>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/model/error.hpp"
 #include "app/model/model_section.hpp"
-#include "app/output_file.hpp"
+#include "host/files/output_file.hpp"
 #include "shared/model_file.hpp"
 
 namespace nlsoft::pipeline {

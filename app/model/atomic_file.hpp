@@ -8,19 +8,19 @@
 #include <string>
 #include <vector>
 
-#include "app/input_file.hpp"
+#include "host/files/input_file.hpp"
 
 namespace nlsoft::pipeline {
 
 // Streams into a temporary beside path, flushes, then renames over it
-// (app/output_file.hpp: "-" is standard output, a device is written in
+// (host/files/output_file.hpp: "-" is standard output, a device is written in
 // place). If `fill` throws or the write fails, path keeps its old content.
 // Throws PipelineError.
 void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& fill);
 
 void write_file_atomic(const std::string& path, const std::vector<uint8_t>& bytes);
 
-// A file the user named, whole (app/input_file.hpp: bounded, a regular
+// A file the user named, whole (host/files/input_file.hpp: bounded, a regular
 // file or a FIFO); throws PipelineError naming the path.
 std::string read_text_file(const std::string& path, const console::InputKind& kind);
 // A model file: a regular file no larger than the format allows.

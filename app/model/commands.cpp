@@ -23,7 +23,7 @@
 #include "app/model/model_size_words.hpp"
 #include "app/model/progress.hpp"
 #include "app/model/train.hpp"
-#include "app/rig_option.hpp"
+#include "host/rig/rig_option.hpp"
 #include "shared/forward.hpp"
 
 namespace nlsoft::console {

@@ -12,7 +12,7 @@
 
 #include "app/model/atomic_file.hpp"
 #include "app/model/error.hpp"
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 
 namespace nlsoft::pipeline {
 namespace {

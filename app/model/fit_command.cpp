@@ -11,7 +11,7 @@
 #include "app/model/error.hpp"
 #include "app/model/fit_plot.hpp"
 #include "app/model/model_fit.hpp"
-#include "app/output_file.hpp"
+#include "host/files/output_file.hpp"
 
 namespace nlsoft::console {
 namespace {

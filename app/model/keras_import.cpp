@@ -4,9 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/h5_handle.hpp"
-#include "app/input_file.hpp"
+#include "host/files/input_file.hpp"
 #include "app/model/error.hpp"
 #include "app/model/model_store.hpp"
 

@@ -64,17 +64,6 @@ void save_model_file(const std::string& path, ModelFile& f) { write_file_atomic(
 
 const char* layer_kind_name(LayerKind k) { return k == LayerKind::Gru ? "GRU" : "Dense"; }
 
-const char* activation_name(Activation a) {
-  switch (a) {
-    case Activation::Relu: return "relu";
-    case Activation::Tanh: return "tanh";
-    case Activation::Sigmoid: return "sigmoid";
-    case Activation::HardSigmoid: return "hard_sigmoid";
-    case Activation::Linear: return "linear";
-  }
-  return "?";
-}
-
 bool activation_from_name(const std::string& name, Activation* out) {
   for (uint8_t i = 0; activation_valid(i); ++i) {
     if (name == activation_name(Activation(i))) {

@@ -48,7 +48,7 @@ ModelFile load_model_file(const std::string& path);
 void save_model_file(const std::string& path, ModelFile& f);
 
 const char* layer_kind_name(LayerKind k);
-const char* activation_name(Activation a);
+using ::nlsoft::activation_name;  // shared/activation.hpp
 // Parses the Keras spelling ("relu", "hard_sigmoid", ...); false if unknown.
 bool activation_from_name(const std::string& name, Activation* out);
 

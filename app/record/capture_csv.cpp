@@ -4,11 +4,11 @@
 
 #include <sstream>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
 #include "app/model/csv.hpp"
 #include "app/model/error.hpp"
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 
 namespace nlsoft::console {
 

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <limits>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 namespace nlsoft::console {
 

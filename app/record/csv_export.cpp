@@ -7,8 +7,8 @@
 #include <cstring>
 #include <memory>
 
-#include "app/cli_error.hpp"
-#include "app/output_file.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/output_file.hpp"
 
 namespace nlsoft::console {
 

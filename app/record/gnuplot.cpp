@@ -13,7 +13,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 extern char** environ;
 

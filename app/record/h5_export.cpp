@@ -9,11 +9,11 @@
 
 #include <unistd.h>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/h5_handle.hpp"
-#include "app/output_file.hpp"
+#include "host/files/output_file.hpp"
 #include "app/record/utc_time.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 namespace {

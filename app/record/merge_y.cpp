@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/capture_csv.hpp"
 #include "app/record/capture_offset.hpp"
 #include "app/record/run_store.hpp"

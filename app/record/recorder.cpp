@@ -10,7 +10,7 @@
 #include <cstring>
 #include <ctime>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/lock_gap.hpp"
 #include "app/record/recorder_mark.hpp"
 #include "app/record/schema.hpp"

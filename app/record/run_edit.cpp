@@ -3,7 +3,7 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/recorder_mark.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/sample.hpp"

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/gnuplot_text.hpp"
 
 namespace nlsoft::console {

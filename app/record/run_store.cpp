@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/schema.hpp"
 
 namespace nlsoft::console {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_store.hpp"
 

@@ -15,10 +15,10 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "app/cli_error.hpp"
-#include "app/output_file.hpp"
-#include "app/printable.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/output_file.hpp"
+#include "host/files/printable.hpp"
+#include "host/rig/rig_catalog.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/h5_export.hpp"
 #include "app/record/end_words.hpp"

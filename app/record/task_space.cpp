@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 

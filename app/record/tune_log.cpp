@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/gnuplot_text.hpp"
 #include "app/record/utc_time.hpp"
 

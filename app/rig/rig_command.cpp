@@ -4,10 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/cli_error.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_plant.hpp"
-#include "app/rig/rig_reference.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_plant.hpp"
+#include "host/rig/rig_reference.hpp"
 
 namespace nlsoft::console {
 

@@ -1,8 +1,8 @@
 #include "app/rig/rig_pipeline.hpp"
 
 #include "app/model/model_store.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_plant.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 

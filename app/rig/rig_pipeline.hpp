@@ -4,7 +4,7 @@
 #include <string>
 
 #include "app/model/plant_target.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 

@@ -7,7 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/live/live_console.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"

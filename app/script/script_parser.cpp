@@ -11,9 +11,9 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
-#include "app/printable.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
+#include "host/files/printable.hpp"
 #include "app/live/ident_plan.hpp"
 #include "app/record/run_metrics.hpp"
 #include "app/tune/tune_options.hpp"

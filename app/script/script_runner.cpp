@@ -7,9 +7,9 @@
 #include <optional>
 #include <thread>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/link_error.hpp"
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/ident_plan.hpp"
 #include "app/live/reference_spec.hpp"
@@ -18,7 +18,7 @@
 #include "app/record/loop_rate.hpp"
 #include "app/record/merge_y.hpp"
 #include "app/record/run_store.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <memory>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "shared/controller.hpp"
 #include "shared/pid.hpp"
 #include "shared/sim_plant.hpp"

@@ -3,10 +3,10 @@
 #include <fmt/format.h>
 
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
 #include "app/model/model_section.hpp"
-#include "app/paths/install_paths.hpp"
+#include "host/paths/install_paths.hpp"
 #include "shared/model_file.hpp"
 
 namespace nlsoft::console {

@@ -7,19 +7,19 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/simulate/closed_loop.hpp"
 #include "app/metrics/tracking_metrics.hpp"
-#include "app/output_file.hpp"
+#include "host/files/output_file.hpp"
 #include "app/simulate/model_loader.hpp"
 #include "app/simulate/param_args.hpp"
 #include "app/progress_bar.hpp"
-#include "app/paths/install_paths.hpp"
+#include "host/paths/install_paths.hpp"
 #include "app/reference_names.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_params.hpp"
-#include "app/rig/rig_plant.hpp"
-#include "app/rig_option.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_params.hpp"
+#include "host/rig/rig_plant.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 

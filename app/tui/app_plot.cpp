@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <deque>
 
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 #include "app/tui/app.hpp"
 
 namespace nlsoft::console::tui {

@@ -3,7 +3,7 @@
 
 #include <fmt/format.h>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/link_error.hpp"
 #include "app/live/param_text.hpp"
 #include "app/tui/curses.hpp"

@@ -8,7 +8,7 @@
 #include "app/record/csv_export.hpp"
 #include "app/record/loop_rate.hpp"
 #include "app/record/run_metrics.hpp"
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 #include "app/tui/curses.hpp"
 #include "app/tui/fit_text.hpp"
 

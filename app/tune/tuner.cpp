@@ -8,7 +8,7 @@
 #include <limits>
 #include <nlopt.hpp>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/device.hpp"
 #include "app/live/live_console.hpp"
 #include "app/live/param_text.hpp"

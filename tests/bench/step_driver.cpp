@@ -17,7 +17,7 @@
 #include "shared/reference.hpp"
 #include "shared/sim_plant.hpp"
 #include "app/metrics/tracking_metrics.hpp"
-#include "app/rig/rig_reference.hpp"
+#include "host/rig/rig_reference.hpp"
 #include "support/rig_capacities.hpp"
 #include "support/shipped_rigs.hpp"
 

@@ -7,9 +7,9 @@
 #include <string>
 
 #include "app/model/plant_target.hpp"
-#include "app/rig/firmware_rig.hpp"
-#include "app/rig/rig.hpp"
-#include "app/rig/rig_params.hpp"
+#include "host/rig/firmware_rig.hpp"
+#include "host/rig/rig.hpp"
+#include "host/rig/rig_params.hpp"
 #include "app/rig/rig_pipeline.hpp"
 
 namespace nlsoft::test {

@@ -13,17 +13,17 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "app/rig/firmware_rig.hpp"
-#include "app/rig/rig_catalog.hpp"
-#include "app/rig/rig_plant.hpp"
-#include "app/rig_option.hpp"
+#include "host/paths/install_paths.hpp"
+#include "host/rig/firmware_rig.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_plant.hpp"
+#include "host/rig/rig_option.hpp"
 #include "firmware/core/firmware.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
@@ -45,29 +45,6 @@ void on_signal(int) { g_stop = 1; }
 alignas(4) uint8_t g_model_staging[model_file_max<Cap>()];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
-
-// The shipped model: $NLSOFT_MODELS, then the build tree's
-// <build>/share/nlsoft/models (the simulator is built in <build>/firmware),
-// then the install prefix's (NLSOFT_LIBEXEC_TO_DATA: share/nlsoft relative to
-// libexec/nlsoft, cmake/layout.cmake). Relative to this binary, never a path
-// compiled in, so a moved prefix works. `tried` gets every place looked at.
-// Not the console's lookup (app/paths): the firmware does not link the console.
-std::string find_default_model(const std::string& name, std::string& tried) {
-  namespace fs = std::filesystem;
-  std::vector<fs::path> dirs;
-  if (const char* env = std::getenv("NLSOFT_MODELS"); env && *env) dirs.emplace_back(env);
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  if (!ec) {
-    dirs.push_back(exe.parent_path() / ".." / "share" / "nlsoft" / "models");
-    dirs.push_back(exe.parent_path() / NLSOFT_LIBEXEC_TO_DATA / "models");
-  }
-  for (const auto& d : dirs) {
-    if (fs::exists(d / name, ec)) return (d / name).string();
-    tried += "\n  " + (d / name).string();
-  }
-  return {};
-}
 
 uint64_t now_us() {
   timespec ts;
@@ -163,8 +140,13 @@ int main(int argc, char** argv) {
   if (rate <= 0) rate = rig_config.rate_hz;
 
   std::vector<uint8_t> model;
+  // The rig's shipped model where the console finds it (host/paths).
   std::string model_tried;
-  if (model_path.empty() && !rig.model.file.empty()) model_path = find_default_model(rig.model.file, model_tried);
+  if (model_path.empty() && !rig.model.file.empty()) {
+    const nlsoft::console::Lookup found = nlsoft::console::find_model_file(rig.model.file);
+    model_path = found.found;
+    model_tried = found.tried_lines();
+  }
   if (!model_path.empty()) {
     std::ifstream in(model_path, std::ios::binary);
     if (!in) {

@@ -11,7 +11,7 @@
 #include <fstream>
 #include <string>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
 

@@ -15,7 +15,7 @@
 
 #include "app/link/model_shape_words.hpp"
 #include "app/link/rig_hash.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "support/rig_capacities.hpp"
 #include "shared/crc32.hpp"
 #include "shared/model_file.hpp"

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/link_error.hpp"
 #include "app/link/session.hpp"
 #include "app/link/sim_launcher.hpp"

@@ -2,7 +2,7 @@
 // every element, and the words the panel shows for the selected row.
 #include <gtest/gtest.h>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/live/param_text.hpp"
 #include "app/tui/plot_view.hpp"
 

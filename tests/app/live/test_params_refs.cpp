@@ -3,11 +3,11 @@
 
 #include <fstream>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/link/param_catalog.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <thread>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/live/udp_stream.hpp"
 #include "app/record/run_store.hpp"
 #include "app/support/run_process.hpp"

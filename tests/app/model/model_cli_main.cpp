@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "app/model/commands.hpp"
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 #include "app/rig/rig_pipeline.hpp"
 
 int main(int argc, char** argv) {

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/cli_error.hpp"
-#include "app/output_file.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/output_file.hpp"
 #include "app/record/csv_export.hpp"
 #include "app/record/recorder.hpp"
 #include "app/support/temp_dir.hpp"

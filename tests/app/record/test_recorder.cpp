@@ -10,7 +10,7 @@
 #include <fstream>
 #include <thread>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_edit.hpp"
 #include "app/record/run_metrics.hpp"

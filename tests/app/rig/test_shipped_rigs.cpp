@@ -8,13 +8,13 @@
 #include <vector>
 
 #include "app/model/model_store.hpp"
-#include "app/rig/board_pins.hpp"
-#include "app/rig/firmware_rig.hpp"
-#include "app/rig/rig.hpp"
+#include "host/rig/board_pins.hpp"
+#include "host/rig/firmware_rig.hpp"
+#include "host/rig/rig.hpp"
 #include "app/model/train.hpp"
-#include "app/rig/rig_params.hpp"
+#include "host/rig/rig_params.hpp"
 #include "app/rig/rig_pipeline.hpp"
-#include "app/rig/rig_reference.hpp"
+#include "host/rig/rig_reference.hpp"
 #include "shared/board_stm32f4.hpp"
 #include "shared/sim_plant.hpp"
 

@@ -4,14 +4,14 @@
 
 #include <map>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/simulate/closed_loop.hpp"
 #include "app/metrics/tracking_metrics.hpp"
 #include "app/simulate/model_loader.hpp"
 #include "app/reference_names.hpp"
-#include "app/rig/rig.hpp"
-#include "app/rig/rig_params.hpp"
-#include "app/paths/install_paths.hpp"
+#include "host/rig/rig.hpp"
+#include "host/rig/rig_params.hpp"
+#include "host/paths/install_paths.hpp"
 #include "shared/sim_plant.hpp"
 
 using namespace nlsoft;

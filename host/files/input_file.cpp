@@ -1,4 +1,4 @@
-#include "app/input_file.hpp"
+#include "host/files/input_file.hpp"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -9,7 +9,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 namespace nlsoft::console {
 

@@ -1,4 +1,4 @@
-#include "app/rig/rig_reference.hpp"
+#include "host/rig/rig_reference.hpp"
 
 namespace nlsoft::console {
 

@@ -1,7 +1,7 @@
 #pragma once
 // A rig file as the firmware holds it (shared/rig_config.hpp): what the
 // simulator serves and what a generated image header spells out.
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "shared/rig_config.hpp"
 
 namespace nlsoft::console {

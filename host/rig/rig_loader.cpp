@@ -9,12 +9,12 @@
 #include <set>
 #include <sstream>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
-#include "app/model/model_store.hpp"
-#include "app/printable.hpp"
-#include "app/rig/board_pins.hpp"
-#include "app/rig/rig.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
+#include "host/files/printable.hpp"
+#include "host/rig/board_pins.hpp"
+#include "host/rig/rig.hpp"
+#include "shared/activation.hpp"
 #include "shared/crc32.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/rig_config.hpp"
@@ -581,7 +581,7 @@ void read_model(const std::string& file, const Section& root, const toml::table&
                                       : ""));
     if (L.kind == "dense") {
       std::vector<std::string> acts;
-      for (uint8_t a = 0; activation_valid(a); ++a) acts.push_back(pipeline::activation_name(Activation(a)));
+      for (uint8_t a = 0; activation_valid(a); ++a) acts.push_back(activation_name(Activation(a)));
       L.activation = l.has("activation") ? l.choice("activation", acts) : "linear";
     } else if (l.has("activation")) {
       l.fail(l.line("activation"), "activation", "only for kind = \"dense\" (a GRU's activations are fixed)");

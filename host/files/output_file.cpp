@@ -1,4 +1,4 @@
-#include "app/output_file.hpp"
+#include "host/files/output_file.hpp"
 
 #include <fmt/format.h>
 #include <sys/stat.h>
@@ -10,7 +10,7 @@
 #include <cstring>
 #include <optional>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 namespace nlsoft::console {
 

@@ -1,12 +1,12 @@
 #pragma once
 // Rigs by name or path: `--rig NAME` is the shipped rigs folder's
-// NAME.toml (app/paths: $NLSOFT_RIGS, the build tree, the install prefix),
+// NAME.toml (host/paths: $NLSOFT_RIGS, the build tree, the install prefix),
 // `--rig my.toml` or `--rig ./lab/arm.toml` a file.
 #include <CLI/CLI.hpp>
 #include <string>
 #include <vector>
 
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 

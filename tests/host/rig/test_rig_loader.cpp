@@ -5,9 +5,9 @@
 #include <cstdio>
 #include <string>
 
-#include "app/rig/firmware_rig.hpp"
-#include "app/rig/rig.hpp"
-#include "app/rig/rig_plant.hpp"
+#include "host/rig/firmware_rig.hpp"
+#include "host/rig/rig.hpp"
+#include "host/rig/rig_plant.hpp"
 
 namespace nlsoft::console {
 namespace {

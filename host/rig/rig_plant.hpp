@@ -4,7 +4,7 @@
 // its spec from the file's [plant] table.
 #include <string>
 
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "shared/plant_generic.hpp"
 
 namespace nlsoft::console {

@@ -1,6 +1,6 @@
-#include "app/rig/firmware_rig.hpp"
+#include "host/rig/firmware_rig.hpp"
 
-#include "app/rig/rig_reference.hpp"
+#include "host/rig/rig_reference.hpp"
 
 namespace nlsoft::console {
 

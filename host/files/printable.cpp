@@ -1,4 +1,4 @@
-#include "app/printable.hpp"
+#include "host/files/printable.hpp"
 
 #include <fmt/format.h>
 

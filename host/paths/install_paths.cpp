@@ -1,4 +1,4 @@
-#include "app/paths/install_paths.hpp"
+#include "host/paths/install_paths.hpp"
 
 #include <sys/stat.h>
 #include <unistd.h>
@@ -97,8 +97,10 @@ Lookup find_model_file(const std::string& name) {
   const std::string dir = exe_dir();
   Lookup l;
   if (const char* e = env("NLSOFT_MODELS")) first_of(l, {std::string(e) + "/" + name}, &readable);
+  // The last for the simulator, installed in libexec.
   if (!dir.empty())
-    first_of(l, {dir + "/" + kBuildData + "/models/" + name, dir + "/" NLSOFT_BIN_TO_DATA "/models/" + name},
+    first_of(l, {dir + "/" + kBuildData + "/models/" + name, dir + "/" NLSOFT_BIN_TO_DATA "/models/" + name,
+                 dir + "/" NLSOFT_LIBEXEC_TO_DATA "/models/" + name},
              &readable);
   return l;
 }

@@ -1,4 +1,4 @@
-#include "app/rig/board_pins.hpp"
+#include "host/rig/board_pins.hpp"
 
 #include "shared/board_stm32f4.hpp"
 

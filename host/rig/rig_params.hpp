@@ -1,7 +1,7 @@
 #pragma once
 // A rig's controller defaults as the parameter set the controller runs
 // (Params<Cap>, shared/params.hpp).
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "shared/params.hpp"
 
 namespace nlsoft::console {

@@ -1,8 +1,8 @@
-#include "app/rig/rig_plant.hpp"
+#include "host/rig/rig_plant.hpp"
 
 #include <fmt/format.h>
 
-#include "app/cli_error.hpp"
+#include "host/files/cli_error.hpp"
 
 namespace nlsoft::console {
 

@@ -1,7 +1,7 @@
 #pragma once
 // A rig's reference paths: the kind and geometry of its [reference] table
 // as the parameters the MCU computes the path from (shared/reference.hpp).
-#include "app/rig/rig.hpp"
+#include "host/rig/rig.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {

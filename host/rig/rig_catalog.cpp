@@ -1,11 +1,11 @@
-#include "app/rig/rig_catalog.hpp"
+#include "host/rig/rig_catalog.hpp"
 
 #include <algorithm>
 #include <filesystem>
 
-#include "app/cli_error.hpp"
-#include "app/input_file.hpp"
-#include "app/paths/install_paths.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/files/input_file.hpp"
+#include "host/paths/install_paths.hpp"
 #include "shared/platform_id.hpp"
 
 namespace nlsoft::console {
