@@ -115,6 +115,21 @@ IdentWords ident_words(const Command& c) {
   return w;
 }
 
+void check_firmware_offers(const p::IdentStart& start, const p::Info& info, uint8_t protocol_minor) {
+  const std::string fw =
+      fmt::format("{} {}.{}.{}, protocol {}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch,
+                  p::kProtocolVersion, protocol_minor);
+  if (!(info.capabilities & p::capability::kIdent))
+    throw CliError(fmt::format("the firmware ({}) has no identification runs (the IDENT capability of protocol "
+                               "1.3): update it",
+                               fw));
+  if ((start.options & p::ident_options::kMixed) && !(info.capabilities & p::capability::kIdentMixed))
+    throw CliError(fmt::format("the firmware ({}) has no mixed excitation (the IDENT_MIXED capability; it would "
+                               "ignore --mixed and drive one independent stream per input): update it, or leave "
+                               "out --mixed",
+                               fw));
+}
+
 size_t ident_sample_wire_bytes(int m, int n, int w) {
   // Header 5, CRC 2, COBS 1, delimiter 1 (PROTOCOL.md 2, 7).
   return p::ident_sample_payload_size(unsigned(m), unsigned(n), unsigned(w)) + 9;

@@ -54,6 +54,11 @@ struct IdentPlan {
 // past half the rate or a duration under one step.
 IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line);
 
+// Throws CliError when the firmware (its INFO and protocol_minor) lacks
+// what `start` needs: identification runs (IDENT), or MIXED (IDENT_MIXED),
+// which a firmware without it would ignore rather than refuse.
+void check_firmware_offers(const protocol::IdentStart& start, const protocol::Info& info, uint8_t protocol_minor);
+
 // IDENT_SAMPLE's size on the wire for these dimensions, and the smallest
 // decimation whose samples fit four fifths of an 8N1 line at `baud` (the
 // rest is for replies and STATUS, as for TELEMETRY).
