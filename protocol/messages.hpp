@@ -38,9 +38,10 @@ constexpr uint8_t kMaxShapeBytes = 78;
 constexpr uint8_t kMaxIdentFloats = static_cast<uint8_t>((kMaxPayload - kIdentSampleFixedSize) / 4);  // 58
 
 // IDENT_START.signal: numbering shared with shared/excitation.hpp.
-enum class IdentSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3 };
+enum class IdentSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3, Aprbs = 4 };
 namespace ident_options {
 constexpr uint8_t kJoint = 0x01;  // every input the same deviation (else one stream per input)
+constexpr uint8_t kMixed = 0x02;  // a shared deviation plus each input's own (capability IDENT_MIXED)
 }
 
 // Numbering shared with shared/params.hpp (F32, U8, Enum) and extended.
@@ -85,6 +86,7 @@ constexpr uint32_t kRunHold = 1u << 6;
 constexpr uint32_t kLog = 1u << 7;
 constexpr uint32_t kRig = 1u << 8;  // protocol 1.2: RIG_GET answers RIG_INFO
 constexpr uint32_t kIdent = 1u << 9;  // protocol 1.3: IDENT_START, IDENT_SAMPLE
+constexpr uint32_t kIdentMixed = 1u << 10;  // protocol 1.3: IDENT_START honours options bit 1 MIXED
 }  // namespace capability
 
 // RIG_INFO.accept (PROTOCOL.md 7): which model shapes a model upload may have.

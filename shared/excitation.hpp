@@ -3,9 +3,12 @@
 // rig over its input range so a model can be learned from what it does.
 // The firmware computes them each control step (protocol IDENT_START), so
 // this is MCU code: no heap, no exceptions, float, fixed capacity, and the
-// same seed gives the same sequence bit for bit on the host and the MCU.
+// same seed gives the same sequence bit for bit on the host and the MCU
+// for steps, prbs and aprbs (tests/firmware/test_m4_qemu.cpp); walk and
+// chirp still differ there in the last bit now and then (their filter, expf
+// and the sine's polynomial are left to each compiler and libm).
 //
-// Four signals, each a deviation d in [-1, 1] per input, mapped into the
+// Five signals, each a deviation d in [-1, 1] per input, mapped into the
 // input's limits (below):
 //   steps - a new uniform level after a uniform random hold of 1/band_hi to
 //           1/band_lo seconds;
@@ -13,12 +16,22 @@
 //           every 1/band_hi seconds, the register long enough that one
 //           period lasts at least 1/band_lo seconds (a flat spectrum over
 //           the band);
+//   aprbs - prbs's switching instants with a new uniform level at each
+//           (amplitude-modulated PRBS, Nelles, Nonlinear System
+//           Identification, ch. 19): the levels fill the range as steps'
+//           do, the holds are the register's runs of equal bits;
 //   walk  - a random walk reflected at +-1 that crosses the range in about
 //           1/band_lo seconds, low-passed at band_hi (first order);
 //   chirp - a sine whose frequency sweeps linearly from band_lo to band_hi
 //           over the run's duration.
-// Per input (each input its own stream, seeded from the seed and its index)
-// or jointly (every input the same deviation).
+// Per input (each input its own stream, seeded from the seed and its index),
+// jointly (every input the same deviation), or mixed: a shared stream c and
+// each input's own o_i give d_i = c + (1 - |c|) o_i, so the inputs move
+// together (the common mode a platform's height is) and apart around it;
+// the spread narrows as c nears a limit, so every d_i stays in [-1, 1]
+// without clamping (a clamp would pile samples on the limits) and c = +-1
+// takes all inputs to the range's corner together. prbs has no mixed form:
+// its c is always +-1, which leaves no spread (the joint signal).
 //
 // The amplitude a in (0, 1] is the fraction of an input's range the signal
 // spans: a window a (u_max - u_min) wide centred on the neutral input and
@@ -34,12 +47,13 @@
 
 namespace nlsoft {
 
-enum class ExcitationSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3 };
-constexpr uint8_t kExcitationSignalCount = 4;
+enum class ExcitationSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3, Aprbs = 4 };
+constexpr uint8_t kExcitationSignalCount = 5;
 
 struct ExcitationSpec {
   ExcitationSignal signal = ExcitationSignal::Prbs;
   bool joint = false;       // every input the same deviation
+  bool mixed = false;       // a shared deviation plus each input's own (not with joint, nor prbs)
   uint32_t seed = 1;
   float amplitude = 0.8f;   // fraction of each input's range, (0, 1]
   float band_lo = 0.1f;     // Hz, > 0
@@ -49,7 +63,7 @@ struct ExcitationSpec {
 
 // Which field a refusal names; the protocol's IDENT_START maps these to its
 // field numbers.
-enum class ExcitationField : uint8_t { Signal, Amplitude, BandLo, BandHi, Duration, None };
+enum class ExcitationField : uint8_t { Signal, Options, Amplitude, BandLo, BandHi, Duration, None };
 
 struct ExcitationCheck {
   Status status;
@@ -60,6 +74,7 @@ struct ExcitationCheck {
 inline ExcitationCheck check_excitation(const ExcitationSpec& s, float rate_hz) {
   using F = ExcitationField;
   if (uint8_t(s.signal) >= kExcitationSignalCount) return {Status::OutOfRange, F::Signal};
+  if (s.mixed && (s.joint || s.signal == ExcitationSignal::Prbs)) return {Status::Inconsistent, F::Options};
   if (!std::isfinite(s.amplitude)) return {Status::NotFinite, F::Amplitude};
   if (!(s.amplitude > 0.0f && s.amplitude <= 1.0f)) return {Status::OutOfRange, F::Amplitude};
   if (!std::isfinite(s.band_lo)) return {Status::NotFinite, F::BandLo};
@@ -114,6 +129,9 @@ class Excitation {
     smooth_ = a > 10.0f ? 1.0f : 1.0f - std::exp(-a);
     const int channels = spec.joint ? 1 : m;
     for (int i = 0; i < channels; ++i) start(ch_[i], spec.seed, i);
+    // The shared stream's index is past every input's, so mixing leaves
+    // each input's own stream as it is without it.
+    if (spec.mixed) start(ch_[kShared], spec.seed, kShared);
     return {Status::Ok, ExcitationField::None};
   }
 
@@ -122,9 +140,17 @@ class Excitation {
     float d[kRigMaxM];
     const int channels = spec_.joint ? 1 : m_;
     for (int i = 0; i < channels; ++i) d[i] = advance(ch_[i]);
+    for (int i = channels; i < m_; ++i) d[i] = d[0];
+    if (spec_.mixed) {
+      const float c = advance(ch_[kShared]);
+      const float spread = 1.0f - std::fabs(c);
+      for (int i = 0; i < m_; ++i) d[i] = std::fma(spread, d[i], c);
+    }
     for (int i = 0; i < m_; ++i) {
-      const float di = spec_.joint ? d[0] : d[i];
-      float v = lo_[i] + 0.5f * (di + 1.0f) * span_[i];
+      // Each a + b c here is one fused multiply-add, written out: the
+      // Cortex-M4F's compiler fuses it by itself (VFMA) where x86-64's does
+      // not, and left to them the host and the board differ in the last bit.
+      float v = std::fma(0.5f * (d[i] + 1.0f), span_[i], lo_[i]);
       v = v < min_[i] ? min_[i] : (v > max_[i] ? max_[i] : v);
       u[i] = v;
     }
@@ -152,6 +178,7 @@ class Excitation {
     Rng rng;
     uint32_t left = 0;  // steps before the next level or bit
     uint32_t lfsr = 1;
+    uint32_t bit = 2;  // the last bit; none at the start, so aprbs draws its first level
     float level = 0.0f, walk = 0.0f, smooth = 0.0f, phase = 0.0f;
   };
 
@@ -169,6 +196,7 @@ class Excitation {
     const uint32_t mask = (1u << bits_) - 1u;
     c.lfsr = c.rng.next_u32() & mask;
     if (c.lfsr == 0) c.lfsr = 1;
+    c.bit = 2;
     c.level = 0.0f;
     c.walk = c.rng.uniform(-1.0f, 1.0f);
     c.smooth = c.walk;
@@ -186,11 +214,22 @@ class Excitation {
         --c.left;
         return c.level;
       case ExcitationSignal::Prbs:
+      case ExcitationSignal::Aprbs:
         if (c.left == 0) {
           const uint32_t bit = c.lfsr & 1u;
           c.lfsr >>= 1;
           if (bit) c.lfsr ^= prbs_taps(bits_);
-          c.level = bit ? 1.0f : -1.0f;
+          // aprbs: a new level where the bit changes. Its holds are the
+          // register's runs, not steps' uniform 1/band_hi..1/band_lo: half
+          // of them one bit long, a quarter two..., the longest `bits_`, so
+          // the level changes about band_hi/2 times a second with a flat
+          // spectrum up to band_hi (steps' mean hold, near 1/(2 band_lo),
+          // spends most of a run settled and gives a tenth the levels).
+          if (spec_.signal == ExcitationSignal::Prbs)
+            c.level = bit ? 1.0f : -1.0f;
+          else if (bit != c.bit)
+            c.level = c.rng.uniform(-1.0f, 1.0f);
+          c.bit = bit;
           c.left = hold_min_;
         }
         --c.left;
@@ -223,7 +262,8 @@ class Excitation {
   int bits_ = 3;
   float walk_sigma_ = 0.0f, smooth_ = 1.0f;
   float lo_[kRigMaxM] = {}, span_[kRigMaxM] = {}, min_[kRigMaxM] = {}, max_[kRigMaxM] = {};
-  Channel ch_[kRigMaxM];
+  static constexpr int kShared = kRigMaxM;  // mixed's shared stream
+  Channel ch_[kRigMaxM + 1];
 };
 
 }  // namespace nlsoft

@@ -80,7 +80,7 @@ void check_ident(Suite& s) {
       uint8_t field;
     };
     const Bad bad[] = {
-        {"signal 4", [](p::IdentStart& x, float) { x.signal = 4; }, p::StatusCode::OutOfRange, 1},
+        {"signal 255", [](p::IdentStart& x, float) { x.signal = 255; }, p::StatusCode::OutOfRange, 1},
         {"decimation 0", [](p::IdentStart& x, float) { x.decimation = 0; }, p::StatusCode::OutOfRange, 3},
         {"amplitude NaN", [](p::IdentStart& x, float) { x.amplitude = std::nanf(""); }, p::StatusCode::NotFinite, 5},
         {"amplitude 2", [](p::IdentStart& x, float) { x.amplitude = 2.0f; }, p::StatusCode::OutOfRange, 5},

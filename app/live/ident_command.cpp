@@ -92,18 +92,26 @@ void add_ident_command(CLI::App& app) {
                "signal inside their limits; u, the measured outputs and the sensors of every step go into the runs "
                "database, to train a model from");
   add_connect_options(*c, a->link, "identify");
-  c->add_option("--signal", a->words.signal, "steps, prbs (default), walk (smoothed random walk) or chirp")
-      ->check(CLI::IsMember({"steps", "prbs", "walk", "chirp"}));
+  c->add_option("--signal", a->words.signal,
+                "steps, prbs (default), walk (smoothed random walk), chirp or aprbs (PRBS whose every run of equal "
+                "bits holds a new random level: the whole range, not two levels)")
+      ->check(CLI::IsMember(kIdentSignals));
   c->add_option("--duration", a->words.duration, "How long, in the firmware's control steps' time: 60s, 10min")
       ->required();
   c->add_option("--seed", a->words.seed, "Seed of the signal: the same seed drives the same inputs (default 1)");
   c->add_option("--amplitude", a->words.amplitude,
                 "Fraction of each input's range the signal spans, around its neutral value (default 0.8)");
   c->add_option("--band", a->words.band,
-                "LO:HI in Hz: steps hold 1/HI to 1/LO s, PRBS bits last 1/HI s with a period of at least 1/LO s, the "
-                "walk crosses the range in about 1/LO s smoothed at HI, the chirp sweeps LO to HI (default 0.05:2, "
-                "HI at most a quarter of the loop rate)");
-  c->add_flag("--joint", a->words.joint, "Every input the same signal (default: one independent stream per input)");
+                "LO:HI in Hz: steps hold 1/HI to 1/LO s, PRBS and APRBS bits last 1/HI s with a period of at least "
+                "1/LO s, the walk crosses the range in about 1/LO s smoothed at HI, the chirp sweeps LO to HI "
+                "(default 0.05:2, HI at most a quarter of the loop rate)");
+  CLI::Option* joint =
+      c->add_flag("--joint", a->words.joint, "Every input the same signal (default: one independent stream per input)");
+  c->add_flag("--mixed", a->words.mixed,
+              "Every input a shared signal plus its own, so the inputs move together (the common mode, a platform's "
+              "height) and apart around it; not with prbs, whose +-1 leaves no room for the inputs' own (default: one "
+              "independent stream per input)")
+      ->excludes(joint);
   c->add_option("--decimation", a->words.decimation,
                 "Record one step in N (default: every step on a simulator, else what the baud rate carries)")
       ->check(CLI::Range(1, 65535));
@@ -119,6 +127,10 @@ void add_ident_command(CLI::App& app) {
       "outputs as y_true and the sensors l0, l1, ...). It ends by itself after --duration; Ctrl-C stops it\n"
       "and keeps what was recorded. The link watchdog and RUN_HOLD act as in a closed-loop run.\n"
       "Exit 0 when the whole run was recorded, 1 when it ended early, 2 on an error.\n"
+      "\n"
+      "To train a model to track with, aprbs over the whole input range: each input sees every level of\n"
+      "its range, not two. On hasel, 10 simulated minutes with train's defaults track the Swirl at 4.2 %\n"
+      "nRMSE with --signal aprbs --amplitude 1, 7.1 % with aprbs, 14.2 % with prbs (app/CONSOLE.md).\n"
       "\n"
       "Example (10 simulated minutes of a rig file, well under a minute of wall time):\n"
       "  nlsoft-console ident --sim my-rig.toml --signal prbs --duration 10min --sim-fast\n"

@@ -16,14 +16,13 @@ namespace p = protocol;
 
 namespace {
 
-constexpr const char* kSignals[] = {"steps", "prbs", "walk", "chirp"};
 // The default band: slow enough for a soft actuator's lag to show, fast
 // enough to move it several times a minute.
 constexpr double kDefaultLoHz = 0.05, kDefaultHiHz = 2.0;
 
 int signal_index(const std::string& s) {
-  for (int i = 0; i < 4; ++i)
-    if (s == kSignals[i]) return i;
+  for (size_t i = 0; i < kIdentSignals.size(); ++i)
+    if (s == kIdentSignals[i]) return int(i);
   return -1;
 }
 
@@ -43,9 +42,24 @@ bool parse_band(const std::string& text, double& lo, double& hi) {
 
 }  // namespace
 
+const std::vector<std::string> kIdentSignals = {"steps", "prbs", "walk", "chirp", "aprbs"};
+
+std::string ident_signal_list() {
+  std::string s;
+  for (size_t i = 0; i < kIdentSignals.size(); ++i)
+    s += (i == 0 ? "" : i + 1 == kIdentSignals.size() ? " or " : ", ") + kIdentSignals[i];
+  return s;
+}
+
 double check_ident_words(const IdentWords& w) {
   if (signal_index(w.signal) < 0)
-    throw CliError(fmt::format("ident: '{}' is not a signal; use steps, prbs, walk or chirp", w.signal));
+    throw CliError(fmt::format("ident: '{}' is not a signal; use {}", w.signal, ident_signal_list()));
+  if (w.joint && w.mixed)
+    throw CliError("ident: --joint and --mixed exclude each other (joint gives every input the same deviation, "
+                   "mixed a shared one plus each input's own)");
+  if (w.mixed && w.signal == "prbs")
+    throw CliError("ident: --mixed needs levels inside the range, and prbs has only +-1: its shared part at +-1 "
+                   "leaves no room for each input's own (use aprbs)");
   if (!(w.amplitude > 0 && w.amplitude <= 1))
     throw CliError(fmt::format("ident: --amplitude {:g} is outside (0, 1]: it is the fraction of each input's range "
                                "the signal spans",
@@ -87,6 +101,8 @@ IdentWords ident_words(const Command& c) {
         w.band = v, used = v.size();
       } else if (k == "joint") {
         w.joint = true, used = v.size();
+      } else if (k == "mixed") {
+        w.mixed = true, used = v.size();
       } else if (k == "y_offset") {
         used = v.size();  // the capture's, not the excitation's (script_runner merges it)
       }
@@ -97,6 +113,21 @@ IdentWords ident_words(const Command& c) {
     }
   }
   return w;
+}
+
+void check_firmware_offers(const p::IdentStart& start, const p::Info& info, uint8_t protocol_minor) {
+  const std::string fw =
+      fmt::format("{} {}.{}.{}, protocol {}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch,
+                  p::kProtocolVersion, protocol_minor);
+  if (!(info.capabilities & p::capability::kIdent))
+    throw CliError(fmt::format("the firmware ({}) has no identification runs (the IDENT capability of protocol "
+                               "1.3): update it",
+                               fw));
+  if ((start.options & p::ident_options::kMixed) && !(info.capabilities & p::capability::kIdentMixed))
+    throw CliError(fmt::format("the firmware ({}) has no mixed excitation (the IDENT_MIXED capability; it would "
+                               "ignore --mixed and drive one independent stream per input): update it, or leave "
+                               "out --mixed",
+                               fw));
 }
 
 size_t ident_sample_wire_bytes(int m, int n, int w) {
@@ -150,7 +181,7 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
 
   p::IdentStart& s = plan.start;
   s.signal = uint8_t(signal_index(w.signal));
-  s.options = w.joint ? p::ident_options::kJoint : 0;
+  s.options = uint8_t((w.joint ? p::ident_options::kJoint : 0) | (w.mixed ? p::ident_options::kMixed : 0));
   s.decimation = dec;
   s.seed = w.seed;
   s.amplitude = float(w.amplitude);
@@ -164,6 +195,7 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
   j["amplitude"] = w.amplitude;
   j["band_hz"] = {lo, hi};
   j["joint"] = w.joint;
+  j["mixed"] = w.mixed;
   j["duration_steps"] = s.duration;
   j["decimation"] = dec;
   plan.excitation_json = j.dump();

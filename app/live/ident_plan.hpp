@@ -6,18 +6,25 @@
 // script's `ident` line, so both accept and refuse the same words.
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "protocol/messages.hpp"
 
 namespace nlsoft::console {
 
+// The signals by IDENT_START's numbering (protocol::IdentSignal), and the
+// words that list them for an error or --help ("steps, prbs, ... or aprbs").
+extern const std::vector<std::string> kIdentSignals;
+std::string ident_signal_list();
+
 struct IdentWords {
-  std::string signal = "prbs";  // steps | prbs | walk | chirp
+  std::string signal = "prbs";  // one of kIdentSignals
   std::string duration;         // 10min, 60s, ...
   std::string band;             // LO:HI in Hz; empty: the default
   uint32_t seed = 1;
   double amplitude = 0.8;
   bool joint = false;
+  bool mixed = false;  // a shared deviation plus each input's own (IDENT_MIXED)
   int decimation = 0;  // 0: every step on a simulator, else what the baud rate carries
 };
 
@@ -27,7 +34,7 @@ double check_ident_words(const IdentWords& w);
 
 // A script's `ident SIGNAL DURATION key=value...` as the command's words:
 // name is the signal, values[0] the duration, options seed, amplitude,
-// band, joint, decimation. Throws CliError for a value that is no number.
+// band, joint, mixed, decimation. Throws CliError for a value that is no number.
 struct Command;
 IdentWords ident_words(const Command& c);
 
@@ -46,6 +53,11 @@ struct IdentPlan {
 // Against the firmware's rate (Hz) and m, n, w: throws CliError for a band
 // past half the rate or a duration under one step.
 IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line);
+
+// Throws CliError when the firmware (its INFO and protocol_minor) lacks
+// what `start` needs: identification runs (IDENT), or MIXED (IDENT_MIXED),
+// which a firmware without it would ignore rather than refuse.
+void check_firmware_offers(const protocol::IdentStart& start, const protocol::Info& info, uint8_t protocol_minor);
 
 // IDENT_SAMPLE's size on the wire for these dimensions, and the smallest
 // decimation whose samples fit four fifths of an 8N1 line at `baud` (the

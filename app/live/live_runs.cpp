@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "host/files/cli_error.hpp"
+#include "app/live/ident_plan.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/record/loop_rate.hpp"
@@ -189,11 +190,7 @@ RunSummary LiveConsole::run_for(double seconds, const std::string& label, const 
 
 RunSummary LiveConsole::run_ident(p::IdentStart start, const std::string& excitation_json, const std::string& label,
                                   const Progress& progress) {
-  if (!device_->has(p::capability::kIdent))
-    throw CliError(fmt::format("the firmware ({} {}.{}.{}, protocol {}.{}) has no identification runs (the IDENT "
-                               "capability of protocol 1.3): update it",
-                               device_->info().firmware, device_->info().fw_major, device_->info().fw_minor,
-                               device_->info().fw_patch, protocol::kProtocolVersion, device_->protocol_minor()));
+  check_firmware_offers(start, device_->info(), device_->protocol_minor());
   if (start.duration == 0) throw CliError("an identification run must last at least one control step");
   const int64_t id = begin_run(label, &start, excitation_json);
   return run_steps(start.duration, id, label, progress, nullptr);

@@ -320,8 +320,8 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     }
   } else if (verb == "ident") {
     const char* usage =
-        "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok] "
-        "[y_from=FILE.csv [y_offset=S]]  e.g. ident prbs 10min seed=3";
+        "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint|mixed] [decimation=N] [label=TEXT] "
+        "[early=ok] [y_from=FILE.csv [y_offset=S]]  e.g. ident prbs 10min seed=3";
     need(3, usage);
     c.kind = Command::Kind::Ident;
     c.name = t[1];
@@ -329,7 +329,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     IdentWords w = ident_words(c);
     for (size_t i = 3; i < t.size(); ++i) {
       std::pair<std::string, std::string> kv;
-      if (t[i] == "joint") kv = {"joint", "1"};
+      if (t[i] == "joint" || t[i] == "mixed") kv = {t[i], "1"};
       else if (!split_option(t[i], kv)) throw fail(fmt::format("ident: '{}' is not key=value; usage: {}", t[i], usage));
       if (kv.first == "label") c.label = kv.second;
       else if (kv.first == "early" && kv.second == "ok") c.allow_early = true;
@@ -343,7 +343,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
         c.options.push_back(kv);
       }
       else if (kv.first == "seed" || kv.first == "amplitude" || kv.first == "band" || kv.first == "joint" ||
-               kv.first == "decimation")
+               kv.first == "mixed" || kv.first == "decimation")
         c.options.push_back(kv);
       else throw fail(fmt::format("ident: unknown option '{}'; usage: {}", t[i], usage));
     }
@@ -415,8 +415,8 @@ const std::vector<std::string>& script_help() {
       "run DURATION [label=TEXT]   record a run, e.g. run 10s label=baseline; a run that ends",
       "                            before DURATION fails the script unless early=ok is given",
       "start [label=TEXT] | stop   start or stop a run without a duration",
-      "ident SIGNAL DURATION ...   an identification run: steps|prbs|walk|chirp, e.g. ident prbs 10min seed=3",
-      "                            [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok]",
+      "ident SIGNAL DURATION ...   an identification run: steps|prbs|walk|chirp|aprbs, e.g. ident prbs 10min seed=3",
+      "                            [amplitude=F] [band=LO:HI] [joint|mixed] [decimation=N] [label=TEXT] [early=ok]",
       "hold | neutral | resume     pause the run, actuators to neutral, continue",
       "wait DURATION               sleep, e.g. wait 500ms",
       "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost_frames == 0;",

@@ -23,7 +23,7 @@
 //   sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]
 //   tune NAME=LO..HI[:log|:lin]... [objective=EXPR] [budget=N|DURATION] [apply] ...
 //                             (app/tune/tune_options.hpp)
-//   ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint] [decimation=N] [label=TEXT] [early=ok]
+//   ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint|mixed] [decimation=N] [label=TEXT] [early=ok]
 //                             an identification run (app/live/ident_plan.hpp)
 #include <stdexcept>
 #include <string>

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "app/live/ident_plan.hpp"
 #include "app/live/param_text.hpp"
 
 namespace nlsoft::console::tui {
@@ -65,13 +66,13 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
   } else if (w.size() == 2 && w[0] == "plot") {
     pool = {"y", "u", "cost", "iter", "compute", "ident"};
   } else if (w.size() == 2 && w[0] == "ident") {
-    pool = {"steps", "prbs", "walk", "chirp"};
+    pool = kIdentSignals;
   } else if (w.size() >= 4 && w[0] == "ident") {
     // y_from= then a file: the file name completes after the '='.
     if (word.rfind("y_from=", 0) == 0) {
       for (const std::string& f : paths_for(word.substr(7))) pool.push_back("y_from=" + f);
     } else {
-      pool = {"seed=", "amplitude=", "band=", "joint", "decimation=", "label=", "early=ok", "y_from=", "y_offset="};
+      pool = {"seed=", "amplitude=", "band=", "joint", "mixed", "decimation=", "label=", "early=ok", "y_from=", "y_offset="};
     }
   } else if (w.size() == 2 && w[0] == "ref") {
     pool = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold", "load"};

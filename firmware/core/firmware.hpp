@@ -505,7 +505,7 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | c::kRig | c::kIdent | (id_.has_y_true ? c::kYTrue : 0);
+                     c::kLog | c::kRig | c::kIdent | c::kIdentMixed | (id_.has_y_true ? c::kYTrue : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }

@@ -14,6 +14,15 @@ namespace nlsoft::fw {
 
 namespace proto = nlsoft::protocol;
 
+// IDENT_START's signal byte is ExcitationSignal's numbering.
+static_assert(uint8_t(proto::IdentSignal::Steps) == uint8_t(ExcitationSignal::Steps) &&
+                  uint8_t(proto::IdentSignal::Prbs) == uint8_t(ExcitationSignal::Prbs) &&
+                  uint8_t(proto::IdentSignal::Walk) == uint8_t(ExcitationSignal::Walk) &&
+                  uint8_t(proto::IdentSignal::Chirp) == uint8_t(ExcitationSignal::Chirp) &&
+                  uint8_t(proto::IdentSignal::Aprbs) == uint8_t(ExcitationSignal::Aprbs) &&
+                  uint8_t(proto::IdentSignal::Aprbs) + 1 == kExcitationSignalCount,
+              "IDENT_START.signal and ExcitationSignal number the signals alike");
+
 // An IDENT_START refused, as NACK reports it.
 struct IdentRefusal {
   proto::StatusCode status = proto::StatusCode::Ok;
@@ -26,18 +35,22 @@ class IdentRun {
   // signal up and marks the run active; a refusal changes nothing.
   IdentRefusal start(const proto::IdentStart& p, float rate_hz, const float* u_min, const float* u_max,
                      const RigConfig& rig) {
-    if (p.signal >= kExcitationSignalCount) return {proto::StatusCode::OutOfRange, 1};
-    if (p.decimation == 0) return {proto::StatusCode::OutOfRange, 3};
     ExcitationSpec spec;
     spec.signal = ExcitationSignal(p.signal);
     spec.joint = (p.options & proto::ident_options::kJoint) != 0;
+    spec.mixed = (p.options & proto::ident_options::kMixed) != 0;
     spec.seed = p.seed;
     spec.amplitude = p.amplitude;
     spec.band_lo = p.band_lo;
     spec.band_hi = p.band_hi;
     spec.duration = p.duration;
+    // Wire order: the signal and its options (fields 1, 2), then the run's
+    // decimation (3), then the rest of the signal's fields.
+    const ExcitationCheck head = check_excitation(spec, rate_hz);
+    if (head.field == ExcitationField::Signal || head.field == ExcitationField::Options) return refusal(head);
+    if (p.decimation == 0) return {proto::StatusCode::OutOfRange, 3};
     const ExcitationCheck c = gen_.configure(spec, rate_hz, u_min, u_max, rig.u_neutral, rig.m);
-    if (c.status != Status::Ok) return {proto::StatusCode(uint8_t(c.status)), field(c.field)};
+    if (c.status != Status::Ok) return refusal(c);
     active_ = true;
     decimation_ = p.decimation;
     return {};
@@ -58,10 +71,14 @@ class IdentRun {
   bool done() const { return gen_.done(); }
 
  private:
+  static IdentRefusal refusal(const ExcitationCheck& c) {
+    return {proto::StatusCode(uint8_t(c.status)), field(c.field)};
+  }
   // Field numbers of IDENT_START's table for each refusal of the signal's checks.
   static uint8_t field(ExcitationField f) {
     switch (f) {
       case ExcitationField::Signal: return 1;
+      case ExcitationField::Options: return 2;
       case ExcitationField::Amplitude: return 5;
       case ExcitationField::BandLo: return 6;
       case ExcitationField::BandHi: return 7;

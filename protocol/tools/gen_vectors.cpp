@@ -213,6 +213,14 @@ void build() {
       "Protocol 1.3: a joint chirp of 60 s at 1 kHz, one sample every 3 steps (333 samples/s: over full-speed USB; "
       "at 115200 baud msd needs 4, section 7).",
       frame(ident_joint, 32));
+  IdentStart ident_mixed = ident;
+  ident_mixed.run_id = 45;
+  ident_mixed.signal = static_cast<uint8_t>(IdentSignal::Aprbs);
+  ident_mixed.options = ident_options::kMixed;
+  add("ident_start_aprbs_mixed",
+      "Protocol 1.3: a 10-minute APRBS run at 130 Hz, mixed: a shared level under each input's own (sent only to a "
+      "firmware with the IDENT_MIXED capability).",
+      frame(ident_mixed, 33));
 
   // ------------------------------------------------- replies, unsolicited
   Ack ack;
@@ -267,6 +275,12 @@ void build() {
   nack_ident.field = 7;
   add("nack_ident_start_band", "Protocol 1.3: band_hi (field 7) below band_lo.",
       frame(nack_ident, 31, frame_flags::kReply));
+  Nack nack_signal = nack_ident;
+  nack_signal.status = static_cast<uint8_t>(StatusCode::OutOfRange);
+  nack_signal.field = 1;
+  add("nack_ident_start_signal",
+      "Protocol 1.3: a signal (field 1) the firmware does not have: aprbs (4) at a firmware without it.",
+      frame(nack_signal, 33, frame_flags::kReply));
 
   Pong pong;
   pong.nonce = 0x12345678u;

@@ -7,9 +7,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <deque>
 #include <memory>
 #include <regex>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -208,6 +210,38 @@ TEST_F(IdentRun, DrivesTheInputsInsideTheLimitsAndSendsUMeasuredYAndSensorsEvery
   EXPECT_TRUE(samples().empty());
 }
 
+// IDENT_START's signal 4 and options bit 1 reach the generator: an aprbs
+// mixed run drives the inputs shared/excitation.hpp computes for that spec,
+// bit for bit, with the IDENT_MIXED capability advertised.
+TEST_F(IdentRun, AnAprbsMixedRunDrivesTheGeneratorsInputs) {
+  proto::IdentStart s = prbs(400);
+  s.signal = uint8_t(proto::IdentSignal::Aprbs);
+  s.options = proto::ident_options::kMixed;
+  expect_ack(s);
+  hal_.actuated.clear();
+  steps(400);
+  ExcitationSpec spec;
+  spec.signal = ExcitationSignal::Aprbs;
+  spec.mixed = true;
+  spec.seed = s.seed, spec.amplitude = s.amplitude, spec.band_lo = s.band_lo, spec.band_hi = s.band_hi;
+  spec.duration = s.duration;
+  Excitation e;
+  ASSERT_EQ(e.configure(spec, 130.0f, rig_.u_min, rig_.u_max, rig_.u_neutral, rig_.m).status, Status::Ok);
+  std::set<float> levels;
+  for (size_t k = 0; k < 400; ++k) {
+    float u[kRigMaxM];
+    e.next(u);
+    ASSERT_EQ(std::memcmp(u, hal_.actuated[k].data(), 6 * sizeof(float)), 0) << "step " << k;
+    levels.insert(u[0]);
+  }
+  EXPECT_GT(levels.size(), 2u) << "aprbs: more levels than prbs's two";
+  proto::InfoGet g;
+  const auto [type, payload] = request(g);
+  proto::InfoEx ex;
+  ASSERT_EQ(proto::unpack(payload.data(), payload.size(), ex), proto::StatusCode::Ok);
+  EXPECT_TRUE(ex.info.capabilities & proto::capability::kIdentMixed);
+}
+
 TEST_F(IdentRun, TheSameSeedDrivesTheSameInputsAndDecimationThinsTheSamples) {
   proto::IdentStart s = prbs(60);
   expect_ack(s);
@@ -234,7 +268,16 @@ TEST_F(IdentRun, BadParametersAreRefusedNamingTheFieldAndChangeNothing) {
     uint8_t field;
   };
   const Case cases[] = {
-      {[](proto::IdentStart& s) { s.signal = 4; }, proto::StatusCode::OutOfRange, 1},
+      // The first value past aprbs: what a firmware without aprbs answers to it.
+      {[](proto::IdentStart& s) { s.signal = 5; }, proto::StatusCode::OutOfRange, 1},
+      {[](proto::IdentStart& s) { s.signal = 255; }, proto::StatusCode::OutOfRange, 1},
+      // Options (field 2) before decimation (field 3).
+      {[](proto::IdentStart& s) {
+         s.options = proto::ident_options::kJoint | proto::ident_options::kMixed, s.decimation = 0;
+       },
+       proto::StatusCode::Inconsistent, 2},
+      {[](proto::IdentStart& s) { s.options = proto::ident_options::kMixed; },  // prbs: +-1 leaves no spread
+       proto::StatusCode::Inconsistent, 2},
       {[](proto::IdentStart& s) { s.decimation = 0; }, proto::StatusCode::OutOfRange, 3},
       {[](proto::IdentStart& s) { s.amplitude = NAN; }, proto::StatusCode::NotFinite, 5},
       {[](proto::IdentStart& s) { s.amplitude = 1.5f; }, proto::StatusCode::OutOfRange, 5},

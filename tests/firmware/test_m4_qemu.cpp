@@ -7,11 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <fstream>
 
 #include "firmware/core/param_service.hpp"
 #include "peer.hpp"
 #include "qemu_process.hpp"
+#include "shared/excitation.hpp"
 #include "shared/model_file.hpp"
 #include "shared/params.hpp"
 #include "shared/platform_id.hpp"
@@ -176,4 +178,83 @@ TEST_F(M4Image, HaselImageListsItsOneShapeAndRefusesAnotherAtBegin) {
   EXPECT_EQ(as<proto::Nack>(n).field, 2);
   const auto again = as<proto::InfoEx>(must(peer_->request(proto::InfoGet{}), "INFO_GET"));
   EXPECT_EQ(again.info.model_hash, info.model_hash);
+}
+
+// The excitation the Cortex-M4F computes is the host's, bit for bit: an
+// identification run of each signal with uniform levels on the hasel image
+// sends the u of shared/excitation.hpp run on the host with the same fields
+// and the image's own limits.
+TEST_F(M4Image, AnIdentificationRunsInputsAreTheHostsBitForBit) {
+  boot(NLSOFT_M4_IMAGE_DIR "/nlsoft-m4-hasel-hil.elf");
+  if (IsSkipped() || HasFatalFailure()) return;
+  const proto::Info info = handshake();
+  ASSERT_TRUE(info.capabilities & proto::capability::kIdentMixed);
+  float u_min[kRigMaxM], u_max[kRigMaxM];
+  for (ParamId id : {ParamId::UMin, ParamId::UMax}) {
+    proto::ParamGet g;
+    g.id = uint16_t(id);
+    const auto v = as<proto::ParamValue>(must(peer_->request(g), "PARAM_GET"));
+    for (uint8_t i = 0; i < info.m; ++i) (id == ParamId::UMin ? u_min : u_max)[i] = v.f32(i);
+  }
+  const float neutral[kRigMaxM] = {0.5f, 0.5f, 0.5f, 0.5f, 0.5f, 0.5f};  // rigs/hasel.toml
+  const struct {
+    proto::IdentSignal signal;
+    uint8_t options;
+  } runs[] = {{proto::IdentSignal::Steps, 0},
+              {proto::IdentSignal::Prbs, 0},
+              {proto::IdentSignal::Aprbs, 0},
+              {proto::IdentSignal::Aprbs, proto::ident_options::kMixed}};
+  uint32_t run_id = 77;
+  for (const auto& run : runs) {
+    SCOPED_TRACE(testing::Message() << "signal " << int(run.signal) << " options " << int(run.options));
+    proto::IdentStart start;
+    start.run_id = run_id++;
+    start.signal = uint8_t(run.signal);
+    start.options = run.options;
+    start.decimation = 1;
+    start.seed = 12345;
+    start.amplitude = 0.8f;
+    start.band_lo = 0.5f;
+    start.band_hi = 20.0f;
+    start.duration = 150;
+    ASSERT_EQ(must(peer_->request(start), "IDENT_START").header.type, uint8_t(proto::MsgType::Ack));
+    std::vector<proto::IdentSample> got;
+    const auto is_sample = [](const Received& x) { return x.header.type == uint8_t(proto::MsgType::IdentSample); };
+    while (got.size() < start.duration) {
+      // STATUS now and then feeds the link watchdog, which trips an
+      // identification run too; the samples meanwhile are kept in order.
+      if (got.size() % 40 == 39) {
+        peer_->unsolicited.clear();
+        must(peer_->request(proto::StatusGet{}), "STATUS_GET");
+        for (const Received& x : peer_->unsolicited)
+          if (is_sample(x)) got.push_back(as<proto::IdentSample>(x));
+        peer_->unsolicited.clear();
+        continue;
+      }
+      auto r = peer_->wait_for(is_sample, 3000);
+      ASSERT_TRUE(r.has_value()) << "IDENT_SAMPLE stopped after " << got.size();
+      got.push_back(as<proto::IdentSample>(*r));
+    }
+    got.resize(start.duration);
+    ExcitationSpec spec;
+    spec.signal = ExcitationSignal(start.signal);
+    spec.mixed = run.options != 0;
+    spec.seed = start.seed, spec.amplitude = start.amplitude, spec.band_lo = start.band_lo;
+    spec.band_hi = start.band_hi, spec.duration = start.duration;
+    Excitation host;
+    ASSERT_EQ(host.configure(spec, float(info.loop_rate_hz), u_min, u_max, neutral, info.m).status, Status::Ok);
+    int moves = 0;
+    for (size_t k = 0; k < got.size(); ++k) {
+      float u[kRigMaxM];
+      host.next(u);
+      ASSERT_EQ(got[k].step, k);
+      for (int i = 0; i < info.m; ++i)
+        ASSERT_EQ(std::memcmp(&u[i], &got[k].u[i], sizeof(float)), 0)
+            << "step " << k << " input " << i << ": host " << std::hexfloat << u[i] << ", image " << got[k].u[i];
+      moves += k > 0 && got[k].u[0] != got[k - 1].u[0];
+    }
+    EXPECT_GT(moves, 0) << "the run moved its inputs";
+    // The run has ended by itself; wait for the image to say so.
+    peer_->wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::Log); }, 2000);
+  }
 }

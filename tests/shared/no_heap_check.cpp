@@ -109,14 +109,17 @@ int run_generic() {
 
 }  // namespace
 
-// Every excitation signal, a few steps each.
+// Every excitation signal, a few steps each, with one stream per input and
+// mixed (where the signal has a mixed form).
 int run_excitation() {
   using namespace nlsoft;
   const float lo[2] = {0.0f, -1.0f}, hi[2] = {1.0f, 1.0f}, mid[2] = {0.0f, 0.0f};
   int bad = 0;
-  for (uint8_t sig = 0; sig < kExcitationSignalCount; ++sig) {
+  for (uint8_t k = 0; k < 2 * kExcitationSignalCount; ++k) {
     ExcitationSpec s;
-    s.signal = ExcitationSignal(sig);
+    s.signal = ExcitationSignal(k % kExcitationSignalCount);
+    s.mixed = k >= kExcitationSignalCount;
+    if (s.mixed && s.signal == ExcitationSignal::Prbs) continue;
     s.duration = 100;
     static Excitation e;
     if (e.configure(s, 100.0f, lo, hi, mid, 2).status != Status::Ok) return 1;

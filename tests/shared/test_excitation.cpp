@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "shared/excitation.hpp"
+#include "shared/rng.hpp"
 
 namespace nlsoft {
 namespace {
@@ -24,14 +25,15 @@ const float kNeutral[kM] = {0.0f, 1.0f, 11.9f};
 constexpr float kRate = 100.0f;
 
 const ExcitationSignal kSignals[] = {ExcitationSignal::Steps, ExcitationSignal::Prbs, ExcitationSignal::Walk,
-                                     ExcitationSignal::Chirp};
+                                     ExcitationSignal::Chirp, ExcitationSignal::Aprbs};
 
 std::vector<float> run(ExcitationSignal sig, uint32_t seed, bool joint, uint32_t steps, float amplitude = 1.0f,
-                       float lo = 0.2f, float hi = 5.0f) {
+                       float lo = 0.2f, float hi = 5.0f, bool mixed = false) {
   ExcitationSpec s;
   s.signal = sig;
   s.seed = seed;
   s.joint = joint;
+  s.mixed = mixed;
   s.amplitude = amplitude;
   s.band_lo = lo;
   s.band_hi = hi;
@@ -49,9 +51,10 @@ class EachSignal : public ::testing::TestWithParam<ExcitationSignal> {};
 
 TEST_P(EachSignal, InputsStayInsideTheirLimitsForEverySeed) {
   for (uint32_t seed = 0; seed < 40; ++seed)
-    for (bool joint : {false, true})
+    for (int options = 0; options < 3; ++options)  // own streams, joint, mixed (prbs has none)
       for (float amplitude : {1.0f, 0.3f}) {
-        const std::vector<float> u = run(GetParam(), seed, joint, 2000, amplitude);
+        if (options == 2 && GetParam() == ExcitationSignal::Prbs) continue;
+        const std::vector<float> u = run(GetParam(), seed, options == 1, 2000, amplitude, 0.2f, 5.0f, options == 2);
         float lo[kM], hi[kM];
         for (int i = 0; i < kM; ++i) lo[i] = kMax[i], hi[i] = kMin[i];
         for (size_t k = 0; k < u.size(); ++k) {
@@ -105,7 +108,7 @@ TEST_P(EachSignal, UsesMostOfItsWindow) {
 }
 
 std::string signal_name(const ::testing::TestParamInfo<ExcitationSignal>& info) {
-  static const char* const kNames[] = {"Steps", "Prbs", "Walk", "Chirp"};
+  static const char* const kNames[] = {"Steps", "Prbs", "Walk", "Chirp", "Aprbs"};
   return kNames[int(info.param)];
 }
 INSTANTIATE_TEST_SUITE_P(Excitation, EachSignal, ::testing::ValuesIn(kSignals), signal_name);
@@ -184,15 +187,135 @@ TEST(Excitation, StepsHoldBetweenOneOverBandHiAndOneOverBandLo) {
   EXPECT_GT(longest, 150u);
 }
 
+// The hold (in steps) of every level of input `i` but the last, cut short.
+std::vector<uint32_t> holds(const std::vector<float>& u, int i) {
+  std::vector<uint32_t> out;
+  uint32_t len = 1;
+  for (size_t k = 1; k < u.size() / kM; ++k) {
+    if (u[k * kM + size_t(i)] != u[(k - 1) * kM + size_t(i)]) out.push_back(len), len = 0;
+    ++len;
+  }
+  return out;
+}
+
+// aprbs switches where prbs does, at whole bits of 1/band_hi, its longest
+// hold the register's longest run; unlike prbs it has a new level each
+// time, filling the window; unlike steps most holds are a bit or two.
+TEST(Excitation, AprbsHoldsAreWholePrbsBitsWithANewLevelInsideTheRangeEachTime) {
+  const float lo = 0.05f, hi = 10.0f;  // 10 steps a bit at 100 Hz
+  const uint32_t steps = 60000;
+  const std::vector<float> u = run(ExcitationSignal::Aprbs, 21, false, steps, 1.0f, lo, hi);
+  ExcitationSpec s;
+  s.signal = ExcitationSignal::Aprbs, s.band_lo = lo, s.band_hi = hi, s.duration = steps;
+  Excitation e;
+  ASSERT_EQ(e.configure(s, kRate, kMin, kMax, kNeutral, kM).status, Status::Ok);
+  const uint32_t bit = 10, longest_run = uint32_t(e.prbs_bits()) * bit;
+  for (int i = 0; i < kM; ++i) {
+    const std::vector<uint32_t> h = holds(u, i);
+    ASSERT_GT(h.size(), 1000u) << "input " << i;
+    size_t one_bit = 0;
+    for (uint32_t len : h) {
+      ASSERT_EQ(len % bit, 0u) << "input " << i;
+      ASSERT_GE(len, bit);
+      ASSERT_LE(len, longest_run);
+      one_bit += len == bit;
+    }
+    // A maximal-length sequence's runs: half of them one bit long.
+    EXPECT_NEAR(double(one_bit) / double(h.size()), 0.5, 0.05) << "input " << i;
+    // More than two levels, spread over the window in all its tenths.
+    std::vector<float> levels;
+    for (size_t k = size_t(i); k < u.size(); k += kM) levels.push_back(u[k]);
+    std::sort(levels.begin(), levels.end());
+    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+    EXPECT_GT(levels.size(), 500u) << "input " << i;
+    int tenths[10] = {};
+    for (float v : levels) ++tenths[std::min(9, int(10.0f * (v - kMin[i]) / (kMax[i] - kMin[i])))];
+    for (int t = 0; t < 10; ++t) EXPECT_GT(tenths[t], 10) << "input " << i << " tenth " << t;
+  }
+  // The same switching instants as prbs of the same seed: aprbs only puts
+  // other levels on them.
+  const std::vector<float> p = run(ExcitationSignal::Prbs, 21, false, steps, 1.0f, lo, hi);
+  for (size_t k = 1; k < steps; ++k)
+    ASSERT_EQ(p[k * kM] != p[(k - 1) * kM], u[k * kM] != u[(k - 1) * kM]) << "step " << k;
+}
+
+// The arithmetic the firmware does, written out with the generator's parts
+// (Rng, the register's taps): input 0's levels are the seed's uniform draws
+// mapped into the window, bit for bit. Float and 32-bit integers only, no
+// libm, as on the Cortex-M4F.
+TEST(Excitation, AprbsIsTheSeedsDrawsMappedIntoTheWindowBitForBit) {
+  const float lo = 0.05f, hi = 10.0f;
+  const uint32_t seed = 77, steps = 3000;
+  const std::vector<float> u = run(ExcitationSignal::Aprbs, seed, false, steps, 1.0f, lo, hi);
+  Rng rng(seed ^ 0x9E3779B9u);  // input 0's stream
+  ExcitationSpec s;
+  s.signal = ExcitationSignal::Aprbs, s.band_lo = lo, s.band_hi = hi, s.duration = steps;
+  Excitation e;
+  ASSERT_EQ(e.configure(s, kRate, kMin, kMax, kNeutral, kM).status, Status::Ok);
+  uint32_t lfsr = rng.next_u32() & ((1u << e.prbs_bits()) - 1u), last = 2;
+  if (lfsr == 0) lfsr = 1;
+  rng.uniform(-1.0f, 1.0f);  // the walk's start, drawn for every signal
+  float level = 0.0f;
+  for (uint32_t k = 0; k < steps; ++k) {
+    if (k % 10 == 0) {
+      const uint32_t bit = lfsr & 1u;
+      lfsr >>= 1;
+      if (bit) lfsr ^= prbs_taps(e.prbs_bits());
+      if (bit != last) level = rng.uniform(-1.0f, 1.0f);
+      last = bit;
+    }
+    // Input 0's window is its whole range [0, 1] (amplitude 1).
+    const float want = kMin[0] + 0.5f * (level + 1.0f) * (kMax[0] - kMin[0]);
+    ASSERT_EQ(std::memcmp(&u[size_t(k) * kM], &want, sizeof want), 0) << "step " << k;
+  }
+}
+
+// Mixed: a shared stream under each input's own, so the inputs correlate
+// clearly (about 0.75 for uniform levels) where own streams do not.
+TEST(Excitation, MixedInputsShareACommonComponent) {
+  auto correlation = [](const std::vector<float>& u, int a, int b) {
+    double sa = 0, sb = 0, saa = 0, sbb = 0, sab = 0;
+    const double n = double(u.size() / kM);
+    for (size_t k = 0; k < u.size() / kM; ++k) {
+      const double x = (u[k * kM + size_t(a)] - kMin[a]) / (kMax[a] - kMin[a]);
+      const double y = (u[k * kM + size_t(b)] - kMin[b]) / (kMax[b] - kMin[b]);
+      sa += x, sb += y, saa += x * x, sbb += y * y, sab += x * y;
+    }
+    const double cov = sab / n - sa / n * sb / n;
+    return cov / std::sqrt((saa / n - sa / n * sa / n) * (sbb / n - sb / n * sb / n));
+  };
+  for (ExcitationSignal sig : {ExcitationSignal::Aprbs, ExcitationSignal::Steps, ExcitationSignal::Walk}) {
+    const std::vector<float> own = run(sig, 4, false, 60000, 1.0f, 0.2f, 5.0f, false);
+    const std::vector<float> mixed = run(sig, 4, false, 60000, 1.0f, 0.2f, 5.0f, true);
+    for (int b = 1; b < kM; ++b) {
+      EXPECT_LT(std::fabs(correlation(own, 0, b)), 0.2) << int(sig) << " inputs 0, " << b;
+      EXPECT_GT(correlation(mixed, 0, b), 0.5) << int(sig) << " inputs 0, " << b;
+    }
+    // Not the joint signal: the inputs also move apart.
+    size_t apart = 0;
+    for (size_t k = 0; k < mixed.size() / kM; ++k)
+      apart += std::fabs((mixed[k * kM + 1] - kMin[1]) / (kMax[1] - kMin[1]) - mixed[k * kM]) > 0.05f;
+    EXPECT_GT(apart, mixed.size() / kM / 2) << int(sig);
+  }
+}
+
 TEST(Excitation, BadParametersAreRefusedNamingTheField) {
   auto verdict = [](ExcitationSpec s) { return check_excitation(s, kRate); };
   ExcitationSpec ok;
   ok.duration = 10;
   EXPECT_EQ(verdict(ok).status, Status::Ok);
   ExcitationSpec s = ok;
-  s.signal = ExcitationSignal(4);
+  s.signal = ExcitationSignal(5);
   EXPECT_EQ(verdict(s).status, Status::OutOfRange);
   EXPECT_EQ(verdict(s).field, ExcitationField::Signal);
+  s = ok, s.signal = ExcitationSignal::Aprbs, s.mixed = true;
+  EXPECT_EQ(verdict(s).status, Status::Ok);
+  s.joint = true;  // joint and mixed exclude each other
+  EXPECT_EQ(verdict(s).status, Status::Inconsistent);
+  EXPECT_EQ(verdict(s).field, ExcitationField::Options);
+  s = ok, s.signal = ExcitationSignal::Prbs, s.mixed = true;  // +-1 leaves no spread
+  EXPECT_EQ(verdict(s).status, Status::Inconsistent);
+  EXPECT_EQ(verdict(s).field, ExcitationField::Options);
   s = ok, s.amplitude = NAN;
   EXPECT_EQ(verdict(s).status, Status::NotFinite);
   EXPECT_EQ(verdict(s).field, ExcitationField::Amplitude);

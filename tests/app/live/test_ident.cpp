@@ -6,6 +6,7 @@
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -221,6 +222,41 @@ TEST(IdentE2E, APrbsRunOfARigFileIsRecordedWholeInsideItsLimitsWithSensorsAndMea
   EXPECT_GT(ymax - ymin, 1.0);
 }
 
+// aprbs mixed: many levels per input (not prbs's two), and the inputs move
+// together around a shared level; the run records both words.
+TEST(IdentE2E, AnAprbsMixedRunRecordsManyLevelsPerInputMovingTogether) {
+  Ident t;
+  const ProcessResult r = t.run("--signal aprbs --mixed --duration 60s --band 0.1:10 --amplitude 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const ProcessResult show = console("runs show 1 --json --db " + shell_quote(t.db));
+  ASSERT_EQ(show.code, 0) << show.output;
+  const auto j = nlohmann::json::parse(show.output.substr(show.output.find('{')));
+  EXPECT_EQ(j["excitation"]["signal"], "aprbs");
+  EXPECT_EQ(j["excitation"]["mixed"], true);
+  std::vector<std::string> head;
+  const auto rows = t.exported(1, head);
+  ASSERT_EQ(rows.size(), 6000u);
+  const int u0 = column(head, "u0");
+  std::vector<double> x[3];
+  for (const auto& row : rows)
+    for (int i = 0; i < 3; ++i) x[i].push_back((std::stod(row[size_t(u0 + i)]) - kMin[i]) / (kMax[i] - kMin[i]));
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> levels = x[i];
+    std::sort(levels.begin(), levels.end());
+    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+    EXPECT_GT(levels.size(), 100u) << "input " << i;
+  }
+  auto corr = [](const std::vector<double>& a, const std::vector<double>& b) {
+    double ma = 0, mb = 0;
+    for (size_t k = 0; k < a.size(); ++k) ma += a[k] / double(a.size()), mb += b[k] / double(b.size());
+    double ab = 0, aa = 0, bb = 0;
+    for (size_t k = 0; k < a.size(); ++k) ab += (a[k] - ma) * (b[k] - mb), aa += (a[k] - ma) * (a[k] - ma), bb += (b[k] - mb) * (b[k] - mb);
+    return ab / std::sqrt(aa * bb);
+  };
+  EXPECT_GT(corr(x[0], x[1]), 0.4);
+  EXPECT_GT(corr(x[0], x[2]), 0.4);
+}
+
 TEST(IdentE2E, TheSameSeedRecordsTheSameInputsAndAnotherSeedOthers) {
   Ident t;
   for (const char* seed : {"5", "5", "6"}) {
@@ -248,7 +284,10 @@ TEST(IdentE2E, BadWordsAreRefusedInWordsBeforeAnythingIsRecorded) {
     const char* args;
     const char* says;
   } cases[] = {
-      {"--signal sine --duration 5s", "sine"},
+      // An unknown name, answered with the names there are.
+      {"--signal sine --duration 5s", "sine not in {steps,prbs,walk,chirp,aprbs}"},
+      {"--signal prbs --mixed --duration 5s", "prbs has only +-1"},
+      {"--signal aprbs --mixed --joint --duration 5s", "--joint excludes --mixed"},
       {"--duration 5s --amplitude 1.5", "outside (0, 1]"},
       {"--duration 5s --band 3:1", "the lower edge is above the upper one"},
       {"--duration 5s --band fast", "is not LO:HI"},

@@ -81,7 +81,7 @@ TEST(ScriptParser, AnIdentLineIsParsedAndItsWordsCheckedBeforeConnecting) {
   EXPECT_EQ(c.name, "prbs");
   EXPECT_EQ(c.seconds, 600.0);
   EXPECT_EQ(c.label, "bench 1");
-  EXPECT_EQ(error_of("ident sine 10s\n"), "tune.nls:1: ident: 'sine' is not a signal; use steps, prbs, walk or chirp");
+  EXPECT_EQ(error_of("ident sine 10s\n"), "tune.nls:1: ident: 'sine' is not a signal; use steps, prbs, walk, chirp or aprbs");
   EXPECT_EQ(error_of("ident prbs 10s amplitude=2\n"),
             "tune.nls:1: ident: --amplitude 2 is outside (0, 1]: it is the fraction of each input's range the signal "
             "spans");
