@@ -29,7 +29,7 @@ struct PlantTarget {
   // scales and training defaults), a generic one, or none (data from the
   // rig itself; train centres the outputs on y_rest).
   TargetPlant plant = TargetPlant::None;
-  PlantKind kind = PlantKind::Msd;        // TargetPlant::Named
+  PlantKind kind = PlantKind::Generic;    // TargetPlant::Named: the hand-written plant
   uint8_t platform = 255;                 // the model file's platform number (INFO's), 255: none
   GenericPlantSpec generic{};             // TargetPlant::Generic
   std::vector<LayerSpec> layers;          // the rig's [model] layers; empty: the defaults

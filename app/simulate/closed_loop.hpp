@@ -18,7 +18,9 @@ namespace nlsoft::console {
 enum class ControllerKind { Mpc, Pid };
 
 struct LoopSetup {
-  PlantKind plant = PlantKind::Hasel;
+  // Set by the caller: left unset, no hand-written plant is chosen for it
+  // (Generic without a spec is refused).
+  PlantKind plant = PlantKind::Generic;
   // A rig's generic plant instead of the hand-written `plant` (the caller
   // keeps it alive); `plant_name` names either in errors ("" : the plant's).
   const GenericPlantSpec* generic = nullptr;
