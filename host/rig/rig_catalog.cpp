@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
 
 #include "host/files/cli_error.hpp"
 #include "host/files/input_file.hpp"
@@ -64,15 +65,22 @@ Rig load_rig_arg(const std::string& arg) {
 }
 
 std::string rig_name_of_platform(uint8_t info_platform) {
-  if (info_platform == uint8_t(PlatformId::Custom)) return {};
-  for (const std::string& name : rig_names()) {
-    // A shipped file that does not load names no rig here; `rig check` says why.
-    try {
-      if (load_rig_arg(name).info_platform == info_platform) return name;
-    } catch (const CliError&) {
+  // Read once per process: the console asks on every redraw of a firmware
+  // too old to send RIG_INFO, and the shipped rigs do not change under it.
+  static const std::map<uint8_t, std::string> numbered = [] {
+    std::map<uint8_t, std::string> m;
+    for (const std::string& name : rig_names()) {
+      // A shipped file that does not load names no rig here; `rig check` says why.
+      try {
+        const Rig rig = load_rig_arg(name);
+        if (rig.info_platform != uint8_t(PlatformId::Custom)) m.emplace(rig.info_platform, name);
+      } catch (const CliError&) {
+      }
     }
-  }
-  return {};
+    return m;
+  }();
+  const auto it = numbered.find(info_platform);
+  return it == numbered.end() ? std::string() : it->second;
 }
 
 CLI::Validator rig_arg_validator() {
