@@ -93,8 +93,8 @@ void add_ident_command(CLI::App& app) {
                "database, to train a model from");
   add_connect_options(*c, a->link, "identify");
   c->add_option("--signal", a->words.signal,
-                "steps, prbs (default), walk (smoothed random walk), chirp or aprbs (PRBS whose every run of equal "
-                "bits holds a new random level: the whole range, not two levels)")
+                "steps, prbs, walk (smoothed random walk), chirp or aprbs (default: PRBS whose every run of equal bits "
+                "holds a new random level, so a model sees the whole range, not two levels)")
       ->check(CLI::IsMember(kIdentSignals));
   c->add_option("--duration", a->words.duration, "How long, in the firmware's control steps' time: 60s, 10min")
       ->required();

@@ -18,7 +18,7 @@ extern const std::vector<std::string> kIdentSignals;
 std::string ident_signal_list();
 
 struct IdentWords {
-  std::string signal = "prbs";  // one of kIdentSignals
+  std::string signal = "aprbs";  // one of kIdentSignals
   std::string duration;         // 10min, 60s, ...
   std::string band;             // LO:HI in Hz; empty: the default
   uint32_t seed = 1;

@@ -222,6 +222,29 @@ TEST(IdentE2E, APrbsRunOfARigFileIsRecordedWholeInsideItsLimitsWithSensorsAndMea
   EXPECT_GT(ymax - ymin, 1.0);
 }
 
+// Without --signal a run is aprbs: a model trained from it sees levels
+// inside each input's range, which prbs's two never show it.
+TEST(IdentE2E, ARunWithoutASignalIsAprbsWithManyLevelsPerInput) {
+  Ident t;
+  const ProcessResult r = t.run("--duration 30s");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const ProcessResult show = console("runs show 1 --json --db " + shell_quote(t.db));
+  ASSERT_EQ(show.code, 0) << show.output;
+  const auto j = nlohmann::json::parse(show.output.substr(show.output.find('{')));
+  EXPECT_EQ(j["excitation"]["signal"], "aprbs");
+  std::vector<std::string> head;
+  const auto rows = t.exported(1, head);
+  ASSERT_EQ(rows.size(), 3000u);
+  const int u0 = column(head, "u0");
+  for (int i = 0; i < 3; ++i) {
+    std::vector<double> levels;
+    for (const auto& row : rows) levels.push_back(std::stod(row[size_t(u0 + i)]));
+    std::sort(levels.begin(), levels.end());
+    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
+    EXPECT_GT(levels.size(), 10u) << "input " << i;
+  }
+}
+
 // aprbs mixed: many levels per input (not prbs's two), and the inputs move
 // together around a shared level; the run records both words.
 TEST(IdentE2E, AnAprbsMixedRunRecordsManyLevelsPerInputMovingTogether) {
