@@ -58,23 +58,27 @@ TEST(ChipCatalog, EveryChipIsConsistent) {
   EXPECT_EQ(find_chip("bmp388"), nullptr);
 }
 
-// The declared counts are the arrays' sizes (a count written by hand).
+// The declared counts are the arrays' sizes (counts written by hand).
+template <size_t Channels, size_t Units>
+void expect_channels(const ChipSpec& c, const char* const (&)[Channels], const char* const (&)[Units]) {
+  EXPECT_EQ(c.channel_count, static_cast<int>(Channels)) << c.name;
+  EXPECT_EQ(c.channel_count, static_cast<int>(Units)) << c.name;
+}
+template <size_t Ranges, size_t Rates>
+void expect_settings(const ChipSpec& c, const Setting (&)[Ranges], const Setting (&)[Rates]) {
+  EXPECT_EQ(c.range_count, static_cast<int>(Ranges)) << c.name;
+  EXPECT_EQ(c.rate_count, static_cast<int>(Rates)) << c.name;
+}
+
 TEST(ChipCatalog, CountsAreTheArraysSizes) {
-  auto size = [](const auto& a) { return static_cast<int>(sizeof(a) / sizeof(a[0])); };
-  EXPECT_EQ(kLis3mdl.range_count, size(lis3mdl::kRanges));
-  EXPECT_EQ(kLis3mdl.rate_count, size(lis3mdl::kRates));
-  EXPECT_EQ(kLis3mdl.channel_count, size(lis3mdl::kChannels));
-  EXPECT_EQ(kLis3mdl.channel_count, size(lis3mdl::kUnits));
-  EXPECT_EQ(kLsm303dlhcMag.range_count, size(lsm303dlhc_mag::kRanges));
-  EXPECT_EQ(kLsm303dlhcMag.rate_count, size(lsm303dlhc_mag::kRates));
-  EXPECT_EQ(kLsm303dlhcMag.channel_count, size(lsm303dlhc_mag::kChannels));
-  EXPECT_EQ(kLsm303dlhcMag.channel_count, size(lsm303dlhc_mag::kUnits));
-  EXPECT_EQ(kDps310.rate_count, size(dps310::kRates));
-  EXPECT_EQ(kDps310.channel_count, size(dps310::kChannels));
-  EXPECT_EQ(kDps310.channel_count, size(dps310::kUnits));
-  EXPECT_EQ(kMax1111.channel_count, size(max1111::kChannels));
-  EXPECT_EQ(kMax1111.channel_count, size(max1111::kUnits));
-  EXPECT_EQ(static_cast<int>(sizeof(kCatalog) / sizeof(kCatalog[0])), 4);
+  expect_channels(kLis3mdl, lis3mdl::kChannels, lis3mdl::kUnits);
+  expect_settings(kLis3mdl, lis3mdl::kRanges, lis3mdl::kRates);
+  expect_channels(kLsm303dlhcMag, lsm303dlhc_mag::kChannels, lsm303dlhc_mag::kUnits);
+  expect_settings(kLsm303dlhcMag, lsm303dlhc_mag::kRanges, lsm303dlhc_mag::kRates);
+  expect_channels(kDps310, dps310::kChannels, dps310::kUnits);
+  EXPECT_EQ(kDps310.rate_count, static_cast<int>(sizeof(dps310::kRates) / sizeof(dps310::kRates[0])));
+  expect_channels(kMax1111, max1111::kChannels, max1111::kUnits);
+  EXPECT_EQ(sizeof(kCatalog) / sizeof(kCatalog[0]), 4u) << "a chip added: its counts checked here too";
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "chip_checks.hpp"
 #include "fake_bus.hpp"
 
 namespace nlsoft::fw::drivers {
@@ -93,16 +94,20 @@ struct SpiRig {
 
 using Writes = std::vector<std::pair<uint8_t, uint8_t>>;
 
-TEST(Dps310, QemusFixedReadingsThroughItsCoefficients) {
-  // Worked in double from the datasheet's formulas at single oversampling
-  // (kP = kT = 524288): c0 225, c1 -291, c00 81061, c10 -57006, c01 -1594,
-  // c11 1233, c20 -9401, c21 91, c30 -1222; Praw -118802, Traw 158118.
-  I2cRig rig(true);
-  ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
-  float out[2] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+// QEMU's fixed results through its coefficients, worked in double from the
+// datasheet's formulas at single oversampling (kP = kT = 524288): c0 225,
+// c1 -291, c00 81061, c10 -57006, c01 -1594, c11 1233, c20 -9401, c21 91,
+// c30 -1222; Praw -118802, Traw 158118.
+void expect_qemus_reading(Dps310& driver) {
+  const check::Reading out = check::read_ok(driver);
   EXPECT_NEAR(out[0], 92946.311, 0.02);
   EXPECT_NEAR(out[1], 24.7384, 1e-4);
+}
+
+TEST(Dps310, QemusFixedReadingsThroughItsCoefficients) {
+  I2cRig rig(true);
+  ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
+  expect_qemus_reading(rig.driver);
 }
 
 TEST(Dps310, ConfigurationOrderAndBytesOnQemusModel) {
@@ -112,9 +117,8 @@ TEST(Dps310, ConfigurationOrderAndBytesOnQemusModel) {
   // names, 8 Hz, 1x; then MEAS_CFG background pressure and temperature,
   // written over what it read so the model keeps its ready flags.
   EXPECT_EQ(rig.chip.writes, (Writes{{0x09, 0x00}, {0x06, 0x30}, {0x07, 0xB0}, {0x08, 0xF7}}));
-  float out[2] = {};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kOk);
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kOk) << "the model never clears its flags";
+  expect_qemus_reading(rig.driver);
+  expect_qemus_reading(rig.driver);  // the model never clears its flags
 }
 
 TEST(Dps310, CoefficientsAreTwosComplementFieldsOf12_20And16Bits) {
@@ -148,8 +152,7 @@ TEST(Dps310, OversamplingAboveEightSetsTheShiftBitAndItsScaleFactor) {
   EXPECT_EQ(rig.chip.regs[0x06], 0x36);
   EXPECT_EQ(rig.chip.regs[0x07], 0xB4);
   EXPECT_EQ(rig.chip.regs[0x09], 0x0C);
-  float out[2] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   // The same raw results scaled by kP(64) = 1040384 and kT(16) = 253952.
   const double p = -118802.0 / 1040384.0, t = 158118.0 / 253952.0;
   EXPECT_NEAR(out[0], 81061 + p * (-57006 + p * (-9401 + p * -1222)) + t * -1594 + t * p * (1233 + p * 91), 0.02);
@@ -171,14 +174,10 @@ TEST(Dps310, NoNewPressureIsNotReadyAndLeavesOutAlone) {
   I2cRig rig(false);
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.result(0, 0);
-  float out[2] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], 81061.0, 1e-2) << "raw 0: c00 alone";
   EXPECT_NEAR(out[1], 112.5, 1e-4) << "raw 0: c0 / 2 alone";
-  float again[2] = {-1.0f, -2.0f};
-  EXPECT_EQ(rig.driver.read(again), ChipStatus::kNotReady);
-  EXPECT_EQ(again[0], -1.0f);
-  EXPECT_EQ(again[1], -2.0f);
+  check::expect_refused(rig.driver, ChipStatus::kNotReady);
 }
 
 TEST(Dps310, BeginWaitsABoundedTimeForTheCoefficientsAndCanBeRetried) {
@@ -188,14 +187,11 @@ TEST(Dps310, BeginWaitsABoundedTimeForTheCoefficientsAndCanBeRetried) {
   EXPECT_EQ(rig.driver.begin(), ChipStatus::kNotReady);
   EXPECT_EQ(rig.chip.meas_cfg_reads, Dps310::kReadyPolls);
   EXPECT_TRUE(rig.chip.writes.empty());
-  float out[2] = {3.0f, 4.0f};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kNotReady);
-  EXPECT_EQ(out[0], 3.0f);
+  check::expect_refused(rig.driver, ChipStatus::kNotReady);
   rig.chip.reads_until_ready = 3;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.result(-118802, 158118);
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
-  EXPECT_NEAR(out[1], 24.7384, 1e-4);
+  expect_qemus_reading(rig.driver);
 }
 
 TEST(Dps310, AMissingChipIsAbsentOnI2cAndSpi) {
@@ -218,36 +214,26 @@ TEST(Dps310, OnSpiTheSameReadings) {
   SpiRig rig;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.result(-118802, 158118);
-  float out[2] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
-  EXPECT_NEAR(out[0], 92946.311, 0.02);
-  EXPECT_NEAR(out[1], 24.7384, 1e-4);
+  expect_qemus_reading(rig.driver);
 }
 
 TEST(Dps310, AChipThatStopsAnsweringOrResetIsABusFault) {
+  // A new result waits in each chip: only the silence can refuse the read.
   I2cRig i2c(false);
-  ASSERT_EQ(i2c.driver.begin(), ChipStatus::kOk);
   i2c.chip.result(1, 1);
-  i2c.chip.present = false;
-  float out[2] = {5.0f, 6.0f};
-  EXPECT_EQ(i2c.driver.read(out), ChipStatus::kBusFault);
-
+  check::expect_fault_once_silent(i2c.driver, i2c.chip);
   SpiRig spi;
-  ASSERT_EQ(spi.driver.begin(), ChipStatus::kOk);
   spi.chip.result(1, 1);
-  spi.chip.present = false;  // MISO reads all ones
-  EXPECT_EQ(spi.driver.read(out), ChipStatus::kBusFault);
+  check::expect_fault_once_silent(spi.driver, spi.chip);  // MISO reads all ones
   spi.chip.miso_idle = 0x00;
-  EXPECT_EQ(spi.driver.read(out), ChipStatus::kBusFault);
+  check::expect_refused(spi.driver, ChipStatus::kBusFault);
 
   I2cRig reset(false);
   ASSERT_EQ(reset.driver.begin(), ChipStatus::kOk);
   reset.chip.result(1, 1);
   reset.chip.regs[0x06] = 0x00;  // a brown-out: back to its reset configuration
   reset.chip.regs[0x08] = 0xF0;
-  EXPECT_EQ(reset.driver.read(out), ChipStatus::kBusFault);
-  EXPECT_EQ(out[0], 5.0f);
-  EXPECT_EQ(out[1], 6.0f);
+  check::expect_refused(reset.driver, ChipStatus::kBusFault);
 }
 
 TEST(Dps310, ARateTheChipLacksOrNoBusIsRefused) {

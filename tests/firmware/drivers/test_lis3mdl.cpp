@@ -6,6 +6,7 @@
 #include <utility>
 #include <vector>
 
+#include "chip_checks.hpp"
 #include "fake_bus.hpp"
 
 namespace nlsoft::fw::drivers {
@@ -105,8 +106,7 @@ TEST(Lis3mdl, BurstReadsDecodeWithEachRangesSensitivityAndSign) {
     const int16_t x = static_cast<int16_t>(kLsbPerGauss[r]), y = -1234, z = 32767;
     rig.chip.sample(x, y, z);
     const int before = rig.chip.transactions;
-    float out[3] = {};
-    ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+    const check::Reading out = check::read_ok(rig.driver);
     EXPECT_EQ(rig.chip.transactions - before, 1) << "status and the six bytes in one transaction";
     EXPECT_NEAR(out[0], 100.0, 1e-4) << "1 gauss = 100 uT at range " << r;
     EXPECT_NEAR(out[1], -1234 * 100.0 / kLsbPerGauss[r], 1e-3);
@@ -118,8 +118,7 @@ TEST(Lis3mdl, NegativeFullScaleReadsAsTheRangesMinimum) {
   SpiRig rig;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.sample(-32768, -1, 0);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], -32768 * 100.0 / 1711.0, 1e-2);  // -1915.1 uT, just past -16 gauss
   EXPECT_NEAR(out[1], -100.0 / 1711.0, 1e-6);
   EXPECT_EQ(out[2], 0.0f);
@@ -128,14 +127,9 @@ TEST(Lis3mdl, NegativeFullScaleReadsAsTheRangesMinimum) {
 TEST(Lis3mdl, NoNewSampleIsNotReadyAndLeavesOutAlone) {
   SpiRig rig;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
-  rig.chip.sample(100, 200, 300);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
-  float again[3] = {7.0f, 8.0f, 9.0f};
-  EXPECT_EQ(rig.driver.read(again), ChipStatus::kNotReady);
-  EXPECT_EQ(again[0], 7.0f);
-  EXPECT_EQ(again[1], 8.0f);
-  EXPECT_EQ(again[2], 9.0f);
+  rig.chip.sample(1711, 200, 300);
+  EXPECT_NEAR(check::read_ok(rig.driver)[0], 100.0, 1e-4);
+  check::expect_refused(rig.driver, ChipStatus::kNotReady);
 }
 
 TEST(Lis3mdl, AMissingChipIsAbsentOnEitherMisoLevelAndOnI2c) {
@@ -144,9 +138,7 @@ TEST(Lis3mdl, AMissingChipIsAbsentOnEitherMisoLevelAndOnI2c) {
     rig.chip.present = false;
     rig.chip.miso_idle = idle;
     EXPECT_EQ(rig.driver.begin(), ChipStatus::kAbsent) << int{idle};
-    float out[3] = {1.0f, 2.0f, 3.0f};
-    EXPECT_EQ(rig.driver.read(out), ChipStatus::kAbsent);
-    EXPECT_EQ(out[0], 1.0f);
+    check::expect_refused(rig.driver, ChipStatus::kAbsent);
   }
   I2cRig rig;
   rig.chip.present = false;
@@ -162,19 +154,11 @@ TEST(Lis3mdl, AWrongIdentityIsReportedAndNothingIsWritten) {
 
 TEST(Lis3mdl, AChipThatStopsAnsweringIsABusFaultNotAReading) {
   SpiRig spi;
-  ASSERT_EQ(spi.driver.begin(), ChipStatus::kOk);
-  spi.chip.present = false;
-  float out[3] = {1.0f, 2.0f, 3.0f};
-  EXPECT_EQ(spi.driver.read(out), ChipStatus::kBusFault);
+  check::expect_fault_once_silent(spi.driver, spi.chip);
   spi.chip.miso_idle = 0x00;
-  EXPECT_EQ(spi.driver.read(out), ChipStatus::kBusFault);
-  EXPECT_EQ(out[0], 1.0f);
-
+  check::expect_refused(spi.driver, ChipStatus::kBusFault);
   I2cRig i2c;
-  ASSERT_EQ(i2c.driver.begin(), ChipStatus::kOk);
-  i2c.chip.present = false;
-  EXPECT_EQ(i2c.driver.read(out), ChipStatus::kBusFault);
-  EXPECT_EQ(out[2], 3.0f);
+  check::expect_fault_once_silent(i2c.driver, i2c.chip);
 }
 
 TEST(Lis3mdl, ALiveChipAnsweringAllOnesIsStillRead) {
@@ -184,8 +168,7 @@ TEST(Lis3mdl, ALiveChipAnsweringAllOnesIsStillRead) {
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.sample(-1, -1, -1);
   rig.chip.regs[0x27] = 0xFF;
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], -100.0 / 1711.0, 1e-6);
 }
 
@@ -193,8 +176,7 @@ TEST(Lis3mdl, ASpiControllerFaultIsABusFault) {
   SpiRig rig;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.bus.status = BusStatus::kTimeout;
-  float out[3] = {};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kBusFault);
+  check::expect_refused(rig.driver, ChipStatus::kBusFault);
 }
 
 TEST(Lis3mdl, AFailedBeginCanBeRetried) {
@@ -204,8 +186,7 @@ TEST(Lis3mdl, AFailedBeginCanBeRetried) {
   rig.chip.present = true;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.sample(1711, 0, 0);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], 100.0, 1e-4);
 }
 
@@ -216,8 +197,7 @@ TEST(Lis3mdl, OnI2cTheBurstsSetTheAutoIncrementBit) {
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   EXPECT_EQ(rig.chip.regs[0x24], 0x40);
   rig.chip.sample(6842, -6842, 3421);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], 100.0, 1e-4);
   EXPECT_NEAR(out[1], -100.0, 1e-4);
   EXPECT_NEAR(out[2], 50.0, 1e-4);

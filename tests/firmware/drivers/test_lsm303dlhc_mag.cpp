@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "chip_checks.hpp"
 #include "fake_bus.hpp"
 
 namespace nlsoft::fw::drivers {
@@ -97,8 +98,7 @@ TEST(Lsm303dlhcMag, OutputsAreBigEndianXZYWithSeparateXyAndZSensitivity) {
     // One gauss on x, minus half a gauss on y, two on z (where the 12-bit range allows).
     rig.chip.raw(static_cast<int16_t>(kXyGain[g]), static_cast<int16_t>(-kXyGain[g] / 2),
                  static_cast<int16_t>(kZGain[g] <= 1023 ? 2 * kZGain[g] : kZGain[g]));
-    float out[3] = {};
-    ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+    const check::Reading out = check::read_ok(rig.driver);
     EXPECT_NEAR(out[0], 100.0, 1e-4) << "gain " << g;
     EXPECT_NEAR(out[1], (-kXyGain[g] / 2) * 100.0 / kXyGain[g], 1e-4);
     EXPECT_NEAR(out[2], kZGain[g] <= 1023 ? 200.0 : 100.0, 1e-4);
@@ -109,8 +109,7 @@ TEST(Lsm303dlhcMag, TheTwelveBitFullScaleAndItsSign) {
   Rig rig(6);  // ±8.1 gauss
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.raw(-2048, 2047, -1);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], -2048 * 100.0 / 230.0, 1e-3);
   EXPECT_NEAR(out[1], 2047 * 100.0 / 230.0, 1e-3);
   EXPECT_NEAR(out[2], -100.0 / 205.0, 1e-5);
@@ -122,8 +121,7 @@ TEST(Lsm303dlhcMag, QemuPropertiesReadBackInMicrotesla) {
   Rig rig;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.field_milli_ut(100000, 150000, 50000);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], 100.0, 1e-4);
   EXPECT_NEAR(out[1], 150.0, 1e-4);
   EXPECT_NEAR(out[2], 50.0, 1e-4);
@@ -134,20 +132,14 @@ TEST(Lsm303dlhcMag, NoNewSampleIsNotReadyAndLeavesOutAlone) {
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.raw(1, 2, 3);
   rig.chip.regs[0x09] = 0x00;
-  float out[3] = {4.0f, 5.0f, 6.0f};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kNotReady);
-  EXPECT_EQ(out[0], 4.0f);
-  EXPECT_EQ(out[1], 5.0f);
-  EXPECT_EQ(out[2], 6.0f);
+  check::expect_refused(rig.driver, ChipStatus::kNotReady);
 }
 
 TEST(Lsm303dlhcMag, AMissingChipIsAbsent) {
   Rig rig;
   rig.chip.present = false;
   EXPECT_EQ(rig.driver.begin(), ChipStatus::kAbsent);
-  float out[3] = {1.0f, 1.0f, 1.0f};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kAbsent);
-  EXPECT_EQ(out[0], 1.0f);
+  check::expect_refused(rig.driver, ChipStatus::kAbsent);
 }
 
 TEST(Lsm303dlhcMag, EachIdentityRegisterIsChecked) {
@@ -161,11 +153,7 @@ TEST(Lsm303dlhcMag, EachIdentityRegisterIsChecked) {
 
 TEST(Lsm303dlhcMag, AChipThatStopsAnsweringIsABusFault) {
   Rig rig;
-  ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
-  rig.chip.present = false;
-  float out[3] = {1.0f, 1.0f, 1.0f};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kBusFault);
-  EXPECT_EQ(out[1], 1.0f);
+  check::expect_fault_once_silent(rig.driver, rig.chip);
 }
 
 TEST(Lsm303dlhcMag, AFailedBeginCanBeRetried) {
@@ -175,8 +163,7 @@ TEST(Lsm303dlhcMag, AFailedBeginCanBeRetried) {
   rig.chip.regs[0x0A] = 'H';
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.raw(1100, 0, 0);
-  float out[3] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], 100.0, 1e-4);
 }
 

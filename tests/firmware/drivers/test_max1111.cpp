@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "chip_checks.hpp"
 #include "fake_bus.hpp"
 
 namespace nlsoft::fw::drivers {
@@ -55,8 +56,7 @@ TEST(Max1111, OneTransferConvertsTheFourInputsInOrder) {
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.controls.clear();
   const int before = rig.bus.transactions;
-  float out[4] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  check::read_ok(rig.driver);
   EXPECT_EQ(rig.bus.transactions - before, 1);
   // START, SEL2 SEL1 for channels 0..3, unipolar, single-ended, powered, external clock.
   EXPECT_EQ(rig.chip.controls, (std::vector<uint8_t>{0x8F, 0xCF, 0xAF, 0xEF}));
@@ -69,14 +69,13 @@ TEST(Max1111, CodesAreVoltsOfTheReference) {
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   const uint8_t codes[4] = {0, 1, 128, 255};
   for (int i = 0; i < 4; ++i) rig.chip.codes[i] = codes[i];
-  float out[4] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  check::Reading out = check::read_ok(rig.driver);
   for (int i = 0; i < 4; ++i) EXPECT_NEAR(out[i], codes[i] * 2.048 / 256.0, 1e-6) << i;  // 8 mV per code
 
   // QEMU's model powers up with inputs 0xF0, 0xE0, 0xD0, 0xC0 against COM = 0.
   const uint8_t qemu[4] = {0xF0, 0xE0, 0xD0, 0xC0};
   for (int i = 0; i < 4; ++i) rig.chip.codes[i] = qemu[i];
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[0], 1.920, 1e-6);
   EXPECT_NEAR(out[3], 1.536, 1e-6);
 }
@@ -85,8 +84,7 @@ TEST(Max1111, AnExternalReferenceSetsTheFullScale) {
   Rig rig(3.3f);
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.codes[2] = 255;
-  float out[4] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[2], 3.3 * 255.0 / 256.0, 1e-5);
 }
 
@@ -94,9 +92,7 @@ TEST(Max1111, AllOnesOnMisoIsAnAbsentChip) {
   Rig rig;
   rig.chip.present = false;
   EXPECT_EQ(rig.driver.begin(), ChipStatus::kAbsent);
-  float out[4] = {1.0f, 1.0f, 1.0f, 1.0f};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kAbsent);
-  EXPECT_EQ(out[0], 1.0f);
+  check::expect_refused(rig.driver, ChipStatus::kAbsent);
 }
 
 // Another chip on the select line: its answer sets the framing bits.
@@ -118,11 +114,7 @@ TEST(Max1111, AFrameWithItsFramingBitsSetIsNoMax1111) {
 
 TEST(Max1111, AChipThatStopsAnsweringIsABusFault) {
   Rig rig;
-  ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
-  rig.chip.present = false;
-  float out[4] = {1.0f, 2.0f, 3.0f, 4.0f};
-  EXPECT_EQ(rig.driver.read(out), ChipStatus::kBusFault);
-  EXPECT_EQ(out[3], 4.0f);
+  check::expect_fault_once_silent(rig.driver, rig.chip);
 }
 
 TEST(Max1111, AControllerFaultIsABusFaultAndBeginCanBeRetried) {
@@ -132,8 +124,7 @@ TEST(Max1111, AControllerFaultIsABusFaultAndBeginCanBeRetried) {
   rig.bus.status = BusStatus::kOk;
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   rig.chip.codes[1] = 100;
-  float out[4] = {};
-  ASSERT_EQ(rig.driver.read(out), ChipStatus::kOk);
+  const check::Reading out = check::read_ok(rig.driver);
   EXPECT_NEAR(out[1], 100 * 2.048 / 256.0, 1e-6);
 }
 
