@@ -3,7 +3,7 @@
 // x, y, z in µT. begin() checks IRA/IRB/IRC ('H', '4', '3'), writes
 // CRA_REG_M (rate), CRB_REG_M (gain) and MR_REG_M (continuous) one register
 // per transaction and reads them back; read() takes SR_REG_M's DRDY, then
-// the six output bytes, big-endian in x, z, y order from 0x03.
+// MR_REG_M and the six output bytes, big-endian in x, z, y order from 0x03.
 //
 // QEMU's model (hw/sensor/lsm303dlhc_mag.c, 7.2) agrees with the datasheet
 // on identity, gains, output order and read auto-increment; it differs in
@@ -33,7 +33,7 @@ class Lsm303dlhcMag final : public Chip {
   static constexpr uint8_t kCraRegM = 0x00;
   static constexpr uint8_t kCrbRegM = 0x01;
   static constexpr uint8_t kMrRegM = 0x02;
-  static constexpr uint8_t kOutXHM = 0x03;
+  static constexpr uint8_t kContinuous = 0x00;  // MR_REG_M: MD = continuous conversion
   static constexpr uint8_t kSrRegM = 0x09;
   static constexpr uint8_t kIraRegM = 0x0A;
   static constexpr uint8_t kDrdy = 0x01;  // SR_REG_M: a new sample

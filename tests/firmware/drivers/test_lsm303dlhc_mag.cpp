@@ -156,6 +156,14 @@ TEST(Lsm303dlhcMag, AChipThatStopsAnsweringIsABusFault) {
   check::expect_fault_once_silent(rig.driver, rig.chip);
 }
 
+TEST(Lsm303dlhcMag, AChipThatResetItselfIsABusFaultNotItsLastSample) {
+  Rig rig;
+  ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
+  rig.chip.raw(1100, 0, 0);
+  rig.chip.regs[0x02] = 0x03;  // MR_REG_M's reset value: sleep
+  check::expect_refused(rig.driver, ChipStatus::kBusFault);
+}
+
 TEST(Lsm303dlhcMag, AFailedBeginCanBeRetried) {
   Rig rig;
   rig.chip.regs[0x0A] = 0;
