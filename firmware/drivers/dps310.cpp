@@ -49,6 +49,17 @@ ChipStatus Dps310::begin() {
   if ((meas & (kCoefRdy | kSensorRdy)) != (kCoefRdy | kSensorRdy)) return state_;
 
   state_ = ChipStatus::kBusFault;
+  // Some DPS310s left the factory with their temperature path mistrimmed
+  // (readings tens of degrees off); register 0x32 bit 1 says a chip is
+  // fine, else a fixed write sequence retrims it (Infineon's reference
+  // driver and Linux's apply the same; QEMU's model reads 0x32 = 0x02).
+  uint8_t trim = 0;
+  if (bus_.read(kTrimState, &trim, 1) != BusStatus::kOk) return state_;
+  if ((trim & kTrimOk) == 0) {
+    static constexpr uint8_t kRetrim[][2] = {{0x0E, 0xA5}, {0x0F, 0x96}, {0x62, 0x02}, {0x0E, 0x00}, {0x0F, 0x00}};
+    for (const auto& w : kRetrim)
+      if (bus_.write(w[0], w[1]) != BusStatus::kOk) return state_;
+  }
   uint8_t raw[18] = {};
   uint8_t srce = 0;
   if (bus_.read(kCoef, raw, 18) != BusStatus::kOk || bus_.read(kCoefSrce, &srce, 1) != BusStatus::kOk) return state_;

@@ -5,7 +5,8 @@
 //
 // begin(): PRODUCT_ID; COEF_RDY and SENSOR_RDY (a chip just powered needs
 // 40 ms: begin() polls a bounded number of times, then answers kNotReady to
-// be retried); the nine coefficients; PRS_CFG/TMP_CFG (rate, oversampling,
+// be retried); the temperature retrim a mistrimmed chip needs; the nine
+// coefficients; PRS_CFG/TMP_CFG (rate, oversampling,
 // the temperature sensor the coefficients were made with), CFG_REG's shift
 // bits above 8 times oversampling; background pressure and temperature.
 // read(): the configuration still as written (a chip that reset or stopped
@@ -50,6 +51,7 @@ class Dps310 final : public Chip {
   static constexpr uint8_t kProductId = 0x0D;
   static constexpr uint8_t kCoef = 0x10;
   static constexpr uint8_t kCoefSrce = 0x28;
+  static constexpr uint8_t kTrimState = 0x32, kTrimOk = 0x02;  // undocumented: the temperature trim is right
   static constexpr uint8_t kCoefRdy = 0x80, kSensorRdy = 0x40, kPrsRdy = 0x10;
   static constexpr uint8_t kBackgroundBoth = 0x07;  // MEAS_CTRL: continuous pressure and temperature
   static constexpr uint8_t kMeasCtrlMask = 0x07;

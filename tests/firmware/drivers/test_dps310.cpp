@@ -113,9 +113,10 @@ TEST(Dps310, QemusFixedReadingsThroughItsCoefficients) {
 TEST(Dps310, ConfigurationOrderAndBytesOnQemusModel) {
   I2cRig rig(true);
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
-  // CFG_REG no shift; PRS_CFG 8 Hz, 1x; TMP_CFG the external sensor COEF_SRCE
-  // names, 8 Hz, 1x; then MEAS_CFG background pressure and temperature,
-  // written over what it read so the model keeps its ready flags.
+  // No retrim (0x32 bit 1 set); CFG_REG no shift; PRS_CFG 8 Hz, 1x; TMP_CFG
+  // the external sensor COEF_SRCE names, 8 Hz, 1x; then MEAS_CFG background
+  // pressure and temperature, written over what it read so the model keeps
+  // its ready flags.
   EXPECT_EQ(rig.chip.writes, (Writes{{0x09, 0x00}, {0x06, 0x30}, {0x07, 0xB0}, {0x08, 0xF7}}));
   expect_qemus_reading(rig.driver);
   expect_qemus_reading(rig.driver);  // the model never clears its flags
@@ -168,6 +169,15 @@ TEST(Dps310, TheTemperatureSensorFollowsTheCoefficientsSource) {
   rig.chip.regs[0x28] = 0x00;  // coefficients made with the ASIC's sensor
   ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
   EXPECT_EQ(rig.chip.regs[0x07], 0x30);
+}
+
+TEST(Dps310, AChipWhoseTemperatureTrimIsWrongIsRetrimmedFirst) {
+  I2cRig rig(false);
+  rig.chip.regs[0x32] = 0x00;
+  ASSERT_EQ(rig.driver.begin(), ChipStatus::kOk);
+  const Writes retrim{{0x0E, 0xA5}, {0x0F, 0x96}, {0x62, 0x02}, {0x0E, 0x00}, {0x0F, 0x00}};
+  ASSERT_GE(rig.chip.writes.size(), retrim.size());
+  EXPECT_EQ(Writes(rig.chip.writes.begin(), rig.chip.writes.begin() + 5), retrim);
 }
 
 TEST(Dps310, NoNewPressureIsNotReadyAndLeavesOutAlone) {
