@@ -1,0 +1,76 @@
+#pragma once
+// The bus probe images' answer: text lines over the board's link, written
+// only when the host asks (a byte 'r'), since what an image sends before the
+// host opens the pty is lost. A line is a name, the BusStatus as a number
+// (0 ok, 1 nack, 2 timeout, 3 bus error) and values: bytes in hex, counts
+// and raw readings in decimal. The last line is "end".
+#include <cstddef>
+#include <cstdint>
+
+#include "firmware/drivers/bus.hpp"
+#include "firmware/ports/cortex-m/board.hpp"
+
+namespace nlsoft::test::probe {
+
+class Report {
+ public:
+  // Values after the first are separated by a space (lines stay shorter than the buffer).
+  Report& word(const char* s) {
+    if (at_ > 0) put(' ');
+    while (*s) put(*s++);
+    return *this;
+  }
+  Report& status(fw::drivers::BusStatus s) { return number(int32_t(s)); }
+  Report& number(int32_t v) {
+    char digits[12];
+    int n = 0;
+    uint32_t u = v < 0 ? uint32_t(-(v + 1)) + 1u : uint32_t(v);
+    do digits[n++] = char('0' + u % 10u);
+    while ((u /= 10u) != 0);
+    if (at_ > 0) put(' ');
+    if (v < 0) put('-');
+    while (n > 0) put(digits[--n]);
+    return *this;
+  }
+  Report& hex(uint8_t b) {
+    static const char kDigits[] = "0123456789abcdef";
+    if (at_ > 0) put(' ');
+    put(kDigits[b >> 4]);
+    put(kDigits[b & 15u]);
+    return *this;
+  }
+  Report& bytes(const uint8_t* b, size_t n) {
+    for (size_t i = 0; i < n; ++i) hex(b[i]);
+    return *this;
+  }
+  void end_line() {
+    put('\n');
+    flush();
+  }
+
+ private:
+  void put(char c) {
+    if (at_ == sizeof line_) flush();
+    line_[at_++] = uint8_t(c);
+  }
+  void flush() {
+    size_t sent = 0;
+    // The transmitter drains at the link's rate; bounded all the same.
+    for (uint32_t tries = 0; sent < at_ && tries < 1000000u; ++tries)
+      sent += fw::board::serial_write(line_ + sent, at_ - sent);
+    at_ = 0;
+  }
+  uint8_t line_[96];
+  size_t at_ = 0;
+};
+
+// Waits for the host's request byte; anything else is dropped.
+inline void wait_for_request() {
+  uint8_t b = 0;
+  for (;;) {
+    fw::board::watchdog_kick();
+    if (fw::board::serial_read(&b, 1) == 1 && b == 'r') return;
+  }
+}
+
+}  // namespace nlsoft::test::probe
