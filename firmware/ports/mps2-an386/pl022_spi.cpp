@@ -29,8 +29,8 @@ uint32_t serial_clock_rate(uint32_t clock_hz, uint32_t max_hz) {
 Pl022Spi::Pl022Spi(uint32_t base, uint32_t clock_hz, uint32_t core_hz)
     : base_(base), clock_hz_(clock_hz), spins_(cortex_m::spins_for_us(core_hz, kByteWaitUs)) {}
 
-uint32_t Pl022Spi::bit_rate_hz(const drivers::SpiTarget& target) const {
-  return clock_hz_ / (kPrescale * (1u + serial_clock_rate(clock_hz_, target.max_clock_hz)));
+uint32_t Pl022Spi::bit_rate_hz(uint32_t max_clock_hz) const {
+  return clock_hz_ / (kPrescale * (1u + serial_clock_rate(clock_hz_, max_clock_hz)));
 }
 
 BusStatus Pl022Spi::transfer(const drivers::SpiTarget& target, const uint8_t* tx, uint8_t* rx, size_t n) {

@@ -18,8 +18,8 @@ class Pl022Spi final : public drivers::SpiBus {
   Pl022Spi(uint32_t base, uint32_t clock_hz, uint32_t core_hz);
   drivers::BusStatus transfer(const drivers::SpiTarget& target, const uint8_t* tx, uint8_t* rx, size_t n) override;
 
-  // The bit rate a target gets: the fastest at or below its max_clock_hz.
-  uint32_t bit_rate_hz(const drivers::SpiTarget& target) const;
+  // The bit rate a chip gets: the fastest at or below its max_clock_hz.
+  uint32_t bit_rate_hz(uint32_t max_clock_hz) const;
 
  private:
   uint32_t base_, clock_hz_, spins_;

@@ -21,6 +21,7 @@ class Spi final : public drivers::SpiBus {
   void start();
   drivers::BusStatus transfer(const drivers::SpiTarget& target, const uint8_t* tx, uint8_t* rx, size_t n) override;
 
+  // The bit rate a chip gets: the fastest at or below its max_clock_hz.
   uint32_t bit_rate_hz(uint32_t max_clock_hz) const;
 
  private:

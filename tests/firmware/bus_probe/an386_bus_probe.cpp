@@ -5,8 +5,6 @@
 // nobody answers, the other shield bus, a conversion
 // of the ADC on the ADC SPI controller, and how long a 7-byte read takes on
 // each bus, in core clocks.
-#include <initializer_list>
-
 #include "firmware/ports/cortex-m/board.hpp"
 #include "firmware/ports/cortex-m/systick.hpp"
 #include "firmware/ports/mps2-an386/buses.hpp"
@@ -61,20 +59,10 @@ void probe(test::probe::Report& out) {
 
   fw::an386::Pl022Spi adc_bus(kSpiBuses[2].base, fw::an386::kBusClockHz, core);
   const SpiTarget adc{0, 0, 1000000u};
-  for (uint8_t select : {uint8_t(0x00), uint8_t(0x40)}) {
-    // START, single-ended, unipolar, powered up; SEL bits from `select`.
-    const uint8_t tx[3] = {uint8_t(0x8F | select), 0, 0};
-    uint8_t rx[3] = {};
-    out.word(select ? "adc_40" : "adc_00").status(adc_bus.transfer(adc, tx, rx, 3)).bytes(rx, 3).end_line();
-  }
-  const uint8_t seven[7] = {0x8F, 0, 0, 0, 0, 0, 0};
-  uint8_t back[7] = {};
-  const uint32_t t1 = fw::board::ticks();
-  const BusStatus spi = adc_bus.transfer(adc, seven, back, 7);
-  const uint32_t spi_ticks = fw::board::ticks() - t1;
-  out.word("spi_xfer7").status(spi).number(int32_t(adc_bus.bit_rate_hz(adc))).end_line();
-  out.word("spi_xfer7_ticks").number(int32_t(spi_ticks)).end_line();
-  out.word("spi_other_cs").status(adc_bus.transfer(SpiTarget{1, 0, 1000000u}, seven, back, 1)).end_line();
+  test::probe::probe_adc(adc_bus, adc, adc_bus.bit_rate_hz(adc.max_clock_hz), out);
+  const uint8_t one = 0;
+  uint8_t back = 0;
+  out.word("spi_other_cs").status(adc_bus.transfer(SpiTarget{1, 0, 1000000u}, &one, &back, 1)).end_line();
   out.word("core_hz").number(int32_t(core)).end_line();
   out.word("end").end_line();
 }

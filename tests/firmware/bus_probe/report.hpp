@@ -6,6 +6,7 @@
 // and raw readings in decimal. The last line is "end".
 #include <cstddef>
 #include <cstdint>
+#include <initializer_list>
 
 #include "firmware/drivers/bus.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
@@ -71,6 +72,25 @@ inline void wait_for_request() {
     fw::board::watchdog_kick();
     if (fw::board::serial_read(&b, 1) == 1 && b == 'r') return;
   }
+}
+
+// QEMU's max1111 on `bus`: a conversion of input 0 and of input 1 (START,
+// single-ended, unipolar, powered up; lines adc_00 and adc_40, by the SEL
+// bits), then a 7-byte transfer timed in core clocks (spi_xfer7 with the
+// bit rate the master chose, spi_xfer7_ticks).
+inline void probe_adc(fw::drivers::SpiBus& bus, const fw::drivers::SpiTarget& adc, uint32_t bit_rate_hz, Report& out) {
+  for (uint8_t select : {uint8_t(0x00), uint8_t(0x40)}) {
+    const uint8_t tx[3] = {uint8_t(0x8F | select), 0, 0};
+    uint8_t rx[3] = {};
+    out.word(select ? "adc_40" : "adc_00").status(bus.transfer(adc, tx, rx, 3)).bytes(rx, 3).end_line();
+  }
+  const uint8_t seven[7] = {0x8F, 0, 0, 0, 0, 0, 0};
+  uint8_t back[7] = {};
+  const uint32_t t0 = fw::board::ticks();
+  const fw::drivers::BusStatus s = bus.transfer(adc, seven, back, 7);
+  const uint32_t ticks = fw::board::ticks() - t0;
+  out.word("spi_xfer7").status(s).number(int32_t(bit_rate_hz)).end_line();
+  out.word("spi_xfer7_ticks").number(int32_t(ticks)).end_line();
 }
 
 }  // namespace nlsoft::test::probe

@@ -31,18 +31,9 @@ void probe(test::probe::Report& out) {
   f4::Spi adc_bus(kQemuSpi, clocks);
   adc_bus.start();
   const SpiTarget adc{2, 0, 1000000u};
-  for (uint8_t select : {uint8_t(0x00), uint8_t(0x40)}) {
-    const uint8_t tx[3] = {uint8_t(0x8F | select), 0, 0};
-    uint8_t rx[3] = {};
-    out.word(select ? "adc_40" : "adc_00").status(adc_bus.transfer(adc, tx, rx, 3)).bytes(rx, 3).end_line();
-  }
+  test::probe::probe_adc(adc_bus, adc, adc_bus.bit_rate_hz(adc.max_clock_hz), out);
   const uint8_t seven[7] = {0x8F, 0, 0, 0, 0, 0, 0};
   uint8_t back[7] = {};
-  const uint32_t t0 = fw::board::ticks();
-  const BusStatus s = adc_bus.transfer(adc, seven, back, 7);
-  const uint32_t spi_ticks = fw::board::ticks() - t0;
-  out.word("spi_xfer7").status(s).number(int32_t(adc_bus.bit_rate_hz(adc.max_clock_hz))).end_line();
-  out.word("spi_xfer7_ticks").number(int32_t(spi_ticks)).end_line();
   for (const f4::SpiBusPins& bus : f4::kSpi) {
     f4::Spi empty(bus, clocks);
     empty.start();
