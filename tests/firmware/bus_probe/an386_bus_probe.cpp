@@ -6,7 +6,6 @@
 // of the ADC on the ADC SPI controller, and how long a 7-byte read takes on
 // each bus, in core clocks.
 #include "firmware/ports/cortex-m/board.hpp"
-#include "firmware/ports/cortex-m/systick.hpp"
 #include "firmware/ports/mps2-an386/buses.hpp"
 #include "firmware/ports/mps2-an386/pl022_spi.hpp"
 #include "firmware/ports/mps2-an386/sbcon_i2c.hpp"
@@ -63,18 +62,8 @@ void probe(test::probe::Report& out) {
   const uint8_t one = 0;
   uint8_t back = 0;
   out.word("spi_other_cs").status(adc_bus.transfer(SpiTarget{1, 0, 1000000u}, &one, &back, 1)).end_line();
-  out.word("core_hz").number(int32_t(core)).end_line();
-  out.word("end").end_line();
 }
 
 }  // namespace
 
-int main() {
-  fw::board::start(115200);
-  fw::cortex_m::systick_start(fw::board::core_clock_hz() / 1000u);
-  test::probe::Report out;
-  for (;;) {
-    test::probe::wait_for_request();
-    probe(out);
-  }
-}
+int main() { nlsoft::test::probe::serve(probe); }

@@ -10,6 +10,7 @@
 
 #include "firmware/drivers/bus.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
+#include "firmware/ports/cortex-m/systick.hpp"
 
 namespace nlsoft::test::probe {
 
@@ -91,6 +92,20 @@ inline void probe_adc(fw::drivers::SpiBus& bus, const fw::drivers::SpiTarget& ad
   const uint32_t ticks = fw::board::ticks() - t0;
   out.word("spi_xfer7").status(s).number(int32_t(bit_rate_hz)).end_line();
   out.word("spi_xfer7_ticks").number(int32_t(ticks)).end_line();
+}
+
+// A probe image's main: the board and SysTick (the tick the masters time
+// with), then a report per request, closed by the core clock and "end".
+[[noreturn]] inline void serve(void (*probe)(Report&)) {
+  fw::board::start(115200);
+  fw::cortex_m::systick_start(fw::board::core_clock_hz() / 1000u);
+  Report out;
+  for (;;) {
+    wait_for_request();
+    probe(out);
+    out.word("core_hz").number(int32_t(fw::board::core_clock_hz())).end_line();
+    out.word("end").end_line();
+  }
 }
 
 }  // namespace nlsoft::test::probe

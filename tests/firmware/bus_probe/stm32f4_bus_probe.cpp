@@ -9,7 +9,6 @@
 #include <initializer_list>
 
 #include "firmware/ports/cortex-m/board.hpp"
-#include "firmware/ports/cortex-m/systick.hpp"
 #include "firmware/ports/stm32f4/clock_tree.hpp"
 #include "firmware/ports/stm32f4/i2c1.hpp"
 #include "firmware/ports/stm32f4/spi.hpp"
@@ -52,18 +51,8 @@ void probe(test::probe::Report& out) {
   const BusStatus st = i2c.write_read(0x1E, &reg, 1, &id, 1);
   out.word("i2c1").status(st).number(int32_t(i2c.bus_hz())).end_line();
   out.word("i2c1_gave_up_ticks").number(int32_t(fw::board::ticks() - t1)).end_line();
-  out.word("core_hz").number(int32_t(clocks.core_hz)).end_line();
-  out.word("end").end_line();
 }
 
 }  // namespace
 
-int main() {
-  fw::board::start(115200);
-  fw::cortex_m::systick_start(fw::board::core_clock_hz() / 1000u);
-  test::probe::Report out;
-  for (;;) {
-    test::probe::wait_for_request();
-    probe(out);
-  }
-}
+int main() { nlsoft::test::probe::serve(probe); }
