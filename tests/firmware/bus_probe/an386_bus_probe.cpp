@@ -22,6 +22,32 @@ using fw::drivers::SpiTarget;
 constexpr uint8_t kMag = 0x1E, kDps310 = 0x77, kNobody = 0x50;
 constexpr uint32_t kI2cHz = 100000u;
 
+// Leaves the magnetometer driving SDA low, as a chip does when its master
+// resets mid-read: by hand on the SBCON (bit 0 SCL, bit 1 SDA; offset 0
+// releases, 4 pulls low), START, its address to read, ACK, then SCL high
+// on bit 7 of CRA (0x10, a 0 bit; `pointer_at_cra` put the pointer there).
+// Returns the lines as they are left.
+uint32_t strand_the_magnetometer(uint32_t base) {
+  volatile uint32_t* set = reinterpret_cast<volatile uint32_t*>(base);
+  volatile uint32_t* clear = reinterpret_cast<volatile uint32_t*>(base + 4u);
+  constexpr uint32_t kScl = 1u, kSda = 2u;
+  *set = kScl | kSda;
+  *clear = kSda;  // START
+  *clear = kScl;
+  const uint8_t address = uint8_t(kMag << 1 | 1u);
+  for (int bit = 7; bit >= -1; --bit) {  // -1: the acknowledge slot, SDA released
+    if (bit < 0 || (address >> bit) & 1u)
+      *set = kSda;
+    else
+      *clear = kSda;
+    *set = kScl;
+    *clear = kScl;
+  }
+  *set = kSda;
+  *set = kScl;  // bit 7 of the first byte: the chip holds SDA low
+  return *set;
+}
+
 void probe(test::probe::Report& out) {
   const uint32_t core = fw::board::core_clock_hz();
   fw::an386::SbconI2c shield1(kI2cBuses[1].base, core, kI2cHz);
@@ -55,6 +81,14 @@ void probe(test::probe::Report& out) {
   uint8_t junk = 0;
   out.word("nobody_read").status(shield1.write_read(kNobody, &ira, 1, &junk, 1)).end_line();
   out.word("shield0_mag").status(shield0.write_read(kMag, &ira, 1, id, 1)).end_line();
+
+  // A bus left stuck: the next transaction clocks the chip free first.
+  const uint8_t pointer_at_cra = 0x00;
+  if (shield1.write_read(kMag, &pointer_at_cra, 1, nullptr, 0) == BusStatus::kOk) {
+    out.word("stranded_lines").number(int32_t(strand_the_magnetometer(kI2cBuses[1].base) & 3u)).end_line();
+    id[0] = id[1] = id[2] = 0;
+    out.word("recovered_mag_id").status(shield1.write_read(kMag, &ira, 1, id, 3)).bytes(id, 3).end_line();
+  }
 
   fw::an386::Pl022Spi adc_bus(kSpiBuses[2].base, fw::an386::kBusClockHz, core);
   const SpiTarget adc{0, 0, 1000000u};
