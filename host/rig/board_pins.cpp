@@ -11,15 +11,36 @@ std::string pin_name(const fw::stm32f4::Pin& p) {
 }
 
 BoardPins stm32f4() {
+  namespace f4 = fw::stm32f4;
   BoardPins b;
   b.board = "stm32f4";
-  for (const auto& o : fw::stm32f4::kPwm) b.pwm.push_back(pin_name(o.pin));
-  for (const auto& a : fw::stm32f4::kAnalogue) b.adc.push_back(a.adc_channel);
+  b.rig_board = true;
+  for (const auto& o : f4::kPwm) b.pwm.push_back(pin_name(o.pin));
+  for (const auto& a : f4::kAnalogue) {
+    b.adc.push_back(a.adc_channel);
+    b.adc_pins.push_back(pin_name(a.pin));
+  }
+  for (const auto& i : f4::kI2c) b.buses.push_back({i.name, BusKind::I2c, {pin_name(i.scl), pin_name(i.sda)}});
+  for (const auto& s : f4::kSpi)
+    b.buses.push_back({s.name, BusKind::Spi, {pin_name(s.sck), pin_name(s.miso), pin_name(s.mosi)}});
+  for (const auto& p : f4::kChipSelect) b.chip_selects.push_back(pin_name(p));
+  return b;
+}
+
+// The buses firmware/ports/mps2-an386/buses.hpp drives (a port header the
+// host build cannot include; tests/firmware/test_board_buses.cpp holds the
+// two lists equal). The FPGA gives each bus lines of its own, and each
+// PL022 one chip on its own frame select.
+BoardPins mps2_an386() {
+  BoardPins b;
+  b.board = "mps2-an386";
+  for (const char* name : {"i2c-shield0", "i2c-shield1"}) b.buses.push_back({name, BusKind::I2c, {}});
+  for (const char* name : {"spi-shield0", "spi-shield1", "spi-adc"}) b.buses.push_back({name, BusKind::Spi, {}, true});
   return b;
 }
 
 const std::vector<BoardPins>& boards() {
-  static const std::vector<BoardPins> all = {stm32f4()};
+  static const std::vector<BoardPins> all = {stm32f4(), mps2_an386()};
   return all;
 }
 
@@ -33,7 +54,8 @@ const BoardPins* find_board(const std::string& name) {
 
 std::vector<std::string> board_names() {
   std::vector<std::string> names;
-  for (const BoardPins& b : boards()) names.push_back(b.board);
+  for (const BoardPins& b : boards())
+    if (b.rig_board) names.push_back(b.board);
   return names;
 }
 

@@ -1,20 +1,37 @@
 #pragma once
-// The pins a rig file may name, per board: what the firmware's own pin tables
-// wire (shared/board_stm32f4.hpp), read from those tables so the
-// file and the image cannot disagree about which pins exist.
+// The pins and buses a rig file may name, per board: what the firmware's own
+// tables wire (shared/board_stm32f4.hpp; the mps2-an386 port's buses.hpp),
+// read from those tables where the host can see them, so the file and the
+// image cannot disagree about which pins and buses exist.
 #include <string>
 #include <vector>
 
 namespace nlsoft::console {
 
+enum class BusKind { I2c, Spi };
+
+struct BoardBus {
+  std::string name;               // as a rig file names it: "i2c1", "spi2", "i2c-shield1"
+  BusKind kind;
+  std::vector<std::string> pins;  // the pins it takes (SCL SDA; SCK MISO MOSI); none where its lines are its own
+  bool own_chip_select = false;   // SPI: one chip, on the controller's own select line (no GPIO chip selects)
+};
+
 struct BoardPins {
   std::string board;
-  std::vector<std::string> pwm;  // PWM outputs by pin name ("PC6"), in the table's order
-  std::vector<int> adc;          // ADC1 channels brought out, in the table's order
+  // A rig file's `board` may name it: a board with pins to wire a rig to.
+  // mps2-an386 is a board images are built for (QEMU), not one a rig is wired to.
+  bool rig_board = false;
+  std::vector<std::string> pwm;       // PWM outputs by pin name ("PC6"), in the table's order
+  std::vector<int> adc;               // ADC1 channels brought out, in the table's order
+  std::vector<std::string> adc_pins;  // the pin of each of those channels ("PA6"), same order
+  std::vector<BoardBus> buses;
+  std::vector<std::string> chip_selects;  // GPIO chip selects of SPI chips, in the order SpiTarget::cs counts them
 };
 
 // nullptr for a board without a pin table.
 const BoardPins* find_board(const std::string& name);
+// The boards a rig file's `board` may name.
 std::vector<std::string> board_names();
 
 }  // namespace nlsoft::console
