@@ -32,7 +32,7 @@ class LiveConsoleRun : public ::testing::Test {
   // Bounded poll: the run starts on another thread.
   bool wait_until_running() {
     for (int i = 0; i < 3000; ++i) {
-      if (console_->running() && console_->run_samples() > 0) return true;
+      if (console_->runs().running() && console_->runs().samples() > 0) return true;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return false;
@@ -45,15 +45,15 @@ class LiveConsoleRun : public ::testing::Test {
 // A 60 s run: were run_for to wait out its deadline (2 x 60 s + 5 s), the
 // future below would not be ready within its bound.
 TEST_F(LiveConsoleRun, RunForReturnsWhenAnotherThreadStopsTheRun) {
-  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "long"); });
+  auto timed = std::async(std::launch::async, [&] { return console_->runs().run_for(60, "long"); });
   ASSERT_TRUE(wait_until_running());
-  const RunSummary stopped = console_->stop_run("stopped at quit");
+  const RunSummary stopped = console_->runs().stop("stopped at quit");
   ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready)
       << "run_for kept polling after its run was stopped";
   const RunSummary s = timed.get();
   EXPECT_EQ(s.run_id, stopped.run_id);
   EXPECT_EQ(s.end_reason, "stopped at quit");
-  EXPECT_FALSE(console_->running());
+  EXPECT_FALSE(console_->runs().running());
   RunStore store(dir_.file("runs.db"));
   const auto runs = store.list();
   ASSERT_EQ(runs.size(), 1u);
@@ -62,14 +62,14 @@ TEST_F(LiveConsoleRun, RunForReturnsWhenAnotherThreadStopsTheRun) {
 
 TEST_F(LiveConsoleRun, RunForEndsWhenCancelledAndKeepsTheRun) {
   std::atomic<bool> cancel{false};
-  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "long", {}, &cancel); });
+  auto timed = std::async(std::launch::async, [&] { return console_->runs().run_for(60, "long", {}, &cancel); });
   ASSERT_TRUE(wait_until_running());
   cancel = true;
   ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
   const RunSummary s = timed.get();
   EXPECT_EQ(s.end_reason, "cancelled");
   EXPECT_GT(s.metrics.samples, 0u);
-  EXPECT_FALSE(console_->running());
+  EXPECT_FALSE(console_->runs().running());
 }
 
 // A run whose firmware goes away, or leaves the run, must not look like a
@@ -102,7 +102,7 @@ class RunEndingBadly : public ::testing::Test {
   }
   bool wait_until_sampling() {
     for (int i = 0; i < 3000; ++i) {
-      if (console_->running() && console_->run_samples() > 0) return true;
+      if (console_->runs().running() && console_->runs().samples() > 0) return true;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return false;
@@ -131,7 +131,7 @@ class RunEndingBadly : public ::testing::Test {
 
 TEST_F(RunEndingBadly, FirmwareDyingMidRunEndsTheRunEarlyAndRecordsTheOutage) {
   connect();
-  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "dies"); });
+  auto timed = std::async(std::launch::async, [&] { return console_->runs().run_for(60, "dies"); });
   ASSERT_TRUE(wait_until_sampling());
   kill_firmware();
   ASSERT_EQ(timed.wait_for(std::chrono::seconds(60)), std::future_status::ready)
@@ -175,8 +175,8 @@ TEST_F(RunEndingBadly, EarlyOkTellsTheScriptARunMayEndEarly) {
 // the run's telemetry; STATUS says why, and the run ends early at once.
 TEST_F(RunEndingBadly, AWatchdogTripEndsTheRunEarlyAndSaysSo) {
   connect(std::chrono::milliseconds(5000));
-  console_->set_param("watchdog_ms", {"100"});
-  const RunSummary s = console_->run_for(60, "watchdog");
+  console_->params().set("watchdog_ms", {"100"});
+  const RunSummary s = console_->runs().run_for(60, "watchdog");
   EXPECT_TRUE(s.ended_early);
   EXPECT_NE(s.end_reason.find("link watchdog tripped"), std::string::npos) << s.end_reason;
   // The console's own silence beside it: its keepalive every 300 ms is
@@ -197,15 +197,15 @@ TEST_F(RunEndingBadly, AWatchdogTripEndsTheRunEarlyAndSaysSo) {
 TEST_F(RunEndingBadly, ASimulatorPausedPastTheWatchdogDoesNotBlameTheConsole) {
   connect();
   std::atomic<bool> cancel{false};
-  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "paused", {}, &cancel); });
+  auto timed = std::async(std::launch::async, [&] { return console_->runs().run_for(60, "paused", {}, &cancel); });
   ASSERT_TRUE(wait_until_sampling());
   ASSERT_EQ(::kill(sim_.pid(), SIGSTOP), 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // watchdog_ms is 1000
   ASSERT_EQ(::kill(sim_.pid(), SIGCONT), 0);
-  const uint64_t before = console_->run_samples();
-  for (int i = 0; i < 300 && console_->run_samples() < before + 100; ++i)
+  const uint64_t before = console_->runs().samples();
+  for (int i = 0; i < 300 && console_->runs().samples() < before + 100; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_GE(console_->run_samples(), before + 100) << "the run's telemetry did not resume";
+  EXPECT_GE(console_->runs().samples(), before + 100) << "the run's telemetry did not resume";
   cancel = true;
   ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
   const RunSummary s = timed.get();
@@ -218,13 +218,13 @@ TEST_F(RunEndingBadly, ASimulatorPausedPastTheWatchdogDoesNotBlameTheConsole) {
 TEST_F(RunEndingBadly, AUserHoldIsNotTakenForAnOutage) {
   connect();
   std::atomic<bool> cancel{false};
-  auto timed = std::async(std::launch::async, [&] { return console_->run_for(60, "held", {}, &cancel); });
+  auto timed = std::async(std::launch::async, [&] { return console_->runs().run_for(60, "held", {}, &cancel); });
   ASSERT_TRUE(wait_until_sampling());
-  console_->hold(protocol::HoldMode::Hold);
+  console_->runs().hold(protocol::HoldMode::Hold);
   // Longer than the silence limit (3 s) and than a STATUS period (1 s).
   std::this_thread::sleep_for(std::chrono::seconds(5));
   EXPECT_EQ(timed.wait_for(std::chrono::seconds(0)), std::future_status::timeout) << "the held run was ended";
-  console_->hold(protocol::HoldMode::Resume);
+  console_->runs().hold(protocol::HoldMode::Resume);
   cancel = true;
   ASSERT_EQ(timed.wait_for(std::chrono::seconds(30)), std::future_status::ready);
   const RunSummary s = timed.get();
@@ -250,13 +250,13 @@ TEST(FirmwareReset, EditsLostToAResetAreNamedAndSentAgain) {
   std::mutex mu;
   std::vector<std::string> said;
   LiveConsole console(o);
-  console.set_notify([&](const std::string& l) {
+  console.notices().listen([&](const std::string& l) {
     std::lock_guard<std::mutex> lock(mu);
     said.push_back(l);
   });
   console.connect();
-  const std::vector<double> lambda = console.get_param("Lambda").second;
-  console.set_param("Lambda", {fmt::format("{:g}", lambda[0] * 4)});
+  const std::vector<double> lambda = console.params().get("Lambda").second;
+  console.params().set("Lambda", {fmt::format("{:g}", lambda[0] * 4)});
   // The second firmware must boot well after the first (the console allows
   // half a second of reply latency in its boot-time estimate).
   std::this_thread::sleep_for(std::chrono::seconds(2));
@@ -265,10 +265,10 @@ TEST(FirmwareReset, EditsLostToAResetAreNamedAndSentAgain) {
   first.reset();
   SimLauncher second;
   ASSERT_EQ(::symlink(second.start("msd").c_str(), board.c_str()), 0);
-  for (int i = 0; i < 1500 && console.firmware_resets() == 0; ++i)
+  for (int i = 0; i < 1500 && console.resets().count() == 0; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  ASSERT_EQ(console.firmware_resets(), 1u);
-  const auto forgotten = console.forgotten_edits();
+  ASSERT_EQ(console.resets().count(), 1u);
+  const auto forgotten = console.resets().forgotten();
   ASSERT_EQ(forgotten.size(), 1u);
   EXPECT_EQ(forgotten[0].rfind("Lambda is ", 0), 0u) << forgotten[0];
   {
@@ -278,11 +278,11 @@ TEST(FirmwareReset, EditsLostToAResetAreNamedAndSentAgain) {
     EXPECT_NE(all.find("the firmware has reset (its uptime says it started again"), std::string::npos) << all;
     EXPECT_NE(all.find("1 edit is no longer in force"), std::string::npos) << all;
   }
-  EXPECT_FLOAT_EQ(float(console.get_param("Lambda").second[0]), float(lambda[0])) << "the new firmware's default";
-  const auto sent = console.reapply_edits();
+  EXPECT_FLOAT_EQ(float(console.params().get("Lambda").second[0]), float(lambda[0])) << "the new firmware's default";
+  const auto sent = console.resets().reapply();
   ASSERT_EQ(sent.size(), 1u);
-  EXPECT_FLOAT_EQ(float(console.get_param("Lambda").second[0]), float(lambda[0] * 4));
-  EXPECT_TRUE(console.forgotten_edits().empty());
+  EXPECT_FLOAT_EQ(float(console.params().get("Lambda").second[0]), float(lambda[0] * 4));
+  EXPECT_TRUE(console.resets().forgotten().empty());
 }
 
 // --wait: a board plugged in after the console started is connected to;
@@ -303,7 +303,7 @@ TEST(LiveConsoleWait, APortThatAppearsLaterIsConnectedTo) {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     (void)::symlink(pty.c_str(), o.port.c_str());
   });
-  console.set_notify([&](const std::string& l) {
+  console.notices().listen([&](const std::string& l) {
     std::lock_guard<std::mutex> lock(mu);
     said.push_back(l);
   });
