@@ -16,7 +16,8 @@
 // stopped and kept; then the session is closed, so no callback runs after
 // it; then the UDP stream is drained and joined; then the recorder is
 // flushed and closed; then the simulator is ended and a --no-record
-// database removed. The parts live until the destructor, after all of it.
+// database removed. The parts are destroyed with the console, but are not
+// used after disconnect(): the recorder they write to is gone.
 #include <memory>
 #include <optional>
 #include <string>
@@ -56,7 +57,7 @@ class LiveConsole {
   // simulator it started.
   Notices& notices() { return notices_; }
   SimulatorChild& simulator() { return simulator_; }
-  // Valid once connect() has returned, until the console is destroyed.
+  // Valid once connect() has returned, until disconnect().
   Device& device() { return *device_; }
   Session& session() { return *session_; }
   Recorder& recorder() { return *recorder_; }

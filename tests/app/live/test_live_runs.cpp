@@ -107,9 +107,10 @@ class RunEndingBadly : public ::testing::Test {
     return false;
   }
   // Runs `script` while the simulator is killed once the run has samples.
-  int script_with_firmware_dying(const std::string& text, std::vector<std::string>& out) {
+  // The script's exit code, and its output as one text.
+  int script_with_firmware_dying(const std::string& text, std::string& out) {
     connect();
-    ScriptRunner runner(*console_, [&](const std::string& line) { out.push_back(line); });
+    ScriptRunner runner(*console_, [&](const std::string& line) { out += line + "\n"; });
     Script script;
     script.file = "dies.nls";
     int line = 0;
@@ -152,19 +153,15 @@ TEST_F(RunEndingBadly, FirmwareDyingMidRunEndsTheRunEarlyAndRecordsTheOutage) {
 }
 
 TEST_F(RunEndingBadly, AScriptWhoseRunEndsEarlyExitsOne) {
-  std::vector<std::string> out;
-  EXPECT_EQ(script_with_firmware_dying("run 60s label=dies\nexpect samples > 0\n", out), 1);
   std::string all;
-  for (const auto& l : out) all += l + "\n";
+  EXPECT_EQ(script_with_firmware_dying("run 60s label=dies\nexpect samples > 0\n", all), 1);
   EXPECT_NE(all.find("dies.nls:1: run 1 did not complete: ended early"), std::string::npos) << all;
   EXPECT_NE(all.find("ok: samples"), std::string::npos) << "later commands still run" << all;
 }
 
 TEST_F(RunEndingBadly, EarlyOkTellsTheScriptARunMayEndEarly) {
-  std::vector<std::string> out;
-  EXPECT_EQ(script_with_firmware_dying("run 60s early=ok\n", out), 0);
   std::string all;
-  for (const auto& l : out) all += l + "\n";
+  EXPECT_EQ(script_with_firmware_dying("run 60s early=ok\n", all), 0);
   EXPECT_EQ(all.find("did not complete"), std::string::npos) << all;
   EXPECT_NE(all.find("ended early"), std::string::npos) << "the summary still says how the run ended" << all;
 }
