@@ -62,20 +62,14 @@ void LiveConsole::connect(const Progress& params_progress) {
   ro.give_up = [] { return interrupted(); };
   recorder_ = std::make_unique<Recorder>(db_path_, ro);
 
-  run_ = std::make_unique<ActiveRun>(*recorder_);
-  intake_ = std::make_unique<SampleIntake>(*run_, udp_.get());
-  params_ = std::make_unique<LiveParams>(*device_, *rig_, *run_);
-  resets_ = std::make_unique<FirmwareResets>(*device_, *params_, *run_, notices_);
-  references_ = std::make_unique<LiveReferences>(*device_, *rig_, *run_);
-  model_upload_ = std::make_unique<ModelUpload>(*device_, *run_);
-  runs_ = std::make_unique<LiveRuns>(LiveRuns::Parts{*device_, *session_, *run_, intake_->live(), *references_,
-                                                     simulator_, notices_, options_, db_path_});
+  parts_ = std::make_unique<Parts>(*this);
 
-  session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { intake_->on_telemetry(t, lost); });
-  session_->on_ident_sample([this](const p::IdentSample& t, uint32_t lost) { intake_->on_ident_sample(t, lost); });
+  SampleIntake& intake = parts_->intake;
+  session_->on_telemetry([&intake](const p::Telemetry& t, uint32_t lost) { intake.on_telemetry(t, lost); });
+  session_->on_ident_sample([&intake](const p::IdentSample& t, uint32_t lost) { intake.on_ident_sample(t, lost); });
   session_->on_status([this](const p::Status& s) {
-    intake_->on_status(s);
-    resets_->note_uptime(s.uptime_ms);
+    parts_->intake.on_status(s);
+    parts_->resets.note_uptime(s.uptime_ms);
   });
   session_->on_log([this](const p::Log& l) {
     static const char* level[] = {"debug", "info", "warn", "error"};
@@ -88,8 +82,8 @@ void LiveConsole::connect(const Progress& params_progress) {
   device_->load_params(params_progress);
   // The tick rate converts compute ticks to microseconds from the first sample on.
   const p::Status st = device_->status();
-  intake_->on_status(st);
-  resets_->note_uptime(st.uptime_ms);
+  parts_->intake.on_status(st);
+  parts_->resets.note_uptime(st.uptime_ms);
   configure_telemetry();
   recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
 }
@@ -152,15 +146,16 @@ void LiveConsole::configure_telemetry() {
       dec = std::max(1, int(std::ceil(double(info.loop_rate_hz) / per_s)));
     }
   }
-  run_->decimation = uint16_t(std::min(dec, 65535));
-  run_->telemetry_decimation = run_->decimation.load();
-  device_->telemetry_config(mask, run_->decimation.load());
+  ActiveRun& run = parts_->run;
+  run.decimation = uint16_t(std::min(dec, 65535));
+  run.telemetry_decimation = run.decimation.load();
+  device_->telemetry_config(mask, run.decimation.load());
 }
 
 void LiveConsole::disconnect() {
-  if (runs_ && runs_->running()) {
+  if (parts_ && parts_->runs.running()) {
     try {
-      runs_->stop("console exited");
+      parts_->runs.stop("console exited");
     } catch (...) {
       // Leaving anyway; the run stays open in the database (ended_at NULL).
     }
@@ -194,12 +189,12 @@ void LiveConsole::disconnect() {
 
 void LiveConsole::on_event(const LinkEvent& e) {
   const auto say = [this](const std::string& s) { notices_.say(s); };
-  const int64_t run = run_->id.load();
+  const int64_t run = parts_->run.id.load();
   recorder_->add_link_event(run, link_event_name(e.kind), e.detail);
   switch (e.kind) {
     case LinkEvent::Kind::Down:
-      resets_->link_down();
-      run_->resync_after_gap = true;
+      parts_->resets.link_down();
+      parts_->run.resync_after_gap = true;
       say("link down: " + e.detail + (session_->will_reopen() ? " (reconnecting)" : ""));
       break;
     case LinkEvent::Kind::Silent: say("link silent: " + e.detail); break;
@@ -217,7 +212,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
         if (now.model_hash != before.model_hash) say(fmt::format("the firmware now runs another model ({:08x})", now.model_hash));
         check_rig();
         const p::Status st = device_->status();
-        resets_->check(before, now, st);
+        parts_->resets.check(before, now, st);
         if (run != 0 && (st.run_id != uint32_t(run) || st.run_state == uint8_t(p::RunState::Idle)))
           say(fmt::format("run {} is no longer running on the firmware (reset?); stop it to close the recording", run));
         if (st.telemetry_mask == 0) say("telemetry is off after the reconnect (board reset?); restart the run");
@@ -234,13 +229,13 @@ void LiveConsole::check_rig() {
   const std::string w = rig_->mismatch();
   if (w.empty()) return;
   notices_.say(w);
-  recorder_->add_link_event(run_->id.load(), "rig", w);
+  recorder_->add_link_event(parts_->run.id.load(), "rig", w);
 }
 
 void LiveConsole::reconnect_simulator(const std::string& port) {
-  runs_->end_simulator_gone();
+  parts_->runs.end_simulator_gone();
   const p::Info before = device_->info();
-  resets_->link_down();
+  parts_->resets.link_down();
   session_->close();
   try {
     session_->open(port, options_.baud);
@@ -252,10 +247,10 @@ void LiveConsole::reconnect_simulator(const std::string& port) {
     throw;
   }
   const p::Status st = device_->status();
-  intake_->on_status(st);
+  parts_->intake.on_status(st);
   // A new simulator starts from its defaults: the session's edits it does
   // not have are named, as after a board's reset.
-  resets_->check(before, device_->info(), st);
+  parts_->resets.check(before, device_->info(), st);
   configure_telemetry();
   simulator_.forget_exit();
   recorder_->add_link_event(0, "restarted", fmt::format("simulator restarted on {} (PID {})", port, simulator_.pid()));

@@ -61,12 +61,12 @@ class LiveConsole {
   Device& device() { return *device_; }
   Session& session() { return *session_; }
   Recorder& recorder() { return *recorder_; }
-  SampleIntake& samples() { return *intake_; }
-  LiveParams& params() { return *params_; }
-  FirmwareResets& resets() { return *resets_; }
-  LiveReferences& references() { return *references_; }
-  ModelUpload& model_upload() { return *model_upload_; }
-  LiveRuns& runs() { return *runs_; }
+  SampleIntake& samples() { return parts_->intake; }
+  LiveParams& params() { return parts_->params; }
+  FirmwareResets& resets() { return parts_->resets; }
+  LiveReferences& references() { return parts_->references; }
+  ModelUpload& model_upload() { return parts_->model_upload; }
+  LiveRuns& runs() { return parts_->runs; }
 
   const std::string& db_path() const { return db_path_; }
   bool recording() const { return options_.record; }  // false: --no-record, the database goes at exit
@@ -84,6 +84,29 @@ class LiveConsole {
   void reconnect_simulator(const std::string& port);
 
  private:
+  // Made in connect() once the session, device and recorder exist, before
+  // the session opens. Each holds references to the connection and to the
+  // parts declared before it, so the declaration order is the order they
+  // are made in.
+  struct Parts {
+    explicit Parts(LiveConsole& c)
+        : run(*c.recorder_),
+          intake(run, c.udp_.get()),
+          params(*c.device_, *c.rig_, run),
+          resets(*c.device_, params, run, c.notices_),
+          references(*c.device_, *c.rig_, run),
+          model_upload(*c.device_, run),
+          runs({*c.device_, *c.session_, run, intake.live(), references, c.simulator_, c.notices_, c.options_,
+                c.db_path_}) {}
+    ActiveRun run;
+    SampleIntake intake;
+    LiveParams params;
+    FirmwareResets resets;
+    LiveReferences references;
+    ModelUpload model_upload;
+    LiveRuns runs;
+  };
+
   void on_event(const LinkEvent& e);
   // RIG_INFO against the rig file given: one warning per console.
   void check_rig();
@@ -106,15 +129,7 @@ class LiveConsole {
   // Created before the session opens and destroyed after it closes, so the
   // link thread (SampleIntake) never sees it appear or go.
   std::unique_ptr<UdpStream> udp_;
-  // The parts, made in connect() before the session opens; each holds
-  // references to the members above and to the parts made before it.
-  std::unique_ptr<ActiveRun> run_;
-  std::unique_ptr<SampleIntake> intake_;
-  std::unique_ptr<LiveParams> params_;
-  std::unique_ptr<FirmwareResets> resets_;
-  std::unique_ptr<LiveReferences> references_;
-  std::unique_ptr<ModelUpload> model_upload_;
-  std::unique_ptr<LiveRuns> runs_;
+  std::unique_ptr<Parts> parts_;
 };
 
 }  // namespace nlsoft::console
