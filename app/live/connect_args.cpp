@@ -8,6 +8,7 @@
 #include "host/files/cli_error.hpp"
 #include "app/firmware/image_build.hpp"
 #include "app/link/link_error.hpp"
+#include "app/live/interrupt.hpp"
 #include "app/link/serial_ports.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/progress_bar.hpp"
@@ -19,7 +20,7 @@ namespace nlsoft::console {
 
 namespace {
 
-void on_interrupt(int signal) { LiveConsole::request_interrupt(signal); }
+void on_interrupt(int signal) { request_interrupt(signal); }
 
 // No PORT, --sim or --qemu: the one port that looks like a board (or the
 // only port there is) is taken, and named; none or several is an error

@@ -32,7 +32,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command = "");
 
 // Ctrl-C, SIGTERM, SIGHUP and SIGPIPE end the run in progress cleanly (it
 // stays in the database, its end naming the signal) through
-// LiveConsole::request_interrupt.
+// request_interrupt.
 void install_interrupt_handlers();
 
 // connect() with a progress bar over the parameter list; link, refusal and

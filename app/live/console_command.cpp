@@ -50,13 +50,13 @@ int run_console(const ConsoleArgs& a) {
   LiveConsole console(o);
   install_interrupt_handlers();
   const bool headless = !a.script.empty();
-  if (headless) console.set_notify([](const std::string& s) { ProgressBar::say(s); });
+  if (headless) console.notices().listen([](const std::string& s) { ProgressBar::say(s); });
   connect_with_progress(console);
   if (!headless) return run_tui(console);
 
   const auto info = console.device().info();
   std::fprintf(stderr, "connected: %s %u.%u.%u, rig %s, n=%u m=%u, %u Hz, %zu parameters; recording to %s\n",
-               info.firmware, info.fw_major, info.fw_minor, info.fw_patch, console.rig_label().c_str(), info.n, info.m,
+               info.firmware, info.fw_major, info.fw_minor, info.fw_patch, console.device().rig_label().c_str(), info.n, info.m,
                info.loop_rate_hz,
                console.device().catalog()->all().size(), console.db_path().c_str());
   if (const UdpStream* u = console.udp())

@@ -34,7 +34,7 @@ int run_ident_command(const IdentArgs& a) {
   const LiveOptions lo = live_options(a.link, "ident");
   LiveConsole console(lo);
   install_interrupt_handlers();
-  console.set_notify([](const std::string& s) { ProgressBar::say(s); });
+  console.notices().listen([](const std::string& s) { ProgressBar::say(s); });
   connect_with_progress(console);
   const protocol::Info info = console.device().info();
   IdentLine line;
@@ -42,14 +42,14 @@ int run_ident_command(const IdentArgs& a) {
   line.unlimited = console.link_unlimited();
   const IdentPlan plan = plan_ident(a.words, double(info.loop_rate_hz), info.m, info.n, info.w, line);
   std::fprintf(stderr, "connected: %s %u.%u.%u (%s), %u Hz; recording to %s\n%s\n", info.firmware, info.fw_major,
-               info.fw_minor, info.fw_patch, console.rig_label().c_str(), info.loop_rate_hz, console.db_path().c_str(),
+               info.fw_minor, info.fw_patch, console.device().rig_label().c_str(), info.loop_rate_hz, console.db_path().c_str(),
                plan.line_words.c_str());
   const std::string label =
       a.label.empty() ? fmt::format("ident {} seed {} {}", a.words.signal, a.words.seed, a.words.duration) : a.label;
   RunSummary s;
   try {
     ProgressBar bar(fmt::format("ident {}", a.words.signal));
-    s = console.run_ident(plan.start, plan.excitation_json, label,
+    s = console.runs().run_ident(plan.start, plan.excitation_json, label,
                           [&](size_t d, size_t t) { bar.update(long(d), long(t)); });
   } catch (...) {
     console.disconnect();

@@ -1,8 +1,6 @@
 // The console's connection: the simulator it starts, the port it opens
-// and settles, the handshake, telemetry's configuration, link events and
-// what it tells the user. The other concerns of LiveConsole have files of
-// their own: live_samples.cpp, live_resets.cpp, live_params.cpp,
-// live_uploads.cpp, live_runs.cpp, simulator_exit.cpp.
+// and settles, the handshake, telemetry's configuration, link events, and
+// the parts made once it is up.
 #include "app/live/live_console.hpp"
 
 #include <fmt/format.h>
@@ -15,8 +13,8 @@
 #include <cstring>
 #include <filesystem>
 
+#include "app/live/interrupt.hpp"
 #include "host/files/cli_error.hpp"
-#include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
 
@@ -33,51 +31,19 @@ LiveConsole::LiveConsole(LiveOptions options) : options_(std::move(options)) {}
 
 LiveConsole::~LiveConsole() { disconnect(); }
 
-void LiveConsole::set_notify(Notify n) {
-  std::lock_guard<std::mutex> lock(notify_mu_);
-  notify_ = std::move(n);
-  if (!notify_) return;
-  for (const std::string& s : unheard_) notify_(s);
-  unheard_.clear();
-}
-
-// What is said before anyone listens (the TUI listens from its start, after
-// connect()) waits for the first listener.
-void LiveConsole::say(const std::string& s) {
-  std::lock_guard<std::mutex> lock(notify_mu_);
-  if (notify_) notify_(s);
-  else if (unheard_.size() < 32) unheard_.push_back(s);
-}
-
-const Rig& LiveConsole::rig() const {
-  std::lock_guard<std::mutex> lock(rig_mu_);
-  if (rig_) return *rig_;
-  if (!options_.rig_file.empty()) {
-    rig_ = load_rig_arg(options_.rig_file);
-    return *rig_;
-  }
-  const std::string shipped = rig_name_of_platform(device_->info().platform);
-  if (shipped.empty())
-    throw CliError("the firmware runs a rig of its own (no shipped rig's number); give its rig file: --rig FILE");
-  rig_ = load_rig_arg(shipped);
-  return *rig_;
-}
-
 void LiveConsole::connect(const Progress& params_progress) {
+  const auto say = [this](const std::string& s) { notices_.say(s); };
   // A bad --udp target fails before a simulator starts or a board is touched.
-  if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, [this](const std::string& s) { say(s); });
-  std::string port = options_.port;
+  if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, say);
+  session_ = std::make_unique<Session>(options_.session);
+  device_ = std::make_unique<Device>(*session_);
   // A rig file that cannot be read stops us before a simulator starts.
-  if (!options_.rig_file.empty()) rig_file_ = rig_file_id(options_.rig_file);
-  if (options_.sim_in_qemu) {
-    sim_ = std::make_unique<SimLauncher>();
-    port = sim_->start_qemu(options_.qemu_image, options_.qemu_board);
-  } else if (!options_.sim_rig.empty()) {
-    sim_ = std::make_unique<SimLauncher>();
-    port = sim_->start(options_.sim_rig, options_.sim_args);
-  }
+  rig_ = std::make_unique<BoardRig>(options_.rig_file, *device_);
+  rig_->open();
+  std::string port = simulator_.start();
+  if (!simulator_.present()) port = options_.port;
   if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");
-  if (!sim_) port = settle_port(port);
+  if (!simulator_.present()) port = settle_port(port);
 
   db_path_ = options_.db_path.empty() ? default_db_path() : options_.db_path;
   if (!options_.record) {
@@ -93,27 +59,31 @@ void LiveConsole::connect(const Progress& params_progress) {
   // touch the board.
   Recorder::Options ro;
   ro.busy_limit = options_.db_busy;
-  ro.give_up = [] { return LiveConsole::interrupted(); };
+  ro.give_up = [] { return interrupted(); };
   recorder_ = std::make_unique<Recorder>(db_path_, ro);
 
-  session_ = std::make_unique<Session>(options_.session);
-  session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
-  session_->on_ident_sample([this](const p::IdentSample& t, uint32_t lost) { on_ident_sample(t, lost); });
-  session_->on_status([this](const p::Status& s) { on_status(s); });
+  parts_ = std::make_unique<Parts>(*this);
+
+  SampleIntake& intake = parts_->intake;
+  session_->on_telemetry([&intake](const p::Telemetry& t, uint32_t lost) { intake.on_telemetry(t, lost); });
+  session_->on_ident_sample([&intake](const p::IdentSample& t, uint32_t lost) { intake.on_ident_sample(t, lost); });
+  session_->on_status([this](const p::Status& s) {
+    parts_->intake.on_status(s);
+    parts_->resets.note_uptime(s.uptime_ms);
+  });
   session_->on_log([this](const p::Log& l) {
     static const char* level[] = {"debug", "info", "warn", "error"};
-    say(fmt::format("firmware {}: {}", l.level < 4 ? level[l.level] : "log", l.text));
+    notices_.say(fmt::format("firmware {}: {}", l.level < 4 ? level[l.level] : "log", l.text));
   });
   session_->on_event([this](const LinkEvent& e) { on_event(e); });
   session_->open(port, options_.baud);
-  device_ = std::make_unique<Device>(*session_);
   handshake_patiently();
   check_rig();
   device_->load_params(params_progress);
   // The tick rate converts compute ticks to microseconds from the first sample on.
   const p::Status st = device_->status();
-  tick_rate_hz_ = st.tick_rate_hz;
-  note_uptime(st.uptime_ms);
+  parts_->intake.on_status(st);
+  parts_->resets.note_uptime(st.uptime_ms);
   configure_telemetry();
   recorder_->add_link_event(0, "connected", fmt::format("{} {}", port, device_->info().firmware));
 }
@@ -121,7 +91,7 @@ void LiveConsole::connect(const Progress& params_progress) {
 void LiveConsole::handshake_patiently() {
   // A board may still be booting (QEMU takes a second or two; many USB
   // boards reset when the port opens): keep asking for a while.
-  const auto patience = std::chrono::seconds(sim_ && !options_.sim_in_qemu ? 3 : 10);
+  const auto patience = std::chrono::seconds(simulator_.present() && !options_.sim_in_qemu ? 3 : 10);
   const auto asked = std::chrono::steady_clock::now();
   const LinkStats before = session_->stats();
   while (true) {
@@ -146,20 +116,21 @@ std::string LiveConsole::settle_port(const std::string& port) {
   if (::stat(port.c_str(), &st) != 0) {
     if (options_.wait.count() == 0)
       throw CliError(fmt::format("{} does not exist: is the board plugged in? --wait SECONDS waits for it", port));
-    say(options_.wait.count() < 0
+    notices_.say(options_.wait.count() < 0
             ? fmt::format("waiting for {} to appear (Ctrl-C gives up)", port)
             : fmt::format("waiting up to {:g} s for {} to appear (Ctrl-C gives up)", wait_s, port));
-    if (!wait_for_port(port, options_.wait, [] { return LiveConsole::interrupted(); }))
-      throw CliError(LiveConsole::interrupted()
+    if (!wait_for_port(port, options_.wait, [] { return interrupted(); }))
+      throw CliError(interrupted()
                          ? fmt::format("interrupted while waiting for {}", port)
                          : fmt::format("{} did not appear within {:g} s", port, wait_s));
   }
   const std::string stable = stable_port_path(port, options_.by_id_dir);
-  if (stable != port) say(fmt::format("{} is {}: a reconnect follows the board wherever it re-enumerates", port, stable));
+  if (stable != port)
+    notices_.say(fmt::format("{} is {}: a reconnect follows the board wherever it re-enumerates", port, stable));
   return stable;
 }
 
-bool LiveConsole::link_unlimited() const { return sim_ != nullptr || is_pty(session_->port()); }
+bool LiveConsole::link_unlimited() const { return simulator_.present() || is_pty(session_->port()); }
 
 void LiveConsole::configure_telemetry() {
   const p::Info info = device_->info();
@@ -168,22 +139,23 @@ void LiveConsole::configure_telemetry() {
   int dec = options_.decimation;
   if (dec <= 0) {
     dec = 1;
-    if (sim_ == nullptr && !is_pty(session_->port())) {
+    if (!link_unlimited()) {
       // 8N1: ten bits a byte; keep a fifth of the line for replies.
       const double frame = double(p::telemetry_payload_size(mask, info.n, info.m) + 9);
       const double per_s = 0.8 * options_.baud / 10.0 / frame;
       dec = std::max(1, int(std::ceil(double(info.loop_rate_hz) / per_s)));
     }
   }
-  decimation_ = uint16_t(std::min(dec, 65535));
-  telemetry_decimation_ = decimation_.load();
-  device_->telemetry_config(mask, decimation_.load());
+  ActiveRun& run = parts_->run;
+  run.decimation = uint16_t(std::min(dec, 65535));
+  run.telemetry_decimation = run.decimation.load();
+  device_->telemetry_config(mask, run.decimation.load());
 }
 
 void LiveConsole::disconnect() {
-  if (running()) {
+  if (parts_ && parts_->runs.running()) {
     try {
-      stop_run("console exited");
+      parts_->runs.stop("console exited");
     } catch (...) {
       // Leaving anyway; the run stays open in the database (ended_at NULL).
     }
@@ -196,7 +168,7 @@ void LiveConsole::disconnect() {
     // what a receiver can check its own count against (UDP promises no
     // delivery).
     udp_->finish();
-    say(fmt::format("--udp {}: {} samples sent, {} dropped{}", udp_->target(), udp_->sent(), udp_->dropped(),
+    notices_.say(fmt::format("--udp {}: {} samples sent, {} dropped{}", udp_->target(), udp_->sent(), udp_->dropped(),
                     udp_->dropped() > 0 ? " (the sender fell behind)" : ""));
     udp_.reset();
   }
@@ -207,7 +179,7 @@ void LiveConsole::disconnect() {
     }
   }
   recorder_.reset();
-  sim_.reset();
+  simulator_.end();
   if (temp_db_) {
     std::error_code ec;
     std::filesystem::remove_all(temp_dir_, ec);
@@ -216,12 +188,13 @@ void LiveConsole::disconnect() {
 }
 
 void LiveConsole::on_event(const LinkEvent& e) {
-  const int64_t run = run_id_.load();
-  if (recorder_) recorder_->add_link_event(run, link_event_name(e.kind), e.detail);
+  const auto say = [this](const std::string& s) { notices_.say(s); };
+  const int64_t run = parts_->run.id.load();
+  recorder_->add_link_event(run, link_event_name(e.kind), e.detail);
   switch (e.kind) {
     case LinkEvent::Kind::Down:
-      boot_at_down_ns_ = boot_ns_.load();
-      resync_after_gap_ = true;
+      parts_->resets.link_down();
+      parts_->run.resync_after_gap = true;
       say("link down: " + e.detail + (session_->will_reopen() ? " (reconnecting)" : ""));
       break;
     case LinkEvent::Kind::Silent: say("link silent: " + e.detail); break;
@@ -239,11 +212,11 @@ void LiveConsole::on_event(const LinkEvent& e) {
         if (now.model_hash != before.model_hash) say(fmt::format("the firmware now runs another model ({:08x})", now.model_hash));
         check_rig();
         const p::Status st = device_->status();
-        check_for_reset(before, now, st);
+        parts_->resets.check(before, now, st);
         if (run != 0 && (st.run_id != uint32_t(run) || st.run_state == uint8_t(p::RunState::Idle)))
           say(fmt::format("run {} is no longer running on the firmware (reset?); stop it to close the recording", run));
         if (st.telemetry_mask == 0) say("telemetry is off after the reconnect (board reset?); restart the run");
-        if (recorder_) recorder_->add_link_event(run, "handshake", fmt::format("uptime {} ms", st.uptime_ms));
+        recorder_->add_link_event(run, "handshake", fmt::format("uptime {} ms", st.uptime_ms));
       } catch (const std::exception& ex) {
         say(std::string("re-handshake failed: ") + ex.what());
       }
@@ -253,13 +226,34 @@ void LiveConsole::on_event(const LinkEvent& e) {
 }
 
 void LiveConsole::check_rig() {
-  if (!rig_file_ || rig_warned_) return;
-  const std::optional<p::RigInfo> rig = device_->rig();
-  if (!rig) return;  // a 1.1 firmware names no rig
-  const std::string w = rig_mismatch(*rig, *rig_file_);
-  if (w.empty() || rig_warned_.exchange(true)) return;
-  say(w);
-  if (recorder_) recorder_->add_link_event(run_id_.load(), "rig", w);
+  const std::string w = rig_->mismatch();
+  if (w.empty()) return;
+  notices_.say(w);
+  recorder_->add_link_event(parts_->run.id.load(), "rig", w);
+}
+
+void LiveConsole::reconnect_simulator(const std::string& port) {
+  parts_->runs.end_simulator_gone();
+  const p::Info before = device_->info();
+  parts_->resets.link_down();
+  session_->close();
+  try {
+    session_->open(port, options_.baud);
+    handshake_patiently();
+    device_->load_params();
+  } catch (...) {
+    // Back to "ended", so R can try again with another one.
+    simulator_.stop();
+    throw;
+  }
+  const p::Status st = device_->status();
+  parts_->intake.on_status(st);
+  // A new simulator starts from its defaults: the session's edits it does
+  // not have are named, as after a board's reset.
+  parts_->resets.check(before, device_->info(), st);
+  configure_telemetry();
+  simulator_.forget_exit();
+  recorder_->add_link_event(0, "restarted", fmt::format("simulator restarted on {} (PID {})", port, simulator_.pid()));
 }
 
 }  // namespace nlsoft::console

@@ -1,6 +1,6 @@
 // Parameters by name, one element or whole, and parameter files: saved,
 // loaded all or nothing, compared with and reset to the rig's defaults.
-#include "app/live/live_console.hpp"
+#include "app/live/live_params.hpp"
 
 #include <fmt/format.h>
 
@@ -38,8 +38,8 @@ std::pair<std::string, int> split_element(const std::string& name) {
 
 }  // namespace
 
-std::pair<ParamInfo, int> LiveConsole::resolve_param(const std::string& name) const {
-  const auto cat = device_->catalog();
+std::pair<ParamInfo, int> LiveParams::resolve(const std::string& name) const {
+  const auto cat = device_.catalog();
   auto [base, element] = split_element(name);
   const ParamInfo* info = cat->find(base);
   if (!info && element < 0) {
@@ -58,45 +58,47 @@ std::pair<ParamInfo, int> LiveConsole::resolve_param(const std::string& name) co
   return {*info, element};
 }
 
-std::vector<double> LiveConsole::set_param(const std::string& name, const std::vector<std::string>& values) {
-  const auto [pinfo, element] = resolve_param(name);
+std::vector<double> LiveParams::set(const std::string& name, const std::vector<std::string>& values) {
+  const auto [pinfo, element] = resolve(name);
   const ParamInfo* info = &pinfo;
   std::vector<double> v;
   if (element >= 0) {
     ParamInfo one = *info;
     one.size = 1;
     const std::vector<double> x = parse_param_values(one, expand_param_tokens(one, values));
-    v = device_->get(*info);
+    v = device_.get(*info);
     v[size_t(element)] = x[0];
   } else {
     v = parse_param_values(*info, expand_param_tokens(*info, values));
   }
-  return apply_param(*info, v);
+  return apply(*info, v);
 }
 
-std::vector<double> LiveConsole::apply_param(const ParamInfo& info, const std::vector<double>& values) {
-  const std::vector<double> echoed = device_->set(info, values);
+std::vector<double> LiveParams::apply(const ParamInfo& info, const std::vector<double>& values) {
+  const std::vector<double> echoed = device_.set(info, values);
   {
     std::lock_guard<std::mutex> lock(mu_);
     edits_.erase(std::remove_if(edits_.begin(), edits_.end(), [&](const auto& e) { return e.first.name == info.name; }),
                  edits_.end());
     edits_.emplace_back(info, echoed);
   }
-  if (const int64_t run = run_id_.load()) {
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - run_started()).count();
-    recorder_->add_param_change(run, t, info.name, format_param_values(info, echoed));
-  }
+  run_.log_change(info.name, format_param_values(info, echoed));
   return echoed;
 }
 
-std::pair<ParamInfo, std::vector<double>> LiveConsole::get_param(const std::string& name) {
-  const ParamInfo info = resolve_param(name).first;
-  return {info, device_->get(info)};
+LiveParams::Edits LiveParams::edits() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return edits_;
 }
 
-void LiveConsole::save_params(const std::string& path) {
-  const auto all = device_->get_all();
-  const p::Info info = device_->info();
+std::pair<ParamInfo, std::vector<double>> LiveParams::get(const std::string& name) {
+  const ParamInfo info = resolve(name).first;
+  return {info, device_.get(info)};
+}
+
+void LiveParams::save(const std::string& path) {
+  const auto all = device_.get_all();
+  const p::Info info = device_.info();
   OutputFile out(path);
   fmt::print(out.get(), "# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
              info.fw_minor, info.fw_patch, int(info.platform), utc_now());
@@ -105,9 +107,9 @@ void LiveConsole::save_params(const std::string& path) {
   out.commit();
 }
 
-std::vector<std::string> LiveConsole::load_params(const std::string& path, bool dry_run) {
+std::vector<std::string> LiveParams::load(const std::string& path, bool dry_run) {
   std::istringstream in(read_input_file(path, kParamsFile));
-  const auto cat = device_->catalog();
+  const auto cat = device_.catalog();
   std::string line;
   int lineno = 0;
   // Parse and check the whole file before sending anything.
@@ -132,15 +134,15 @@ std::vector<std::string> LiveConsole::load_params(const std::string& path, bool 
   return apply_values(wanted, dry_run);
 }
 
-std::vector<LiveConsole::WantedValue> LiveConsole::defaults_wanted() const {
-  const p::Info info = device_->info();
-  const Rig& r = rig();
+std::vector<LiveParams::WantedValue> LiveParams::defaults_wanted() const {
+  const p::Info info = device_.info();
+  const Rig& r = rig_.rig();
   if (r.m() != info.m || r.n() != info.n)
     throw CliError(fmt::format("rig file {} has m={} n={}; the firmware runs m={} n={}", r.file, r.m(), r.n(), info.m,
                                info.n));
   const auto defaults = firmware_defaults(r);
   std::vector<WantedValue> wanted;
-  for (const ParamInfo& pi : device_->catalog()->all()) {
+  for (const ParamInfo& pi : device_.catalog()->all()) {
     const auto d = defaults.find(pi.id);
     if (d == defaults.end() || pi.read_only() || d->second.size() != pi.size) continue;
     wanted.push_back({pi, d->second, "default"});
@@ -148,27 +150,27 @@ std::vector<LiveConsole::WantedValue> LiveConsole::defaults_wanted() const {
   return wanted;
 }
 
-std::vector<std::string> LiveConsole::params_diff() {
+std::vector<std::string> LiveParams::diff_from_defaults() {
   std::vector<std::string> lines;
   for (const WantedValue& w : defaults_wanted()) {
-    const std::vector<double> now = device_->get(w.info);
-    if (same_values(now, w.values)) continue;
+    const std::vector<double> now = device_.get(w.info);
+    if (same_param_values(now, w.values)) continue;
     lines.push_back(fmt::format("{}: {} (default {})", w.info.name, format_param_named(w.info, now),
                                 format_param_named(w.info, w.values)));
   }
   return lines;
 }
 
-std::vector<std::string> LiveConsole::reset_params() { return apply_values(defaults_wanted(), false); }
+std::vector<std::string> LiveParams::reset_to_defaults() { return apply_values(defaults_wanted(), false); }
 
-bool LiveConsole::same_values(const std::vector<double>& a, const std::vector<double>& b) {
+bool same_param_values(const std::vector<double>& a, const std::vector<double>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
     if (float(a[i]) != float(b[i])) return false;
   return true;
 }
 
-std::vector<std::string> LiveConsole::apply_values(const std::vector<WantedValue>& wanted, bool dry_run) {
+std::vector<std::string> LiveParams::apply_values(const std::vector<WantedValue>& wanted, bool dry_run) {
   struct Change {
     const WantedValue* want;
     std::vector<double> from;
@@ -176,8 +178,8 @@ std::vector<std::string> LiveConsole::apply_values(const std::vector<WantedValue
   std::vector<Change> changes;
   std::vector<std::string> diff;
   for (const WantedValue& w : wanted) {
-    const std::vector<double> from = device_->get(w.info);
-    if (same_values(from, w.values)) continue;
+    const std::vector<double> from = device_.get(w.info);
+    if (same_param_values(from, w.values)) continue;
     diff.push_back(fmt::format("{}: {} -> {}", w.info.name, format_param_values(w.info, from),
                                format_param_values(w.info, w.values)));
     changes.push_back({&w, from});
@@ -185,13 +187,13 @@ std::vector<std::string> LiveConsole::apply_values(const std::vector<WantedValue
   if (dry_run) return diff;
   for (size_t i = 0; i < changes.size(); ++i) {
     try {
-      apply_param(changes[i].want->info, changes[i].want->values);
+      apply(changes[i].want->info, changes[i].want->values);
     } catch (const std::exception& e) {
       // All or nothing, like PARAM_SET itself: put back what went through.
       size_t restored = 0;
       for (size_t j = i; j-- > 0;) {
         try {
-          apply_param(changes[j].want->info, changes[j].from);
+          apply(changes[j].want->info, changes[j].from);
           ++restored;
         } catch (...) {
         }

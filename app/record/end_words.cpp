@@ -7,7 +7,7 @@ namespace {
 bool starts(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 bool has(const std::string& s, const char* part) { return s.find(part) != std::string::npos; }
 
-// The sentences LiveConsole::run_for writes after "ended early: ".
+// The sentences LiveRuns::run_for writes after "ended early: ".
 std::string early_cause(const std::string& why) {
   if (has(why, "watchdog")) return "early: watchdog";
   if (has(why, "telemetry stopped arriving")) return "early: silent";

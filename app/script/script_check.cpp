@@ -25,7 +25,7 @@ namespace {
 // enforces with a NACK in the same words.
 void check_values(LiveConsole& console, const std::string& name, const std::vector<std::string>& tokens,
                   bool run_active) {
-  const auto [info, element] = console.resolve_param(name);
+  const auto [info, element] = console.params().resolve(name);
   if (info.read_only()) throw CliError(fmt::format("{} is read-only", info.name));
   if (run_active && info.stopped_only())
     throw CliError(fmt::format("{} can only change while no run is active (a run started by 'start' is)", info.name));
@@ -55,22 +55,22 @@ std::vector<ScriptError> check_script(const Script& script, LiveConsole& console
     try {
       switch (c.kind) {
         case K::Set: check_values(console, c.name, c.values, run_active); break;
-        case K::Get: console.resolve_param(c.name); break;
+        case K::Get: console.params().resolve(c.name); break;
         case K::Sweep:
           for (const std::string& v : c.values) check_values(console, c.name, {v}, run_active);
           break;
-        case K::Ref: reference_from_spec(console.rig(), console.loop_rate_hz(), c.name, c.options); break;
+        case K::Ref: reference_from_spec(console.rig(), console.device().info().loop_rate_hz, c.name, c.options); break;
         case K::RefLoad: {
           RefParams tmp{};
-          for (const auto& [k, v] : c.options) set_reference_key(tmp, console.loop_rate_hz(), k, v);
-          read_reference_csv(c.name, console.n());
+          for (const auto& [k, v] : c.options) set_reference_key(tmp, console.device().info().loop_rate_hz, k, v);
+          read_reference_csv(c.name, console.device().info().n);
           break;
         }
         case K::ParamsSave: saved_params.push_back(c.name); break;
         case K::ParamsLoad:
           // A file the script saves itself is read when the line runs.
           if (std::find(saved_params.begin(), saved_params.end(), c.name) == saved_params.end())
-            console.load_params(c.name, /*dry_run=*/true);
+            console.params().load(c.name, /*dry_run=*/true);
           break;
         case K::ModelUpload: check_readable(c.name, "model"); break;
         case K::Tune: {

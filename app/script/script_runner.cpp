@@ -10,6 +10,7 @@
 #include "host/files/cli_error.hpp"
 #include "app/link/link_error.hpp"
 #include "host/files/printable.hpp"
+#include "app/live/interrupt.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/ident_plan.hpp"
 #include "app/live/reference_spec.hpp"
@@ -88,11 +89,11 @@ void ScriptRunner::check_completed(const RunSummary& s, const Command& c, const 
 
 int ScriptRunner::run(const Script& script) {
   for (const Command& c : script.commands) {
-    if (LiveConsole::interrupted()) {
-      out_(fmt::format("{}:{}: {} before '{}'", script.file, c.line, LiveConsole::interrupt_reason(), c.text));
-      if (console_.running()) {
+    if (interrupted()) {
+      out_(fmt::format("{}:{}: {} before '{}'", script.file, c.line, interrupt_reason(), c.text));
+      if (console_.runs().running()) {
         try {
-          const RunSummary s = console_.stop_run(LiveConsole::interrupt_reason());
+          const RunSummary s = console_.runs().stop(interrupt_reason());
           out_(fmt::format("run {} stopped and kept ({} samples)", s.run_id, s.metrics.samples));
         } catch (const std::exception& e) {
           out_(fmt::format("error: the run could not be stopped: {}", e.what()));
@@ -104,9 +105,9 @@ int ScriptRunner::run(const Script& script) {
       execute(c, script.file);
     } catch (const ScriptError& e) {
       out_(std::string("error: ") + e.what());
-      if (console_.running()) {
+      if (console_.runs().running()) {
         try {
-          console_.stop_run("script error");
+          console_.runs().stop("script error");
         } catch (...) {
         }
       }
@@ -134,47 +135,47 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
   try {
     switch (c.kind) {
       case K::Set: {
-        const auto v = console_.set_param(c.name, c.values);
-        const ParamInfo info = console_.resolve_param(c.name).first;
+        const auto v = console_.params().set(c.name, c.values);
+        const ParamInfo info = console_.params().resolve(c.name).first;
         out_(fmt::format("{} = {}", info.name, format_param_named(info, v)));
         break;
       }
       case K::Get: {
-        const auto [info, v] = console_.get_param(c.name);
+        const auto [info, v] = console_.params().get(c.name);
         out_(fmt::format("{} = {}{}", info.name, format_param_named(info, v), info.unit.empty() ? "" : " " + info.unit));
         break;
       }
       case K::ParamsSave:
-        console_.save_params(c.name);
+        console_.params().save(c.name);
         out_(fmt::format("parameters saved to {}", c.name));
         break;
       case K::ParamsLoad: {
-        const auto diff = console_.load_params(c.name);
+        const auto diff = console_.params().load(c.name);
         if (diff.empty()) out_(fmt::format("{}: every parameter already has that value", c.name));
         for (const auto& d : diff) out_("  " + d);
         break;
       }
       case K::ParamsReapply: {
-        const auto sent = console_.reapply_edits();
+        const auto sent = console_.resets().reapply();
         if (sent.empty()) out_("no edits in this session to send again");
         for (const auto& l : sent) out_("  " + l);
         break;
       }
       case K::ParamsDiff: {
-        const auto diff = console_.params_diff();
+        const auto diff = console_.params().diff_from_defaults();
         if (diff.empty()) out_("every parameter has the value the firmware boots with");
         for (const auto& d : diff) out_("  " + d);
         break;
       }
       case K::ParamsReset: {
-        const auto changed = console_.reset_params();
+        const auto changed = console_.params().reset_to_defaults();
         if (changed.empty()) out_("every parameter already has the value the firmware boots with");
         for (const auto& d : changed) out_("  " + d);
         break;
       }
       case K::Ref: {
-        const RefParams r = reference_from_spec(console_.rig(), console_.loop_rate_hz(), c.name, c.options);
-        console_.select_reference(r);
+        const RefParams r = reference_from_spec(console_.rig(), console_.device().info().loop_rate_hz, c.name, c.options);
+        console_.references().select(r);
         // Its kind first: a line cut to a narrow terminal still names it.
         out_(fmt::format("reference {} in force: {}", reference_kind_name(r.kind), reference_json(r)));
         break;
@@ -183,17 +184,17 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         uint16_t hold = 1;
         for (const auto& [k, v] : c.options) {
           RefParams tmp{};
-          set_reference_key(tmp, console_.loop_rate_hz(), k, v);
+          set_reference_key(tmp, console_.device().info().loop_rate_hz, k, v);
           hold = tmp.hold;
         }
-        console_.upload_table(c.name, hold, [&](size_t d, size_t t) {
+        console_.references().upload_table(c.name, hold, [&](size_t d, size_t t) {
           if (progress_) progress_("upload " + c.name, d, t);
         });
         out_(fmt::format("reference table {} uploaded and selected (hold {})", c.name, hold));
         break;
       }
       case K::ModelUpload: {
-        const auto r = console_.upload_model(c.name, [&](size_t d, size_t t) {
+        const auto r = console_.model_upload().send(c.name, [&](size_t d, size_t t) {
           if (progress_) progress_("model " + c.name, d, t);
         });
         out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {}", c.name, r.hash,
@@ -201,7 +202,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Run: {
-        const RunSummary s = console_.run_for(
+        const RunSummary s = console_.runs().run_for(
             c.seconds, c.label,
             [&](size_t d, size_t t) {
               if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
@@ -213,7 +214,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         } catch (const std::exception&) {
           // The summary then counts a sample as one step.
         }
-        out_(summary_line(s) + timed_run_words(c.seconds, console_.loop_rate_hz(), decimation, s.metrics));
+        out_(summary_line(s) + timed_run_words(c.seconds, console_.device().info().loop_rate_hz, decimation, s.metrics));
         check_completed(s, c, file);
         break;
       }
@@ -224,7 +225,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         const IdentWords w = ident_words(c);
         const IdentPlan plan = plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line);
         out_(plan.line_words);
-        const RunSummary s = console_.run_ident(
+        const RunSummary s = console_.runs().run_ident(
             plan.start, plan.excitation_json,
             c.label.empty() ? fmt::format("ident {} seed {} {}", w.signal, w.seed, w.duration) : c.label,
             [&](size_t d, size_t t) {
@@ -236,22 +237,22 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         check_completed(s, c, file);
         break;
       }
-      case K::Start: out_(fmt::format("run {} started", console_.start_run(c.label))); break;
-      case K::Stop: out_(summary_line(console_.stop_run())); break;
-      case K::Hold: console_.hold(protocol::HoldMode::Hold); out_("holding"); break;
-      case K::Neutral: console_.hold(protocol::HoldMode::Neutral); out_("actuators neutral"); break;
-      case K::Resume: console_.hold(protocol::HoldMode::Resume); out_("resumed"); break;
+      case K::Start: out_(fmt::format("run {} started", console_.runs().start(c.label))); break;
+      case K::Stop: out_(summary_line(console_.runs().stop())); break;
+      case K::Hold: console_.runs().hold(protocol::HoldMode::Hold); out_("holding"); break;
+      case K::Neutral: console_.runs().hold(protocol::HoldMode::Neutral); out_("actuators neutral"); break;
+      case K::Resume: console_.runs().hold(protocol::HoldMode::Resume); out_("resumed"); break;
       case K::Wait: {
         // A signal cannot notify the condition variable: look at it every 50 ms.
         const auto until = std::chrono::steady_clock::now() +
                            std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(c.seconds));
         std::unique_lock<std::mutex> lock(cancel_mu_);
-        while (!cancelled_.load() && !LiveConsole::interrupted() && std::chrono::steady_clock::now() < until)
+        while (!cancelled_.load() && !interrupted() && std::chrono::steady_clock::now() < until)
           cancel_cv_.wait_until(lock, std::min(until, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
         break;
       }
       case K::Expect: {
-        const auto last = console_.last_run();
+        const auto last = console_.runs().last();
         if (!last) throw CliError("expect needs a finished run first (run DURATION)");
         const auto v = metric_value(last->metrics, c.name);
         if (!v) throw CliError(fmt::format("metric '{}' is not available for run {}", c.name, last->run_id));
@@ -266,7 +267,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::ExportCsv: {
-        const auto last = console_.last_run();
+        const auto last = console_.runs().last();
         if (!last) throw CliError("export needs a finished run first (run DURATION)");
         RunStore store(console_.db_path());
         const size_t rows = export_run_csv(store, last->run_id, c.name);
@@ -275,8 +276,8 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
       }
       case K::Echo: out_(c.name); break;
       case K::Note: {
-        const auto last = console_.last_run();
-        const int64_t id = console_.running() ? console_.current_run() : last ? last->run_id : 0;
+        const auto last = console_.runs().last();
+        const int64_t id = console_.runs().running() ? console_.runs().current() : last ? last->run_id : 0;
         if (id == 0) throw CliError("note needs a run (start one, or after run DURATION)");
         console_.recorder().set_notes(id, c.name);
         out_(fmt::format("notes on run {}: {}", id, c.name));
@@ -304,18 +305,18 @@ void ScriptRunner::tune(const Command& c) {
 }
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {
-  const auto [info, original] = console_.get_param(c.name);
+  const auto [info, original] = console_.params().get(c.name);
   std::vector<std::string> header = {c.name, "run", "samples", "rmse", "nrmse", "nrmse_space", "max_error", "lost", "p99_us"};
   std::vector<std::vector<std::string>> rows;
   std::exception_ptr failure;
   for (const std::string& v : c.values) {
     if (cancelled_.load()) break;
     try {
-      console_.set_param(c.name, {v});
+      console_.params().set(c.name, {v});
       // RUN_START restarts the reference from its first point with the
       // actuators neutral, so rows start alike; each runs `settle` longer
       // and is measured without it.
-      const RunSummary s = console_.run_for(
+      const RunSummary s = console_.runs().run_for(
           c.settle_s + c.seconds, c.label.empty() ? fmt::format("sweep {}={}", c.name, v) : c.label,
           [&](size_t d, size_t t) {
             if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
@@ -323,7 +324,7 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
           &cancelled_);
       // Over exactly the window asked for: a fast simulator runs past it
       // before the run is stopped, by a different amount each row.
-      const RunMetrics measured = console_.metrics_of(s.run_id, c.settle_s, c.seconds);
+      const RunMetrics measured = console_.runs().metrics(s.run_id, c.settle_s, c.seconds);
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(measured, m).value_or(0)); };
       rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"), f("nrmse_space"),
                       f("max_error"), f("lost_frames"), f("compute_p99_us")});
@@ -335,7 +336,7 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
   }
   // Put the parameter back as it was before the sweep.
   try {
-    console_.apply_param(info, original);
+    console_.params().apply(info, original);
   } catch (...) {
   }
   std::vector<size_t> w(header.size());

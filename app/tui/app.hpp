@@ -145,7 +145,7 @@ class App : public Ui {
   // A `:ident`'s progress (under ui_mu_): total 0 when none is running.
   std::string progress_what_;
   size_t progress_done_ = 0, progress_total_ = 0;
-  uint32_t seen_resets_ = 0;  // console_.firmware_resets() the panel has caught up with
+  uint32_t seen_resets_ = 0;  // console_.resets().count() the panel has caught up with
   // The simulator has ended and not been restarted yet (R): set by the UI
   // thread, cleared by the worker's restart.
   std::atomic<bool> sim_down_{false};

@@ -10,7 +10,7 @@ namespace nlsoft::console::tui {
 void App::start_run() {
   worker_.post("starting a run", [this] {
     try {
-      const int64_t id = console_.start_run("");
+      const int64_t id = console_.runs().start("");
       message(fmt::format("run {} started, recording to {}", id, console_.db_path()), Role::Ok);
     } catch (const std::exception& e) {
       message(e.what(), Role::Error);
@@ -21,7 +21,7 @@ void App::start_run() {
 void App::stop_run() {
   worker_.post("stopping the run", [this] {
     try {
-      const RunSummary s = console_.stop_run();
+      const RunSummary s = console_.runs().stop();
       const TrackingMetrics& t = s.metrics.has_true ? s.metrics.truth : s.metrics.predicted;
       message(fmt::format("run {} stopped: {} samples, nrmse {}, lost {}, {}{}", s.run_id, s.metrics.samples,
                           nrmse_words(t.nrmse),
@@ -39,7 +39,7 @@ void App::stop_run() {
 void App::hold(bool resume) {
   worker_.post("hold", [this, resume] {
     try {
-      console_.hold(resume ? protocol::HoldMode::Resume : protocol::HoldMode::Hold);
+      console_.runs().hold(resume ? protocol::HoldMode::Resume : protocol::HoldMode::Hold);
       message(resume ? "resumed" : "holding (F7 resumes)", Role::Ok);
     } catch (const std::exception& e) {
       message(e.what(), Role::Error);
@@ -50,7 +50,7 @@ void App::hold(bool resume) {
 void App::neutral() {
   worker_.post("neutral", [this] {
     try {
-      console_.hold(protocol::HoldMode::Neutral);
+      console_.runs().hold(protocol::HoldMode::Neutral);
       message("actuators neutral (F7 resumes)", Role::Ok);
     } catch (const std::exception& e) {
       message(e.what(), Role::Error);
@@ -63,14 +63,14 @@ void App::neutral() {
 // that reason and its gap, and R offers a new simulator.
 void App::check_simulator() {
   if (sim_down_.load()) return;
-  const std::string gone = console_.simulator_exit();
+  const std::string gone = console_.simulator().exit_words();
   if (gone.empty()) return;
   sim_down_ = true;
   sim_gone_ = gone;
   message(gone + "; R restarts it", Role::Error);
   worker_.post("ending the run", [this, gone] {
     try {
-      if (const auto s = console_.end_run_simulator_gone())
+      if (const auto s = console_.runs().end_simulator_gone())
         message(fmt::format("{}: run {} ended and kept, {} samples and the gap since ({} lost); R restarts the simulator",
                             gone, s->run_id, s->metrics.samples, s->metrics.lost_frames),
                 Role::Error);
@@ -87,7 +87,7 @@ void App::check_simulator() {
 void App::restart_simulator() {
   std::string port;
   try {
-    port = console_.respawn_simulator();
+    port = console_.simulator().respawn();
   } catch (const std::exception& e) {
     message(std::string("the simulator did not restart: ") + e.what() + "; R tries again", Role::Error);
     return;

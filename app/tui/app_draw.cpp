@@ -28,9 +28,9 @@ void App::draw_title(int w) {
   const auto info = console_.device().info();
   const LinkStats st = console_.session().stats();
   static const char* states[] = {"idle", "RUNNING", "HOLD", "NEUTRAL", "FAULT"};
-  std::string run = console_.running()
-                        ? fmt::format("run {} {} k={}", console_.current_run(), st.run_state < 5 ? states[st.run_state] : "?",
-                                      console_.run_samples())
+  std::string run = console_.runs().running()
+                        ? fmt::format("run {} {} k={}", console_.runs().current(), st.run_state < 5 ? states[st.run_state] : "?",
+                                      console_.runs().samples())
                         : "no run";
   // Narrower than the whole title: the fields least needed while working
   // go first (the program's name, the firmware's version) while the
@@ -38,7 +38,7 @@ void App::draw_title(int w) {
   // then the path loses its middle folders; the run's state stays.
   std::vector<Field> fields = {{"nlsoft-console", 0},
                                {fmt::format("{} {}.{}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch), 1},
-                               {fmt::format("{} n={} m={} {} Hz", console_.rig_label(), info.n, info.m, info.loop_rate_hz), 3},
+                               {fmt::format("{} n={} m={} {} Hz", console_.device().rig_label(), info.n, info.m, info.loop_rate_hz), 3},
                                {run, 4}};
   const std::string db = console_.db_path(), more = screen_.ellipsis();
   const size_t width = size_t(std::max(1, w - 1));
@@ -146,7 +146,7 @@ void App::draw() {
   view.overlay = overlay.get();
   // Live, only the window is copied (at most one sample per step).
   const std::vector<Sample> live =
-      paused_ ? std::vector<Sample>{} : console_.live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));
+      paused_ ? std::vector<Sample>{} : console_.samples().live().snapshot(size_t(std::min(1e9, view.window_steps + 2)));
   const std::vector<Sample>& samples = paused_ ? frozen_ : live;
   // The help covers the screen: nothing is drawn under it, so no plot dot
   // shows beside or through it (and no time goes into plots nobody sees).
@@ -163,7 +163,7 @@ void App::draw() {
   if (path_view_) {
     // The newest 4096 samples make the shape; copying all that is kept
     // 25 times a second would cost 100 MB/s for nothing visible.
-    draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.live().snapshot(4096), ax_, ay_);
+    draw_path_view(screen_, 1, 0, main_h, left_w, paused_ ? frozen_ : console_.samples().live().snapshot(4096), ax_, ay_);
   } else {
     // The convergence view takes the bottom of the plot pane while shown.
     const int tune_h = show_tune_ && !tune_.empty() ? std::min(10, (main_h - 1) / 3) : 0;

@@ -89,7 +89,7 @@ App::KeyResult App::on_key(KeyAction action, int ch) {
       restart_simulator();
       return KeyResult::Done;
     case KeyAction::Quit:
-      if (console_.running()) {
+      if (console_.runs().running()) {
         confirm("a run is active: stop it and quit?",
                 {console_.recording() ? "the run is stopped and kept in the database"
                                       : "the run is stopped; nothing is kept (--no-record)"},
@@ -124,7 +124,7 @@ App::KeyResult App::on_key(KeyAction action, int ch) {
     case KeyAction::Stop:
       // A timed run from the ':' line is ended where it waits; otherwise
       // the stop queues behind whatever the worker is doing.
-      if (console_.stop_timed_run()) message("stopping the timed run...");
+      if (console_.runs().stop_timed()) message("stopping the timed run...");
       else stop_run();
       return KeyResult::Done;
     case KeyAction::Hold: {
@@ -143,7 +143,7 @@ App::KeyResult App::on_key(KeyAction action, int ch) {
       else show_tune_ = !show_tune_;
       return KeyResult::Done;
     case KeyAction::PathAxes: {
-      const int n = std::max(2, console_.n());
+      const int n = std::max(2, int(console_.device().info().n));
       ay_ = (ay_ + 1) % n;
       if (ay_ == ax_) ax_ = (ax_ + 1) % n, ay_ = (ax_ + 1) % n;
       return KeyResult::Done;

@@ -64,16 +64,16 @@ void App::overlay_command(const std::string& args) {
 
 double App::step_rate() {
   const double r = console_.session().stats().loop_rate_hz;
-  return r > 0 ? r : std::max(1.0, console_.loop_rate_hz());
+  return r > 0 ? r : std::max(1.0, double(console_.device().info().loop_rate_hz));
 }
 
 void App::pause_plot(bool on) {
   paused_ = on;
   if (on) {
-    frozen_ = console_.live().snapshot(LiveConsole::kLiveSamples);
+    frozen_ = console_.samples().live().snapshot(SampleIntake::kLiveSamples);
     end_step_ = frozen_.empty() ? -1 : int64_t(frozen_.back().step);
-    const auto last = console_.last_run();
-    frozen_run_ = console_.running() ? console_.current_run() : last ? last->run_id : 0;
+    const auto last = console_.runs().last();
+    frozen_run_ = console_.runs().running() ? console_.runs().current() : last ? last->run_id : 0;
   } else {
     frozen_.clear();
     end_step_ = -1;
@@ -95,7 +95,7 @@ void App::load_older_samples() {
       store.for_each_sample(run, [&](const Sample& smp) {
         if (smp.k >= before) return;
         chunk.push_back(smp);
-        if (chunk.size() > LiveConsole::kLiveSamples) chunk.pop_front();
+        if (chunk.size() > SampleIntake::kLiveSamples) chunk.pop_front();
       });
     } catch (const std::exception& e) {
       message(std::string("older samples: ") + e.what(), Role::Error);

@@ -22,7 +22,7 @@ std::string shell_word(const std::string& s) {
 }  // namespace
 
 std::string exit_summary(LiveConsole& console) {
-  const std::vector<int64_t> ids = console.session_runs();
+  const std::vector<int64_t> ids = console.runs().session_runs();
   const std::string db = shell_word(console.db_path());
   if (!console.recording())
     return ids.empty() ? "nlsoft-console: no run this session (--no-record: nothing was kept)\n"
@@ -35,7 +35,7 @@ std::string exit_summary(LiveConsole& console) {
                                 ids.size() == 1 ? "" : "s", console.db_path());
   for (const int64_t id : ids) {
     try {
-      const RunMetrics m = console.metrics_of(id);
+      const RunMetrics m = console.runs().metrics(id);
       const RunRow row = RunStore(console.db_path()).run(id);
       // The time the run lasted; a run the console could not close has
       // only the time its samples span.

@@ -64,7 +64,7 @@ void ParamPanel::send(size_t row, const std::vector<double>& values, bool record
     std::string note;
     std::vector<double> now = before;
     try {
-      now = console_.apply_param(info, values);
+      now = console_.params().apply(info, values);
       state = State::Applied;
       bool same = true;
       for (size_t i = 0; i < now.size() && i < values.size(); ++i) same &= float(now[i]) == float(values[i]);
@@ -90,7 +90,7 @@ void ParamPanel::send(size_t row, const std::vector<double>& values, bool record
 void ParamPanel::reapply() {
   worker_.post("re-applying this session's edits", [this] {
     try {
-      const auto sent = console_.reapply_edits();
+      const auto sent = console_.resets().reapply();
       ui_.message(sent.empty() ? "no edits in this session to send again"
                                : fmt::format("{} edit{} sent again", sent.size(), sent.size() == 1 ? "" : "s"),
                   Role::Ok);
@@ -111,7 +111,7 @@ void ParamPanel::save() {
     if (path.empty()) return;
     worker_.post("saving parameters", [this, path] {
       try {
-        console_.save_params(path);
+        console_.params().save(path);
         ui_.message("parameters saved to " + path, Role::Ok);
       } catch (const std::exception& e) {
         ui_.message(e.what(), Role::Error);
@@ -125,7 +125,7 @@ void ParamPanel::load() {
     if (path.empty()) return;
     worker_.post("reading " + path, [this, path] {
       try {
-        const auto diff = console_.load_params(path, true);
+        const auto diff = console_.params().load(path, true);
         if (diff.empty()) {
           ui_.message(path + ": every parameter already has that value", Role::Ok);
           return;
@@ -133,7 +133,7 @@ void ParamPanel::load() {
         ui_.confirm("send these changes from " + path + "?", diff, [this, path] {
           worker_.post("loading " + path, [this, path] {
             try {
-              const auto applied = console_.load_params(path);
+              const auto applied = console_.params().load(path);
               ui_.message(fmt::format("{}: {} parameter{} changed", path, applied.size(), applied.size() == 1 ? "" : "s"),
                           Role::Ok);
             } catch (const std::exception& e) {

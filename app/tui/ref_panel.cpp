@@ -26,7 +26,7 @@ void RefPanel::reset_kind() {
   selected_ = 0;
   if (!kKinds[kind_].preset) return;
   try {
-    ref_ = reference_from_spec(console_.rig(), console_.loop_rate_hz(), kKinds[kind_].preset, {});
+    ref_ = reference_from_spec(console_.rig(), console_.device().info().loop_rate_hz, kKinds[kind_].preset, {});
   } catch (const std::exception& e) {
     ui_.message(e.what(), Role::Error);
   }
@@ -39,7 +39,7 @@ void RefPanel::select_kind(size_t kind) {
 }
 
 void RefPanel::show_in_force() {
-  if (const auto cur = console_.reference()) {
+  if (const auto cur = console_.references().current()) {
     const bool table = cur->kind == RefKind::Table;
     for (size_t i = 0; i < kKindCount; ++i) {
       const bool match = table ? kKinds[i].preset == nullptr
@@ -82,7 +82,7 @@ void RefPanel::send() {
     up_total_ = 0;
     worker_.post("uploading " + path, [this, path, hold] {
       try {
-        console_.upload_table(path, hold, [this](size_t d, size_t t) {
+        console_.references().upload_table(path, hold, [this](size_t d, size_t t) {
           up_done_ = d;
           up_total_ = t;
         });
@@ -101,7 +101,7 @@ void RefPanel::send() {
   }
   worker_.post("selecting reference", [this, r] {
     try {
-      console_.select_reference(r);
+      console_.references().select(r);
       ui_.message(fmt::format("reference {} in force", reference_kind_name(r.kind)), Role::Ok);
     } catch (const std::exception& e) {
       ui_.message(e.what(), Role::Error);
@@ -120,12 +120,12 @@ bool RefPanel::key(int ch) {
           if (k == "file") csv_path_ = edit_.text();
           else {
             RefParams tmp{};
-            set_reference_key(tmp, console_.loop_rate_hz(), "hold", edit_.text());
+            set_reference_key(tmp, console_.device().info().loop_rate_hz, "hold", edit_.text());
             csv_hold_ = tmp.hold;
           }
         } else {
           RefParams next = ref_;
-          set_reference_key(next, console_.loop_rate_hz(), k, edit_.text());
+          set_reference_key(next, console_.device().info().loop_rate_hz, k, edit_.text());
           ref_ = next;  // only a valid edit changes the working copy
         }
       } catch (const std::exception& e) {
@@ -153,7 +153,7 @@ bool RefPanel::key(int ch) {
       if (selected_ < ks.size()) {
         const std::string& k = ks[selected_];
         const std::string v = !kKinds[kind_].preset ? (k == "file" ? csv_path_ : std::to_string(csv_hold_))
-                                                    : reference_key_value(ref_, console_.loop_rate_hz(), k);
+                                                    : reference_key_value(ref_, console_.device().info().loop_rate_hz, k);
         edit_.start(k + " = ", v);
       }
       return true;
@@ -188,7 +188,7 @@ void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focus
       continue;
     }
     std::string v = !kKinds[kind_].preset ? (ks[i] == "file" ? csv_path_ : std::to_string(csv_hold_))
-                                          : reference_key_value(ref_, console_.loop_rate_hz(), ks[i]);
+                                          : reference_key_value(ref_, console_.device().info().loop_rate_hz, ks[i]);
     if (ks[i] == "period") v += " s";
     put(ry, x + 10, v, w - 11, sel ? screen.attr(Role::Selected) : 0);
   }
@@ -201,7 +201,7 @@ void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focus
                     t ? int(100 * d / t) : 0),
         w - 2, screen.attr(Role::Pending));
   }
-  const auto cur = console_.reference();
+  const auto cur = console_.references().current();
   const int fw = firmware_ref_id_.load();
   put(y + h - 2, x + 1,
       cur                                    ? fmt::format("in force: {}", reference_kind_name(cur->kind))

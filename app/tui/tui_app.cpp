@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/tui/app.hpp"
+#include "app/live/interrupt.hpp"
 #include "app/tui/completion.hpp"
 #include "app/tui/exit_summary.hpp"
 #include "app/tui/curses.hpp"
@@ -47,7 +48,7 @@ App::App(LiveConsole& console, Screen& screen)
     Completion c = complete_command(left, names);
     return std::make_pair(c.text, c.candidates);
   });
-  console_.set_notify([this](const std::string& s) { message(s, Role::Warn); });
+  console_.notices().listen([this](const std::string& s) { message(s, Role::Warn); });
   params_.reload();
   runs_.reload();
   if (const UdpStream* u = console_.udp())
@@ -65,8 +66,8 @@ App::App(LiveConsole& console, Screen& screen)
 //  2. stop and join the worker: the task running finishes (bounded by the
 //     link's timeouts), queued ones are dropped; afterwards no other thread
 //     touches the panels, the runner or the message log;
-//  3. detach the console's notify callback: LiveConsole::say calls it under
-//     its mutex, so once set_notify returns the link's threads are done with
+//  3. detach the console's notices listener: Notices::say calls it under
+//     its mutex, so once listen({}) returns the link's threads are done with
 //     message();
 //  4. stop a run still active (F5) on this thread, so it is kept with an end;
 // then the members are destroyed, in any order.
@@ -75,10 +76,10 @@ void App::shutdown() {
   shut_down_ = true;
   runner_.cancel();
   worker_.stop();
-  console_.set_notify({});
-  if (console_.running()) {
+  console_.notices().listen({});
+  if (console_.runs().running()) {
     try {
-      console_.stop_run(LiveConsole::interrupted() ? LiveConsole::interrupt_reason() : "stopped at quit");
+      console_.runs().stop(interrupted() ? interrupt_reason() : "stopped at quit");
     } catch (...) {
       // Quitting regardless; the run stays open in the database (ended_at NULL).
     }
@@ -110,12 +111,12 @@ int App::loop() {
     if (ch != ERR && !handle(ch)) break;
     // A firmware that reset behind a reconnect: old values must not stay on
     // screen as if they were in force.
-    if (const uint32_t resets = console_.firmware_resets(); resets != seen_resets_) {
+    if (const uint32_t resets = console_.resets().count(); resets != seen_resets_) {
       seen_resets_ = resets;
       params_.reload_after_reset();
     }
     check_simulator();
-    if (LiveConsole::interrupted()) break;  // SIGTERM, or Ctrl-C outside raw mode
+    if (interrupted()) break;  // SIGTERM, or Ctrl-C outside raw mode
     // Steady redraw whatever the telemetry or key rate: at most every 40 ms.
     if (Clock::now() - last_draw >= std::chrono::milliseconds(40)) {
       draw();
@@ -135,7 +136,7 @@ int run_tui(LiveConsole& console) {
     tui::App app(console, screen);
     rc = app.loop();
   }
-  console.set_notify({});
+  console.notices().listen({});
   // On the normal screen again (endwin): what stays after the TUI is gone.
   std::fputs(tui::exit_summary(console).c_str(), stdout);
   std::fflush(stdout);

@@ -63,7 +63,7 @@ SearchSpace::SearchSpace(LiveConsole& console, std::vector<Dimension> dims) : di
     const std::string name = scale ? d.name.substr(0, d.name.size() - 1) : d.name;
     std::pair<ParamInfo, int> resolved;
     try {
-      resolved = console.resolve_param(name);
+      resolved = console.params().resolve(name);
     } catch (const CliError& e) {
       throw CliError(fmt::format("--param {}: {}", d.spec, e.what()));
     }
@@ -81,7 +81,7 @@ SearchSpace::SearchSpace(LiveConsole& console, std::vector<Dimension> dims) : di
     seen.push_back(key);
     size_t p = 0;
     while (p < original_.size() && original_[p].first.name != info.name) ++p;
-    if (p == original_.size()) original_.emplace_back(info, console.get_param(info.name).second);
+    if (p == original_.size()) original_.emplace_back(info, console.params().get(info.name).second);
     const std::vector<double>& now = original_[p].second;
     // Ranges inside the table's: the firmware would refuse every candidate
     // outside, and the search would spend its budget learning that.

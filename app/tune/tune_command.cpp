@@ -58,7 +58,7 @@ int run_tune(const TuneArgs& a) {
   // Ctrl-C ends the run in progress (kept, not scored) and the session,
   // which still saves the best set found so far.
   install_interrupt_handlers();
-  console.set_notify([](const std::string& s) { ProgressBar::say(s); });
+  console.notices().listen([](const std::string& s) { ProgressBar::say(s); });
   connect_with_progress(console);
   const auto info = console.device().info();
   std::fprintf(stderr, "connected: %s %u.%u.%u, %u Hz; recording to %s\n", info.firmware, info.fw_major, info.fw_minor,

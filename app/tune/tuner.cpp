@@ -10,6 +10,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/link/device.hpp"
+#include "app/live/interrupt.hpp"
 #include "app/live/live_console.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
@@ -32,7 +33,7 @@ std::string algorithm_name(const std::string& method) {
 }
 
 void put_in_force(LiveConsole& console, const std::vector<SearchSpace::Write>& writes) {
-  for (const auto& [info, values] : writes) console.apply_param(info, values);
+  for (const auto& [info, values] : writes) console.params().apply(info, values);
 }
 
 std::string values_text(const std::vector<SearchSpace::Write>& writes) {
@@ -55,7 +56,7 @@ RefParams tune_reference(LiveConsole& console, const std::string& text) {
       throw CliError(fmt::format("reference \"{}\": '{}' is not key=value", text, words[i]));
     keys.emplace_back(words[i].substr(0, eq), words[i].substr(eq + 1));
   }
-  return reference_from_spec(console.rig(), console.loop_rate_hz(), words[0], keys);
+  return reference_from_spec(console.rig(), console.device().info().loop_rate_hz, words[0], keys);
 }
 
 TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCallbacks& cb,
@@ -71,7 +72,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   }
   const Objective objective(o.objective);
   SearchSpace space(console, o.dims);
-  if (!o.reference.empty()) console.select_reference(tune_reference(console, o.reference));
+  if (!o.reference.empty()) console.references().select(tune_reference(console, o.reference));
 
   TuneLog log(console.db_path());
   TuneResult r;
@@ -101,7 +102,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
   int eval = 0;
   auto f = [&](const std::vector<double>& x) -> double {
     if (cancel && cancel->load()) stop = Stop::Cancelled;
-    else if (LiveConsole::interrupted()) stop = Stop::Interrupted;
+    else if (interrupted()) stop = Stop::Interrupted;
     else if (o.budget_s > 0 && std::chrono::duration<double>(clock::now() - started).count() >= o.budget_s)
       stop = Stop::Time;
     else if (o.budget_runs > 0 && eval >= o.budget_runs)
@@ -122,7 +123,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
         e.failed = std::string("the firmware refused it: ") + refused.what();
       }
       if (e.failed.empty()) {
-        const RunSummary s = console.run_for(
+        const RunSummary s = console.runs().run_for(
             o.settle_s + o.window_s, fmt::format("tune {} #{}", r.session, e.eval),
             [&](size_t d, size_t t) {
               if (cb.progress) cb.progress(fmt::format("eval {}{}", e.eval, o.budget_runs > 0 ? fmt::format("/{}", o.budget_runs) : ""), d, t);
@@ -135,7 +136,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
         }
         // Over exactly settle..settle+window: a fast simulator runs past the
         // end before the run is stopped, by a different amount each time.
-        m = console.metrics_of(s.run_id, o.settle_s, o.window_s);
+        m = console.runs().metrics(s.run_id, o.settle_s, o.window_s);
         e.nrmse = metric_value(m, "nrmse").value_or(kNaN);
         if (!motion_checked && m.samples > 0) {
           motion_checked = true;
@@ -156,7 +157,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
     } catch (const nlopt::forced_stop&) {
       throw;
     } catch (const CliError&) {
-      if (LiveConsole::interrupted()) {
+      if (interrupted()) {
         stop = Stop::Interrupted;  // the run was stopped and kept; not scored
       } else {
         stop = Stop::Error;
@@ -272,7 +273,7 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
     if (r.have_best) {
       put_in_force(console, r.best_values);
       r.saved_to = o.save.empty() ? fmt::format("tune-{}.params", r.session) : o.save;
-      console.save_params(r.saved_to);
+      console.params().save(r.saved_to);
       r.applied = o.apply;
     }
     if (!r.applied) put_in_force(console, space.original());

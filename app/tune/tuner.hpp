@@ -60,7 +60,7 @@ struct TuneCallbacks {
 RefParams tune_reference(LiveConsole& console, const std::string& text);
 
 // Runs a whole session on the connected firmware. Ends at the budget, when
-// NLopt converges, at Ctrl-C (LiveConsole::interrupted) or when *cancel
+// NLopt converges, at Ctrl-C (interrupted()) or when *cancel
 // turns true; in every case the best set found is printed and written with
 // `params save`, and the searched parameters are put back as they were
 // unless options.apply. Throws CliError on a bad parameter or range (before

@@ -66,7 +66,7 @@ class ModelUpload : public ::testing::Test {
     const uint32_t before = hash_in_force();
     std::string what;
     try {
-      console_->upload_model(path);
+      console_->model_upload().send(path);
     } catch (const CliError& e) {
       what = e.what();
     }
@@ -87,7 +87,7 @@ TEST_F(ModelUpload, ANewModelGoesInForceAndItsHashIsConfirmed) {
   ASSERT_NE(before, trailing_crc(model));
 
   size_t last_done = 0, last_total = 0, calls = 0;
-  const auto r = console_->upload_model(path, [&](size_t d, size_t t) {
+  const auto r = console_->model_upload().send(path, [&](size_t d, size_t t) {
     EXPECT_GE(d, last_done) << "progress never goes back";
     last_done = d;
     last_total = t;
@@ -150,9 +150,9 @@ TEST_F(ModelUpload, FilesTheFirmwareCouldNotRunAreRefusedBeforeAnythingIsSent) {
 
 TEST_F(ModelUpload, IsRefusedDuringARun) {
   write_bytes(dir_.file("m.nlsm"), retrained("msd"));
-  console_->start_run("model change mid-run");
+  console_->runs().start("model change mid-run");
   EXPECT_NE(refusal(dir_.file("m.nlsm")).find("stop the run first"), std::string::npos);
-  console_->stop_run();
+  console_->runs().stop();
 }
 
 // A valid model file of hasel's dimensions (36 inputs), zero weights,

@@ -23,7 +23,7 @@ class ParamsDefaults : public ::testing::TestWithParam<const char*> {};
 TEST_P(ParamsDefaults, AFreshFirmwareHoldsExactlyTheDefaultsTheConsoleKnows) {
   test::TempDir dir;
   auto c = connected_sim_console(GetParam(), dir);
-  const std::vector<std::string> diff = c->params_diff();
+  const std::vector<std::string> diff = c->params().diff_from_defaults();
   EXPECT_TRUE(diff.empty()) << diff.front();
 }
 
@@ -32,21 +32,21 @@ INSTANTIATE_TEST_SUITE_P(EveryPlatform, ParamsDefaults, ::testing::Values("msd",
 TEST(ParamsDiffReset, EditsShowAgainstTheirDefaultsAndAResetPutsThemBack) {
   test::TempDir dir;
   auto c = connected_sim_console("hasel", dir);
-  c->set_param("Lambda", {"0.5"});
-  c->set_param("watchdog_ms", {"500"});
-  c->set_param("mode", {"fd"});
-  const std::vector<std::string> diff = c->params_diff();
+  c->params().set("Lambda", {"0.5"});
+  c->params().set("watchdog_ms", {"500"});
+  c->params().set("mode", {"fd"});
+  const std::vector<std::string> diff = c->params().diff_from_defaults();
   ASSERT_EQ(diff.size(), 3u);
   EXPECT_EQ(diff[0], "Lambda: 0.5 0.5 0.5 0.5 0.5 0.5 (default 1 1 1 1 1 1)");
   EXPECT_EQ(diff[1], "mode: 1 (fd) (default 0 (exact))");
   EXPECT_EQ(diff[2], "watchdog_ms: 500 (default 1000)");
 
-  const std::vector<std::string> reset = c->reset_params();
+  const std::vector<std::string> reset = c->params().reset_to_defaults();
   EXPECT_EQ(reset.size(), 3u);
-  EXPECT_TRUE(c->params_diff().empty());
-  EXPECT_EQ(c->get_param("Lambda").second, std::vector<double>(6, 1.0));
-  EXPECT_EQ(c->get_param("watchdog_ms").second, std::vector<double>{1000});
-  EXPECT_TRUE(c->reset_params().empty()) << "nothing left to send";
+  EXPECT_TRUE(c->params().diff_from_defaults().empty());
+  EXPECT_EQ(c->params().get("Lambda").second, std::vector<double>(6, 1.0));
+  EXPECT_EQ(c->params().get("watchdog_ms").second, std::vector<double>{1000});
+  EXPECT_TRUE(c->params().reset_to_defaults().empty()) << "nothing left to send";
 }
 
 TEST(ParamsDiffReset, ScriptCommandsParseAndRefuseExtraWords) {

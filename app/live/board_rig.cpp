@@ -1,0 +1,37 @@
+// A rig named by the firmware's platform number is read from the shipped
+// rig files; a rig of the firmware's own needs its file.
+#include "app/live/board_rig.hpp"
+
+#include "host/files/cli_error.hpp"
+#include "host/rig/rig_catalog.hpp"
+
+namespace nlsoft::console {
+
+void BoardRig::open() {
+  if (!rig_file_.empty()) file_id_ = rig_file_id(rig_file_);
+}
+
+const Rig& BoardRig::rig() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  if (rig_) return *rig_;
+  if (!rig_file_.empty()) {
+    rig_ = load_rig_arg(rig_file_);
+    return *rig_;
+  }
+  const std::string shipped = rig_name_of_platform(device_.info().platform);
+  if (shipped.empty())
+    throw CliError("the firmware runs a rig of its own (no shipped rig's number); give its rig file: --rig FILE");
+  rig_ = load_rig_arg(shipped);
+  return *rig_;
+}
+
+std::string BoardRig::mismatch() {
+  if (!file_id_ || warned_) return "";
+  const std::optional<protocol::RigInfo> rig = device_.rig();
+  if (!rig) return "";  // a 1.1 firmware names no rig
+  const std::string w = rig_mismatch(*rig, *file_id_);
+  if (w.empty() || warned_.exchange(true)) return "";
+  return w;
+}
+
+}  // namespace nlsoft::console

@@ -1,0 +1,64 @@
+// Every sample is numbered into the run in progress (or only shown, with
+// none); a link down or frames lost on the way are recorded as the run's
+// gaps.
+#include "app/live/sample_intake.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+namespace nlsoft::console {
+
+namespace p = nlsoft::protocol;
+namespace tf = protocol::telemetry_field;
+
+void SampleIntake::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
+  on_sample(sample_from(t, 0, tick_rate_hz_.load()), (t.mask & tf::kStep) != 0, lost_before);
+}
+
+void SampleIntake::on_ident_sample(const p::IdentSample& t, uint32_t lost_before) {
+  on_sample(sample_from(t, 0), true, lost_before);
+}
+
+void SampleIntake::on_sample(Sample s, bool has_step, uint32_t lost_before) {
+  const int64_t run = run_.id.load();
+  if (run == 0) {
+    live_.push(s);
+    if (udp_) udp_->push(s, 0);
+    return;
+  }
+  const uint64_t k = run_.k.fetch_add(1);
+  s.k = k;
+  if (k == 0) run_.first_step = s.step;
+  if (lost_before > 0) {
+    run_.lost += lost_before;
+    run_.recorder.add_gap(run, k == 0 ? 0 : k - 1, lost_before, "telemetry frames lost on the link");
+  } else if (run_.resync_after_gap.exchange(false) && run_.have_last_step && has_step) {
+    const uint32_t d = std::max<uint16_t>(run_.decimation.load(), 1);
+    const uint32_t missed = (s.step - run_.last_step.load()) / d;
+    if (missed > 1) {
+      run_.lost += missed - 1;
+      run_.recorder.add_gap(run, k == 0 ? 0 : k - 1, missed - 1, "link down");
+    }
+  }
+  run_.recorder.add_sample(run, s);
+  live_.push(s);
+  if (udp_) udp_->push(s, run);
+  run_.last_step = s.step;
+  run_.have_last_step = true;
+  run_.last_sample_ns = std::chrono::steady_clock::now().time_since_epoch().count();
+}
+
+// The firmware ends a run on its own only through its link watchdog (or a
+// fault): STATUS, sent every second, is where that shows, since telemetry
+// just stops.
+void SampleIntake::on_status(const p::Status& s) {
+  tick_rate_hz_ = s.tick_rate_hz;
+  const int64_t run = run_.id.load();
+  if (run != 0 && s.run_id == uint32_t(run) && s.run_state != uint8_t(p::RunState::Running) &&
+      s.run_state != uint8_t(p::RunState::Ident) && !run_.user_hold.load()) {
+    run_.left_watchdog = s.watchdog;
+    run_.left_state = s.run_state;
+  }
+}
+
+}  // namespace nlsoft::console

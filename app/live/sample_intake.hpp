@@ -1,0 +1,45 @@
+#pragma once
+// Sample intake, on the link's reader thread: every TELEMETRY and
+// IDENT_SAMPLE numbered into the run in progress, its gaps recorded, kept
+// for the live plots and the UDP stream. Separate because it is the one
+// part that runs at the loop's rate, on a thread nothing else may block.
+#include <atomic>
+#include <cstdint>
+
+#include "app/live/active_run.hpp"
+#include "app/live/live_buffer.hpp"
+#include "app/live/udp_stream.hpp"
+#include "protocol/messages.hpp"
+
+namespace nlsoft::console {
+
+class SampleIntake {
+ public:
+  // The newest samples for the live plots (what a paused plot can scroll
+  // back through): 30 s at 500 Hz, ~4 MB.
+  static constexpr size_t kLiveSamples = 16384;
+
+  // udp: null without --udp; it outlives every call here (LiveConsole).
+  SampleIntake(ActiveRun& run, UdpStream* udp) : run_(run), udp_(udp) {}
+
+  // The link's reader thread, from the session's callbacks.
+  void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
+  void on_ident_sample(const protocol::IdentSample& t, uint32_t lost_before);
+  // Converts compute ticks to microseconds; watches for the firmware
+  // leaving the run.
+  void on_status(const protocol::Status& s);
+
+  // Any thread (the UI's plots, LiveRuns clearing it as a run starts).
+  LiveBuffer& live() { return live_; }
+
+ private:
+  // A run's sample from either message: numbered, gaps recorded, kept.
+  void on_sample(Sample s, bool has_step, uint32_t lost_before);
+
+  ActiveRun& run_;
+  UdpStream* udp_;
+  LiveBuffer live_{kLiveSamples};
+  std::atomic<uint32_t> tick_rate_hz_{0};
+};
+
+}  // namespace nlsoft::console
