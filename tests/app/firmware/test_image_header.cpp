@@ -170,7 +170,8 @@ TEST(ImageHeader, WiresTheFilesPinsWithEachSensorsScaling) {
   EXPECT_TRUE(contains(h, "kNoAnalogue,  // s2")) << h;
   EXPECT_TRUE(contains(h, "{kAnalogue[0].pin, kAnalogue[0].adc_channel, 0.0f, 1.0f},  // s3 on ADC1_IN0")) << h;
   EXPECT_TRUE(contains(h, "{kAnalogue[10].pin, kAnalogue[10].adc_channel, 0.0f, 0.1f},  // s4 on ADC1_IN13")) << h;
-  EXPECT_FALSE(contains(h, "s5")) << h;
+  EXPECT_FALSE(contains(h, "kNoAnalogue,  // s5")) << h;  // past the last wired row
+  EXPECT_TRUE(contains(h, "{SensorFrom::None, 0, 0, 1.0f, 0.0f},  // s5: not wired")) << h;
   // QEMU's board has no pins to wire.
   EXPECT_FALSE(contains(source_of(kRig, "mps2-an386").header, "kRigPwm"));
 }
@@ -324,6 +325,57 @@ TEST(ImageHeader, ARigWithoutAShapeOrWithAnotherHistoryIsRefused) {
   ImageRequest q;
   q.board = "teensy";
   EXPECT_THROW(image_source(parse_rig(kRig, "g.toml"), q), CliError);
+}
+
+// The gripper with s2 a magnetometer's z on I2C and s5 a pressure in kPa
+// from a DPS310.
+std::string with_devices() {
+  std::string t = replaced(kRig, "[[sensor]]\nname = \"s1\"",
+                           "[[device]]\nname = \"palm\"\nchip = \"lsm303dlhc_mag\"\nbus = \"i2c1\"\naddress = 0x1e\n"
+                           "range = 8.1\nrate_hz = 220\n\n[[device]]\nname = \"air\"\nchip = \"dps310\"\nbus = \"i2c1\"\n"
+                           "rate_hz = 32\n\n[[sensor]]\nname = \"s1\"");
+  t = replaced(t, "name = \"s2\"\nsource = \"none\"", "name = \"s2\"\nsource = \"device\"\ndevice = \"palm\"\nchannel = \"z\"");
+  return replaced(t, "name = \"s5\"\nsource = \"none\"",
+                  "name = \"s5\"\nsource = \"device\"\ndevice = \"air\"\nchannel = \"pressure\"\ngain = 0.001");
+}
+
+TEST(ImageHeader, ListsEachDeviceAndWhereEachSensorIsRead) {
+  for (const char* board : {"stm32f4", "mps2-an386"}) {
+    const std::string h = source_of(with_devices(), board).header;
+    EXPECT_TRUE(contains(h, "constexpr int kRigDeviceCount = 2;")) << h;
+    // lsm303dlhc_mag is the catalog's row 1, dps310 row 2; GN 111 (±8.1 gauss), DO 111 (220 Hz); PM_RATE 32/s.
+    EXPECT_TRUE(contains(h, "    {\"palm\", chips::kCatalog[1], 0, BusKind::I2c, 0x1e, 0, 100000u, {8.1f, 0xe0}, {220.0f, 0x1c}},"
+                            "  // lsm303dlhc_mag on i2c1 at 0x1e, 100000 Hz clock, range 8.1 gauss, 220 Hz\n"))
+        << h;
+    EXPECT_TRUE(contains(h, "    {\"air\", chips::kCatalog[2], 0, BusKind::I2c, 0x77, 0, 100000u, {0.0f, 0x00}, {32.0f, 0x50}},"))
+        << h;
+    EXPECT_TRUE(contains(h, "static_assert(chips::same_name(kRigDevices[1].chip->name, \"dps310\"), \"the catalog's row\");"))
+        << h;
+    EXPECT_TRUE(contains(h, "constexpr RigSensorSource kRigSensorSources[5] = {\n"
+                            "    {SensorFrom::Analogue, 0, 0, 2.5f, -0.5f},  // s1: ADC1_IN4\n"
+                            "    {SensorFrom::Device, 0, 2, 1.0f, 0.0f},  // s2: palm's z\n"))
+        << h;
+    EXPECT_TRUE(contains(h, "    {SensorFrom::Device, 1, 0, 0.001f, 0.0f},  // s5: air's pressure\n};")) << h;
+  }
+  // Without devices the tables are there, empty, for the port to compile against.
+  EXPECT_TRUE(contains(source_of(kRig, "mps2-an386").header, "constexpr int kRigDeviceCount = 0;"));
+  EXPECT_TRUE(contains(source_of(kRig, "mps2-an386").header, "    {SensorFrom::None, 0, 0, 1.0f, 0.0f},  // s2: not wired\n"));
+}
+
+TEST(ImageHeader, AHeaderWithoutABoardRefusesDevices) {
+  const std::string t = with_devices();
+  ImageRequest q;
+  q.board = kPortableBoard;
+  try {
+    image_source(parse_rig(t, "g.toml"), q);
+    ADD_FAILURE() << "a portable header took devices";
+  } catch (const RigError& e) {
+    EXPECT_EQ(e.line, line_of(t, "[[device]]"));
+    EXPECT_TRUE(contains(e.what(), "[[device]] #1: a header without a board has no bus drivers for device 'palm'"))
+        << e.what();
+  }
+  q.board = kPortableBoard;
+  EXPECT_NO_THROW(image_source(parse_rig(kRig, "g.toml"), q));
 }
 
 // The header compiled where it goes: the real image's main.cpp with the
