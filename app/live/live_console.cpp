@@ -99,6 +99,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_ = std::make_unique<Session>(options_.session);
   session_->on_telemetry([this](const p::Telemetry& t, uint32_t lost) { on_telemetry(t, lost); });
   session_->on_ident_sample([this](const p::IdentSample& t, uint32_t lost) { on_ident_sample(t, lost); });
+  session_->on_sensor_health([this](const p::SensorHealth& h) { on_sensor_health(h); });
   session_->on_status([this](const p::Status& s) { on_status(s); });
   session_->on_log([this](const p::Log& l) {
     static const char* level[] = {"debug", "info", "warn", "error"};

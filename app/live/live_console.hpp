@@ -239,6 +239,7 @@ class LiveConsole {
   RunSummary finish_run(int64_t id, const std::string& label, const std::string& reason);
   void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
   void on_ident_sample(const protocol::IdentSample& t, uint32_t lost_before);
+  void on_sensor_health(const protocol::SensorHealth& h);  // protocol 1.4: recorded beside the samples
   // A run's sample from either message: numbered, gaps recorded, kept.
   void on_sample(Sample s, bool has_step, uint32_t lost_before);
   // start_run's body; an identification run when ident is given.

@@ -1,7 +1,7 @@
 // Sample intake, on the link's reader thread: every TELEMETRY and
-// IDENT_SAMPLE numbered into the run in progress, its gaps recorded, kept
-// for the live plots and the UDP stream; STATUS watched for the firmware
-// leaving the run.
+// IDENT_SAMPLE numbered into the run in progress (SENSOR_HEALTH recorded
+// beside them), its gaps recorded, kept for the live plots and the UDP
+// stream; STATUS watched for the firmware leaving the run.
 #include "app/live/live_console.hpp"
 
 #include <algorithm>
@@ -18,6 +18,10 @@ void LiveConsole::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
 
 void LiveConsole::on_ident_sample(const p::IdentSample& t, uint32_t lost_before) {
   on_sample(sample_from(t, 0), true, lost_before);
+}
+
+void LiveConsole::on_sensor_health(const p::SensorHealth& h) {
+  if (const int64_t run = run_id_.load(); run != 0) recorder_->add_sensor_health(run, h.step, h.invalid, h.age_ms);
 }
 
 void LiveConsole::on_sample(Sample s, bool has_step, uint32_t lost_before) {
