@@ -13,7 +13,9 @@
 // max: hasel 0..1, tendon -1.2..1.2, msd -2000..2000 N), so a bidirectional input
 // puts u = 0 at 50 %; a driver stage (MOSFET, HV amplifier, H-bridge) turns
 // the duty into the actuator's input. Sensors: ADC1, 12 bits over 0..3.3 V, read
-// continuously by DMA2 stream 0; l = offset + gain * volts.
+// continuously by DMA2 stream 0; l = offset + gain * volts. Sensor chips:
+// on I2C1 or SPI1/SPI2 (kI2c, kSpi), each SPI chip on a chip-select pin of
+// its own (kChipSelect, GPIO outputs driven low for a transfer).
 #include <cstdint>
 
 namespace nlsoft::fw::stm32f4 {
@@ -59,6 +61,34 @@ constexpr AnalogueInput kAnalogue[] = {
     {{kGpioC, 5}, 15, 0.0f, 1.0f},
 };
 
+// The serial buses a sensor chip can hang on (RM0390 alternate-function
+// table): I2C1 on PB8/PB9 (AF4, open-drain, the Arduino header's D15/D14),
+// SPI1 on PA5/PA6/PA7 (AF5, APB2; D13/D12/D11) and SPI2 on PB13/PB14/PB15
+// (AF5, APB1). SPI1 shares its pins with the LED (PA5) and ADC1_IN6/IN7
+// (PA6/PA7): a rig uses SPI1 or those two analogue inputs, not both.
+struct I2cBusPins {
+  const char* name;
+  uint32_t base;
+  Pin scl, sda;
+};
+struct SpiBusPins {
+  const char* name;
+  uint32_t base;
+  Pin sck, miso, mosi;
+  bool on_apb2;  // clocked from APB2 (SPI1), else APB1
+};
+constexpr uint8_t kI2cAf = 4, kSpiAf = 5;
+constexpr I2cBusPins kI2c[] = {{"i2c1", 0x40005400u, {kGpioB, 8}, {kGpioB, 9}}};
+constexpr SpiBusPins kSpi[] = {
+    {"spi1", 0x40013000u, {kGpioA, 5}, {kGpioA, 6}, {kGpioA, 7}, true},
+    {"spi2", 0x40003800u, {kGpioB, 13}, {kGpioB, 14}, {kGpioB, 15}, false},
+};
+// Chip selects, in the order a rig's SpiTarget::cs counts them: free pins of
+// the morpho and Arduino headers, none a PWM, ADC, bus, USART2, SWD or the
+// button's pin.
+constexpr Pin kChipSelect[] = {{kGpioB, 12}, {kGpioA, 8}, {kGpioA, 9}, {kGpioA, 10},
+                               {kGpioB, 4},  {kGpioB, 5}, {kGpioB, 10}, {kGpioC, 10}};
+
 // An actuator no pin drives and a sensor no channel reads (it reads 0).
 constexpr PwmOutput kNoPwm = {{0, 0}, 0, 0};
 constexpr uint8_t kNoChannel = 0xFF;
@@ -66,5 +96,6 @@ constexpr AnalogueInput kNoAnalogue = {{0, 0}, kNoChannel, 0.0f, 1.0f};
 
 constexpr int kPwmCount = int(sizeof kPwm / sizeof kPwm[0]);
 constexpr int kAnalogueCount = int(sizeof kAnalogue / sizeof kAnalogue[0]);
+constexpr int kChipSelectCount = int(sizeof kChipSelect / sizeof kChipSelect[0]);
 
 }  // namespace nlsoft::fw::stm32f4

@@ -318,6 +318,11 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
     fail(rig, rig.devices[0].line, "[[device]] #1",
          fmt::format("a header without a board has no bus drivers for device '{}': build an image for {}",
                      rig.devices[0].name, fmt::join(image_boards(), " or ")));
+  // A chip is wired to a bus of the file's board; another board's buses are others.
+  if (request.board != kPortableBoard && request.board != rig.board && !rig.devices.empty())
+    fail(rig, rig.devices[0].line, "[[device]] #1",
+         fmt::format("device '{}' is on bus {} of board {}: build the image for {}, not {}", rig.devices[0].name,
+                     rig.devices[0].bus, rig.board, rig.board, request.board));
   const std::vector<RigLayer> layers = !request.model_file.empty() ? model_layers(request.model_file, rig)
                                        : !request.layers.empty()   ? request.layers
                                                                    : rig.model.layers;

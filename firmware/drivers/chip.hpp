@@ -16,6 +16,7 @@ enum class ChipStatus : uint8_t {
   kWrongId = 2,    // something answered, but its identity register is not the chip's
   kNotReady = 3,   // no new sample since the last read (data-ready clear); the old one stands
   kBusFault = 4,   // a transaction failed after the chip had answered (timeout, bus error)
+  kBadConfig = 5,  // the driver's configuration names no bus, two buses, or a range/rate the chip lacks
 };
 
 // The most channels one chip gives (a magnetometer's x, y, z; a pressure

@@ -11,27 +11,41 @@ std::string pin_name(const fw::stm32f4::Pin& p) {
 }
 
 BoardPins stm32f4() {
+  namespace f4 = fw::stm32f4;
   BoardPins b;
   b.board = "stm32f4";
-  for (const auto& o : fw::stm32f4::kPwm) b.pwm.push_back(pin_name(o.pin));
-  for (const auto& a : fw::stm32f4::kAnalogue) b.adc.push_back(a.adc_channel);
-  // The sensor buses on the Nucleo-64's headers, until the board's own
-  // table names them: I2C1 on PB8/PB9 (Arduino D15/D14); SPI1 on PB3-PB5
-  // (PA5, its usual SCK, is the LED) and SPI2 on PB13-PB15. Standard
-  // I2C fast mode; SPI at APB2 / 4 (SPI1) and APB1 / 2 (SPI2) at 84 MHz.
-  b.buses = {{"i2c1", BusKind::I2c, {"PB8", "PB9"}, 400000},
-             {"spi1", BusKind::Spi, {"PB3", "PB4", "PB5"}, 21000000},
-             {"spi2", BusKind::Spi, {"PB13", "PB14", "PB15"}, 21000000}};
-  // Chip selects: the free GPIOs on the headers (not an ADC input, USART2,
-  // the LED, the button or a bus), then the PWM pins, for a rig that drives
-  // fewer actuators than the board has timers.
-  b.cs = {"PA8", "PA9", "PA10", "PA15", "PB10", "PB12", "PC10", "PC11", "PC12"};
-  for (const std::string& p : b.pwm) b.cs.push_back(p);
+  b.rig_board = true;
+  for (const auto& o : f4::kPwm) b.pwm.push_back(pin_name(o.pin));
+  for (const auto& a : f4::kAnalogue) {
+    b.adc.push_back(a.adc_channel);
+    b.adc_pins.push_back(pin_name(a.pin));
+  }
+  for (const auto& i : f4::kI2c) b.buses.push_back({i.name, BusKind::I2c, {pin_name(i.scl), pin_name(i.sda)}});
+  for (const auto& s : f4::kSpi)
+    b.buses.push_back({s.name, BusKind::Spi, {pin_name(s.sck), pin_name(s.miso), pin_name(s.mosi)}});
+  for (const auto& p : f4::kChipSelect) b.chip_selects.push_back(pin_name(p));
+  // I2C1 in fast mode; SPI at the prescaler's fastest, APB2 / 2 (SPI1) and APB1 / 2 (SPI2) at 84 MHz.
+  for (BoardBus& bus : b.buses) bus.max_clock_hz = bus.kind == BusKind::I2c ? 400000u : 21000000u;
+  return b;
+}
+
+// The buses firmware/ports/mps2-an386/buses.hpp drives (a port header the
+// host build cannot include; tests/firmware/test_board_buses.cpp holds the
+// two lists equal). The FPGA gives each bus lines of its own, and each
+// PL022 one chip on its own frame select.
+BoardPins mps2_an386() {
+  BoardPins b;
+  b.board = "mps2-an386";
+  b.rig_board = true;
+  // The SBCON's SCL in fast mode at most; a PL022 at half its 25 MHz clock.
+  for (const char* name : {"i2c-shield0", "i2c-shield1"}) b.buses.push_back({name, BusKind::I2c, {}, false, 400000u});
+  for (const char* name : {"spi-shield0", "spi-shield1", "spi-adc"})
+    b.buses.push_back({name, BusKind::Spi, {}, true, 12500000u});
   return b;
 }
 
 const std::vector<BoardPins>& boards() {
-  static const std::vector<BoardPins> all = {stm32f4()};
+  static const std::vector<BoardPins> all = {stm32f4(), mps2_an386()};
   return all;
 }
 
@@ -45,7 +59,8 @@ const BoardPins* find_board(const std::string& name) {
 
 std::vector<std::string> board_names() {
   std::vector<std::string> names;
-  for (const BoardPins& b : boards()) names.push_back(b.board);
+  for (const BoardPins& b : boards())
+    if (b.rig_board) names.push_back(b.board);
   return names;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
-// The pins a rig file may name, per board: what the firmware's own pin tables
-// wire (shared/board_stm32f4.hpp), read from those tables so the
-// file and the image cannot disagree about which pins exist.
+// The pins and buses a rig file may name, per board: what the firmware's own
+// tables wire (shared/board_stm32f4.hpp; the mps2-an386 port's buses.hpp),
+// read from those tables where the host can see them, so the file and the
+// image cannot disagree about which pins and buses exist.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -10,27 +11,30 @@
 
 namespace nlsoft::console {
 
-// A sensor bus of the board: what a [[device]]'s `bus` names. Its index in
-// BoardPins::buses is the bus number the image's device table carries.
 struct BoardBus {
-  std::string name;               // "i2c1", "spi1"
+  std::string name;               // as a rig file names it: "i2c1", "spi2", "i2c-shield1"
   BusKind kind;
-  std::vector<std::string> pins;  // the pins the controller takes (SCL, SDA / SCK, MISO, MOSI)
-  uint32_t max_clock_hz;          // the fastest clock the controller runs the bus at
+  std::vector<std::string> pins;  // the pins it takes (SCL SDA; SCK MISO MOSI); none where its lines are its own
+  bool own_chip_select = false;   // SPI: one chip, on the controller's own select line (no GPIO chip selects)
+  uint32_t max_clock_hz = 0;      // the fastest clock the port runs the bus at
 };
 
 struct BoardPins {
   std::string board;
-  std::vector<std::string> pwm;  // PWM outputs by pin name ("PC6"), in the table's order
-  std::vector<int> adc;          // ADC1 channels brought out, in the table's order
-  std::vector<BoardBus> buses;   // in the order the image numbers them
-  // GPIO pins a SPI chip select may drive, in the order the image numbers
-  // them; a PWM pin among them is a chip select only where no input drives it.
-  std::vector<std::string> cs;
+  // A rig file's `board` may name it. mps2-an386, QEMU's board, has no pins
+  // to wire actuators or ADC sensors to, only its shield buses: a rig file
+  // names it to put sensor chips where QEMU's chip models are.
+  bool rig_board = false;
+  std::vector<std::string> pwm;       // PWM outputs by pin name ("PC6"), in the table's order
+  std::vector<int> adc;               // ADC1 channels brought out, in the table's order
+  std::vector<std::string> adc_pins;  // the pin of each of those channels ("PA6"), same order
+  std::vector<BoardBus> buses;
+  std::vector<std::string> chip_selects;  // GPIO chip selects of SPI chips, in the order SpiTarget::cs counts them
 };
 
 // nullptr for a board without a pin table.
 const BoardPins* find_board(const std::string& name);
+// The boards a rig file's `board` may name.
 std::vector<std::string> board_names();
 
 }  // namespace nlsoft::console

@@ -337,12 +337,15 @@ struct PinBook {
              "unknown pin: ADC1 channel " + std::to_string(channel) + " is not wired on board " + board_name +
                  " (channels: " + join(known) + ")");
     take(s, "adc", "ADC1 channel " + std::to_string(channel));
+    // Its pin too: a bus may share it (SPI1's MISO and MOSI are ADC1_IN6/IN7's).
+    for (size_t i = 0; i < board->adc.size() && i < board->adc_pins.size(); ++i)
+      if (board->adc[i] == channel) take(s, "adc", board->adc_pins[i]);
   }
   void cs(const Section& s, const std::string& pin) {
-    if (index_of(board->cs, pin) < 0)
+    if (index_of(board->chip_selects, pin) < 0)
       s.fail(s.line("cs"), "cs",
              "unknown chip-select pin '" + printable_excerpt(pin, 40) + "' on board " + board_name +
-                 " (chip-select pins: " + join(board->cs) + ")");
+                 " (chip-select pins: " + join(board->chip_selects) + ")");
     take(s, "cs", pin);
   }
   void take(const Section& s, const std::string& key, const std::string& pin) {
@@ -513,16 +516,28 @@ void read_devices(const std::string& file, const Section& root, const toml::tabl
       d.address = s.has("address") ? int(s.integer("address", 0x08, 0x77, " (a 7-bit I2C address)"))
                                    : chip.default_address;
       pins.take(s, "address", fmt::format("{} address 0x{:02x}", d.bus, d.address));
+    } else if (bus.own_chip_select) {
+      if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is);
+      if (s.has("cs"))
+        s.fail(s.line("cs"), "cs", "bus " + d.bus + " selects its one chip itself (its own select line): no cs");
+      pins.take(s, "bus", d.bus + "'s one chip");
     } else {
       if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is + "; give cs");
       d.cs = s.text("cs");
       pins.cs(s, d.cs);
-      d.cs_index = index_of(pins.board->cs, d.cs);
+      d.cs_index = index_of(pins.board->chip_selects, d.cs);
     }
+    // The bus's pins are its own from its first chip on: an ADC input on one is refused.
+    const bool first_on_bus = std::none_of(rig.devices.begin(), rig.devices.end(),
+                                           [&](const RigDevice& o) { return o.bus == d.bus; });
+    if (first_on_bus)
+      for (const std::string& pin : bus.pins) pins.take(s, "bus", pin);
+    // A chip on both buses states its SPI maximum; on I2C the bus's own bounds it.
+    const bool chip_bound = !i2c || !chip.on_spi;
     // Standard-mode I2C and the paper's SPI clock, unless the chip is slower.
     const uint32_t fallback = std::min<uint32_t>(i2c ? 100000u : 1000000u, chip.max_clock_hz);
     d.clock_hz = s.has("clock_hz") ? uint32_t(s.integer("clock_hz", 1, 100000000, " Hz")) : fallback;
-    if (d.clock_hz > chip.max_clock_hz)
+    if (chip_bound && d.clock_hz > chip.max_clock_hz)
       s.fail(s.line("clock_hz"), "clock_hz",
              fmt::format("{} Hz is above chip {}'s maximum, {} Hz", d.clock_hz, chip.name, chip.max_clock_hz));
     if (d.clock_hz > bus.max_clock_hz)

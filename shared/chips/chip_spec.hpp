@@ -30,8 +30,16 @@ struct ChipSpec {
   int range_count;
   const Setting* rates;              // data rates in Hz
   int rate_count;
-  uint32_t max_clock_hz;             // the fastest bus clock the chip takes
+  uint32_t max_clock_hz;             // the fastest clock: SPI's for a chip on_spi, else I²C's
   uint8_t spi_mode;                  // SPI: CPOL << 1 | CPHA
 };
+
+// Where `s` is in `list` (matched on value and bits), or -1: a driver
+// takes its per-setting constants (a sensitivity) from the same index.
+inline int setting_index(const Setting* list, int count, Setting s) {
+  for (int i = 0; i < count; ++i)
+    if (list[i].value == s.value && list[i].bits == s.bits) return i;
+  return -1;
+}
 
 }  // namespace nlsoft::chips

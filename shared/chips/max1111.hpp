@@ -1,7 +1,9 @@
 #pragma once
 // Maxim MAX1111: a 4-channel 8-bit SPI ADC (strain and capacitive sensors
-// behind an amplifier). No identity register: a missing chip shows as a bus
-// that reads all ones or all zeros, which its driver reports.
+// behind an amplifier), SPI mode 0, inputs single-ended against COM over
+// 0 .. VREF (2.048 V internal). No identity register: a missing chip shows
+// as a bus that reads all ones (framing the driver refuses) or all zeros (0 V,
+// which no driver can tell from a chip; firmware/drivers/max1111.hpp).
 #include "shared/chips/chip_spec.hpp"
 
 namespace nlsoft::chips {

@@ -2,7 +2,8 @@
 // Test support: boots a Cortex-M4F image in qemu-system-arm with the link's
 // UART on a pseudo-terminal and reads the pty path QEMU reports; kills QEMU
 // when the test ends. Boards: mps2-an386 (UART0, the first serial port) and
-// stm32f4 (USART2 of -M netduinoplus2, the second).
+// stm32f4 (USART2 of -M netduinoplus2, the second). `extra`: more QEMU
+// arguments (chip models as -device, a -qmp socket).
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/wait.h>
@@ -19,12 +20,14 @@ inline bool qemu_arm_available() {
 
 class QemuProcess {
  public:
-  explicit QemuProcess(const std::string& elf, const std::string& board = "mps2-an386") {
+  explicit QemuProcess(const std::string& elf, const std::string& board = "mps2-an386",
+                       const std::vector<std::string>& extra = {}) {
     std::vector<const char*> argv = {"qemu-system-arm", "-nographic", "-monitor", "none", "-icount", "shift=0"};
     if (board == "stm32f4")
       argv.insert(argv.end(), {"-M", "netduinoplus2", "-serial", "null", "-serial", "pty"});
     else
       argv.insert(argv.end(), {"-M", "mps2-an386", "-serial", "pty"});
+    for (const std::string& a : extra) argv.push_back(a.c_str());
     argv.insert(argv.end(), {"-kernel", elf.c_str(), nullptr});
     int out[2];
     if (pipe(out) != 0) return;

@@ -37,6 +37,37 @@ find_program(NLSOFT_ARM_OBJCOPY arm-none-eabi-objcopy REQUIRED)
 # The host build's warnings list, the one list (cmake/warning_flags.txt).
 file(STRINGS ${NLSOFT_ROOT}/cmake/warning_flags.txt NLSOFT_WARNING_FLAGS REGEX "^-")
 
+# The no-heap check is a build step: a stamp only appears when it passes,
+# so a failing image fails every build until fixed. Then the image's size,
+# and with BIN its raw flash contents.
+function(nlsoft_cortex_m_checks name bin out_stamp)
+  set(stamp ${CMAKE_CURRENT_BINARY_DIR}/${name}.noheap)
+  set(bin_command "")
+  if(bin)
+    set(bin_command COMMAND ${NLSOFT_ARM_OBJCOPY} -O binary $<TARGET_FILE:${name}>
+                            $<TARGET_FILE_DIR:${name}>/${name}.bin)
+  endif()
+  add_custom_command(OUTPUT ${stamp}
+    COMMAND ${CMAKE_COMMAND} -DNM=${NLSOFT_ARM_NM} -DELF=$<TARGET_FILE:${name}> -DSTAMP=${stamp}
+            -P ${NLSOFT_CORTEX_M_DIR}/check_no_heap.cmake
+    COMMAND ${NLSOFT_ARM_SIZE} $<TARGET_FILE:${name}>
+    ${bin_command}
+    DEPENDS ${name} ${NLSOFT_CORTEX_M_DIR}/check_no_heap.cmake
+    VERBATIM)
+  set(${out_stamp} ${stamp} PARENT_SCOPE)
+endfunction()
+
+# A test-only image (tests/firmware/bus_probe/): the board's objects with a
+# main of its own, no rig. Call after nlsoft_cortex_m_images().
+function(nlsoft_cortex_m_test_image name)
+  add_executable(${name} ${ARGN})
+  set_target_properties(${name} PROPERTIES SUFFIX .elf)
+  target_link_libraries(${name} PRIVATE m4_board m4_flags)
+  target_link_options(${name} PRIVATE -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map)
+  nlsoft_cortex_m_checks(${name} "" stamp)
+  add_custom_target(${name}-checks ALL DEPENDS ${stamp})
+endfunction()
+
 # One image: the rig header's folder first on the include path.
 function(nlsoft_cortex_m_image prefix id rig model rig_dir hil bin out_stamp)
   set(name ${prefix}-${rig})
@@ -67,21 +98,7 @@ function(nlsoft_cortex_m_image prefix id rig model rig_dir hil bin out_stamp)
       APPEND PROPERTY OBJECT_DEPENDS ${model})
     target_compile_definitions(${name} PRIVATE NLSOFT_MODEL_FILE="${model}")
   endif()
-  # The no-heap check is a build step: a stamp only appears when it passes,
-  # so a failing image fails every build until fixed.
-  set(stamp ${CMAKE_CURRENT_BINARY_DIR}/${name}.noheap)
-  set(bin_command "")
-  if(bin)
-    set(bin_command COMMAND ${NLSOFT_ARM_OBJCOPY} -O binary $<TARGET_FILE:${name}>
-                            $<TARGET_FILE_DIR:${name}>/${name}.bin)
-  endif()
-  add_custom_command(OUTPUT ${stamp}
-    COMMAND ${CMAKE_COMMAND} -DNM=${NLSOFT_ARM_NM} -DELF=$<TARGET_FILE:${name}> -DSTAMP=${stamp}
-            -P ${NLSOFT_CORTEX_M_DIR}/check_no_heap.cmake
-    COMMAND ${NLSOFT_ARM_SIZE} $<TARGET_FILE:${name}>
-    ${bin_command}
-    DEPENDS ${name} ${NLSOFT_CORTEX_M_DIR}/check_no_heap.cmake
-    VERBATIM)
+  nlsoft_cortex_m_checks(${name} "${bin}" stamp)
   set(${out_stamp} ${stamp} PARENT_SCOPE)
 endfunction()
 

@@ -16,7 +16,7 @@ constexpr uint32_t kSwPll = 2u, kSwsMask = 3u << 2, kSwsPll = 2u << 2;
 // HPRE/PPRE encodings: 0 = /1, else 0b100 | log2(div) - 1.
 constexpr uint32_t ppre(uint32_t div) { return div == 1 ? 0u : div == 2 ? 4u : div == 4 ? 5u : div == 8 ? 6u : 7u; }
 
-Clocks on_hsi() { return Clocks{kHsiHz, kHsiHz, kHsiHz, true}; }
+Clocks on_hsi() { return Clocks{kHsiHz, kHsiHz, kHsiHz, kHsiHz, true}; }
 
 }  // namespace
 
@@ -24,7 +24,8 @@ Clocks start_clock_tree() {
   // HSI is on from reset and ready within microseconds on silicon. Never
   // ready means no RCC answers: QEMU's netduinoplus2, whose clock is fixed.
   if (!wait_for([] { return (reg(rcc::kCr) & kHsiRdy) != 0; }, 10000u))
-    return Clocks{kEmulatedCoreHz, kEmulatedCoreHz / kPart.apb1_div, kEmulatedCoreHz, false};
+    return Clocks{kEmulatedCoreHz, kEmulatedCoreHz / kPart.apb1_div, kEmulatedCoreHz / kPart.apb2_div, kEmulatedCoreHz,
+                  false};
 
   reg(rcc::kApb1Enr) = reg(rcc::kApb1Enr) | kPwrEn;
   settle(rcc::kApb1Enr);
@@ -56,7 +57,7 @@ Clocks start_clock_tree() {
     return on_hsi();
   }
   const uint32_t apb1 = kPart.core_hz / kPart.apb1_div;
-  return Clocks{kPart.core_hz, apb1, kPart.apb1_div == 1 ? apb1 : 2u * apb1, true};
+  return Clocks{kPart.core_hz, apb1, kPart.core_hz / kPart.apb2_div, kPart.apb1_div == 1 ? apb1 : 2u * apb1, true};
 }
 
 }  // namespace nlsoft::fw::stm32f4

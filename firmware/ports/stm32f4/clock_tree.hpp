@@ -9,7 +9,8 @@ namespace nlsoft::fw::stm32f4 {
 
 struct Clocks {
   uint32_t core_hz;
-  uint32_t apb1_hz;        // USART2
+  uint32_t apb1_hz;        // USART2, I2C1, SPI2
+  uint32_t apb2_hz;        // SPI1
   uint32_t apb1_timer_hz;  // TIM3/TIM4: twice APB1 when APB1 is divided
   bool rcc_present;        // false under an emulator that models no RCC
 };

@@ -4,6 +4,7 @@
 // toolchain ships none, and the port needs a few dozen words.
 #include <cstdint>
 
+#include "firmware/ports/cortex-m/wait.hpp"
 #include "shared/board_stm32f4.hpp"  // the GPIO ports (kGpioA..C), with the board's pins
 
 namespace nlsoft::fw::stm32f4 {
@@ -32,14 +33,6 @@ inline void settle(uint32_t address) {
 // Interrupt set-enable registers of the NVIC, 32 lines each.
 inline void nvic_enable(uint32_t irq) { reg(0xE000E100u + 4 * (irq / 32)) = 1u << (irq % 32); }
 
-// A wait on a flag that hardware sets. Bounded: under an emulator, or on a
-// part whose oscillator is dead, the flag never comes, and the caller goes on
-// with what it has. Returns whether it came.
-template <class Ready>
-bool wait_for(Ready ready, uint32_t spins = 100000u) {
-  for (uint32_t i = 0; i < spins; ++i)
-    if (ready()) return true;
-  return false;
-}
+using cortex_m::wait_for;  // every flag wait bounded (cortex-m/wait.hpp)
 
 }  // namespace nlsoft::fw::stm32f4

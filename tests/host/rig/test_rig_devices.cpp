@@ -111,7 +111,7 @@ TEST(RigDevices, AGoodFileGivesEachDeviceItsBusAndRegisterBits) {
   EXPECT_EQ(ring.kind, BusKind::Spi);
   EXPECT_EQ(ring.bus_index, 1);
   EXPECT_EQ(ring.cs, "PA8");
-  EXPECT_EQ(ring.cs_index, 0);
+  EXPECT_EQ(ring.cs_index, 1);  // the board's chip selects: PB12, PA8, ...
   EXPECT_EQ(ring.range_bits, 0x60);  // CTRL_REG2 FS = 11: ±16 gauss, the paper's
   EXPECT_EQ(ring.rate_bits, 0x02);   // CTRL_REG1 FAST_ODR, OM = 00: 1 kHz, the paper's
   ASSERT_EQ(r.w(), 3);
@@ -155,14 +155,40 @@ TEST(RigDevices, AnAddressOrChipSelectUsedTwiceNamesTheFirstUse) {
   const std::string twice = edit("rate_hz = 16", "address = 0x1e\nrate_hz = 16");
   expect_error(twice, line_of(twice, "address = 0x1e", 2), "[[device]] #2 address",
                "i2c1 address 0x1e is already used by [[device]] #1 (line " + std::to_string(line("address = 0x1e")) + ")");
-  // The same address on another bus is another chip.
-  const std::string cs = edit("cs = \"PA8\"", "cs = \"PC6\"");
-  expect_error(cs, line_of(cs, "cs = \"PC6\""), "[[device]] #3 cs",
-               "PC6 is already used by [[input]] #1 (line " + std::to_string(line("pwm = \"PC6\"")) + ")");
-  expect_error(edit("cs = \"PA8\"", "cs = \"PA2\""), line("cs = \"PA8\""), "[[device]] #3 cs",
-               "unknown chip-select pin 'PA2' on board stm32f4 (chip-select pins: PA8, PA9, PA10");
-  // A PWM pin no input drives is a chip select like any other.
-  EXPECT_EQ(parse_rig(edit("cs = \"PA8\"", "cs = \"PC7\""), "my.toml").devices[2].cs_index, 10);
+  // A PWM pin is never a chip select, nor is USART2's.
+  for (const char* pin : {"PC6", "PA2"})
+    expect_error(edit("cs = \"PA8\"", std::string("cs = \"") + pin + "\""), line("cs = \"PA8\""), "[[device]] #3 cs",
+                 std::string("unknown chip-select pin '") + pin +
+                     "' on board stm32f4 (chip-select pins: PB12, PA8, PA9, PA10, PB4, PB5, PB10, PC10)");
+  // Two chips on one chip select.
+  const std::string cs = edit("rate_hz = 1000", "rate_hz = 1000\n\n[[device]]\nname = \"ring2\"\nchip = \"lis3mdl\"\n"
+                                                "bus = \"spi2\"\ncs = \"PA8\"\nrange = 16\nrate_hz = 1000");
+  expect_error(cs, line_of(cs, "cs = \"PA8\"", 2), "[[device]] #4 cs",
+               "PA8 is already used by [[device]] #3 (line " + std::to_string(line("cs = \"PA8\"")) + ")");
+}
+
+// SPI1's MISO and MOSI are ADC1_IN6/IN7's pins: a rig uses one or the other.
+TEST(RigDevices, ABusTakesItsPinsFromTheAdc) {
+  const std::string t = edit("channel = \"z\"\noffset = -3.0", "channel = \"z\"\noffset = -3.0\n\n[[sensor]]\nname = \"bend\"\n"
+                                                            "source = \"adc\"\nadc = 7");
+  expect_error(t, line_of(t, "adc = 7"), "[[sensor]] #4 adc",
+               "PA7 is already used by [[device]] #3 (line " + std::to_string(line("bus = \"spi1\"")) + ")");
+  EXPECT_EQ(parse_rig(rig_text::replaced(t, "adc = 7", "adc = 8"), "my.toml").w(), 4);
+}
+
+// QEMU's board: buses only, each PL022 with one chip on its own select.
+TEST(RigDevices, AnMps2An386RigNamesItsShieldBuses) {
+  std::string t = edit("name = \"mags\"", "name = \"mags\"\nboard = \"mps2-an386\"");
+  t = rig_text::replaced(t, "pwm = \"PC6\"\n", "");
+  t = rig_text::replaced(t, "bus = \"i2c1\"", "bus = \"i2c-shield1\"");
+  t = rig_text::replaced(t, "bus = \"i2c1\"", "bus = \"i2c-shield1\"");
+  t = rig_text::replaced(t, "bus = \"spi1\"\ncs = \"PA8\"", "bus = \"spi-shield0\"");
+  const Rig r = parse_rig(t, "my.toml");
+  EXPECT_EQ(r.devices[0].bus_index, 1);
+  EXPECT_EQ(r.devices[2].bus_index, 2);
+  expect_error(rig_text::replaced(t, "bus = \"spi-shield0\"", "bus = \"spi-shield0\"\ncs = \"PA8\""),
+               line_of(t, "bus = \"spi-shield0\"") + 1, "[[device]] #3 cs",
+               "bus spi-shield0 selects its one chip itself (its own select line): no cs");
 }
 
 TEST(RigDevices, AClockAboveTheChipsOrTheBussMaximumIsRefused) {
@@ -212,7 +238,7 @@ TEST(RigDevices, ADeviceNameIsANameOfTheFile) {
 TEST(RigDevices, MoreDevicesThanTheCapacityAreRefused) {
   std::string t = kBase;
   std::string extra;
-  const char* cs[] = {"PA9", "PA10", "PA15", "PB10", "PB12", "PC10"};
+  const char* cs[] = {"PB12", "PA9", "PA10", "PB4", "PB5", "PB10"};
   for (int i = 0; i < 6; ++i)
     extra += "[[device]]\nname = \"m" + std::to_string(i) + "\"\nchip = \"lis3mdl\"\nbus = \"spi2\"\ncs = \"" +
              cs[i] + "\"\nrange = 4\nrate_hz = 80\n\n";
