@@ -34,15 +34,24 @@ class SensorSampler {
  public:
   static constexpr int kMaxDevices = kRigMaxDevices;
   static constexpr uint32_t kRetryMs = 1000;
-  static constexpr int kMaxChannels = 32;  // sensor channels: IDENT_SAMPLE's mask is a u32
+  static constexpr int kMaxChannels = 32;  // sensor channels: SENSOR_HEALTH's mask is a u32
 
-  // chips[d] is device d of `devices` (the image's table), `count` of them;
-  // sources[i] says where sensor channel i is read, `w` of them. All
-  // pointers outlive the sampler.
-  SensorSampler(drivers::Chip* const* chips, const RigDeviceConfig* devices, int count,
+  // What the sampler keeps per chip; the caller holds one per device, so an
+  // image pays for its own chips only.
+  struct Slot {
+    protocol::DeviceState state = protocol::DeviceState::Absent;
+    bool sampled = false, begun = false;
+    uint32_t tried_ms = 0, sample_ms = 0, faults = 0;
+    float value[drivers::kMaxChipChannels] = {};
+  };
+
+  // chips[d] is device d of `devices` (the image's table), `count` of them,
+  // slots[d] its state; sources[i] says where sensor channel i is read, `w`
+  // of them. All pointers outlive the sampler.
+  SensorSampler(drivers::Chip* const* chips, const RigDeviceConfig* devices, Slot* slots, int count,
                 const RigSensorSource* sources, int w)
-      : chips_(chips), devices_(devices), count_(count < kMaxDevices ? count : kMaxDevices), sources_(sources),
-        w_(w < kMaxChannels ? w : kMaxChannels) {}
+      : chips_(chips), devices_(devices), slots_(slots), count_(count < kMaxDevices ? count : kMaxDevices),
+        sources_(sources), w_(w < kMaxChannels ? w : kMaxChannels) {}
 
   void begin(uint32_t now_ms) {
     for (int d = 0; d < count_; ++d) start(d, now_ms);
@@ -102,13 +111,6 @@ class SensorSampler {
   }
 
  private:
-  struct Slot {
-    DeviceState state = DeviceState::Absent;
-    bool sampled = false, begun = false;
-    uint32_t tried_ms = 0, sample_ms = 0, faults = 0;
-    float value[drivers::kMaxChipChannels] = {};
-  };
-
   // A chip's sample is due once per period of its data rate; a chip without
   // one (an ADC converts on demand) at every poll.
   uint32_t period_ms(int d) const {
@@ -159,10 +161,10 @@ class SensorSampler {
 
   drivers::Chip* const* chips_;
   const RigDeviceConfig* devices_;
+  Slot* slots_;
   int count_;
   const RigSensorSource* sources_;
   int w_;
-  Slot slots_[kMaxDevices];
   uint32_t changed_ = 0;
   int next_ = 0;
 };

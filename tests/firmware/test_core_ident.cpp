@@ -458,7 +458,8 @@ TEST_F(IdentRun, AChipsStateIsLoggedOnceAskedForAndEachSampleCarriesItsHealth) {
   const RigDeviceConfig devices[] = {{"tip", &chips::kLis3mdl, 1, BusKind::Spi, 0, 4, 1000000, {16.0f, 0x60}, {1000.0f, 0x02}}};
   RigSensorSource sources[18] = {};
   for (int c = 0; c < 3; ++c) sources[c] = {SensorFrom::Device, 0, uint8_t(c), 2.0f, 1.0f};
-  fw::SensorSampler sampler(chips, devices, 1, sources, 18);
+  fw::SensorSampler::Slot slots[1];
+  fw::SensorSampler sampler(chips, devices, slots, 1, sources, 18);
   fw_ = std::make_unique<Fw>(hal_, fw::Identity{&rig_, "nlsoft-test", 0, 1, 0, 130, true},
                              fw::Buffers{staging_, sizeof staging_, table_, sizeof table_, points_, 30});
   fw_->attach_sensors(sampler);

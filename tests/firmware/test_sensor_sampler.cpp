@@ -36,7 +36,8 @@ class Sampler : public ::testing::Test {
       {SensorFrom::Analogue, 0, 0, 1.0f, 0.0f},
       {SensorFrom::Device, 0, 0, 2.0f, 1.0f},
   };
-  fw::SensorSampler s_{chips_, devices_, 2, sources_, 4};
+  fw::SensorSampler::Slot slots_[2];
+  fw::SensorSampler s_{chips_, devices_, slots_, 2, sources_, 4};
   float l_[4] = {-7.0f, -7.0f, 42.0f, -7.0f};
 
   std::vector<int> changes() {

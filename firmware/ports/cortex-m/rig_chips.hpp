@@ -24,7 +24,7 @@ class RigChips {
   // devices/sources: the image's tables. The port's masters by the table's
   // bus number: I2C buses first, then SPI (the board's order, board_pins).
   RigChips(const RigDeviceConfig* devices, const RigSensorSource* sources)
-      : devices_(devices), sampler_(chips_, devices, Count, sources, W) {}
+      : devices_(devices), sampler_(chips_, devices, samples_, Count, sources, W) {}
 
   // Builds each driver over its bus; nullptr for a bus the port lacks
   // leaves the chip absent (its begin() is never reached: kBadConfig).
@@ -69,6 +69,7 @@ class RigChips {
   const RigDeviceConfig* devices_;
   Slot slots_[Count > 0 ? Count : 1];
   drivers::Chip* chips_[Count > 0 ? Count : 1] = {};
+  SensorSampler::Slot samples_[Count > 0 ? Count : 1];
   SensorSampler sampler_;
 };
 
