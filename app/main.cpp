@@ -7,6 +7,7 @@
 #include "host/files/cli_error.hpp"
 #include "app/conformance/command.hpp"
 #include "app/firmware/firmware_command.hpp"
+#include "app/link/device_check.hpp"
 #include "app/link/ports_command.hpp"
 #include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
@@ -50,7 +51,7 @@ int main(int argc, char** argv) {
   add_dataset_command(app, rig_target_arg);
   add_train_command(app, rig_target_arg, load_recorded_run);
   add_model_command(app, rig_target_arg, rig_name_of_platform, load_recorded_run, run_gnuplot);
-  add_rig_command(app);
+  add_rig_command(app, check_live_devices);
   // Last: CLI11 copies the main app's footer into every subcommand made
   // after it is set, and the live console's footer (its examples and script
   // commands) is about the live console, not about `model` or `simulate`.

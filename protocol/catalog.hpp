@@ -39,6 +39,8 @@ enum class MsgType : uint8_t {
   // Protocol 1.3: an identification run, open loop, the firmware's own
   // excitation signal on the inputs (IDENT_SAMPLE carries u, y and l).
   IdentStart = 0x11,
+  // Protocol 1.4: one sensor chip's state (DEVICE_STATUS), by index.
+  DeviceGet = 0x12,
   // Replies and unsolicited messages, firmware -> console.
   Ack = 0x40,
   Nack = 0x41,
@@ -55,6 +57,8 @@ enum class MsgType : uint8_t {
   InfoEx = 0x4A,
   RigInfo = 0x4B,  // protocol 1.2: the reply to RIG_GET
   IdentSample = 0x4C,  // protocol 1.3: one step of an identification run (unsolicited)
+  DeviceStatus = 0x4D,  // protocol 1.4: the reply to DEVICE_GET
+  SensorHealth = 0x4E,  // protocol 1.4: the sensor channels' health at a sample's step (unsolicited)
 };
 
 // Telemetry field mask bits; fields appear in the payload in bit order.
@@ -141,6 +145,7 @@ inline constexpr MsgInfo kMessages[] = {
      "IDENT_START:u32 run_id,u8 signal,u8 options,u16 decimation,u32 seed,f32 amplitude,f32 band_lo,"
      "f32 band_hi,u32 duration",
      28, 28, 1, true, MsgType::Ack},
+    {MsgType::DeviceGet, "DEVICE_GET", "DEVICE_GET:u8 index", 1, 1, 1, true, MsgType::DeviceStatus},
     {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false, MsgType(0)},
     {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false, MsgType(0)},
     {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false, MsgType(0)},
@@ -179,6 +184,11 @@ inline constexpr MsgInfo kMessages[] = {
     {MsgType::IdentSample, "IDENT_SAMPLE",
      "IDENT_SAMPLE:u16 tseq,u8 m,u8 n,u8 w,u32 step,u32 time_us,f32[m] u,f32[n] y,f32[w] l",
      static_cast<uint8_t>(kIdentSampleFixedSize), static_cast<uint8_t>(kMaxPayload), 0, false, MsgType(0)},
+    {MsgType::DeviceStatus, "DEVICE_STATUS",
+     "DEVICE_STATUS:u8 index,u8 count,u8 state,u8 bus,u8 address,u32 age_ms,u32 faults,char[] name", 14, 45, 1,
+     false, MsgType(0)},
+    {MsgType::SensorHealth, "SENSOR_HEALTH", "SENSOR_HEALTH:u32 step,u32 invalid,u16 age_ms", 10, 10, 1, false,
+     MsgType(0)},
 };
 
 constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);

@@ -87,6 +87,7 @@ constexpr uint32_t kLog = 1u << 7;
 constexpr uint32_t kRig = 1u << 8;  // protocol 1.2: RIG_GET answers RIG_INFO
 constexpr uint32_t kIdent = 1u << 9;  // protocol 1.3: IDENT_START, IDENT_SAMPLE
 constexpr uint32_t kIdentMixed = 1u << 10;  // protocol 1.3: IDENT_START honours options bit 1 MIXED
+constexpr uint32_t kDevices = 1u << 11;  // protocol 1.4: DEVICE_GET answers DEVICE_STATUS; SENSOR_HEALTH
 }  // namespace capability
 
 // RIG_INFO.accept (PROTOCOL.md 7): which model shapes a model upload may have.
@@ -104,7 +105,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 3;
+constexpr uint8_t kProtocolMinor = 4;
 
 // ---------------------------------------------------------------- requests
 
@@ -596,6 +597,64 @@ struct IdentSample {
   }
 };
 
+// Protocol 1.4: a sensor chip's state, by its index in the image's device
+// table (DEVICE_GET walks 0 .. count - 1, as PARAM_LIST does).
+enum class DeviceState : uint8_t { Ok = 0, Absent = 1, WrongId = 2, Stopped = 3 };
+// As a console shows it; an unknown value (a newer firmware's) is "unknown".
+constexpr const char* device_state_name(uint8_t state) {
+  switch (static_cast<DeviceState>(state)) {
+    case DeviceState::Ok: return "ok";
+    case DeviceState::Absent: return "absent";
+    case DeviceState::WrongId: return "wrong id";
+    case DeviceState::Stopped: return "stopped";
+  }
+  return "unknown";
+}
+constexpr uint32_t kNoSample = 0xFFFFFFFFu;  // DEVICE_STATUS age_ms before a chip's first sample
+
+struct DeviceGet {
+  static constexpr MsgType kType = MsgType::DeviceGet;
+  uint8_t index = 0;
+  template <class S, class V> static void fields(S& s, V& v) { v.u8("index", s.index); }
+};
+
+struct DeviceStatus {
+  static constexpr MsgType kType = MsgType::DeviceStatus;
+  uint8_t index = 0, count = 0;
+  uint8_t state = 0;    // DeviceState
+  uint8_t bus = 0;      // the board's bus number (the rig's board order)
+  uint8_t address = 0;  // I2C: the 7-bit address; SPI: the chip select's number
+  uint32_t age_ms = 0;  // since its latest sample; kNoSample: none yet
+  uint32_t faults = 0;  // failed starts and reads since boot
+  char name[kMaxNameLen + 1] = {};  // the rig file's device name
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u8("index", s.index);
+    v.u8("count", s.count);
+    v.u8("state", s.state);
+    v.u8("bus", s.bus);
+    v.u8("address", s.address);
+    v.u32("age_ms", s.age_ms);
+    v.u32("faults", s.faults);
+    v.text_tail("name", s.name, kMaxNameLen);
+  }
+};
+
+// Protocol 1.4: the health of the sensor channels at the step of the
+// TELEMETRY or IDENT_SAMPLE frame it follows. A message of its own: both
+// layouts are fixed within version 1 (PROTOCOL.md 7 says why not two new
+// sample types).
+struct SensorHealth {
+  static constexpr MsgType kType = MsgType::SensorHealth;
+  uint32_t step = 0;
+  uint32_t invalid = 0;  // bit i: sensor channel i holds no valid sample
+  uint16_t age_ms = 0;   // the oldest valid chip sample's age, saturated at 65535
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u32("step", s.step);
+    v.u32("invalid", s.invalid);
+    v.u16("age_ms", s.age_ms);
+  }
+};
+
 // ------------------------------------------------------------- pack/unpack
 
 namespace detail {
@@ -769,6 +828,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::StatusGet: f(StatusGet{}); return true;
     case MsgType::RigGet: f(RigGet{}); return true;
     case MsgType::IdentStart: f(IdentStart{}); return true;
+    case MsgType::DeviceGet: f(DeviceGet{}); return true;
     case MsgType::Ack: f(Ack{}); return true;
     case MsgType::Nack: f(Nack{}); return true;
     case MsgType::Pong: f(Pong{}); return true;
@@ -782,6 +842,8 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::InfoEx: f(InfoEx{}); return true;
     case MsgType::RigInfo: f(RigInfo{}); return true;
     case MsgType::IdentSample: f(IdentSample{}); return true;
+    case MsgType::DeviceStatus: f(DeviceStatus{}); return true;
+    case MsgType::SensorHealth: f(SensorHealth{}); return true;
   }
   return false;
 }

@@ -72,6 +72,10 @@ Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
     types_seen_.insert(uint8_t(p::MsgType::IdentSample));
     if (ident_.size() < 100000) ident_.push_back(t);
   });
+  session_.on_sensor_health([this](const p::SensorHealth&) {
+    std::lock_guard<std::mutex> lock(mu_);
+    types_seen_.insert(uint8_t(p::MsgType::SensorHealth));
+  });
   session_.on_status([this](const p::Status& s) {
     std::lock_guard<std::mutex> lock(mu_);
     types_seen_.insert(uint8_t(p::MsgType::Status));

@@ -49,6 +49,8 @@ class Suite {
 
   Probe& pr;
   p::InfoEx info;
+  // The firmware's sensor chips as DEVICE_GET counted them (protocol 1.4); -1: not asked.
+  int devices = -1;
   std::vector<p::ParamDesc> descs;
   std::map<uint16_t, p::ParamValue> original;
   std::set<uint16_t> touched;
@@ -74,6 +76,7 @@ void check_watchdog(Suite& s);
 void check_transfers(Suite& s);
 void check_rig(Suite& s);
 void check_ident(Suite& s);
+void check_devices(Suite& s);
 
 // Helpers shared by the check files.
 std::string join(const std::vector<std::string>& v, const char* sep);

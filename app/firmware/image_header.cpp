@@ -314,6 +314,15 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
   for (const std::string& b : image_boards()) known = known || b == request.board;
   if (!known)
     throw CliError(fmt::format("--board {}: the images are built for {}", request.board, fmt::join(image_boards(), ", ")));
+  if (request.board == kPortableBoard && !rig.devices.empty())
+    fail(rig, rig.devices[0].line, "[[device]] #1",
+         fmt::format("a header without a board has no bus drivers for device '{}': build an image for {}",
+                     rig.devices[0].name, fmt::join(image_boards(), " or ")));
+  // A chip is wired to a bus of the file's board; another board's buses are others.
+  if (request.board != kPortableBoard && request.board != rig.board && !rig.devices.empty())
+    fail(rig, rig.devices[0].line, "[[device]] #1",
+         fmt::format("device '{}' is on bus {} of board {}: build the image for {}, not {}", rig.devices[0].name,
+                     rig.devices[0].bus, rig.board, rig.board, request.board));
   const std::vector<RigLayer> layers = !request.model_file.empty() ? model_layers(request.model_file, rig)
                                        : !request.layers.empty()   ? request.layers
                                                                    : rig.model.layers;
@@ -330,6 +339,7 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
   h += capacity_part(rig, layers) + "\n";
   h += plant.empty() ? "// No [plant]: no HIL image.\n" : plant;
   h += "\n" + pins_part(rig, request.board);
+  if (request.board != kPortableBoard) h += "\n" + devices_part(rig);
   if (request.board == "stm32f4") {
     std::vector<std::string> adc;
     for (const RigOutput& y : rig.outputs)

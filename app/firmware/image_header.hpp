@@ -44,6 +44,8 @@ std::string rig_config_part(const Rig& rig);
 std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers);
 std::string plant_part(const Rig& rig);
 std::string pins_part(const Rig& rig, const std::string& board);
+// The sensor chips and each sensor channel's source (image_devices.cpp).
+std::string devices_part(const Rig& rig);
 
 // The layer table of a model file, as [[model.layer]] would spell it;
 // throws CliError when the file cannot be read or does not fit the rig.

@@ -199,4 +199,24 @@ void Device::telemetry_config(uint8_t mask, uint16_t decimation) {
 
 p::Status Device::status() { return session_.call<p::Status>(p::StatusGet{}); }
 
+std::vector<p::DeviceStatus> Device::devices() {
+  if (!has(p::capability::kDevices))
+    throw CliError(fmt::format("the firmware ({}) cannot report its sensor chips: it has no DEVICES capability "
+                               "(protocol 1.4)",
+                               protocol_minor() < 4 ? fmt::format("protocol 1.{}", protocol_minor())
+                                                    : std::string("this one")));
+  std::vector<p::DeviceStatus> out;
+  p::DeviceGet get;
+  try {
+    do {
+      out.push_back(session_.call<p::DeviceStatus>(get));
+      get.index = uint8_t(get.index + 1);
+    } while (get.index < out.front().count);
+  } catch (const NackError& e) {
+    // Index 0 refused: the image has no chips. A later index: the count lied.
+    if (get.index != 0 || e.status() != p::StatusCode::UnknownId) throw;
+  }
+  return out;
+}
+
 }  // namespace nlsoft::console

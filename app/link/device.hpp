@@ -68,6 +68,10 @@ class Device {
   void run_hold(protocol::HoldMode mode);
   void telemetry_config(uint8_t mask, uint16_t decimation);
   protocol::Status status();
+  // Protocol 1.4: every sensor chip's state (DEVICE_GET 0..count-1); empty
+  // for a firmware without chips. Throws CliError for a firmware without
+  // the DEVICES capability (it cannot say).
+  std::vector<protocol::DeviceStatus> devices();
 
   Session& session() { return session_; }
 

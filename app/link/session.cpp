@@ -261,6 +261,9 @@ void Session::on_frame(const p::FrameView& f) {
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
     const uint32_t lost = count_telemetry(t.tseq);
     if (ident_handler_) ident_handler_(t, lost);
+  } else if (type == p::MsgType::SensorHealth) {
+    p::SensorHealth h;
+    if (p::unpack(f, h) == p::StatusCode::Ok && health_handler_) health_handler_(h);
   } else if (type == p::MsgType::Status) {
     p::Status s;
     if (p::unpack(f, s) != p::StatusCode::Ok) return;

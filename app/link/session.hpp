@@ -105,6 +105,9 @@ class Session {
   using TelemetryHandler = std::function<void(const protocol::Telemetry&, uint32_t lost_before)>;
   // Protocol 1.3: an identification run's samples, counted with TELEMETRY's tseq.
   using IdentHandler = std::function<void(const protocol::IdentSample&, uint32_t lost_before)>;
+  // Protocol 1.4: the health of the sensor channels at the step of the
+  // sample frame before it (a rig with sensor chips).
+  using HealthHandler = std::function<void(const protocol::SensorHealth&)>;
   using StatusHandler = std::function<void(const protocol::Status&)>;
   using LogHandler = std::function<void(const protocol::Log&)>;
   using EventHandler = std::function<void(const LinkEvent&)>;
@@ -119,6 +122,7 @@ class Session {
   // and must not block; the event handler runs on the supervisor thread.
   void on_telemetry(TelemetryHandler h) { telemetry_handler_ = std::move(h); }
   void on_ident_sample(IdentHandler h) { ident_handler_ = std::move(h); }
+  void on_sensor_health(HealthHandler h) { health_handler_ = std::move(h); }
   void on_status(StatusHandler h) { status_handler_ = std::move(h); }
   void on_log(LogHandler h) { log_handler_ = std::move(h); }
   void on_event(EventHandler h) { event_handler_ = std::move(h); }
@@ -221,6 +225,7 @@ class Session {
   protocol::Decoder decoder_;  // I/O thread only
 
   IdentHandler ident_handler_;
+  HealthHandler health_handler_;
   TelemetryHandler telemetry_handler_;
   StatusHandler status_handler_;
   LogHandler log_handler_;

@@ -67,6 +67,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   SampleIntake& intake = parts_->intake;
   session_->on_telemetry([&intake](const p::Telemetry& t, uint32_t lost) { intake.on_telemetry(t, lost); });
   session_->on_ident_sample([&intake](const p::IdentSample& t, uint32_t lost) { intake.on_ident_sample(t, lost); });
+  session_->on_sensor_health([&intake](const p::SensorHealth& h) { intake.on_sensor_health(h); });
   session_->on_status([this](const p::Status& s) {
     parts_->intake.on_status(s);
     parts_->resets.note_uptime(s.uptime_ms);

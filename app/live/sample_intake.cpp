@@ -19,6 +19,10 @@ void SampleIntake::on_ident_sample(const p::IdentSample& t, uint32_t lost_before
   on_sample(sample_from(t, 0), true, lost_before);
 }
 
+void SampleIntake::on_sensor_health(const p::SensorHealth& h) {
+  if (const int64_t run = run_.id.load(); run != 0) run_.recorder.add_sensor_health(run, h.step, h.invalid, h.age_ms);
+}
+
 void SampleIntake::on_sample(Sample s, bool has_step, uint32_t lost_before) {
   const int64_t run = run_.id.load();
   if (run == 0) {

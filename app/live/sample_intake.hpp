@@ -1,6 +1,7 @@
 #pragma once
 // Sample intake, on the link's reader thread: every TELEMETRY and
-// IDENT_SAMPLE numbered into the run in progress, its gaps recorded, kept
+// IDENT_SAMPLE numbered into the run in progress (SENSOR_HEALTH recorded
+// beside them), its gaps recorded, kept
 // for the live plots and the UDP stream. Separate because it is the one
 // part that runs at the loop's rate, on a thread nothing else may block.
 #include <atomic>
@@ -25,6 +26,7 @@ class SampleIntake {
   // The link's reader thread, from the session's callbacks.
   void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
   void on_ident_sample(const protocol::IdentSample& t, uint32_t lost_before);
+  void on_sensor_health(const protocol::SensorHealth& h);  // protocol 1.4: recorded beside the samples
   // Converts compute ticks to microseconds; watches for the firmware
   // leaving the run.
   void on_status(const protocol::Status& s);

@@ -102,6 +102,7 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   insert_param_ = db_->prepare("INSERT INTO params(run_id,t,at_start,name,value) VALUES(?,?,?,?,?)");
   insert_gap_ = db_->prepare("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason,duration_s) VALUES(?,?,?,?,?,?)");
   insert_event_ = db_->prepare("INSERT INTO link_events(t,run_id,kind,detail) VALUES(?,?,?,?)");
+  insert_health_ = db_->prepare("INSERT INTO sensor_health(run_id,step,invalid,age_ms) VALUES(?,?,?,?)");
   insert_run_ = db_->prepare(
       "INSERT INTO runs(started_at,label,notes,platform,firmware,model_hash,param_hash,loop_rate_hz,n,m,"
       "decimation,reference,recorder_pid,recorder_host,heartbeat_at,kind,w,excitation) "
@@ -205,6 +206,10 @@ bool Recorder::add_sample(int64_t run_id, const Sample& s) {
 
 void Recorder::add_param_change(int64_t run_id, double t, const std::string& name, const std::string& value) {
   push(TextItem{TextItem::Param, run_id, t, 0, 0, name, value});
+}
+
+void Recorder::add_sensor_health(int64_t run_id, uint32_t step, uint32_t invalid, uint16_t age_ms) {
+  push(TextItem{TextItem::Health, run_id, double(age_ms), int64_t(step), int64_t(invalid), {}, {}});
 }
 
 void Recorder::add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason,
@@ -456,6 +461,9 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
               insert_event_.bind(3, ti->x).bind(4, ti->y).exec();
               break;
             case TextItem::Notes: set_notes_.bind(1, ti->x).bind(2, ti->run).exec(); break;
+            case TextItem::Health:  // a: step, b: invalid, t: age_ms
+              insert_health_.bind(1, ti->run).bind(2, ti->a).bind(3, ti->b).bind(4, int64_t(ti->t)).exec();
+              break;
           }
         } else if (auto* sy = std::get_if<SyncItem>(&item)) {
           int64_t result = 0;

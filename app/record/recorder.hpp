@@ -86,6 +86,8 @@ class Recorder {
   void add_gap(int64_t run_id, uint64_t after_k, uint64_t lost_frames, const std::string& reason,
                double duration_s = -1);
   void add_link_event(int64_t run_id, const std::string& kind, const std::string& detail);
+  // Protocol 1.4: the sensor channels invalid at a step and the samples' age.
+  void add_sensor_health(int64_t run_id, uint32_t step, uint32_t invalid, uint16_t age_ms);
   void set_notes(int64_t run_id, const std::string& notes);
 
   // Waits until everything queued so far is committed. Throws DbError if the
@@ -114,7 +116,7 @@ class Recorder {
     Sample s;
   };
   struct TextItem {
-    enum Kind { Param, Gap, Event, Notes } kind;
+    enum Kind { Param, Gap, Event, Notes, Health } kind;
     int64_t run;
     double t;
     int64_t a, b;
@@ -139,7 +141,7 @@ class Recorder {
   Options options_;
   std::unique_ptr<Db> db_;
   std::unique_ptr<Db> checkpoint_db_;
-  Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_run_, end_run_, set_notes_,
+  Stmt insert_sample_, insert_samples_, insert_param_, insert_gap_, insert_event_, insert_health_, insert_run_, end_run_, set_notes_,
       run_exists_, heartbeat_;
   // The runs this recorder has begun and not ended (writer thread only):
   // their heartbeat_at is renewed every kHeartbeatPeriod, so `runs delete`

@@ -168,6 +168,28 @@ ALTER TABLE runs ADD COLUMN w INTEGER NOT NULL DEFAULT 0;          -- sensors pe
 ALTER TABLE runs ADD COLUMN excitation TEXT NOT NULL DEFAULT '';   -- JSON: signal, seed, amplitude, band, duration
 ALTER TABLE samples ADD COLUMN l BLOB;                             -- w little-endian f32, NULL when not recorded
 )sql",
+    // v7: the health of sensor channels read from chips (protocol 1.4
+    // SENSOR_HEALTH): per step of a run whose rig has chips, which channels
+    // held no valid sample and how old the samples were. A table of its
+    // own, joined on (run_id, step): rigs without chips add no column to
+    // every sample, and a step whose health was lost has no row.
+    R"sql(
+CREATE TABLE sensor_health(
+  run_id INTEGER NOT NULL,
+  step INTEGER NOT NULL,
+  invalid INTEGER NOT NULL,            -- bit i: sensor channel i invalid at this step
+  age_ms INTEGER NOT NULL              -- the oldest valid chip sample's age (65535: that or older)
+);
+CREATE INDEX sensor_health_run ON sensor_health(run_id, step);
+DROP TRIGGER runs_delete_rows;
+CREATE TRIGGER runs_delete_rows AFTER DELETE ON runs BEGIN
+  DELETE FROM samples WHERE id BETWEEN old.id * 4294967296 AND old.id * 4294967296 + 4294967295;
+  DELETE FROM gaps WHERE run_id = old.id;
+  DELETE FROM link_events WHERE run_id = old.id;
+  DELETE FROM tune_evals WHERE run_id = old.id;
+  DELETE FROM sensor_health WHERE run_id = old.id;
+END;
+)sql",
 };
 static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "one migration per version");
 

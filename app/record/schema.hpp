@@ -5,7 +5,7 @@
 
 namespace nlsoft::console {
 
-constexpr int kSchemaVersion = 6;
+constexpr int kSchemaVersion = 7;
 
 // Applies every migration past the file's user_version. Throws DbError for a
 // file written by a newer console (it would be misread) or a failed step

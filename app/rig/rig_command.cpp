@@ -41,7 +41,20 @@ nlohmann::json to_json(const Rig& r) {
   for (const RigSensor& s : r.sensors) {
     json e = {{"name", s.name}, {"unit", s.unit}, {"source", sensor_source_name(s.source)}};
     if (s.source == SensorSource::Adc) e["adc"] = s.adc, e["gain"] = s.gain, e["offset"] = s.offset;
+    if (s.source == SensorSource::Device)
+      e["device"] = r.devices[size_t(s.device)].name,
+      e["channel"] = r.devices[size_t(s.device)].chip->channel_names[s.channel], e["gain"] = s.gain,
+      e["offset"] = s.offset;
     j["sensors"].push_back(e);
+  }
+  j["devices"] = json::array();
+  for (const RigDevice& d : r.devices) {
+    json e = {{"name", d.name}, {"chip", d.chip->name}, {"bus", d.bus}, {"clock_hz", d.clock_hz}};
+    if (d.kind == BusKind::I2c) e["address"] = d.address;
+    else e["cs"] = d.cs;
+    if (d.chip->range_count) e["range"] = d.range;
+    if (d.chip->rate_count) e["rate_hz"] = d.rate_hz;
+    j["devices"].push_back(e);
   }
   const RigController& c = r.controller;
   j["controller"] = {{"Q", c.Q},     {"Lambda", c.Lambda}, {"s", c.s},         {"b", c.b},
@@ -94,13 +107,20 @@ void print_summary(const Rig& r) {
                o.source == OutputSource::Adc ? fmt::format("ADC1 channel {}", o.adc)
                : o.source == OutputSource::External ? std::string("measured outside the board")
                                                     : std::string("predicted only"));
-  int adc = 0;
+  int adc = 0, chips = 0;
   std::string unwired;
   for (const RigSensor& s : r.sensors) {
     if (s.source == SensorSource::Adc) ++adc;
+    else if (s.source == SensorSource::Device) ++chips;
     else unwired += (unwired.empty() ? "" : ", ") + s.name;
   }
-  fmt::print("  w = {} sensors: {} on ADC1{}\n", r.w(), adc, unwired.empty() ? "" : ", not wired: " + unwired);
+  fmt::print("  w = {} sensors: {} on ADC1{}{}\n", r.w(), adc, chips ? fmt::format(", {} from chips", chips) : "",
+             unwired.empty() ? "" : ", not wired: " + unwired);
+  for (const RigDevice& d : r.devices)
+    fmt::print("    device {:<10} {} on {} {}{}{}\n", d.name, d.chip->name, d.bus,
+               d.kind == BusKind::I2c ? fmt::format("at 0x{:02x}", d.address) : "chip select " + d.cs,
+               d.chip->range_count ? fmt::format(", {} {}", d.range, d.chip->range_unit) : "",
+               d.chip->rate_count ? fmt::format(", {} Hz", d.rate_hz) : "");
   const RigController& c = r.controller;
   fmt::print("  controller: N {}, Nc {}, s {}, b {}, r {}, eps {}, {}, feedback {}\n", c.N, c.Nc, c.s, c.b, c.r, c.eps,
              c.mode == DerivMode::Fd ? "fd" : "exact", c.feedback == Feedback::Measured ? "measured" : "predicted");
@@ -119,12 +139,13 @@ void print_summary(const Rig& r) {
 
 }  // namespace
 
-void add_rig_command(CLI::App& app) {
+void add_rig_command(CLI::App& app, LiveDeviceCheck check_live) {
   CLI::App* rig = app.add_subcommand("rig", "Rig files (docs/rig-file.md): check one, list the shipped ones");
   rig->require_subcommand(1);
 
   struct CheckOptions {
-    std::string rig;
+    std::string rig, port;
+    unsigned baud = 115200;
     bool json = false;
   };
   auto check_opts = std::make_shared<CheckOptions>();
@@ -132,12 +153,19 @@ void add_rig_command(CLI::App& app) {
       "check", "Load and validate a rig file; print what it describes (exit 2 and file:line: key on a fault)");
   check->add_option("rig", check_opts->rig, "rig file, or a shipped rig's name: " + rig_arg_help())->required();
   check->add_flag("--json", check_opts->json, "the loaded rig as JSON on stdout");
-  check->callback([check_opts] {
+  check->add_option("PORT", check_opts->port,
+                    "a firmware's serial port: also say how each of the rig's sensor chips answers there "
+                    "(exit 1 when one is not ok)");
+  check->add_option("--baud", check_opts->baud, "the port's baud rate")->capture_default_str();
+  check->callback([check_opts, check_live] {
     const Rig r = load_rig_arg(check_opts->rig);
     if (check_opts->json)
       fmt::print("{}\n", to_json(r).dump(2));
     else
       print_summary(r);
+    if (check_opts->port.empty()) return;
+    std::fflush(stdout);
+    if (const int rc = check_live(r, check_opts->port, check_opts->baud); rc != 0) throw CliExit{rc};
   });
 
   auto list_json = std::make_shared<bool>(false);

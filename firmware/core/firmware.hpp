@@ -16,6 +16,7 @@
 #include "firmware/core/param_service.hpp"
 #include "firmware/core/reference_slot.hpp"
 #include "firmware/core/rig_reply.hpp"
+#include "firmware/core/sensor_sampler.hpp"
 #include "firmware/core/tx_queue.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
@@ -71,6 +72,10 @@ class Firmware {
     if (!id.has_y_true) mask_ &= uint8_t(~proto::telemetry_field::kYTrue);
   }
 
+  // The rig's sensor chips, sampled between steps (a board with [[device]]
+  // tables); before begin(), which starts them.
+  void attach_sensors(SensorSampler& sensors) { sensors_ = &sensors; }
+
   // Loads the compiled-in model (may be null: the firmware then waits for an
   // upload) and the platform's preset parameters.
   Status begin(const uint8_t* model_file, size_t model_len) {
@@ -82,6 +87,7 @@ class Firmware {
     neutral(u_);
     // Until the console selects one, a run follows the rig's own task.
     ref_.select(rig_.reference);
+    if (sensors_) sensors_->begin(clock_.ms());
     return model_file ? model_.begin(model_file, model_len) : Status::Ok;
   }
 
@@ -106,6 +112,10 @@ class Firmware {
         if (r.kind == proto::DecodeResult::Kind::Frame) handle(r.frame);
       }
     }
+    if (sensors_) {
+      sensors_->poll(clock_.ms());
+      report_devices();
+    }
     if (clock_.ms() - last_heartbeat_ms_ >= 1000) {
       last_heartbeat_ms_ = clock_.ms();
       send_status(0, false);
@@ -121,7 +131,7 @@ class Firmware {
     const int m = rig_.m, n = rig_.n;
     // A port fills all w sensors; l_ is a member, zeroed once, not a
     // local zeroed every step (newlib-nano's memset goes byte by byte).
-    hal_.read_sensors(l_, rig_.w);
+    read_sensors(l_);
     have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
     watchdog_check();
 
@@ -205,6 +215,7 @@ class Firmware {
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
     if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+    send_health();
   }
 
   void ident_start(uint8_t type, const proto::IdentStart& p) {
@@ -374,6 +385,13 @@ class Firmware {
         return ack(f.header.type);
       }
       case T::StatusGet: return send_status(f.header.seq, true);
+      case T::DeviceGet: {
+        proto::DeviceGet p;
+        if (!unpack_or_nack(f, p)) return;
+        proto::DeviceStatus d;
+        if (!device_status(p.index, d)) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        return reply(d);
+      }
       default: return;  // handle() answers Unsupported
     }
   }
@@ -396,7 +414,7 @@ class Firmware {
     last_rx_ms_ = clock_.ms();
     neutral(u_);
     float l[Cap::w + 1] = {};
-    hal_.read_sensors(l, rig_.w);
+    read_sensors(l);
     if (params_.feedback == Feedback::Measured && id_.has_y_true && hal_.read_output(y_true_, rig_.n))
       model_.controller().reset(u_, y_true_, l);
     else
@@ -419,7 +437,7 @@ class Firmware {
         }
         if (state_ != proto::RunState::Running) {
           float l[Cap::w + 1] = {};
-          hal_.read_sensors(l, rig_.w);
+          read_sensors(l);
           model_.controller().reset_at_rest(u_, l);  // histories restart from where the actuators are
           watchdog_ &= uint8_t(~watchdog_bits::kTripped);
           link_back_reported_ = false;
@@ -505,7 +523,7 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | c::kRig | c::kIdent | c::kIdentMixed | (id_.has_y_true ? c::kYTrue : 0);
+                     c::kLog | c::kRig | c::kIdent | c::kIdentMixed | c::kDevices | (id_.has_y_true ? c::kYTrue : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }
@@ -556,6 +574,36 @@ class Firmware {
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
     if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+    send_health();
+  }
+
+  // After each sample frame of an image with sensor chips: which channels
+  // of that step are invalid, and how old its chip samples are.
+  void send_health() {
+    if (!sensors_ || sensors_->count() == 0) return;
+    proto::SensorHealth h;
+    h.step = step_;
+    h.invalid = health_.invalid;
+    h.age_ms = uint16_t(health_.age_ms > 0xFFFFu ? 0xFFFFu : health_.age_ms);
+    uint8_t wire[proto::kWireBufferSize];
+    const size_t len = proto::encode(h, unsolicited_seq_++, 0, wire, sizeof wire);
+    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+  }
+
+  // DEVICE_GET's answer for device `index`; false past the last.
+  bool device_status(uint8_t index, proto::DeviceStatus& d) const {
+    const int count = sensors_ ? sensors_->count() : 0;
+    if (index >= count) return false;
+    const RigDeviceConfig& c = sensors_->device(index);
+    d.index = index;
+    d.count = uint8_t(count);
+    d.state = uint8_t(sensors_->state(index));
+    d.bus = c.bus;
+    d.address = c.kind == BusKind::I2c ? c.address : c.cs;
+    d.age_ms = sensors_->age_ms(index, clock_.ms());
+    d.faults = sensors_->faults(index);
+    std::strncpy(d.name, c.name, proto::kMaxNameLen);
+    return true;
   }
 
   void log(proto::LogLevel level, const char* text) {
@@ -565,6 +613,26 @@ class Firmware {
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(g, unsolicited_seq_++, 0, wire, sizeof wire);
     if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+  }
+
+  // ------------------------------------------------------------ sensors
+  // The port's channels, then the chips' latest samples over theirs: the
+  // step never waits on a bus.
+  void read_sensors(float* l) {
+    hal_.read_sensors(l, rig_.w);
+    health_ = sensors_ ? sensors_->fill(l, clock_.ms()) : SensorHealth{};
+  }
+
+  // Each device's change of state, once (LOG).
+  void report_devices() {
+    for (int d; (d = sensors_->take_change()) >= 0;) {
+      const DeviceState st = sensors_->state(d);
+      const RigDeviceConfig& c = sensors_->device(d);
+      LogText<proto::kMaxLogText> text;
+      text << "device " << c.name << " (" << c.chip->name << "): " << proto::device_state_name(uint8_t(st));
+      if (st != DeviceState::Ok) text << "; its sensor channels are invalid until it answers again";
+      log(st == DeviceState::Ok ? proto::LogLevel::Info : proto::LogLevel::Warn, text.c_str());
+    }
   }
 
   // ---------------------------------------------------------- watchdog
@@ -619,6 +687,8 @@ class Firmware {
   float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
   float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
   bool have_y_true_ = false;
+  SensorSampler* sensors_ = nullptr;
+  SensorHealth health_{};  // of l_: the chip channels invalid at this step, the oldest sample's age
   IdentRun ident_{};
   bool shape_list_ = false;
 };

@@ -47,14 +47,17 @@ ChipStatus Lsm303dlhcMag::read(float* out) {
   uint8_t sr = 0;
   if (bus_.read(kSrRegM, &sr, 1) != BusStatus::kOk) return ChipStatus::kBusFault;
   if ((sr & kDrdy) == 0) return ChipStatus::kNotReady;
-  // MR_REG_M (0x02) sits just before the outputs: one more byte tells a
-  // chip that reset itself (back to sleep, its last sample frozen) from one
-  // still converting.
-  uint8_t frame[7] = {};  // MR X_H X_L Z_H Z_L Y_H Y_L
-  if (bus_.read(kMrRegM, frame, 7) != BusStatus::kOk || frame[0] != kContinuous) return ChipStatus::kBusFault;
-  out[0] = static_cast<float>(be16(&frame[1])) * ut_per_lsb_xy_;
-  out[1] = static_cast<float>(be16(&frame[5])) * ut_per_lsb_xy_;
-  out[2] = static_cast<float>(be16(&frame[3])) * ut_per_lsb_z_;
+  // MR_REG_M tells a chip that reset itself (back to sleep, its last sample
+  // frozen) from one still converting. The outputs are a burst of their own
+  // from OUT_X_H: QEMU's model takes a new sample only for a read that
+  // starts there (a burst from MR_REG_M got the first sample for ever).
+  uint8_t mr = 0;
+  if (bus_.read(kMrRegM, &mr, 1) != BusStatus::kOk || mr != kContinuous) return ChipStatus::kBusFault;
+  uint8_t frame[6] = {};  // X_H X_L Z_H Z_L Y_H Y_L
+  if (bus_.read(kOutXHM, frame, 6) != BusStatus::kOk) return ChipStatus::kBusFault;
+  out[0] = static_cast<float>(be16(&frame[0])) * ut_per_lsb_xy_;
+  out[1] = static_cast<float>(be16(&frame[4])) * ut_per_lsb_xy_;
+  out[2] = static_cast<float>(be16(&frame[2])) * ut_per_lsb_z_;
   return ChipStatus::kOk;
 }
 

@@ -33,6 +33,7 @@ class Lsm303dlhcMag final : public Chip {
   static constexpr uint8_t kCraRegM = 0x00;
   static constexpr uint8_t kCrbRegM = 0x01;
   static constexpr uint8_t kMrRegM = 0x02;
+  static constexpr uint8_t kOutXHM = 0x03;
   static constexpr uint8_t kContinuous = 0x00;  // MR_REG_M: MD = continuous conversion
   static constexpr uint8_t kSrRegM = 0x09;
   static constexpr uint8_t kIraRegM = 0x0A;

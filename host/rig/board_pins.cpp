@@ -24,6 +24,8 @@ BoardPins stm32f4() {
   for (const auto& s : f4::kSpi)
     b.buses.push_back({s.name, BusKind::Spi, {pin_name(s.sck), pin_name(s.miso), pin_name(s.mosi)}});
   for (const auto& p : f4::kChipSelect) b.chip_selects.push_back(pin_name(p));
+  // I2C1 in fast mode; SPI at the prescaler's fastest, APB2 / 2 (SPI1) and APB1 / 2 (SPI2) at 84 MHz.
+  for (BoardBus& bus : b.buses) bus.max_clock_hz = bus.kind == BusKind::I2c ? 400000u : 21000000u;
   return b;
 }
 
@@ -34,8 +36,11 @@ BoardPins stm32f4() {
 BoardPins mps2_an386() {
   BoardPins b;
   b.board = "mps2-an386";
-  for (const char* name : {"i2c-shield0", "i2c-shield1"}) b.buses.push_back({name, BusKind::I2c, {}});
-  for (const char* name : {"spi-shield0", "spi-shield1", "spi-adc"}) b.buses.push_back({name, BusKind::Spi, {}, true});
+  b.rig_board = true;
+  // The SBCON's SCL in fast mode at most; a PL022 at half its 25 MHz clock.
+  for (const char* name : {"i2c-shield0", "i2c-shield1"}) b.buses.push_back({name, BusKind::I2c, {}, false, 400000u});
+  for (const char* name : {"spi-shield0", "spi-shield1", "spi-adc"})
+    b.buses.push_back({name, BusKind::Spi, {}, true, 12500000u});
   return b;
 }
 

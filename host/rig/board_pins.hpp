@@ -3,24 +3,27 @@
 // tables wire (shared/board_stm32f4.hpp; the mps2-an386 port's buses.hpp),
 // read from those tables where the host can see them, so the file and the
 // image cannot disagree about which pins and buses exist.
+#include <cstdint>
 #include <string>
 #include <vector>
 
-namespace nlsoft::console {
+#include "shared/rig_devices.hpp"
 
-enum class BusKind { I2c, Spi };
+namespace nlsoft::console {
 
 struct BoardBus {
   std::string name;               // as a rig file names it: "i2c1", "spi2", "i2c-shield1"
   BusKind kind;
   std::vector<std::string> pins;  // the pins it takes (SCL SDA; SCK MISO MOSI); none where its lines are its own
   bool own_chip_select = false;   // SPI: one chip, on the controller's own select line (no GPIO chip selects)
+  uint32_t max_clock_hz = 0;      // the fastest clock the port runs the bus at
 };
 
 struct BoardPins {
   std::string board;
-  // A rig file's `board` may name it: a board with pins to wire a rig to.
-  // mps2-an386 is a board images are built for (QEMU), not one a rig is wired to.
+  // A rig file's `board` may name it. mps2-an386, QEMU's board, has no pins
+  // to wire actuators or ADC sensors to, only its shield buses: a rig file
+  // names it to put sensor chips where QEMU's chip models are.
   bool rig_board = false;
   std::vector<std::string> pwm;       // PWM outputs by pin name ("PC6"), in the table's order
   std::vector<int> adc;               // ADC1 channels brought out, in the table's order

@@ -12,6 +12,7 @@
 #include "shared/params.hpp"
 #include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
+#include "shared/rig_devices.hpp"
 
 namespace nlsoft::console {
 
@@ -24,6 +25,8 @@ struct RigCapacity {
   static constexpr int p = HostCapacity::inputs;
   // The horizons the console's controller holds (HostCapacity).
   static constexpr int N = HostCapacity::N, Nc = HostCapacity::Nc;
+  // Sensor chips on the board's buses ([[device]]).
+  static constexpr int devices = kRigMaxDevices;
 };
 
 // A bad rig file: the message starts with "file:line: " and names the key.
@@ -46,9 +49,29 @@ struct RigInput {
 // external observer (a position sensor on the plant, the simulator), or
 // not at all (the controller runs on its own predictions).
 enum class OutputSource { None, Adc, External };
-// Where a sensor channel is read: an ADC channel on the board, or nowhere on
-// this board (declared so the network input keeps its place; reads 0).
-enum class SensorSource { None, Adc };
+// Where a sensor channel is read: an ADC channel on the board, a channel of
+// a chip on one of its buses ([[device]]), or nowhere on this board
+// (declared so the network input keeps its place; reads 0).
+enum class SensorSource { None, Adc, Device };
+
+// A sensor chip on a bus of the board ([[device]]), checked against its
+// chip's spec (shared/chips/) and the board's buses (board_pins.hpp).
+struct RigDevice {
+  std::string name;
+  const chips::ChipSpec* chip = nullptr;
+  std::string bus;     // the board's bus name ("i2c1")
+  int bus_index = 0;   // its row of the board's buses
+  BusKind kind = BusKind::I2c;
+  int address = 0;     // I²C: 7-bit
+  std::string cs;      // SPI: the chip-select pin ("PA8")
+  int cs_index = 0;    // its row of the board's chip selects
+  uint32_t clock_hz = 0;
+  double range = 0;    // in the chip's range_unit; 0 when the chip has no range setting
+  uint8_t range_bits = 0;
+  double rate_hz = 0;  // 0 when the chip has no rate setting
+  uint8_t rate_bits = 0;
+  int line = 0;        // of the [[device]] table
+};
 
 struct RigOutput {
   std::string name, unit;
@@ -65,7 +88,8 @@ struct RigSensor {
   std::string name, unit;
   SensorSource source = SensorSource::None;
   int adc = -1;  // ADC1 channel
-  double gain = 1, offset = 0;  // value = offset + gain * volts
+  int device = -1, channel = -1;  // source = "device": the rig's device and the chip's channel
+  double gain = 1, offset = 0;  // value = offset + gain * volts (a device: * the chip's reading)
   int line = 0, adc_line = 0;  // of the [[sensor]] table and its adc key, for errors about the board
 };
 
@@ -132,6 +156,7 @@ struct Rig {
   std::vector<RigInput> inputs;
   std::vector<RigOutput> outputs;
   std::vector<RigSensor> sensors;
+  std::vector<RigDevice> devices;
   RigController controller;
   RigModel model;
   RigPlant plant;

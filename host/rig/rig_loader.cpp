@@ -4,6 +4,7 @@
 #include <toml++/toml.h>
 
 #include <cctype>
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -15,6 +16,7 @@
 #include "host/rig/board_pins.hpp"
 #include "host/rig/rig.hpp"
 #include "shared/activation.hpp"
+#include "shared/chips/catalog.hpp"
 #include "shared/crc32.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/rig_config.hpp"
@@ -300,6 +302,12 @@ struct NameBook {
   }
 };
 
+int index_of(const std::vector<std::string>& names, const std::string& name) {
+  for (size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return int(i);
+  return -1;
+}
+
 // Pins and channels used once each, on a board that has them.
 struct PinBook {
   const BoardPins* board = nullptr;
@@ -329,6 +337,16 @@ struct PinBook {
              "unknown pin: ADC1 channel " + std::to_string(channel) + " is not wired on board " + board_name +
                  " (channels: " + join(known) + ")");
     take(s, "adc", "ADC1 channel " + std::to_string(channel));
+    // Its pin too: a bus may share it (SPI1's MISO and MOSI are ADC1_IN6/IN7's).
+    for (size_t i = 0; i < board->adc.size() && i < board->adc_pins.size(); ++i)
+      if (board->adc[i] == channel) take(s, "adc", board->adc_pins[i]);
+  }
+  void cs(const Section& s, const std::string& pin) {
+    if (index_of(board->chip_selects, pin) < 0)
+      s.fail(s.line("cs"), "cs",
+             "unknown chip-select pin '" + printable_excerpt(pin, 40) + "' on board " + board_name +
+                 " (chip-select pins: " + join(board->chip_selects) + ")");
+    take(s, "cs", pin);
   }
   void take(const Section& s, const std::string& key, const std::string& pin) {
     const auto it = used.find(pin);
@@ -377,20 +395,29 @@ void read_inputs(const std::string& file, const Section& root, const toml::table
                                             " inputs (m = 0)");
 }
 
-// An ADC channel with its scaling: value = offset + gain * volts.
-void read_adc(const Section& s, PinBook& pins, int& adc, double& gain, double& offset) {
-  adc = int(s.integer("adc", 0, 31));
-  pins.adc(s, adc);
+// value = offset + gain * reading.
+void read_scaling(const Section& s, double& gain, double& offset) {
   gain = s.number("gain", 1.0);
   if (gain == 0.0) s.fail(s.line("gain"), "gain", "must not be 0");
   offset = s.number("offset", 0.0);
 }
 
-// Keys that only an ADC source has.
-void refuse_adc_keys(const Section& s, const std::string& source) {
-  for (const char* k : {"adc", "gain", "offset"})
-    if (s.has(k)) s.fail(s.line(k), k, "only with source = \"adc\" (source is \"" + source + "\" at line " +
+// An ADC channel with its scaling: value = offset + gain * volts.
+void read_adc(const Section& s, PinBook& pins, int& adc, double& gain, double& offset) {
+  adc = int(s.integer("adc", 0, 31));
+  pins.adc(s, adc);
+  read_scaling(s, gain, offset);
+}
+
+// Keys a source does not have: each belongs to the sources `owners` names.
+void refuse_keys(const Section& s, const std::string& source, const std::vector<std::string>& keys,
+                 const std::string& owners) {
+  for (const std::string& k : keys)
+    if (s.has(k)) s.fail(s.line(k), k, "only with " + owners + " (source is \"" + source + "\" at line " +
                                           std::to_string(s.line("source")) + ")");
+}
+void refuse_adc_keys(const Section& s, const std::string& source) {
+  refuse_keys(s, source, {"adc", "gain", "offset"}, "source = \"adc\"");
 }
 
 void read_outputs(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
@@ -429,29 +456,164 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
                                              " outputs (n = 0)");
 }
 
+// A [[device]]'s setting (range, rate): one the chip offers, or none when
+// it has no such setting. The error lists what it offers.
+void read_setting(const Section& s, const std::string& key, const chips::ChipSpec& chip,
+                  const chips::Setting* settings, int count, const std::string& unit, double& value,
+                  uint8_t& bits) {
+  if (count == 0) {
+    if (s.has(key)) s.fail(s.line(key), key, std::string("chip ") + chip.name + " has no " + key + " setting");
+    return;
+  }
+  value = s.number(key);
+  std::vector<std::string> offered;
+  for (int i = 0; i < count; ++i) {
+    if (float(value) == settings[i].value) {
+      bits = settings[i].bits;
+      return;
+    }
+    offered.push_back(num(settings[i].value));
+  }
+  s.fail(s.line(key), key,
+         fmt::format("{} {} is not a {} chip {} offers ({}: {})", num(value), unit, key, chip.name, unit,
+                     join(offered)));
+}
+
+void read_devices(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
+                  PinBook& pins) {
+  const auto tables = table_array(root, t, "device");
+  std::vector<std::string> chip_names, bus_names;
+  for (const chips::ChipSpec* c : chips::kCatalog) chip_names.push_back(c->name);
+  for (const BoardBus& b : pins.board->buses) bus_names.push_back(b.name);
+  for (size_t i = 0; i < tables.size(); ++i) {
+    const Section s(file, *tables[i], nth("device", i), line_of(*tables[i]),
+                    {"name", "chip", "bus", "address", "cs", "clock_hz", "range", "rate_hz"});
+    if (i >= size_t(RigCapacity::devices))
+      s.fail(s.line(), "", "over capacity: at most " + std::to_string(RigCapacity::devices) + " devices");
+    RigDevice d;
+    d.line = s.line();
+    d.name = s.text("name");
+    names.add(s, d.name);
+    d.chip = chips::find_chip(s.choice("chip", chip_names).c_str());
+    const chips::ChipSpec& chip = *d.chip;
+    d.bus = s.text("bus");
+    d.bus_index = index_of(bus_names, d.bus);
+    if (d.bus_index < 0)
+      s.fail(s.line("bus"), "bus",
+             "unknown bus '" + printable_excerpt(d.bus, 40) + "' on board " + pins.board_name + " (buses: " +
+                 join(bus_names) + ")");
+    const BoardBus& bus = pins.board->buses[size_t(d.bus_index)];
+    d.kind = bus.kind;
+    const bool i2c = bus.kind == BusKind::I2c;
+    if (i2c ? !chip.on_i2c : !chip.on_spi)
+      s.fail(s.line("bus"), "bus",
+             fmt::format("{} is a{} bus, and chip {} talks {} only", d.bus, i2c ? "n I2C" : " SPI", chip.name,
+                         i2c ? "SPI" : "I2C"));
+    const std::string bus_is = fmt::format("bus = \"{}\" (line {}) is {}", d.bus, s.line("bus"), i2c ? "I2C" : "SPI");
+    if (i2c) {
+      if (s.has("cs")) s.fail(s.line("cs"), "cs", "a chip select is for a SPI bus: " + bus_is + "; give address");
+      // The 7-bit addresses I2C leaves to devices (0x00-0x07 and 0x78-0x7f are reserved).
+      d.address = s.has("address") ? int(s.integer("address", 0x08, 0x77, " (a 7-bit I2C address)"))
+                                   : chip.default_address;
+      pins.take(s, "address", fmt::format("{} address 0x{:02x}", d.bus, d.address));
+    } else if (bus.own_chip_select) {
+      if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is);
+      if (s.has("cs"))
+        s.fail(s.line("cs"), "cs", "bus " + d.bus + " selects its one chip itself (its own select line): no cs");
+      pins.take(s, "bus", d.bus + "'s one chip");
+    } else {
+      if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is + "; give cs");
+      d.cs = s.text("cs");
+      pins.cs(s, d.cs);
+      d.cs_index = index_of(pins.board->chip_selects, d.cs);
+    }
+    // The bus's pins are its own from its first chip on: an ADC input on one is refused.
+    const bool first_on_bus = std::none_of(rig.devices.begin(), rig.devices.end(),
+                                           [&](const RigDevice& o) { return o.bus == d.bus; });
+    if (first_on_bus)
+      for (const std::string& pin : bus.pins) pins.take(s, "bus", pin);
+    // A chip on both buses states its SPI maximum; on I2C the bus's own bounds it.
+    const bool chip_bound = !i2c || !chip.on_spi;
+    // Standard-mode I2C and the paper's SPI clock, unless the chip is slower.
+    const uint32_t fallback = std::min<uint32_t>(i2c ? 100000u : 1000000u, chip.max_clock_hz);
+    d.clock_hz = s.has("clock_hz") ? uint32_t(s.integer("clock_hz", 1, 100000000, " Hz")) : fallback;
+    if (chip_bound && d.clock_hz > chip.max_clock_hz)
+      s.fail(s.line("clock_hz"), "clock_hz",
+             fmt::format("{} Hz is above chip {}'s maximum, {} Hz", d.clock_hz, chip.name, chip.max_clock_hz));
+    if (d.clock_hz > bus.max_clock_hz)
+      s.fail(s.line("clock_hz"), "clock_hz",
+             fmt::format("{} Hz is above bus {}'s maximum on board {}, {} Hz", d.clock_hz, d.bus, pins.board_name,
+                         bus.max_clock_hz));
+    read_setting(s, "range", chip, chip.ranges, chip.range_count, chip.range_unit ? chip.range_unit : "", d.range,
+                 d.range_bits);
+    read_setting(s, "rate_hz", chip, chip.rates, chip.rate_count, "Hz", d.rate_hz, d.rate_bits);
+    rig.devices.push_back(d);
+  }
+}
+
+// source = "device": a channel of a [[device]], by the device's name and the
+// chip's channel name.
+void read_device_channel(const Section& s, const Rig& rig, RigSensor& sen) {
+  const std::string device = s.text("device");
+  std::vector<std::string> known;
+  for (const RigDevice& d : rig.devices) known.push_back(d.name);
+  sen.device = index_of(known, device);
+  if (sen.device < 0)
+    s.fail(s.line("device"), "device",
+           "no [[device]] is named '" + printable_excerpt(device, 40) + "'" +
+               (known.empty() ? std::string(" (the file has none)") : " (devices: " + join(known) + ")"));
+  const chips::ChipSpec& chip = *rig.devices[size_t(sen.device)].chip;
+  const std::vector<std::string> channels(chip.channel_names, chip.channel_names + chip.channel_count);
+  const std::string channel = s.text("channel");
+  sen.channel = index_of(channels, channel);
+  if (sen.channel < 0)
+    s.fail(s.line("channel"), "channel",
+           fmt::format("chip {} (device {}) has no channel '{}' (channels: {})", chip.name, device,
+                       printable_excerpt(channel, 40), join(channels)));
+  read_scaling(s, sen.gain, sen.offset);
+}
+
 void read_sensors(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
                   PinBook& pins) {
   const auto tables = table_array(root, t, "sensor");
+  std::vector<int> read_by(rig.devices.size(), 0);
   for (size_t i = 0; i < tables.size(); ++i) {
     const Section s(file, *tables[i], nth("sensor", i), line_of(*tables[i]),
-                    {"name", "unit", "source", "adc", "gain", "offset"});
+                    {"name", "unit", "source", "adc", "device", "channel", "gain", "offset"});
     if (i >= size_t(RigCapacity::w))
       s.fail(s.line(), "", "over capacity: at most w = " + std::to_string(RigCapacity::w) + " sensors");
     RigSensor sen;
     sen.name = s.text("name");
     names.add(s, sen.name);
     sen.unit = s.line_text("unit", "");
-    const std::string source = s.choice("source", {"adc", "none"});
+    const std::string source = s.choice("source", {"adc", "device", "none"});
     sen.line = s.line();
     if (source == "adc") {
+      refuse_keys(s, source, {"device", "channel"}, "source = \"device\"");
       sen.source = SensorSource::Adc;
       sen.adc_line = s.line("adc");
       read_adc(s, pins, sen.adc, sen.gain, sen.offset);
+    } else if (source == "device") {
+      refuse_keys(s, source, {"adc"}, "source = \"adc\"");
+      sen.source = SensorSource::Device;
+      read_device_channel(s, rig, sen);
+      ++read_by[size_t(sen.device)];
     } else {
-      refuse_adc_keys(s, source);
+      refuse_keys(s, source, {"adc", "device", "channel", "gain", "offset"}, "source = \"adc\" or \"device\"");
     }
     rig.sensors.push_back(sen);
   }
+  // A chip nobody reads would still be configured and polled, its faults
+  // reported: a device left over from an edit, refused rather than kept.
+  for (size_t d = 0; d < rig.devices.size(); ++d)
+    if (read_by[d] == 0) {
+      const Section s(file, *table_array(root, t, "device")[d], nth("device", d), rig.devices[d].line,
+                      {"name", "chip", "bus", "address", "cs", "clock_hz", "range", "rate_hz"});
+      s.fail(s.line("name"), "name",
+             "no [[sensor]] reads device '" + rig.devices[d].name +
+                 "': give a sensor source = \"device\" with device = \"" + rig.devices[d].name +
+                 "\", or remove the device");
+    }
 }
 
 // The controller's defaults go through the very checks a PARAM_SET does
@@ -742,7 +904,9 @@ void read_reference(const std::string& file, const Section& root, const toml::ta
 const char* output_source_name(OutputSource s) {
   return s == OutputSource::Adc ? "adc" : (s == OutputSource::External ? "external" : "none");
 }
-const char* sensor_source_name(SensorSource s) { return s == SensorSource::Adc ? "adc" : "none"; }
+const char* sensor_source_name(SensorSource s) {
+  return s == SensorSource::Adc ? "adc" : (s == SensorSource::Device ? "device" : "none");
+}
 
 Rig parse_rig(const std::string& text, const std::string& file) {
   toml::table t;
@@ -753,7 +917,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
     throw RigError(file + ":" + std::to_string(line) + ": " + std::string(e.description()), file, line, "");
   }
   const Section root(file, t, "", 1,
-                     {"name", "description", "info_platform", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "controller",
+                     {"name", "description", "info_platform", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "device", "controller",
                       "model", "plant", "reference"});
   Rig rig;
   rig.file = file;
@@ -789,6 +953,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   LimitLines limit_lines;
   read_inputs(file, root, t, rig, names, pins, limit_lines);
   read_outputs(file, root, t, rig, names, pins);
+  read_devices(file, root, t, rig, names, pins);
   read_sensors(file, root, t, rig, names, pins);
   if (const int p = rig.nd * rig.m() + rig.dd * rig.n() + rig.w(); p > RigCapacity::p)
     root.fail(root.line("nd"), "nd",

@@ -330,6 +330,12 @@ void build() {
   add("info_ex_hasel_1_3", "A 1.3 firmware's INFO_EX: protocol_minor 3 and the IDENT capability (bit 9).",
       frame(info_ex13, 2, frame_flags::kReply));
 
+  InfoEx info_ex14 = info_ex13;
+  info_ex14.protocol_minor = 4;
+  info_ex14.info.capabilities |= capability::kIdentMixed | capability::kDevices;
+  add("info_ex_hasel_1_4", "A 1.4 firmware's INFO_EX: protocol_minor 4 and the DEVICES capability (bit 11).",
+      frame(info_ex14, 2, frame_flags::kReply));
+
   RigInfo rig;
   rig.rig_hash = 0x5A17C0DEu;
   set_text(rig.rig_name, "hasel");
@@ -520,6 +526,37 @@ void build() {
   is_no_y.l[1] = -0.75f;
   add("ident_sample_no_output", "Protocol 1.3: n = 0, a firmware that measures no output; u and two sensors.",
       frame(is_no_y, 85));
+
+  DeviceGet dg;
+  dg.index = 1;
+  add("device_get", "Protocol 1.4: the state of device 1.", frame(dg, 91));
+  DeviceStatus ds;
+  ds.index = 0;
+  ds.count = 2;
+  ds.state = static_cast<uint8_t>(DeviceState::Ok);
+  ds.bus = 0;
+  ds.address = 0x1E;
+  ds.age_ms = 3;
+  ds.faults = 0;
+  set_text(ds.name, "tip");
+  add("device_status_ok", "Protocol 1.4: a magnetometer at 0x1e on bus 0, its latest sample 3 ms old.",
+      frame(ds, 90, frame_flags::kReply));
+  DeviceStatus absent = ds;
+  absent.index = 1;
+  absent.state = static_cast<uint8_t>(DeviceState::Absent);
+  absent.bus = 1;
+  absent.address = 4;  // SPI: chip select number 4
+  absent.age_ms = kNoSample;
+  absent.faults = 12;
+  set_text(absent.name, "ring1");
+  add("device_status_absent", "Protocol 1.4: a chip on SPI bus 1, chip select 4, that never answered (age 0xffffffff).",
+      frame(absent, 91, frame_flags::kReply));
+  SensorHealth sh;
+  sh.step = 1200;
+  sh.invalid = 0x00000038u;  // channels 3, 4, 5: one magnetometer's x, y, z
+  sh.age_ms = 7;
+  add("sensor_health", "Protocol 1.4: sensor channels 3 to 5 invalid at step 1200, the oldest valid sample 7 ms old.",
+      frame(sh, 86));
 
   Log log;
   log.level = static_cast<uint8_t>(LogLevel::Warn);

@@ -42,13 +42,14 @@ built() {
   [ $fail -eq 0 ] && touch "$work/.built" && echo "built in $work"
   exit $fail
 }
-# boot_qemu MACHINE ELF: QEMU started on the image in the background ($qemu),
+# boot_qemu MACHINE ELF [QEMU ARGS...]: QEMU started on the image in the
+# background ($qemu), with the extra arguments (devices, a QMP socket),
 # $port the pty of the UART the console talks to (USART2 on netduinoplus2,
 # the second serial port); false when QEMU gave no pty in 5 s.
 boot_qemu() {
   local serial=(-serial pty) label=''
   [ "$1" = netduinoplus2 ] && serial=(-serial null -serial pty) label=' (label serial1)'
-  qemu-system-arm -nographic -monitor none -M "$1" "${serial[@]}" -kernel "$2" >qemu.out 2>&1 &
+  qemu-system-arm -nographic -monitor none -M "$1" "${serial[@]}" -kernel "$2" "${@:3}" >qemu.out 2>&1 &
   qemu=$!
   port=
   for _ in $(seq 50); do

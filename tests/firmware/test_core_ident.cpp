@@ -16,10 +16,12 @@
 #include <utility>
 #include <vector>
 
+#include "fake_chip.hpp"
 #include "firmware/core/firmware.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
 #include "shared/capacity.hpp"
+#include "shared/chips/lis3mdl.hpp"
 #include "support/rig_capacities.hpp"
 #include "support/shipped_rigs.hpp"
 
@@ -424,7 +426,8 @@ TEST_F(IdentRun, InputsFollowLimitsNarrowedDuringTheRunAndInfoAdvertisesIt) {
   proto::InfoEx ex;
   ASSERT_EQ(proto::unpack(payload.data(), payload.size(), ex), proto::StatusCode::Ok);
   EXPECT_TRUE(ex.info.capabilities & proto::capability::kIdent);
-  EXPECT_EQ(ex.protocol_minor, 3);
+  EXPECT_EQ(ex.protocol_minor, 4);  // 1.4: identification runs and sensor chips
+  EXPECT_TRUE(ex.info.capabilities & proto::capability::kDevices);
   expect_ack(prbs(400));
   steps(5);
   proto::ParamSet ps;
@@ -436,6 +439,83 @@ TEST_F(IdentRun, InputsFollowLimitsNarrowedDuringTheRunAndInfoAdvertisesIt) {
   steps(300);
   for (const proto::IdentSample& s : samples())
     for (int i = 0; i < 6; ++i) EXPECT_LE(s.u[i], 0.25f);
+}
+
+}  // namespace
+
+namespace {
+
+// A rig whose sensor channels 0 to 2 come from a chip (PROTOCOL.md 9.10):
+// its failure is logged once, DEVICE_GET says its state, each sample is
+// followed by SENSOR_HEALTH for the same step, and the chip's channels are
+// flagged while it is missing, never read as 0 silently; plugged in, it is
+// found again within a second.
+TEST_F(IdentRun, AChipsStateIsLoggedOnceAskedForAndEachSampleCarriesItsHealth) {
+  using Answer = fw::drivers::ChipStatus;
+  test::FakeChip mag(3);
+  mag.begin_answer = Answer::kAbsent;
+  fw::drivers::Chip* chips[] = {&mag};
+  const RigDeviceConfig devices[] = {{"tip", &chips::kLis3mdl, 1, BusKind::Spi, 0, 4, 1000000, {16.0f, 0x60}, {1000.0f, 0x02}}};
+  RigSensorSource sources[18] = {};
+  for (int c = 0; c < 3; ++c) sources[c] = {SensorFrom::Device, 0, uint8_t(c), 2.0f, 1.0f};
+  fw::SensorSampler::Slot slots[1];
+  fw::SensorSampler sampler(chips, devices, slots, 1, sources, 18);
+  fw_ = std::make_unique<Fw>(hal_, fw::Identity{&rig_, "nlsoft-test", 0, 1, 0, 130, true},
+                             fw::Buffers{staging_, sizeof staging_, table_, sizeof table_, points_, 30});
+  fw_->attach_sensors(sampler);
+  ASSERT_EQ(fw_->begin(nullptr, 0), Status::Ok);
+  hal_.out.clear();
+  fw_->poll();
+  fw_->poll();
+  EXPECT_EQ(logs(), std::vector<std::string>{"device tip (lis3mdl): absent; its sensor channels are invalid until it "
+                                             "answers again"});
+
+  proto::DeviceGet get;
+  const auto [type, payload] = request(get);
+  ASSERT_EQ(type, uint8_t(proto::MsgType::DeviceStatus));
+  proto::DeviceStatus d;
+  ASSERT_EQ(proto::unpack(payload.data(), payload.size(), d), proto::StatusCode::Ok);
+  EXPECT_EQ(d.count, 1);
+  EXPECT_EQ(d.state, uint8_t(proto::DeviceState::Absent));
+  EXPECT_EQ(d.bus, 1);
+  EXPECT_EQ(d.address, 4);  // SPI: the chip select's number
+  EXPECT_EQ(d.age_ms, proto::kNoSample);
+  EXPECT_EQ(d.faults, 1u);
+  EXPECT_STREQ(d.name, "tip");
+  get.index = 1;
+  EXPECT_EQ(request(get).first, uint8_t(proto::MsgType::Nack));
+
+  expect_ack(prbs(5000));
+  hal_.out.clear();
+  steps(2);
+  std::vector<uint8_t> order;
+  for (const proto::FrameView& f : frames()) order.push_back(f.header.type);
+  const uint8_t is = uint8_t(proto::MsgType::IdentSample), sh = uint8_t(proto::MsgType::SensorHealth);
+  EXPECT_EQ(order, (std::vector<uint8_t>{is, sh, is, sh}));
+  const std::vector<proto::SensorHealth> h = written<proto::SensorHealth>();
+  ASSERT_EQ(h.size(), 2u);
+  EXPECT_EQ(h[1].step, 1u);
+  EXPECT_EQ(h[1].invalid, 0x7u);
+  const std::vector<proto::IdentSample> s = samples();
+  EXPECT_EQ(s[1].l[0], 1.0f);  // offset + gain * 0: no sample ever, flagged invalid above
+  EXPECT_EQ(s[1].l[3], 103.0f + hal_.actuated[0][0]);  // the port's own channel
+
+  // Plugged in: found at the next retry, said once; its samples flow.
+  EXPECT_EQ(request(proto::RunStop{}).first, uint8_t(proto::MsgType::Ack));
+  mag.begin_answer = Answer::kOk;
+  mag.reading[0] = 10.0f, mag.reading[2] = -5.0f;
+  hal_.out.clear();
+  for (int i = 0; i < 1100; ++i) fw_->poll();  // a millisecond a poll: 1.1 s
+  EXPECT_EQ(logs(), std::vector<std::string>{"device tip (lis3mdl): ok"});
+  expect_ack(prbs(5000));
+  hal_.out.clear();
+  steps(1);
+  const std::vector<proto::SensorHealth> back = written<proto::SensorHealth>();
+  ASSERT_EQ(back.size(), 1u);
+  EXPECT_EQ(back[0].invalid, 0u);
+  EXPECT_LE(back[0].age_ms, 3u);
+  EXPECT_EQ(samples()[0].l[0], 21.0f);
+  EXPECT_EQ(samples()[0].l[2], -9.0f);
 }
 
 }  // namespace

@@ -121,8 +121,12 @@ function(nlsoft_cortex_m_images)
   # Reset, SysTick and the board's drivers: the same for every image. Objects,
   # not an archive: nothing calls into the vector table, so an archive member
   # holding it would never be pulled into the link.
+  # The sensor chip drivers too: an image whose rig names no chip calls none
+  # of them, and the link leaves them out.
+  set(drivers ${NLSOFT_ROOT}/firmware/drivers)
   add_library(m4_board OBJECT ${NLSOFT_CORTEX_M_DIR}/reset.cpp ${NLSOFT_CORTEX_M_DIR}/systick.cpp
-    ${A_BOARD_SOURCES})
+    ${A_BOARD_SOURCES} ${drivers}/register_bus.cpp ${drivers}/lis3mdl.cpp ${drivers}/lsm303dlhc_mag.cpp
+    ${drivers}/dps310.cpp ${drivers}/max1111.cpp)
   target_link_libraries(m4_board PUBLIC m4_flags)
 
   set(images "")

@@ -59,6 +59,9 @@ Fw g_fw(g_hal,
 int main() {
   fw::board::start(kBaud);
   g_hal.start();
+  // The rig's sensor chips (a board image of a rig with [[device]] tables),
+  // begun with the firmware, sampled between its steps.
+  if (fw::SensorSampler* chips = g_hal.sensors()) g_fw.attach_sensors(*chips);
   // The period follows the clock the board reached, not the one it asked
   // for: a part left on its reset oscillator still steps at the preset rate.
   systick_start(fw::board::core_clock_hz() / kRateHz);

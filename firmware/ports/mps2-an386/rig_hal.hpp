@@ -1,15 +1,27 @@
 #pragma once
-// The real-board build: the link and the clock as on the HIL image, the
-// actuators and sensors as stubs (the AN386 has nothing to drive). The
-// image's size is the footprint we report for controller + protocol; a port
-// with real outputs puts its PWM and ADC here (ports/stm32f4/rig_hal.hpp).
+// The real-board build: the link and the clock as on the HIL image; no
+// actuators and no ADC (the AN386 has nothing to drive); the rig's sensor
+// chips ([[device]]) on the board's shield I2C and SPI buses (buses.hpp),
+// sampled between control steps (rig_chips.hpp). A sensor channel of an
+// ADC reads 0 here; one of a chip reads the chip. The image's size is the
+// footprint we report for controller + protocol.
+#include <new>
+
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
+#include "firmware/ports/cortex-m/platform_config.hpp"
+#include "firmware/ports/cortex-m/rig_chips.hpp"
+#include "firmware/ports/mps2-an386/buses.hpp"
+#include "firmware/ports/mps2-an386/pl022_spi.hpp"
+#include "firmware/ports/mps2-an386/sbcon_i2c.hpp"
 
 namespace nlsoft::fw::cortex_m {
 
 template <int M, int W>
 class RigHal final : public Hal {
+  static constexpr int kI2c = int(sizeof an386::kI2cBuses / sizeof an386::kI2cBuses[0]);
+  static constexpr int kSpi = int(sizeof an386::kSpiBuses / sizeof an386::kSpiBuses[0]);
+
  public:
   static constexpr bool kMeasuresOutput = false;
   size_t serial_read(uint8_t* buf, size_t cap) override { return board::serial_read(buf, cap); }
@@ -18,11 +30,47 @@ class RigHal final : public Hal {
   uint32_t tick_rate_hz() const override { return board::core_clock_hz(); }
   void actuate(const float*, int) override {}
   void read_sensors(float* l, int w) override {
-    for (int i = 0; i < w; ++i) l[i] = 0.0f;
+    for (int i = 0; i < w; ++i) l[i] = 0.0f;  // the chips' channels are written over by the sampler
   }
   bool read_output(float*, int) override { return false; }  // no observer of y on a plain board
-  void start() {}
+
+  // The masters, each I2C bus at the slowest clock its chips take, then the drivers.
+  void start() {
+    const uint32_t core = board::core_clock_hz();
+    drivers::I2cBus* i2c[kI2c];
+    drivers::SpiBus* spi[kSpi];
+    for (int b = 0; b < kI2c; ++b) i2c[b] = new (&i2c_[b]) an386::SbconI2c(an386::kI2cBuses[b].base, core, i2c_hz(b));
+    for (int b = 0; b < kSpi; ++b)
+      spi[b] = new (&spi_[b]) an386::Pl022Spi(an386::kSpiBuses[b].base, an386::kBusClockHz, core);
+    chips_.start(i2c, kI2c, spi, kSpi);
+  }
   void advance() {}
+  // The sampler the firmware reads the chips through; none without chips.
+  SensorSampler* sensors() { return kRigDeviceCount > 0 ? &chips_.sampler() : nullptr; }
+
+ private:
+  static uint32_t i2c_hz(int bus) {
+    uint32_t hz = 400000u;
+    for (int d = 0; d < kRigDeviceCount; ++d)
+      if (kRigDevices[d].kind == BusKind::I2c && kRigDevices[d].bus == bus && kRigDevices[d].clock_hz < hz)
+        hz = kRigDevices[d].clock_hz;
+    return hz;
+  }
+
+  // Raw storage: the masters need the core clock, known only once the board started.
+  union I2cSlot {
+    I2cSlot() {}
+    ~I2cSlot() {}
+    an386::SbconI2c bus;
+  };
+  union SpiSlot {
+    SpiSlot() {}
+    ~SpiSlot() {}
+    an386::Pl022Spi bus;
+  };
+  I2cSlot i2c_[kI2c];
+  SpiSlot spi_[kSpi];
+  RigChips<kRigDeviceCount, W> chips_{kRigDevices, kRigSensorSources};
 };
 
 }  // namespace nlsoft::fw::cortex_m

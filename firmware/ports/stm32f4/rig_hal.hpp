@@ -8,11 +8,18 @@
 // the same scan, after the sensors, when the rig file gives every output
 // source = "adc" (kRigOutputAnalogue): read_output() then measures y, and
 // the image says so (INFO's y_true capability); otherwise it reads none.
+// The rig's sensor chips ([[device]]) hang on I2C1, SPI1 and SPI2
+// (kI2c, kSpi), sampled between control steps (rig_chips.hpp).
+#include <new>
+
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
 #include "firmware/ports/cortex-m/platform_config.hpp"
+#include "firmware/ports/cortex-m/rig_chips.hpp"
 #include "firmware/ports/stm32f4/clock_tree.hpp"
 #include "firmware/ports/stm32f4/gpio.hpp"
+#include "firmware/ports/stm32f4/i2c1.hpp"
+#include "firmware/ports/stm32f4/spi.hpp"
 #include "shared/board_stm32f4.hpp"
 
 namespace nlsoft::fw::cortex_m {
@@ -75,8 +82,11 @@ class RigHal final : public Hal {
     settle(rcc::kApb2Enr);
     start_pwm();
     if (kAdcCount > 0) start_adc();
+    if (kRigDeviceCount > 0) start_chips();
   }
   void advance() {}
+  // The sampler the firmware reads the chips through; none without chips.
+  SensorSampler* sensors() { return kRigDeviceCount > 0 ? &chips_.sampler() : nullptr; }
 
  private:
   static constexpr uint32_t kDma2En = 1u << 22, kTim3En = 1u << 1, kTim4En = 1u << 2, kAdc1En = 1u << 8;
@@ -155,8 +165,56 @@ class RigHal final : public Hal {
     reg(kAdc + 0x08) = reg(kAdc + 0x08) | (1u << 30);  // SWSTART
   }
 
+  // The masters of the buses the rig's chips use (I2C1 at the slowest clock
+  // its chips take), then the drivers over them.
+  void start_chips() {
+    using namespace stm32f4;
+    constexpr int kI2cCount = int(sizeof kI2c / sizeof kI2c[0]), kSpiCount = int(sizeof kSpi / sizeof kSpi[0]);
+    static_assert(kI2cCount == 1, "one I2C master: I2c1");
+    drivers::I2cBus* i2c[kI2cCount] = {};
+    drivers::SpiBus* spi[kSpiCount] = {};
+    uint32_t i2c_hz = 400000u;
+    bool i2c_used = false, spi_used[kSpiCount] = {};
+    for (int d = 0; d < kRigDeviceCount; ++d) {
+      const RigDeviceConfig& c = kRigDevices[d];
+      if (c.kind == BusKind::I2c) {
+        i2c_used = true;
+        if (c.clock_hz < i2c_hz) i2c_hz = c.clock_hz;
+      } else if (c.bus >= kI2cCount && c.bus < kI2cCount + kSpiCount) {
+        spi_used[c.bus - kI2cCount] = true;
+      }
+    }
+    if (i2c_used) {
+      I2c1* bus = new (&i2c_.bus) I2c1(board_clocks(), i2c_hz);
+      bus->start();
+      i2c[0] = bus;
+    }
+    for (int b = 0; b < kSpiCount; ++b) {
+      if (!spi_used[b]) continue;
+      Spi* bus = new (&spi_[b].bus) Spi(kSpi[b], board_clocks());
+      bus->start();
+      spi[b] = bus;
+    }
+    chips_.start(i2c, kI2cCount, spi, kSpiCount);
+  }
+
+  // Raw storage: the masters take the clock tree, known only once the board started.
+  union I2cSlot {
+    I2cSlot() {}
+    ~I2cSlot() {}
+    stm32f4::I2c1 bus;
+  };
+  union SpiSlot {
+    SpiSlot() {}
+    ~SpiSlot() {}
+    stm32f4::Spi bus;
+  };
+
   uint32_t period_ = 1;
   volatile uint16_t raw_[kAdcCount > 0 ? kAdcCount : 1] = {};
+  I2cSlot i2c_;
+  SpiSlot spi_[sizeof stm32f4::kSpi / sizeof stm32f4::kSpi[0]];
+  RigChips<kRigDeviceCount, W> chips_{kRigDevices, kRigSensorSources};
 };
 
 }  // namespace nlsoft::fw::cortex_m

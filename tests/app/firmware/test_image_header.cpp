@@ -170,7 +170,8 @@ TEST(ImageHeader, WiresTheFilesPinsWithEachSensorsScaling) {
   EXPECT_TRUE(contains(h, "kNoAnalogue,  // s2")) << h;
   EXPECT_TRUE(contains(h, "{kAnalogue[0].pin, kAnalogue[0].adc_channel, 0.0f, 1.0f},  // s3 on ADC1_IN0")) << h;
   EXPECT_TRUE(contains(h, "{kAnalogue[10].pin, kAnalogue[10].adc_channel, 0.0f, 0.1f},  // s4 on ADC1_IN13")) << h;
-  EXPECT_FALSE(contains(h, "s5")) << h;
+  EXPECT_FALSE(contains(h, "kNoAnalogue,  // s5")) << h;  // past the last wired row
+  EXPECT_TRUE(contains(h, "{SensorFrom::None, 0, 0, 1.0f, 0.0f},  // s5: not wired")) << h;
   // QEMU's board has no pins to wire.
   EXPECT_FALSE(contains(source_of(kRig, "mps2-an386").header, "kRigPwm"));
 }
@@ -326,6 +327,89 @@ TEST(ImageHeader, ARigWithoutAShapeOrWithAnotherHistoryIsRefused) {
   EXPECT_THROW(image_source(parse_rig(kRig, "g.toml"), q), CliError);
 }
 
+// The gripper with s2 a magnetometer's z on I2C and s5 a pressure in kPa
+// from a DPS310.
+std::string with_devices() {
+  std::string t = replaced(kRig, "[[sensor]]\nname = \"s1\"",
+                           "[[device]]\nname = \"palm\"\nchip = \"lsm303dlhc_mag\"\nbus = \"i2c1\"\naddress = 0x1e\n"
+                           "range = 8.1\nrate_hz = 220\n\n[[device]]\nname = \"air\"\nchip = \"dps310\"\nbus = \"i2c1\"\n"
+                           "rate_hz = 32\n\n[[sensor]]\nname = \"s1\"");
+  t = replaced(t, "name = \"s2\"\nsource = \"none\"", "name = \"s2\"\nsource = \"device\"\ndevice = \"palm\"\nchannel = \"z\"");
+  return replaced(t, "name = \"s5\"\nsource = \"none\"",
+                  "name = \"s5\"\nsource = \"device\"\ndevice = \"air\"\nchannel = \"pressure\"\ngain = 0.001");
+}
+
+TEST(ImageHeader, ListsEachDeviceAndWhereEachSensorIsRead) {
+  {
+    const std::string h = source_of(with_devices(), "stm32f4").header;
+    EXPECT_TRUE(contains(h, "constexpr int kRigDeviceCount = 2;")) << h;
+    // lsm303dlhc_mag is the catalog's row 1, dps310 row 2; GN 111 (±8.1 gauss), DO 111 (220 Hz); PM_RATE 32/s.
+    EXPECT_TRUE(contains(h, "    {\"palm\", chips::kCatalog[1], 0, BusKind::I2c, 0x1e, 0, 100000u, {8.1f, 0xe0}, {220.0f, 0x1c}},"
+                            "  // lsm303dlhc_mag on i2c1 at 0x1e, 100000 Hz clock, range 8.1 gauss, 220 Hz\n"))
+        << h;
+    EXPECT_TRUE(contains(h, "    {\"air\", chips::kCatalog[2], 0, BusKind::I2c, 0x77, 0, 100000u, {0.0f, 0x00}, {32.0f, 0x50}},"))
+        << h;
+    EXPECT_TRUE(contains(h, "static_assert(chips::same_name(kRigDevices[1].chip->name, \"dps310\"), \"the catalog's row\");"))
+        << h;
+    EXPECT_TRUE(contains(h, "constexpr RigSensorSource kRigSensorSources[5] = {\n"
+                            "    {SensorFrom::Analogue, 0, 0, 2.5f, -0.5f},  // s1: ADC1_IN4\n"
+                            "    {SensorFrom::Device, 0, 2, 1.0f, 0.0f},  // s2: palm's z\n"))
+        << h;
+    EXPECT_TRUE(contains(h, "    {SensorFrom::Device, 1, 0, 0.001f, 0.0f},  // s5: air's pressure\n};")) << h;
+  }
+  // Chips are on the file's board's buses: another board's image refuses them at the first.
+  try {
+    source_of(with_devices(), "mps2-an386");
+    ADD_FAILURE() << "an image for another board took the chips";
+  } catch (const RigError& e) {
+    EXPECT_EQ(e.line, line_of(with_devices(), "[[device]]"));
+    EXPECT_TRUE(contains(e.what(), "device 'palm' is on bus i2c1 of board stm32f4: build the image for stm32f4, not "
+                                   "mps2-an386"))
+        << e.what();
+  }
+  // Without devices the tables are there, empty, for the port to compile against.
+  EXPECT_TRUE(contains(source_of(kRig, "mps2-an386").header, "constexpr int kRigDeviceCount = 0;"));
+  EXPECT_TRUE(contains(source_of(kRig, "mps2-an386").header, "    {SensorFrom::None, 0, 0, 1.0f, 0.0f},  // s2: not wired\n"));
+}
+
+TEST(ImageHeader, AHeaderWithoutABoardRefusesDevices) {
+  const std::string t = with_devices();
+  ImageRequest q;
+  q.board = kPortableBoard;
+  try {
+    image_source(parse_rig(t, "g.toml"), q);
+    ADD_FAILURE() << "a portable header took devices";
+  } catch (const RigError& e) {
+    EXPECT_EQ(e.line, line_of(t, "[[device]]"));
+    EXPECT_TRUE(contains(e.what(), "[[device]] #1: a header without a board has no bus drivers for device 'palm'"))
+        << e.what();
+  }
+  q.board = kPortableBoard;
+  EXPECT_NO_THROW(image_source(parse_rig(kRig, "g.toml"), q));
+}
+
+// Compiles `checks` (main.cpp with the rig header of `header_dir` and the
+// port's rig HAL, then static_asserts) for the Cortex-M4F with the images'
+// warnings as errors, in `dir`; the compiler's messages, or "" when it passed.
+std::string m4_compile_errors(const std::string& dir, const std::string& header_dir, const std::string& port,
+                              const std::string& checks) {
+  std::ofstream(dir + "/check.cpp") << "#define NLSOFT_HIL 0\n#define NLSOFT_FIRMWARE_NAME \"nlsoft-test\"\n"
+                                       "#define NLSOFT_HAVE_MODEL 0\n#include \"firmware/ports/cortex-m/main.cpp\"\n"
+                                    << checks;
+  std::string flags;
+  std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
+  for (std::string w; std::getline(warnings, w);)
+    if (!w.empty() && w[0] == '-') flags += " " + w;
+  const std::string cmd = "arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os -std=c++17 "
+                          "-fno-exceptions -fno-rtti -Werror" + flags + " -I" + header_dir + " -I" NLSOFT_SOURCE_DIR
+                          "/firmware/ports/" + port + " -I" NLSOFT_SOURCE_DIR " -c " + dir + "/check.cpp -o " + dir +
+                          "/check.o 2>" + dir + "/cc.log";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream log(dir + "/cc.log");
+  const std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
+  return rc == 0 ? "" : text.empty() ? "the compiler failed" : text;
+}
+
 // The header compiled where it goes: the real image's main.cpp with the
 // stm32f4 rig HAL, for the Cortex-M4F, with the images' warnings as errors.
 TEST(ImageHeader, CompilesIntoTheStm32f4ImageForCortexM4) {
@@ -356,31 +440,30 @@ static_assert(!PortHal::kMeasuresOutput, "no output on the ADC: y is not measure
   EXPECT_EQ(rc, 0) << text;
 }
 
+// Sensor chips compiled where they go: the stm32f4 HAL builds a driver per
+// device over its bus masters and hands the firmware their sampler.
+TEST(ImageHeader, ChipsCompileIntoTheStm32f4ImageThatSamplesThem) {
+  if (std::system("command -v arm-none-eabi-g++ >/dev/null 2>&1") != 0) GTEST_SKIP() << "no arm-none-eabi-g++";
+  const std::string dir = tmp_dir() + "/chips";
+  write_image_source(source_of(with_devices(), "stm32f4"), dir + "/gripper");
+  EXPECT_EQ(m4_compile_errors(dir, dir + "/gripper", "stm32f4",
+                              "static_assert(nlsoft::fw::cortex_m::kRigDeviceCount == 2, \"two chips\");\n"
+                              "static_assert(nlsoft::fw::cortex_m::kRigDevices[1].chip == &nlsoft::chips::kDps310, "
+                              "\"the second a DPS310\");\n"),
+            "");
+}
+
 // The outputs on the ADC compiled where they go: the HAL scans them after
 // the sensors and the image says it measures y.
 TEST(ImageHeader, ReadOutputsCompileIntoTheStm32f4ImageThatMeasuresY) {
   if (std::system("command -v arm-none-eabi-g++ >/dev/null 2>&1") != 0) GTEST_SKIP() << "no arm-none-eabi-g++";
   const std::string dir = tmp_dir() + "/measured";
   write_image_source(source_of(adc_outputs(), "stm32f4"), dir + "/gripper");
-  std::ofstream(dir + "/check.cpp") << R"(#define NLSOFT_HIL 0
-#define NLSOFT_FIRMWARE_NAME "nlsoft-test"
-#define NLSOFT_HAVE_MODEL 0
-#include "firmware/ports/cortex-m/main.cpp"
-static_assert(PortHal::kMeasuresOutput, "every output on the ADC: y is measured");
-static_assert(nlsoft::fw::stm32f4::kRigOutputAnalogue[1].adc_channel == 8, "y on ADC1_IN8");
-)";
-  std::string flags;
-  std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
-  for (std::string w; std::getline(warnings, w);)
-    if (!w.empty() && w[0] == '-') flags += " " + w;
-  const std::string cmd = "arm-none-eabi-g++ -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard -Os -std=c++17 "
-                          "-fno-exceptions -fno-rtti -Werror" + flags + " -I" + dir + "/gripper -I" NLSOFT_SOURCE_DIR
-                          "/firmware/ports/stm32f4 -I" NLSOFT_SOURCE_DIR " -c " + dir + "/check.cpp -o " + dir +
-                          "/check.o 2>" + dir + "/cc.log";
-  const int rc = std::system(cmd.c_str());
-  std::ifstream log(dir + "/cc.log");
-  std::string text((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
-  EXPECT_EQ(rc, 0) << text;
+  EXPECT_EQ(m4_compile_errors(dir, dir + "/gripper", "stm32f4",
+                              "static_assert(PortHal::kMeasuresOutput, \"every output on the ADC: y is measured\");\n"
+                              "static_assert(nlsoft::fw::stm32f4::kRigOutputAnalogue[1].adc_channel == 8, "
+                              "\"y on ADC1_IN8\");\n"),
+            "");
 }
 
 // The generic plant's HIL image compiled where it goes: the real main.cpp

@@ -67,7 +67,7 @@ TEST(Recorder, FreshDatabaseHasTheCurrentSchema) {
   { Recorder r(dir.file("runs.db")); }
   Db db(dir.file("runs.db"), false);
   EXPECT_EQ(schema_version(db), kSchemaVersion);
-  for (const char* t : {"runs", "params", "samples", "gaps", "link_events"}) {
+  for (const char* t : {"runs", "params", "samples", "gaps", "link_events", "sensor_health"}) {
     Stmt s = db.prepare("SELECT count(*) FROM sqlite_master WHERE type='table' AND name=?");
     s.bind(1, std::string(t));
     ASSERT_TRUE(s.step());
@@ -414,6 +414,27 @@ TEST(Recorder, RunIdsAreNeverReusedAndADeletedRunsSamplesGoWithIt) {
   Db db(path, false);
   EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples WHERE run_id=3"), 1);
   EXPECT_EQ(scalar(db, "SELECT count(*) FROM samples"), 51);
+}
+
+// Protocol 1.4's SENSOR_HEALTH kept per step (schema v7), and gone with
+// its run.
+TEST(Recorder, KeepsEachStepsSensorHealthAndDeletesItWithItsRun) {
+  TempDir dir;
+  const std::string path = dir.file("r.db");
+  Recorder rec(path);
+  const int64_t id = rec.begin_run(run_info());
+  ASSERT_TRUE(rec.add_sample(id, make_sample(0)));
+  rec.add_sensor_health(id, 7, 0x38u, 12);
+  rec.add_sensor_health(id, 8, 0u, 65535);
+  rec.end_run(id, "completed", 1, 0);
+  {
+    Db db(path, false);
+    EXPECT_EQ(scalar(db, "SELECT invalid FROM sensor_health WHERE run_id=1 AND step=7"), 0x38);
+    EXPECT_EQ(scalar(db, "SELECT age_ms FROM sensor_health WHERE run_id=1 AND step=7"), 12);
+    EXPECT_EQ(scalar(db, "SELECT age_ms FROM sensor_health WHERE run_id=1 AND step=8"), 65535);
+    db.exec("DELETE FROM runs WHERE id=1");
+    EXPECT_EQ(scalar(db, "SELECT count(*) FROM sensor_health"), 0);
+  }
 }
 
 // A database of the schema before never-reused ids (v4): migrated in place,

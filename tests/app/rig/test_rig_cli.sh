@@ -3,9 +3,9 @@
 # `rig list`, a bad file's one line with file:line and key, `--rig`/`--sim`
 # taking a name or a path, and a rig the firmware or the simulator does not
 # carry refused with what is missing.
-#   test_rig_cli.sh CONSOLE SOURCE_DIR
+#   test_rig_cli.sh CONSOLE SOURCE_DIR FIRMWARE_SIM
 set -u
-console=$1 src=$2
+console=$1 src=$2 firmware_sim=$3
 fail=0
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -134,6 +134,34 @@ moving=$(python3 -c 'import csv,sys; print(len({r["y_ref1"] for r in csv.DictRea
 printf 'run 200ms label=by-path\n' >run.nls
 "$console" --sim "$src/rigs/msd.toml" --sim-fast --no-record --script run.nls >sim.txt 2>&1 ||
   { echo "FAIL: --sim path: $(tail -5 sim.txt)"; fail=1; }
+
+# Sensor chips: the summary lists them; `rig check RIG PORT` asks the
+# firmware how each answers. The simulator simulates its sensors and has no
+# chips: a file that names one finds it missing there (exit 1).
+python3 - "$src/rigs/msd.toml" <<'EOF2'
+import sys
+t = open(sys.argv[1]).read()
+chip = ('[[device]]\nname = "tip"\nchip = "lsm303dlhc_mag"\nbus = "i2c1"\nrange = 1.3\nrate_hz = 75\n\n'
+        '[[sensor]]\nname = "tip_x"\nunit = "uT"\nsource = "device"\ndevice = "tip"\nchannel = "x"\n\n[controller]')
+open("chips.toml", "w").write(t.replace("[controller]", chip, 1).replace('[plant]\nkind = "msd"', ""))
+EOF2
+"$console" rig check chips.toml >chips.txt 2>&1 || { echo "FAIL: rig check chips.toml: $(cat chips.txt)"; fail=1; }
+grep -qF "w = 1 sensors: 0 on ADC1, 1 from chips" chips.txt && grep -qF "device tip        lsm303dlhc_mag on i2c1 at 0x1e, 1.3 gauss, 75 Hz" chips.txt ||
+  { echo "FAIL: chips summary: $(cat chips.txt)"; fail=1; }
+"$firmware_sim" --rig "$src/rigs/msd.toml" >sim_port.txt 2>sim_err.txt &
+sim_pid=$!
+for _ in $(seq 50); do [ -s sim_port.txt ] && break; sleep 0.1; done
+port=$(head -1 sim_port.txt)
+"$console" rig check msd "$port" >live.txt 2>&1 || { echo "FAIL: rig check msd PORT: $(cat live.txt)"; fail=1; }
+grep -qF "rig 'msd' (0x" live.txt && grep -qF "no sensor chips, in the file or the firmware" live.txt ||
+  { echo "FAIL: live msd: $(cat live.txt)"; fail=1; }
+"$console" rig check chips.toml "$port" >live_chips.txt 2>&1
+rc=$?
+[ $rc -eq 1 ] && grep -qF "built from another file than this one" live_chips.txt &&
+  grep -qF "device tip        lsm303dlhc_mag: not in the firmware" live_chips.txt ||
+  { echo "FAIL: live chips.toml gave rc=$rc: $(cat live_chips.txt)"; fail=1; }
+kill $sim_pid 2>/dev/null
+wait $sim_pid 2>/dev/null
 
 [ $fail -eq 0 ] && echo "rig CLI: all checks passed"
 exit $fail

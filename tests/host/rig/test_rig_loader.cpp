@@ -8,6 +8,7 @@
 #include "host/rig/firmware_rig.hpp"
 #include "host/rig/rig.hpp"
 #include "host/rig/rig_plant.hpp"
+#include "rig_text.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -56,49 +57,13 @@ Nc = 1
 eps = 0.01
 )";
 
-// The 1-based line of the n-th (1-based) occurrence of `needle` in `text`.
-int line_of(const std::string& text, const std::string& needle, int nth = 1) {
-  size_t at = std::string::npos, from = 0;
-  for (int i = 0; i < nth; ++i) {
-    at = text.find(needle, from);
-    if (at == std::string::npos) return -1;
-    from = at + 1;
-  }
-  int line = 1;
-  for (size_t i = 0; i < at; ++i) line += text[i] == '\n';
-  return line;
-}
+using rig_text::error_of;
+using rig_text::expect_error;
+using rig_text::line_of;
 
 // kBase with the nth occurrence of `from` replaced by `to`.
 std::string edit(const std::string& from, const std::string& to, int nth = 1, std::string text = kBase) {
-  size_t at = std::string::npos, pos = 0;
-  for (int i = 0; i < nth; ++i) {
-    at = text.find(from, pos);
-    pos = at + 1;
-  }
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) text.replace(at, from.size(), to);
-  return text;
-}
-
-// The error parse_rig throws for `text`, or "" if it loads.
-RigError error_of(const std::string& text) {
-  try {
-    parse_rig(text, "my.toml");
-  } catch (const RigError& e) {
-    return e;
-  }
-  return RigError("", "", 0, "");
-}
-
-// The message is exactly "my.toml:<line>: <label>: <what...>".
-void expect_error(const std::string& text, int line, const std::string& label, const std::string& what) {
-  const RigError e = error_of(text);
-  const std::string head = "my.toml:" + std::to_string(line) + ": " + label + ": ";
-  EXPECT_EQ(std::string(e.what()).substr(0, head.size()), head) << e.what();
-  EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-  EXPECT_EQ(e.file, "my.toml");
-  EXPECT_EQ(e.line, line) << e.what();
+  return rig_text::replaced(std::move(text), from, to, nth);
 }
 
 TEST(RigLoader, BaseFileLoadsWithEveryValue) {
@@ -304,7 +269,7 @@ TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
   expect_error(t, line_of(t, "pmw"), "[[input]] #1 pmw", "unknown key (known: name, unit, min, max, neutral, pwm)");
   const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
   expect_error(tab, line_of(tab, "[plnt]"), "plnt",
-               "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, controller, "
+               "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, device, controller, "
                "model, plant, reference)");
   const std::string c = edit("eps = 0.01", "eps = 0.01\nlambda = [1.0, 1.0]");
   expect_error(c, line_of(c, "lambda ="), "[controller] lambda", "unknown key (known: Q, Lambda, s, b, r, N, N1, Nc, eps,");

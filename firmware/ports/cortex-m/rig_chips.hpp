@@ -1,0 +1,76 @@
+#pragma once
+// The rig's sensor chips on a Cortex-M board: one driver per row of the
+// image's device table (kRigDevices in nlsoft_rig.hpp), built in place over
+// the port's bus masters, and the sampler that reads them between control
+// steps (firmware/core/sensor_sampler.hpp). Static storage only: a slot per
+// device large enough for any driver, the driver placed in it at start().
+#include <new>
+
+#include "firmware/core/sensor_sampler.hpp"
+#include "firmware/drivers/dps310.hpp"
+#include "firmware/drivers/lis3mdl.hpp"
+#include "firmware/drivers/lsm303dlhc_mag.hpp"
+#include "firmware/drivers/max1111.hpp"
+#include "shared/rig_devices.hpp"
+
+namespace nlsoft::fw::cortex_m {
+
+// Count: the image's kRigDeviceCount; W: its sensor channels.
+template <int Count, int W>
+class RigChips {
+  static_assert(Count <= kRigMaxDevices, "more chips than a rig file may name");
+
+ public:
+  // devices/sources: the image's tables. The port's masters by the table's
+  // bus number: I2C buses first, then SPI (the board's order, board_pins).
+  RigChips(const RigDeviceConfig* devices, const RigSensorSource* sources)
+      : devices_(devices), sampler_(chips_, devices, samples_, Count, sources, W) {}
+
+  // Builds each driver over its bus; nullptr for a bus the port lacks
+  // leaves the chip absent (its begin() is never reached: kBadConfig).
+  void start(drivers::I2cBus* const* i2c, int i2c_count, drivers::SpiBus* const* spi, int spi_count) {
+    for (int d = 0; d < Count; ++d) {
+      const RigDeviceConfig& c = devices_[d];
+      drivers::BusAttachment at;
+      if (c.kind == BusKind::I2c) {
+        at.i2c = c.bus < i2c_count ? i2c[c.bus] : nullptr;
+        at.address = c.address;
+      } else {
+        const int k = c.bus - i2c_count;
+        at.spi = k >= 0 && k < spi_count ? spi[k] : nullptr;
+        at.target = drivers::SpiTarget{c.cs, c.chip->spi_mode, c.clock_hz};
+      }
+      chips_[d] = place(slots_[d], c, at);
+    }
+  }
+
+  SensorSampler& sampler() { return sampler_; }
+
+ private:
+  union Slot {
+    Slot() {}
+    ~Slot() {}
+    drivers::Lis3mdl lis3mdl;
+    drivers::Lsm303dlhcMag lsm303dlhc_mag;
+    drivers::Dps310 dps310;
+    drivers::Max1111 max1111;
+  };
+
+  // The catalog's rows are the only chips a table names (the generated
+  // header checks each row's name), so one of these four always matches.
+  static drivers::Chip* place(Slot& s, const RigDeviceConfig& c, const drivers::BusAttachment& at) {
+    if (c.chip == &chips::kLis3mdl) return new (&s.lis3mdl) drivers::Lis3mdl({at, c.range, c.rate});
+    if (c.chip == &chips::kLsm303dlhcMag)
+      return new (&s.lsm303dlhc_mag) drivers::Lsm303dlhcMag({at.i2c, at.address, c.range, c.rate});
+    if (c.chip == &chips::kDps310) return new (&s.dps310) drivers::Dps310({at, c.rate});
+    return new (&s.max1111) drivers::Max1111({at.spi, at.target});
+  }
+
+  const RigDeviceConfig* devices_;
+  Slot slots_[Count > 0 ? Count : 1];
+  drivers::Chip* chips_[Count > 0 ? Count : 1] = {};
+  SensorSampler::Slot samples_[Count > 0 ? Count : 1];
+  SensorSampler sampler_;
+};
+
+}  // namespace nlsoft::fw::cortex_m

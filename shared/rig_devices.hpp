@@ -1,0 +1,54 @@
+#pragma once
+// The sensor chips of a rig as a firmware holds them: each [[device]] of the
+// rig file (docs/rig-file.md) as a row of plain data, and per sensor channel
+// where its value comes from. An image gets both as constexpr tables from the
+// header generated for its rig (kRigDevices, kRigSensorSources in
+// nlsoft_rig.hpp); the firmware's SensorSampler (firmware/core/) reads them.
+#include <cstdint>
+
+#include "shared/chips/chip_spec.hpp"
+
+namespace nlsoft {
+
+// The most chips one rig file wires (hasel as the paper built it: six
+// LIS3MDL); an image holds its own rig's count only.
+constexpr int kRigMaxDevices = 8;
+
+enum class BusKind : uint8_t { I2c = 0, Spi = 1 };
+
+struct RigDeviceConfig {
+  const char* name;              // the rig file's device name (DEVICE_STATUS carries it)
+  const chips::ChipSpec* chip;   // its row of shared/chips/catalog.hpp
+  uint8_t bus;                   // index into the board's bus table, in the rig file's board order
+  BusKind kind;
+  uint8_t address;               // I²C: the 7-bit address
+  uint8_t cs;                    // SPI: index into the board's chip-select table
+  uint32_t clock_hz;             // at most the chip's and the bus's maximum
+  // The file's range and rate as the chip's settings (shared/chips/): the
+  // value and its register bits; {0, 0} where the chip has no such setting.
+  chips::Setting range, rate;
+};
+
+// Where sensor channel i is read: an analogue input of the board (the
+// port's own table, in sensor order), channel `channel` of device `device`
+// (value = offset + gain * the chip's reading in its unit), or nowhere.
+enum class SensorFrom : uint8_t { None = 0, Analogue = 1, Device = 2 };
+
+struct RigSensorSource {
+  SensorFrom from;
+  uint8_t device, channel;
+  float gain, offset;
+};
+
+}  // namespace nlsoft
+
+namespace nlsoft::chips {
+
+// A generated device table names its chip by its catalog row and checks the
+// row's name with this at compile time.
+constexpr bool same_name(const char* a, const char* b) {
+  while (*a != '\0' && *a == *b) ++a, ++b;
+  return *a == *b;
+}
+
+}  // namespace nlsoft::chips
