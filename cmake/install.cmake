@@ -23,10 +23,11 @@ if(TARGET nlsoft-stm32f4-images)
 endif()
 
 # The sources `nlsoft-console firmware build` compiles an image from: the
-# firmware core and the Cortex-M ports, the header-only shared/ and
+# firmware core, the sensor chip drivers and the Cortex-M ports, the header-only shared/ and
 # protocol/, and the warnings list the images are built with. The build
 # tree has a link to the source tree in the same place (firmware/CMakeLists.txt).
-install(DIRECTORY ${NLSOFT_ROOT}/firmware/core DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware)
+install(DIRECTORY ${NLSOFT_ROOT}/firmware/core ${NLSOFT_ROOT}/firmware/drivers
+        DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware)
 install(DIRECTORY ${NLSOFT_ROOT}/firmware/ports/cortex-m ${NLSOFT_ROOT}/firmware/ports/mps2-an386
                   ${NLSOFT_ROOT}/firmware/ports/stm32f4
         DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware/ports)

@@ -262,7 +262,7 @@ TEST_F(ConsoleE2E, SweepRowsSettleBeforeTheyAreMeasured) {
 TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnceAndCountsEveryUnsavedSampleLost) {
   script_ = dir_.file("full.nls");
   std::ofstream(script_) << "run 600s label=full\n";
-  const auto r = run_process("ulimit -f 600; exec timeout 80 " + fmt_command("msd", "--sim-rate 5000"));
+  const auto r = run_process("ulimit -f 1200; exec timeout 80 " + fmt_command("msd", "--sim-rate 5000"));
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("stopped at once: recording failed"), std::string::npos) << r.output;
   RunStore store(db());
