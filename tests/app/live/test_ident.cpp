@@ -222,6 +222,12 @@ TEST(IdentE2E, APrbsRunOfARigFileIsRecordedWholeInsideItsLimitsWithSensorsAndMea
   EXPECT_GT(ymax - ymin, 1.0);
 }
 
+// How many different values an input took (prbs: two).
+size_t distinct_levels(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return size_t(std::unique(v.begin(), v.end()) - v.begin());
+}
+
 // Without --signal a run is aprbs: a model trained from it sees levels
 // inside each input's range, which prbs's two never show it.
 TEST(IdentE2E, ARunWithoutASignalIsAprbsWithManyLevelsPerInput) {
@@ -237,11 +243,9 @@ TEST(IdentE2E, ARunWithoutASignalIsAprbsWithManyLevelsPerInput) {
   ASSERT_EQ(rows.size(), 3000u);
   const int u0 = column(head, "u0");
   for (int i = 0; i < 3; ++i) {
-    std::vector<double> levels;
-    for (const auto& row : rows) levels.push_back(std::stod(row[size_t(u0 + i)]));
-    std::sort(levels.begin(), levels.end());
-    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
-    EXPECT_GT(levels.size(), 10u) << "input " << i;
+    std::vector<double> u;
+    for (const auto& row : rows) u.push_back(std::stod(row[size_t(u0 + i)]));
+    EXPECT_GT(distinct_levels(u), 10u) << "input " << i;
   }
 }
 
@@ -263,12 +267,7 @@ TEST(IdentE2E, AnAprbsMixedRunRecordsManyLevelsPerInputMovingTogether) {
   std::vector<double> x[3];
   for (const auto& row : rows)
     for (int i = 0; i < 3; ++i) x[i].push_back((std::stod(row[size_t(u0 + i)]) - kMin[i]) / (kMax[i] - kMin[i]));
-  for (int i = 0; i < 3; ++i) {
-    std::vector<double> levels = x[i];
-    std::sort(levels.begin(), levels.end());
-    levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
-    EXPECT_GT(levels.size(), 100u) << "input " << i;
-  }
+  for (int i = 0; i < 3; ++i) EXPECT_GT(distinct_levels(x[i]), 100u) << "input " << i;
   auto corr = [](const std::vector<double>& a, const std::vector<double>& b) {
     double ma = 0, mb = 0;
     for (size_t k = 0; k < a.size(); ++k) ma += a[k] / double(a.size()), mb += b[k] / double(b.size());
