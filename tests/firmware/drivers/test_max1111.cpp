@@ -35,7 +35,7 @@ class FakeMax1111 final : public fake::Device {
         code = codes[((tx[i] >> 6) & 1) | (((tx[i] >> 5) & 1) << 1)];
         cycle = 0;
       }
-      rx[i] = cycle == 1 ? static_cast<uint8_t>(code >> 2) : cycle == 2 ? static_cast<uint8_t>(code << 6) : 0;
+      rx[i] = static_cast<uint8_t>(cycle == 1 ? code >> 2 : cycle == 2 ? code << 6 : 0);
       ++cycle;
     }
   }
