@@ -9,12 +9,7 @@ namespace nlsoft::console::conformance {
 
 void check_devices(Suite& s) {
   s.group("devices");
-  if (!(s.info.info.capabilities & p::capability::kDevices)) {
-    s.check("device_list", s.info.protocol_minor < 4,
-            fmt::format("protocol 1.{} without the DEVICES capability{}", s.info.protocol_minor,
-                        s.info.protocol_minor < 4 ? ": no sensor chips to ask about" : " (1.4 requires it)"));
-    return;
-  }
+  if (!s.offers(p::capability::kDevices, "DEVICES", 4, "device_list", "no sensor chips to ask about")) return;
   std::vector<std::string> faults, names;
   p::DeviceGet get;
   int count = 0;

@@ -54,12 +54,7 @@ std::vector<float> limits(Suite& s, const char* name) {
 void check_ident(Suite& s) {
   s.group("ident");
   const p::Info& info = s.info.info;
-  if (!(info.capabilities & p::capability::kIdent)) {
-    s.check("ident", s.info.protocol_minor < 3,
-            fmt::format("protocol 1.{} without the IDENT capability{}", s.info.protocol_minor,
-                        s.info.protocol_minor < 3 ? ": no identification runs to check" : " (1.3 requires it)"));
-    return;
-  }
+  if (!s.offers(p::capability::kIdent, "IDENT", 3, "ident", "no identification runs to check")) return;
   const float rate = float(info.loop_rate_hz ? info.loop_rate_hz : 100);
   p::IdentStart base;
   base.run_id = 0x1D000000u | (s.random() & 0xFFFFu);

@@ -204,13 +204,7 @@ std::vector<uint32_t> thin_layers(const p::RigInfo& r, int layers) {
 
 void check_rig(Suite& s) {
   s.group("rig");
-  if (!(s.info.info.capabilities & p::capability::kRig)) {
-    // A 1.1 or 1.0 firmware has no RIG_INFO to check; a 1.2 one must offer it.
-    s.check("rig_info", s.info.protocol_minor < 2,
-            fmt::format("protocol 1.{} without the RIG capability{}", s.info.protocol_minor,
-                        s.info.protocol_minor < 2 ? ": no RIG_INFO to check" : " (1.2 requires it)"));
-    return;
-  }
+  if (!s.offers(p::capability::kRig, "RIG", 2, "rig_info", "no RIG_INFO to check")) return;
   const Frame a = s.pr.request(p::RigGet{});
   p::RigInfo r;
   if (!as(a, r)) {

@@ -33,6 +33,16 @@ std::string words_text(const uint32_t* v, uint8_t count, uint8_t type) {
   return s;
 }
 
+bool Suite::offers(uint32_t capability, const char* cap_name, int since_minor, const std::string& check_name,
+                   const char* nothing_to_check) {
+  if (info.info.capabilities & capability) return true;
+  const bool older = info.protocol_minor < since_minor;
+  check(check_name, older,
+        fmt::format("protocol 1.{} without the {} capability{}", info.protocol_minor, cap_name,
+                    older ? fmt::format(": {}", nothing_to_check) : fmt::format(" (1.{} requires it)", since_minor)));
+  return false;
+}
+
 void Suite::check(const std::string& name, bool pass, const std::string& detail) {
   results_.push_back({group_, name, pass, detail});
   if (on_result_) on_result_(results_.back());

@@ -38,6 +38,12 @@ class Suite {
   // ---- for the check files
   void check(const std::string& name, bool pass, const std::string& detail);
   void group(const std::string& g) { group_ = g; }
+  // Whether the firmware offers a capability its group checks. When it does
+  // not, one check named `check_name` records it: a pass for a firmware older
+  // than 1.`since_minor` (saying `nothing_to_check`), a failure for one that
+  // claims that version without it.
+  bool offers(uint32_t capability, const char* cap_name, int since_minor, const std::string& check_name,
+              const char* nothing_to_check);
   uint32_t random() { return uint32_t(rng_()); }
   std::optional<p::Status> status();
   std::optional<p::InfoEx> info_now();
