@@ -10,7 +10,7 @@
 
 namespace nlsoft {
 
-// The most chips one rig file wires (hasel as the paper built it: six
+// The most chips one rig file wires (the paper's platform, as it was built: six
 // LIS3MDL); an image holds its own rig's count only.
 constexpr int kRigMaxDevices = 8;
 
