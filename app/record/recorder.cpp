@@ -117,6 +117,16 @@ Recorder::Recorder(const std::string& path, Options options) : path_(path), opti
   // stall the writer on the disk every few MB; a second connection does
   // them in the background instead, which WAL allows concurrently.
   db_->exec("PRAGMA wal_autocheckpoint=0");
+  // ...and sooner than every 500 ms once the log passes 256 kB, so the log
+  // stays small on a loaded machine too: a database that cannot grow is
+  // found by the checkpoint while the log still has room for a run's close.
+  sqlite3_wal_hook(
+      db_->handle(),
+      [](void* self, sqlite3*, const char*, int frames) {
+        if (frames >= kCheckpointFrames) static_cast<Recorder*>(self)->checkpoint_cv_.notify_one();
+        return SQLITE_OK;
+      },
+      this);
   checkpoint_db_ = std::make_unique<Db>(path, false);
   queue_.reserve(options_.batch_wakeup * 2);
   thread_ = std::thread([this] { writer(); });
@@ -130,8 +140,18 @@ void Recorder::checkpointer() {
     if (stop_) break;
     lock.unlock();
     // PASSIVE never waits for the writer; a busy result just means "later".
-    sqlite3_wal_checkpoint_v2(checkpoint_db_->handle(), nullptr, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+    const int rc =
+        sqlite3_wal_checkpoint_v2(checkpoint_db_->handle(), nullptr, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
     lock.lock();
+    // Any other failure is the database file refusing to grow (disk full,
+    // a file-size limit). Recording stops now, while the log still has room
+    // for the run's close: left to fill up, the log would fail the next
+    // commit with no room left for anything, the close included.
+    const int primary = rc & 0xFF;
+    if (primary != SQLITE_OK && primary != SQLITE_BUSY && primary != SQLITE_LOCKED && error_.empty()) {
+      error_ = db_error_words(path_, rc, nullptr);
+      cv_.notify_all();
+    }
   }
 }
 

@@ -180,6 +180,7 @@ class Recorder {
   std::atomic<uint64_t> committed_{0};
   std::thread thread_;
   std::condition_variable checkpoint_cv_;
+  static constexpr int kCheckpointFrames = 64;  // log pages (4 kB) that wake the checkpointer early
   std::thread checkpointer_;
 };
 

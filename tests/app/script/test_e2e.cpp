@@ -256,9 +256,11 @@ TEST_F(ConsoleE2E, SweepRowsSettleBeforeTheyAreMeasured) {
 // into a ten-minute run, and the console stops the run at once and says so,
 // exit 2, instead of dying without a word (exit 153) or running on
 // unrecorded. `timeout` turns waiting out the run into a failure here.
-// The run is closed all the same, in the room the failed write left: every
-// sample that arrived and is not in the file counts lost, in the database
-// and in what the console says.
+// The run is closed all the same: the database file stops growing first
+// (the checkpoint finds it), while the log still has room for the close,
+// on a loaded machine too (checkpoints follow the log's size, not only the
+// clock). Every sample that arrived and is not in the file counts lost, in
+// the database and in what the console says.
 TEST_F(ConsoleE2E, ADiskFullStopsTheRunAtOnceAndCountsEveryUnsavedSampleLost) {
   script_ = dir_.file("full.nls");
   std::ofstream(script_) << "run 600s label=full\n";
