@@ -57,7 +57,9 @@ struct Buffers {
   uint32_t table_points_cap;
 };
 
-template <class Cap, size_t TxCapacity = 1024>
+// Chips: the image reads sensor chips (its rig names a [[device]]); an
+// image without is built without the sampler's code (2.8 kB of flash).
+template <class Cap, size_t TxCapacity = 1024, bool Chips = false>
 class Firmware {
  public:
   Firmware(Hal& hal, const Identity& id, const Buffers& b)
@@ -74,7 +76,10 @@ class Firmware {
 
   // The rig's sensor chips, sampled between steps (a board with [[device]]
   // tables); before begin(), which starts them.
-  void attach_sensors(SensorSampler& sensors) { sensors_ = &sensors; }
+  void attach_sensors(SensorSampler& sensors) {
+    static_assert(Chips, "an image built without sensor chips has no sampler to attach");
+    sensors_ = &sensors;
+  }
 
   // Loads the compiled-in model (may be null: the firmware then waits for an
   // upload) and the platform's preset parameters.
@@ -87,7 +92,7 @@ class Firmware {
     neutral(u_);
     // Until the console selects one, a run follows the rig's own task.
     ref_.select(rig_.reference);
-    if (sensors_) sensors_->begin(clock_.ms());
+    if (chips()) sensors_->begin(clock_.ms());
     return model_file ? model_.begin(model_file, model_len) : Status::Ok;
   }
 
@@ -112,7 +117,7 @@ class Firmware {
         if (r.kind == proto::DecodeResult::Kind::Frame) handle(r.frame);
       }
     }
-    if (sensors_) {
+    if (chips()) {
       sensors_->poll(clock_.ms());
       report_devices();
     }
@@ -580,7 +585,7 @@ class Firmware {
   // After each sample frame of an image with sensor chips: which channels
   // of that step are invalid, and how old its chip samples are.
   void send_health() {
-    if (!sensors_ || sensors_->count() == 0) return;
+    if (!chips() || sensors_->count() == 0) return;
     proto::SensorHealth h;
     h.step = step_;
     h.invalid = health_.invalid;
@@ -592,7 +597,7 @@ class Firmware {
 
   // DEVICE_GET's answer for device `index`; false past the last.
   bool device_status(uint8_t index, proto::DeviceStatus& d) const {
-    const int count = sensors_ ? sensors_->count() : 0;
+    const int count = chips() ? sensors_->count() : 0;
     if (index >= count) return false;
     const RigDeviceConfig& c = sensors_->device(index);
     d.index = index;
@@ -620,7 +625,7 @@ class Firmware {
   // step never waits on a bus.
   void read_sensors(float* l) {
     hal_.read_sensors(l, rig_.w);
-    health_ = sensors_ ? sensors_->fill(l, clock_.ms()) : SensorHealth{};
+    health_ = chips() ? sensors_->fill(l, clock_.ms()) : SensorHealth{};
   }
 
   // Each device's change of state, once (LOG).
@@ -687,6 +692,11 @@ class Firmware {
   float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
   float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
   bool have_y_true_ = false;
+  // Constant false without Chips, so the compiler drops every use.
+  bool chips() const {
+    if constexpr (Chips) return sensors_ != nullptr;
+    return false;
+  }
   SensorSampler* sensors_ = nullptr;
   SensorHealth health_{};  // of l_: the chip channels invalid at this step, the oldest sample's age
   IdentRun ident_{};

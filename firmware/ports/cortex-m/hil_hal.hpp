@@ -5,7 +5,6 @@
 // plant moves while the MCU waits, so the compute time the firmware measures
 // is the controller's alone, not the simulation's.
 #include "firmware/core/hal.hpp"
-#include "firmware/core/sensor_sampler.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
 
 namespace nlsoft::fw::cortex_m {
@@ -36,8 +35,6 @@ class HilHal final : public Hal {
   }
 
   void start() {}
-  // The simulated plant gives every sensor channel: no chip to sample.
-  SensorSampler* sensors() { return nullptr; }
 
   // One period of the plant under the last command, then the sensors and
   // the true output the next step will read.

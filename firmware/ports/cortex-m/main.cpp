@@ -28,8 +28,6 @@ namespace {
 
 using namespace nlsoft;
 using namespace nlsoft::fw::cortex_m;
-using Fw = fw::Firmware<Cap, kTxCapacity>;
-
 constexpr uint32_t kBaud = 115200;
 // Rig rates are whole numbers of hertz (130, 120, 1000).
 constexpr uint32_t kRateHz = uint32_t(kRig.rate_hz);
@@ -37,10 +35,14 @@ constexpr uint32_t kRateHz = uint32_t(kRig.rate_hz);
 #if NLSOFT_HIL
 using PortHal = HilHal<Plant>;
 PortHal g_hal(1.0f / float(kRateHz));
+constexpr bool kChips = false;  // the plant gives every sensor channel, the chips' too
 #else
 using PortHal = RigHal<kRig.m, kRig.w>;
 PortHal g_hal;
+constexpr bool kChips = kRigDeviceCount > 0;
 #endif
+
+using Fw = fw::Firmware<Cap, kTxCapacity, kChips>;
 
 alignas(4) uint8_t g_model_staging[kModelFileMax];
 uint8_t g_table_staging[kTableFileMax];
@@ -54,6 +56,13 @@ Fw g_fw(g_hal,
         fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging,
                     sizeof g_table_staging, g_table_points, kTableFloats});
 
+// A template so that, without chips, the call is never compiled against a
+// HAL that has no sampler (a discarded branch outside a template still is).
+template <class H>
+void attach_chips(Fw& fw, H& hal) {
+  if constexpr (kChips) fw.attach_sensors(hal.sensors());
+}
+
 }  // namespace
 
 int main() {
@@ -61,7 +70,7 @@ int main() {
   g_hal.start();
   // The rig's sensor chips (a board image of a rig with [[device]] tables),
   // begun with the firmware, sampled between its steps.
-  if (fw::SensorSampler* chips = g_hal.sensors()) g_fw.attach_sensors(*chips);
+  attach_chips(g_fw, g_hal);
   // The period follows the clock the board reached, not the one it asked
   // for: a part left on its reset oscillator still steps at the preset rate.
   systick_start(fw::board::core_clock_hz() / kRateHz);

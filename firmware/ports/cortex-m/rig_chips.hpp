@@ -67,10 +67,19 @@ class RigChips {
   }
 
   const RigDeviceConfig* devices_;
-  Slot slots_[Count > 0 ? Count : 1];
-  drivers::Chip* chips_[Count > 0 ? Count : 1] = {};
-  SensorSampler::Slot samples_[Count > 0 ? Count : 1];
+  Slot slots_[Count];
+  drivers::Chip* chips_[Count] = {};
+  SensorSampler::Slot samples_[Count];
   SensorSampler sampler_;
+};
+
+// A rig with no chip: nothing to build, and no driver, master or sampler
+// linked into its image.
+template <int W>
+class RigChips<0, W> {
+ public:
+  RigChips(const RigDeviceConfig*, const RigSensorSource*) {}
+  void start(drivers::I2cBus* const*, int, drivers::SpiBus* const*, int) {}
 };
 
 }  // namespace nlsoft::fw::cortex_m

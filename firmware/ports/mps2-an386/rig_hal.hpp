@@ -6,6 +6,7 @@
 // ADC reads 0 here; one of a chip reads the chip. The image's size is the
 // footprint we report for controller + protocol.
 #include <new>
+#include <type_traits>
 
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
@@ -34,21 +35,26 @@ class RigHal final : public Hal {
   }
   bool read_output(float*, int) override { return false; }  // no observer of y on a plain board
 
-  // The masters, each I2C bus at the slowest clock its chips take, then the drivers.
   void start() {
+    if constexpr (kRigDeviceCount > 0) start_chips(buses_);
+  }
+  void advance() {}
+  // The sampler the firmware reads the chips through (an image with chips).
+  SensorSampler& sensors() { return chips_.sampler(); }
+
+ private:
+  // The masters, each I2C bus at the slowest clock its chips take, then the drivers.
+  template <class Buses>
+  void start_chips(Buses& buses) {
     const uint32_t core = board::core_clock_hz();
     drivers::I2cBus* i2c[kI2c];
     drivers::SpiBus* spi[kSpi];
-    for (int b = 0; b < kI2c; ++b) i2c[b] = new (&i2c_[b]) an386::SbconI2c(an386::kI2cBuses[b].base, core, i2c_hz(b));
+    for (int b = 0; b < kI2c; ++b) i2c[b] = new (&buses.i2c[b]) an386::SbconI2c(an386::kI2cBuses[b].base, core, i2c_hz(b));
     for (int b = 0; b < kSpi; ++b)
-      spi[b] = new (&spi_[b]) an386::Pl022Spi(an386::kSpiBuses[b].base, an386::kBusClockHz, core);
+      spi[b] = new (&buses.spi[b]) an386::Pl022Spi(an386::kSpiBuses[b].base, an386::kBusClockHz, core);
     chips_.start(i2c, kI2c, spi, kSpi);
   }
-  void advance() {}
-  // The sampler the firmware reads the chips through; none without chips.
-  SensorSampler* sensors() { return kRigDeviceCount > 0 ? &chips_.sampler() : nullptr; }
 
- private:
   static uint32_t i2c_hz(int bus) {
     uint32_t hz = 400000u;
     for (int d = 0; d < kRigDeviceCount; ++d)
@@ -68,8 +74,13 @@ class RigHal final : public Hal {
     ~SpiSlot() {}
     an386::Pl022Spi bus;
   };
-  I2cSlot i2c_[kI2c];
-  SpiSlot spi_[kSpi];
+  struct Buses {
+    I2cSlot i2c[kI2c];
+    SpiSlot spi[kSpi];
+  };
+  struct NoBuses {};
+  // Room for the masters in an image with chips only.
+  [[no_unique_address]] std::conditional_t<(kRigDeviceCount > 0), Buses, NoBuses> buses_;
   RigChips<kRigDeviceCount, W> chips_{kRigDevices, kRigSensorSources};
 };
 

@@ -11,6 +11,7 @@
 // The rig's sensor chips ([[device]]) hang on I2C1, SPI1 and SPI2
 // (kI2c, kSpi), sampled between control steps (rig_chips.hpp).
 #include <new>
+#include <type_traits>
 
 #include "firmware/core/hal.hpp"
 #include "firmware/ports/cortex-m/board.hpp"
@@ -82,11 +83,11 @@ class RigHal final : public Hal {
     settle(rcc::kApb2Enr);
     start_pwm();
     if (kAdcCount > 0) start_adc();
-    if (kRigDeviceCount > 0) start_chips();
+    if constexpr (kRigDeviceCount > 0) start_chips(buses_);
   }
   void advance() {}
-  // The sampler the firmware reads the chips through; none without chips.
-  SensorSampler* sensors() { return kRigDeviceCount > 0 ? &chips_.sampler() : nullptr; }
+  // The sampler the firmware reads the chips through (an image with chips).
+  SensorSampler& sensors() { return chips_.sampler(); }
 
  private:
   static constexpr uint32_t kDma2En = 1u << 22, kTim3En = 1u << 1, kTim4En = 1u << 2, kAdc1En = 1u << 8;
@@ -167,7 +168,8 @@ class RigHal final : public Hal {
 
   // The masters of the buses the rig's chips use (I2C1 at the slowest clock
   // its chips take), then the drivers over them.
-  void start_chips() {
+  template <class Buses>
+  void start_chips(Buses& buses) {
     using namespace stm32f4;
     constexpr int kI2cCount = int(sizeof kI2c / sizeof kI2c[0]), kSpiCount = int(sizeof kSpi / sizeof kSpi[0]);
     static_assert(kI2cCount == 1, "one I2C master: I2c1");
@@ -185,13 +187,13 @@ class RigHal final : public Hal {
       }
     }
     if (i2c_used) {
-      I2c1* bus = new (&i2c_.bus) I2c1(board_clocks(), i2c_hz);
+      I2c1* bus = new (&buses.i2c.bus) I2c1(board_clocks(), i2c_hz);
       bus->start();
       i2c[0] = bus;
     }
     for (int b = 0; b < kSpiCount; ++b) {
       if (!spi_used[b]) continue;
-      Spi* bus = new (&spi_[b].bus) Spi(kSpi[b], board_clocks());
+      Spi* bus = new (&buses.spi[b].bus) Spi(kSpi[b], board_clocks());
       bus->start();
       spi[b] = bus;
     }
@@ -212,8 +214,13 @@ class RigHal final : public Hal {
 
   uint32_t period_ = 1;
   volatile uint16_t raw_[kAdcCount > 0 ? kAdcCount : 1] = {};
-  I2cSlot i2c_;
-  SpiSlot spi_[sizeof stm32f4::kSpi / sizeof stm32f4::kSpi[0]];
+  struct Buses {
+    I2cSlot i2c;
+    SpiSlot spi[sizeof stm32f4::kSpi / sizeof stm32f4::kSpi[0]];
+  };
+  struct NoBuses {};
+  // Room for the masters in an image with chips only.
+  [[no_unique_address]] std::conditional_t<(kRigDeviceCount > 0), Buses, NoBuses> buses_;
   RigChips<kRigDeviceCount, W> chips_{kRigDevices, kRigSensorSources};
 };
 
