@@ -20,7 +20,16 @@ void SampleIntake::on_ident_sample(const p::IdentSample& t, uint32_t lost_before
 }
 
 void SampleIntake::on_sensor_health(const p::SensorHealth& h) {
+  health_ = uint64_t(1) << 48 | uint64_t(h.age_ms) << 32 | h.invalid;
+  health_at_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
   if (const int64_t run = run_.id.load(); run != 0) run_.recorder.add_sensor_health(run, h.step, h.invalid, h.age_ms);
+}
+
+SampleIntake::Health SampleIntake::health() const {
+  const uint64_t v = health_.load();
+  const auto at = std::chrono::steady_clock::time_point(std::chrono::steady_clock::duration(health_at_ns_.load()));
+  return {(v >> 48 & 1u) != 0, uint32_t(v), uint16_t(v >> 32),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - at).count()};
 }
 
 void SampleIntake::on_sample(Sample s, bool has_step, uint32_t lost_before) {

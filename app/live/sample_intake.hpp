@@ -34,6 +34,16 @@ class SampleIntake {
   // Any thread (the UI's plots, LiveRuns clearing it as a run starts).
   LiveBuffer& live() { return live_; }
 
+  // The firmware's latest SENSOR_HEALTH (a rig with sensor chips), run or
+  // not: bit i of `invalid` is sensor channel i without a valid sample.
+  struct Health {
+    bool known = false;  // none has arrived (a rig without chips sends none)
+    uint32_t invalid = 0;
+    uint16_t age_ms = 0;
+    double received_s_ago = 0;  // how long ago it arrived
+  };
+  Health health() const;
+
  private:
   // A run's sample from either message: numbered, gaps recorded, kept.
   void on_sample(Sample s, bool has_step, uint32_t lost_before);
@@ -42,6 +52,10 @@ class SampleIntake {
   UdpStream* udp_;
   LiveBuffer live_{kLiveSamples};
   std::atomic<uint32_t> tick_rate_hz_{0};
+  // Health packed in one word so a reader never sees half of it: bit 48
+  // known, bits 32..47 age_ms, bits 0..31 invalid.
+  std::atomic<uint64_t> health_{0};
+  std::atomic<int64_t> health_at_ns_{0};  // steady clock
 };
 
 }  // namespace nlsoft::console

@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <memory>
 
 #include "host/files/cli_error.hpp"
@@ -33,6 +34,15 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
   }
   const bool several = runs.size() > 1;
   const int n = runs.front().n, m = runs.front().m, w = runs.front().w;
+  // A rig with sensor chips recorded each step's health: its invalid
+  // channels are left empty (the firmware sent no reading, not a 0) and two
+  // columns more say which and how old the chips' samples were.
+  std::vector<std::map<uint32_t, SensorHealthRecord>> health;
+  bool have_health = false;
+  for (const RunRow& run : runs) {
+    health.push_back(store.sensor_health(run.id));
+    have_health = have_health || !health.back().empty();
+  }
   OutputFile f(path);
   std::string head = several ? "run,k,step,time_us" : "k,step,time_us";
   for (const char* v : {"y_ref", "y_hat", "y_true"})
@@ -41,6 +51,7 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
   head += ",cost,iterations,compute_us";
   // An identification run's sensors last, so the columns before keep their places.
   for (int i = 0; i < w; ++i) head += fmt::format(",l{}", i);
+  if (have_health) head += ",l_invalid,l_age_ms";
   head += '\n';
   std::fputs(head.c_str(), f.get());
   size_t rows = 0;
@@ -51,7 +62,8 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
       else line.push_back(',');
     }
   };
-  for (const RunRow& run : runs) {
+  for (size_t r = 0; r < runs.size(); ++r) {
+    const RunRow& run = runs[r];
     store.for_each_sample(run.id, [&](const Sample& s) {
       line.clear();
       if (several) fmt::format_to(std::back_inserter(line), "{},", run.id);
@@ -67,7 +79,16 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
       else line.push_back(',');
       if (s.has(tf::kSolver)) fmt::format_to(std::back_inserter(line), ",{},{:.9g}", s.iterations, s.compute_us);
       else line.append(std::string_view(",,"));
-      opt_vec(s.w > 0, s.l, w);
+      const auto h = s.has(tf::kStep) ? health[r].find(s.step) : health[r].end();
+      const uint32_t invalid = h == health[r].end() ? 0 : h->second.invalid;
+      for (int i = 0; i < w; ++i) {
+        if (s.w > 0 && !(invalid >> i & 1u)) fmt::format_to(std::back_inserter(line), ",{:.9g}", s.l[i]);
+        else line.push_back(',');
+      }
+      if (have_health) {
+        if (h != health[r].end()) fmt::format_to(std::back_inserter(line), ",{},{}", h->second.invalid, h->second.age_ms);
+        else line.append(std::string_view(",,"));
+      }
       line.push_back('\n');
       std::fwrite(line.data(), 1, line.size(), f.get());
       ++rows;

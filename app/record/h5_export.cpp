@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <set>
 
 #include <unistd.h>
@@ -128,8 +129,11 @@ struct Columnar {
   std::vector<double> t;
   std::vector<float> y_ref, y_hat, y_true, u, l, cost, compute_us;
   std::vector<uint8_t> iterations;
+  std::vector<uint32_t> l_invalid;  // SENSOR_HEALTH's mask per row (rigs with sensor chips)
+  std::vector<float> l_age_ms;      // NaN: no health recorded for the row
   uint8_t seen = 0;     // telemetry fields present in any row
   bool seen_l = false;  // sensors in any row (identification runs)
+  bool seen_health = false;
 };
 
 Columnar read_run(RunStore& store, const RunRow& r) {
@@ -141,6 +145,8 @@ Columnar read_run(RunStore& store, const RunRow& r) {
   uint32_t last = 0;
   bool first = true;
   double t0 = 0;
+  const std::map<uint32_t, SensorHealthRecord> health = store.sensor_health(r.id);
+  c.seen_health = !health.empty();
   store.for_each_sample(r.id, [&](const Sample& s) {
     c.seen |= s.mask;
     c.k.push_back(s.k);
@@ -162,8 +168,15 @@ Columnar read_run(RunStore& store, const RunRow& r) {
     add(c.y_hat, s.has(tf::kYHat), s.y_hat(), n);
     add(c.y_true, s.has(tf::kYTrue), s.y_true(), n);
     add(c.u, s.has(tf::kU), s.u(), m);
-    add(c.l, s.w > 0, s.l, size_t(r.w));
+    // An invalid channel held no reading: NaN, not the 0 the firmware sent.
+    const auto h = s.has(tf::kStep) ? health.find(s.step) : health.end();
+    const uint32_t invalid = h == health.end() ? 0 : h->second.invalid;
+    for (size_t i = 0; i < size_t(r.w); ++i) c.l.push_back(s.w > 0 && !(invalid >> i & 1u) ? s.l[i] : kMissing);
     c.seen_l = c.seen_l || s.w > 0;
+    if (c.seen_health) {
+      c.l_invalid.push_back(invalid);
+      c.l_age_ms.push_back(h == health.end() ? kMissing : float(h->second.age_ms));
+    }
     c.cost.push_back(s.has(tf::kCost) ? s.cost : kMissing);
     c.iterations.push_back(s.has(tf::kSolver) ? s.iterations : 0);
     c.compute_us.push_back(s.has(tf::kSolver) ? s.compute_us : kMissing);
@@ -243,6 +256,13 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
     put(d.get(), "description", "sensors (the network's extra inputs)");
   } else if (r.w > 0) {
     absent.push_back("l");
+  }
+  if (c.seen_health) {
+    H5Handle d = dataset(gid, "l_invalid", H5T_STD_U32LE, H5T_NATIVE_UINT32, c.l_invalid.data(), rows, 0);
+    put(d.get(), "description", "bit i: sensor channel i held no valid chip sample (its l is NaN)");
+    H5Handle a = dataset(gid, "l_age_ms", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, c.l_age_ms.data(), rows, 0);
+    put(a.get(), "unit", "ms");
+    put(a.get(), "description", "age of the oldest valid chip sample (NaN: no health recorded for the row)");
   }
   if (c.seen & tf::kCost) dataset(gid, "cost", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, c.cost.data(), rows, 0);
   else absent.push_back("cost");

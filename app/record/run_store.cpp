@@ -224,6 +224,15 @@ std::vector<GapRecord> RunStore::gaps(int64_t id) {
   return out;
 }
 
+std::map<uint32_t, SensorHealthRecord> RunStore::sensor_health(int64_t id) {
+  std::map<uint32_t, SensorHealthRecord> out;
+  if (version_ < 7) return out;
+  Stmt s = db_->prepare("SELECT step,invalid,age_ms FROM sensor_health WHERE run_id=?");
+  s.bind(1, id);
+  while (s.step()) out[uint32_t(s.int64(0))] = {uint32_t(s.int64(1)), uint16_t(s.int64(2))};
+  return out;
+}
+
 std::vector<std::pair<std::string, std::string>> RunStore::link_events(int64_t id) {
   Stmt s = db_->prepare("SELECT t || ' ' || kind, detail FROM link_events WHERE run_id=? ORDER BY id");
   s.bind(1, id);

@@ -3,6 +3,7 @@
 // (what metrics and plots want), its parameters, gaps and link events.
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -48,6 +49,13 @@ struct GapRecord {
   double duration_s = -1;  // < 0: not known
 };
 
+// SENSOR_HEALTH as recorded (schema v7): bit i of `invalid` is sensor
+// channel i holding no valid chip sample at that step.
+struct SensorHealthRecord {
+  uint32_t invalid = 0;
+  uint16_t age_ms = 0;
+};
+
 class RunStore {
  public:
   // Throws DbError; a missing file is an error in words, not a new database.
@@ -59,6 +67,8 @@ class RunStore {
   void for_each_sample(int64_t id, const std::function<void(const Sample&)>& f);
   std::vector<ParamRecord> params(int64_t id);
   std::vector<GapRecord> gaps(int64_t id);
+  // By step; empty for a run whose rig has no chips (or a file older than v7).
+  std::map<uint32_t, SensorHealthRecord> sensor_health(int64_t id);
   std::vector<std::pair<std::string, std::string>> link_events(int64_t id);  // kind, detail
   int64_t last_run_id();  // 0 if none
   bool read_only() const;  // opened read-only (the usual case: reading never writes)

@@ -87,7 +87,16 @@ void App::draw_message_line(int y, int w) {
 void App::draw_status(int y, int w) {
   const LinkStats st = console_.session().stats();
   if (!sim_down_.load()) {
-    draw_status_bar(screen_, y, w, st, console_.session().port());
+    // The firmware sends SENSOR_HEALTH with each sample: an older word is
+    // a run that ended, no longer what the chips say.
+    const SampleIntake::Health h = console_.samples().health();
+    std::string alert;
+    if (h.known && h.invalid != 0 && h.received_s_ago < 2.0) {
+      std::vector<std::string> names;
+      for (const RigSensor& l : console_.rig().sensors) names.push_back(l.name);
+      alert = invalid_sensors_words(h.invalid, names);
+    }
+    draw_status_bar(screen_, y, w, st, console_.session().port(), alert);
     return;
   }
   std::vector<Field> fields = {{" " + sim_gone_, 100}, {"R restarts it", 99}};

@@ -33,12 +33,21 @@ std::vector<Field> status_fields(const LinkStats& s, const std::string& port) {
   return f;
 }
 
-void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port) {
-  const Role role = !s.connected ? Role::Error : s.silent ? Role::Warn : Role::Title;
+void draw_status_bar(const Screen& screen, int y, int w, const LinkStats& s, const std::string& port,
+                     const std::string& alert) {
+  const Role role = !s.connected ? Role::Error : s.silent || !alert.empty() ? Role::Warn : Role::Title;
   std::vector<Field> fields = status_fields(s, port);
   fields.front().text = " " + fields.front().text;
+  if (!alert.empty()) fields.insert(fields.begin() + 1, Field{alert, 19});
   fill_row(y, 0, w, screen.attr(role));
   put(y, 0, fit_fields(fields, " | ", size_t(w), screen.ellipsis()), w, screen.attr(role));
+}
+
+std::string invalid_sensors_words(uint32_t invalid, const std::vector<std::string>& names) {
+  std::string words;
+  for (size_t i = 0; i < 32; ++i)
+    if (invalid >> i & 1u) words += " " + (i < names.size() ? names[i] : fmt::format("l{}", i));
+  return words.empty() ? words : "sensors invalid:" + words;
 }
 
 std::vector<std::pair<std::string, std::string>> key_bar_items(int w, bool restart) {

@@ -28,6 +28,8 @@ struct RigCapacity {
   // Sensor chips on the board's buses ([[device]]).
   static constexpr int devices = kRigMaxDevices;
 };
+// A sensor channel's validity is one bit of SENSOR_HEALTH's u32 mask.
+static_assert(RigCapacity::w <= 32, "more sensor channels than SENSOR_HEALTH's mask holds");
 
 // A bad rig file: the message starts with "file:line: " and names the key.
 struct RigError : std::runtime_error {

@@ -19,6 +19,7 @@ namespace nlsoft::fw::cortex_m {
 template <int Count, int W>
 class RigChips {
   static_assert(Count <= kRigMaxDevices, "more chips than a rig file may name");
+  static_assert(W <= SensorSampler::kMaxChannels, "more sensor channels than SENSOR_HEALTH's mask holds");
 
  public:
   // devices/sources: the image's tables. The port's masters by the table's

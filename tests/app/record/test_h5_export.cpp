@@ -295,6 +295,79 @@ TEST_F(H5Export, AnIdentificationRunsSensorsAreADatasetOfTheirOwn) {
   EXPECT_NE(std::find(absent.begin(), absent.end(), "cost"), absent.end());
 }
 
+// A rig with sensor chips: a channel the firmware flagged invalid at a step
+// is no reading (empty in CSV, NaN in HDF5), and each row says which were
+// invalid and how old the chips' samples were; a step whose health was not
+// recorded has its readings and empty health cells.
+TEST_F(H5Export, SensorHealthMarksInvalidChannelsInBothFormats) {
+  int64_t id = 0;
+  {
+    Recorder r(db());
+    RunInfo ri;
+    ri.platform = "chips";
+    ri.kind = "ident";
+    ri.n = 1;
+    ri.m = 1;
+    ri.w = 3;
+    ri.loop_rate_hz = 100;
+    id = r.begin_run(ri);
+    for (uint32_t k = 0; k < 4; ++k) {
+      Sample s;
+      s.k = k;
+      s.n = 1;
+      s.m = 1;
+      s.w = 3;
+      s.mask = uint8_t(tf::kStep | tf::kU);
+      s.step = 10 + k;
+      for (int i = 0; i < 3; ++i) s.l[i] = float(k) + 0.25f * float(i + 1);
+      r.add_sample(id, s);
+    }
+    r.add_sensor_health(id, 11, 0x2u, 7);  // l1 invalid at step 11
+    r.add_sensor_health(id, 12, 0x0u, 3);
+    r.end_run(id, "completed", 4, 0);
+    r.flush();
+  }
+  const std::string csv = dir_.file("health.csv");
+  ASSERT_EQ(runs(fmt::format("export {} --csv {}", id, shell_quote(csv))).code, 0);
+  std::ifstream in(csv);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  EXPECT_EQ(line.substr(line.size() - std::string(",l0,l1,l2,l_invalid,l_age_ms").size()), ",l0,l1,l2,l_invalid,l_age_ms")
+      << line;
+  std::vector<std::string> rows;
+  while (std::getline(in, line)) rows.push_back(line);
+  ASSERT_EQ(rows.size(), 4u);
+  auto tail = [](const std::string& row, int cells) {
+    size_t at = row.size();
+    for (int i = 0; i < cells; ++i) at = row.rfind(',', at - 1);
+    return row.substr(at + 1);
+  };
+  EXPECT_EQ(tail(rows[0], 5), "0.25,0.5,0.75,,") << rows[0];  // no health recorded
+  EXPECT_EQ(tail(rows[1], 5), "1.25,,1.75,2,7") << rows[1];   // l1 invalid
+  EXPECT_EQ(tail(rows[2], 5), "2.25,2.5,2.75,0,3") << rows[2];
+
+  const std::string h5 = dir_.file("health.h5");
+  ASSERT_EQ(runs(fmt::format("export {} --h5 {}", id, shell_quote(h5))).code, 0);
+  H5Handle f(H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(f.ok());
+  H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", id).c_str(), H5P_DEFAULT), H5Gclose);
+  ASSERT_TRUE(g.ok());
+  size_t n = 0, cols = 0;
+  const auto l = read<float>(g.get(), "l", H5T_NATIVE_FLOAT, n, cols);
+  ASSERT_EQ(n, 4u);
+  ASSERT_EQ(cols, 3u);
+  EXPECT_TRUE(std::isnan(l[1 * 3 + 1]));
+  EXPECT_EQ(l[1 * 3 + 0], 1.25f);
+  EXPECT_EQ(l[2 * 3 + 1], 2.5f);
+  const auto invalid = read<uint32_t>(g.get(), "l_invalid", H5T_NATIVE_UINT32, n, cols);
+  EXPECT_EQ(invalid, (std::vector<uint32_t>{0, 2, 0, 0}));
+  const auto age = read<float>(g.get(), "l_age_ms", H5T_NATIVE_FLOAT, n, cols);
+  ASSERT_EQ(age.size(), 4u);
+  EXPECT_TRUE(std::isnan(age[0]));
+  EXPECT_EQ(age[1], 7.0f);
+  EXPECT_EQ(age[2], 3.0f);
+}
+
 TEST_F(H5Export, SeveralRunsInOneCsvCarryARunColumn) {
   std::vector<Sample> a, b;
   const int64_t ida = record_run(db(), true, a);
