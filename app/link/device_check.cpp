@@ -31,6 +31,30 @@ std::string sample_words(const p::DeviceStatus& d) {
 
 }  // namespace
 
+std::vector<std::string> device_lines(const Rig& rig, const std::vector<p::DeviceStatus>& found, int& bad) {
+  std::vector<std::string> lines;
+  bad = 0;
+  std::vector<bool> seen(rig.devices.size(), false);
+  for (const p::DeviceStatus& d : found) {
+    const std::string name = printable(d.name);
+    const RigDevice* mine = nullptr;
+    for (size_t i = 0; i < rig.devices.size(); ++i)
+      if (rig.devices[i].name == name) mine = &rig.devices[i], seen[i] = true;
+    const bool ok = d.state == uint8_t(p::DeviceState::Ok);
+    bad += ok ? 0 : 1;
+    lines.push_back(fmt::format("device {:<10} {} on {}: {}, {}", name, mine ? mine->chip->name : "(not in this file)",
+                                place(rig, d), p::device_state_name(d.state), sample_words(d)));
+  }
+  for (size_t i = 0; i < rig.devices.size(); ++i)
+    if (!seen[i]) {
+      ++bad;
+      lines.push_back(fmt::format("device {:<10} {}: not in the firmware (an image built from another file?)",
+                                  rig.devices[i].name, rig.devices[i].chip->name));
+    }
+  if (found.empty() && rig.devices.empty()) lines.push_back("no sensor chips, in the file or the firmware");
+  return lines;
+}
+
 int check_live_devices(const Rig& rig, const std::string& port, unsigned baud) {
   Session session;
   session.open(port, baud);
@@ -44,26 +68,8 @@ int check_live_devices(const Rig& rig, const std::string& port, unsigned baud) {
           ? fmt::format("0x{:08x}, built from this file", rig.hash)
           : fmt::format("0x{:08x}, built from another file than this one (0x{:08x})", fw_rig->rig_hash, rig.hash);
   fmt::print("live on {}: rig '{}' ({})\n", port, device.rig_label(), hash);
-  const std::vector<p::DeviceStatus> found = device.devices();
   int bad = 0;
-  std::vector<bool> seen(rig.devices.size(), false);
-  for (const p::DeviceStatus& d : found) {
-    const std::string name = printable(d.name);
-    const RigDevice* mine = nullptr;
-    for (size_t i = 0; i < rig.devices.size(); ++i)
-      if (rig.devices[i].name == name) mine = &rig.devices[i], seen[i] = true;
-    const bool ok = d.state == uint8_t(p::DeviceState::Ok);
-    bad += ok ? 0 : 1;
-    fmt::print("  device {:<10} {} on {}: {}, {}\n", name, mine ? mine->chip->name : "(not in this file)",
-               place(rig, d), p::device_state_name(d.state), sample_words(d));
-  }
-  for (size_t i = 0; i < rig.devices.size(); ++i)
-    if (!seen[i]) {
-      ++bad;
-      fmt::print("  device {:<10} {}: not in the firmware (an image built from another file?)\n", rig.devices[i].name,
-                 rig.devices[i].chip->name);
-    }
-  if (found.empty() && rig.devices.empty()) fmt::print("  no sensor chips, in the file or the firmware\n");
+  for (const std::string& line : device_lines(rig, device.devices(), bad)) fmt::print("  {}\n", line);
   session.close();
   return bad == 0 ? 0 : 1;
 }

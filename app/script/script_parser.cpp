@@ -263,6 +263,9 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
              : verb == "hold" ? Command::Kind::Hold
              : verb == "neutral" ? Command::Kind::Neutral
                                  : Command::Kind::Resume;
+  } else if (verb == "devices") {
+    at_most(1, "devices");
+    c.kind = Command::Kind::Devices;
   } else if (verb == "wait") {
     need(2, "wait DURATION");
     at_most(2, "wait DURATION");
@@ -424,6 +427,7 @@ const std::vector<std::string>& script_help() {
       "export csv FILE             the last run's samples as CSV",
       "echo TEXT                   print TEXT",
       "note TEXT                   attach notes to the current (or last) run",
+      "devices                     how each sensor chip answers the firmware (as rig check)",
       "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics; each row",
       "  [settle=DURATION]         restarts the reference from its first point with the actuators",
       "                            neutral, and is measured after settle (default 1s)",

@@ -51,7 +51,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 struct Command {
   enum class Kind {
     Set, Get, ParamsSave, ParamsLoad, ParamsReapply, ParamsDiff, ParamsReset, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
-    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune, Ident,
+    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune, Ident, Devices,
   };
   Kind kind = Kind::Echo;
   int line = 0;

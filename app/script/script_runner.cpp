@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "host/files/cli_error.hpp"
+#include "app/link/device_check.hpp"
 #include "app/link/link_error.hpp"
 #include "host/files/printable.hpp"
 #include "app/live/interrupt.hpp"
@@ -275,6 +276,11 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Echo: out_(c.name); break;
+      case K::Devices: {
+        int bad = 0;
+        for (const std::string& line : device_lines(console_.rig(), console_.device().devices(), bad)) out_(line);
+        break;
+      }
       case K::Note: {
         const auto last = console_.runs().last();
         const int64_t id = console_.runs().running() ? console_.runs().current() : last ? last->run_id : 0;

@@ -14,7 +14,7 @@ namespace {
 const std::vector<std::string>& commands() {
   static const std::vector<std::string> c = {"set",  "get",    "params", "ref",  "run",    "start", "stop",
                                              "hold", "neutral", "resume", "wait", "expect", "export", "echo",
-                                             "note", "sweep",  "tune",   "ident",  "plot",   "overlay", "model", "help", "quit"};
+                                             "note", "devices", "sweep",  "tune",   "ident",  "plot",   "overlay", "model", "help", "quit"};
   return c;
 }
 

@@ -207,6 +207,19 @@ TEST_F(ConsoleE2E, ADirectoryADeviceOrAMissingFileIsNoScript) {
   for (const auto* r : {&d, &n, &m}) EXPECT_EQ(r->output.find("connected:"), std::string::npos) << r->output;
 }
 
+// `devices` asks the firmware how each sensor chip answers; a rig and a
+// firmware without chips say so rather than print nothing. Extra words are
+// a syntax error, found before connecting.
+TEST_F(ConsoleE2E, DevicesSaysHowEachChipAnswersOrThatThereAreNone) {
+  auto r = run_script("devices\n", "msd");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("no sensor chips, in the file or the firmware"), std::string::npos) << r.output;
+  r = run_script("devices all\n", "msd");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(":1:"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("connected"), std::string::npos) << r.output;
+}
+
 TEST_F(ConsoleE2E, ParamsSaveLoadShowsTheDiff) {
   const std::string saved = dir_.file("p.params");
   const auto r = run_script("params save " + saved + "\nset Q 5 5 5\nparams load " + saved + "\nget Q\n");
