@@ -2,6 +2,8 @@
 // The most recent samples, for the live plots: the link thread appends, the
 // UI copies a snapshot at its own pace. Fixed capacity, so a 10 kHz loop
 // costs a copy per frame and nothing grows.
+#include <cstdint>
+#include <limits>
 #include <mutex>
 #include <vector>
 
@@ -19,6 +21,17 @@ class LiveBuffer {
     head_ = (head_ + 1) % ring_.size();
     if (size_ < ring_.size()) ++size_;
     ++total_;
+  }
+  // SENSOR_HEALTH follows its step's sample: the sensor channels it flags
+  // invalid become NaN in that sample, so a plot leaves a gap instead of
+  // drawing the 0 the firmware sent. Another step's word changes nothing.
+  void mark_invalid(uint32_t step, uint32_t invalid) {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (size_ == 0 || invalid == 0) return;
+    Sample& s = ring_[(head_ + ring_.size() - 1) % ring_.size()];
+    if (!s.has(protocol::telemetry_field::kStep) || s.step != step) return;
+    for (int i = 0; i < s.w && i < 32; ++i)
+      if (invalid >> i & 1u) s.l[i] = std::numeric_limits<float>::quiet_NaN();
   }
   void clear() {
     std::lock_guard<std::mutex> lock(mu_);

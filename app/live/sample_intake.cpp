@@ -22,6 +22,7 @@ void SampleIntake::on_ident_sample(const p::IdentSample& t, uint32_t lost_before
 void SampleIntake::on_sensor_health(const p::SensorHealth& h) {
   health_ = uint64_t(1) << 48 | uint64_t(h.age_ms) << 32 | h.invalid;
   health_at_ns_ = std::chrono::steady_clock::now().time_since_epoch().count();
+  live_.mark_invalid(h.step, h.invalid);
   if (const int64_t run = run_.id.load(); run != 0) run_.recorder.add_sensor_health(run, h.step, h.invalid, h.age_ms);
 }
 

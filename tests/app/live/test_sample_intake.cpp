@@ -2,6 +2,8 @@
 // whether a run is recording or not (the status bar shows it either way).
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "app/live/sample_intake.hpp"
 #include "app/record/recorder.hpp"
 #include "app/support/temp_dir.hpp"
@@ -31,6 +33,35 @@ TEST(SampleIntake, KeepsTheLatestSensorHealthWithNoRunRecording) {
   got = intake.health();
   EXPECT_EQ(got.invalid, 0u);
   EXPECT_EQ(got.age_ms, 65535);
+}
+
+// The live plots draw what the buffer holds: the channels SENSOR_HEALTH
+// flags for the newest sample's step become NaN there (a gap in the plot),
+// and a word for another step marks nothing.
+TEST(SampleIntake, AnInvalidChannelIsAGapInTheLivePlotsNotTheZeroSent) {
+  test::TempDir dir;
+  Recorder recorder(dir.file("r.db"));
+  ActiveRun run(recorder);
+  SampleIntake intake(run, nullptr);
+  protocol::IdentSample t{};
+  t.step = 41;
+  t.m = 1;
+  t.n = 1;
+  t.w = 3;
+  intake.on_ident_sample(t, 0);
+  protocol::SensorHealth h;
+  h.step = 40;  // not the newest sample's
+  h.invalid = 0x1u;
+  intake.on_sensor_health(h);
+  h.step = 41;
+  h.invalid = 0x4u;
+  intake.on_sensor_health(h);
+  const std::vector<Sample> shown = intake.live().snapshot(1);
+  ASSERT_EQ(shown.size(), 1u);
+  ASSERT_EQ(shown[0].w, 3);
+  EXPECT_EQ(shown[0].l[0], 0.0f);
+  EXPECT_EQ(shown[0].l[1], 0.0f);
+  EXPECT_TRUE(std::isnan(shown[0].l[2]));
 }
 
 }  // namespace
