@@ -223,14 +223,21 @@ LastBuilt last_built_with_model(const Rig& rig, const std::string& board, bool h
     const std::string elf =
         fmt::format("{}/{}-{}{}.elf", e.path().string(), image_prefix(board), rig.name, hil ? "-hil" : "");
     if (model.empty() || !fs::exists(model, ec) || !fs::exists(elf, ec)) continue;
-    try {
-      ImageRequest request;
-      request.board = board;
-      request.model_file = model;
-      if (cache_folder(rig, board, image_source(rig, request), model) != e.path().string()) continue;
-    } catch (const std::exception&) {
-      continue;  // a model that no longer fits the rig
+    // A HIL image comes from a build of both images or of the HIL one alone (--hil), each its own folder.
+    bool current = false;
+    for (ImageKinds kinds : {ImageKinds::Both, ImageKinds::Hil}) {
+      if (kinds == ImageKinds::Hil && !hil) continue;
+      try {
+        ImageRequest request;
+        request.board = board;
+        request.images = kinds;
+        request.model_file = model;
+        current = current || cache_folder(rig, board, image_source(rig, request), model) == e.path().string();
+      } catch (const std::exception&) {
+        // a model that no longer fits the rig, or a board that runs only the HIL image
+      }
     }
+    if (!current) continue;
     const fs::file_time_type t = fs::last_write_time(elf, ec);
     if (!ec && (best.dir.empty() || t > newest)) best = {e.path().string(), model}, newest = t;
   }
@@ -324,8 +331,13 @@ std::string shipped_name(const Rig& rig) {
 
 BuiltImages build_images(const ImageBuild& q) {
   const Rig rig = load_rig_arg(q.rig);
+  if (q.hil_only && rig.plant.kind == nullptr)
+    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: there is no HIL image to build, only the board's "
+                               "(without --hil)",
+                               q.who, rig.name, rig.file));
   ImageRequest request;
   request.board = q.board;
+  request.images = q.hil_only ? ImageKinds::Hil : ImageKinds::Both;
   // Absolute: the cache folder is keyed by this name and --qemu finds the
   // image by it (last_built_with_model), from whatever folder it is run in.
   if (!q.model.empty()) request.model_file = fs::absolute(q.model).lexically_normal().string();
@@ -347,10 +359,6 @@ BuiltImages build_images(const ImageBuild& q) {
   } catch (const CliError& e) {
     throw CliError(fmt::format("{}: {}", q.who, e.what()), e.exit_code);
   }
-  if (q.hil_only && !source.hil)
-    throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: there is no HIL image to build, only the board's "
-                               "(without --hil)",
-                               q.who, rig.name, rig.file));
   require_toolchain(q.who);
   const std::string src = firmware_src(q.who);
 

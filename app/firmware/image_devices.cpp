@@ -65,7 +65,8 @@ std::string devices_part(const Rig& rig) {
                    "// select (a row of the board's chip-select table), clock, {{range, its bits}}, {{rate, its bits}}.\n",
                    rig.board, buses);
   o += fmt::format("constexpr int kRigDeviceCount = {};\n", rig.devices.size());
-  o += fmt::format("constexpr RigDeviceConfig kRigDevices[{}] = {{\n", rig.devices.empty() ? 1 : rig.devices.size());
+  // inline: one object of external linkage, which the port's chip table takes as a template argument.
+  o += fmt::format("inline constexpr RigDeviceConfig kRigDevices[{}] = {{\n", rig.devices.empty() ? 1 : rig.devices.size());
   if (rig.devices.empty()) o += "    {},  // none\n";
   for (const RigDevice& d : rig.devices) o += device_row(d);
   o += "};\nstatic_assert(kRigDeviceCount <= kRigMaxDevices, \"more devices than a rig file may name\");\n";

@@ -20,8 +20,22 @@ const std::vector<std::string>& image_boards();
 // builds (the Teensy sketch, `firmware header`).
 inline const char* const kPortableBoard = "portable";
 
+// Which images a header is for. A board image reads the rig's chips over
+// the board's buses, so it is built only for the rig file's board (or for
+// any board when the rig names no chip); a HIL image reads no chip (the
+// simulated plant gives every sensor channel), so any board runs it.
+// Runnable asks for what the board can run: both images on the rig's own
+// board or for a chipless rig, the HIL image alone on another board (the
+// shipped build, which makes every rig's images for every board).
+enum class ImageKinds { Both, Board, Hil, Runnable };
+// "both", "board", "hil", "runnable"; parse_image_kinds throws CliError
+// naming `option` for another word.
+const char* image_kinds_name(ImageKinds k);
+ImageKinds parse_image_kinds(const std::string& word, const std::string& option);
+
 struct ImageRequest {
   std::string board;                // one of image_boards()
+  ImageKinds images = ImageKinds::Both;
   std::string model_file;           // embedded and its layer table is the shape; empty: none embedded
   std::vector<RigLayer> layers;     // with no model_file: the shape (default: the rig's [model] layers)
 };
@@ -29,12 +43,14 @@ struct ImageRequest {
 struct ImageSource {
   std::string header;  // nlsoft_rig.hpp
   std::string cmake;   // image.cmake
-  bool hil = false;    // the rig has a plant, so a HIL image is built too
+  bool board = false;  // the header is for the board image (image.cmake's NLSOFT_IMAGE_BOARD)
+  bool hil = false;    // ... and for the HIL image: asked for, and the rig has a plant
   std::string note;    // what the image leaves out of the file that the user should hear (one sentence), or empty
 };
 
-// Throws RigError ("file:line: ...") for what the board cannot take, and
-// CliError for a model that does not fit the rig.
+// Throws RigError ("file:line: ...") for what the board cannot take (a
+// board image of chips on another board's buses, a HIL image of a rig
+// without a plant), and CliError for a model that does not fit the rig.
 ImageSource image_source(const Rig& rig, const ImageRequest& request);
 
 // The parts, each a piece of the header. The plant part is the one place

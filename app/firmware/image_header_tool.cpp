@@ -4,7 +4,7 @@
 // of the first image build.
 //
 //   nlsoft-image-header --rig rigs/tendon.toml --board stm32f4 --out DIR [--model F | --no-model]
-//                       [--shape dense:10,dense:5,dense:3]
+//                       [--shape dense:10,dense:5,dense:3] [--images both|board|hil|runnable]
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -17,7 +17,7 @@
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
   CLI::App app{"Writes an image's nlsoft_rig.hpp and image.cmake from a rig file"};
-  std::string rig_file, board, out, model, shape;
+  std::string rig_file, board, out, model, shape, images = "both";
   bool no_model = false;
   app.add_option("--rig", rig_file, "the rig file")->required();
   app.add_option("--board", board, "mps2-an386 or stm32f4")->required();
@@ -25,11 +25,16 @@ int main(int argc, char** argv) {
   app.add_option("--model", model, "the model file the image embeds; its layer table is the shape");
   app.add_flag("--no-model", no_model, "embed no model (the shape from --shape or the rig's [model] layers)");
   app.add_option("--shape", shape, "layers as kind:units,... (dense or gru), instead of the rig's");
+  app.add_option("--images", images,
+                 "which images the header is for: both, board, hil, or runnable (what the board can run: both on "
+                 "the rig's board or for a rig without chips, the HIL image alone on another board)")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   try {
     const Rig rig = load_rig(rig_file);
     ImageRequest request;
     request.board = board;
+    request.images = parse_image_kinds(images, "--images");
     if (!no_model) request.model_file = model;
     std::stringstream layers(shape);
     for (std::string item; std::getline(layers, item, ',');) {
@@ -42,7 +47,10 @@ int main(int argc, char** argv) {
         throw CliError("--shape " + shape + ": kind dense or gru, units > 0");
       request.layers.push_back(l);
     }
-    write_image_source(image_source(rig, request), out);
+    const ImageSource source = image_source(rig, request);
+    // Into the build log: a board that gets fewer images than the others is said.
+    if (!source.board && !source.note.empty()) std::printf("nlsoft-image-header: %s\n", source.note.c_str());
+    write_image_source(source, out);
   } catch (const RigError& e) {
     std::fprintf(stderr, "nlsoft-image-header: %s\n", e.what());
     return 2;

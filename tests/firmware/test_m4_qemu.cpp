@@ -142,6 +142,52 @@ TEST_F(M4Image, Stm32f4RigImageBootsWithItsPwmAndAdcAndServesTheLink) {
   EXPECT_EQ(as<proto::Pong>(must(peer_->request(ping), "PING")).nonce, 0xF446u);
 }
 
+// hasel's board image reads six LIS3MDL on SPI2; netduinoplus2 has the SPI
+// controller but no chip on it, so each reads back undriven: the image
+// reports every chip absent (DEVICE_STATUS, at its chip select) and every
+// magnetometer channel invalid (SENSOR_HEALTH after each sample), and serves
+// the link and runs the controller all the same: a missing chip is reported,
+// not fatal.
+TEST_F(M4Image, Stm32f4HaselImageReportsItsSixAbsentChipsAndRunsInNetduinoplus2) {
+  boot(NLSOFT_STM32F4_IMAGE_DIR "/nlsoft-stm32f4-hasel.elf", "stm32f4");
+  if (IsSkipped() || HasFatalFailure()) return;
+  const proto::Info info = handshake();
+  EXPECT_EQ(info.platform, uint8_t(PlatformId::Hasel));
+  EXPECT_STREQ(info.firmware, NLSOFT_STM32F4_FIRMWARE);
+  ASSERT_TRUE(info.capabilities & proto::capability::kDevices);
+  for (uint8_t d = 0; d < 6; ++d) {
+    SCOPED_TRACE(int(d));
+    proto::DeviceGet g;
+    g.index = d;
+    const auto s = as<proto::DeviceStatus>(must(peer_->request(g), "DEVICE_GET"));
+    EXPECT_EQ(s.count, 6);
+    EXPECT_EQ(s.state, uint8_t(proto::DeviceState::Absent));
+    EXPECT_EQ(s.address, d);  // chip select d of the board's list (PB12 PA8 PA9 PA10 PB4 PB5)
+    EXPECT_EQ(s.age_ms, proto::kNoSample);
+    EXPECT_GE(s.faults, 1u);
+    EXPECT_EQ(std::string(s.name), "mag" + std::to_string(d + 1));
+  }
+  proto::DeviceGet past;
+  past.index = 6;
+  EXPECT_EQ(must(peer_->request(past), "DEVICE_GET 6").header.type, uint8_t(proto::MsgType::Nack));
+
+  ASSERT_NE(info.model_hash, 0u) << "the image has no model: app/models/hasel.nlsm was missing at build time";
+  proto::TelemetryConfig tc;
+  tc.mask = tf::kStep | tf::kU;
+  tc.decimation = 1;
+  ASSERT_EQ(must(peer_->request(tc), "TELEMETRY_CONFIG").header.type, uint8_t(proto::MsgType::Ack));
+  proto::RunStart start;
+  start.run_id = 7;
+  ASSERT_EQ(must(peer_->request(start), "RUN_START").header.type, uint8_t(proto::MsgType::Ack));
+  for (int i = 0; i < 10; ++i) {
+    auto r = peer_->wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::SensorHealth); },
+                             3000);
+    ASSERT_TRUE(r.has_value()) << "no SENSOR_HEALTH after " << i;
+    EXPECT_EQ(as<proto::SensorHealth>(*r).invalid, (1u << 18) - 1u) << "every magnetometer channel invalid";
+  }
+  ASSERT_EQ(must(peer_->request(proto::RunStop{}), "RUN_STOP").header.type, uint8_t(proto::MsgType::Ack));
+}
+
 TEST_F(M4Image, RealBoardImageServesTheLinkWithoutAPlant) {
   boot(NLSOFT_M4_IMAGE_DIR "/nlsoft-m4-tendon.elf");
   if (IsSkipped() || HasFatalFailure()) return;

@@ -9,10 +9,13 @@
 # (`nlsoft-console firmware build --rig FILE`, or the host build for the
 # shipped rigs, firmware/CMakeLists.txt). image.cmake names the rig
 # (NLSOFT_IMAGE_RIG), the model file embedded (NLSOFT_IMAGE_MODEL, or none:
-# the image waits for an upload) and whether the rig has a simulated plant
-# (NLSOFT_IMAGE_HIL). Per rig: <PREFIX>-<rig>.elf with the port's rig HAL
-# (rig_hal.hpp in the port folder) and, with a plant, <PREFIX>-<rig>-hil.elf
-# with the plant in the loop; each checked for a linked heap; BIN also
+# the image waits for an upload), and which images the header is for: the
+# board image (NLSOFT_IMAGE_BOARD: 0 when the rig's chips are on another
+# board's buses) and the HIL one (NLSOFT_IMAGE_HIL: the rig has a simulated
+# plant), with NLSOFT_IMAGE_NOTE saying why a board gets fewer. Per rig:
+# <PREFIX>-<rig>.elf with the port's rig HAL (rig_hal.hpp in the port
+# folder) and, with a plant, <PREFIX>-<rig>-hil.elf with the plant in the
+# loop; each checked for a linked heap; BIN also
 # writes <image>.bin, the raw flash contents a programmer writes.
 # NLSOFT_IMAGE_KINDS (board, hil or both) narrows what is built.
 set(NLSOFT_CORTEX_M_DIR ${CMAKE_CURRENT_LIST_DIR})
@@ -136,12 +139,28 @@ function(nlsoft_cortex_m_images)
       continue()
     endif()
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${rig_dir}/image.cmake)
+    # The images the header is for (NLSOFT_IMAGE_BOARD, NLSOFT_IMAGE_HIL), as
+    # many of them as NLSOFT_IMAGE_KINDS asks; none left is an error.
+    unset(NLSOFT_IMAGE_BOARD)
+    set(NLSOFT_IMAGE_NOTE "")
     include(${rig_dir}/image.cmake)
-    set(kinds 1 0)
-    if(NOT NLSOFT_IMAGE_HIL OR NLSOFT_IMAGE_KINDS STREQUAL "board")
-      set(kinds 0)
-    elseif(NLSOFT_IMAGE_KINDS STREQUAL "hil")
-      set(kinds 1)
+    if(NOT DEFINED NLSOFT_IMAGE_BOARD)
+      message(FATAL_ERROR "${rig_dir}/image.cmake does not say whether the header is for the board image "
+                          "(NLSOFT_IMAGE_BOARD): an older generator wrote it; generate it again")
+    endif()
+    set(kinds "")
+    if(NLSOFT_IMAGE_HIL AND NOT NLSOFT_IMAGE_KINDS STREQUAL "board")
+      list(APPEND kinds 1)
+    endif()
+    if(NLSOFT_IMAGE_BOARD AND NOT NLSOFT_IMAGE_KINDS STREQUAL "hil")
+      list(APPEND kinds 0)
+    endif()
+    if(kinds STREQUAL "")
+      message(FATAL_ERROR "${rig_dir}/image.cmake: the header is for no ${NLSOFT_IMAGE_KINDS} image "
+                          "(NLSOFT_IMAGE_BOARD ${NLSOFT_IMAGE_BOARD}, NLSOFT_IMAGE_HIL ${NLSOFT_IMAGE_HIL})")
+    endif()
+    if(NLSOFT_IMAGE_NOTE)
+      message(STATUS "${NLSOFT_IMAGE_NOTE}")
     endif()
     foreach(hil ${kinds})
       nlsoft_cortex_m_image(${A_PREFIX} ${A_NAME} ${NLSOFT_IMAGE_RIG} "${NLSOFT_IMAGE_MODEL}" ${rig_dir} ${hil}

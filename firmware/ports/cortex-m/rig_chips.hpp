@@ -15,23 +15,39 @@
 
 namespace nlsoft::fw::cortex_m {
 
-// Count: the image's kRigDeviceCount; W: its sensor channels.
-template <int Count, int W>
+// Count: the image's kRigDeviceCount; W: its sensor channels; Devices: its
+// device table (kRigDevices), read at compile time so that the image links
+// the drivers of the chips it names and no other.
+template <int Count, int W, const RigDeviceConfig* Devices>
 class RigChips {
   static_assert(Count <= kRigMaxDevices, "more chips than a rig file may name");
   static_assert(W <= SensorSampler::kMaxChannels, "more sensor channels than SENSOR_HEALTH's mask holds");
 
+  static constexpr bool names(const chips::ChipSpec* chip) {
+    for (int d = 0; d < Count; ++d)
+      if (Devices[d].chip == chip) return true;
+    return false;
+  }
+  static constexpr bool every_chip_has_a_driver() {
+    for (int d = 0; d < Count; ++d) {
+      const chips::ChipSpec* c = Devices[d].chip;
+      if (c != &chips::kLis3mdl && c != &chips::kLsm303dlhcMag && c != &chips::kDps310 && c != &chips::kMax1111)
+        return false;
+    }
+    return true;
+  }
+  static_assert(every_chip_has_a_driver(), "a chip of the device table without a driver here");
+
  public:
-  // devices/sources: the image's tables. The port's masters by the table's
+  // sources: the image's table. The port's masters by the device table's
   // bus number: I2C buses first, then SPI (the board's order, board_pins).
-  RigChips(const RigDeviceConfig* devices, const RigSensorSource* sources)
-      : devices_(devices), sampler_(chips_, devices, samples_, Count, sources, W) {}
+  explicit RigChips(const RigSensorSource* sources) : sampler_(chips_, Devices, samples_, Count, sources, W) {}
 
   // Builds each driver over its bus; nullptr for a bus the port lacks
   // leaves the chip absent (its begin() is never reached: kBadConfig).
   void start(drivers::I2cBus* const* i2c, int i2c_count, drivers::SpiBus* const* spi, int spi_count) {
     for (int d = 0; d < Count; ++d) {
-      const RigDeviceConfig& c = devices_[d];
+      const RigDeviceConfig& c = Devices[d];
       drivers::BusAttachment at;
       if (c.kind == BusKind::I2c) {
         at.i2c = c.bus < i2c_count ? i2c[c.bus] : nullptr;
@@ -57,17 +73,21 @@ class RigChips {
     drivers::Max1111 max1111;
   };
 
-  // The catalog's rows are the only chips a table names (the generated
-  // header checks each row's name), so one of these four always matches.
+  // Every row's chip has a driver (every_chip_has_a_driver), so one of the
+  // branches the table names always returns.
   static drivers::Chip* place(Slot& s, const RigDeviceConfig& c, const drivers::BusAttachment& at) {
-    if (c.chip == &chips::kLis3mdl) return new (&s.lis3mdl) drivers::Lis3mdl({at, c.range, c.rate});
-    if (c.chip == &chips::kLsm303dlhcMag)
-      return new (&s.lsm303dlhc_mag) drivers::Lsm303dlhcMag({at.i2c, at.address, c.range, c.rate});
-    if (c.chip == &chips::kDps310) return new (&s.dps310) drivers::Dps310({at, c.rate});
-    return new (&s.max1111) drivers::Max1111({at.spi, at.target});
+    if constexpr (names(&chips::kLis3mdl))
+      if (c.chip == &chips::kLis3mdl) return new (&s.lis3mdl) drivers::Lis3mdl({at, c.range, c.rate});
+    if constexpr (names(&chips::kLsm303dlhcMag))
+      if (c.chip == &chips::kLsm303dlhcMag)
+        return new (&s.lsm303dlhc_mag) drivers::Lsm303dlhcMag({at.i2c, at.address, c.range, c.rate});
+    if constexpr (names(&chips::kDps310))
+      if (c.chip == &chips::kDps310) return new (&s.dps310) drivers::Dps310({at, c.rate});
+    if constexpr (names(&chips::kMax1111))
+      if (c.chip == &chips::kMax1111) return new (&s.max1111) drivers::Max1111({at.spi, at.target});
+    return nullptr;
   }
 
-  const RigDeviceConfig* devices_;
   Slot slots_[Count];
   drivers::Chip* chips_[Count] = {};
   SensorSampler::Slot samples_[Count];
@@ -76,10 +96,10 @@ class RigChips {
 
 // A rig with no chip: nothing to build, and no driver, master or sampler
 // linked into its image.
-template <int W>
-class RigChips<0, W> {
+template <int W, const RigDeviceConfig* Devices>
+class RigChips<0, W, Devices> {
  public:
-  RigChips(const RigDeviceConfig*, const RigSensorSource*) {}
+  explicit RigChips(const RigSensorSource*) {}
   void start(drivers::I2cBus* const*, int, drivers::SpiBus* const*, int) {}
 };
 

@@ -81,7 +81,7 @@ class RigHal final : public Hal {
   struct NoBuses {};
   // Room for the masters in an image with chips only.
   [[no_unique_address]] std::conditional_t<(kRigDeviceCount > 0), Buses, NoBuses> buses_;
-  RigChips<kRigDeviceCount, W> chips_{kRigDevices, kRigSensorSources};
+  RigChips<kRigDeviceCount, W, kRigDevices> chips_{kRigSensorSources};
 };
 
 }  // namespace nlsoft::fw::cortex_m

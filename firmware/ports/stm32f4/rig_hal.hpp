@@ -168,6 +168,12 @@ class RigHal final : public Hal {
 
   // The masters of the buses the rig's chips use (I2C1 at the slowest clock
   // its chips take), then the drivers over them.
+  static constexpr bool uses_i2c() {
+    for (int d = 0; d < kRigDeviceCount; ++d)
+      if (kRigDevices[d].kind == BusKind::I2c) return true;
+    return false;
+  }
+
   template <class Buses>
   void start_chips(Buses& buses) {
     using namespace stm32f4;
@@ -176,17 +182,17 @@ class RigHal final : public Hal {
     drivers::I2cBus* i2c[kI2cCount] = {};
     drivers::SpiBus* spi[kSpiCount] = {};
     uint32_t i2c_hz = 400000u;
-    bool i2c_used = false, spi_used[kSpiCount] = {};
+    bool spi_used[kSpiCount] = {};
     for (int d = 0; d < kRigDeviceCount; ++d) {
       const RigDeviceConfig& c = kRigDevices[d];
       if (c.kind == BusKind::I2c) {
-        i2c_used = true;
         if (c.clock_hz < i2c_hz) i2c_hz = c.clock_hz;
       } else if (c.bus >= kI2cCount && c.bus < kI2cCount + kSpiCount) {
         spi_used[c.bus - kI2cCount] = true;
       }
     }
-    if (i2c_used) {
+    // At compile time: an image without an I2C chip links no I2C master.
+    if constexpr (uses_i2c()) {
       I2c1* bus = new (&buses.i2c.bus) I2c1(board_clocks(), i2c_hz);
       bus->start();
       i2c[0] = bus;
@@ -221,7 +227,7 @@ class RigHal final : public Hal {
   struct NoBuses {};
   // Room for the masters in an image with chips only.
   [[no_unique_address]] std::conditional_t<(kRigDeviceCount > 0), Buses, NoBuses> buses_;
-  RigChips<kRigDeviceCount, W> chips_{kRigDevices, kRigSensorSources};
+  RigChips<kRigDeviceCount, W, kRigDevices> chips_{kRigSensorSources};
 };
 
 }  // namespace nlsoft::fw::cortex_m

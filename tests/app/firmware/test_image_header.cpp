@@ -3,6 +3,7 @@
 // out as a header that says the rig's values, sizes the capacity from it,
 // wires the file's pins, and compiles into the real image's main.cpp with
 // arm-none-eabi-g++; rigs a board cannot take fail with file:line.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -372,6 +373,93 @@ TEST(ImageHeader, ListsEachDeviceAndWhereEachSensorIsRead) {
   EXPECT_TRUE(contains(source_of(kRig, "mps2-an386").header, "    {SensorFrom::None, 0, 0, 1.0f, 0.0f},  // s2: not wired\n"));
 }
 
+ImageSource images_of(const std::string& text, const std::string& board, ImageKinds kinds) {
+  ImageRequest q;
+  q.board = board;
+  q.images = kinds;
+  return image_source(parse_rig(text, "g.toml"), q);
+}
+
+// A board image reads the chips, so only the rig's board builds it; a HIL
+// image reads none, so any board does. Runnable asks each board for what it
+// can run and says when that is the HIL image alone.
+TEST(ImageHeader, EachBoardGetsTheImagesItCanRun) {
+  const std::string chips_plant = with_devices() + kGenericPlant;
+  const std::string elsewhere = "rig 'gripper' on mps2-an386: the HIL image only (its chips are on board stm32f4's buses)";
+  const struct {
+    const char* board;
+    ImageKinds kinds;
+    bool board_image;
+    std::string note, header_line;
+  } cases[] = {
+      {"stm32f4", ImageKinds::Runnable, true, "", "// For the board image and the HIL image.\n"},
+      {"mps2-an386", ImageKinds::Runnable, false, elsewhere,
+       "// For the HIL image only, in which the simulated plant gives every sensor channel (its chips are on board "
+       "stm32f4's buses).\n"},
+      // Asked for explicitly, the HIL image alone is what was asked: nothing to explain.
+      {"mps2-an386", ImageKinds::Hil, false, "",
+       "// For the HIL image only, in which the simulated plant gives every sensor channel.\n"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(std::string(c.board) + " " + image_kinds_name(c.kinds));
+    const ImageSource s = images_of(chips_plant, c.board, c.kinds);
+    EXPECT_EQ(s.board, c.board_image);
+    EXPECT_TRUE(s.hil);
+    EXPECT_EQ(s.note, c.note);
+    EXPECT_TRUE(contains(s.header, c.header_line)) << s.header;
+    EXPECT_TRUE(contains(s.cmake, fmt::format("set(NLSOFT_IMAGE_BOARD {})\nset(NLSOFT_IMAGE_HIL 1)\n", int(c.board_image))))
+        << s.cmake;
+    // The build log's line: the reason a board gets the HIL image only, else nothing.
+    EXPECT_EQ(cmake_bracket_value(s.cmake, "NLSOFT_IMAGE_NOTE"), c.board_image ? "" : c.note) << s.cmake;
+  }
+  // Without chips every board runs both.
+  for (const char* board : {"mps2-an386", "stm32f4"}) {
+    const ImageSource s = images_of(std::string(kRig) + kGenericPlant, board, ImageKinds::Runnable);
+    EXPECT_TRUE(s.board) << board;
+    EXPECT_TRUE(s.hil) << board;
+  }
+  // The board image alone: no HIL image even with a plant.
+  EXPECT_FALSE(images_of(chips_plant, "stm32f4", ImageKinds::Board).hil);
+  // Refused: the board image on another board, whether asked for alone or with the HIL one.
+  for (ImageKinds k : {ImageKinds::Both, ImageKinds::Board}) {
+    try {
+      images_of(chips_plant, "mps2-an386", k);
+      ADD_FAILURE() << image_kinds_name(k) << ": the board image of another board's chips";
+    } catch (const RigError& e) {
+      EXPECT_EQ(e.line, line_of(chips_plant, "[[device]]"));
+      EXPECT_TRUE(contains(e.what(), "build the image for stm32f4, not mps2-an386 (a HIL image, which reads no chip, "
+                                     "builds for any board)"))
+          << e.what();
+    }
+  }
+  // Refused: a HIL image without a plant; on another board then nothing is runnable, and it is said.
+  try {
+    images_of(with_devices(), "stm32f4", ImageKinds::Hil);
+    ADD_FAILURE() << "a HIL image without a plant";
+  } catch (const RigError& e) {
+    EXPECT_TRUE(contains(e.what(), "g.toml:1: [plant]: no [plant]: there is no HIL image to build")) << e.what();
+  }
+  try {
+    images_of(with_devices(), "mps2-an386", ImageKinds::Runnable);
+    ADD_FAILURE() << "a runnable image of chips elsewhere without a plant";
+  } catch (const RigError& e) {
+    EXPECT_TRUE(contains(e.what(), "board mps2-an386 can run no image of this rig (its chips are on board stm32f4's "
+                                   "buses, and a HIL image needs a simulated plant)"))
+        << e.what();
+  }
+}
+
+TEST(ImageHeader, ImageKindsAreFourWordsAndNoOther) {
+  for (ImageKinds k : {ImageKinds::Both, ImageKinds::Board, ImageKinds::Hil, ImageKinds::Runnable})
+    EXPECT_EQ(parse_image_kinds(image_kinds_name(k), "--images"), k);
+  try {
+    parse_image_kinds("all", "--images");
+    ADD_FAILURE() << "took 'all'";
+  } catch (const CliError& e) {
+    EXPECT_STREQ(e.what(), "--images all: one of both, board, hil, runnable");
+  }
+}
+
 TEST(ImageHeader, AHeaderWithoutABoardRefusesDevices) {
   const std::string t = with_devices();
   ImageRequest q;
@@ -474,10 +562,15 @@ TEST(ImageHeader, AGenericPlantsHilImageCompilesForCortexM4) {
   std::ifstream warnings(NLSOFT_SOURCE_DIR "/cmake/warning_flags.txt");
   for (std::string w; std::getline(warnings, w);)
     if (!w.empty() && w[0] == '-') flags += " " + w;
-  for (const std::string board : {"mps2-an386", "stm32f4"}) {
-    SCOPED_TRACE(board);
-    const std::string dir = tmp_dir() + "/generic-" + board;
-    write_image_source(source_of(std::string(kRig) + kGenericPlant, board), dir + "/gripper");
+  // With chips too: on mps2-an386 their header is for the HIL image only,
+  // whose device table names the other board's buses and is never built.
+  using Case = std::pair<const char*, bool>;
+  for (const auto& [board, chips] : {Case{"mps2-an386", false}, Case{"stm32f4", false}, Case{"mps2-an386", true}}) {
+    SCOPED_TRACE(std::string(board) + (chips ? " with chips" : ""));
+    const std::string dir = tmp_dir() + "/generic-" + board + (chips ? "-chips" : "");
+    write_image_source(images_of((chips ? with_devices() : std::string(kRig)) + kGenericPlant, board,
+                                 ImageKinds::Runnable),
+                       dir + "/gripper");
     std::ofstream(dir + "/check.cpp") << R"(#define NLSOFT_HIL 1
 #define NLSOFT_FIRMWARE_NAME "nlsoft-test"
 #define NLSOFT_HAVE_MODEL 0

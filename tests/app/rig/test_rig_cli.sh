@@ -29,8 +29,10 @@ field() {  # field FILE KEY: a top-level value of a JSON object
 [ "$("$console" rig list | cut -d' ' -f1 | tr '\n' ' ')" = "hasel msd tendon " ] ||
   { echo "FAIL: rig list: $("$console" rig list)"; fail=1; }
 "$console" rig check hasel >out.txt || { echo "FAIL: rig check hasel"; fail=1; }
-grep -qF "w = 18 sensors: 13 on ADC1, not wired: b5y, b5z, b6x, b6y, b6z" out.txt ||
+grep -qF "w = 18 sensors: 0 on ADC1, 18 from chips" out.txt ||
   { echo "FAIL: hasel summary: $(cat out.txt)"; fail=1; }
+grep -qE "^    device mag6 +lis3mdl on spi2 chip select PB5, 16 gauss, 155 Hz$" out.txt ||
+  { echo "FAIL: hasel's sixth magnetometer: $(cat out.txt)"; fail=1; }
 "$console" rig check --json "$src/rigs/tendon.toml" >tendon.json || { echo "FAIL: rig check --json"; fail=1; }
 [ "$(field tendon.json m) $(field tendon.json n) $(field tendon.json w)" = "2 3 11" ] ||
   { echo "FAIL: tendon dims: $(cat tendon.json)"; fail=1; }
@@ -89,6 +91,16 @@ out=$(PATH="$work/nobin" "$console" firmware build --rig hasel --board stm32f4 -
 rc=$?
 if [ $rc -ne 2 ] || ! grep -qF "not found: arm-none-eabi-g++, arm-none-eabi-size. Install it: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi cmake" <<<"$out" || [ -e fw ]; then
   echo "FAIL: firmware build without a toolchain gave rc=$rc: $out"
+  fail=1
+fi
+
+# hasel's chips are on stm32f4's SPI2: its board image for mps2-an386 is
+# refused at the first [[device]], before anything is built.
+line=$(grep -n '^\[\[device\]\]' "$src/rigs/hasel.toml" | head -1 | cut -d: -f1)
+out=$("$console" firmware build --rig hasel --board mps2-an386 --out fw-an386 2>&1)
+rc=$?
+if [ $rc -ne 2 ] || ! grep -qF "hasel.toml:$line: [[device]] #1: device 'mag1' is on bus spi2 of board stm32f4: build the image for stm32f4, not mps2-an386 (a HIL image, which reads no chip, builds for any board)" <<<"$out" || [ -e fw-an386 ]; then
+  echo "FAIL: firmware build of hasel's board image for mps2-an386 gave rc=$rc: $out"
   fail=1
 fi
 

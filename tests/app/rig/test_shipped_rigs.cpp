@@ -16,6 +16,7 @@
 #include "app/rig/rig_pipeline.hpp"
 #include "host/rig/rig_reference.hpp"
 #include "shared/board_stm32f4.hpp"
+#include "shared/chips/lis3mdl.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::console {
@@ -93,8 +94,10 @@ TEST_P(ShippedRig, LimitsNeutralAndOutputBoxAreThePlants) {
   EXPECT_EQ(float(1.0 / rig.rate_hz), plant.dt());
 }
 
-// Actuator i drives PWM row i, sensor i reads analogue row i; sensors beyond
-// the table say so (source = "none") instead of reading a silent 0.
+// Actuator i drives PWM row i; a rig without chips reads sensor i on
+// analogue row i, and sensors beyond the table say so (source = "none")
+// instead of reading a silent 0; a rig with chips reads every sensor on them
+// (hasel's, ShippedRigs.HaselReadsSixLis3mdlOnSpi2).
 TEST_P(ShippedRig, PinsAreTheStm32f4Table) {
   namespace pins = fw::stm32f4;
   const BoardPins* board = find_board("stm32f4");
@@ -103,7 +106,9 @@ TEST_P(ShippedRig, PinsAreTheStm32f4Table) {
   for (int i = 0; i < rig.m(); ++i) EXPECT_EQ(rig.inputs[size_t(i)].pwm, board->pwm[size_t(i)]) << i;
   for (int i = 0; i < rig.w(); ++i) {
     const RigSensor& s = rig.sensors[size_t(i)];
-    if (i < pins::kAnalogueCount) {
+    if (!rig.devices.empty()) {
+      EXPECT_EQ(s.source, SensorSource::Device) << i;
+    } else if (i < pins::kAnalogueCount) {
       EXPECT_EQ(s.source, SensorSource::Adc) << i;
       EXPECT_EQ(s.adc, pins::kAnalogue[i].adc_channel) << i;
       EXPECT_EQ(float(s.gain), pins::kAnalogue[i].gain) << i;
@@ -135,14 +140,45 @@ TEST_P(ShippedRig, TheModelFileHasTheLayers) {
 INSTANTIATE_TEST_SUITE_P(Rigs, ShippedRig, ::testing::Values("msd", "hasel", "tendon"),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
-// hasel declares 18 sensors, the board brings out 13 analogue inputs: the
-// other five are there, explicitly unwired, and a 14th analogue sensor
-// cannot be declared (every channel is taken).
-TEST(ShippedRigs, HaselsUnwiredSensorsAreExplicit) {
+// hasel as the paper built it: six LIS3MDL on SPI2, one chip select each
+// from the board's list, at +-16 gauss, read at the slowest rate above the
+// loop's; sensor 3j + a is chip j's axis a, in gauss (0.01 gauss per uT),
+// the scale of the simulated plant's channels (B_z of the own magnet 2 at rest).
+TEST(ShippedRigs, HaselReadsSixLis3mdlOnSpi2) {
   const Rig rig = shipped("hasel");
-  int none = 0;
-  for (const RigSensor& s : rig.sensors) none += s.source == SensorSource::None;
-  EXPECT_EQ(none, 18 - fw::stm32f4::kAnalogueCount);
+  const BoardPins* board = find_board(rig.board);
+  ASSERT_NE(board, nullptr);
+  ASSERT_EQ(rig.devices.size(), 6u);
+  double slowest_above_loop = 0;
+  for (const chips::Setting& r : chips::lis3mdl::kRates)
+    if (double(r.value) > rig.rate_hz && slowest_above_loop == 0) slowest_above_loop = double(r.value);
+  for (size_t j = 0; j < rig.devices.size(); ++j) {
+    SCOPED_TRACE(j);
+    const RigDevice& d = rig.devices[j];
+    EXPECT_EQ(d.chip, &chips::kLis3mdl);
+    EXPECT_EQ(d.bus, "spi2");
+    EXPECT_EQ(d.kind, BusKind::Spi);
+    EXPECT_EQ(d.cs, board->chip_selects[j]);
+    EXPECT_EQ(d.range, 16.0);
+    EXPECT_EQ(d.range_bits, 0x60);  // CTRL_REG2 FS = +-16 gauss
+    EXPECT_EQ(d.rate_hz, slowest_above_loop);
+    EXPECT_EQ(d.clock_hz, 1000000u);  // the paper's
+  }
+  const BoardBus& spi2 = board->buses[size_t(rig.devices[0].bus_index)];
+  EXPECT_EQ(spi2.pins, (std::vector<std::string>{"PB13", "PB14", "PB15"}));
+  ASSERT_EQ(rig.sensors.size(), 18u);
+  const char axes[] = "xyz";
+  for (size_t i = 0; i < rig.sensors.size(); ++i) {
+    SCOPED_TRACE(i);
+    const RigSensor& s = rig.sensors[i];
+    EXPECT_EQ(s.name, "b" + std::to_string(i / 3 + 1) + axes[i % 3]);
+    EXPECT_EQ(s.source, SensorSource::Device);
+    EXPECT_EQ(s.device, int(i / 3));
+    EXPECT_EQ(s.channel, int(i % 3));
+    EXPECT_EQ(s.unit, "gauss");
+    EXPECT_EQ(s.gain, 0.01);
+    EXPECT_EQ(s.offset, 0.0);
+  }
 }
 
 }  // namespace
