@@ -118,7 +118,9 @@ function(nlsoft_cortex_m_images)
   target_include_directories(m4_flags INTERFACE ${NLSOFT_ROOT})
   target_compile_definitions(m4_flags INTERFACE ${A_DEFINITIONS})
   # newlib objects lack .note.GNU-stack; an execstack note means nothing on an MPU-less image.
-  target_link_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -flto -nostartfiles --specs=nano.specs -Wl,--gc-sections
+  # -flto=auto at the link: a larger image's LTO parts are compiled by the
+  # build's jobs (plain -flto compiles them one by one and warns that it does).
+  target_link_options(m4_flags INTERFACE ${cpu} ${NLSOFT_M4_OPT} -flto=auto -nostartfiles --specs=nano.specs -Wl,--gc-sections
     -Wl,--no-warn-execstack -L${NLSOFT_CORTEX_M_DIR} -L${CMAKE_CURRENT_BINARY_DIR} -T${A_LINKER_SCRIPT})
 
   # Reset, SysTick and the board's drivers: the same for every image. Objects,
