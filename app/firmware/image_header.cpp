@@ -314,8 +314,9 @@ const char* image_kinds_name(ImageKinds k) {
     case ImageKinds::Board: return "board";
     case ImageKinds::Hil: return "hil";
     case ImageKinds::Runnable: return "runnable";
-    default: return "both";
+    case ImageKinds::Both: break;
   }
+  return "both";
 }
 
 ImageKinds parse_image_kinds(const std::string& word, const std::string& option) {
