@@ -466,7 +466,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
       "and layers come from the rig file; defaults for the shipped\n"
       "rigs are the shipped models (app/models/README.md): msd linear residual, hasel Dense 5 relu,\n"
       "5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh; another rig: its [model] layers, else\n"
-      "Dense 16 tanh, n tanh, residual when its controller feeds back measured outputs.\n"
+      "three candidates, Dense 16 relu or Dense 32 relu to n tanh, or one linear layer, residual\n"
+      "when its controller feeds back measured outputs.\n"
       "Example: nlsoft-console train --rig msd --run 12 --run 13 --out msd-rig.nlsm\n"
       "         nlsoft-console train --rig hasel --data hasel.csv --out hasel.nlsm\n"
       "Any rig file: nlsoft-console train --rig lab/arm.toml --data arm.csv --out arm.nlsm");

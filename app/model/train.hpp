@@ -140,7 +140,8 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
 void check_dimensions(const Series& s, const PlantTarget& target);
 
 // A rig's: its [model] layers and history length over the defaults of its
-// plant (a named plant's shipped model, else Dense 16 tanh -> n tanh).
+// plant (a named plant's shipped model, else Dense 16 relu -> n tanh, with
+// Dense 32 relu -> n tanh and one linear layer as other candidates).
 TrainOptions default_options(const PlantTarget& target, Objective objective = Objective::Simulation);
 
 }  // namespace nlsoft::pipeline
