@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "app/model/model_fit.hpp"
 #include "app/model/recorded_run.hpp"
@@ -147,6 +149,12 @@ TEST(SimulationObjective, TrainsDefaultsBeatArxOnTheCascadedTanks) {
   const TrainResult r = train(train_s, t, default_options(t));
   const auto [net, arx] = free_run_rmse(r, test_s, t);
   EXPECT_LT(net, 0.8 * arx) << "network " << net << " V, ARX " << arx << " V";
+  // The candidates train says it tried, two seeds of each network.
+  std::vector<std::string> tried;
+  for (const Candidate& c : r.candidates) tried.push_back(describe_layers(c.layers));
+  EXPECT_EQ(tried, (std::vector<std::string>{"Dense 16 relu, Dense 1 tanh", "Dense 16 relu, Dense 1 tanh",
+                                              "Dense 32 relu, Dense 1 tanh", "Dense 32 relu, Dense 1 tanh",
+                                              "Dense 1 linear"}));
 }
 
 // Ctrl-C (the stop flag) ends training with a model, not an error.
