@@ -496,7 +496,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
                  "steps a simulation window runs on the model's own predictions (default: the larger of 64\n"
                  "and the rig's N)")
       ->type_name("H");
-  tr->add_option("--seeds", train_args->seeds, "seeds tried per size, the best kept (default 2; one-step: 1)")->type_name("K");
+  tr->add_option("--seeds", train_args->seeds, "seeds tried per size, the best kept (default: 4 for a rig with [model] layers, 2 for one\n"
+                 "without, whose two widths make four networks too; one-step: 1)")->type_name("K");
   tr->add_option("--sim-epochs", train_args->sim_epochs, "Adam epochs on the simulation objective before L-BFGS (default 0)")
       ->type_name("E");
   tr->add_option("--lbfgs", train_args->lbfgs, "L-BFGS evaluations at most (default: 15 million simulated steps in all,\n"
