@@ -293,7 +293,15 @@ void Recorder::lose_unwritten(int64_t run, uint64_t samples) {
 void Recorder::close_after_failure(const SyncItem& end) {
   // The log's pages copied into the database, so the close is written at
   // the start of the log, over pages already copied, needing no new room.
-  sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_RESTART, nullptr, nullptr);
+  // The background checkpointer may hold the checkpoint lock at this
+  // moment (SQLITE_BUSY at once: measured in 3 of 30 runs of a disk-full
+  // run on a loaded machine, the close then failing for want of room):
+  // wait for it, up to 2 s.
+  for (int tries = 0; tries < 400; ++tries) {
+    const int rc = sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_RESTART, nullptr, nullptr);
+    if ((rc & 0xFF) != SQLITE_BUSY && (rc & 0xFF) != SQLITE_LOCKED) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
   try {
     db_->exec("BEGIN");
     write_end(end, utc_now());

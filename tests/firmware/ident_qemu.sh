@@ -70,10 +70,14 @@ EOF
   # Both runs of the board, one fit, and nothing else: the model the
   # controller then runs on the image.
   # The image runs the shape it was built with (the build part's model,
-  # Dense 16 tanh): train that shape, not train's candidates (a linear
-  # layer may simulate these runs better and is then refused at upload).
+  # whichever candidate train kept there): train that shape, not train's
+  # candidates (another may simulate these runs better and is then refused
+  # at upload).
+  read -r units activation < <("$console" model info ../trained.nlsm |
+    awk '$1 == "0" && $2 == "Dense" { print $5, $6; exit }')
+  [ -n "${activation:-}" ] || { say "$board: no first layer in model info ../trained.nlsm"; continue; }
   # shellcheck disable=SC2086
-  "$console" train --rig my.toml $ids --db $db --out $board.nlsm --epochs 60 --hidden 16 --activation tanh \
+  "$console" train --rig my.toml $ids --db $db --out $board.nlsm --epochs 60 --hidden "$units" --activation "$activation" \
     >train.txt 2>&1 ||
     { say "$board: train$ids: $(cat train.txt)"; continue; }
   [ -s $board.nlsm ] || { say "$board: train --run wrote no model: $(cat train.txt)"; continue; }
