@@ -29,7 +29,7 @@ TEST(Cli, DatasetTrainInfoEval) {
   auto r = run_cli("dataset --rig tendon --out " + csv + " --steps 3000 --seed 4");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(slurp(csv).substr(0, 16), "time,u0,u1,y0,y1");
-  r = run_cli("train --rig tendon --data " + csv + " --out " + model + " --epochs 2 --seed 3");
+  r = run_cli("train --rig tendon --data " + csv + " --out " + model + " --epochs 2 --seed 3 --seeds 1 --lbfgs 50");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("test y2: MSE"), std::string::npos) << r.output;
 
