@@ -76,6 +76,6 @@ r = 400.0
 N = 3
 Nc = 1
 eps = 0.01
-)";;
+)";
 
 }  // namespace nlsoft::test
