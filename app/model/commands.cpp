@@ -18,6 +18,7 @@
 #include "app/model/csv.hpp"
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
+#include "app/model/input_levels.hpp"
 #include "app/model/keras_import.hpp"
 #include "app/model/model_fit.hpp"
 #include "app/model/model_size_words.hpp"
@@ -262,6 +263,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     std::printf("  %s: %ld samples, %zu gap%s, %s; first%s; last%s\n", s.name.c_str(), s.rows(), s.breaks.size(),
                 s.breaks.size() == 1 ? "" : "s", span.c_str(), first_row.c_str(), last_row.c_str());
   }
+  for (const std::string& note : input_level_notes(runs)) std::printf("%s\n", note.c_str());
   TrainProgress bar(stderr);
   o.progress = [&bar](const Progress& p) { bar(p); };
   // Ctrl-C ends the training with the best model so far, which is written

@@ -3,7 +3,8 @@
 // hold has no nrmse (said, not "nan"); an identification run tracks
 // nothing (no tracking figure, not a 0) and a --sim-fast one kept no clock
 // (its loop rate is not a share of the set one); `train` gives a run's
-// length in control steps, not the --sim-fast firmware's clock.
+// length in control steps, not the --sim-fast firmware's clock, and notes
+// inputs that took two levels only.
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
@@ -89,6 +90,8 @@ TEST_F(RunWords, AnIdentificationRunShowsNoTrackingFiguresAndTrainGivesItsLength
               shell_quote(dir_.file("h.nlsm")));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "  run 1: 2600 samples, 0 gaps, 20 s at 130 Hz;")) << r.output;
+  // prbs drives every input between two levels, and train says what that costs.
+  EXPECT_TRUE(contains(r.output, "note: u0, u1, u2, u3, u4 and u5 took two levels only")) << r.output;
 }
 
 }  // namespace
