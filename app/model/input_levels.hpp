@@ -3,7 +3,7 @@
 // the plant only where the runs took it: an input held at one value tells
 // it nothing about that input, and a binary signal (prbs) shows it two
 // levels, so the model never sees the inside of the input's range, where
-// a controller tracking a path holds it. Measured on the simulated hasel
+// a controller tracking a path holds it. Measured on a shipped simulated
 // rig (app/CONSOLE.md, "Which signal to train from"): ten minutes of prbs
 // track the Swirl at 31 % nRMSE, the same minutes of aprbs at 7 %.
 #include <string>
