@@ -52,13 +52,14 @@ std::vector<std::string> input_level_notes(const std::vector<Series>& runs) {
   if (!held.empty())
     notes.push_back(fmt::format("note: {} held one value through every run: the model cannot learn what {} does",
                                 input_list(held), held.size() == 1 ? "it" : "each"));
-  if (!binary.empty())
+  if (!binary.empty()) {
+    const char* them = binary.size() == 1 ? "it" : "them";
     notes.push_back(fmt::format(
-        "note: {} took two levels only (a binary signal, such as ident's prbs): the model never sees the inside of {} "
-        "range, where a controller following a path holds {}; an aprbs run (ident's default) shows {} every level "
-        "(app/CONSOLE.md, \"Which signal to train from\")",
-        input_list(binary), binary.size() == 1 ? "its" : "their", binary.size() == 1 ? "it" : "them",
-        binary.size() == 1 ? "it" : "them"));
+        "note: {0} took two levels only (a binary signal, such as ident's prbs): the model never sees the inside of "
+        "{1} range, where a controller following a path holds {2}; an aprbs run (ident's default) shows {2} every "
+        "level (app/CONSOLE.md, \"Which signal to train from\")",
+        input_list(binary), binary.size() == 1 ? "its" : "their", them));
+  }
   return notes;
 }
 
