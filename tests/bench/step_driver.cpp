@@ -17,6 +17,7 @@
 #include "shared/reference.hpp"
 #include "shared/sim_plant.hpp"
 #include "app/metrics/tracking_metrics.hpp"
+#include "app/model/model_section.hpp"
 #include "host/rig/rig_reference.hpp"
 #include "support/rig_capacities.hpp"
 #include "support/shipped_rigs.hpp"
@@ -38,7 +39,9 @@ int run(const console::Rig& rig, DerivMode mode, int steps, const char* model) {
   const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   static float storage[Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n];
   static Model<Cap> M;
-  const Status parsed = parse_model(file.data(), file.size(), M, storage, sizeof storage / sizeof(float));
+  // A trained model carries its fit after it, a section the firmware never reads.
+  const Status parsed =
+      parse_model(file.data(), pipeline::split_model_file(file).model_size, M, storage, sizeof storage / sizeof(float));
   if (parsed == Status::TooLarge) return kOtherShape;  // the other hasel capacity may hold it
   if (parsed != Status::Ok) {
     std::fprintf(stderr, "cannot load %s\n", path.c_str());
