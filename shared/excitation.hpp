@@ -49,6 +49,9 @@ namespace nlsoft {
 
 enum class ExcitationSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3, Aprbs = 4 };
 constexpr uint8_t kExcitationSignalCount = 5;
+// The signals' names as commands and rig files ([ident.steps]) write them,
+// indexed by ExcitationSignal.
+constexpr const char* kExcitationSignalNames[kExcitationSignalCount] = {"steps", "prbs", "walk", "chirp", "aprbs"};
 
 struct ExcitationSpec {
   ExcitationSignal signal = ExcitationSignal::Prbs;

@@ -25,6 +25,11 @@ const Rig& BoardRig::rig() const {
   return *rig_;
 }
 
+const Rig* BoardRig::known() const {
+  if (rig_file_.empty() && rig_name_of_platform(device_.info().platform).empty()) return nullptr;
+  return &rig();
+}
+
 std::string BoardRig::mismatch() {
   if (!file_id_ || warned_) return "";
   const std::optional<protocol::RigInfo> rig = device_.rig();

@@ -26,6 +26,9 @@ class BoardRig {
   // stay valid). Throws CliError when the firmware runs a rig of its own
   // and no file was given.
   const Rig& rig() const;
+  // The same, or nullptr where rig() would refuse: a firmware that runs a
+  // rig of its own, no file given. A file that fails to load still throws.
+  const Rig* known() const;
   // After each handshake: the firmware's RIG_INFO against the file given,
   // in words, once per console; "" when they agree, or said already.
   std::string mismatch();

@@ -40,10 +40,11 @@ int run_ident_command(const IdentArgs& a) {
   IdentLine line;
   line.baud = lo.baud;
   line.unlimited = console.link_unlimited();
-  const IdentPlan plan = plan_ident(a.words, double(info.loop_rate_hz), info.m, info.n, info.w, line);
-  std::fprintf(stderr, "connected: %s %u.%u.%u (%s), %u Hz; recording to %s\n%s\n", info.firmware, info.fw_major,
+  const IdentPlan plan =
+      plan_ident(a.words, double(info.loop_rate_hz), info.m, info.n, info.w, line, console.known_rig());
+  std::fprintf(stderr, "connected: %s %u.%u.%u (%s), %u Hz; recording to %s\n%s\n%s\n", info.firmware, info.fw_major,
                info.fw_minor, info.fw_patch, console.device().rig_label().c_str(), info.loop_rate_hz, console.db_path().c_str(),
-               plan.line_words.c_str());
+               plan.excitation_words.c_str(), plan.line_words.c_str());
   const std::string label =
       a.label.empty() ? fmt::format("ident {} seed {} {}", a.words.signal, a.words.seed, a.words.duration) : a.label;
   RunSummary s;
@@ -66,10 +67,8 @@ int run_ident_command(const IdentArgs& a) {
     // The run is recorded whatever the capture holds; a capture that cannot
     // be merged leaves it as it is and says how to merge it later.
     std::vector<std::string> names;
-    try {
-      for (const RigOutput& o : console.rig().outputs) names.push_back(o.name);
-    } catch (const CliError&) {
-    }
+    if (const Rig* rig = console.known_rig())
+      for (const RigOutput& o : rig->outputs) names.push_back(o.name);
     try {
       const MergeReport m = merge_y(console.db_path(), s.run_id, a.y_from, a.y_offset, names);
       std::printf("%s\n", merge_words(s.run_id, a.y_from, m).c_str());
@@ -100,11 +99,12 @@ void add_ident_command(CLI::App& app) {
       ->required();
   c->add_option("--seed", a->words.seed, "Seed of the signal: the same seed drives the same inputs (default 1)");
   c->add_option("--amplitude", a->words.amplitude,
-                "Fraction of each input's range the signal spans, around its neutral value (default 0.8)");
+                "Fraction of each input's range the signal spans, around its neutral value (default: the rig file's "
+                "[ident], else 0.8)");
   c->add_option("--band", a->words.band,
                 "LO:HI in Hz: steps hold 1/HI to 1/LO s, PRBS and APRBS bits last 1/HI s with a period of at least "
                 "1/LO s, the walk crosses the range in about 1/LO s smoothed at HI, the chirp sweeps LO to HI "
-                "(default 0.05:2, HI at most a quarter of the loop rate)");
+                "(default: the rig file's [ident], else 0.05:2, HI at most a quarter of the loop rate)");
   CLI::Option* joint =
       c->add_flag("--joint", a->words.joint, "Every input the same signal (default: one independent stream per input)");
   c->add_flag("--mixed", a->words.mixed,
@@ -129,9 +129,10 @@ void add_ident_command(CLI::App& app) {
       "Exit 0 when the whole run was recorded, 1 when it ended early, 2 on an error.\n"
       "\n"
       "To train a model to track with, aprbs over the whole input range: each input sees every level of\n"
-      "its range, not two. On hasel, 10 simulated minutes with train's defaults track the Swirl at 7.1 %\n"
-      "nRMSE with aprbs and 6.0 % with --signal aprbs --amplitude 1 (means over five seeds), 31 % with\n"
-      "prbs (seed 3; app/CONSOLE.md).\n"
+      "its range, not two. A rig file's [ident] sets the band and amplitude the words leave out (ident\n"
+      "prints what it sends and where from). hasel's sets the whole range for aprbs, steps and walk:\n"
+      "10 simulated minutes with train's defaults then track the Swirl at 6.0, 5.7 and 6.1 % nRMSE\n"
+      "(means over five seeds; aprbs at 0.8 of the range: 7.2 %), prbs at 31 % (seed 3; app/CONSOLE.md).\n"
       "\n"
       "Example (10 simulated minutes of a rig file, well under a minute of wall time):\n"
       "  nlsoft-console ident --sim my-rig.toml --signal prbs --duration 10min --sim-fast\n"

@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "host/files/cli_error.hpp"
+#include "host/rig/rig.hpp"
+#include "shared/excitation.hpp"
 #include "app/script/script_parser.hpp"
 
 namespace nlsoft::console {
@@ -19,6 +21,9 @@ namespace {
 // The default band: slow enough for a soft actuator's lag to show, fast
 // enough to move it several times a minute.
 constexpr double kDefaultLoHz = 0.05, kDefaultHiHz = 2.0;
+// Room at both ends of each input's range: a rig whose limits are its
+// hardware's may not want them driven open loop for minutes.
+constexpr double kDefaultAmplitude = 0.8;
 
 int signal_index(const std::string& s) {
   for (size_t i = 0; i < kIdentSignals.size(); ++i)
@@ -42,7 +47,7 @@ bool parse_band(const std::string& text, double& lo, double& hi) {
 
 }  // namespace
 
-const std::vector<std::string> kIdentSignals = {"steps", "prbs", "walk", "chirp", "aprbs"};
+const std::vector<std::string> kIdentSignals(std::begin(kExcitationSignalNames), std::end(kExcitationSignalNames));
 
 std::string ident_signal_list() {
   std::string s;
@@ -60,10 +65,10 @@ double check_ident_words(const IdentWords& w) {
   if (w.mixed && w.signal == "prbs")
     throw CliError("ident: --mixed needs levels inside the range, and prbs has only +-1: its shared part at +-1 "
                    "leaves no room for each input's own (use aprbs)");
-  if (!(w.amplitude > 0 && w.amplitude <= 1))
+  if (w.amplitude && !(*w.amplitude > 0 && *w.amplitude <= 1))
     throw CliError(fmt::format("ident: --amplitude {:g} is outside (0, 1]: it is the fraction of each input's range "
                                "the signal spans",
-                               w.amplitude));
+                               *w.amplitude));
   if (!w.band.empty()) {
     double lo = 0, hi = 0;
     if (!parse_band(w.band, lo, hi))
@@ -141,11 +146,28 @@ uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud
   return uint16_t(std::clamp(d, 1.0, 65535.0));
 }
 
-IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line) {
+IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line,
+                     const Rig* rig) {
   IdentPlan plan;
   plan.seconds = check_ident_words(w);
-  double lo = kDefaultLoHz, hi = std::min(kDefaultHiHz, rate_hz / 4);
-  if (!w.band.empty()) parse_band(w.band, lo, hi);
+  // The words first, then the rig file's [ident.SIGNAL] and [ident], then ident's own.
+  const RigIdentChoice file = rig ? rig->ident.for_signal(ExcitationSignal(signal_index(w.signal))) : RigIdentChoice{};
+  const std::string in_file = rig ? " of " + rig->file : "";
+  double lo = kDefaultLoHz, hi = std::min(kDefaultHiHz, rate_hz / 4), amplitude = kDefaultAmplitude;
+  std::string band_from = "ident's default", amplitude_from = "ident's default";
+  if (!w.band.empty()) {
+    parse_band(w.band, lo, hi);
+    band_from = "--band";
+  } else if (file.band_hi > 0) {
+    lo = file.band_lo, hi = file.band_hi, band_from = file.band_from + in_file;
+  }
+  if (w.amplitude) {
+    amplitude = *w.amplitude, amplitude_from = "--amplitude";
+  } else if (file.amplitude > 0) {
+    amplitude = file.amplitude, amplitude_from = file.amplitude_from + in_file;
+  }
+  plan.excitation_words = fmt::format("excitation: {}, band {:g}:{:g} Hz ({}), amplitude {:g} ({}), seed {}", w.signal,
+                                      lo, hi, band_from, amplitude, amplitude_from, w.seed);
   if (hi > rate_hz / 2)
     throw CliError(fmt::format("ident: --band {:g}:{:g} reaches past half the loop rate ({:g} Hz at {:g} Hz): "
                                "nothing above {:g} Hz can be sampled",
@@ -184,7 +206,7 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
   s.options = uint8_t((w.joint ? p::ident_options::kJoint : 0) | (w.mixed ? p::ident_options::kMixed : 0));
   s.decimation = dec;
   s.seed = w.seed;
-  s.amplitude = float(w.amplitude);
+  s.amplitude = float(amplitude);
   s.band_lo = float(lo);
   s.band_hi = float(hi);
   s.duration = uint32_t(steps);
@@ -192,7 +214,7 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
   nlohmann::json j;
   j["signal"] = w.signal;
   j["seed"] = w.seed;
-  j["amplitude"] = w.amplitude;
+  j["amplitude"] = amplitude;
   j["band_hz"] = {lo, hi};
   j["joint"] = w.joint;
   j["mixed"] = w.mixed;

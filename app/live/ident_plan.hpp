@@ -5,6 +5,7 @@
 // decimation the line carries. Shared by the `ident` command and the
 // script's `ident` line, so both accept and refuse the same words.
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,15 +15,16 @@ namespace nlsoft::console {
 
 // The signals by IDENT_START's numbering (protocol::IdentSignal), and the
 // words that list them for an error or --help ("steps, prbs, ... or aprbs").
+// (shared/excitation.hpp's names).
 extern const std::vector<std::string> kIdentSignals;
 std::string ident_signal_list();
 
 struct IdentWords {
   std::string signal = "aprbs";  // one of kIdentSignals
   std::string duration;         // 10min, 60s, ...
-  std::string band;             // LO:HI in Hz; empty: the default
+  std::string band;             // LO:HI in Hz; empty: the rig file's [ident], else 0.05:2
   uint32_t seed = 1;
-  double amplitude = 0.8;
+  std::optional<double> amplitude;  // unset: the rig file's [ident], else 0.8
   bool joint = false;
   bool mixed = false;  // a shared deviation plus each input's own (IDENT_MIXED)
   int decimation = 0;  // 0: every step on a simulator, else what the baud rate carries
@@ -46,13 +48,18 @@ struct IdentLine {
 struct IdentPlan {
   protocol::IdentStart start;  // run_id filled in when the run starts
   std::string excitation_json;
-  std::string line_words;  // what the line carries, for the user
+  std::string excitation_words;  // the signal, its band and amplitude and where each came from, for the user
+  std::string line_words;        // what the line carries, for the user
   double seconds = 0;
 };
 
 // Against the firmware's rate (Hz) and m, n, w: throws CliError for a band
-// past half the rate or a duration under one step.
-IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line);
+// past half the rate or a duration under one step. The band and amplitude
+// the words leave out come from `rig`'s [ident] (nullptr: no rig file
+// known), else ident's own defaults; excitation_words says which.
+struct Rig;
+IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line,
+                     const Rig* rig);
 
 // Throws CliError when the firmware (its INFO and protocol_minor) lacks
 // what `start` needs: identification runs (IDENT), or MIXED (IDENT_MIXED),

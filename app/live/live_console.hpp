@@ -73,6 +73,7 @@ class LiveConsole {
   const UdpStream* udp() const { return udp_.get(); }
   // The rig the firmware runs, as its rig file says (BoardRig::rig).
   const Rig& rig() const { return rig_->rig(); }
+  const Rig* known_rig() const { return rig_->known(); }
   // A simulator or a pseudo-terminal (QEMU's UART): no baud rate limits
   // what the link carries, as configure_telemetry() assumes too.
   bool link_unlimited() const;

@@ -89,6 +89,17 @@ nlohmann::json to_json(const Rig& r) {
                     {"swirl_centre", g.swirl_centre},
                     {"swirl_scale", g.swirl_scale},
                     {"step_levels", g.step_levels}};
+  // Only what the file sets: ident's own defaults are not the rig's.
+  auto choice = [](const RigIdentChoice& set) {
+    json e = json::object();
+    if (set.amplitude > 0) e["amplitude"] = set.amplitude;
+    if (set.band_hi > 0) e["band_hz"] = {set.band_lo, set.band_hi};
+    return e;
+  };
+  json ident = choice(r.ident.all);
+  for (uint8_t i = 0; i < kExcitationSignalCount; ++i)
+    if (const json e = choice(r.ident.signal[i]); !e.empty()) ident[kExcitationSignalNames[i]] = e;
+  j["ident"] = ident;
   return j;
 }
 
@@ -135,6 +146,15 @@ void print_summary(const Rig& r) {
   fmt::print("  simulated plant: {}{}\n", r.plant.kind == nullptr ? "none" : r.plant.kind->name,
              has_generic_plant(r) ? " (actuators " + shapes + ")" : "");
   fmt::print("  default reference: {}\n", reference_kind_name(r.reference.kind));
+  std::string ident;
+  for (uint8_t i = 0; i < kExcitationSignalCount; ++i) {
+    const RigIdentChoice set = r.ident.for_signal(ExcitationSignal(i));
+    if (set.amplitude <= 0 && set.band_hi <= 0) continue;
+    ident += fmt::format("{}{}", ident.empty() ? "" : "; ", kExcitationSignalNames[i]);
+    if (set.band_hi > 0) ident += fmt::format(" band {:g}:{:g} Hz", set.band_lo, set.band_hi);
+    if (set.amplitude > 0) ident += fmt::format(" amplitude {:g}", set.amplitude);
+  }
+  if (!ident.empty()) fmt::print("  ident defaults: {}\n", ident);
 }
 
 }  // namespace

@@ -224,7 +224,9 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         IdentLine line;
         line.unlimited = console_.link_unlimited();
         const IdentWords w = ident_words(c);
-        const IdentPlan plan = plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line);
+        const IdentPlan plan =
+            plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line, console_.known_rig());
+        out_(plan.excitation_words);
         out_(plan.line_words);
         const RunSummary s = console_.runs().run_ident(
             plan.start, plan.excitation_json,

@@ -1,7 +1,8 @@
 #pragma once
 // A rig as data: everything that makes hasel a hasel (dimensions, rate,
 // actuator limits, outputs and their task space, sensors and their pins,
-// controller defaults, model shape, simulated stand-in, default reference),
+// controller defaults, model shape, simulated stand-in, default reference,
+// identification defaults),
 // read from a TOML rig file (docs/rig-file.md). A plain value: rig_loader.cpp
 // alone reads TOML, everything else takes a `const Rig&`.
 #include <array>
@@ -9,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "shared/excitation.hpp"
 #include "shared/params.hpp"
 #include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
@@ -136,6 +138,29 @@ struct RigPlant {
   std::vector<double> sensor_offset, sensor_noise;  // w each
 };
 
+// What `ident` drives when its words do not say (docs/rig-file.md,
+// [ident]): an excitation's amplitude and band suit one rig's dynamics and
+// task, not every rig's. [ident] holds them for every signal, [ident.SIGNAL]
+// for one; unset, ident's own defaults stand.
+struct RigIdentChoice {
+  double amplitude = 0;              // fraction of each input's range, (0, 1]; 0: unset
+  double band_lo = 0, band_hi = 0;   // Hz; 0: unset
+  std::string amplitude_from, band_from;  // the table that set it ("[ident.steps]"), for ident's words
+};
+
+struct RigIdent {
+  RigIdentChoice all;
+  std::array<RigIdentChoice, kExcitationSignalCount> signal{};  // by ExcitationSignal
+  // A signal's own table over [ident], field by field.
+  RigIdentChoice for_signal(ExcitationSignal s) const {
+    RigIdentChoice c = all;
+    const RigIdentChoice& own = signal[size_t(s)];
+    if (own.amplitude > 0) c.amplitude = own.amplitude, c.amplitude_from = own.amplitude_from;
+    if (own.band_hi > 0) c.band_lo = own.band_lo, c.band_hi = own.band_hi, c.band_from = own.band_from;
+    return c;
+  }
+};
+
 // The default task and the reference paths' geometry (shared/reference.hpp).
 struct RigReference {
   RefKind kind = RefKind::Infinity;
@@ -163,6 +188,7 @@ struct Rig {
   RigModel model;
   RigPlant plant;
   RigReference reference;
+  RigIdent ident;
 
   int m() const { return int(inputs.size()); }
   int n() const { return int(outputs.size()); }

@@ -899,6 +899,57 @@ void read_reference(const std::string& file, const Section& root, const toml::ta
   r.swirl_centre = r.centre;
 }
 
+// One [ident] or [ident.SIGNAL] table: amplitude and band, by the rules
+// IDENT_START's are checked by (shared/excitation.hpp), so a file never
+// holds what the firmware would refuse.
+void read_ident_choice(const Section& s, double rate_hz, RigIdentChoice& c) {
+  ExcitationSpec spec;
+  if (s.has("amplitude")) {
+    c.amplitude = s.number("amplitude");
+    c.amplitude_from = s.where();
+    spec.amplitude = float(c.amplitude);
+  }
+  if (s.has("band")) {
+    const std::vector<double> b = s.numbers("band");
+    if (b.size() != 2) s.fail(s.line("band"), "band", "expected [LO, HI] in Hz, 2 numbers, got " + std::to_string(b.size()));
+    c.band_lo = b[0], c.band_hi = b[1], c.band_from = s.where();
+    spec.band_lo = float(b[0]), spec.band_hi = float(b[1]);
+  }
+  const ExcitationCheck k = check_excitation(spec, float(rate_hz));
+  switch (k.field) {
+    case ExcitationField::Amplitude:
+      s.fail(s.line("amplitude"), "amplitude",
+             "must be in (0, 1], the fraction of each input's range the signal spans, not " + num(c.amplitude));
+    case ExcitationField::BandLo:
+      s.fail(s.line("band"), "band", "its lower edge must be > 0 Hz, not " + num(c.band_lo));
+    case ExcitationField::BandHi:
+      if (k.status == Status::Inconsistent)
+        s.fail(s.line("band"), "band", "its lower edge " + num(c.band_lo) + " Hz is above its upper " + num(c.band_hi));
+      s.fail(s.line("band"), "band",
+             "reaches past half the loop rate (" + num(rate_hz / 2) + " Hz at rate_hz = " + num(rate_hz) +
+                 "): nothing above it can be sampled, not " + num(c.band_hi) + " Hz");
+    default:
+      break;
+  }
+}
+
+void read_ident(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
+  const toml::table* it = sub_table(root, t, "ident");
+  if (!it) return;
+  std::vector<std::string> known = {"amplitude", "band"};
+  known.insert(known.end(), std::begin(kExcitationSignalNames), std::end(kExcitationSignalNames));
+  const Section s(file, *it, "[ident]", line_of(*it), known);
+  read_ident_choice(s, rig.rate_hz, rig.ident.all);
+  for (uint8_t i = 0; i < kExcitationSignalCount; ++i) {
+    const std::string name = kExcitationSignalNames[i], where = "[ident." + name + "]";
+    const toml::node* n = it->get(name);
+    if (!n) continue;
+    if (!n->is_table()) s.fail(line_of(*n), name, "expected a table " + where + ", got " + type_name(*n));
+    const Section own(file, *n->as_table(), where, line_of(*n), {"amplitude", "band"});
+    read_ident_choice(own, rig.rate_hz, rig.ident.signal[i]);
+  }
+}
+
 }  // namespace
 
 const char* output_source_name(OutputSource s) {
@@ -918,7 +969,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   }
   const Section root(file, t, "", 1,
                      {"name", "description", "info_platform", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "device", "controller",
-                      "model", "plant", "reference"});
+                      "model", "plant", "reference", "ident"});
   Rig rig;
   rig.file = file;
   rig.hash = rig_file_hash(text);
@@ -970,6 +1021,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
                   std::to_string(rig.plant.line) + "): a simulated plant steps at most " + num(double(kMaxPlantDt)) +
                   " s, not " + num(rig.rate_hz));
   read_reference(file, root, t, rig);
+  read_ident(file, root, t, rig);
   return rig;
 }
 

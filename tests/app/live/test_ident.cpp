@@ -222,6 +222,28 @@ TEST(IdentE2E, APrbsRunOfARigFileIsRecordedWholeInsideItsLimitsWithSensorsAndMea
   EXPECT_GT(ymax - ymin, 1.0);
 }
 
+// A rig file's [ident] sets what the words leave out: this bench's prbs
+// spans half of each range, and ident says where that came from.
+TEST(IdentE2E, ARigFilesIdentTableSetsTheAmplitudeTheWordsLeaveOut) {
+  Ident t;
+  std::ofstream(t.rig, std::ios::app) << "\n[ident.prbs]\namplitude = 0.5\n";
+  const ProcessResult r = t.run("--signal prbs --duration 10s");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("excitation: prbs, band 0.05:2 Hz (ident's default), amplitude 0.5 ([ident.prbs] of " + t.rig +
+                          "), seed 1"),
+            std::string::npos)
+      << r.output;
+  std::vector<std::string> head;
+  const auto rows = t.exported(1, head);
+  ASSERT_EQ(rows.size(), 1000u);
+  const int u0 = column(head, "u0");
+  for (int i = 0; i < 3; ++i) {
+    double lo = 1e9, hi = -1e9;
+    for (const auto& row : rows) lo = std::min(lo, std::stod(row[size_t(u0 + i)])), hi = std::max(hi, std::stod(row[size_t(u0 + i)]));
+    EXPECT_NEAR(hi - lo, 0.5 * (kMax[i] - kMin[i]), 1e-4) << "input " << i;
+  }
+}
+
 // How many different values an input took (prbs: two).
 size_t distinct_levels(std::vector<double> v) {
   std::sort(v.begin(), v.end());
@@ -330,10 +352,15 @@ TEST(IdentE2E, AScriptsIdentLineRecordsAnIdentificationRun) {
   Ident t;
   const std::string script = t.dir.file("ident.nls");
   std::ofstream(script) << "ident walk 3s seed=9 band=0.2:4 label=scripted\nexpect lost_frames == 0\n";
+  std::ofstream(t.rig, std::ios::app) << "\n[ident]\namplitude = 0.5\n";
   const ProcessResult r = console("--sim " + shell_quote(t.rig) + " --sim-fast --db " + shell_quote(t.db) +
                                   " --script " + shell_quote(script));
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("identification run: 300 of 300 steps recorded"), std::string::npos) << r.output;
+  // The line's words, then the rig file's [ident], as the command takes them.
+  EXPECT_NE(r.output.find("excitation: walk, band 0.2:4 Hz (--band), amplitude 0.5 ([ident] of " + t.rig + "), seed 9"),
+            std::string::npos)
+      << r.output;
   console::RunStore store(t.db);
   const console::RunRow run = store.run(1);
   EXPECT_EQ(run.kind, "ident");

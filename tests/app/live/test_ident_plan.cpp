@@ -7,8 +7,11 @@
 #include <cstdio>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "host/files/cli_error.hpp"
 #include "app/live/ident_plan.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -55,7 +58,7 @@ TEST(IdentPlan, WordsNameTheSignalsAndRefuseMixedWhereItCannotBe) {
   w.signal = "aprbs";
   w.mixed = true;
   EXPECT_NO_THROW(check_ident_words(w));
-  const IdentPlan plan = plan_ident(w, 130.0, 6, 3, 18, IdentLine{115200, true});
+  const IdentPlan plan = plan_ident(w, 130.0, 6, 3, 18, IdentLine{115200, true}, nullptr);
   EXPECT_EQ(plan.start.signal, uint8_t(p::IdentSignal::Aprbs));
   EXPECT_EQ(plan.start.options, p::ident_options::kMixed);
   w.joint = true;
@@ -63,6 +66,55 @@ TEST(IdentPlan, WordsNameTheSignalsAndRefuseMixedWhereItCannotBe) {
   w.joint = false;
   w.signal = "prbs";
   EXPECT_THROW(check_ident_words(w), CliError);
+}
+
+// The band and amplitude the words leave out come from the rig file's
+// [ident] (a signal's own table first), else ident's own; the plan says
+// which, and the run's excitation records what was sent.
+TEST(IdentPlan, WhatTheWordsLeaveOutComesFromTheRigFileAndTheWordsSayWhere) {
+  Rig rig;
+  rig.file = "bench.toml";
+  rig.ident.all.amplitude = 0.6, rig.ident.all.amplitude_from = "[ident]";
+  RigIdentChoice& steps = rig.ident.signal[size_t(ExcitationSignal::Steps)];
+  steps.band_lo = 0.5, steps.band_hi = 5.0, steps.band_from = "[ident.steps]";
+  const IdentLine sim{115200, true};
+  IdentWords w;
+  w.duration = "10s";
+  w.signal = "steps";
+  IdentPlan plan = plan_ident(w, 130.0, 6, 3, 18, sim, &rig);
+  EXPECT_FLOAT_EQ(plan.start.amplitude, 0.6f);
+  EXPECT_FLOAT_EQ(plan.start.band_lo, 0.5f);
+  EXPECT_FLOAT_EQ(plan.start.band_hi, 5.0f);
+  EXPECT_EQ(plan.excitation_words,
+            "excitation: steps, band 0.5:5 Hz ([ident.steps] of bench.toml), amplitude 0.6 ([ident] of bench.toml), "
+            "seed 1");
+  EXPECT_EQ(nlohmann::json::parse(plan.excitation_json)["amplitude"], 0.6);
+
+  // The words win over the file.
+  w.amplitude = 1.0;
+  w.band = "0.1:2";
+  plan = plan_ident(w, 130.0, 6, 3, 18, sim, &rig);
+  EXPECT_FLOAT_EQ(plan.start.amplitude, 1.0f);
+  EXPECT_FLOAT_EQ(plan.start.band_lo, 0.1f);
+  EXPECT_EQ(plan.excitation_words, "excitation: steps, band 0.1:2 Hz (--band), amplitude 1 (--amplitude), seed 1");
+
+  // A signal without a table of its own: [ident]'s amplitude, ident's band.
+  IdentWords prbs;
+  prbs.duration = "10s";
+  prbs.signal = "prbs";
+  plan = plan_ident(prbs, 130.0, 6, 3, 18, sim, &rig);
+  EXPECT_FLOAT_EQ(plan.start.amplitude, 0.6f);
+  EXPECT_FLOAT_EQ(plan.start.band_lo, 0.05f);
+  EXPECT_FLOAT_EQ(plan.start.band_hi, 2.0f);
+  EXPECT_NE(plan.excitation_words.find("band 0.05:2 Hz (ident's default)"), std::string::npos) << plan.excitation_words;
+
+  // No rig file known (a firmware of its own rig, no --rig): ident's own.
+  IdentWords plain;
+  plain.duration = "10s";
+  plan = plan_ident(plain, 130.0, 6, 3, 18, sim, nullptr);
+  EXPECT_FLOAT_EQ(plan.start.amplitude, 0.8f);
+  EXPECT_EQ(plan.excitation_words,
+            "excitation: aprbs, band 0.05:2 Hz (ident's default), amplitude 0.8 (ident's default), seed 1");
 }
 
 }  // namespace

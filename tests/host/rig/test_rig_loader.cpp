@@ -270,7 +270,7 @@ TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
   const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
   expect_error(tab, line_of(tab, "[plnt]"), "plnt",
                "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, device, controller, "
-               "model, plant, reference)");
+               "model, plant, reference, ident)");
   const std::string c = edit("eps = 0.01", "eps = 0.01\nlambda = [1.0, 1.0]");
   expect_error(c, line_of(c, "lambda ="), "[controller] lambda", "unknown key (known: Q, Lambda, s, b, r, N, N1, Nc, eps,");
 }
@@ -294,6 +294,58 @@ TEST(RigLoader, DuplicateNamesAndPinsNameTheFirstUse) {
   const std::string p = edit("pwm = \"PC7\"", "pwm = \"PC6\"");
   expect_error(p, line_of(p, "pwm = \"PC6\"", 2), "[[input]] #2 pwm",
                "PC6 is already used by [[input]] #1 (line " + std::to_string(line_of(p, "pwm = \"PC6\"")) + ")");
+}
+
+// ident's defaults: [ident] for every signal, [ident.SIGNAL] over it, field
+// by field; each remembers its table, which ident names when it uses it.
+TEST(RigLoader, IdentDefaultsAreASignalsOwnTableOverTheWholeSection) {
+  const std::string t = std::string(kBase) +
+                        "\n[ident]\namplitude = 0.6\nband = [0.1, 4.0]\n\n[ident.steps]\nband = [0.5, 5.0]\n\n"
+                        "[ident.prbs]\namplitude = 1.0\n";
+  const Rig r = parse_rig(t, "my.toml");
+  const RigIdentChoice steps = r.ident.for_signal(ExcitationSignal::Steps);
+  EXPECT_EQ(steps.amplitude, 0.6);
+  EXPECT_EQ(steps.amplitude_from, "[ident]");
+  EXPECT_EQ(steps.band_lo, 0.5);
+  EXPECT_EQ(steps.band_hi, 5.0);
+  EXPECT_EQ(steps.band_from, "[ident.steps]");
+  const RigIdentChoice prbs = r.ident.for_signal(ExcitationSignal::Prbs);
+  EXPECT_EQ(prbs.amplitude, 1.0);
+  EXPECT_EQ(prbs.amplitude_from, "[ident.prbs]");
+  EXPECT_EQ(prbs.band_lo, 0.1);
+  EXPECT_EQ(prbs.band_hi, 4.0);
+  EXPECT_EQ(prbs.band_from, "[ident]");
+  const RigIdentChoice walk = r.ident.for_signal(ExcitationSignal::Walk);
+  EXPECT_EQ(walk.amplitude_from, "[ident]");
+  EXPECT_EQ(walk.band_from, "[ident]");
+  // Without [ident] the file sets nothing: ident's own defaults stand.
+  const RigIdentChoice none = parse_rig(kBase, "my.toml").ident.for_signal(ExcitationSignal::Aprbs);
+  EXPECT_EQ(none.amplitude, 0.0);
+  EXPECT_EQ(none.band_hi, 0.0);
+  EXPECT_EQ(none.amplitude_from, "");
+}
+
+// IDENT_START's rules (shared/excitation.hpp), refused in the file at their
+// line rather than by the firmware at the run's start.
+TEST(RigLoader, IdentDefaultsTakeIdentStartsChecksAtTheirLine) {
+  auto with = [](const std::string& tail) { return std::string(kBase) + "\n" + tail; };
+  std::string t = with("[ident.steps]\namplitude = 1.5\n");
+  expect_error(t, line_of(t, "amplitude = 1.5"), "[ident.steps] amplitude", "must be in (0, 1], the fraction");
+  t = with("[ident]\nband = [2.0, 1.0]\n");
+  expect_error(t, line_of(t, "band ="), "[ident] band", "its lower edge 2 Hz is above its upper 1");
+  t = with("[ident]\nband = [0.0, 1.0]\n");
+  expect_error(t, line_of(t, "band ="), "[ident] band", "its lower edge must be > 0 Hz, not 0");
+  t = with("[ident.walk]\nband = [1.0, 60.0]\n");
+  expect_error(t, line_of(t, "band ="), "[ident.walk] band", "reaches past half the loop rate (50 Hz at rate_hz = 100)");
+  t = with("[ident]\nband = [1.0]\n");
+  expect_error(t, line_of(t, "band ="), "[ident] band", "expected [LO, HI] in Hz, 2 numbers, got 1");
+  t = with("[ident.sine]\nband = [1.0, 2.0]\n");
+  expect_error(t, line_of(t, "[ident.sine]"), "[ident] sine",
+               "unknown table (known: amplitude, band, steps, prbs, walk, chirp, aprbs)");
+  t = with("[ident.steps]\nseed = 3\n");
+  expect_error(t, line_of(t, "seed = 3"), "[ident.steps] seed", "unknown key (known: amplitude, band)");
+  t = with("[ident]\nsteps = 1.0\n");
+  expect_error(t, line_of(t, "steps = 1.0"), "[ident] steps", "expected a table [ident.steps], got a number");
 }
 
 // The controller's defaults meet PARAM_SET's checks (shared/params.hpp).
