@@ -296,6 +296,16 @@ TEST(RigLoader, DuplicateNamesAndPinsNameTheFirstUse) {
                "PC6 is already used by [[input]] #1 (line " + std::to_string(line_of(p, "pwm = \"PC6\"")) + ")");
 }
 
+// A signal's amplitude and band, and the tables that set them.
+void expect_choice(const RigIdentChoice& c, double amplitude, const std::string& amplitude_from, double lo, double hi,
+                   const std::string& band_from) {
+  EXPECT_EQ(c.amplitude, amplitude);
+  EXPECT_EQ(c.amplitude_from, amplitude_from);
+  EXPECT_EQ(c.band_lo, lo);
+  EXPECT_EQ(c.band_hi, hi);
+  EXPECT_EQ(c.band_from, band_from);
+}
+
 // ident's defaults: [ident] for every signal, [ident.SIGNAL] over it, field
 // by field; each remembers its table, which ident names when it uses it.
 TEST(RigLoader, IdentDefaultsAreASignalsOwnTableOverTheWholeSection) {
@@ -303,26 +313,11 @@ TEST(RigLoader, IdentDefaultsAreASignalsOwnTableOverTheWholeSection) {
                         "\n[ident]\namplitude = 0.6\nband = [0.1, 4.0]\n\n[ident.steps]\nband = [0.5, 5.0]\n\n"
                         "[ident.prbs]\namplitude = 1.0\n";
   const Rig r = parse_rig(t, "my.toml");
-  const RigIdentChoice steps = r.ident.for_signal(ExcitationSignal::Steps);
-  EXPECT_EQ(steps.amplitude, 0.6);
-  EXPECT_EQ(steps.amplitude_from, "[ident]");
-  EXPECT_EQ(steps.band_lo, 0.5);
-  EXPECT_EQ(steps.band_hi, 5.0);
-  EXPECT_EQ(steps.band_from, "[ident.steps]");
-  const RigIdentChoice prbs = r.ident.for_signal(ExcitationSignal::Prbs);
-  EXPECT_EQ(prbs.amplitude, 1.0);
-  EXPECT_EQ(prbs.amplitude_from, "[ident.prbs]");
-  EXPECT_EQ(prbs.band_lo, 0.1);
-  EXPECT_EQ(prbs.band_hi, 4.0);
-  EXPECT_EQ(prbs.band_from, "[ident]");
-  const RigIdentChoice walk = r.ident.for_signal(ExcitationSignal::Walk);
-  EXPECT_EQ(walk.amplitude_from, "[ident]");
-  EXPECT_EQ(walk.band_from, "[ident]");
+  expect_choice(r.ident.for_signal(ExcitationSignal::Steps), 0.6, "[ident]", 0.5, 5.0, "[ident.steps]");
+  expect_choice(r.ident.for_signal(ExcitationSignal::Prbs), 1.0, "[ident.prbs]", 0.1, 4.0, "[ident]");
+  expect_choice(r.ident.for_signal(ExcitationSignal::Walk), 0.6, "[ident]", 0.1, 4.0, "[ident]");
   // Without [ident] the file sets nothing: ident's own defaults stand.
-  const RigIdentChoice none = parse_rig(kBase, "my.toml").ident.for_signal(ExcitationSignal::Aprbs);
-  EXPECT_EQ(none.amplitude, 0.0);
-  EXPECT_EQ(none.band_hi, 0.0);
-  EXPECT_EQ(none.amplitude_from, "");
+  expect_choice(parse_rig(kBase, "my.toml").ident.for_signal(ExcitationSignal::Aprbs), 0.0, "", 0.0, 0.0, "");
 }
 
 // IDENT_START's rules (shared/excitation.hpp), refused in the file at their
