@@ -132,7 +132,7 @@ void add_ident_command(CLI::App& app) {
       "its range, not two. A rig file's [ident] sets the band and amplitude the words leave out (ident\n"
       "prints what it sends and where from). hasel's sets the whole range for aprbs, steps and walk:\n"
       "10 simulated minutes with train's defaults then track the Swirl at 6.0, 5.7 and 6.1 % nRMSE\n"
-      "(means over five seeds; aprbs at 0.8 of the range: 7.2 %), prbs at 31 % (seed 3; app/CONSOLE.md).\n"
+      "(means over five seeds; aprbs at 0.8 of the range: 7.1 %), prbs at 31 % (seed 3; app/CONSOLE.md).\n"
       "\n"
       "Example (10 simulated minutes of a rig file, well under a minute of wall time):\n"
       "  nlsoft-console ident --sim my-rig.toml --signal prbs --duration 10min --sim-fast\n"

@@ -169,9 +169,10 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
   plan.excitation_words = fmt::format("excitation: {}, band {:g}:{:g} Hz ({}), amplitude {:g} ({}), seed {}", w.signal,
                                       lo, hi, band_from, amplitude, amplitude_from, w.seed);
   if (hi > rate_hz / 2)
-    throw CliError(fmt::format("ident: --band {:g}:{:g} reaches past half the loop rate ({:g} Hz at {:g} Hz): "
+    throw CliError(fmt::format("ident: {} {:g}:{:g}{} reaches past half the loop rate ({:g} Hz at {:g} Hz): "
                                "nothing above {:g} Hz can be sampled",
-                               lo, hi, rate_hz / 2, rate_hz, rate_hz / 2));
+                               w.band.empty() ? "the band" : "--band", lo, hi,
+                               w.band.empty() ? " (" + band_from + ")" : "", rate_hz / 2, rate_hz, rate_hz / 2));
   if (lo > hi) lo = hi;  // the default's lower edge above a slow rig's upper one
   const double steps = std::round(plan.seconds * rate_hz);
   if (steps < 1)

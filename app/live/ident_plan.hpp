@@ -13,9 +13,9 @@
 
 namespace nlsoft::console {
 
-// The signals by IDENT_START's numbering (protocol::IdentSignal), and the
-// words that list them for an error or --help ("steps, prbs, ... or aprbs").
-// (shared/excitation.hpp's names).
+// The signals by IDENT_START's numbering (protocol::IdentSignal), named as
+// shared/excitation.hpp names them, and the words that list them for an
+// error or --help ("steps, prbs, ... or aprbs").
 extern const std::vector<std::string> kIdentSignals;
 std::string ident_signal_list();
 

@@ -115,6 +115,21 @@ TEST(IdentPlan, WhatTheWordsLeaveOutComesFromTheRigFileAndTheWordsSayWhere) {
   EXPECT_FLOAT_EQ(plan.start.amplitude, 0.8f);
   EXPECT_EQ(plan.excitation_words,
             "excitation: aprbs, band 0.05:2 Hz (ident's default), amplitude 0.8 (ident's default), seed 1");
+
+  // A file's band the firmware's rate cannot sample (an image of another
+  // rate): refused naming where the band came from.
+  IdentWords from_file;
+  from_file.duration = "10s";
+  from_file.signal = "steps";
+  try {
+    plan_ident(from_file, 8.0, 6, 3, 18, sim, &rig);
+    ADD_FAILURE() << "a 5 Hz band accepted at 8 Hz";
+  } catch (const CliError& e) {
+    EXPECT_NE(std::string(e.what()).find("the band 0.5:5 ([ident.steps] of bench.toml) reaches past half the loop "
+                                         "rate (4 Hz at 8 Hz)"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
