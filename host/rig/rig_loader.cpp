@@ -904,6 +904,7 @@ void read_reference(const std::string& file, const Section& root, const toml::ta
 // holds what the firmware would refuse.
 void read_ident_choice(const Section& s, double rate_hz, RigIdentChoice& c) {
   ExcitationSpec spec;
+  spec.band_lo = spec.band_hi = float(rate_hz / 4);  // a band any rate samples, where the table sets none
   if (s.has("amplitude")) {
     c.amplitude = s.number("amplitude");
     c.amplitude_from = s.where();

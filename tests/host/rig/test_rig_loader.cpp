@@ -339,6 +339,8 @@ TEST(RigLoader, IdentDefaultsTakeIdentStartsChecksAtTheirLine) {
                "unknown table (known: amplitude, band, steps, prbs, walk, chirp, aprbs)");
   t = with("[ident.steps]\nseed = 3\n");
   expect_error(t, line_of(t, "seed = 3"), "[ident.steps] seed", "unknown key (known: amplitude, band)");
+  // A table that sets no band holds none to the rate: ident's own band is fitted to it when it runs.
+  EXPECT_NO_THROW(parse_rig(edit("rate_hz = 100.0", "rate_hz = 2.0", 1, with("[ident]\namplitude = 0.5\n")), "my.toml"));
   t = with("[ident]\nsteps = 1.0\n");
   expect_error(t, line_of(t, "steps = 1.0"), "[ident] steps", "expected a table [ident.steps], got a number");
 }
