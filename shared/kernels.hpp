@@ -44,9 +44,9 @@ struct RolloutKernels {
 
 namespace detail {
 
-// activate_slopes() for a layer of a constant width: ReLU and tanh, the
-// shipped models' hidden and output layers, inline and unrolled; the others
-// through the call.
+// activate_slopes() for a layer of a constant width: ReLU, tanh and linear,
+// the shipped models' hidden and output layers, inline and unrolled; the
+// others through the call.
 template <int Count>
 __attribute__((always_inline)) inline void activate_fixed(Activation act, float* z, float* df) {
   if (act == Activation::Relu) {
@@ -63,6 +63,9 @@ __attribute__((always_inline)) inline void activate_fixed(Activation act, float*
       df[j] = 1.0f - t * t;
       z[j] = t;
     }
+  } else if (act == Activation::Linear) {
+#pragma GCC unroll 16
+    for (int j = 0; j < Count; ++j) df[j] = 1.0f;
   } else {
     activate_slopes(act, z, df, Count);
   }

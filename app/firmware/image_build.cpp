@@ -382,13 +382,7 @@ BuiltImages build_images(const ImageBuild& q) {
   // parse would refuse it.
   if (!request.model_file.empty()) {
     const std::string given = request.model_file;
-    const std::string bytes = read_file(given);
-    const pipeline::ModelFileParts parts =
-        pipeline::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
-    const bool cut = parts.model_size < bytes.size() && !parts.bad_trailer;
-    request.model_file = dir + "/model.nlsm";
-    // Rewritten only when it changes: a newer copy would relink the image.
-    write_text_if_changed(request.model_file, cut ? bytes.substr(0, parts.model_size) : bytes);
+    request.model_file = model_copy_for_image(given, dir);
     source = image_source(rig, request);
     // The file the user named, so --qemu FILE finds this image by it
     // (last_built_with_model): the folder is keyed by that file.

@@ -9,6 +9,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
+#include "app/model/model_section.hpp"
 #include "app/model/model_store.hpp"
 #include "host/rig/board_pins.hpp"
 #include "host/rig/firmware_rig.hpp"
@@ -406,6 +407,23 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
       "set(NLSOFT_IMAGE_NOTE {})\n",
       cmake_bracket(rig.name), cmake_bracket(model), out.board ? 1 : 0, out.hil ? 1 : 0, cmake_bracket(out.board ? std::string() : out.note));
   return out;
+}
+
+std::string model_copy_for_image(const std::string& model_file, const std::string& dir) {
+  std::ifstream in(model_file, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (!in) throw CliError(fmt::format("--model {}: cannot read it", model_file));
+  const std::string bytes = ss.str();
+  const pipeline::ModelFileParts parts =
+      pipeline::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+  const bool cut = parts.model_size < bytes.size() && !parts.bad_trailer;
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw CliError(fmt::format("cannot create {}: {}", dir, ec.message()));
+  const std::string copy = dir + "/model.nlsm";
+  write_text_if_changed(copy, cut ? bytes.substr(0, parts.model_size) : bytes);
+  return copy;
 }
 
 void write_image_source(const ImageSource& source, const std::string& dir) {

@@ -71,6 +71,12 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
 // files only whose text changed so an unchanged rig rebuilds nothing.
 void write_image_source(const ImageSource& source, const std::string& dir);
 
+// The model part of `model_file` (what a file carries after it, train's fit,
+// is not the firmware's, and its boot parse would refuse it) copied to
+// `dir`/model.nlsm, rewritten only when it changes; returns that path. Every
+// image embeds such a copy, never the file the user named.
+std::string model_copy_for_image(const std::string& model_file, const std::string& dir);
+
 // `text` into `path` through a temporary renamed over it, only when the
 // file holds other text (its time stamp then stays, and nothing relinks).
 void write_text_if_changed(const std::string& path, const std::string& text);

@@ -35,7 +35,8 @@ int main(int argc, char** argv) {
     ImageRequest request;
     request.board = board;
     request.images = parse_image_kinds(images, "--images");
-    if (!no_model) request.model_file = model;
+    // The model part alone, beside the header (a trained file carries its fit after it).
+    if (!no_model && !model.empty()) request.model_file = model_copy_for_image(model, out);
     std::stringstream layers(shape);
     for (std::string item; std::getline(layers, item, ',');) {
       const size_t colon = item.find(':');

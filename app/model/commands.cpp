@@ -90,7 +90,7 @@ void run_dataset(const DatasetArgs& a, const TargetResolver& resolve) {
 // ---------------------------------------------------------------- train
 struct TrainArgs {
   std::string rig, out, arch, hidden, epochs, batch, lr, loss, seed, patience, y_noise, nd, dd, db;
-  std::string objective, horizon, seeds, sim_epochs, lbfgs, activation;
+  std::string objective, horizon, seeds, sim_epochs, lbfgs, activation, start;
   std::vector<std::string> data;
   std::vector<int64_t> runs;
   int64_t validate_run = 0;
@@ -162,10 +162,11 @@ void print_choice(const TrainResult& r) {
               "best (MSE / variance)\n");
   for (size_t i = 0; i < r.candidates.size(); ++i) {
     const Candidate& c = r.candidates[i];
-    std::printf("  %s %-28s seed %-3llu %5zu weights  free run %.4e (one-step warm start %.4e), %d epochs, %d L-BFGS "
+    std::printf("  %s %-28s seed %-3llu %5zu weights  free run %.4e (%s %.4e), %d epochs, %d L-BFGS "
                 "evaluations\n",
                 i == r.chosen ? "*" : " ", describe_layers(c.layers).c_str(), static_cast<unsigned long long>(c.seed),
-                c.weights, c.val_free_run, c.warm_free_run, c.epochs, c.evals);
+                c.weights, c.val_free_run, c.linear_start ? "started from the linear model's" : "one-step warm start",
+                c.warm_free_run, c.epochs, c.evals);
   }
 }
 
@@ -224,6 +225,11 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     o.layers = sizes.front();
     o.alternatives.assign(sizes.begin() + 1, sizes.end());
   }
+  if (!a.start.empty()) {
+    if (a.start != "linear" && a.start != "random")
+      throw PipelineError("--start must be linear or random, got '" + a.start + "'");
+    o.start = a.start == "linear" ? Start::Linear : Start::Random;
+  }
   if (!a.seeds.empty()) o.seeds = static_cast<int>(to_long("--seeds", a.seeds, 1, 64));
   if (!a.horizon.empty()) o.sim.horizon = static_cast<int>(to_long("--horizon", a.horizon, 2, 100000));
   if (!a.sim_epochs.empty()) o.sim.epochs = static_cast<int>(to_long("--sim-epochs", a.sim_epochs, 0, 100000));
@@ -278,8 +284,12 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   f.fit = fit_to_json(fit);
   save_model_file(a.out, f);
   const std::string unit = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
-  std::printf("trained %s model in %.1f s (%d epochs), %s, rows train %ld / val %ld / test %ld\n",
-              target.name.c_str(), r.seconds, r.epochs_run,
+  // One-step epochs are the warm start's; a network started from the linear model had none.
+  const std::string how = r.candidates.empty() || !r.candidates[r.chosen].linear_start
+                              ? std::to_string(r.epochs_run) + " one-step epochs"
+                              : "from the linear model";
+  std::printf("trained %s model in %.1f s (%s), %s, rows train %ld / val %ld / test %ld\n",
+              target.name.c_str(), r.seconds, how.c_str(),
               model_size_words(uint32_t(f.params.size()), f.view().norm_count()).c_str(),
               r.split.train_end, r.split.val_end - r.split.val_begin, r.split.test_end - r.split.test_begin);
   for (size_t j = 0; j < r.test.mse.size(); ++j)
@@ -453,8 +463,8 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
       "train",
       "Train the forward model y(k+1) = g(u(k),u(k-1),y(k),y(k-1),l(k)) on recorded runs or a dataset\n"
       "and write a model file. By default it is trained for what the controller does with it,\n"
-      "simulation: after a one-step warm start, the model is fed its own predictions over windows of\n"
-      "--horizon steps (at least the rig's N) and its simulation error minimised (Adam, then L-BFGS);\n"
+      "simulation: from the linear model (--start), the model is fed its own predictions over\n"
+      "windows of --horizon steps (at least the rig's N) and its simulation error minimised (L-BFGS);\n"
       "the weights that simulate the validation rows best are kept, over --seeds seeds and every\n"
       "size given to --hidden (16/32: two candidates); train prints each candidate and which it kept.\n"
       "--objective one-step trains one step ahead only (the paper's way). Ctrl-C keeps the best so far. From a run: u, the measured output y_true, the sensors l and the time\n"
@@ -467,7 +477,7 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
       "it on other runs). Dimensions, input limits, output ranges, lags (--nd/--dd override them)\n"
       "and layers come from the rig file; defaults for the shipped\n"
       "rigs are the shipped models (app/models/README.md): msd linear residual, hasel Dense 5 relu,\n"
-      "5 relu, 3 tanh; tendon GRU(5), Dense 5 relu, 3 tanh; another rig: its [model] layers, else\n"
+      "5 relu, 3 linear; tendon GRU(5), Dense 5 relu, 3 tanh; another rig: its [model] layers, else\n"
       "three candidates, Dense 16 relu or Dense 32 relu to n tanh, or one linear layer, residual\n"
       "when its controller feeds back measured outputs.\n"
       "Example: nlsoft-console train --rig msd --run 12 --run 13 --out msd-rig.nlsm\n"
@@ -498,6 +508,13 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
                  "steps a simulation window runs on the model's own predictions (default: the larger of 64\n"
                  "and the rig's N)")
       ->type_name("H");
+  tr->add_option("--start", train_args->start,
+                 "where a network's weights start (simulation objective): linear (default): the linear\n"
+                 "output-error model (least squares, then its own simulation error), carried through the\n"
+                 "network's first n units of each hidden layer, so every seed refines one consistent map (a\n"
+                 "linear output after Dense relu or linear hidden layers at least n wide; others start at\n"
+                 "random); random: the one-step warm start from random weights")
+      ->type_name("FROM");
   tr->add_option("--seeds", train_args->seeds, "seeds tried per size, the best kept (default: 4 for a rig with [model] layers, 2 for one\n"
                  "without, whose two widths make four networks too; one-step: 1)")->type_name("K");
   tr->add_option("--sim-epochs", train_args->sim_epochs, "Adam epochs on the simulation objective before L-BFGS (default 0)")

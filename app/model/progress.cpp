@@ -12,7 +12,9 @@ TrainProgress::TrainProgress(std::FILE* out) : out_(out), tty_(isatty(fileno(out
 void TrainProgress::operator()(const Progress& p) {
   // Which of several candidates, when there are several.
   const std::string who =
-      p.candidates > 1 ? "candidate " + std::to_string(p.candidate + 1) + "/" + std::to_string(p.candidates) + " " : "";
+      p.candidate < 0      ? std::string("start model ")
+      : p.candidates > 1 ? "candidate " + std::to_string(p.candidate + 1) + "/" + std::to_string(p.candidates) + " "
+                         : "";
   if (p.epochs == 0) {  // closed-form fit, no epochs
     if (tty_ && drawn_) std::fprintf(out_, "\r\033[K");
     std::fprintf(out_, "%sleast-squares warm start: one-step validation loss %.3e\n", who.c_str(), p.val_loss);

@@ -12,6 +12,7 @@
 
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
+#include "app/model/linear_start.hpp"
 #include "shared/forward.hpp"
 #include "shared/sim_plant.hpp"
 
@@ -46,16 +47,49 @@ bool is_single_linear(const std::vector<L>& l) {
   return l.size() == 1 && l[0].kind == LayerKind::Dense && l[0].act == Activation::Linear;
 }
 
+// RMS over rows and outputs of T - [X 1] W, the products summed in float as
+// the firmware sums them (float inputs, float weights), or in double.
+template <class F>
+double residual_rms(const Eigen::MatrixXd& X, const Eigen::MatrixXd& W, const Eigen::MatrixXd& T) {
+  const Eigen::Index in = X.cols();
+  double sum = 0.0;
+  for (Eigen::Index r = 0; r < X.rows(); ++r)
+    for (Eigen::Index j = 0; j < T.cols(); ++j) {
+      F z = F(W(in, j));
+      for (Eigen::Index i = 0; i < in; ++i) z += F(X(r, i)) * F(W(i, j));
+      sum += (double(z) - T(r, j)) * (double(z) - T(r, j));
+    }
+  return std::sqrt(sum / double(std::max<Eigen::Index>(1, X.rows() * T.cols())));
+}
+
 // A single linear layer under MSE is least squares: solve it exactly
 // (column-pivoting QR copes with the near-collinear y(k), y(k-1) columns
-// that would take Adam forever).
+// that would take Adam forever). Where columns are all but dependent (a prbs
+// run: each input at two levels, its lags and the sensors that follow it)
+// the exact solution's weights reach 1e9 and cancel in double only: the
+// float model the firmware runs then misses by the task space's size. So
+// the least ridge (lambda |W|^2, the bias free, from none up) whose float
+// sums fit the training rows as well as its double ones is kept.
 void solve_linear(Network& net, const Eigen::MatrixXd& Xn, const Eigen::MatrixXd& T) {
-  Eigen::MatrixXd A(Xn.rows(), Xn.cols() + 1);
-  A << Xn, Eigen::VectorXd::Ones(Xn.rows());
-  const Eigen::MatrixXd W = A.colPivHouseholderQr().solve(T);
-  const int in = static_cast<int>(Xn.cols()), out = static_cast<int>(T.cols());
+  const Eigen::Index rows = Xn.rows(), in = Xn.cols();
+  Eigen::MatrixXd A(rows, in + 1);
+  A << Xn, Eigen::VectorXd::Ones(rows);
+  Eigen::MatrixXd W = A.colPivHouseholderQr().solve(T);
+  const double scale = std::sqrt(T.squaredNorm() / double(std::max<Eigen::Index>(1, T.size())));
+  for (double lambda : {1e-12, 1e-10, 1e-8, 1e-6, 1e-4, 1e-2}) {
+    const double exact = residual_rms<double>(Xn, W, T);
+    if (residual_rms<float>(Xn, W, T) <= 1.1 * exact + 1e-6 * scale) break;
+    // [A; sqrt(lambda rows) I] W = [T; 0]: the normal equations plus lambda rows I.
+    Eigen::MatrixXd Ar = Eigen::MatrixXd::Zero(rows + in, in + 1);
+    Eigen::MatrixXd Tr = Eigen::MatrixXd::Zero(rows + in, T.cols());
+    Ar.topRows(rows) = A;
+    Ar.bottomLeftCorner(in, in) = std::sqrt(lambda * double(rows)) * Eigen::MatrixXd::Identity(in, in);
+    Tr.topRows(rows) = T;
+    W = Ar.colPivHouseholderQr().solve(Tr);
+  }
+  const int out = static_cast<int>(T.cols());
   double* th = net.theta().data();
-  for (int i = 0; i < in; ++i)
+  for (int i = 0; i < int(in); ++i)
     for (int j = 0; j < out; ++j) th[i * out + j] = W(i, j);
   for (int j = 0; j < out; ++j) th[in * out + j] = W(in, j);
 }
@@ -180,6 +214,21 @@ OneStepResult warm_start(Network& net, const OneStepData& d, const TrainOptions&
   th = best;
   res.best_val = best_val;
   return res;
+}
+
+// fit_simulation's reports as train's progress: the phase, the step and
+// the losses.
+SimulationProgress as_progress(const std::function<void(const Progress&)>& to) {
+  return [to](const char* phase, int step, int steps, double loss, double val, double best) {
+    Progress p;
+    p.phase = phase;
+    p.epoch = step;
+    p.epochs = steps;
+    p.train_loss = loss;
+    p.val_loss = val;
+    p.best_val = best;
+    to(p);
+  };
 }
 
 // The recursion's view of the data: each output weighted by the inverse of
@@ -450,6 +499,34 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
       res.candidates.push_back(c);
     }
   }
+  // The linear model the networks start from, fitted once before the
+  // candidates (the same for every seed), as a linear candidate is trained:
+  // least squares, then the simulation objective.
+  Network start_model;
+  if (opt.objective == Objective::Simulation && opt.start == Start::Linear) {
+    for (Candidate& c : res.candidates) c.linear_start = !is_single_linear(c.layers) && holds_linear_model(c.layers, s.n);
+  }
+  if (std::any_of(res.candidates.begin(), res.candidates.end(), [](const Candidate& c) { return c.linear_start; })) {
+    start_model = Network(L.p(), {{LayerKind::Dense, s.n, Activation::Linear}});
+    Random rng(opt.seed);
+    start_model.initialise(rng);
+    auto progress = [&](const Progress& p) {
+      if (!opt.progress) return;
+      Progress q = p;
+      q.candidate = -1;
+      q.elapsed_s = std::chrono::duration<double>(Clock::now() - t0).count();
+      opt.progress(q);
+    };
+    warm_start(start_model, one, opt, rng, progress);
+    SimulationOptions so = opt.sim;
+    so.seed = opt.seed;
+    so.stop = opt.stop;
+    so.threads = opt.threads;
+    fit_simulation(start_model, sim, train_pieces, judge_pieces, so, as_progress(progress));
+  }
+  const Eigen::MatrixXd Xval = Xn.middleRows(P.val_begin, P.val_end - P.val_begin);
+  const Eigen::MatrixXd Tval = T.middleRows(P.val_begin, P.val_end - P.val_begin);
+
   std::vector<Network> nets(res.candidates.size());
   std::vector<double> one_step_val(res.candidates.size(), 0.0);
   std::vector<int> one_step_epochs(res.candidates.size(), 0);
@@ -470,9 +547,14 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
     Random rng(c.seed);
     net.initialise(rng);
     c.weights = net.param_count();
-    OneStepResult w = warm_start(net, one, opt, rng, [&](const Progress& p) { report(p, int(i)); });
-    one_step_val[i] = w.best_val;
-    one_step_epochs[i] = w.epochs;
+    if (c.linear_start) {
+      embed_linear_model(net, start_model, Xn.topRows(P.train_end));
+      one_step_val[i] = loss_of(Loss::Mse, 1.0, net.predict(Xval), Tval).value;
+    } else {
+      const OneStepResult w = warm_start(net, one, opt, rng, [&](const Progress& p) { report(p, int(i)); });
+      one_step_val[i] = w.best_val;
+      one_step_epochs[i] = w.epochs;
+    }
     c.warm_free_run = free_run_loss(net, sim, judge_pieces);
     c.val_free_run = c.warm_free_run;
     if (opt.objective == Objective::Simulation) {
@@ -482,16 +564,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
       so.threads = inner_threads;
       const SimulationReport r =
           fit_simulation(net, sim, train_pieces, judge_pieces, so,
-                         [&](const char* phase, int step, int steps, double loss, double val, double best) {
-                           Progress p;
-                           p.phase = phase;
-                           p.epoch = step;
-                           p.epochs = steps;
-                           p.train_loss = loss;
-                           p.val_loss = val;
-                           p.best_val = best;
-                           report(p, int(i));
-                         });
+                         as_progress([&](const Progress& p) { report(p, int(i)); }));
       c.val_free_run = r.best_val;
       c.epochs = r.epochs;
       c.evals = r.evals;

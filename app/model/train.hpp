@@ -33,10 +33,15 @@ namespace nlsoft::pipeline {
 
 enum class Loss { Mse, Huber };
 enum class Objective { OneStep, Simulation };
+// Where a network candidate's weights start before the simulation objective:
+// the one-step warm start from random weights, or the linear output-error
+// model carried through the network (app/model/linear_start.hpp), for a
+// network that can hold it (a linear output; others start at random).
+enum class Start { Random, Linear };
 
 struct Progress {
   const char* phase = "one-step";  // "one-step", "simulation", "L-BFGS"
-  int candidate = 0, candidates = 1;
+  int candidate = 0, candidates = 1;  // candidate -1: the linear model the networks start from
   int epoch = 0, epochs = 0;
   double train_loss = 0, val_loss = 0, best_val = 0, lr = 0;
   double elapsed_s = 0, eta_s = 0;
@@ -49,7 +54,8 @@ struct Candidate {
   std::vector<LayerSpec> layers;
   uint64_t seed = 1;
   double val_free_run = 0;     // after training (what chose the candidate)
-  double warm_free_run = 0;    // after the one-step warm start
+  double warm_free_run = 0;    // where training started: after the warm start, or the linear model's
+  bool linear_start = false;   // started from the linear model (Start::Linear)
   int epochs = 0, evals = 0;   // simulation epochs, L-BFGS evaluations
   size_t weights = 0;
 };
@@ -70,6 +76,7 @@ struct TrainOptions {
   int folds = 10;
   Objective objective = Objective::Simulation;
   SimulationOptions sim;     // the simulation objective's (its seed is each candidate's)
+  Start start = Start::Linear;  // every network that can hold the linear model starts from it
   // Other sizes tried beside `layers`, and seeds per size (seed, seed+1, ...).
   std::vector<std::vector<LayerSpec>> alternatives;
   int seeds = 1;

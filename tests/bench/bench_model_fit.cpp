@@ -1,5 +1,5 @@
 // `model fit` on 50,000 samples of hasel (m 6, n 3, w 0; its shipped
-// network shape, Dense 5 relu, 5 relu, 3 tanh): the rows built, the network
+// network shape, Dense 5 relu, 5 relu, 3 linear): the rows built, the network
 // run as the firmware runs it (one-step and free run), the ARX baseline
 // fitted by least squares and run the same way, scored. Target: < 1 s.
 //   cmake -B build -DNLSOFT_BENCHMARKS=ON && cmake --build build --target nlsoft-bench-model-fit

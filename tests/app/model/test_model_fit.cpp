@@ -209,9 +209,13 @@ TEST_F(ModelFit, BadInputIsRefusedWithNothingWritten) {
       {model + " --rig " + shell_quote(bend) + " --data " + q("lin.csv"),
        "was trained for rig 'lin', not for rig 'bend'"},
       {model + " --rig msd --data " + q("lin.csv"), "was trained for rig 'lin', not for rig 'msd'"},
-      // A shipped model keeps no fit: its dimensions are the rig's check.
+      // A model file without a fit (tendon's, trained before files kept
+      // one): its dimensions are the rig's check.
+      {shell_quote(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/tendon.nlsm") + " --rig msd --data " + q("lin.csv"),
+       "tendon.nlsm has m=2 n=3 w=11 but rig 'msd' has m=1 n=1 w=0"},
+      // One with a fit names the rig it was trained for.
       {shell_quote(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/hasel.nlsm") + " --rig msd --data " + q("lin.csv"),
-       "hasel.nlsm has m=6 n=3 w=18 but rig 'msd' has m=1 n=1 w=0"},
+       "hasel.nlsm was trained for rig 'hasel', not for rig 'msd'"},
       {model + " --rig " + shell_quote(lin) + " --run 1" + runs, "run 1 was recorded on rig 'bend', not on rig 'lin'"},
       {model + " --rig " + shell_quote(lin) + " --run 2" + runs, "run 2 has no samples"},
       {model + " --rig " + shell_quote(lin) + " --run 3" + runs, "run 3 has no measured output (y_true)"},
