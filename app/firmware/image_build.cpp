@@ -23,7 +23,6 @@
 #include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
-#include "app/model/model_section.hpp"
 #include "host/paths/install_paths.hpp"
 #include "host/files/printable.hpp"
 #include "app/progress_bar.hpp"
