@@ -15,7 +15,10 @@
 //   prbs  - a maximal-length binary sequence (Galois LFSR) of +-1, one bit
 //           every 1/band_hi seconds, the register long enough that one
 //           period lasts at least 1/band_lo seconds (a flat spectrum over
-//           the band);
+//           the band) and at least one bit per input. Every input runs the
+//           same sequence, each shifted d bits after the one before it, d
+//           the largest step below period/m that shares no factor with the
+//           period (below);
 //   aprbs - prbs's switching instants with a new uniform level at each
 //           (amplitude-modulated PRBS, Nelles, Nonlinear System
 //           Identification, ch. 19): the levels fill the range as steps'
@@ -131,7 +134,9 @@ class Excitation {
     const float a = 6.28318531f * spec.band_hi / rate_hz;
     smooth_ = a > 10.0f ? 1.0f : 1.0f - std::exp(-a);
     const int channels = spec.joint ? 1 : m;
+    if (bits_ < channels) bits_ = channels;
     for (int i = 0; i < channels; ++i) start(ch_[i], spec.seed, i);
+    spread_registers(channels);
     // The shared stream's index is past every input's, so mixing leaves
     // each input's own stream as it is without it.
     if (spec.mixed) start(ch_[kShared], spec.seed, kShared);
@@ -204,6 +209,39 @@ class Excitation {
     c.walk = c.rng.uniform(-1.0f, 1.0f);
     c.smooth = c.walk;
     c.phase = spec_.signal == ExcitationSignal::Chirp && !spec_.joint ? c.rng.uniform(0.0f, 6.28318531f) : 0.0f;
+  }
+
+  // Why the inputs share one sequence, shifted: registers started at
+  // random states of one sequence are random shifts of it, and two inputs
+  // landed on the same shift often (6 inputs on a 63-bit period: one seed
+  // in five), driving them identically; an input could also be the product
+  // (the bitwise XOR) of others, which a model cannot tell from its own
+  // effect. Input i's bit is a linear form of input 0's register over
+  // GF(2), alpha^(i d) in the register's field: with d prime to the period,
+  // alpha^d generates the field, so the forms for i < m <= bits are
+  // independent and every m-bit pattern of the inputs occurs
+  // (tests/shared/test_excitation.cpp checks each register and m). Input
+  // 0 keeps its seeded start. At most one period of register steps in all,
+  // once per run (65 535 for 16 bits: ~0.3 M instructions on the M4F).
+  void spread_registers(int channels) {
+    const uint32_t period = (1u << bits_) - 1u;
+    const uint32_t taps = prbs_taps(bits_);
+    uint32_t d = period / uint32_t(channels);
+    while (d > 1 && gcd(d, period) != 1u) --d;
+    for (int i = 1; i < channels; ++i) {
+      uint32_t s = ch_[i - 1].lfsr;
+      for (uint32_t k = 0; k < d; ++k) s = (s >> 1) ^ ((s & 1u) ? taps : 0u);
+      ch_[i].lfsr = s;
+    }
+  }
+
+  static uint32_t gcd(uint32_t a, uint32_t b) {
+    while (b != 0) {
+      const uint32_t t = a % b;
+      a = b;
+      b = t;
+    }
+    return a;
   }
 
   float advance(Channel& c) {

@@ -127,7 +127,7 @@ void add_live_console(CLI::App& app) {
       "  set Q 1e6 2e6 1e6\n"
       "  ref swirl scale=1 hold=1\n"
       "  run 10s label=baseline\n"
-      "  expect nrmse < 0.05\n"
+      "  expect nrmse < 0.06\n"
       "  expect lost_frames == 0\n"
       "  sweep Q0 1e5 1e6 1e7 run 5s\n";
   app.footer(footer);

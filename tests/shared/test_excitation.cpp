@@ -171,6 +171,48 @@ TEST(Excitation, EveryPrbsRegisterHasTheMaximalPeriod) {
   }
 }
 
+// Per-input prbs streams are one maximal-length sequence, each input
+// shifted from the one before: no two inputs equal, none the product (XOR)
+// of others. Over one period every pattern of the m inputs' bits occurs,
+// all 2^m of them where the register has more bits than there are inputs
+// (all but all-low where it has exactly m: the register is never zero).
+// Before, each input started the sequence at a random state: 6 inputs on
+// a 63-bit register made two inputs equal on seeds 3 and 7 and left 32 of
+// the 64 patterns on the others.
+TEST(Excitation, PrbsInputsTakeEveryPatternOfTheirBitsOverAPeriod) {
+  const float lo[kRigMaxM] = {0, 0, 0, 0, 0, 0, 0, 0}, hi[kRigMaxM] = {1, 1, 1, 1, 1, 1, 1, 1};
+  for (int band_bits : {3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 16}) {
+    for (int m = 1; m <= kRigMaxM; ++m) {
+      for (uint32_t seed : {3u, 7u, 11u}) {
+        ExcitationSpec s;
+        s.signal = ExcitationSignal::Prbs;
+        s.amplitude = 1.0f;
+        s.seed = seed;
+        s.band_hi = 0.5f * kRate;  // a bit every 2 steps
+        // The shortest register whose period of 2-step bits covers 1/band_lo.
+        s.band_lo = 1.001f * kRate / (2.0f * float((1u << band_bits) - 1u));
+        s.duration = 1u << 18;
+        Excitation e;
+        ASSERT_EQ(e.configure(s, kRate, lo, hi, hi, m).status, Status::Ok);
+        const int bits = e.prbs_bits();
+        ASSERT_EQ(bits, std::max(band_bits, m)) << band_bits << " bits for the band, m " << m;
+        std::vector<bool> seen(size_t(1) << m, false);
+        float u[kRigMaxM];
+        for (uint32_t k = 0; k < (1u << bits) - 1u; ++k) {
+          e.next(u);
+          uint32_t pattern = 0;
+          for (int i = 0; i < m; ++i) pattern |= uint32_t(u[i] > 0.5f) << i;
+          seen[pattern] = true;
+          e.next(u);
+        }
+        const size_t patterns = size_t(std::count(seen.begin(), seen.end(), true));
+        EXPECT_EQ(patterns, bits > m ? seen.size() : seen.size() - 1)
+            << bits << "-bit register, m " << m << ", seed " << seed;
+      }
+    }
+  }
+}
+
 TEST(Excitation, StepsHoldBetweenOneOverBandHiAndOneOverBandLo) {
   const std::vector<float> u = run(ExcitationSignal::Steps, 11, false, 30000, 1.0f, 0.5f, 4.0f);
   // 25 to 200 steps a level at 100 Hz; the last level may be cut short.
