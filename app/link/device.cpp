@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "host/files/cli_error.hpp"
+#include "app/link/info_check.hpp"
 #include "app/link/protocol_version.hpp"
 #include "host/files/printable.hpp"
 #include "app/link/session_words.hpp"
@@ -16,17 +17,20 @@ namespace nlsoft::console {
 namespace p = nlsoft::protocol;
 
 p::Info Device::handshake() {
-  const p::InfoEx ex = session_.call<p::InfoEx>(p::InfoGet{});
+  p::InfoEx ex = session_.call<p::InfoEx>(p::InfoGet{});
   const p::Info& info = ex.info;
+  // The firmware's name is escaped where it is decoded: nothing after this
+  // (a terminal, a parameter file, the database) sees it raw.
+  printable_into(ex.info.firmware, ex.info.firmware, sizeof ex.info.firmware);
   if (info.protocol_version != p::kProtocolVersion)
     throw LinkError(fmt::format("the firmware speaks protocol v{}, this console {}", info.protocol_version,
                                 protocol_version_text()));
-  if (info.n == 0 || info.n > p::kMaxTelemetryDim || info.m == 0 || info.m > p::kMaxTelemetryDim)
-    throw LinkError(fmt::format("the firmware reports impossible dimensions n={} m={}", info.n, info.m));
+  if (const std::string why = info_refusal(info); !why.empty()) throw LinkError(why + ": not used");
   // A firmware that advertises RIG answers RIG_GET; one that does not is
   // never asked (a 1.1 firmware would drop the frame and cost us a timeout).
   std::optional<p::RigInfo> rig;
   if (info.capabilities & p::capability::kRig) rig = session_.call<p::RigInfo>(p::RigGet{});
+  if (rig) printable_into(rig->rig_name, rig->rig_name, sizeof rig->rig_name);
   {
     std::lock_guard<std::mutex> lock(mu_);
     info_ = ex;
@@ -43,7 +47,7 @@ std::optional<p::RigInfo> Device::rig() const {
 
 std::string Device::rig_label() const {
   std::lock_guard<std::mutex> lock(mu_);
-  if (rig_ && rig_->rig_name[0] != '\0') return printable(rig_->rig_name);
+  if (rig_ && rig_->rig_name[0] != '\0') return rig_->rig_name;  // escaped in handshake()
   return platform_words(info_.info.platform);
 }
 
@@ -72,7 +76,7 @@ void Device::load_params(const Progress& progress) {
     if (i == 0) count = d.count;
     if (d.index != i) throw LinkError(fmt::format("PARAM_LIST({}) answered with index {}", i, d.index));
     if (d.size == 0 || d.size > p::kMaxParamValues)
-      throw LinkError(fmt::format("parameter '{}' has an impossible size {}", d.name, d.size));
+      throw LinkError(fmt::format("parameter '{}' has an impossible size {}", printable(d.name), d.size));
     list.push_back(param_info_from(d));
     if (progress) progress(size_t(i) + 1, count);
   }
@@ -210,6 +214,13 @@ std::vector<p::DeviceStatus> Device::devices() {
   try {
     do {
       out.push_back(session_.call<p::DeviceStatus>(get));
+      // PROTOCOL.md 7: 1..8 chips, the same count in every answer.
+      const p::DeviceStatus& d = out.back();
+      if (d.count == 0 || d.count > kMaxChips || d.count != out.front().count || d.index != get.index)
+        throw LinkError(fmt::format("DEVICE_GET({}) answered index {} of {} chips: a firmware has 1..{} chips, "
+                                    "the same count in every answer",
+                                    get.index, d.index, d.count, kMaxChips));
+      printable_into(out.back().name, out.back().name, sizeof out.back().name);
       get.index = uint8_t(get.index + 1);
     } while (get.index < out.front().count);
   } catch (const NackError& e) {

@@ -36,7 +36,7 @@ std::vector<std::string> device_lines(const Rig& rig, const std::vector<p::Devic
   bad = 0;
   std::vector<bool> seen(rig.devices.size(), false);
   for (const p::DeviceStatus& d : found) {
-    const std::string name = printable(d.name);
+    const std::string name = d.name;  // escaped where Device::devices() decoded it
     const RigDevice* mine = nullptr;
     for (size_t i = 0; i < rig.devices.size(); ++i)
       if (rig.devices[i].name == name) mine = &rig.devices[i], seen[i] = true;

@@ -11,6 +11,9 @@ struct LinkStats {
   uint64_t frames = 0, bytes = 0;
   uint64_t crc_errors = 0, decode_errors = 0;  // ours, as receiver
   uint64_t telemetry_frames = 0, lost_telemetry = 0;
+  // Sample frames dropped as they arrived: dimensions other than INFO's, or
+  // values not finite (app/link/sample_check.hpp). Counted lost as well.
+  uint64_t refused_frames = 0;
   uint64_t timeouts = 0, retransmits = 0, stale_replies = 0, reconnects = 0;
   // Valid frames that were requests, as the console sends them: a firmware
   // never sends one, so they are our own frames coming back (an echoing line).

@@ -12,6 +12,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/link/link_error.hpp"
+#include "host/files/printable.hpp"
 
 namespace nlsoft::console {
 
@@ -26,8 +27,10 @@ ParamInfo param_info_from(const proto::ParamDesc& d) {
   i.access = d.access;
   i.min = d.min;
   i.max = d.max;
-  i.unit = d.unit;
-  i.name = d.name;
+  // The firmware's words, escaped where they become strings: a name or a
+  // unit cannot reach a terminal or a parameter file raw.
+  i.unit = printable(d.unit);
+  i.name = printable(d.name);
   return i;
 }
 

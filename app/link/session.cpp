@@ -4,11 +4,14 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "app/link/port_openers.hpp"
+#include "app/link/sample_check.hpp"
+#include "host/files/printable.hpp"
 #include "app/link/session_words.hpp"
 #include "app/link/steady_ns.hpp"
 #include "protocol/catalog.hpp"
@@ -99,6 +102,10 @@ void Session::open(const std::string& path, unsigned baud) {
     std::lock_guard<std::mutex> lock(identity_mu_);
     peer_ = Peer::Known;
     have_identity_ = false;
+  }
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    for (bool& said : said_refused_) said = false;
   }
   {
     std::lock_guard<std::mutex> lock(port_mu_);
@@ -251,14 +258,25 @@ void Session::on_frame(const p::FrameView& f) {
   }
   const auto type = p::MsgType(f.header.type);
   if (f.is_reply()) on_reply(f);
+  // The sample frames' dimensions against INFO's, once, here: past this
+  // point a sample's vectors are the firmware's shape (sample_check.hpp).
+  std::optional<p::Info> info;
+  if (type == p::MsgType::Telemetry || type == p::MsgType::IdentSample) {
+    std::lock_guard<std::mutex> lock(identity_mu_);
+    if (have_identity_) info = identity_;
+  }
   if (type == p::MsgType::Telemetry) {
     p::Telemetry t;
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
+    if (const auto fault = telemetry_fault(t, info ? &*info : nullptr); fault != SampleFault::None)
+      return refuse_sample(int(fault), telemetry_refusal(t, info ? &*info : nullptr));
     const uint32_t lost = count_telemetry(t.tseq);
     if (telemetry_handler_) telemetry_handler_(t, lost);
   } else if (type == p::MsgType::IdentSample) {
     p::IdentSample t;
     if (p::unpack(f, t) != p::StatusCode::Ok) return;
+    if (const auto fault = ident_sample_fault(t, info ? &*info : nullptr); fault != SampleFault::None)
+      return refuse_sample(int(fault), ident_sample_refusal(t, info ? &*info : nullptr));
     const uint32_t lost = count_telemetry(t.tseq);
     if (ident_handler_) ident_handler_(t, lost);
   } else if (type == p::MsgType::SensorHealth) {
@@ -294,8 +312,25 @@ void Session::on_frame(const p::FrameView& f) {
     if (status_handler_) status_handler_(s);
   } else if (type == p::MsgType::Log) {
     p::Log l;
-    if (p::unpack(f, l) == p::StatusCode::Ok && log_handler_) log_handler_(l);
+    if (p::unpack(f, l) != p::StatusCode::Ok) return;
+    // The firmware's text is escaped where it becomes a string: no handler
+    // (a terminal, the session log, the database) ever holds it raw.
+    printable_into(l.text, l.text, sizeof l.text);
+    if (log_handler_) log_handler_(l);
   }
+}
+
+void Session::refuse_sample(int fault, const std::string& words) {
+  bool say = false;
+  {
+    std::lock_guard<std::mutex> lock(stats_mu_);
+    ++stats_.refused_frames;
+    // Counted lost: the tseq of the next frame taken shows the gap.
+    if (fault >= 0 && fault < int(std::size(said_refused_)) && !said_refused_[fault]) say = said_refused_[fault] = true;
+  }
+  if (say)
+    post_event({LinkEvent::Kind::Refused,
+                fmt::format("dropped {}; every such frame is dropped and counted as lost (said once)", words)});
 }
 
 void Session::on_reply(const p::FrameView& f) {

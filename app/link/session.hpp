@@ -75,7 +75,9 @@ struct Reply {
 
 struct LinkEvent {
   // Foreign: the port reopened but another device answers there.
-  enum class Kind { Down, Up, Silent, Resumed, Foreign };
+  // Refused: a frame the firmware sent was dropped (dimensions other than
+  // its INFO's, values not finite); said once per session and fault.
+  enum class Kind { Down, Up, Silent, Resumed, Foreign, Refused };
   Kind kind;
   std::string detail;
 };
@@ -169,6 +171,9 @@ class Session {
   }
 
   LinkStats stats() const;
+  // Bytes as they came from the port (the link's reader calls it): the
+  // console's whole intake starts here, which is where the fuzzer feeds it.
+  void on_bytes(const uint8_t* data, size_t len);
   // SerialLink::take_longest_write_gap: how long the console went without
   // writing to the port since the last call.
   std::chrono::milliseconds take_longest_write_gap() { return link_.take_longest_write_gap(); }
@@ -212,8 +217,10 @@ class Session {
   std::optional<Reply> exchange_locked(const RawRequest& req, bool identifying, int& sent);
   void check_peer();
   void keepalive();
-  void on_bytes(const uint8_t* data, size_t len);
   void on_frame(const protocol::FrameView& f);
+  // A sample frame the session will not pass on: counted, its tseq left
+  // uncounted so the next frame shows it as lost, said once per fault.
+  void refuse_sample(int fault, const std::string& words);
   void on_reply(const protocol::FrameView& f);
   void post_event(LinkEvent e);
   void supervise();
@@ -279,6 +286,7 @@ class Session {
   mutable std::mutex identity_mu_;
   bool have_identity_ = false;
   protocol::Info identity_{};  // the last INFO of the known device
+  bool said_refused_[3] = {};  // SampleFault: a refusal is said once a session
   std::string foreign_;        // why the peer is refused, in words
 
  public:

@@ -88,6 +88,7 @@ const char* link_event_name(LinkEvent::Kind k) {
     case LinkEvent::Kind::Silent: return "silent";
     case LinkEvent::Kind::Resumed: return "resumed";
     case LinkEvent::Kind::Foreign: return "foreign";
+    case LinkEvent::Kind::Refused: return "refused";
   }
   return "?";
 }

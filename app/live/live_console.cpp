@@ -201,6 +201,7 @@ void LiveConsole::on_event(const LinkEvent& e) {
     case LinkEvent::Kind::Silent: say("link silent: " + e.detail); break;
     case LinkEvent::Kind::Resumed: say("link: " + e.detail); break;
     case LinkEvent::Kind::Foreign: say(e.detail + " (not used; waiting for the device to come back)"); break;
+    case LinkEvent::Kind::Refused: say("firmware: " + e.detail); break;
     case LinkEvent::Kind::Up: {
       say("link up: " + e.detail + "; re-handshaking (nothing is re-applied)");
       try {
