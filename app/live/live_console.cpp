@@ -72,8 +72,13 @@ void LiveConsole::connect(const Progress& params_progress) {
     parts_->intake.on_status(s);
     parts_->resets.note_uptime(s.uptime_ms);
   });
+  // The text arrives escaped (Session); a flood is bounded here, before it
+  // reaches the terminal and the session log.
   session_->on_log([this](const p::Log& l) {
     static const char* level[] = {"debug", "info", "warn", "error"};
+    std::string dropped;
+    if (!log_limiter_.admit(std::chrono::steady_clock::now(), dropped)) return;
+    if (!dropped.empty()) notices_.say(dropped);
     notices_.say(fmt::format("firmware {}: {}", l.level < 4 ? level[l.level] : "log", l.text));
   });
   session_->on_event([this](const LinkEvent& e) { on_event(e); });

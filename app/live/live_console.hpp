@@ -28,6 +28,7 @@
 #include "app/live/board_rig.hpp"
 #include "app/live/firmware_resets.hpp"
 #include "app/live/live_options.hpp"
+#include "app/live/log_limiter.hpp"
 #include "app/live/live_params.hpp"
 #include "app/live/live_references.hpp"
 #include "app/live/live_runs.hpp"
@@ -119,6 +120,7 @@ class LiveConsole {
 
   LiveOptions options_;
   Notices notices_;
+  LogLimiter log_limiter_;  // the link's reader thread only
   SimulatorChild simulator_{options_};
   std::string db_path_;
   bool temp_db_ = false;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 
 #include "host/files/cli_error.hpp"
@@ -96,9 +97,30 @@ std::pair<ParamInfo, std::vector<double>> LiveParams::get(const std::string& nam
   return {info, device_.get(info)};
 }
 
+namespace {
+
+// A name `params load` reads back as the same one word.
+bool is_file_token(const std::string& name) {
+  if (name.empty() || name[0] == '#') return false;
+  for (unsigned char c : name)
+    if (c <= ' ' || c == 0x7f) return false;
+  return true;
+}
+
+}  // namespace
+
 void LiveParams::save(const std::string& path) {
   const auto all = device_.get_all();
   const p::Info info = device_.info();
+  // A file holds what was measured, one parameter a line, whatever the
+  // firmware's words contain: its name is escaped where it is decoded (no
+  // newline can plant a line), and a parameter name that would not read
+  // back as one token (a space, a '#') is refused before a byte is written.
+  for (const auto& [pi, v] : all)
+    if (!is_file_token(pi.name))
+      throw CliError(fmt::format("cannot save parameter '{}' to {}: its name would not read back as one word; "
+                                 "nothing written",
+                                 printable(pi.name), path));
   OutputFile out(path);
   fmt::print(out.get(), "# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
              info.fw_minor, info.fw_patch, int(info.platform), utc_now());
@@ -114,6 +136,9 @@ std::vector<std::string> LiveParams::load(const std::string& path, bool dry_run)
   int lineno = 0;
   // Parse and check the whole file before sending anything.
   std::vector<WantedValue> wanted;
+  // A parameter named twice would end with whichever value differs from
+  // the one in force: refused, nothing sent.
+  std::map<std::string, int> first_line;
   while (std::getline(in, line)) {
     ++lineno;
     std::istringstream ls(line);
@@ -122,6 +147,10 @@ std::vector<std::string> LiveParams::load(const std::string& path, bool dry_run)
     const ParamInfo* info = cat->find(name);
     if (!info) throw CliError(fmt::format("{}:{}: unknown parameter '{}'; the firmware has: {}", path, lineno,
                                             printable_excerpt(name), cat->names()));
+    if (const auto [at, fresh] = first_line.emplace(info->name, lineno); !fresh)
+      throw CliError(fmt::format("{}:{}: {} is named a second time (first at line {}): which value should be in force? "
+                                 "nothing applied",
+                                 path, lineno, printable(info->name), at->second));
     std::vector<std::string> tokens;
     std::string t;
     while (ls >> t) tokens.push_back(t);

@@ -7,6 +7,7 @@
 
 #include "app/record/utc_time.hpp"
 #include "app/tui/fit_text.hpp"
+#include "host/files/printable.hpp"
 
 namespace nlsoft::console::tui {
 
@@ -42,7 +43,11 @@ MessageLog::MessageLog(const std::string& file) : file_(file) {
 }
 
 MessageLog::~MessageLog() {
-  if (out_) std::fclose(out_);
+  if (!out_) return;
+  if (unwritten_ > 0)
+    std::fprintf(out_, "%s warn  %llu messages not written: the session log holds at most %zu bytes a session\n",
+                 utc_now().c_str(), static_cast<unsigned long long>(unwritten_), kMaxFileBytes);
+  std::fclose(out_);
 }
 
 void MessageLog::add(const std::string& text, Role role) {
@@ -51,7 +56,16 @@ void MessageLog::add(const std::string& text, Role role) {
   entries_.push_back({stamp.size() >= 19 ? stamp.substr(11, 8) : stamp, text, role});
   if (entries_.size() > kKeep) entries_.pop_front();
   if (out_) {
-    std::fprintf(out_, "%s %-5s %s\n", stamp.c_str(), role_tag(role), text.c_str());
+    // Through the one escaping function: whatever a message quotes cannot
+    // act on the terminal that later shows the file, nor split a line.
+    const std::string line = fmt::format("{} {:<5} {}\n", stamp, role_tag(role), printable(text));
+    if (written_ + line.size() > kMaxFileBytes) {
+      // Bounded, with a count of what was left out (said at the end).
+      ++unwritten_;
+      return;
+    }
+    written_ += line.size();
+    std::fputs(line.c_str(), out_);
     std::fflush(out_);  // a crash keeps what was said up to it
   }
 }

@@ -3,6 +3,7 @@
 // one on the message row, all of them (up to 2000) in the log pane (F9),
 // which scrolls back, and each appended to a session log file beside the
 // database, so what the console said survives the terminal.
+#include <cstdint>
 #include <cstdio>
 #include <deque>
 #include <mutex>
@@ -14,6 +15,9 @@ namespace nlsoft::console::tui {
 
 class MessageLog {
  public:
+  // What one session may add to the file: a flood of messages (a firmware
+  // that logs every step) stops there.
+  static constexpr size_t kMaxFileBytes = size_t(8) << 20;
   // file: where to append ("" keeps the log in memory only). A file that
   // cannot be opened is reported as the first message, not fatal.
   explicit MessageLog(const std::string& file);
@@ -40,6 +44,8 @@ class MessageLog {
   std::deque<Entry> entries_;
   std::string file_;
   std::FILE* out_ = nullptr;
+  size_t written_ = 0;     // bytes this session wrote to the file
+  uint64_t unwritten_ = 0;  // messages past the cap, not written
 };
 
 // "runs.db" -> "runs.session.log" beside it.
