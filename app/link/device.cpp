@@ -71,6 +71,7 @@ void Device::load_params(const Progress& progress) {
   p::ParamList req;
   uint16_t count = 1;
   for (uint16_t i = 0; i < count; ++i) {
+    if (give_up_ && give_up_()) throw LinkError(fmt::format("interrupted reading parameter {} of {}", i, count));
     req.index = i;
     const p::ParamDesc d = session_.call<p::ParamDesc>(req);
     if (i == 0) count = d.count;
@@ -157,19 +158,32 @@ void Device::upload(p::XferKind kind, const std::vector<uint8_t>& object, const 
     throw NackError(e.nack, fmt::format("{}: {} bytes, the firmware takes at most {} bytes for this kind", e.what(),
                                         object.size(), limit));
   }
+  // Bounded however the firmware answers: progress is the furthest offset
+  // it has acknowledged, so offsets that go forward and back again are
+  // stalls too, and no upload takes more than twice its chunks (plus
+  // retries); a signal ends it between chunks.
   size_t stalls = 0;
+  uint32_t furthest = ack.next_offset;
+  const size_t chunks = (object.size() + p::kMaxChunkData - 1) / p::kMaxChunkData;
+  const size_t max_requests = 2 * chunks + 16;
+  size_t requests = 0;
   while (ack.next_offset < object.size()) {
+    if (give_up_ && give_up_()) throw LinkError(fmt::format("upload interrupted at byte {} of {}", furthest, object.size()));
+    if (++requests > max_requests)
+      throw LinkError(fmt::format("upload abandoned after {} chunks for {} bytes: the firmware's offsets went back "
+                                  "and forth (furthest {})",
+                                  requests - 1, object.size(), furthest));
     if (progress) progress(ack.next_offset, object.size());
     p::XferChunk chunk;
     chunk.kind = uint8_t(kind);
     chunk.offset = ack.next_offset;
     chunk.size = uint8_t(std::min<size_t>(p::kMaxChunkData, object.size() - ack.next_offset));
     std::memcpy(chunk.data, object.data() + ack.next_offset, chunk.size);
-    const uint32_t before = ack.next_offset;
     ack = session_.call<p::XferAck>(chunk);
     // The firmware ignores out-of-order chunks and tells us where it is;
-    // a peer that never advances would loop forever without this guard.
-    stalls = ack.next_offset > before ? 0 : stalls + 1;
+    // a peer that never gets further would loop forever without this guard.
+    stalls = ack.next_offset > furthest ? 0 : stalls + 1;
+    furthest = std::max(furthest, ack.next_offset);
     if (stalls > 8) throw LinkError(fmt::format("upload stalled at byte {} of {}", ack.next_offset, object.size()));
   }
   if (progress) progress(object.size(), object.size());

@@ -74,9 +74,14 @@ class Device {
   std::vector<protocol::DeviceStatus> devices();
 
   Session& session() { return session_; }
+  // Asked between the requests of a long exchange (an upload's chunks, the
+  // parameter list): true ends it with a LinkError. The console's is a
+  // signal (Ctrl-C, SIGTERM).
+  void set_give_up(std::function<bool()> give_up) { give_up_ = std::move(give_up); }
 
  private:
   Session& session_;
+  std::function<bool()> give_up_;
   mutable std::mutex mu_;
   protocol::InfoEx info_{};
   std::optional<protocol::RigInfo> rig_;

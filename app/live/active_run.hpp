@@ -30,6 +30,11 @@ struct ActiveRun {
   std::atomic<uint32_t> last_step{0}, first_step{0};
   std::atomic<int64_t> last_sample_ns{0};  // steady clock, when the run's last sample came
   std::atomic<bool> resync_after_gap{false};  // set by a link down: count the steps missed
+  // A step count that went back (a reset firmware, a hostile one): the
+  // run's steps no longer measure its progress, so it ends early rather
+  // than read an unsigned difference that wrapped as "done".
+  std::atomic<bool> step_went_back{false};
+  std::atomic<uint32_t> step_back_from{0}, step_back_to{0};
   // STATUS: our run's state and watchdog bits, once it is no longer running.
   std::atomic<uint8_t> left_state{0}, left_watchdog{0};
   std::atomic<bool> user_hold{false};  // hold/neutral asked by us: telemetry pauses on purpose

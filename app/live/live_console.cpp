@@ -37,6 +37,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   if (!options_.udp.empty()) udp_ = std::make_unique<UdpStream>(options_.udp, say);
   session_ = std::make_unique<Session>(options_.session);
   device_ = std::make_unique<Device>(*session_);
+  device_->set_give_up([] { return interrupted(); });
   // A rig file that cannot be read stops us before a simulator starts.
   rig_ = std::make_unique<BoardRig>(options_.rig_file, *device_);
   rig_->open();

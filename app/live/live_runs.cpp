@@ -59,6 +59,7 @@ int64_t LiveRuns::begin(const std::string& label, p::IdentStart* ident, const st
   run.left_state = 0;
   run.left_watchdog = 0;
   run.resync_after_gap = false;
+  run.step_went_back = false;
   run.label = label;
   run.started_ns = std::chrono::steady_clock::now().time_since_epoch().count();
   p_.live.clear();
@@ -251,6 +252,11 @@ RunSummary LiveRuns::run_steps(uint64_t target, int64_t id, const std::string& l
       p_.notices.say(fmt::format("database {} has been locked by another process for over {:g} s (--db-busy): run {}'s samples "
                       "are counted lost until it is released; the run goes on",
                       p_.db_path, std::chrono::duration<double>(p_.options.db_busy).count(), id));
+    }
+    if (run.step_went_back.load()) {
+      early = fmt::format("the firmware's step count went back from {} to {} (a reset, or not this run's steps)",
+                          run.step_back_from.load(), run.step_back_to.load());
+      break;
     }
     if (const uint8_t st = run.left_state.load(); st != 0 || run.left_watchdog.load() != 0) {
       early = left_run_reason(st, run.left_watchdog.load(), p_.session.take_longest_write_gap());

@@ -40,6 +40,16 @@ void SampleIntake::on_sample(Sample s, bool has_step, uint32_t lost_before) {
     if (udp_) udp_->push(s, 0);
     return;
   }
+  // A step before the last one is no step of this run's progress: counted
+  // lost, not recorded, and the run told (it ends early).
+  if (has_step && run_.have_last_step && s.step < run_.last_step.load()) {
+    if (!run_.step_went_back.exchange(true)) {
+      run_.step_back_from = run_.last_step.load();
+      run_.step_back_to = s.step;
+    }
+    run_.lost += 1 + lost_before;
+    return;
+  }
   const uint64_t k = run_.k.fetch_add(1);
   s.k = k;
   if (k == 0) run_.first_step = s.step;
