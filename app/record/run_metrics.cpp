@@ -211,6 +211,10 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& metri
   auto worst = [](const TrackingMetrics& x) {
     return x.rmse.empty() ? 0.0 : *std::max_element(x.rmse.begin(), x.rmse.end());
   };
+  // No tracking figure from no samples: an empty rmse is no error of 0.
+  const bool tracked = !t.rmse.empty();
+  if (!tracked && (name == "rmse" || name == "nrmse" || name == "max_error")) return std::nullopt;
+  if (m.predicted.rmse.empty() && (name == "rmse_hat" || name == "nrmse_hat")) return std::nullopt;
   if (name == "rmse") return worst(t);
   if (name == "nrmse") return t.nrmse;
   if (name == "nrmse_space") return m.nrmse_space;

@@ -272,8 +272,17 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     c.kind = Command::Kind::Wait;
     c.seconds = duration(t[1]);
   } else if (verb == "expect") {
-    need(4, "expect METRIC OP VALUE  e.g. expect nrmse < 0.05");
-    at_most(4, "expect METRIC OP VALUE");
+    need(4, "expect METRIC OP VALUE [lost=ok]  e.g. expect nrmse < 0.05");
+    at_most(5, "expect METRIC OP VALUE [lost=ok]");
+    // A run with lost samples (frames lost on the link, or refused: values
+    // not finite, dimensions other than INFO's) was scored on part of it:
+    // an expect on it fails unless the script says that is fine.
+    if (t.size() == 5) {
+      std::pair<std::string, std::string> kv;
+      if (!split_option(t[4], kv) || kv.first != "lost" || (kv.second != "ok" && kv.second != "fail"))
+        throw fail(fmt::format("expect: unexpected '{}'; only lost=ok (or lost=fail, the default)", t[4]));
+      c.allow_lost = kv.second == "ok";
+    }
     c.kind = Command::Kind::Expect;
     c.name = t[1];
     if (!known_metric(c.name))
@@ -423,6 +432,7 @@ const std::vector<std::string>& script_help() {
       "hold | neutral | resume     pause the run, actuators to neutral, continue",
       "wait DURATION               sleep, e.g. wait 500ms",
       "expect METRIC OP VALUE      check the last run, e.g. expect nrmse < 0.05, expect lost_frames == 0;",
+      "                            fails on a run with lost samples unless lost=ok is given;",
       "                            nrmse_space (over the rig's task space) also for holds and steps",
       "export csv FILE             the last run's samples as CSV",
       "echo TEXT                   print TEXT",

@@ -64,6 +64,7 @@ struct Command {
   double value = 0;                 // expect
   std::string label;                // run / start / sweep
   bool allow_early = false;         // run / sweep: early=ok
+  bool allow_lost = false;          // expect: lost=ok (a run with lost samples may be judged)
   double settle_s = 1.0;            // sweep: seconds each row runs before it is measured
   std::string capture;              // ident: y_from=FILE.csv, merged into the run once recorded
 };

@@ -259,7 +259,16 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         if (!last) throw CliError("expect needs a finished run first (run DURATION)");
         const auto v = metric_value(last->metrics, c.name);
         if (!v) throw CliError(fmt::format("metric '{}' is not available for run {}", c.name, last->run_id));
-        if (compare(*v, c.op, c.value)) {
+        const uint64_t lost = last->metrics.lost_frames;
+        if (lost > 0 && !c.allow_lost && canonical_metric_name(c.name) != "lost_frames" &&
+            canonical_metric_name(c.name) != "gaps") {
+          ++failed_;
+          out_(fmt::format("{}:{}: expect {} {} {:g} failed: run {} lost {} sample{} (on the link, or refused as "
+                           "not finite or of another shape), so {} = {:.6g} scores part of it (add lost=ok if that "
+                           "is expected)",
+                           file, c.line, c.name, cmp_op_text(c.op), c.value, last->run_id, lost, lost == 1 ? "" : "s",
+                           c.name, *v));
+        } else if (compare(*v, c.op, c.value)) {
           ++passed_;
           out_(fmt::format("ok: {} = {:.6g} {} {:g}", c.name, *v, cmp_op_text(c.op), c.value));
         } else {
