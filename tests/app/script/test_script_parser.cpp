@@ -203,3 +203,20 @@ TEST(ScriptParser, ReadingAMissingFileIsLineZero) {
 
 }  // namespace
 }  // namespace nlsoft::console
+
+namespace nlsoft::console {
+namespace {
+
+// A run that lost samples is judged only when the script says so.
+TEST(ScriptParser, ExpectTakesLostOkAndNothingElse) {
+  const Script s = parse_script("expect max_error < 0.1\nexpect max_error < 0.1 lost=ok\n", "t.nls");
+  ASSERT_EQ(s.commands.size(), 2u);
+  EXPECT_FALSE(s.commands[0].allow_lost);
+  EXPECT_TRUE(s.commands[1].allow_lost);
+  EXPECT_NE(error_of("expect max_error < 0.1 lost=maybe\n").find("tune.nls:1: expect: unexpected 'lost=maybe'"),
+            std::string::npos)
+      << error_of("expect max_error < 0.1 lost=maybe\n");
+}
+
+}  // namespace
+}  // namespace nlsoft::console
