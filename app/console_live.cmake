@@ -30,3 +30,9 @@ target_link_libraries(nlsoft_console_live
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)
 target_compile_definitions(nlsoft-console PRIVATE NLSOFT_VERSION="${PROJECT_VERSION}")
+
+# The console's intake (port bytes -> session -> samples -> recorder and
+# live buffer) under libFuzzer (NLSOFT_FUZZ: protocol/CMakeLists.txt).
+if(NLSOFT_FUZZ AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+  add_subdirectory(${CMAKE_CURRENT_SOURCE_DIR}/link/fuzz ${CMAKE_CURRENT_BINARY_DIR}/link/fuzz)
+endif()

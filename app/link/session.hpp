@@ -174,6 +174,14 @@ class Session {
   // Bytes as they came from the port (the link's reader calls it): the
   // console's whole intake starts here, which is where the fuzzer feeds it.
   void on_bytes(const uint8_t* data, size_t len);
+  // The identity an INFO reply gives (transact() takes it from the reply):
+  // given directly where there is no request to answer, as in the fuzzer,
+  // so the sample frames are checked against it.
+  void take_identity(const protocol::Info& info) {
+    std::lock_guard<std::mutex> lock(identity_mu_);
+    identity_ = info;
+    have_identity_ = true;
+  }
   // SerialLink::take_longest_write_gap: how long the console went without
   // writing to the port since the last call.
   std::chrono::milliseconds take_longest_write_gap() { return link_.take_longest_write_gap(); }

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Runs the protocol decoder's and the console intake's fuzz targets for a
+# bounded time each, the corpus seeded from the golden vectors'
+# frames (protocol/fuzz/corpus). What a run finds is kept under OUT (crash-*
+# files: each becomes a regression test) and fails the script.
+#   run_fuzz.sh BUILD_DIR SECONDS_PER_TARGET [OUT]
+# BUILD_DIR: a clang build with NLSOFT_FUZZ=ON (cmake/dev sanitize makes one).
+set -euo pipefail
+build=$1 seconds=$2
+here=$(cd "$(dirname "$0")/../../.." && pwd)
+out=${3:-$build/fuzz-out}
+mkdir -p "$out/decoder" "$out/intake" "$out/seeds-intake"
+
+# The intake's input is two bytes (which INFO, run or not and chunk size)
+# and the line: each golden frame as a msd-shaped and a hasel-shaped
+# firmware sends it, recorded and not, and all of them in one line.
+: >"$out/seeds-intake/all"
+for f in "$here"/protocol/fuzz/corpus/*; do
+  name=$(basename "$f")
+  for prefix in '\000\077' '\001\277' '\360\201'; do
+    { printf "$prefix"; tail -c +2 "$f"; } >"$out/seeds-intake/$name-$(printf '%s' "$prefix" | tr -dc 0-9)"
+  done
+  tail -c +2 "$f" >>"$out/seeds-intake/all.body"
+done
+{ printf '\001\277'; cat "$out/seeds-intake/all.body"; } >"$out/seeds-intake/all"
+rm -f "$out/seeds-intake/all.body"
+
+status=0
+run() {
+  local target=$1 corpus=$2 seeds=$3
+  echo "fuzz: $target for ${seconds} s" >&2
+  # -rss_limit_mb: the recorder's queue and SQLite's cache stay well under it.
+  if ! ("$build/$target" -max_total_time="$seconds" -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$out/$corpus-" \
+      "$out/$corpus" "$seeds" 2>"$out/$corpus.log"); then
+    status=1
+    echo "fuzz: $target FOUND A FAULT: see $out/$corpus.log and $out/$corpus-crash-*" >&2
+  fi
+  grep -E '^stat::number_of_executed_units|^stat::average_exec_per_sec|^#[0-9]+ *DONE' "$out/$corpus.log" >&2 || true
+}
+run protocol/fuzz/nlsoft-fuzz-decoder decoder "$here/protocol/fuzz/corpus"
+run app/link/fuzz/nlsoft-fuzz-intake intake "$out/seeds-intake"
+exit $status
