@@ -365,6 +365,8 @@ Reply Session::transact(uint8_t type, const uint8_t* payload, size_t length) {
   // The device's identity, to recognise it after a reconnect.
   p::InfoEx info;
   if (unpack_info(r, info)) {
+    // Its name is said when another device answers: escaped here, as read.
+    printable_into(info.info.firmware, info.info.firmware, sizeof info.info.firmware);
     std::lock_guard<std::mutex> lock(identity_mu_);
     identity_ = info.info;
     have_identity_ = true;
@@ -396,10 +398,12 @@ void Session::check_peer() {
     // next reopen is checked anew.
     if (losses_ != losses) return;
     std::string change;
-    if (!unpack_info(r, now_ex))
+    if (!unpack_info(r, now_ex)) {
       change = not_info_words(r.type);
-    else
+    } else {
+      printable_into(now.firmware, now.firmware, sizeof now.firmware);
       change = identity_change(identity_, now);
+    }
     if (change.empty()) {
       identity_ = now;  // the hashes may have changed; the console re-reads them
       peer_ = Peer::Known;
