@@ -383,6 +383,7 @@ TEST(Device, AChipCountOutsideOneToEightIsRefused) {
     p::DeviceStatus d;
     d.index = get.index;
     d.count = 200;
+    std::snprintf(d.name, sizeof d.name, "%s", "mag1");  // DEVICE_STATUS names its chip (1..32 bytes)
     pe.reply(d, f.header.seq);
   });
   Session s(quick());
