@@ -1,11 +1,14 @@
 #pragma once
-// Keras activations: exact (std::exp, std::tanh) with first and second
+// Keras activations: exact (fixed_math.hpp: the same bits on every x86-64
+// CPU; newlib's on the MCU) with first and second
 // derivatives for the model pipeline and the reference derivatives (jet.hpp),
 // and fast with the first derivative for the controller's kernels
 // (rollout.hpp), where a libm call costs more than a whole layer on an MCU.
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+
+#include "shared/fixed_math.hpp"
 
 namespace nlsoft {
 
@@ -32,8 +35,8 @@ struct ActValue {
 inline float activate(Activation a, float x) {
   switch (a) {
     case Activation::Relu: return x > 0.0f ? x : 0.0f;
-    case Activation::Tanh: return std::tanh(x);
-    case Activation::Sigmoid: return 1.0f / (1.0f + std::exp(-x));
+    case Activation::Tanh: return fixed_math::tanh(x);
+    case Activation::Sigmoid: return 1.0f / (1.0f + fixed_math::exp(-x));
     // Keras 2.x: clip(0.2 x + 0.5, 0, 1)
     case Activation::HardSigmoid: {
       const float y = 0.2f * x + 0.5f;
@@ -50,12 +53,12 @@ inline ActValue activate_d2(Activation a, float x) {
   switch (a) {
     case Activation::Relu: return x > 0.0f ? ActValue{x, 1.0f, 0.0f} : ActValue{0.0f, 0.0f, 0.0f};
     case Activation::Tanh: {
-      const float t = std::tanh(x);
+      const float t = fixed_math::tanh(x);
       const float d = 1.0f - t * t;
       return {t, d, -2.0f * t * d};
     }
     case Activation::Sigmoid: {
-      const float s = 1.0f / (1.0f + std::exp(-x));
+      const float s = 1.0f / (1.0f + fixed_math::exp(-x));
       const float d = s * (1.0f - s);
       return {s, d, d * (1.0f - 2.0f * s)};
     }

@@ -44,6 +44,7 @@
 #include <cstdint>
 
 #include "shared/rig_config.hpp"
+#include "shared/fixed_math.hpp"
 #include "shared/rng.hpp"
 #include "shared/sincos.hpp"
 #include "shared/status.hpp"
@@ -132,7 +133,7 @@ class Excitation {
     while (bits_ < 16 && float((1u << bits_) - 1u) * float(hold_min_) < rate_hz / spec.band_lo) ++bits_;
     walk_sigma_ = std::sqrt(spec.band_lo / rate_hz);
     const float a = 6.28318531f * spec.band_hi / rate_hz;
-    smooth_ = a > 10.0f ? 1.0f : 1.0f - std::exp(-a);
+    smooth_ = a > 10.0f ? 1.0f : 1.0f - fixed_math::exp(-a);
     const int channels = spec.joint ? 1 : m;
     if (bits_ < channels) bits_ = channels;
     for (int i = 0; i < channels; ++i) start(ch_[i], spec.seed, i);

@@ -30,6 +30,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "shared/fixed_math.hpp"
+
 
 namespace nlsoft {
 
@@ -73,7 +75,7 @@ inline float admit_dt(float dt) {
 
 // Exact discretisation of a first-order lag x' = (target - x) / tau over dt
 // with the target held: x += (1 - e^{-dt/tau}) (target - x). Stable for any dt.
-inline float lag_gain(float dt, float tau) { return 1.0f - std::exp(-dt / tau); }
+inline float lag_gain(float dt, float tau) { return 1.0f - fixed_math::exp(-dt / tau); }
 
 // Play (backlash) operator of half-width h: the output follows the input only
 // once the input has moved h past it, so rising and falling sweeps differ by

@@ -36,6 +36,7 @@
 #include <cstdint>
 
 #include "shared/plant.hpp"
+#include "shared/fixed_math.hpp"
 #include "shared/rng.hpp"
 
 namespace nlsoft {
@@ -107,10 +108,10 @@ constexpr bool finite_all(const float* v, int count) {
 // The shaped deviation from neutral, before the gain.
 inline float shape(const GenericInputSpec& s, float d) {
   switch (s.shape) {
-    case GenericShape::Tanh: return s.knee * std::tanh(d / s.knee);
+    case GenericShape::Tanh: return s.knee * fixed_math::tanh(d / s.knee);
     case GenericShape::Saturation: return plant_detail::clampf(d, -s.knee, s.knee);
     case GenericShape::Power: {
-      const float mag = std::pow(std::fabs(d), s.exponent);
+      const float mag = fixed_math::pow(std::fabs(d), s.exponent);
       return d < 0.0f ? -mag : mag;
     }
     case GenericShape::Linear:

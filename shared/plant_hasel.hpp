@@ -44,6 +44,7 @@
 #include <cstdint>
 
 #include "shared/plant.hpp"
+#include "shared/fixed_math.hpp"
 #include "shared/rng.hpp"
 
 namespace nlsoft {
@@ -95,9 +96,9 @@ class HaselPlant {
     pose(tx, ty, mean);
     const float ax = kKappa * tx;
     const float ay = kKappa * ty;
-    y[0] = kHeight * std::sin(ax);
-    y[1] = kHeight * std::sin(ay) * std::cos(ax);
-    y[2] = kZ0 + kStroke * mean - kHeight * (1.0f - std::cos(ax) * std::cos(ay));
+    y[0] = kHeight * fixed_math::sin(ax);
+    y[1] = kHeight * fixed_math::sin(ay) * fixed_math::cos(ax);
+    y[2] = kZ0 + kStroke * mean - kHeight * (1.0f - fixed_math::cos(ax) * fixed_math::cos(ay));
   }
 
   void sensors(float* l) {
@@ -107,13 +108,13 @@ class HaselPlant {
     const float ay = kKappa * ty;
     // The magnets ride on the plate: their axis is the plate normal and the
     // tilt slides them sideways relative to the sensors fixed to the base.
-    float nx = std::sin(ax), ny = std::sin(ay), nz = std::cos(ax) * std::cos(ay);
+    float nx = fixed_math::sin(ax), ny = fixed_math::sin(ay), nz = fixed_math::cos(ax) * fixed_math::cos(ay);
     const float nn = 1.0f / std::sqrt(nx * nx + ny * ny + nz * nz);
     nx *= nn;
     ny *= nn;
     nz *= nn;
-    const float shift_x = kSlide * std::sin(ax);
-    const float shift_y = kSlide * std::sin(ay);
+    const float shift_x = kSlide * fixed_math::sin(ax);
+    const float shift_y = kSlide * fixed_math::sin(ay);
     for (int j = 0; j < m; ++j) {
       float b[3] = {0.0f, 0.0f, 0.0f};
       for (int k = 0; k < m; ++k) {

@@ -17,6 +17,7 @@
 #include <cstdint>
 
 #include "shared/plant.hpp"
+#include "shared/fixed_math.hpp"
 
 namespace nlsoft {
 
@@ -75,7 +76,7 @@ class MsdPlant {
   }
 
   // The paper's identification input u(t) = 1000 sin t cos t = 500 sin 2t N/kg.
-  static float training_input(float t) { return 1000.0f * std::sin(t) * std::cos(t); }
+  static float training_input(float t) { return 1000.0f * fixed_math::sin(t) * fixed_math::cos(t); }
 
  private:
   static constexpr float kK = kStiffness / kMass;  // 400 1/s^2

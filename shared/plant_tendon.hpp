@@ -42,6 +42,7 @@
 #include <cstdint>
 
 #include "shared/plant.hpp"
+#include "shared/fixed_math.hpp"
 #include "shared/rng.hpp"
 
 namespace nlsoft {
@@ -87,9 +88,9 @@ class TendonPlant {
   void output(float* y) const {
     const float a0 = bend(0);
     const float a1 = bend(1);
-    y[1] = kRho1 * std::sin(a0) * std::cos(0.35f * a1);
-    y[2] = kRho2 * std::sin(a1) - kSag * (1.0f - std::cos(a0));
-    y[0] = kDepth * (1.0f - std::cos(a0) * std::cos(a1));
+    y[1] = kRho1 * fixed_math::sin(a0) * fixed_math::cos(0.35f * a1);
+    y[2] = kRho2 * fixed_math::sin(a1) - kSag * (1.0f - fixed_math::cos(a0));
+    y[0] = kDepth * (1.0f - fixed_math::cos(a0) * fixed_math::cos(a1));
   }
 
   void sensors(float* l) {
@@ -99,8 +100,8 @@ class TendonPlant {
       const float psi = kTwoPi * static_cast<float>(j) / static_cast<float>(w);
       const float o = 0.4f + 0.05f * static_cast<float>(j);
       const float k = 0.6f + 0.04f * static_cast<float>(j);
-      const float s = o + 0.8f * (a0 * std::cos(psi) + a1 * std::sin(psi));
-      const float v = std::exp(-k * s * s) + kNoise * rng_.gaussian();
+      const float s = o + 0.8f * (a0 * fixed_math::cos(psi) + a1 * fixed_math::sin(psi));
+      const float v = fixed_math::exp(-k * s * s) + kNoise * rng_.gaussian();
       l[j] = plant_detail::clampf(v, 0.0f, 1.0f);
     }
   }
@@ -124,7 +125,7 @@ class TendonPlant {
   }
 
   // Bend angles alpha_i (state; for tests and plots).
-  float bend(int i) const { return kBendMax * std::tanh(q_[i] / kBendSoft); }
+  float bend(int i) const { return kBendMax * fixed_math::tanh(q_[i] / kBendSoft); }
   float servo_angle(int i) const { return theta_[i]; }
 
  private:

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "shared/fixed_math.hpp"
+
 namespace nlsoft {
 
 class Rng {
@@ -52,11 +54,11 @@ class Rng {
     }
     const float u1 = static_cast<float>((next_u32() >> 8) + 1u) * kInv24;
     const float u2 = uniform();
-    const float radius = std::sqrt(-2.0f * std::log(u1));
+    const float radius = std::sqrt(-2.0f * fixed_math::log(u1));
     const float angle = kTwoPi * u2;
-    spare_ = radius * std::sin(angle);
+    spare_ = radius * fixed_math::sin(angle);
     has_spare_ = true;
-    return radius * std::cos(angle);
+    return radius * fixed_math::cos(angle);
   }
 
   float gaussian(float mean, float sigma) { return mean + sigma * gaussian(); }

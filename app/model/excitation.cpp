@@ -6,6 +6,7 @@
 
 #include "app/model/error.hpp"
 #include "app/model/random.hpp"
+#include "shared/fixed_math.hpp"
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::pipeline {
@@ -78,7 +79,7 @@ class Excitation {
       v += dither_ * (2.0 * rng_.uniform() - 1.0);
       v = std::clamp(v, 0.0, 1.0);
       double ui = lo_[size_t(i)] + v * (hi_[size_t(i)] - lo_[size_t(i)]);
-      if (mode_ == Mode::Paper) ui = 1000.0 * std::sin(t_) * std::cos(t_);
+      if (mode_ == Mode::Paper) ui = 1000.0 * fixed_math::sin(t_) * fixed_math::cos(t_);
       u[i] = static_cast<float>(ui);
     }
   }
@@ -135,9 +136,9 @@ class Excitation {
   // Logarithmic sweep f0 -> f1 over the segment, per-actuator phase.
   double chirp_value(int i) {
     const double frac = std::min(1.0, t_seg_ / seg_len_);
-    const double f = f0_ * std::pow(f1_ / f0_, frac);
+    const double f = f0_ * fixed_math::pow(f1_ / f0_, frac);
     if (i == 0) chirp_phase_ += kTwoPi * f * dt_;
-    v_[size_t(i)] = centre_[size_t(i)] + amp_[size_t(i)] * std::sin(chirp_phase_ * (1.0 + 0.13 * i) + phase_[size_t(i)]);
+    v_[size_t(i)] = centre_[size_t(i)] + amp_[size_t(i)] * fixed_math::sin(chirp_phase_ * (1.0 + 0.13 * i) + phase_[size_t(i)]);
     return v_[size_t(i)];
   }
 

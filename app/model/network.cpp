@@ -2,10 +2,15 @@
 
 #include <cmath>
 
+#include "app/model/eigen_blocking.hpp"
 #include "app/model/error.hpp"
+#include "shared/fixed_math.hpp"
 
 namespace nlsoft::pipeline {
 namespace {
+
+// Before any product: see eigen_blocking.hpp.
+[[maybe_unused]] const bool kEigenBlockingPinned = pin_eigen_blocking();
 
 using RowMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 using ConstMap = Eigen::Map<const RowMat>;
@@ -15,8 +20,8 @@ using ConstRow = Eigen::Map<const Eigen::RowVectorXd>;
 double act1(Activation a, double x) {
   switch (a) {
     case Activation::Relu: return x > 0.0 ? x : 0.0;
-    case Activation::Tanh: return std::tanh(x);
-    case Activation::Sigmoid: return 1.0 / (1.0 + std::exp(-x));
+    case Activation::Tanh: return fixed_math::tanh(x);
+    case Activation::Sigmoid: return fixed_math::sigmoid(x);
     case Activation::HardSigmoid: return std::min(1.0, std::max(0.0, 0.2 * x + 0.5));
     case Activation::Linear: break;
   }
@@ -27,11 +32,11 @@ double dact1(Activation a, double x) {
   switch (a) {
     case Activation::Relu: return x > 0.0 ? 1.0 : 0.0;
     case Activation::Tanh: {
-      const double t = std::tanh(x);
+      const double t = fixed_math::tanh(x);
       return 1.0 - t * t;
     }
     case Activation::Sigmoid: {
-      const double s = 1.0 / (1.0 + std::exp(-x));
+      const double s = fixed_math::sigmoid(x);
       return s * (1.0 - s);
     }
     case Activation::HardSigmoid: return (x > -2.5 && x < 2.5) ? 0.2 : 0.0;

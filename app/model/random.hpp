@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <random>
 
+#include "shared/fixed_math.hpp"
+
 namespace nlsoft::pipeline {
 
 class Random {
@@ -19,7 +21,7 @@ class Random {
   double gaussian() {  // Box-Muller, one value per call for simplicity
     const double a = 1.0 - uniform();
     const double b = uniform();
-    return std::sqrt(-2.0 * std::log(a)) * std::cos(6.283185307179586 * b);
+    return std::sqrt(-2.0 * fixed_math::log(a)) * fixed_math::cos(6.283185307179586 * b);
   }
   uint64_t next() { return eng_(); }
 

@@ -8,6 +8,7 @@
 #include <LBFGS.h>
 
 #include "app/model/random.hpp"
+#include "shared/fixed_math.hpp"
 
 namespace nlsoft::pipeline {
 namespace {
@@ -73,7 +74,7 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
     std::vector<long> starts = window_starts(train, H, H, int(rng.integer(0, H - 1)));
     if (starts.empty()) starts = window_starts(train, H, H, 0);
     for (long i = long(starts.size()) - 1; i > 0; --i) std::swap(starts[size_t(i)], starts[size_t(rng.integer(0, i))]);
-    const double lr = 0.5 * o.lr * (1.0 + std::cos(kPi * (epoch - 1) / o.epochs));
+    const double lr = 0.5 * o.lr * (1.0 + fixed_math::cos(kPi * (epoch - 1) / o.epochs));
     double sum = 0.0;
     long batches = 0;
     std::vector<long> batch;

@@ -8,6 +8,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/live/live_console.hpp"
+#include "shared/fixed_math.hpp"
 
 namespace nlsoft::console {
 
@@ -127,12 +128,12 @@ std::vector<double> SearchSpace::start() const {
         // One value for several elements: their geometric mean on a log
         // range, else their mean.
         double sum = 0, logsum = 0;
-        for (double e : v) sum += e, logsum += std::log(std::max(e, 1e-300));
-        x = d.log ? std::exp(logsum / double(v.size())) : sum / double(v.size());
+        for (double e : v) sum += e, logsum += fixed_math::log(std::max(e, 1e-300));
+        x = d.log ? fixed_math::exp(logsum / double(v.size())) : sum / double(v.size());
       }
     }
     x = std::min(d.hi, std::max(d.lo, x));
-    u.push_back(d.log ? std::log(x / d.lo) / std::log(d.hi / d.lo) : (x - d.lo) / (d.hi - d.lo));
+    u.push_back(d.log ? fixed_math::log(x / d.lo) / fixed_math::log(d.hi / d.lo) : (x - d.lo) / (d.hi - d.lo));
   }
   return u;
 }
@@ -140,7 +141,7 @@ std::vector<double> SearchSpace::start() const {
 double SearchSpace::value(size_t i, double unit) const {
   const Dimension& d = dims_[i];
   const double u = clamp01(unit);
-  double x = d.log ? d.lo * std::pow(d.hi / d.lo, u) : d.lo + u * (d.hi - d.lo);
+  double x = d.log ? d.lo * fixed_math::pow(d.hi / d.lo, u) : d.lo + u * (d.hi - d.lo);
   const ParamInfo& info = original_[targets_[i].param].first;
   if (!targets_[i].scale && info.type != protocol::ParamType::F32) x = std::round(x);
   return std::min(d.hi, std::max(d.lo, x));
