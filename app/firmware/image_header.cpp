@@ -298,7 +298,12 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
     throw CliError(fmt::format("--model {}: the model is for m = {}, n = {}, w = {}, nd = {}, dd = {}; rig '{}' ({}) "
                                "has m = {}, n = {}, w = {}, nd = {}, dd = {}",
                                model_file, s.m, s.n, s.w, s.nd, s.dd, rig.name, rig.file, rig.m(), rig.n(), rig.w(),
-                               rig.nd, rig.dd));
+                               rig.nd, rig.dd) +
+                   // An image is built for one history length: the one train chose goes into the file.
+                   (rig.lags_auto ? fmt::format(" (the rig file leaves nd to train's search: write nd = {} and dd = "
+                                                "{}, the model's, into {})",
+                                                s.nd, s.dd, rig.file)
+                                  : std::string()));
   std::vector<RigLayer> layers;
   for (int i = 0; i < s.layer_count; ++i) {
     RigLayer l;

@@ -20,6 +20,7 @@
 #include "app/model/excitation.hpp"
 #include "app/model/input_levels.hpp"
 #include "app/model/keras_import.hpp"
+#include "app/model/lag_search.hpp"
 #include "app/model/model_fit.hpp"
 #include "app/model/model_size_words.hpp"
 #include "app/model/progress.hpp"
@@ -151,22 +152,40 @@ class InterruptGuard {
   void (*previous_)(int) = SIG_DFL;
 };
 
-// What train chose and why: every candidate's validation free run.
-void print_choice(const TrainResult& r) {
+// What train chose and why: every candidate's free run of the held-out
+// rows (the rows of the held-out table printed after it), and, when a
+// linear model beat every network, one line saying so with both figures.
+void print_choice(const TrainResult& r, const std::string& unit) {
   if (r.stopped) std::printf("stopped (Ctrl-C): keeping the best model so far\n");
   if (r.objective == Objective::OneStep) {
     std::printf("objective one-step (the paper's): the one-step validation loss chose the weights\n");
     return;
   }
-  std::printf("objective simulation: kept the candidate whose free runs of the training and validation rows were "
-              "best (MSE / variance)\n");
+  std::printf("objective simulation: kept the candidate whose free run of the held-out rows (%s), which none was "
+              "fitted on, was best (MSE / variance); each one's training stopped on its free runs of the training "
+              "and validation rows\n",
+              r.held_out.c_str());
+  const std::string u = unit.empty() ? "" : " " + unit;
+  auto rmse = [&](const Candidate& c) {
+    std::string out;
+    for (double v : c.held_out_rmse) out += (out.empty() ? "" : ", ") + fmt::format("{:.4g}{}", v, u);
+    return out;
+  };
   for (size_t i = 0; i < r.candidates.size(); ++i) {
     const Candidate& c = r.candidates[i];
-    std::printf("  %s %-28s seed %-3llu %5zu weights  free run %.4e (%s %.4e), %d epochs, %d L-BFGS "
-                "evaluations\n",
-                i == r.chosen ? "*" : " ", describe_layers(c.layers).c_str(), static_cast<unsigned long long>(c.seed),
-                c.weights, c.val_free_run, c.linear_start ? "started from the linear model's" : "one-step warm start",
-                c.warm_free_run, c.epochs, c.evals);
+    const std::string what = c.arx ? "ARX (least squares, same lags)" : describe_layers(c.layers);
+    const std::string how = c.arx ? "one-step least squares"
+                            : fmt::format("{} {:.4e}, {} epochs, {} L-BFGS evaluations",
+                                          c.linear_start ? "started from the linear model's" : "one-step warm start",
+                                          c.warm_free_run, c.epochs, c.evals);
+    std::printf("  %s %-30s seed %-3llu %5zu weights  held-out free run %.4e (RMSE %s); training rows %.4e (%s)\n",
+                i == r.chosen ? "*" : " ", what.c_str(), static_cast<unsigned long long>(c.seed), c.weights, c.held_out,
+                rmse(c).c_str(), c.val_free_run, how.c_str());
+  }
+  if (r.beaten_network != size_t(-1)) {
+    const Candidate &k = r.candidates[r.chosen], &n = r.candidates[r.beaten_network];
+    std::printf("kept the linear model (%s): its held-out free run RMSE %s beats the best network's %s (%s)\n",
+                k.arx ? "ARX" : "output-error", rmse(k).c_str(), rmse(n).c_str(), describe_layers(n.layers).c_str());
   }
 }
 
@@ -189,9 +208,20 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     objective = a.objective == "one-step" ? Objective::OneStep : Objective::Simulation;
   }
   TrainOptions o = default_options(target, objective);
-  // The rig's lags unless overridden, within what every controller holds.
-  if (!a.nd.empty()) o.nd = static_cast<int>(to_long("--nd", a.nd, 1, HostCapacity::nd));
-  if (!a.dd.empty()) o.dd = static_cast<int>(to_long("--dd", a.dd, 1, HostCapacity::nd));
+  // The rig's lags unless overridden, within what every controller holds;
+  // "auto" (or a rig file that leaves them out) searches them on the data.
+  // On a rig that searches, one length given sets both (the controller keeps one).
+  const bool rig_auto = target.lags_auto && a.nd.empty() && a.dd.empty();
+  const bool nd_auto = a.nd == "auto" || rig_auto, dd_auto = a.dd == "auto" || rig_auto;
+  if ((nd_auto && !a.dd.empty() && !dd_auto) || (dd_auto && !a.nd.empty() && !nd_auto))
+    throw PipelineError("--nd and --dd: give both lengths, or search both (\"auto\")");
+  if (!nd_auto && !a.nd.empty()) o.nd = static_cast<int>(to_long("--nd", a.nd, 1, HostCapacity::nd));
+  if (!dd_auto && !a.dd.empty()) o.dd = static_cast<int>(to_long("--dd", a.dd, 1, HostCapacity::nd));
+  if (target.lags_auto && a.dd.empty() && !a.nd.empty() && !nd_auto) o.dd = o.nd;
+  if (target.lags_auto && a.nd.empty() && !a.dd.empty() && !dd_auto) o.nd = o.dd;
+  const int max_lags = std::max(1, std::min(HostCapacity::nd, (HostCapacity::inputs - target.w) / (target.m + target.n)));
+  const bool search = nd_auto || dd_auto;
+  if (search) o.nd = o.dd = 1;  // chosen below, once the runs are read
   if (const int p = o.nd * target.m + o.dd * target.n + target.w; p > HostCapacity::inputs)
     throw PipelineError(fmt::format("--nd {} --dd {}: the network's input p = nd m + dd n + w = {} exceeds {} for rig "
                                     "'{}' (m = {}, n = {}, w = {})",
@@ -251,6 +281,13 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   int validate = -1;
   const std::vector<Series> runs = training_runs(a, target, load_run, &validate);
   for (const Series& s : runs) check_dimensions(s, target);
+  std::string lag_words;
+  if (search) {
+    const LagChoice lags = search_lags(runs, max_lags, o.folds, validate);
+    o.nd = o.dd = lags.lags;
+    lag_words = lags.words();
+    std::printf("history: %s\n", lag_words.c_str());
+  }
   long samples = 0, gaps = 0;
   for (const Series& s : runs) samples += s.rows(), gaps += long(s.breaks.size());
   std::printf("training on %zu run%s of rig %s: %ld samples, %ld gap%s; nd = %d, dd = %d\n", runs.size(),
@@ -278,12 +315,15 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   o.stop = &interrupt.flag();
   const TrainResult r = train(runs, target, o, validate);
   bar.finish();
-  print_choice(r);
+  const std::string unit = target.y_unit;
+  print_choice(r, unit);
   ModelFile f = r.model;
-  const ModelFit fit = model_fit(r, target);
+  ModelFit fit = model_fit(r, target);
+  fit.lags = lag_words.empty() ? fmt::format("nd = dd = {}, {}", o.nd, a.nd.empty() ? "the rig file's" : "given (--nd)")
+                               : lag_words;
   f.fit = fit_to_json(fit);
   save_model_file(a.out, f);
-  const std::string unit = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
+  const std::string unit2 = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
   // One-step epochs are the warm start's; a network started from the linear model had none.
   const std::string how = r.candidates.empty() || !r.candidates[r.chosen].linear_start
                               ? std::to_string(r.epochs_run) + " one-step epochs"
@@ -293,9 +333,11 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
               model_size_words(uint32_t(f.params.size()), f.view().norm_count()).c_str(),
               r.split.train_end, r.split.val_end - r.split.val_begin, r.split.test_end - r.split.test_begin);
   for (size_t j = 0; j < r.test.mse.size(); ++j)
-    std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit.c_str(),
-                std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit.c_str());
-  std::printf("%s", fit_table(fit).c_str());
+    std::printf("test y%zu: MSE %.4e %s (RMSE %.4g), free-run MSE %.4e %s\n", j, r.test.mse[j], unit2.c_str(),
+                std::sqrt(r.test.mse[j]), r.test.free_run_mse[j], unit2.c_str());
+  ModelFit shown = fit;
+  shown.lags.clear();  // printed before training
+  std::printf("%s", fit_table(shown).c_str());
   std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
 }
 
@@ -494,8 +536,12 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--validate-run", train_args->validate_run,
                  "hold this recorded run out, whole, for the fit (default: the last part of each run)")
       ->type_name("ID");
-  tr->add_option("--nd", train_args->nd, "input history length (default: the rig's nd; 1..32, with p = nd m + dd n + w <= 88)")->type_name("N");
-  tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..32, with p <= 88)")->type_name("N");
+  tr->add_option("--nd", train_args->nd,
+                 "input history length (default: the rig's nd; 1..32, with p = nd m + dd n + w <= 88), or auto: "
+                 "searched on the data (the default where the rig file leaves nd out)")
+      ->type_name("N|auto");
+  tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..32, with p <= 88), or auto")
+      ->type_name("N|auto");
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
   tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
   tr->add_option("--hidden", train_args->hidden,

@@ -165,6 +165,7 @@ std::string fit_table(const ModelFit& f) {
   std::string out;
   for (const FitSection& s : f.sections) out += section_table(s, f.unit);
   if (f.arx.empty()) out += "(no ARX baseline kept with this fit)\n";
+  if (!f.lags.empty()) out += "history: " + f.lags + "\n";
   return out;
 }
 
@@ -186,6 +187,7 @@ std::string fit_to_json(const ModelFit& f) {
   j["sections"] = nlohmann::json::array();
   for (const FitSection& s : f.sections) j["sections"].push_back(section_json(s));
   if (!f.arx.empty()) j["arx"] = nlohmann::json::parse(f.arx);
+  if (!f.lags.empty()) j["lags"] = f.lags;
   return j.dump();
 }
 
@@ -202,6 +204,7 @@ ModelFit fit_from_json(const std::string& text, const std::string& where) {
       f.sections.push_back(section_from(j, "held-out data of rig " + f.rig + ": " + f.held_out));
     }
     if (j.contains("arx")) f.arx = j.at("arx").dump();
+    if (j.contains("lags")) f.lags = j.at("lags").get<std::string>();
     return f;
   } catch (const nlohmann::json::exception& e) {
     throw PipelineError(where + ": its fit section is not readable: " + e.what());

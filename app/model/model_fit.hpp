@@ -39,6 +39,7 @@ struct ModelFit {
   // validation fold, reported apart.
   std::vector<FitSection> sections;
   std::string arx;  // the baseline, arx_to_json; empty: none (a fit of an older console)
+  std::string lags;  // how nd = dd was chosen, in words (app/model/lag_search.hpp); empty: not said
 };
 
 // Scores the network, and `arx` unless null, on rows `pieces` of d.

@@ -18,6 +18,7 @@ enum class TargetPlant { None, Named, Generic };
 struct PlantTarget {
   std::string name;  // the rig's name, in messages
   int m = 0, n = 0, w = 0, nd = 2, dd = 2;
+  bool lags_auto = false;          // the rig file leaves nd, dd to train's search (nd = dd: its longest)
   double rate_hz = 0;              // the control rate (0: not known)
   int horizon = 1;                 // the controller's prediction horizon N: the least a model is trained to simulate
   std::vector<double> u_lo, u_hi;  // the inputs' limits

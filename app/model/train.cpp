@@ -12,7 +12,9 @@
 
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
+#include "app/model/fit_scores.hpp"
 #include "app/model/linear_start.hpp"
+#include "app/model/pooled_runs.hpp"
 #include "shared/forward.hpp"
 #include "shared/sim_plant.hpp"
 
@@ -255,7 +257,31 @@ SimulationData simulation_data(const Dataset& d, const Eigen::MatrixXd& Xn, cons
   return s;
 }
 
+// A model's free run of `pieces` (from each piece's measured start), as
+// the firmware runs it: MSE / variance summed over outputs (what chooses),
+// and RMSE per output (what the held-out table prints).
+struct HeldOutScore {
+  double loss = 0;
+  std::vector<double> rmse;
+};
+HeldOutScore held_out_score(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces,
+                            const Eigen::VectorXd& inverse_variance) {
+  const Simulation sim = simulate_network(model, d, pieces);
+  const Eigen::MatrixXd y = measured(d, pieces);
+  HeldOutScore h;
+  const double rows = double(std::max<Eigen::Index>(1, y.rows()));
+  for (Eigen::Index j = 0; j < y.cols(); ++j) {
+    const double mse = (sim.free_run.col(j) - y.col(j)).squaredNorm() / rows;
+    // A model whose free run leaves the float range is the worst, not NaN.
+    h.loss += std::isfinite(mse) ? mse * inverse_variance(j) : HUGE_VAL;
+    h.rmse.push_back(std::sqrt(mse));
+  }
+  return h;
+}
+
 }  // namespace
+
+bool Candidate::is_network() const { return !is_single_linear(layers); }
 
 Eigen::MatrixXd TrainedNetwork::predict(const Eigen::MatrixXd& X_raw) const {
   const Eigen::MatrixXd out = net.predict(normalise_inputs(nz, X_raw));
@@ -312,10 +338,10 @@ Evaluation evaluate(const ModelFile& model, const Dataset& d, const std::vector<
     for (long r = begin; r < end; ++r) {
       for (int i = 0; i < L.p(); ++i) x[i] = static_cast<float>(d.X(r, i));
       forward(M, x, y, scratch);
-      for (int j = 0; j < L.n; ++j) ev.mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
+      for (int j = 0; j < L.n; ++j) ev.mse[size_t(j)] += (double(y[j]) - d.Y(r, j)) * (double(y[j]) - d.Y(r, j));
       for (int i = 0; i < L.dd * L.n; ++i) x[L.y_begin() + i] = yq[i];
       forward(M, x, y, scratch);
-      for (int j = 0; j < L.n; ++j) ev.free_run_mse[size_t(j)] += std::pow(double(y[j]) - d.Y(r, j), 2);
+      for (int j = 0; j < L.n; ++j) ev.free_run_mse[size_t(j)] += (double(y[j]) - d.Y(r, j)) * (double(y[j]) - d.Y(r, j));
       for (int i = L.dd * L.n - 1; i >= L.n; --i) yq[i] = yq[i - L.n];
       for (int j = 0; j < L.n; ++j) yq[j] = y[j];
     }
@@ -330,89 +356,6 @@ Evaluation evaluate(const ModelFile& model, const Dataset& d, const std::vector<
   return ev;
 }
 
-namespace {
-
-// Every run's rows, pooled in the order the trainer wants them: the
-// training parts of all runs, then their validation parts, then the test.
-struct Pooled {
-  Dataset d;
-  Partition split{};
-  std::vector<RowRange> test_pieces;
-  std::string held_out;
-};
-
-Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int validate) {
-  struct Part {
-    long begin, end;
-  };
-  std::vector<Dataset> sets;
-  std::vector<Part> train_p, val_p, test_p;
-  for (size_t i = 0; i < runs.size(); ++i) {
-    sets.push_back(build_dataset(runs[i], nd, dd));
-    const long rows = sets.back().rows();
-    if (int(i) == validate) {
-      train_p.push_back({0, 0});
-      val_p.push_back({0, 0});
-      test_p.push_back({0, rows});
-      continue;
-    }
-    const long chunk = rows / (folds + 1);
-    const std::string who = runs[i].name.empty() ? "the series" : runs[i].name;
-    if (chunk < 1)
-      throw PipelineError("too few rows (" + std::to_string(rows) + ") in " + who + " for " + std::to_string(folds) +
-                          " folds");
-    if (validate >= 0) {
-      train_p.push_back({0, rows - chunk});
-      val_p.push_back({rows - chunk, rows});
-      test_p.push_back({rows, rows});
-    } else {
-      train_p.push_back({0, rows - 2 * chunk});
-      val_p.push_back({rows - 2 * chunk, rows - chunk});
-      test_p.push_back({rows - chunk, rows});
-    }
-  }
-  Pooled out;
-  Dataset& d = out.d;
-  d.layout = sets.front().layout;
-  long total = 0;
-  for (const Dataset& s : sets) total += s.rows();
-  d.X.resize(total, d.layout.p());
-  d.Y.resize(total, d.layout.n);
-  long at = 0;
-  auto copy = [&](const std::vector<Part>& parts, bool test) {
-    for (size_t i = 0; i < sets.size(); ++i) {
-      const long len = parts[i].end - parts[i].begin;
-      if (len <= 0) continue;
-      d.X.middleRows(at, len) = sets[i].X.middleRows(parts[i].begin, len);
-      d.Y.middleRows(at, len) = sets[i].Y.middleRows(parts[i].begin, len);
-      const long shift = at - parts[i].begin;
-      for (const RowRange& p : pieces_within(sets[i], parts[i].begin, parts[i].end)) {
-        d.pieces.push_back({p.begin + shift, p.end + shift});
-        if (test) out.test_pieces.push_back(d.pieces.back());
-      }
-      at += len;
-    }
-  };
-  copy(train_p, false);
-  out.split.train_end = at;
-  out.split.val_begin = at;
-  copy(val_p, false);
-  out.split.val_end = at;
-  out.split.test_begin = at;
-  copy(test_p, true);
-  out.split.test_end = at;
-  const long test_rows = out.split.test_end - out.split.test_begin;
-  if (validate >= 0) {
-    out.held_out = runs[size_t(validate)].name + ", whole (" + std::to_string(test_rows) + " rows)";
-  } else {
-    out.held_out = "the last 1/" + std::to_string(folds + 1) + " of " +
-                   (runs.size() == 1 ? std::string("the run") : "each of " + std::to_string(runs.size()) + " runs") +
-                   " (" + std::to_string(test_rows) + " rows)";
-  }
-  return out;
-}
-
-}  // namespace
 
 void check_dimensions(const Series& s, const PlantTarget& target) {
   if (s.m != target.m || s.n != target.n || s.w != target.w)
@@ -490,6 +433,11 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
       throw PipelineError("the last layer must have n = " + std::to_string(s.n) + " units");
     sizes.push_back(a);
   }
+  // The linear output-error model is always among the candidates: a
+  // network is kept only where it simulates the held-out rows better.
+  if (opt.objective == Objective::Simulation &&
+      std::none_of(sizes.begin(), sizes.end(), [](const std::vector<LayerSpec>& l) { return is_single_linear(l); }))
+    sizes.push_back({{LayerKind::Dense, s.n, Activation::Linear}});
   for (const auto& size : sizes) {
     // A single linear layer starts from least squares, whatever the seed.
     for (int k = 0; k < (is_single_linear(size) ? 1 : std::max(1, opt.seeds)); ++k) {
@@ -528,6 +476,9 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
   const Eigen::MatrixXd Tval = T.middleRows(P.val_begin, P.val_end - P.val_begin);
 
   std::vector<Network> nets(res.candidates.size());
+  // The single linear layer's least-squares start is ARX on these lags (in
+  // normalised units, with the ridge float needs): a candidate of its own.
+  Network least_squares;
   std::vector<double> one_step_val(res.candidates.size(), 0.0);
   std::vector<int> one_step_epochs(res.candidates.size(), 0);
   std::mutex progress_mutex;
@@ -554,6 +505,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
       const OneStepResult w = warm_start(net, one, opt, rng, [&](const Progress& p) { report(p, int(i)); });
       one_step_val[i] = w.best_val;
       one_step_epochs[i] = w.epochs;
+      if (is_single_linear(c.layers)) least_squares = net;  // one such candidate: one writer
     }
     c.warm_free_run = free_run_loss(net, sim, judge_pieces);
     c.val_free_run = c.warm_free_run;
@@ -595,13 +547,42 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
     for (std::thread& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
   }
-  // Kept: the best validation free run (simulation), or the best one-step
-  // validation loss (one-step); the first on a tie.
+  if (opt.objective == Objective::Simulation && !least_squares.layers().empty()) {
+    Candidate a;
+    a.layers = {{LayerKind::Dense, s.n, Activation::Linear}};
+    a.seed = opt.seed;
+    a.arx = true;
+    a.weights = least_squares.param_count();
+    a.val_free_run = a.warm_free_run = free_run_loss(least_squares, sim, judge_pieces);
+    res.candidates.push_back(a);
+    nets.push_back(least_squares);
+    one_step_val.push_back(loss_of(Loss::Mse, 1.0, least_squares.predict(Xval), Tval).value);
+    one_step_epochs.push_back(0);
+  }
+  if (opt.objective == Objective::Simulation) {
+    // Judged where none was fitted or stopped: the held-out rows' free run,
+    // run as the firmware runs the model file (the held-out table's figures).
+    for (size_t i = 0; i < res.candidates.size(); ++i) {
+      TrainedNetwork t = tn;
+      t.net = nets[i];
+      const HeldOutScore h = held_out_score(t.export_model(target.platform), d, pooled.test_pieces, sim.weight);
+      res.candidates[i].held_out = h.loss;
+      res.candidates[i].held_out_rmse = h.rmse;
+    }
+  }
+  // Kept: the best held-out free run (simulation), or the best one-step
+  // validation loss (one-step); on a tie the one with fewer weights.
   for (size_t i = 1; i < res.candidates.size(); ++i) {
-    const bool better = opt.objective == Objective::Simulation
-                            ? res.candidates[i].val_free_run < res.candidates[res.chosen].val_free_run
-                            : one_step_val[i] < one_step_val[res.chosen];
-    if (better) res.chosen = i;
+    const Candidate &c = res.candidates[i], &k = res.candidates[res.chosen];
+    const double ci = opt.objective == Objective::Simulation ? c.held_out : one_step_val[i];
+    const double ki = opt.objective == Objective::Simulation ? k.held_out : one_step_val[res.chosen];
+    if (ci < ki || (ci == ki && c.weights < k.weights)) res.chosen = i;
+  }
+  if (opt.objective == Objective::Simulation && !res.candidates[res.chosen].is_network()) {
+    for (size_t i = 0; i < res.candidates.size(); ++i)
+      if (res.candidates[i].is_network() &&
+          (res.beaten_network == size_t(-1) || res.candidates[i].held_out < res.candidates[res.beaten_network].held_out))
+        res.beaten_network = i;
   }
   tn.net = std::move(nets[res.chosen]);
   res.best_val_loss = one_step_val[res.chosen];

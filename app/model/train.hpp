@@ -53,11 +53,18 @@ struct Progress {
 struct Candidate {
   std::vector<LayerSpec> layers;
   uint64_t seed = 1;
-  double val_free_run = 0;     // after training (what chose the candidate)
+  double val_free_run = 0;     // after training: what stopped its training (training and validation rows)
   double warm_free_run = 0;    // where training started: after the warm start, or the linear model's
+  // What chose among the candidates: the free run of the held-out rows, which
+  // no candidate was fitted on or stopped by (MSE / variance over outputs),
+  // and its RMSE per output in the outputs' units (the held-out table's).
+  double held_out = 0;
+  std::vector<double> held_out_rmse;
   bool linear_start = false;   // started from the linear model (Start::Linear)
+  bool arx = false;            // the least-squares linear model (ARX on the same lags), no simulation training
   int epochs = 0, evals = 0;   // simulation epochs, L-BFGS evaluations
   size_t weights = 0;
+  bool is_network() const;     // hidden layers: more than the linear model
 };
 std::string describe_layers(const std::vector<LayerSpec>& layers);
 
@@ -126,9 +133,16 @@ struct TrainResult {
   int folds = 10;
   // The linear baseline on the same lags, fitted on the training rows.
   ArxModel arx;
-  // Every candidate trained, and the index of the one kept.
+  // Every candidate trained, and the index of the one kept: the best free
+  // run of the held-out rows (the rows of the held-out table, `test_pieces`),
+  // the least-squares ARX model and the linear output-error model always
+  // among them; on a tie, the one with fewer weights. A network kept has
+  // simulated the held-out rows better than both.
   std::vector<Candidate> candidates;
   size_t chosen = 0;
+  // The best network's index when a linear model beat it (else npos): train
+  // says so.
+  size_t beaten_network = static_cast<size_t>(-1);
   Objective objective = Objective::Simulation;
   bool stopped = false;  // cut short by TrainOptions::stop
 };

@@ -11,6 +11,7 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   pipeline::PlantTarget t;
   t.name = rig.name;
   t.m = rig.m(), t.n = rig.n(), t.w = rig.w(), t.nd = rig.nd, t.dd = rig.dd;
+  t.lags_auto = rig.lags_auto;
   t.rate_hz = rig.rate_hz;
   t.horizon = rig.controller.N;
   for (const RigInput& in : rig.inputs) t.u_lo.push_back(in.min), t.u_hi.push_back(in.max);

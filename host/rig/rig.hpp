@@ -179,6 +179,9 @@ struct Rig {
   uint8_t info_platform = 255;
   double rate_hz = 0;
   int nd = 0, dd = 0;
+  // nd, dd left out or "auto": train searches them (nd, dd hold the longest
+  // history the capacity allows until a model gives its own).
+  bool lags_auto = false;
   std::string board;
   std::vector<RigInput> inputs;
   std::vector<RigOutput> outputs;

@@ -81,12 +81,18 @@ TEST(LinearStart, TrainStartsEveryNetworkThatHoldsItThereAndKeepsNothingWorse) {
   o.seeds = 2;
   o.sim.lbfgs_evals = 30;
   const TrainResult r = train(s, t, o);
-  ASSERT_EQ(r.candidates.size(), 2u);
-  for (const Candidate& c : r.candidates) {
+  // Two seeds of the network, then the linear models it must beat (the
+  // output-error model, ARX), which start from least squares.
+  ASSERT_EQ(r.candidates.size(), 4u);
+  for (size_t i = 0; i < 2; ++i) {
+    const Candidate& c = r.candidates[i];
+    EXPECT_TRUE(c.is_network());
     EXPECT_TRUE(c.linear_start);
     EXPECT_EQ(c.warm_free_run, r.candidates[0].warm_free_run);
     EXPECT_LE(c.val_free_run, c.warm_free_run);
   }
+  EXPECT_FALSE(r.candidates[2].is_network());
+  EXPECT_TRUE(r.candidates[3].arx);
   o.start = Start::Random;
   const TrainResult q = train(s, t, o);
   for (const Candidate& c : q.candidates) EXPECT_FALSE(c.linear_start);

@@ -210,6 +210,24 @@ TEST(RigLoader, OverCapacityNamesTheFirstTableTooMany) {
   expect_error(nd33, 3, "nd", "must be in [1, 32]");
 }
 
+// nd and dd left out, or "auto": train searches the history length; the rig
+// holds the longest its inputs leave room for until a model gives its own.
+// Anything else that is not a length is refused at its line.
+TEST(RigLoader, HistoriesLeftOutOrAutoAreLeftToTrain) {
+  const Rig r = parse_rig(edit("dd = 2", "dd = \"auto\"", 1, edit("nd = 2", "nd = \"auto\"")), "my.toml");
+  EXPECT_TRUE(r.lags_auto);
+  EXPECT_EQ(r.nd, std::min(32, (88 - r.w()) / (r.m() + r.n())));
+  EXPECT_EQ(r.dd, r.nd);
+  const Rig left_out = parse_rig(edit("dd = 2\n", "", 1, edit("nd = 2\n", "")), "my.toml");
+  EXPECT_TRUE(left_out.lags_auto);
+  EXPECT_EQ(left_out.nd, r.nd);
+  EXPECT_FALSE(parse_rig(kBase, "my.toml").lags_auto);
+  expect_error(edit("nd = 2", "nd = \"atuo\""), 3, "nd", "'atuo' is not a history length: an integer, or \"auto\"");
+  expect_error(edit("nd = 2", "nd = \"auto\""), 4, "dd",
+               "is set while nd is left to train's search: give both (equal) or neither");
+  expect_error(edit("nd = 2", "nd = 0"), 3, "nd", "must be in [1, 32], not 0");
+}
+
 // Long histories for a narrow rig, short ones for a wide rig: the limit is the
 // network's input length p = nd m + dd n + w, not nd alone.
 // INFO's platform number is the file's to give: a rig named like a shipped

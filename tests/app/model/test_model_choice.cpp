@@ -1,0 +1,127 @@
+// Which model train keeps: never one that simulates the held-out rows worse
+// than the simplest it tried (ARX on the same lags, the linear output-error
+// model), the choice made on the rows the held-out table shows; and the
+// history length searched on the data (app/model/lag_search.hpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/model/error.hpp"
+#include "app/model/lag_search.hpp"
+#include "app/model/model_fit.hpp"
+#include "app/model/random.hpp"
+#include "app/model/train.hpp"
+
+using namespace nlsoft;
+using namespace nlsoft::pipeline;
+
+namespace {
+
+// y(k+1) = a1 y(k) + a2 y(k-1) + a3 y(k-2) + b u(k) + small noise, driven
+// by a random staircase: order 1 (a2 = a3 = 0) or 3.
+Series linear_system(long q, int order, uint64_t seed, double noise = 0.0) {
+  Random rng(seed);
+  Series s;
+  s.resize(q, 1, 1, 0);
+  double u = 0.0, y0 = 0.0, y1 = 0.0, y2 = 0.0;
+  // Order 3: poles 0.9 and 0.6 +- 0.5i (stable, oscillating); order 1: 0.8.
+  const double a1 = order == 3 ? 2.1 : 0.8, a2 = order == 3 ? -1.69 : 0.0, a3 = order == 3 ? 0.549 : 0.0;
+  for (long k = 0; k < q; ++k) {
+    s.time(k) = 0.01 * double(k);
+    if (rng.uniform() < 0.15) u = rng.uniform(-1.0, 1.0);
+    s.u(k, 0) = u;
+    s.y(k, 0) = y0 + noise * rng.gaussian();
+    const double next = a1 * y0 + a2 * y1 + a3 * y2 + 0.2 * u;
+    y2 = y1, y1 = y0, y0 = next;
+  }
+  return s;
+}
+
+PlantTarget target_for(const Series& s) {
+  PlantTarget t;
+  t.name = "line";
+  t.m = s.m, t.n = s.n, t.w = s.w;
+  t.nd = t.dd = 2;
+  t.u_lo = {-1.0};
+  t.u_hi = {1.0};
+  double lo = s.y(0, 0), hi = s.y(0, 0);
+  for (long k = 0; k < s.rows(); ++k) lo = std::min(lo, s.y(k, 0)), hi = std::max(hi, s.y(k, 0));
+  t.y_rest = {0.5 * (lo + hi)};
+  t.y_span = {hi - lo};
+  t.y_names = {"y"};
+  t.y_unit = "V";
+  t.horizon = 10;
+  return t;
+}
+
+}  // namespace
+
+// A tanh network trained one epoch from a random start cannot simulate a
+// linear plant as well as least squares does: the linear model is kept,
+// and the result names the network it beat.
+TEST(ModelChoice, ANetworkThatLosesToTheLinearModelIsNotKept) {
+  const Series s = linear_system(3000, 1, 7, 1e-3);
+  const PlantTarget t = target_for(s);
+  TrainOptions o = default_options(t);
+  o.nd = o.dd = 1;
+  o.layers = {{LayerKind::Dense, 8, Activation::Tanh}, {LayerKind::Dense, 1, Activation::Tanh}};
+  o.alternatives.clear();
+  o.start = Start::Random;
+  o.epochs = 1;
+  o.seeds = 1;
+  o.sim.epochs = 0;
+  o.sim.lbfgs_evals = 0;
+  const TrainResult r = train(s, t, o);
+  ASSERT_LT(r.chosen, r.candidates.size());
+  const Candidate& kept = r.candidates[r.chosen];
+  EXPECT_FALSE(kept.is_network());
+  EXPECT_EQ(r.model.shape.layer_count, 1);
+  ASSERT_NE(r.beaten_network, size_t(-1));
+  EXPECT_TRUE(r.candidates[r.beaten_network].is_network());
+  EXPECT_LT(kept.held_out, r.candidates[r.beaten_network].held_out);
+  // ARX and the output-error model were both tried.
+  int arx = 0, oe = 0;
+  for (const Candidate& c : r.candidates) arx += c.arx, oe += !c.arx && !c.is_network();
+  EXPECT_EQ(arx, 1);
+  EXPECT_EQ(oe, 1);
+}
+
+// The choice and the held-out table cannot disagree: the kept model's
+// held-out free run is the best of all candidates, and it is the free-run
+// RMSE the table (model_fit's first section) prints for it; the table's ARX
+// column is no better.
+TEST(ModelChoice, TheKeptModelIsTheBestOnTheHeldOutTable) {
+  const Series s = linear_system(3000, 3, 11, 2e-3);
+  const PlantTarget t = target_for(s);
+  TrainOptions o = default_options(t);
+  o.nd = o.dd = 3;
+  o.seeds = 1;
+  o.sim.lbfgs_evals = 20;
+  const TrainResult r = train(s, t, o);
+  const Candidate& kept = r.candidates[r.chosen];
+  for (const Candidate& c : r.candidates) EXPECT_LE(kept.held_out, c.held_out) << describe_layers(c.layers);
+  const ModelFit f = model_fit(r, t);
+  ASSERT_FALSE(f.sections.empty());
+  ASSERT_TRUE(f.sections[0].has_arx);
+  const OutputFit& o0 = f.sections[0].outputs[0];
+  ASSERT_EQ(kept.held_out_rmse.size(), 1u);
+  EXPECT_NEAR(o0.free_run.rmse, kept.held_out_rmse[0], 1e-12 * std::max(1.0, o0.free_run.rmse));
+  // ARX in the table is the double least squares; the candidate the float one.
+  EXPECT_LE(o0.free_run.rmse, o0.arx_free_run.rmse * (1.0 + 1e-3));
+}
+
+// A third-order system needs three samples of history; a first-order one
+// needs one: the search finds more lags for the system that needs them.
+TEST(LagSearch, PicksMoreLagsForAThirdOrderSystemThanAFirstOrderOne) {
+  const LagChoice first = search_lags({linear_system(4000, 1, 3, 1e-4)}, 8, 10, -1);
+  const LagChoice third = search_lags({linear_system(4000, 3, 3, 1e-4)}, 8, 10, -1);
+  EXPECT_EQ(first.tried.size(), 8u);
+  EXPECT_EQ(first.lags, 1) << first.words();
+  EXPECT_GE(third.lags, 3) << third.words();
+  EXPECT_GT(third.lags, first.lags);
+  EXPECT_NE(third.words().find("nd = dd = " + std::to_string(third.lags)), std::string::npos);
+}
+
+TEST(LagSearch, ADataSetTooShortForAnyLengthIsRefused) {
+  EXPECT_THROW(search_lags({linear_system(8, 1, 3)}, 4, 10, -1), PipelineError);
+}
