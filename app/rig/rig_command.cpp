@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "host/files/cli_error.hpp"
+#include "host/files/printable.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "host/rig/rig_plant.hpp"
 #include "host/rig/rig_reference.hpp"
@@ -103,10 +104,13 @@ nlohmann::json to_json(const Rig& r) {
   return j;
 }
 
-std::string unit(const std::string& u) { return u.empty() ? "" : " " + u; }
+std::string unit(const std::string& u) { return u.empty() ? "" : " " + printable(u); }
 
+// The file's text is checked by the loader (no control characters); it is
+// shown escaped all the same, as everything a file brings to a terminal.
 void print_summary(const Rig& r) {
-  fmt::print("{}: rig '{}'{}\n", r.file, r.name, r.description.empty() ? "" : " - " + r.description);
+  fmt::print("{}: rig '{}'{}\n", printable(r.file), printable(r.name),
+             r.description.empty() ? "" : " - " + printable(r.description));
   fmt::print("  {} Hz, nd = dd = {}, board {}\n", r.rate_hz, r.nd, r.board);
   fmt::print("  m = {} inputs:\n", r.m());
   for (const RigInput& i : r.inputs)
@@ -139,7 +143,7 @@ void print_summary(const Rig& r) {
   for (const RigLayer& L : r.model.layers)
     layers += (layers.empty() ? "" : " -> ") + L.kind + " " + std::to_string(L.units) +
               (L.activation.empty() ? "" : " " + L.activation);
-  fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : r.model.file,
+  fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : printable(r.model.file),
              layers.empty() ? "" : " (" + layers + ")");
   std::string shapes;
   for (const RigActuator& a : r.plant.actuators) shapes += (shapes.empty() ? "" : ", ") + std::string(generic_shape_name(a.shape));

@@ -5,6 +5,7 @@
 
 #include <cctype>
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <map>
 #include <set>
@@ -134,12 +135,29 @@ class Section {
   }
   // Text shown on one line (a unit, a description): no control characters,
   // so a newline cannot start a line of its own where the text is printed.
+  // The C1 controls (U+0080..U+009F: U+009B starts an escape sequence as
+  // ESC [ does) and the bidirectional controls (U+202E shows the rest of a
+  // line backwards) are refused with the C0 ones: each makes what a
+  // terminal shows differ from what the file says.
   std::string line_text(const std::string& key, const std::string& fallback) const {
     const std::string v = text(key, fallback);
-    for (const char c : v)
-      if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-        fail(line(key), key, fmt::format("holds the control character 0x{:02x}: one line of text, please",
-                                          static_cast<unsigned char>(c)));
+    for (size_t i = 0; i < v.size(); ++i) {
+      const auto b = [&](size_t j) { return j < v.size() ? static_cast<unsigned char>(v[j]) : 0u; };
+      if (b(i) < 0x20 || b(i) == 0x7f)
+        fail(line(key), key, fmt::format("holds the control character 0x{:02x}: one line of text, please", b(i)));
+      if (b(i) == 0xc2 && b(i + 1) >= 0x80 && b(i + 1) <= 0x9f)
+        fail(line(key), key, fmt::format("holds the control character U+{:04X}: one line of text, please", b(i + 1)));
+      const unsigned cp3 = b(i) == 0xe2 || b(i) == 0xd8 ? (b(i) << 16 | b(i + 1) << 8 | b(i + 2)) : 0;
+      const unsigned cp2 = b(i) == 0xd8 ? (b(i) << 8 | b(i + 1)) : 0;
+      const bool bidi = cp2 == 0xd89c ||                          // U+061C arabic letter mark
+                        cp3 == 0xe2808e || cp3 == 0xe2808f ||     // U+200E, U+200F
+                        (cp3 >= 0xe280aa && cp3 <= 0xe280ae) ||   // U+202A..U+202E
+                        (cp3 >= 0xe281a6 && cp3 <= 0xe281a9);     // U+2066..U+2069
+      if (bidi)
+        fail(line(key), key,
+             fmt::format("holds a bidirectional control ({}), which reorders how the line reads: plain text, please",
+                         printable(v.substr(i, cp2 ? 2 : 3))));
+    }
     return v;
   }
   // One of `names`; the error lists them.
@@ -360,6 +378,20 @@ struct PinBook {
 // Lines of each input's min and max, for the parameter checks' errors.
 using LimitLines = std::vector<std::array<int, 2>>;
 
+// The controller computes in float: a bound past a float's range, or a
+// range whose width max - min is (1.7e308 - -1.7e308 = inf in double too),
+// would make every span, step and normalisation from it infinite.
+void refuse_infinite_range(const Section& s, double min, double max) {
+  for (const auto& [key, v] : {std::pair<const char*, double>{"min", min}, {"max", max}})
+    if (!(std::fabs(v) <= double(FLT_MAX)))
+      s.fail(s.line(key), key, "must be a float (within +-" + num(double(FLT_MAX)) + "), not " + num(v));
+  const double span = max - min;
+  if (!(span <= double(FLT_MAX)))
+    s.fail(s.line("max"), "max",
+           "makes the span max - min = " + num(span) + ", not a float (at most " + num(double(FLT_MAX)) +
+               "): narrow the range");
+}
+
 void read_inputs(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
                  PinBook& pins, LimitLines& lines) {
   const auto tables = table_array(root, t, "input");
@@ -376,6 +408,7 @@ void read_inputs(const std::string& file, const Section& root, const toml::table
     in.max = s.number("max");
     if (!(in.min < in.max))
       s.fail(s.line("max"), "max", "must be > min (" + num(in.min) + " at line " + std::to_string(s.line("min")) + ")");
+    refuse_infinite_range(s, in.min, in.max);
     in.neutral = s.number("neutral");
     if (in.neutral < in.min || in.neutral > in.max)
       s.fail(s.line("neutral"), "neutral",
@@ -436,7 +469,10 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
     out.max = s.number("max");
     if (!(out.min < out.max))
       s.fail(s.line("max"), "max", "must be > min (" + num(out.min) + " at line " + std::to_string(s.line("min")) + ")");
+    refuse_infinite_range(s, out.min, out.max);
     out.span = s.has("span") ? s.positive("span") : out.max - out.min;
+    if (!(out.span <= double(FLT_MAX)))
+      s.fail(s.line("span"), "span", "must be a float (at most " + num(double(FLT_MAX)) + "), not " + num(out.span));
     out.rest = s.number("rest", 0.5 * (out.min + out.max));
     if (out.rest < out.min || out.rest > out.max)
       s.fail(s.line("rest"), "rest", "must be within min..max (" + num(out.min) + ".." + num(out.max) + ")");
@@ -976,7 +1012,8 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   rig.hash = rig_file_hash(text);
   rig.name = root.text("name");
   if (rig.name.empty() || rig.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_-") != std::string::npos)
-    root.fail(root.line("name"), "name", "'" + rig.name + "' is not a command-line name (a-z, 0-9, '-', '_')");
+    root.fail(root.line("name"), "name",
+              "'" + printable_excerpt(rig.name, 40) + "' is not a command-line name (a-z, 0-9, '-', '_')");
   if (rig.name.size() > size_t(kRigMaxNameLen))
     root.fail(root.line("name"), "name",
               fmt::format("'{}' is {} characters; a rig's name travels in {} at most", rig.name, rig.name.size(),
