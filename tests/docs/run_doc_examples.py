@@ -24,6 +24,22 @@ quotes (a model's hash, its fit, a tracking error) are the ones its own
 commands give. Not checked under --train-lbfgs, whose cut-short training
 gives other figures by design.
 
+Figures in prose or a table are checked the same way through a line
+`<!-- figures of: WORDS | F1 | F2 ... -->` right before the paragraph or
+table that quotes them (its text: the lines up to the next blank line).
+Each figure Fi, exactly as the command prints it ("3.00 %", "86092",
+"0x1b2c3d4e"), must be in that text (so the marker and the prose cannot
+drift apart) and in the output of the last example before the marker whose
+command starts with WORDS, as a whole figure: no digit, '.' or ',' next to
+it ("3.00 %" does not match "13.00 %"). A paragraph may carry several
+markers, one per command, each on its own line before it. A figure that
+depends on the machine's speed (a time) is never put under a marker: the
+documents say such figures are measured, and by which command. Figures the
+docs test cannot produce (a benchmark of minutes, a QEMU run of an image
+under a profiler, a figure from before a change) name their command and
+say that they are benchmark figures, not checked here.
+`tests/docs/selftest/` shows a stale figure and a stale output failing.
+
 A line ending in a backslash continues on the next. A synopsis, a line
 with metavariables left to fill in (NAME, PORT), is listed as skipped.
 Each example must exit 0, except that a board example (a /dev/tty* port,
@@ -135,6 +151,63 @@ def quoted_outputs(path):
             elif not fenced and line.strip():
                 words = None  # the marker must be right before its block
     return out
+
+
+def quoted_figures(path):
+    """The figures a document quotes in prose or a table:
+    [(line of the marker, WORDS, [figures], text of the paragraph or table after it)]."""
+    out, pending, fenced = [], [], False
+    with open(path, encoding="utf-8") as f:
+        lines = f.readlines()
+    n = 0
+    while n < len(lines):
+        line = lines[n]
+        if line.startswith("```"):
+            fenced = not fenced
+        m = None if fenced else re.fullmatch(r"<!-- figures of: (.+?) -->\s*", line)
+        if m:
+            parts = [p.strip() for p in m.group(1).split(" | ")]
+            pending.append((n + 1, parts[0], [p for p in parts[1:] if p]))
+            n += 1
+            continue
+        if pending:
+            text = []
+            while n < len(lines) and lines[n].strip():
+                text.append(lines[n])
+                n += 1
+            out += [(where, words, figures, "".join(text)) for where, words, figures in pending]
+            pending = []
+            continue
+        n += 1
+    out += [(where, words, figures, "") for where, words, figures in pending]
+    return out
+
+
+def figure_in(figure, text):
+    """`figure` in `text` as a whole figure: no digit, '.' or ',' right before or after it."""
+    text = re.sub(r"\s+", " ", text)
+    return re.search(r"(?<![0-9.,])" + re.escape(figure) + r"(?![0-9]|[.,][0-9])", text) is not None
+
+
+def figures_verdict(quoted, ran):
+    """Why the figures under a `figures of` marker are not what its example printed, or None."""
+    where, words, figures, text = quoted
+    if not figures:
+        return "the marker names no figure (<!-- figures of: WORDS | F1 | F2 -->)"
+    if not text:
+        return "no paragraph or table right after the marker"
+    untold = [f for f in figures if not figure_in(f, text)]
+    if untold:
+        return ("the marker names figures its paragraph does not quote (as printed, spacing aside): " +
+                "; ".join(untold))
+    before = [r for r in ran if r[0] < where and r[1].startswith(words)]
+    if not before:
+        return f"no example before it starts with '{words}'"
+    missing = [f for f in figures if not figure_in(f, before[-1][2])]
+    if missing:
+        return ("the document quotes figures its example did not print: " + "; ".join(missing) +
+                "\n  it printed:\n    " + "\n    ".join(before[-1][2].strip().splitlines()[-15:]))
+    return None
 
 
 def output_verdict(quoted, ran):
@@ -396,6 +469,18 @@ def main():
                 why = output_verdict(quoted, ran_here)
                 print(f"{'FAIL' if why else 'PASS'} {os.path.basename(doc)}:{quoted[0]}: the output of '{quoted[1]}' "
                       "as quoted")
+                if why:
+                    failed += 1
+                    print("  " + why)
+            for quoted in quoted_figures(doc):
+                if not any(r[1].startswith(quoted[1]) for r in ran_here) or a.train_lbfgs is not None:
+                    if a.part == "all" and a.train_lbfgs is None:  # no part runs its example: a stale marker
+                        print(f"FAIL {os.path.basename(doc)}:{quoted[0]}: no example starts with '{quoted[1]}'")
+                        failed += 1
+                    continue
+                why = figures_verdict(quoted, ran_here)
+                print(f"{'FAIL' if why else 'PASS'} {os.path.basename(doc)}:{quoted[0]}: the figures of "
+                      f"'{quoted[1]}' as quoted ({len(quoted[2])})")
                 if why:
                     failed += 1
                     print("  " + why)
