@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -176,12 +177,28 @@ std::string firmware_src(const std::string& who) {
                              who, l.tried_lines()));
 }
 
+// The XDG rules, as for the recording database: $XDG_CACHE_HOME when it is
+// an absolute path (a relative one is ignored), else $HOME/.cache. The
+// folder named must be there: HOME=/nonexistent made /nonexistent/.cache/...
+// at the root, and a relative HOME a folder wherever the console ran.
 std::string cache_dir() {
-  const char* xdg = std::getenv("XDG_CACHE_HOME");
-  if (xdg && *xdg == '/') return std::string(xdg) + "/nlsoft/firmware";
+  const std::string fix = "set XDG_CACHE_HOME or HOME to a folder, or give --out";
+  auto existing = [&](const char* var, const std::string& value) {
+    struct stat st {};
+    const bool there = ::stat(value.c_str(), &st) == 0;
+    if (!there || !S_ISDIR(st.st_mode))
+      throw CliError(fmt::format("no folder for the image cache: {}={} {}; {}", var, printable(value),
+                                 there ? "is not a folder" : "does not exist", fix));
+    return value;
+  };
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/')
+    return existing("XDG_CACHE_HOME", xdg) + "/nlsoft/firmware";
   const char* home = std::getenv("HOME");
-  if (!home || !*home) throw CliError("cannot find a cache folder: set XDG_CACHE_HOME or HOME, or give --out");
-  return std::string(home) + "/.cache/nlsoft/firmware";
+  if (!home || !*home) throw CliError("no folder for the image cache: HOME is not set; " + fix);
+  if (*home != '/')
+    throw CliError(fmt::format("no folder for the image cache: HOME={} is not an absolute path; {}", printable(home),
+                               fix));
+  return existing("HOME", home) + "/.cache/nlsoft/firmware";
 }
 
 // The cache folder of an image: keyed by the header, which says everything
@@ -315,9 +332,13 @@ std::string build_failure(const std::string& log, const Rig& rig, const std::str
 
 // A shipped rig's name when `rig` is one of the shipped files as shipped.
 std::string shipped_name(const Rig& rig) {
-  const Lookup dir = find_rigs_dir();
-  if (dir.found.empty()) return "";
-  const std::string file = dir.found + "/" + rig.name + ".toml";
+  // The shipped folder's, not $NLSOFT_RIGS's: its prebuilt images are of
+  // the shipped files.
+  std::string shipped;
+  for (const RigsFolder& f : rigs_folders())
+    if (!f.from_env) shipped = f.dir;
+  if (shipped.empty()) return "";
+  const std::string file = shipped + "/" + rig.name + ".toml";
   if (!fs::exists(file)) return "";
   try {
     return load_rig(file).hash == rig.hash ? rig.name : "";
@@ -367,27 +388,33 @@ BuiltImages build_images(const ImageBuild& q) {
   // The images are linked in .build/images and copied out once all are
   // built: an interrupted or failed build leaves the folder's images as
   // they were, and no part of a new one beside them.
+  // What the build is made from (the rig folder, the model's copy) is
+  // staged in .build too and recorded in .rig and model.nlsm only with the
+  // images: a Ctrl-C left them naming the new model beside the old images.
   const std::string rigs = dir + "/.rig", build = dir + "/.build", staged = build + "/images",
-                    log = dir + "/build.log";
+                    staged_rigs = build + "/rig", staged_model = build + "/model", log = dir + "/build.log";
   std::error_code ec;
-  fs::create_directories(rigs, ec);
-  if (ec) throw CliError(fmt::format("{}: cannot create {}: {}", q.who, rigs, ec.message()));
-  // One rig per folder: the port project builds every rig folder it finds.
-  for (const auto& e : fs::directory_iterator(rigs))
-    if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
+  for (const std::string& d : {rigs, staged_rigs}) {
+    fs::create_directories(d, ec);
+    if (ec) throw CliError(fmt::format("{}: cannot create {}: {}", q.who, d, ec.message()));
+    // One rig per folder: the port project builds every rig folder it finds.
+    for (const auto& e : fs::directory_iterator(d))
+      if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
+  }
+  fs::remove_all(staged_model, ec);
   // The image embeds a copy of the model in its folder, so the build tools
   // never take the path the user gave. The model alone: what a file
   // carries after it (train's fit) is not the firmware's, and its boot
   // parse would refuse it.
   if (!request.model_file.empty()) {
     const std::string given = request.model_file;
-    request.model_file = model_copy_for_image(given, dir);
+    request.model_file = model_copy_for_image(given, staged_model);
     source = image_source(rig, request);
     // The file the user named, so --qemu FILE finds this image by it
     // (last_built_with_model): the folder is keyed by that file.
     source.cmake += fmt::format("set(NLSOFT_IMAGE_MODEL_SOURCE {})\n", cmake_bracket(given));
   }
-  write_image_source(source, rigs + "/" + rig.name);
+  write_image_source(source, staged_rigs + "/" + rig.name);
   fs::remove(log, ec);
 
   const std::string prefix = image_prefix(q.board);
@@ -410,7 +437,7 @@ BuiltImages build_images(const ImageBuild& q) {
     const int configured = run_logged(
         {"cmake", "-S", src + "/firmware/ports/" + q.board, "-B", build,
          "-DCMAKE_TOOLCHAIN_FILE=" + src + "/firmware/ports/cortex-m/cmake/arm-none-eabi.cmake", "-DNLSOFT_ROOT=" + src,
-         "-DNLSOFT_RIG_DIR=" + rigs, std::string("-DNLSOFT_IMAGE_KINDS=") + (q.hil_only ? "hil" : "both"),
+         "-DNLSOFT_RIG_DIR=" + staged_rigs, std::string("-DNLSOFT_IMAGE_KINDS=") + (q.hil_only ? "hil" : "both"),
          "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=" + staged},
         log, [](const std::string&) {});
     interrupted();
@@ -428,6 +455,12 @@ BuiltImages build_images(const ImageBuild& q) {
     ::pthread_sigmask(SIG_BLOCK, &block, &old);
     try {
       publish_images(staged, dir, q.who);
+      // Then what they were built from: the rig folder, and the model's
+      // copy (none now: an older build's copy would name another model).
+      fs::create_directories(rigs + "/" + rig.name, ec);
+      publish_images(staged_rigs + "/" + rig.name, rigs + "/" + rig.name, q.who);
+      if (request.model_file.empty()) fs::remove(dir + "/model.nlsm", ec);
+      else publish_images(staged_model, dir, q.who);
     } catch (...) {
       ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
       throw;

@@ -117,6 +117,19 @@ Lookup find_rigs_dir() {
   return l;
 }
 
+std::vector<RigsFolder> rigs_folders() {
+  std::vector<RigsFolder> out;
+  if (const char* e = env("NLSOFT_RIGS"); e && directory(e)) out.push_back({e, true});
+  const std::string dir = exe_dir();
+  Lookup l;
+  if (!dir.empty())
+    first_of(l, {dir + "/" + kBuildData + "/rigs", dir + "/" NLSOFT_BIN_TO_DATA "/rigs",
+                 dir + "/" NLSOFT_LIBEXEC_TO_DATA "/rigs"},
+             &directory);
+  if (!l.found.empty()) out.push_back({l.found, false});
+  return out;
+}
+
 Lookup find_firmware_src() {
   const std::string dir = exe_dir();
   Lookup l;

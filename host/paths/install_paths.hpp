@@ -46,6 +46,15 @@ Lookup find_model_file(const std::string& name);
 // install prefix's share/nlsoft/rigs/.
 Lookup find_rigs_dir();
 
+// The folders a rig is looked up in by name, in order: $NLSOFT_RIGS (when
+// it is a folder) first, then the shipped rigs' (the build tree's, else the
+// install prefix's). A name missing from the first is found in the second.
+struct RigsFolder {
+  std::string dir;
+  bool from_env = false;  // $NLSOFT_RIGS
+};
+std::vector<RigsFolder> rigs_folders();
+
 // The sources an image is built from (firmware/, shared/, protocol/,
 // cmake/warning_flags.txt): $NLSOFT_FIRMWARE_SRC, then the build tree's and
 // the install prefix's share/nlsoft/firmware-src.

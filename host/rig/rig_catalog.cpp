@@ -1,11 +1,17 @@
 #include "host/rig/rig_catalog.hpp"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
 
 #include "host/files/cli_error.hpp"
 #include "host/files/input_file.hpp"
+#include "host/files/printable.hpp"
 #include "host/paths/install_paths.hpp"
 #include "shared/platform_id.hpp"
 
@@ -24,16 +30,41 @@ std::string joined(const std::vector<std::string>& v) {
   return s;
 }
 
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A rig by name from $NLSOFT_RIGS is said where it is used: that folder
+// comes before the shipped rigs, so `hasel` may be another file than the
+// shipped hasel. Said once a process, and not for a copy of the shipped
+// file (the tests' and the docs' NLSOFT_RIGS is the source tree's rigs/).
+void say_from_env(const std::string& name, const std::string& path, const std::string& env_dir,
+                  const std::vector<RigsFolder>& folders) {
+  static std::mutex m;
+  static std::set<std::string> said;
+  const std::lock_guard<std::mutex> lock(m);
+  if (!said.insert(path).second) return;
+  for (const RigsFolder& f : folders)
+    if (!f.from_env && std::filesystem::is_regular_file(f.dir + "/" + name + ".toml") &&
+        file_bytes(f.dir + "/" + name + ".toml") == file_bytes(path))
+      return;
+  std::fprintf(stderr, "rig '%s' is %s, from the folder $NLSOFT_RIGS names (%s)\n", printable(name).c_str(),
+               printable(path).c_str(), printable(env_dir).c_str());
+}
+
 }  // namespace
 
 std::vector<std::string> rig_names() {
-  const Lookup dir = find_rigs_dir();
   std::vector<std::string> names;
-  if (dir.found.empty()) return names;
   std::error_code ec;
-  for (const auto& e : std::filesystem::directory_iterator(dir.found, ec))
-    if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
+  for (const RigsFolder& f : rigs_folders())
+    for (const auto& e : std::filesystem::directory_iterator(f.dir, ec))
+      if (e.path().extension() == ".toml") names.push_back(e.path().stem().string());
   std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
   return names;
 }
 
@@ -44,15 +75,21 @@ std::string rig_path(const std::string& arg) {
     check_input_file(arg, kRigFile);  // a device, a FIFO, a folder: said as such
     return arg;
   }
-  const Lookup dir = find_rigs_dir();
-  if (dir.found.empty())
-    throw CliError("unknown rig '" + arg + "': no rigs folder found; looked in:" + dir.tried_lines() +
-                   "\n(give a rig file's path, or set NLSOFT_RIGS)");
-  const std::string path = dir.found + "/" + arg + ".toml";
-  if (!std::filesystem::is_regular_file(path))
-    throw CliError("unknown rig '" + arg + "'; rigs in " + dir.found + ": " + joined(rig_names()) +
-                   " (or give a rig file's path)");
-  return path;
+  const std::vector<RigsFolder> folders = rigs_folders();
+  if (folders.empty())
+    throw CliError("unknown rig '" + printable(arg) + "': no rigs folder found; looked in:" +
+                   find_rigs_dir().tried_lines() + "\n(give a rig file's path, or set NLSOFT_RIGS)");
+  std::string where;
+  for (const RigsFolder& f : folders) {
+    const std::string path = f.dir + "/" + arg + ".toml";
+    if (std::filesystem::is_regular_file(path)) {
+      if (f.from_env) say_from_env(arg, path, f.dir, folders);
+      return path;
+    }
+    where += (where.empty() ? "" : " and ") + f.dir;
+  }
+  throw CliError("unknown rig '" + printable(arg) + "'; rigs in " + where + ": " + joined(rig_names()) +
+                 " (or give a rig file's path)");
 }
 
 Rig load_rig_arg(const std::string& arg) {
