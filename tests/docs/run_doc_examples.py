@@ -8,11 +8,12 @@ left out and `a|b|c` takes its first choice. Examples run in document order
 in one scratch folder whose recording database and image cache are private
 ($XDG_DATA_HOME, $XDG_CACHE_HOME),
 so `runs show 12` finds the runs recorded before it. Fixtures a reader would
-have made first (a script named tune.nls, a dozen recorded runs) are made
+have made first (a dozen recorded runs, a motion capture's file) are made
 here and named in the output; a fenced block whose first line is
 `# file: NAME` (a rig file, a reference table, a script, each of which
 reads `#` as a comment) is written to NAME first, so the examples check the
-very file the document shows.
+very file the document shows (README's `tune.nls`, which app/CONSOLE.md
+runs too: every file an example names is shown in one of the documents).
 
 Under the sanitizers (--train-lbfgs K) a `train` example that sets no
 --lbfgs runs with --lbfgs K: there it is checked for memory faults, not fit.
@@ -331,14 +332,12 @@ def fresh_folder(work):
 
 def make_fixtures(a, work, env):
     """What a reader would have made first; False if one could not be made."""
-    # The script the examples name, runs 1..13 to show, export and compare, a capture.
-    with open(os.path.join(work, "tune.nls"), "w") as f:
-        f.write("# made by the documentation test: a short tuning session\n"
-                "ref swirl scale=1 hold=1\nset Lambda 1\nrun 3s label=baseline\nexpect nrmse < 0.2\n")
+    # Runs 1..13 to show, export and compare, a capture. (The scripts the
+    # examples run are the documents' own `# file:` blocks, below.)
     with open(os.path.join(work, "runs.nls"), "w") as f:
         f.write("".join(f"run 200ms label=fixture{i}\n" for i in range(1, 14)))
     code, out = run([a.console, "--sim", "msd", "--sim-fast", "--script", "runs.nls"], env, work, 120)
-    print(f"fixture: tune.nls, and 13 runs recorded ({'ok' if code == 0 else 'FAILED'})")
+    print(f"fixture: 13 runs recorded ({'ok' if code == 0 else 'FAILED'})")
     if code != 0:
         print(out)
         return False
