@@ -82,7 +82,7 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
       const auto h = s.has(tf::kStep) ? health[r].find(s.step) : health[r].end();
       const uint32_t invalid = h == health[r].end() ? 0 : h->second.invalid;
       for (int i = 0; i < w; ++i) {
-        if (s.w > 0 && !(invalid >> i & 1u)) fmt::format_to(std::back_inserter(line), ",{:.9g}", s.l[i]);
+        if (s.w > 0 && !channel_invalid(invalid, size_t(i))) fmt::format_to(std::back_inserter(line), ",{:.9g}", s.l[i]);
         else line.push_back(',');
       }
       if (have_health) {

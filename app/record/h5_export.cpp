@@ -171,7 +171,7 @@ Columnar read_run(RunStore& store, const RunRow& r) {
     // An invalid channel held no reading: NaN, not the 0 the firmware sent.
     const auto h = s.has(tf::kStep) ? health.find(s.step) : health.end();
     const uint32_t invalid = h == health.end() ? 0 : h->second.invalid;
-    for (size_t i = 0; i < size_t(r.w); ++i) c.l.push_back(s.w > 0 && !(invalid >> i & 1u) ? s.l[i] : kMissing);
+    for (size_t i = 0; i < size_t(r.w); ++i) c.l.push_back(s.w > 0 && !channel_invalid(invalid, i) ? s.l[i] : kMissing);
     c.seen_l = c.seen_l || s.w > 0;
     if (c.seen_health) {
       c.l_invalid.push_back(invalid);

@@ -25,7 +25,29 @@ const char* kRunColumns =
 // Schema v6's columns of an identification run, after kRunColumns.
 const char* kRunColumnsV6 = ",kind,w,excitation";
 
-RunRow read_run(const Stmt& s, bool v6) {
+// A run's counts size the fixed arrays its samples are read into (Sample:
+// n outputs three times and m inputs in v, w sensors in l): checked here,
+// where the file's bytes become a RunRow, so no reader ever sizes anything
+// from an unchecked count.
+void check_counts(const std::string& path, const RunRow& r) {
+  auto bad = [&](const char* what, int64_t v, int max) {
+    throw CliError(fmt::format("database {}: run {} is damaged or not written by nlsoft-console: {} = {}, where a run "
+                               "has 0 to {}",
+                               path, r.id, what, v, max));
+  };
+  if (r.n < 0 || r.n > protocol::kMaxTelemetryDim) bad("n (outputs)", r.n, protocol::kMaxTelemetryDim);
+  if (r.m < 0 || r.m > protocol::kMaxTelemetryDim) bad("m (inputs)", r.m, protocol::kMaxTelemetryDim);
+  if (r.w < 0 || r.w > Sample::kMaxSensors) bad("w (sensors)", r.w, Sample::kMaxSensors);
+}
+
+// An int64 column as an int: out of int's range reads as -1, which
+// check_counts() refuses (a plain cast would wrap 2^32 + 1 to 1).
+int count_of(const Stmt& s, int col) {
+  const int64_t v = s.int64(col);
+  return v < 0 || v > 0x7FFFFFFF ? -1 : int(v);
+}
+
+RunRow read_run(const Stmt& s, bool v6, const std::string& path) {
   RunRow r;
   r.id = s.int64(0);
   r.started_at = s.text(1);
@@ -39,32 +61,39 @@ RunRow read_run(const Stmt& s, bool v6) {
   r.model_hash = uint32_t(s.int64(9));
   r.param_hash = uint32_t(s.int64(10));
   r.loop_rate_hz = s.real(11);
-  r.n = int(s.int64(12));
-  r.m = int(s.int64(13));
+  r.n = count_of(s, 12);
+  r.m = count_of(s, 13);
   r.decimation = int(s.int64(14));
   r.samples = uint64_t(s.int64(15));
   r.lost_frames = uint64_t(s.int64(16));
   if (v6) {
     r.kind = s.text(17);
-    r.w = int(s.int64(18));
+    r.w = count_of(s, 18);
     r.excitation = s.text(19);
   }
+  check_counts(path, r);
   return r;
 }
 
-// Copies a float blob into v (count floats); false if NULL or mis-sized.
-bool read_floats(const Stmt& s, int col, float* v, int count) {
+// Copies a float blob into v (count floats, what the run's n, m or w say,
+// checked against v's room by check_counts()); false if NULL. A blob of
+// any other size is a damaged run, refused: its bytes are not the run's.
+bool read_floats(const Stmt& s, int col, float* v, int count, const std::string& path, int64_t run, int64_t k,
+                 const char* field, const char* count_name) {
   if (s.is_null(col)) return false;
   size_t n = 0;
   const void* p = s.blob(col, n);
-  if (n != size_t(count) * 4 || p == nullptr) return false;
-  std::memcpy(v, p, n);
+  if (n != size_t(count) * 4 || (n > 0 && p == nullptr))
+    throw CliError(fmt::format("database {}: run {} is damaged or not written by nlsoft-console: sample {} holds {} "
+                               "bytes of {}, where {} = {} makes {}",
+                               path, run, k, n, field, count_name, count, size_t(count) * 4));
+  if (n > 0) std::memcpy(v, p, n);
   return true;
 }
 
 }  // namespace
 
-RunStore::RunStore(const std::string& path) {
+RunStore::RunStore(const std::string& path) : path_(path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0)
     throw CliError(fmt::format("no recordings yet: database {} does not exist (record a run first, or pick one with --db)", path));
@@ -105,7 +134,7 @@ std::string RunStore::run_columns() const {
 std::vector<RunRow> RunStore::list() {
   Stmt s = db_->prepare(fmt::format("SELECT {} FROM runs ORDER BY id", run_columns()).c_str());
   std::vector<RunRow> out;
-  while (s.step()) out.push_back(read_run(s, version_ >= 6));
+  while (s.step()) out.push_back(read_run(s, version_ >= 6, path_));
   for (RunRow& r : out) count_unfinished(r);
   return out;
 }
@@ -129,7 +158,7 @@ RunRow RunStore::run(int64_t id) {
     throw CliError(last ? fmt::format("no run {} (runs are numbered 1..{}; see `nlsoft-console runs list`)", id, last)
                         : fmt::format("no run {}: nothing recorded yet", id));
   }
-  RunRow r = read_run(s, version_ >= 6);
+  RunRow r = read_run(s, version_ >= 6, path_);
   count_unfinished(r);
   return r;
 }
@@ -148,26 +177,30 @@ void RunStore::for_each_sample(int64_t id, const std::function<void(const Sample
                                     version_ >= 6 ? "l" : "NULL")
                             .c_str());
   s.bind(1, sample_key(id, 0)).bind(2, sample_key(id, 0xFFFFFFFFu));
+  // r's counts fit x (check_counts): n, m and w are what x holds.
   Sample x;
   x.n = uint8_t(r.n);
   x.m = uint8_t(r.m);
-  const int w = std::min(r.w, int(Sample::kMaxSensors));
+  const int w = r.w;
   while (s.step()) {
     x.k = uint64_t(s.int64(0));
     x.mask = 0;
     if (!s.is_null(1)) x.step = uint32_t(s.int64(1)), x.mask |= tf::kStep;
     if (!s.is_null(2)) x.time_us = uint32_t(s.int64(2)), x.mask |= tf::kTime;
-    if (read_floats(s, 3, x.y_ref(), r.n)) x.mask |= tf::kYRef;
-    if (read_floats(s, 4, x.y_hat(), r.n)) x.mask |= tf::kYHat;
-    if (read_floats(s, 5, x.y_true(), r.n)) x.mask |= tf::kYTrue;
-    if (read_floats(s, 6, x.u(), r.m)) x.mask |= tf::kU;
+    auto floats = [&](int col, float* v, int count, const char* field, const char* count_name) {
+      return read_floats(s, col, v, count, path_, id, int64_t(x.k), field, count_name);
+    };
+    if (floats(3, x.y_ref(), r.n, "y_ref", "n")) x.mask |= tf::kYRef;
+    if (floats(4, x.y_hat(), r.n, "y_hat", "n")) x.mask |= tf::kYHat;
+    if (floats(5, x.y_true(), r.n, "y_true", "n")) x.mask |= tf::kYTrue;
+    if (floats(6, x.u(), r.m, "u", "m")) x.mask |= tf::kU;
     if (!s.is_null(7)) x.cost = float(s.real(7)), x.mask |= tf::kCost;
     if (!s.is_null(8)) {
       x.iterations = uint8_t(s.int64(8));
       x.compute_us = float(s.real(9));
       x.mask |= tf::kSolver;
     }
-    x.w = read_floats(s, 10, x.l, w) ? uint8_t(w) : 0;
+    x.w = floats(10, x.l, w, "l (sensors)", "w") ? uint8_t(w) : 0;
     f(x);
   }
 }

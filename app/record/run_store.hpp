@@ -56,6 +56,10 @@ struct SensorHealthRecord {
   uint16_t age_ms = 0;
 };
 
+// Whether sensor channel i was invalid by a SENSOR_HEALTH mask: channels
+// past the mask's 32 bits (a run may keep up to 58 sensors) are not covered.
+inline bool channel_invalid(uint32_t invalid, size_t i) { return i < 32 && ((invalid >> i) & 1u) != 0; }
+
 class RunStore {
  public:
   // Throws DbError; a missing file is an error in words, not a new database.
@@ -76,6 +80,7 @@ class RunStore {
  private:
   void count_unfinished(RunRow& r);
   std::string run_columns() const;
+  std::string path_;
   std::unique_ptr<Db> db_;
   int version_ = 0;  // the schema read (older than the console's when the file cannot be upgraded)
 };

@@ -281,18 +281,24 @@ void list(const RunsArgs& a) {
       fmt::print("no runs recorded yet in {}\n", path);
     return;
   }
+  // Every run read before a line is printed: a run the file holds damaged
+  // is refused in one sentence, not after half a table.
+  std::map<int64_t, RunMetrics> metrics;
+  for (const RunRow& r : runs) metrics.emplace(r.id, run_metrics(*store, r.id));
   fmt::print("{:>5}  {:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", "id", "started (UTC)", "rig", "reference",
              "samples", "nrmse(run)", "lost", "label", "ended");
   std::map<int64_t, const RunRow*> by_id;  // the runs shown
   for (const RunRow& r : runs) by_id[r.id] = &r;
   bool any_predicted = false;  // a control run's nrmse scored on y_hat: marked '*'
   auto line = [&](const RunRow& r, const std::string& indent, const std::string& ended) {
-    const RunMetrics m = run_metrics(*store, r.id);
+    const RunMetrics& m = metrics.at(r.id);
     const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
     const bool predicted = !m.has_true && m.samples > 0 && std::isfinite(t.nrmse) && r.kind != "ident";
     any_predicted = any_predicted || predicted;
-    fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent, r.started_at.substr(0, 19),
-               r.platform, r.kind == "ident" ? std::string("ident") : reference_kind(reference_of(*store, r)), r.samples,
+    // Every text column is the file's: escaped, as in `runs show`.
+    fmt::print("{:>5}  {}{:<20} {:<7} {:<9} {:>9} {:>10} {:>6}  {:<20} {}\n", r.id, indent,
+               printable(r.started_at.substr(0, 19)), printable(r.platform),
+               r.kind == "ident" ? std::string("ident") : printable(reference_kind(reference_of(*store, r))), r.samples,
                m.samples > 0 && std::isfinite(t.nrmse) && r.kind != "ident"
                    ? fmt::format("{:.4f}{}", t.nrmse, predicted ? "*" : "")
                    : "-",

@@ -195,17 +195,27 @@ static_assert(sizeof(kMigrations) / sizeof(kMigrations[0]) == kSchemaVersion, "o
 
 }  // namespace
 
+const char* migration_sql(int v) { return v >= 1 && v <= kSchemaVersion ? kMigrations[v - 1] : ""; }
+
 int schema_version(Db& db) {
   Stmt s = db.prepare("PRAGMA user_version");
   return s.step() ? int(s.int64(0)) : 0;
 }
 
-void migrate(Db& db, int target) {
-  const int have = schema_version(db);
+namespace {
+
+void refuse_newer(Db& db, int have) {
   if (have > kSchemaVersion)
     throw DbError(fmt::format("database {} has schema v{}, newer than this console's v{}; upgrade nlsoft-console",
                               db.path(), have, kSchemaVersion),
                   SQLITE_ERROR);
+}
+
+}  // namespace
+
+void migrate(Db& db, int target) {
+  int have = schema_version(db);
+  refuse_newer(db, have);
   if (have >= target) return;
   // A table rebuilt by a migration is dropped and replaced: with foreign
   // keys on, the drop would delete the rows that refer to it (the pragma is
@@ -217,8 +227,14 @@ void migrate(Db& db, int target) {
     // new file's) goes into the WAL once, not once a step.
     db.exec("BEGIN IMMEDIATE");
     try {
+      // Two consoles started together on a file not there yet both read
+      // version 0 above; the one that waited for the write lock finds the
+      // other's tables made: the version that counts is the one read under
+      // the lock.
+      have = schema_version(db);
+      refuse_newer(db, have);
       for (int v = have; v < target && v < kSchemaVersion; ++v) db.exec(kMigrations[v]);
-      db.exec(fmt::format("PRAGMA user_version={}", std::min(target, kSchemaVersion)).c_str());
+      if (have < target) db.exec(fmt::format("PRAGMA user_version={}", std::min(target, kSchemaVersion)).c_str());
       db.exec("COMMIT");
     } catch (...) {
       sqlite3_exec(db.handle(), "ROLLBACK", nullptr, nullptr, nullptr);

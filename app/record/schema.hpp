@@ -14,4 +14,8 @@ void migrate(Db& db, int target = kSchemaVersion);
 
 int schema_version(Db& db);
 
+// The statements that bring a file from version v - 1 to v (1 <= v <=
+// kSchemaVersion): what refuse_foreign_schema() builds its reference from.
+const char* migration_sql(int v);
+
 }  // namespace nlsoft::console

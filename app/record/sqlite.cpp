@@ -1,6 +1,8 @@
 #include "app/record/sqlite.hpp"
 
 #include <fmt/format.h>
+
+#include "app/record/schema_check.hpp"
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -22,6 +24,10 @@ std::string db_error_words(const std::string& path, int code, const char* detail
     case SQLITE_READONLY: return fmt::format("database {} is read-only: {}", path, d);
     case SQLITE_FULL: return fmt::format("disk full while writing {}: {}", path, d);
     case SQLITE_CANTOPEN: return fmt::format("cannot open database {}: {}", path, d);
+    case SQLITE_TOOBIG:
+      return fmt::format("database {} holds a value larger than the {} MiB a recording ever stores ({}); it was not "
+                         "written by nlsoft-console: move it aside or pick another with --db",
+                         path, kDbMaxValueBytes >> 20, d);
     default: return fmt::format("database {}: {}", path, d);
   }
 }
@@ -63,6 +69,27 @@ std::string uri_of(const std::string& path, const char* query) {
     else u += c;
   }
   return u + "?" + query;
+}
+
+// Limits and switches for a file that may be anyone's. Triggers stay on
+// for a connection that writes: the schema's own (runs_delete_rows) takes a
+// deleted run's samples with it, and refuse_foreign_schema() lets no other in.
+void harden(sqlite3* db, bool read_only) {
+  sqlite3_db_config(db, SQLITE_DBCONFIG_DEFENSIVE, 1, nullptr);
+  sqlite3_db_config(db, SQLITE_DBCONFIG_TRUSTED_SCHEMA, 0, nullptr);
+  sqlite3_db_config(db, SQLITE_DBCONFIG_ENABLE_VIEW, 0, nullptr);
+  sqlite3_db_config(db, SQLITE_DBCONFIG_ENABLE_TRIGGER, read_only ? 0 : 1, nullptr);
+  sqlite3_db_config(db, SQLITE_DBCONFIG_ENABLE_LOAD_EXTENSION, 0, nullptr);
+  // The largest value a recording stores is a reference's JSON or a note:
+  // kilobytes. A bigger one is refused (SQLITE_TOOBIG) instead of read.
+  sqlite3_limit(db, SQLITE_LIMIT_LENGTH, kDbMaxValueBytes);
+  // The console's own statements are short and shallow; a schema's are
+  // checked against ours, but are parsed (and so bounded) first.
+  sqlite3_limit(db, SQLITE_LIMIT_SQL_LENGTH, 1 << 20);
+  sqlite3_limit(db, SQLITE_LIMIT_EXPR_DEPTH, 100);
+  sqlite3_limit(db, SQLITE_LIMIT_COLUMN, 100);
+  sqlite3_limit(db, SQLITE_LIMIT_VDBE_OP, 25000);
+  sqlite3_limit(db, SQLITE_LIMIT_ATTACHED, 0);
 }
 
 bool exists(const std::string& path) {
@@ -117,7 +144,14 @@ void Db::open(const std::string& path, const std::string& name, Access access) {
   // A short wait absorbs a reader's checkpoint; a real second writer still
   // fails fast with "locked" instead of hanging the console.
   sqlite3_busy_timeout(db_, 1500);
+  // A database is data: a file from anyone (a shared recording, a copy off
+  // a stick) may hold views, triggers or huge values meant to run code or
+  // eat memory in whoever opens it. SQLite's advice for untrusted files
+  // (https://sqlite.org/security.html), before anything reads the schema.
+  harden(db_, access == Access::ReadOnly);
   try {
+    // Ours or refused, before any pragma writes to it or query reads it.
+    refuse_foreign_schema(db_, path);
     // Touching the schema is what reveals a file that is not a database.
     // Big pages suit an append-only log of samples (a no-op on an existing file).
     if (access == Access::ReadOnly) {

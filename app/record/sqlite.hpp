@@ -10,6 +10,10 @@
 
 namespace nlsoft::console {
 
+// The largest text or blob a connection reads or writes: a recording's
+// largest values (a reference's JSON, notes) are kilobytes.
+constexpr int kDbMaxValueBytes = 16 << 20;
+
 struct DbError : std::runtime_error {
   DbError(const std::string& what, int code) : std::runtime_error(what), sqlite_code(code) {}
   int sqlite_code;
