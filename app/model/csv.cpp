@@ -84,7 +84,7 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool
       errno = 0;
       const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);
       const std::string where = name + ":" + std::to_string(lineno) + ": column " + std::to_string(c + 1) +
-                                (t.header.empty() ? std::string() : " ('" + t.header[c] + "')");
+                                (t.header.empty() ? std::string() : " ('" + console::printable_excerpt(t.header[c]) + "')");
       if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + console::printable_excerpt(cell) + "'");
       if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + console::printable_excerpt(cell) + "'");
       if (std::fabs(v) > double(FLT_MAX)) {

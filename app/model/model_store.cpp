@@ -1,5 +1,9 @@
 #include "app/model/model_store.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
+
 #include "app/model/atomic_file.hpp"
 #include "app/model/error.hpp"
 #include "app/model/model_section.hpp"
@@ -39,6 +43,36 @@ std::vector<uint8_t> encode_model_file(ModelFile& f) {
   return bytes;
 }
 
+namespace {
+
+// The normalisation a file brings, before anything runs on it: a trained
+// one scales each signal by the inverse of its span (dataset.cpp), so its
+// scales lie within about 1e-12..1e12. A scale of 0, or one so large or
+// small that a signal's span times it leaves float (3e38: every input
+// saturates, the plant never moves, and nothing says why), is no model.
+constexpr double kMaxNormalisation = 1e20;  // 1e20 * 1e18 stays below float's 3.4e38
+
+void refuse_implausible_normalisation(const Model<HostCapacity>& m, const std::string& name) {
+  auto check = [&](const char* what, const float* v, int count, bool scale) {
+    for (int i = 0; i < count; ++i) {
+      const double x = std::fabs(double(v[i]));
+      const bool ok = std::isfinite(x) && x <= kMaxNormalisation && (!scale || x >= 1.0 / kMaxNormalisation);
+      if (!ok)
+        throw PipelineError("'" + name + "' is not a plausible model: its normalisation " + what + "[" +
+                            std::to_string(i) + "] = " + fmt::format("{:g}", v[i]) +
+                            (scale ? " (a scale must lie within 1e-20..1e20 in size: beyond, a signal's span "
+                                     "times it leaves float's range and the controller sees nothing move)"
+                                   : " (an offset must lie within +-1e20)"));
+    }
+  };
+  check("in_offset", m.in_offset(), m.p(), false);
+  check("in_scale", m.in_scale(), m.p(), true);
+  check("out_offset", m.out_offset(), m.n, false);
+  check("out_scale", m.out_scale(), m.n, true);
+}
+
+}  // namespace
+
 ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& name) {
   const ModelFileParts parts = split_model_file(bytes);
   if (parts.bad_trailer)
@@ -51,6 +85,7 @@ ModelFile decode_model(const std::vector<uint8_t>& bytes, const std::string& nam
   const Status s = parse_model(bytes.data(), parts.model_size, m, f.params.data(),
                                static_cast<uint32_t>(f.params.size()), &platform);
   if (s != Status::Ok) throw PipelineError("'" + name + "' is not a valid model file: " + status_name(s));
+  refuse_implausible_normalisation(m, name);
   f.params.resize(m.param_count);
   f.shape = m;
   f.shape.params = nullptr;
