@@ -96,14 +96,19 @@ const Schema& reference_schema(int v) {
 }  // namespace
 
 void refuse_foreign_schema(sqlite3* db, const std::string& path) {
+  // The version and the schema from one snapshot: a console creating the
+  // file meanwhile commits both or neither between them.
+  int rc = sqlite3_exec(db, "BEGIN", nullptr, nullptr, nullptr);
   sqlite3_stmt* s = nullptr;
-  int rc = sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &s, nullptr);
+  if (rc == SQLITE_OK) rc = sqlite3_prepare_v2(db, "PRAGMA user_version", -1, &s, nullptr);
   int version = 0;
   if (rc == SQLITE_OK && (rc = sqlite3_step(s)) == SQLITE_ROW) version = sqlite3_column_int(s, 0), rc = SQLITE_OK;
   sqlite3_finalize(s);
   Schema have;
   if (rc == SQLITE_OK) have = read_schema(db, &rc);
-  if (rc != SQLITE_OK) throw DbError(db_error_words(path, rc, sqlite3_errmsg(db)), rc);
+  const std::string why = rc == SQLITE_OK ? "" : sqlite3_errmsg(db);
+  if (sqlite3_get_autocommit(db) == 0) sqlite3_exec(db, "COMMIT", nullptr, nullptr, nullptr);
+  if (rc != SQLITE_OK) throw DbError(db_error_words(path, rc, why.c_str()), rc);
   if (version > kSchemaVersion)
     throw DbError(fmt::format("database {} has schema v{}, newer than this console's v{}; upgrade nlsoft-console",
                               path, version, kSchemaVersion),
