@@ -211,9 +211,10 @@ std::optional<double> metric_value(const RunMetrics& m, const std::string& metri
   auto worst = [](const TrackingMetrics& x) {
     return x.rmse.empty() ? 0.0 : *std::max_element(x.rmse.begin(), x.rmse.end());
   };
-  // No tracking figure from no samples: an empty rmse is no error of 0.
+  // No tracking error from no samples: an empty rmse is no error of 0,
+  // and neither is the max_error nothing was measured for.
   const bool tracked = !t.rmse.empty();
-  if (!tracked && (name == "rmse" || name == "nrmse" || name == "max_error")) return std::nullopt;
+  if (!tracked && (name == "rmse" || name == "max_error")) return std::nullopt;
   if (m.predicted.rmse.empty() && (name == "rmse_hat" || name == "nrmse_hat")) return std::nullopt;
   if (name == "rmse") return worst(t);
   if (name == "nrmse") return t.nrmse;
