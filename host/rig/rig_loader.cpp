@@ -1027,8 +1027,25 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   // most kMaxPlantDt, checked with [plant] below.
   rig.rate_hz = root.bounded("rate_hz", 1e-3, 1e5, " Hz");
   // The controller keeps one history length for u and y (paper: n_d = d_d).
-  rig.nd = int(root.integer("nd", 1, RigCapacity::nd));
-  rig.dd = int(root.integer("dd", 1, RigCapacity::nd));
+  // Left out, or "auto" (both keys alike): `train` chooses it from the data
+  // (app/model/lag_search.hpp); until a model says otherwise the rig holds
+  // the longest its inputs leave room for, set below.
+  auto auto_lags = [&](const char* key) {
+    if (!root.has(key)) return true;
+    if (!root.node(key).is_string()) return false;
+    const std::string v = root.text(key);
+    if (v != "auto")
+      root.fail(root.line(key), key, "'" + printable_excerpt(v, 40) + "' is not a history length: an integer, or \"auto\"");
+    return true;
+  };
+  const bool nd_auto = auto_lags("nd"), dd_auto = auto_lags("dd");
+  if (nd_auto != dd_auto)
+    root.fail(root.line(nd_auto ? "dd" : "nd"), nd_auto ? "dd" : "nd",
+              std::string("is set while ") + (nd_auto ? "nd" : "dd") +
+                  " is left to train's search: give both (equal) or neither");
+  rig.lags_auto = nd_auto;
+  rig.nd = rig.lags_auto ? 1 : int(root.integer("nd", 1, RigCapacity::nd));
+  rig.dd = rig.lags_auto ? 1 : int(root.integer("dd", 1, RigCapacity::nd));
   if (rig.dd != rig.nd)
     root.fail(root.line("dd"), "dd",
               "must equal nd (" + std::to_string(rig.nd) + " at line " + std::to_string(root.line("nd")) +
@@ -1044,6 +1061,8 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   read_outputs(file, root, t, rig, names, pins);
   read_devices(file, root, t, rig, names, pins);
   read_sensors(file, root, t, rig, names, pins);
+  if (rig.lags_auto)
+    rig.nd = rig.dd = std::max(1, std::min(RigCapacity::nd, (RigCapacity::p - rig.w()) / (rig.m() + rig.n())));
   if (const int p = rig.nd * rig.m() + rig.dd * rig.n() + rig.w(); p > RigCapacity::p)
     root.fail(root.line("nd"), "nd",
               fmt::format("the network's input p = nd m + dd n + w = {}*{} + {}*{} + {} = {} exceeds {}: shorten the "
