@@ -178,9 +178,11 @@ std::string firmware_src(const std::string& who) {
 }
 
 // The XDG rules, as for the recording database: $XDG_CACHE_HOME when it is
-// an absolute path (a relative one is ignored), else $HOME/.cache. The
-// folder named must be there: HOME=/nonexistent made /nonexistent/.cache/...
-// at the root, and a relative HOME a folder wherever the console ran.
+// an absolute path (a relative one is ignored), else $HOME/.cache. HOME must
+// be there: HOME=/nonexistent made /nonexistent/.cache/... at the root, and a
+// relative HOME a folder wherever the console ran. XDG_CACHE_HOME may be
+// made, as the XDG rules ask, but only inside a folder that is there (one
+// level, never a chain of folders from a mistyped path).
 std::string cache_dir() {
   const std::string fix = "set XDG_CACHE_HOME or HOME to a folder, or give --out";
   auto existing = [&](const char* var, const std::string& value) {
@@ -191,8 +193,15 @@ std::string cache_dir() {
                                  there ? "is not a folder" : "does not exist", fix));
     return value;
   };
-  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/')
-    return existing("XDG_CACHE_HOME", xdg) + "/nlsoft/firmware";
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') {
+    std::string dir = xdg;
+    while (dir.size() > 1 && dir.back() == '/') dir.pop_back();
+    const std::string parent = dir.substr(0, std::max<size_t>(1, dir.rfind('/')));
+    struct stat st {};
+    if (::stat(dir.c_str(), &st) != 0 && ::stat(parent.c_str(), &st) == 0 && S_ISDIR(st.st_mode))
+      ::mkdir(dir.c_str(), 0700);  // fails only if it appeared meanwhile or cannot be made: `existing` says which
+    return existing("XDG_CACHE_HOME", dir) + "/nlsoft/firmware";
+  }
   const char* home = std::getenv("HOME");
   if (!home || !*home) throw CliError("no folder for the image cache: HOME is not set; " + fix);
   if (*home != '/')

@@ -162,10 +162,10 @@ std::string section_table(const FitSection& s, const std::string& unit) {
 }
 
 std::string fit_table(const ModelFit& f) {
-  std::string out;
+  // The history length first: the tables below end at their last row.
+  std::string out = f.lags.empty() ? std::string() : "history: " + f.lags + "\n";
   for (const FitSection& s : f.sections) out += section_table(s, f.unit);
   if (f.arx.empty()) out += "(no ARX baseline kept with this fit)\n";
-  if (!f.lags.empty()) out += "history: " + f.lags + "\n";
   return out;
 }
 

@@ -60,7 +60,7 @@ import sys
 b = open(sys.argv[1], "rb").read()
 open(sys.argv[1], "wb").write(b.replace(b"label TEXT", b"lbbel TEXT", 1))
 EOF
-refused "damaged.db is damaged or not an nlsoft database (no such column: label)" runs list --db damaged.db
+refused "database damaged.db is not an nlsoft recording database: its table 'runs' is not the one schema v7 defines" runs list --db damaged.db
 
 # Impossible values in a script: refused at their line before anything runs.
 # script LINES: the console's output running them against the simulator (exit $rc).

@@ -26,9 +26,9 @@ out=$(env -u XDG_CACHE_HOME HOME=rel "${build[@]}" 2>&1)
 grep -qF "HOME=rel is not an absolute path" <<<"$out" || say "HOME relative: $out"
 [ -e "$work/cwd/rel" ] && say "HOME=rel made $work/cwd/rel"
 
-out=$(HOME="$work" XDG_CACHE_HOME="$work/nocache" "${build[@]}" 2>&1)
+out=$(HOME="$work" XDG_CACHE_HOME="$work/nowhere/cache" "${build[@]}" 2>&1)
 [ $? -ne 0 ] || say "XDG_CACHE_HOME missing: built: $out"
-grep -qF "XDG_CACHE_HOME=$work/nocache does not exist" <<<"$out" || say "XDG_CACHE_HOME missing: $out"
-[ -e "$work/nocache" ] && say "XDG_CACHE_HOME=$work/nocache was created"
+grep -qF "XDG_CACHE_HOME=$work/nowhere/cache does not exist" <<<"$out" || say "XDG_CACHE_HOME missing: $out"
+[ -e "$work/nowhere" ] && say "XDG_CACHE_HOME=$work/nowhere/cache: $work/nowhere was created"
 [ -z "$(ls -A "$work/cwd")" ] || say "the current folder holds: $(ls -A "$work/cwd")"
 exit $fail
