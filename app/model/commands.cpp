@@ -183,9 +183,17 @@ void print_choice(const TrainResult& r, const std::string& unit) {
                 rmse(c).c_str(), c.val_free_run, how.c_str());
   }
   if (r.beaten_network != size_t(-1)) {
-    const Candidate &k = r.candidates[r.chosen], &n = r.candidates[r.beaten_network];
-    std::printf("kept the linear model (%s): its held-out free run RMSE %s beats the best network's %s (%s)\n",
-                k.arx ? "ARX" : "output-error", rmse(k).c_str(), rmse(n).c_str(), describe_layers(n.layers).c_str());
+    const Candidate& k = r.candidates[r.carried_linear != size_t(-1) ? r.carried_linear : r.chosen];
+    const Candidate& n = r.candidates[r.beaten_network];
+    std::printf("kept the linear model (%s): its held-out free run RMSE %s beats the best network's %s (%s)%s\n",
+                k.arx ? "ARX" : "output-error", rmse(k).c_str(), rmse(n).c_str(), describe_layers(n.layers).c_str(),
+                r.carried_linear != size_t(-1) ? ", carried in the rig's [model] shape its images are built for" : "");
+  }
+  if (r.linear_not_carried != size_t(-1)) {
+    const Candidate &l = r.candidates[r.linear_not_carried], &k = r.candidates[r.chosen];
+    std::printf("the linear model (%s) simulated the held-out rows better, RMSE %s against %s, but the rig's [model] "
+                "shape (%s) cannot carry it: kept the best network of that shape, which its images are built for\n",
+                l.arx ? "ARX" : "output-error", rmse(l).c_str(), rmse(k).c_str(), describe_layers(k.layers).c_str());
   }
 }
 
@@ -254,6 +262,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     if (sizes.empty()) throw PipelineError("--hidden needs a list like 5,5 (or 'none')");
     o.layers = sizes.front();
     o.alternatives.assign(sizes.begin() + 1, sizes.end());
+    o.keep_shape = false;  // the user's shapes: a linear model that wins is kept as it is
   }
   if (!a.start.empty()) {
     if (a.start != "linear" && a.start != "random")

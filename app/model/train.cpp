@@ -584,6 +584,41 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
           (res.beaten_network == size_t(-1) || res.candidates[i].held_out < res.candidates[res.beaten_network].held_out))
         res.beaten_network = i;
   }
+  // A rig whose images are built for its [model] shape gets a model of that
+  // shape: the winning linear model carried in it, to the last bit of double
+  // rounding, or, where the shape cannot carry it (a GRU, a tanh output), the
+  // best network of the shape, and train says by how much it lost.
+  if (opt.objective == Objective::Simulation && opt.keep_shape && res.beaten_network != size_t(-1) &&
+      !is_single_linear(opt.layers)) {
+    const size_t linear = res.chosen;
+    if (holds_linear_model(opt.layers, s.n)) {
+      Network carrier(L.p(), opt.layers);
+      Random rng(opt.seed);
+      carrier.initialise(rng);
+      embed_linear_model(carrier, nets[linear], Xn.topRows(P.train_end));
+      Candidate c;
+      c.layers = opt.layers;
+      c.seed = opt.seed;
+      c.linear_start = true;
+      c.weights = carrier.param_count();
+      c.val_free_run = c.warm_free_run = free_run_loss(carrier, sim, judge_pieces);
+      TrainedNetwork t = tn;
+      t.net = carrier;
+      const HeldOutScore h = held_out_score(t.export_model(target.platform), d, pooled.test_pieces, sim.weight);
+      c.held_out = h.loss;
+      c.held_out_rmse = h.rmse;
+      res.candidates.push_back(c);
+      nets.push_back(carrier);
+      one_step_val.push_back(loss_of(Loss::Mse, 1.0, carrier.predict(Xval), Tval).value);
+      one_step_epochs.push_back(0);
+      res.carried_linear = linear;
+      res.chosen = res.candidates.size() - 1;
+    } else {
+      res.linear_not_carried = linear;
+      res.chosen = res.beaten_network;
+      res.beaten_network = size_t(-1);
+    }
+  }
   tn.net = std::move(nets[res.chosen]);
   res.best_val_loss = one_step_val[res.chosen];
   res.epochs_run = one_step_epochs[res.chosen];
@@ -633,6 +668,7 @@ TrainOptions default_options(const PlantTarget& target, Objective objective) {
     o.alternatives.push_back({{LayerKind::Dense, target.n, Activation::Linear}});
   }
   if (!target.layers.empty()) o.layers = target.layers;
+  o.keep_shape = !target.layers.empty();
   o.nd = target.nd;
   o.dd = target.dd;
   o.sim.horizon = std::max(target.horizon, o.sim.horizon);

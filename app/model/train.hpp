@@ -87,6 +87,10 @@ struct TrainOptions {
   // Other sizes tried beside `layers`, and seeds per size (seed, seed+1, ...).
   std::vector<std::vector<LayerSpec>> alternatives;
   int seeds = 1;
+  // The first of `layers` is the shape the rig's images are built for (its
+  // [model]): a linear model that wins is carried in that shape where it can
+  // be (app/model/linear_start.hpp), else the best network of it is kept.
+  bool keep_shape = false;
   int threads = 2;           // candidates trained at once
   const std::atomic<bool>* stop = nullptr;  // set (Ctrl-C): finish with the best model so far
   std::function<void(const Progress&)> progress;
@@ -143,6 +147,11 @@ struct TrainResult {
   // The best network's index when a linear model beat it (else npos): train
   // says so.
   size_t beaten_network = static_cast<size_t>(-1);
+  // With keep_shape: the linear candidate carried in the rig's shape (the
+  // kept candidate is then that carrier), or the linear candidate that won
+  // but which the shape cannot carry (the best network was kept). npos: neither.
+  size_t carried_linear = static_cast<size_t>(-1);
+  size_t linear_not_carried = static_cast<size_t>(-1);
   Objective objective = Objective::Simulation;
   bool stopped = false;  // cut short by TrainOptions::stop
 };

@@ -125,3 +125,43 @@ TEST(LagSearch, PicksMoreLagsForAThirdOrderSystemThanAFirstOrderOne) {
 TEST(LagSearch, ADataSetTooShortForAnyLengthIsRefused) {
   EXPECT_THROW(search_lags({linear_system(8, 1, 3)}, 4, 10, -1), PipelineError);
 }
+
+// A rig file's [model] shape is what its images are built for: where the
+// linear model wins, it is carried in that shape when the shape can hold it
+// (relu hidden units, a linear output), and the kept model simulates the
+// held-out rows as the linear one does; where it cannot (a tanh output),
+// the best network of the shape is kept and the result says the linear
+// model won.
+TEST(ModelChoice, ARigsOwnShapeCarriesTheLinearModelOrKeepsItsBestNetwork) {
+  const Series s = linear_system(3000, 1, 7, 1e-3);
+  PlantTarget t = target_for(s);
+  t.layers = {{LayerKind::Dense, 8, Activation::Relu}, {LayerKind::Dense, 1, Activation::Linear}};
+  TrainOptions o = default_options(t);
+  ASSERT_TRUE(o.keep_shape);
+  o.nd = o.dd = 1;
+  o.start = Start::Random;
+  o.epochs = 1;
+  o.seeds = 1;
+  o.sim.epochs = 0;
+  o.sim.lbfgs_evals = 0;
+  const TrainResult r = train(s, t, o);
+  ASSERT_NE(r.carried_linear, size_t(-1));
+  EXPECT_EQ(r.model.shape.layer_count, 2);
+  const Candidate &kept = r.candidates[r.chosen], &linear = r.candidates[r.carried_linear];
+  EXPECT_FALSE(linear.is_network());
+  EXPECT_NEAR(kept.held_out, linear.held_out, 1e-4 * linear.held_out);
+
+  t.layers = {{LayerKind::Dense, 8, Activation::Relu}, {LayerKind::Dense, 1, Activation::Tanh}};
+  TrainOptions q = default_options(t);
+  q.nd = q.dd = 1;
+  q.start = Start::Random;
+  q.epochs = 1;
+  q.seeds = 1;
+  q.sim.epochs = 0;
+  q.sim.lbfgs_evals = 0;
+  const TrainResult h = train(s, t, q);
+  ASSERT_NE(h.linear_not_carried, size_t(-1));
+  EXPECT_TRUE(h.candidates[h.chosen].is_network());
+  EXPECT_EQ(h.model.shape.layer_count, 2);
+  EXPECT_LT(h.candidates[h.linear_not_carried].held_out, h.candidates[h.chosen].held_out);
+}
