@@ -262,7 +262,9 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     if (sizes.empty()) throw PipelineError("--hidden needs a list like 5,5 (or 'none')");
     o.layers = sizes.front();
     o.alternatives.assign(sizes.begin() + 1, sizes.end());
-    o.keep_shape = false;  // the user's shapes: a linear model that wins is kept as it is
+    // One shape asked for is the shape wanted (an image built for it): a
+    // linear model that wins is carried in it. Several ('/') are candidates.
+    o.keep_shape = sizes.size() == 1;
   }
   if (!a.start.empty()) {
     if (a.start != "linear" && a.start != "random")
@@ -554,7 +556,7 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
   tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
   tr->add_option("--hidden", train_args->hidden,
-                 "hidden sizes, e.g. 5,5; 'none' = one linear layer; '/' between candidates: 16/16,16")
+                 "hidden sizes, e.g. 5,5 (one shape: the model keeps it, carrying the linear model where that wins); 'none' = one linear layer; '/' between candidates: 16/16,16")
       ->type_name("LIST");
   tr->add_option("--activation", train_args->activation, "the hidden Dense layers' (default relu)")
       ->type_name("ACT");
