@@ -127,6 +127,24 @@ Db::Db(const std::string& path, Access access) : path_(path) {
 }
 
 void Db::open(const std::string& path, const std::string& name, Access access) {
+  // Two consoles opening one new file at once: the second's first pragma
+  // (journal_mode=WAL, page_size) can meet the first's write lock while it
+  // holds a read lock, and SQLite then answers "locked" at once rather than
+  // wait (its deadlock rule skips the busy handler). Opening again shortly
+  // after sees the finished file; a writer that keeps the file locked still
+  // fails after ~1.5 s.
+  for (int attempt = 0;; ++attempt) {
+    try {
+      open_once(path, name, access);
+      return;
+    } catch (const DbError& e) {
+      if ((e.sqlite_code & 0xFF) != SQLITE_BUSY || attempt >= 30) throw;
+    }
+    ::usleep(50000);
+  }
+}
+
+void Db::open_once(const std::string& path, const std::string& name, Access access) {
   // Allocation statistics cost a global mutex per malloc; nobody reads them.
   static const int memstatus_off = sqlite3_config(SQLITE_CONFIG_MEMSTATUS, 0);
   (void)memstatus_off;

@@ -96,6 +96,7 @@ class Db {
 
  private:
   void open(const std::string& path, const std::string& name, Access access);  // name: a path or a URI
+  void open_once(const std::string& path, const std::string& name, Access access);
   sqlite3* db_ = nullptr;
   std::string path_;
 };
