@@ -54,6 +54,19 @@ PlantTarget target_for(const Series& s) {
   return t;
 }
 
+// Options under which a network cannot learn (one epoch from random
+// weights, no simulation training): the linear models must win.
+TrainOptions losing_network_options(const PlantTarget& t) {
+  TrainOptions o = default_options(t);
+  o.nd = o.dd = 1;
+  o.start = Start::Random;
+  o.epochs = 1;
+  o.seeds = 1;
+  o.sim.epochs = 0;
+  o.sim.lbfgs_evals = 0;
+  return o;
+}
+
 }  // namespace
 
 // A tanh network trained one epoch from a random start cannot simulate a
@@ -62,15 +75,9 @@ PlantTarget target_for(const Series& s) {
 TEST(ModelChoice, ANetworkThatLosesToTheLinearModelIsNotKept) {
   const Series s = linear_system(3000, 1, 7, 1e-3);
   const PlantTarget t = target_for(s);
-  TrainOptions o = default_options(t);
-  o.nd = o.dd = 1;
+  TrainOptions o = losing_network_options(t);
   o.layers = {{LayerKind::Dense, 8, Activation::Tanh}, {LayerKind::Dense, 1, Activation::Tanh}};
   o.alternatives.clear();
-  o.start = Start::Random;
-  o.epochs = 1;
-  o.seeds = 1;
-  o.sim.epochs = 0;
-  o.sim.lbfgs_evals = 0;
   const TrainResult r = train(s, t, o);
   ASSERT_LT(r.chosen, r.candidates.size());
   const Candidate& kept = r.candidates[r.chosen];
@@ -136,14 +143,8 @@ TEST(ModelChoice, ARigsOwnShapeCarriesTheLinearModelOrKeepsItsBestNetwork) {
   const Series s = linear_system(3000, 1, 7, 1e-3);
   PlantTarget t = target_for(s);
   t.layers = {{LayerKind::Dense, 8, Activation::Relu}, {LayerKind::Dense, 1, Activation::Linear}};
-  TrainOptions o = default_options(t);
+  TrainOptions o = losing_network_options(t);
   ASSERT_TRUE(o.keep_shape);
-  o.nd = o.dd = 1;
-  o.start = Start::Random;
-  o.epochs = 1;
-  o.seeds = 1;
-  o.sim.epochs = 0;
-  o.sim.lbfgs_evals = 0;
   const TrainResult r = train(s, t, o);
   ASSERT_NE(r.carried_linear, size_t(-1));
   EXPECT_EQ(r.model.shape.layer_count, 2);
@@ -152,14 +153,7 @@ TEST(ModelChoice, ARigsOwnShapeCarriesTheLinearModelOrKeepsItsBestNetwork) {
   EXPECT_NEAR(kept.held_out, linear.held_out, 1e-4 * linear.held_out);
 
   t.layers = {{LayerKind::Dense, 8, Activation::Relu}, {LayerKind::Dense, 1, Activation::Tanh}};
-  TrainOptions q = default_options(t);
-  q.nd = q.dd = 1;
-  q.start = Start::Random;
-  q.epochs = 1;
-  q.seeds = 1;
-  q.sim.epochs = 0;
-  q.sim.lbfgs_evals = 0;
-  const TrainResult h = train(s, t, q);
+  const TrainResult h = train(s, t, losing_network_options(t));
   ASSERT_NE(h.linear_not_carried, size_t(-1));
   EXPECT_TRUE(h.candidates[h.chosen].is_network());
   EXPECT_EQ(h.model.shape.layer_count, 2);
