@@ -294,7 +294,19 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   for (const Series& s : runs) check_dimensions(s, target);
   std::string lag_words;
   if (search) {
-    const LagChoice lags = search_lags(runs, max_lags, o.folds, validate);
+    LagChoice lags = search_lags(runs, max_lags, o.folds, validate);
+    {
+      TrainProgress probe_bar(stderr);
+      TrainOptions po = o;
+      po.progress = [&probe_bar](const Progress& p) { probe_bar(p); };
+      const InterruptGuard interrupt;
+      po.stop = &interrupt.flag();
+      lags = probe_network_lags(lags, runs, target, po, validate, max_lags, [&](int L, const std::string& what) {
+        probe_bar.finish();
+        std::fprintf(stderr, "history: trying nd = dd = %d with %s\n", L, what.c_str());
+      });
+      probe_bar.finish();
+    }
     o.nd = o.dd = lags.lags;
     lag_words = lags.words();
     std::printf("history: %s\n", lag_words.c_str());
@@ -549,7 +561,7 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
       ->type_name("ID");
   tr->add_option("--nd", train_args->nd,
                  "input history length (default: the rig's nd; 1..32, with p = nd m + dd n + w <= 88), or auto: "
-                 "searched on the data (the default where the rig file leaves nd out)")
+                 "searched on the data (ARX, then a network at a few lengths; the default where the rig file leaves nd out)")
       ->type_name("N|auto");
   tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..32, with p <= 88), or auto")
       ->type_name("N|auto");

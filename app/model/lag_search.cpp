@@ -1,5 +1,6 @@
 #include "app/model/lag_search.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -11,12 +12,34 @@
 
 namespace nlsoft::pipeline {
 
-std::string LagChoice::words() const {
+namespace {
+
+std::string trials(const std::vector<LagTrial>& ts) {
   std::string list;
-  for (const LagTrial& t : tried)
+  for (const LagTrial& t : ts)
     list += (list.empty() ? "" : ", ") + (std::isfinite(t.free_run) ? fmt::format("{} {:.3g}", t.lags, t.free_run)
                                                                     : fmt::format("{} -", t.lags));
-  return fmt::format("nd = dd = {}, chosen by ARX free run of the rows not fitted on (MSE / variance): {}", lags, list);
+  return list;
+}
+
+// The shortest length within `slack` of the best; 0 when none is finite.
+int shortest_near_best(const std::vector<LagTrial>& ts, double slack) {
+  double best = HUGE_VAL;
+  for (const LagTrial& t : ts) best = std::min(best, t.free_run);
+  if (!std::isfinite(best)) return 0;
+  for (const LagTrial& t : ts)
+    if (t.free_run <= best * (1 + slack)) return t.lags;
+  return 0;
+}
+
+}  // namespace
+
+std::string LagChoice::words() const {
+  const std::string arx = fmt::format("ARX free run of the rows not fitted on (MSE / variance): {}", trials(tried));
+  if (probed.empty()) return fmt::format("nd = dd = {}, chosen by {}", lags, arx);
+  return fmt::format("nd = dd = {}, chosen by {} free run of the held-out rows (MSE / variance): {}; from {}, "
+                     "which chose {}",
+                     lags, probe_shape, trials(probed), arx, arx_lags);
 }
 
 LagChoice search_lags(const std::vector<Series>& runs, int max_lags, int folds, int validate) {
@@ -44,16 +67,61 @@ LagChoice search_lags(const std::vector<Series>& runs, int max_lags, int folds, 
     }
     c.tried.push_back(t);
   }
-  double best = HUGE_VAL;
-  for (const LagTrial& t : c.tried) best = std::min(best, t.free_run);
-  if (!std::isfinite(best))
+  c.lags = c.arx_lags = shortest_near_best(c.tried, 0.02);
+  if (c.lags == 0)
     throw PipelineError("no history length from 1 to " + std::to_string(max_lags) +
                         " gives an ARX model a finite free run" + (last_error.empty() ? "" : ": " + last_error));
-  for (const LagTrial& t : c.tried)
-    if (t.free_run <= best * 1.02) {
-      c.lags = t.lags;
-      break;
+  return c;
+}
+
+std::vector<int> probe_lengths(int from, int max_lags) {
+  std::vector<int> out;
+  if (from < 1 || from >= max_lags) return out;
+  for (int L = from; double(L) < double(max_lags) / std::sqrt(2.0); L *= 2) out.push_back(L);
+  if (out.empty() || out.front() != from) out.insert(out.begin(), from);
+  out.push_back(max_lags);
+  return out;
+}
+
+LagChoice probe_network_lags(LagChoice c, const std::vector<Series>& runs, const PlantTarget& target,
+                             const TrainOptions& o, int validate, int max_lags,
+                             const std::function<void(int lags, const std::string& what)>& before_each) {
+  if (o.objective != Objective::Simulation) return c;
+  const std::vector<int> lengths = probe_lengths(c.arx_lags, max_lags);
+  if (lengths.size() < 2) return c;
+  // The widest network shape among the candidates: the one that can use a
+  // long history, and the rig's own when its file names one.
+  TrainOptions p = o;
+  if (!o.keep_shape)
+    for (const std::vector<LayerSpec>& alt : o.alternatives)
+      if (alt.size() > 1 && alt.front().units > p.layers.front().units) p.layers = alt;
+  p.alternatives.clear();
+  p.keep_shape = false;
+  p.seeds = 1;
+  p.epochs = std::min(o.epochs, 50);
+  long rows = 0;
+  for (const Series& s : runs) rows += s.rows();
+  // A third of the L-BFGS budget train_simulation gives the full training.
+  const int full = o.sim.lbfgs_evals >= 0 ? o.sim.lbfgs_evals
+                                          : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 2000L));
+  p.sim.lbfgs_evals = std::max(20, full / 3);
+  c.probe_shape = describe_layers(p.layers);
+  for (int L : lengths) {
+    if (o.stop && o.stop->load()) break;
+    p.nd = p.dd = L;
+    before_each(L, fmt::format("{}, 1 seed, at most {} one-step epochs and {} L-BFGS evaluations", c.probe_shape,
+                               p.epochs, p.sim.lbfgs_evals));
+    LagTrial t{L, HUGE_VAL};
+    try {
+      const TrainResult r = train(runs, target, p, validate);
+      for (const Candidate& k : r.candidates)
+        if (k.is_network() && std::isfinite(k.held_out)) t.free_run = std::min(t.free_run, k.held_out);
+    } catch (const PipelineError&) {
+      // too few rows at this length: the longer ones have fewer still
     }
+    c.probed.push_back(t);
+  }
+  if (const int L = shortest_near_best(c.probed, 0.05); L > 0) c.lags = L;
   return c;
 }
 

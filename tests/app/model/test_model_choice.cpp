@@ -129,6 +129,58 @@ TEST(LagSearch, PicksMoreLagsForAThirdOrderSystemThanAFirstOrderOne) {
   EXPECT_NE(third.words().find("nd = dd = " + std::to_string(third.lags)), std::string::npos);
 }
 
+TEST(LagSearch, TheNetworkTriesLengthsDoublingFromTheLinearChoiceToTheCapacity) {
+  EXPECT_EQ(probe_lengths(7, 32), (std::vector<int>{7, 14, 32}));
+  EXPECT_EQ(probe_lengths(21, 32), (std::vector<int>{21, 32}));
+  EXPECT_EQ(probe_lengths(1, 8), (std::vector<int>{1, 2, 4, 8}));
+  EXPECT_TRUE(probe_lengths(32, 32).empty());
+  EXPECT_TRUE(probe_lengths(0, 8).empty());
+}
+
+// y(k+1) = u(k-5)^2 - 1/3 with u uniform on [-1, 1]: no linear model
+// predicts any of it (the square of a zero-mean input is uncorrelated with
+// it), so ARX's free run is flat and stage 1 takes the shortest length;
+// a network sees u(k-5) only with a history of 6 or more, and stage 2
+// finds the length that holds it.
+TEST(LagSearch, ANetworkFindsTheHistoryALinearModelCannotSee) {
+  Random rng(11);
+  Series s;
+  const long q = 3000;
+  s.resize(q, 1, 1, 0);
+  std::vector<double> u(static_cast<size_t>(q), 0.0);
+  for (long k = 0; k < q; ++k) {
+    s.time(k) = 0.01 * double(k);
+    u[size_t(k)] = rng.uniform(-1.0, 1.0);
+    s.u(k, 0) = u[size_t(k)];
+    s.y(k, 0) = k >= 6 ? u[size_t(k - 6)] * u[size_t(k - 6)] - 1.0 / 3.0 : 0.0;
+  }
+  PlantTarget t = target_for(s);
+  TrainOptions o = default_options(t);
+  const LagChoice arx = search_lags({s}, 8, o.folds, -1);
+  EXPECT_LT(arx.lags, 6) << arx.words();
+  std::vector<int> probed;
+  const LagChoice c = probe_network_lags(arx, {s}, t, o, -1, 8, [&](int L, const std::string&) { probed.push_back(L); });
+  EXPECT_EQ(probed, probe_lengths(arx.lags, 8));
+  ASSERT_EQ(c.probed.size(), probed.size());
+  EXPECT_EQ(c.arx_lags, arx.lags);
+  EXPECT_EQ(c.lags, 8) << c.words();
+  EXPECT_LT(c.probed.back().free_run, 0.5 * c.probed.front().free_run) << c.words();
+  EXPECT_NE(c.words().find("which chose " + std::to_string(arx.lags)), std::string::npos) << c.words();
+}
+
+// The one-step objective trains no free run to judge lengths by: stage 1 stands.
+TEST(LagSearch, TheOneStepObjectiveKeepsTheLinearChoice) {
+  const Series s = linear_system(2000, 3, 5, 1e-4);
+  const PlantTarget t = target_for(s);
+  const LagChoice arx = search_lags({s}, 8, 10, -1);
+  int probes = 0;
+  const LagChoice c = probe_network_lags(arx, {s}, t, default_options(t, Objective::OneStep), -1, 8,
+                                         [&](int, const std::string&) { ++probes; });
+  EXPECT_EQ(probes, 0);
+  EXPECT_EQ(c.lags, arx.lags);
+  EXPECT_TRUE(c.probed.empty());
+}
+
 TEST(LagSearch, ADataSetTooShortForAnyLengthIsRefused) {
   EXPECT_THROW(search_lags({linear_system(8, 1, 3)}, 4, 10, -1), PipelineError);
 }
