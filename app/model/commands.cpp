@@ -174,10 +174,15 @@ void print_choice(const TrainResult& r, const std::string& unit) {
   for (size_t i = 0; i < r.candidates.size(); ++i) {
     const Candidate& c = r.candidates[i];
     const std::string what = c.arx ? "ARX (least squares, same lags)" : describe_layers(c.layers);
-    const std::string how = c.arx ? "one-step least squares"
-                            : fmt::format("{} {:.4e}, {} epochs, {} L-BFGS evaluations",
-                                          c.linear_start ? "started from the linear model's" : "one-step warm start",
-                                          c.warm_free_run, c.epochs, c.evals);
+    const std::string how =
+        c.arx ? "one-step least squares"
+              : fmt::format("{} {:.4e}{}, {}{} L-BFGS evaluations",
+                            c.linear_start               ? "started from the linear model's"
+                            : c.one_step_epochs == 0     ? "least-squares start"
+                                                         : "one-step warm start",
+                            c.warm_free_run,
+                            c.one_step_epochs > 0 ? fmt::format(" after {} one-step epochs", c.one_step_epochs) : "",
+                            c.epochs > 0 ? fmt::format("{} simulation epochs, ", c.epochs) : "", c.evals);
     std::printf("  %s %-30s seed %-3llu %5zu weights  held-out free run %.4e (RMSE %s); training rows %.4e (%s)\n",
                 i == r.chosen ? "*" : " ", what.c_str(), static_cast<unsigned long long>(c.seed), c.weights, c.held_out,
                 rmse(c).c_str(), c.val_free_run, how.c_str());
@@ -310,6 +315,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
     o.nd = o.dd = lags.lags;
     lag_words = lags.words();
     std::printf("history: %s\n", lag_words.c_str());
+    std::fflush(stdout);  // before the progress on stderr, when both go to one file
   }
   long samples = 0, gaps = 0;
   for (const Series& s : runs) samples += s.rows(), gaps += long(s.breaks.size());
@@ -330,6 +336,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
                 s.breaks.size() == 1 ? "" : "s", span.c_str(), first_row.c_str(), last_row.c_str());
   }
   for (const std::string& note : input_level_notes(runs)) std::printf("%s\n", note.c_str());
+  std::fflush(stdout);
   TrainProgress bar(stderr);
   o.progress = [&bar](const Progress& p) { bar(p); };
   // Ctrl-C ends the training with the best model so far, which is written

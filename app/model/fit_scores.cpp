@@ -66,11 +66,6 @@ Simulation simulate_arx(const ArxModel& arx, const Dataset& d, const std::vector
   return run<double>(d, pieces, [&](const double* x, double* y) { arx.predict(x, y); });
 }
 
-Simulation simulate_with(const Dataset& d, const std::vector<RowRange>& pieces,
-                         const std::function<void(const double* x, double* y)>& step) {
-  return run<double>(d, pieces, step);
-}
-
 Eigen::MatrixXd measured(const Dataset& d, const std::vector<RowRange>& pieces) {
   Eigen::MatrixXd y(count_rows(pieces), d.layout.n);
   long at = 0;

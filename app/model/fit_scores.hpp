@@ -5,7 +5,6 @@
 // measured outputs at each piece of consecutive rows, driven by the data's
 // u and l), scored per output as RMSE in the output's unit, nRMSE of its
 // span and MATLAB compare's fit % = 100 (1 - |y - yhat| / |y - mean(y)|).
-#include <functional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -31,9 +30,6 @@ struct Simulation {
 // Throws PipelineError when the model's dimensions are not the data's.
 Simulation simulate_network(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces);
 Simulation simulate_arx(const ArxModel& arx, const Dataset& d, const std::vector<RowRange>& pieces);
-// Any predictor y = step(x) in double (both of x's and y's lengths the data's).
-Simulation simulate_with(const Dataset& d, const std::vector<RowRange>& pieces,
-                         const std::function<void(const double* x, double* y)>& step);
 
 // The measured y(k+1) of the rows of `pieces`, in the order above.
 Eigen::MatrixXd measured(const Dataset& d, const std::vector<RowRange>& pieces);

@@ -505,6 +505,7 @@ TrainResult train(const std::vector<Series>& runs, const PlantTarget& target, co
       const OneStepResult w = warm_start(net, one, opt, rng, [&](const Progress& p) { report(p, int(i)); });
       one_step_val[i] = w.best_val;
       one_step_epochs[i] = w.epochs;
+      c.one_step_epochs = w.epochs;
       if (is_single_linear(c.layers)) least_squares = net;  // one such candidate: one writer
     }
     c.warm_free_run = free_run_loss(net, sim, judge_pieces);

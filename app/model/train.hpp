@@ -62,6 +62,7 @@ struct Candidate {
   std::vector<double> held_out_rmse;
   bool linear_start = false;   // started from the linear model (Start::Linear)
   bool arx = false;            // the least-squares linear model (ARX on the same lags), no simulation training
+  int one_step_epochs = 0;     // the warm start's (0: started from the linear model)
   int epochs = 0, evals = 0;   // simulation epochs, L-BFGS evaluations
   size_t weights = 0;
   bool is_network() const;     // hidden layers: more than the linear model
