@@ -2,6 +2,8 @@
 // bad input ends with a message, exit code 2 and no file written.
 #include <gtest/gtest.h>
 
+#include <regex>
+
 #include <algorithm>
 #include <fstream>
 
@@ -40,6 +42,15 @@ TEST(Cli, DatasetTrainInfoEval) {
   const bool gru = r.output.compare(star + 5, 3, "GRU") == 0;  // after "\n  * "
   if (!gru) {
     EXPECT_NE(r.output.find("kept the linear model"), std::string::npos) << r.output;
+  }
+  // The kept row's one-step epochs are the summary's (rows once said 0).
+  std::smatch row, summary;
+  const std::string kept = r.output.substr(star, r.output.find('\n', star + 1) - star);
+  if (std::regex_search(kept, row, std::regex(" after (\\d+) one-step epochs"))) {
+    ASSERT_TRUE(std::regex_search(r.output, summary, std::regex("trained tendon model in [0-9.]+ s \\((\\d+) one-step epochs\\)")))
+        << r.output;
+    EXPECT_EQ(row[1].str(), summary[1].str()) << r.output;
+    EXPECT_NE(row[1].str(), "0");
   }
   r = run_cli("model info " + model);
   ASSERT_EQ(r.code, 0) << r.output;
