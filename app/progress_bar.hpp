@@ -23,16 +23,26 @@ class ProgressBar {
     if (!tty_ || total <= 0) return;
     const double f = double(done) / double(total);
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    const double eta = f > 0 ? elapsed * (1 - f) / f : 0;
     const int width = 30, filled = int(f * width);
-    char tail[64];
-    std::snprintf(tail, sizeof tail, "] %3d%%  ETA %4.0fs ", int(f * 100), eta);
     std::lock_guard<std::mutex> lock(mu());
-    text_ = label_ + " [" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), '.') + tail + note;
+    text_ = label_ + " [" + std::string(size_t(filled), '#') + std::string(size_t(width - filled), '.') + "] " +
+            tail(f, elapsed) + note;
     std::fprintf(stderr, "\r%s\033[K", text_.c_str());
     std::fflush(stderr);
     shown() = this;
   }
+  // "  42%  ETA   12s ": no ETA where there is nothing to extrapolate from,
+  // or nothing left to count (a build's last step, linking, takes seconds
+  // at 100 %, which an ETA showed as "0s").
+  static std::string tail(double fraction, double elapsed_s) {
+    char out[64];
+    if (fraction > 0 && fraction < 1)
+      std::snprintf(out, sizeof out, "%3d%%  ETA %4.0fs ", int(fraction * 100), elapsed_s * (1 - fraction) / fraction);
+    else
+      std::snprintf(out, sizeof out, "%3d%%  ", int(fraction * 100));
+    return out;
+  }
+
   void finish() {
     std::lock_guard<std::mutex> lock(mu());
     if (shown() != this) return;

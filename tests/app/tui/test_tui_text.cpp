@@ -13,6 +13,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/progress_bar.hpp"
 #include "app/support/temp_dir.hpp"
 #include "app/support/tmux_console.hpp"
 
@@ -249,6 +250,12 @@ TEST(ConsoleTuiText, TheRunsPanelShowsNoTrackingFiguresForAnIdentificationRun) {
     EXPECT_FALSE(contains(s, "rmse [")) << s;
     ASSERT_TRUE(quit(t, "q", s));
   });
+}
+
+TEST(ConsoleProgressBar, AnEtaOnlyWhileThereIsSomethingLeftToCount) {
+  EXPECT_EQ(ProgressBar::tail(0.5, 10.0), " 50%  ETA   10s ");
+  EXPECT_EQ(ProgressBar::tail(1.0, 10.0), "100%  ") << "a build linking at 100 % once showed ETA 0s";
+  EXPECT_EQ(ProgressBar::tail(0.0, 10.0), "  0%  ");
 }
 
 // `ident` on a terminal: its progress bar and the firmware's message that
