@@ -62,7 +62,7 @@ void App::draw_message_line(int y, int w) {
     // A value offered (a file name) says that typing replaces it.
     const std::string hint = cmd_.selected() ? cmd_.hint(w / 2) : "";
     const int hw = int(text_columns(hint));
-    cmd_.draw(y, 0, hint.empty() ? w : w - hw - 2, 0);
+    cmd_.draw(y, 0, hint.empty() ? w : w - hw - 2, 0, screen_.ellipsis());
     if (!hint.empty()) put(y, w - hw, hint, hw, screen_.attr(Role::Pending));
     return;
   }

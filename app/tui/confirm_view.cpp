@@ -15,7 +15,11 @@ void draw_confirm(const Screen& screen, int rows, int cols, const std::string& t
   const int y0 = (rows - h) / 2, x0 = (cols - w) / 2;
   // A blank margin round the box: no plot dot touches it, so it reads as a
   // box over the screen, not as more lines of the plot.
-  for (int r = -1; r <= h; ++r) fill_row(y0 + r, std::max(0, x0 - 1), std::min(cols, w + 2), 0);
+  // Where the margin would leave a column or two of the screen beside it
+  // (80 columns: a lone letter at the left edge, a border's end at the
+  // right), it reaches the edge instead.
+  const int left = x0 - 1 <= 2 ? 0 : x0 - 1, right = x0 + w + 1 >= cols - 2 ? cols : x0 + w + 1;
+  for (int r = -1; r <= h; ++r) fill_row(y0 + r, left, right - left, 0);
   for (int r = 0; r < h; ++r) fill_row(y0 + r, x0, w, screen.attr(Role::Selected));
   put(y0, x0 + 1, title, w - 2, screen.attr(Role::Selected) | A_BOLD);
   for (int i = 0; i < h - 4 && size_t(i) < lines.size(); ++i)

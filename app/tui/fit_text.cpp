@@ -107,4 +107,30 @@ std::string fit_fields(const std::vector<Field>& fields, const std::string& sep,
   return elide_words(join(left, sep), width, more);
 }
 
+std::string fit_hints(const std::vector<std::string>& hints, size_t width, const std::string& more) {
+  std::string all;
+  for (const std::string& h : hints) all += (all.empty() ? "" : "  ") + h;
+  if (text_columns(all) <= width) return all;
+  const size_t tail = text_columns(more) + 1;  // " …"
+  std::string out;
+  for (const std::string& h : hints) {
+    const std::string next = out + (out.empty() ? "" : "  ") + h;
+    if (text_columns(next) + tail > width) break;
+    out = next;
+  }
+  if (out.empty()) return text_columns(more) <= width ? more : "";
+  return out + " " + more;
+}
+
+std::vector<std::string> cut_lines(std::vector<std::string> lines, size_t max_lines, size_t width,
+                                   const std::string& more) {
+  if (lines.size() <= max_lines) return lines;
+  if (max_lines == 0) return {};
+  // The last kept line and the next together are too wide: elide_words
+  // cuts them at a word and ends them in `more`.
+  lines[max_lines - 1] = elide_words(lines[max_lines - 1] + " " + lines[max_lines] + " " + more, width, more);
+  lines.resize(max_lines);
+  return lines;
+}
+
 }  // namespace nlsoft::console::tui

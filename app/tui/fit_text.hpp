@@ -39,4 +39,14 @@ struct Field {
 std::string fit_fields(const std::vector<Field>& fields, const std::string& sep, size_t width,
                        const std::string& more);
 
+// A panel's key hints ("Enter edit", "u undo", ...) joined by two blanks:
+// all when they fit; else as many as fit, whole and in order, then `more`
+// (the help, F1, lists every key). Never a hint cut inside.
+std::string fit_hints(const std::vector<std::string>& hints, size_t width, const std::string& more);
+
+// At most max_lines of `lines` (each at most `width` columns): when some
+// are left out, the last kept one ends in `more`, cut by words.
+std::vector<std::string> cut_lines(std::vector<std::string> lines, size_t max_lines, size_t width,
+                                   const std::string& more);
+
 }  // namespace nlsoft::console::tui

@@ -97,18 +97,31 @@ LineEdit::Result LineEdit::key(int ch) {
   return Result::Editing;
 }
 
-void LineEdit::draw(int y, int x, int width, int attr) const {
+void LineEdit::draw(int y, int x, int width, int attr, const char* more) const {
   fill_row(y, x, width, attr);
   const std::string all = prompt_ + text_ + (choices_.empty() ? "" : "   [" + choices_ + "]");
   const size_t cur = prompt_.size() + cursor_;
-  // Scroll so the cursor stays in view.
-  const size_t first = cur >= size_t(width) ? cur - size_t(width) + 1 : 0;
-  put(y, x, all.substr(first), width, attr);
+  // Scroll so the cursor stays in view, never starting inside a word of the
+  // prompt: "= 1 1 1 1 1 1", not "bda = 1 1 1 1 1 1" (the panel's name
+  // column names the parameter). Text scrolled out past the prompt is an
+  // ellipsis in the first column.
+  size_t first = cur >= size_t(width) ? cur - size_t(width) + 1 : 0;
+  int lead = 0;  // columns the ellipsis takes
+  if (first > 0 && first < prompt_.size() && prompt_[first - 1] != ' ') {
+    const size_t blank = prompt_.find(' ', first);
+    first = blank == std::string::npos ? prompt_.size() : blank + 1;
+  } else if (first > prompt_.size() && width > 1) {
+    lead = 1;
+    first = cur - size_t(width - lead) + 1;
+    put(y, x, more, 1, attr);
+  }
+  const int vx = x + lead, vw = width - lead;
+  put(y, vx, all.substr(first), vw, attr);
   if (selected_ && prompt_.size() + text_.size() > first) {
     const size_t from = std::max(prompt_.size(), first);
-    put(y, x + int(from - first), text_.substr(from - prompt_.size()), width - int(from - first), attr | A_UNDERLINE);
+    put(y, vx + int(from - first), text_.substr(from - prompt_.size()), vw - int(from - first), attr | A_UNDERLINE);
   }
-  const int cx = x + int(cur - first);
+  const int cx = vx + int(cur - first);
   if (cx < x + width) {
     attrset(attr | A_REVERSE);
     mvaddch(y, cx, cur < all.size() ? chtype(static_cast<unsigned char>(all[cur])) : ' ');

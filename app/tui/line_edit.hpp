@@ -22,8 +22,9 @@ class LineEdit {
   const std::string& text() const { return text_; }
   const std::string& prompt() const { return prompt_; }
   // Draws prompt + text on row y, cursor visible; the opening value, while
-  // it is selected, underlined.
-  void draw(int y, int x, int width, int attr) const;
+  // it is selected, underlined. Text scrolled out at the left is shown as
+  // `more` (Screen::ellipsis()).
+  void draw(int y, int x, int width, int attr, const char* more = "~") const;
   // What the keys do now, in at most `width` columns ("" when nothing fits
   // or nothing is to be said): while the opening value is selected, that
   // typing replaces it; afterwards, how the edit ends.

@@ -226,16 +226,26 @@ bool ParamPanel::key(int ch) {
 }
 
 void ParamPanel::draw_details(const Screen& screen, const Row& r, int y, int x, int h, int w) {
-  std::vector<std::pair<std::string, Role>> lines;
+  const size_t width = size_t(std::max(1, w - 2)), room = size_t(std::max(0, h - 1));
   const std::string what = param_description(r.info.name);
-  for (const auto& l : wrap_words(r.info.name + ": " + (what.empty() ? "(no description for this parameter)" : what), size_t(w - 2)))
-    lines.emplace_back(l, Role::Normal);
-  for (const auto& l : wrap_words(param_range_text(r.info), size_t(w - 2))) lines.emplace_back(l, Role::Dim);
-  if (r.state == State::Refused || r.state == State::Unconfirmed || r.state == State::Reset) {
-    const std::string head = r.state == State::Refused ? "refused: " : "";
-    for (const auto& l : wrap_words(head + r.note, size_t(w - 2)))
-      lines.emplace_back(l, r.state == State::Refused ? Role::Error : Role::Warn);
-  }
+  std::vector<std::string> about =
+      wrap_words(r.info.name + ": " + (what.empty() ? "(no description for this parameter)" : what), width);
+  const std::vector<std::string> range = wrap_words(param_range_text(r.info), width);
+  std::vector<std::string> note;
+  const bool noted = r.state == State::Refused || r.state == State::Unconfirmed || r.state == State::Reset;
+  if (noted) note = wrap_words((r.state == State::Refused ? "refused: " : "") + r.note, width);
+  // Too many lines for the room: the description gives way first (the
+  // range and a refusal say what to type), ending in an ellipsis where cut,
+  // never mid-sentence without one.
+  const size_t others = range.size() + note.size();
+  about = cut_lines(about, room > others ? room - others : std::min<size_t>(1, room), width, screen.ellipsis());
+  std::vector<std::pair<std::string, Role>> lines;
+  for (const auto& l : about) lines.emplace_back(l, Role::Normal);
+  std::vector<std::string> tail = range;
+  for (const auto& l : note) tail.push_back(l);
+  tail = cut_lines(tail, room > about.size() ? room - about.size() : 0, width, screen.ellipsis());
+  for (size_t i = 0; i < tail.size(); ++i)
+    lines.emplace_back(tail[i], i < range.size() ? Role::Dim : r.state == State::Refused ? Role::Error : Role::Warn);
   attrset(screen.attr(Role::Border));
   mvhline(y, x, screen.utf8() ? ACS_HLINE : '-', w);
   attrset(A_NORMAL);
@@ -273,7 +283,7 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
         int(r.info.name.size()) < name_w ? r.info.name : r.info.name.substr(0, size_t(name_w - 2)) + more;
     put(ry, x + 1, name, name_w, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
     if (sel && edit_.active()) {
-      edit_.draw(ry, x + 1 + name_w, w - 2 - name_w, screen.attr(Role::Selected));
+      edit_.draw(ry, x + 1 + name_w, w - 2 - name_w, screen.attr(Role::Selected), screen.ellipsis());
       continue;
     }
     std::string value = format_param_named(r.info, r.value);
@@ -299,8 +309,11 @@ void ParamPanel::draw(const Screen& screen, int y, int x, int h, int w, bool foc
   if (edit_.active())  // what the keys do to the value being edited, in place of the panel's keys
     put(y + h - 1, x + 1, edit_.hint(w - 2), w - 2, screen.attr(Role::Pending));
   else
-    put(y + h - 1, x, narrow ? "Enter u S L R A (F1)" : "Enter edit  u undo  S/L save/load  R reread  A reapply", w,
-        screen.attr(Role::Dim));
+    put(y + h - 1, x,
+        narrow ? fit_hints({"Enter u S L R A (F1)"}, size_t(w), screen.ellipsis())
+               : fit_hints({"Enter edit", "u undo", "S/L save/load", "R reread", "A reapply"}, size_t(w),
+                           screen.ellipsis()),
+        w, screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

@@ -1,5 +1,6 @@
 #include "app/tui/list_cursor.hpp"
 #include "app/tui/ref_panel.hpp"
+#include "app/tui/fit_text.hpp"
 
 #include <fmt/format.h>
 
@@ -184,7 +185,7 @@ void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focus
     fill_row(ry, x, w, sel ? screen.attr(Role::Selected) : 0);
     put(ry, x + 1, ks[i], 8, sel ? screen.attr(Role::Selected) : screen.attr(Role::KeyName));
     if (sel && edit_.active()) {
-      edit_.draw(ry, x + 10, w - 11, screen.attr(Role::Selected));
+      edit_.draw(ry, x + 10, w - 11, screen.attr(Role::Selected), screen.ellipsis());
       continue;
     }
     std::string v = !kKinds[kind_].preset ? (ks[i] == "file" ? csv_path_ : std::to_string(csv_hold_))
@@ -204,14 +205,17 @@ void RefPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focus
   const auto cur = console_.references().current();
   const int fw = firmware_ref_id_.load();
   put(y + h - 2, x + 1,
-      cur                                    ? fmt::format("in force: {}", reference_kind_name(cur->kind))
-      : fw >= 0 && fw < int(kRefKindCount) ? fmt::format("in force: {} (the firmware's own)", reference_kind_name(RefKind(fw)))
-                                           : "in force: firmware default",
+      elide_words(cur ? fmt::format("in force: {}", reference_kind_name(cur->kind))
+                  : fw >= 0 && fw < int(kRefKindCount)
+                      ? fmt::format("in force: {} (the firmware's own)", reference_kind_name(RefKind(fw)))
+                      : "in force: firmware default",
+                  size_t(std::max(0, w - 2)), screen.ellipsis()),
       w - 2, screen.attr(Role::Dim));
   if (edit_.active())
     put(y + h - 1, x + 1, edit_.hint(w - 2), w - 2, screen.attr(Role::Pending));
   else
-    put(y + h - 1, x, "\u2190\u2192 kind  Enter edit  a send/upload", w, screen.attr(Role::Dim));
+    put(y + h - 1, x, fit_hints({"\u2190\u2192 kind", "Enter edit", "a send/upload"}, size_t(w), screen.ellipsis()), w,
+        screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

@@ -146,7 +146,9 @@ void RunsPanel::draw(const Screen& screen, int y, int x, int h, int w, bool focu
   for (size_t i = 0; i < detail_.size() && int(i) < 5; ++i)
     put(y + h - 6 + int(i), x + 1, elide_words(detail_[i], size_t(std::max(0, w - 2)), screen.ellipsis()), w - 2,
         screen.attr(Role::Normal));
-  put(y + h - 1, x, "Enter metrics  m mark  c compare  e export  R reread", w, screen.attr(Role::Dim));
+  put(y + h - 1, x,
+      fit_hints({"Enter metrics", "m mark", "c compare", "e export", "R reread"}, size_t(w), screen.ellipsis()), w,
+      screen.attr(Role::Dim));
 }
 
 }  // namespace nlsoft::console::tui

@@ -56,5 +56,40 @@ TEST(FitText, WrappedLinesKeepWordsAndSplitALongPathAtItsSlashes) {
   EXPECT_EQ(wrap_words("/tmp/a-folder/runs.db", 10), (std::vector<std::string>{"/tmp/a-", "folder/", "runs.db"}));
 }
 
+// A panel's key hints: whole ones in order, then an ellipsis where some do
+// not fit ("A r" and "R re" were hints cut inside).
+TEST(FitText, KeyHintsAreDroppedWholeAndTheLineEndsInAnEllipsis) {
+  const std::vector<std::string> hints = {"Enter edit", "u undo", "S/L save/load", "R reread", "A reapply"};
+  const std::string all = "Enter edit  u undo  S/L save/load  R reread  A reapply";
+  EXPECT_EQ(fit_hints(hints, 100, kMore), all);
+  EXPECT_EQ(fit_hints(hints, all.size(), kMore), all);
+  EXPECT_EQ(fit_hints(hints, all.size() - 1, kMore), "Enter edit  u undo  S/L save/load  R reread \u2026");
+  EXPECT_EQ(fit_hints(hints, 46, kMore), "Enter edit  u undo  S/L save/load  R reread \u2026");
+  EXPECT_EQ(fit_hints(hints, 45, kMore), "Enter edit  u undo  S/L save/load  R reread \u2026");
+  EXPECT_EQ(fit_hints(hints, 44, kMore), "Enter edit  u undo  S/L save/load \u2026");
+  EXPECT_EQ(fit_hints(hints, 5, kMore), kMore);
+  for (size_t w = 1; w < all.size(); ++w) {
+    const std::string shown = fit_hints(hints, w, kMore);
+    EXPECT_LE(text_columns(shown), w) << shown;
+    ASSERT_GE(shown.size(), kMore.size()) << w;
+    EXPECT_EQ(shown.substr(shown.size() - kMore.size()), kMore) << shown;
+    // Every hint shown is whole.
+    const std::string head = shown.substr(0, shown.size() - kMore.size());
+    EXPECT_EQ(all.compare(0, head.size(), head), 0) << shown;
+    if (!head.empty()) EXPECT_TRUE(all[head.size() - 1] == ' ' && all[head.size()] == ' ') << "cut inside a hint: " << shown;
+  }
+}
+
+// Lines for a box of a few rows: those left out leave an ellipsis on the
+// last one kept (the Q description stopped at "1/y^2, 3").
+TEST(FitText, LinesCutToTheirRoomEndInAnEllipsis) {
+  const std::vector<std::string> lines = {"range [0, 1e+12] 1/y^2, 3", "values (one sets all)"};
+  EXPECT_EQ(cut_lines(lines, 2, 30, kMore), lines);
+  const auto one = cut_lines(lines, 1, 30, kMore);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0], "range [0, 1e+12] 1/y^2, 3\u2026");
+  EXPECT_TRUE(cut_lines(lines, 0, 30, kMore).empty());
+}
+
 }  // namespace
 }  // namespace nlsoft::console::tui

@@ -252,6 +252,103 @@ TEST(ConsoleTuiText, TheRunsPanelShowsNoTrackingFiguresForAnIdentificationRun) {
   });
 }
 
+// The side panel's text right of its border on the row holding `what`
+// ("" if no row does), its trailing blanks dropped.
+std::string panel_text(const std::string& screen, const std::string& what) {
+  const std::string row = line_with(screen, what);
+  const size_t bar = row.rfind("\u2502");
+  const std::string text = bar == std::string::npos ? row : row.substr(bar + 3);
+  const size_t end = text.find_last_not_of(' ');
+  return end == std::string::npos ? "" : text.substr(0, end + 1);
+}
+
+// `shown` is the key hints `full` whole, or its first hints whole followed
+// by " ..." (an ellipsis): never a hint cut inside ("A r", "R re").
+::testing::AssertionResult hints_whole(const std::string& shown, const std::string& full) {
+  if (shown == full) return ::testing::AssertionSuccess();
+  const std::string tail = " \u2026";
+  if (shown.size() < tail.size() || shown.compare(shown.size() - tail.size(), tail.size(), tail) != 0)
+    return ::testing::AssertionFailure() << "'" << shown << "' is cut without an ellipsis from '" << full << "'";
+  const std::string head = shown.substr(0, shown.size() - tail.size());
+  if (full.compare(0, head.size(), head) != 0 || full.compare(head.size(), 2, "  ") != 0)
+    return ::testing::AssertionFailure() << "'" << shown << "' cuts a hint of '" << full << "'";
+  return ::testing::AssertionSuccess();
+}
+
+// Each panel's key hints and the reference panel's "in force" line are whole
+// or cut between words with an ellipsis; the parameter details keep the
+// range whole (the description gives way, ending in an ellipsis); an edit
+// opens on a whole word, not inside the label; and at 80x24 the quit dialog
+// leaves no letter or border of the screen beside it (it left a `y` in
+// column 0 and a border's end in column 79).
+TEST(ConsoleTuiText, PanelHintsDetailsEditsAndTheQuitDialogAreCutBetweenWords) {
+  if (!have_tmux()) GTEST_SKIP() << "tmux is not installed: the TUI test needs it (apt-get install tmux)";
+  at_each_size("--sim hasel --no-record", [](const Tmux& t, std::string& s, const Size& z) {
+    t.keys("F2");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Q: tracking weight"); }, s)) << s;
+    const std::string params = panel_text(s, z.cols < 100 ? "Enter u S L R A" : "Enter edit");
+    EXPECT_TRUE(z.cols < 100 ? params == "Enter u S L R A (F1)" || hints_whole(params, "Enter u S L R A (F1)")
+                             : hints_whole(params, "Enter edit  u undo  S/L save/load  R reread  A reapply"))
+        << params << "\n" << s;
+    // Q's details: the range line whole ("... 3 values (one sets all)"); a
+    // description that does not fit ends in an ellipsis.
+    std::string pane;  // the panel's rows joined
+    for (const std::string& l : screen_lines(s)) pane += " " + trimmed(panel_text(l, "\u2502"));
+    EXPECT_TRUE(contains(pane, "range [0, 1e+12] 1/y^2, 3 values (one sets all)")) << s;
+    std::vector<std::string> details;
+    bool in = false;
+    for (const std::string& l : screen_lines(s)) {
+      const std::string p = panel_text(l, "\u2502");
+      if (contains(p, "Q: tracking weight")) in = true;
+      if (in && contains(p, "range [")) break;
+      if (in) details.push_back(p);
+    }
+    ASSERT_FALSE(details.empty()) << s;
+    std::string joined;
+    for (const std::string& d : details) joined += (joined.empty() ? "" : " ") + trimmed(d);
+    EXPECT_TRUE(shortened_by_words(joined, "Q: tracking weight per output (diagonal of Q): larger follows the "
+                                           "reference harder"))
+        << s;
+    // Lambda's edit: a whole word first, never the label's tail ("bda =").
+    t.keys("Down Enter");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "typing replaces"); }, s)) << s;
+    const std::string edit = value_row(s, "Lambda", z);
+    EXPECT_TRUE(std::regex_search(edit, std::regex("Lambda +(Lambda = |= )1 1 1 1 1 1"))) << edit << "\n" << s;
+    t.keys("Escape F3");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "in force:"); }, s)) << s;
+    const std::string force = trimmed(panel_text(s, "in force:"));
+    EXPECT_TRUE(shortened_by_words(force, "in force: swirl (the firmware's own)")) << force << "\n" << s;
+    EXPECT_TRUE(hints_whole(panel_text(s, " kind"), "\u2190\u2192 kind  Enter edit  a send/upload")) << s;
+    t.keys("F4");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "Enter metrics"); }, s)) << s;
+    EXPECT_TRUE(hints_whole(panel_text(s, "Enter metrics"), "Enter metrics  m mark  c compare  e export  R reread"))
+        << s;
+    // The quit dialog over a run: on every row of it and its margin, the
+    // first and the last column blank.
+    t.keys("F5");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "RUNNING"); }, s)) << s;
+    t.keys("q");
+    ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, "stop it and quit?"); }, s)) << s;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));  // redraws with the plot moving under it
+    s = t.screen();
+    const std::vector<std::string> lines = screen_lines(s);
+    size_t top = lines.size(), bottom = 0;
+    for (size_t i = 0; i < lines.size(); ++i) {
+      if (contains(lines[i], "stop it and quit?")) top = i;
+      if (contains(lines[i], "y: yes")) bottom = i;
+    }
+    ASSERT_LT(top, bottom) << s;
+    // (Wider, the dialog leaves columns of the plot and the panel either
+    // side: only a margin of one or two would be a stray letter.)
+    for (size_t r = top - 1; z.cols < 100 && r <= bottom + 1 && r < lines.size(); ++r) {
+      const std::string& row = lines[r];
+      EXPECT_TRUE(row.empty() || row[0] == ' ') << "row " << r << ": '" << row << "'\n" << s;
+      EXPECT_TRUE(columns(row) < z.cols) << "row " << r << " reaches the last column: '" << row << "'\n" << s;
+    }
+    ASSERT_TRUE(quit(t, "y", s));
+  });
+}
+
 TEST(ConsoleProgressBar, AnEtaOnlyWhileThereIsSomethingLeftToCount) {
   EXPECT_EQ(ProgressBar::tail(0.5, 10.0), " 50%  ETA   10s ");
   EXPECT_EQ(ProgressBar::tail(1.0, 10.0), "100%  ") << "a build linking at 100 % once showed ETA 0s";
