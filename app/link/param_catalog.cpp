@@ -11,6 +11,7 @@
 #include <strings.h>
 
 #include "host/files/cli_error.hpp"
+#include "app/simulate/param_args.hpp"
 #include "app/link/link_error.hpp"
 #include "host/files/printable.hpp"
 
@@ -75,40 +76,7 @@ std::string ParamCatalog::names() const {
 }
 
 std::vector<double> parse_param_values(const ParamInfo& p, const std::vector<std::string>& tokens) {
-  std::vector<double> out;
-  for (const std::string& raw : tokens) {
-    // "1e6,2e6,1e6" and "1e6 2e6 1e6" both read naturally; accept both.
-    size_t pos = 0;
-    while (pos <= raw.size()) {
-      const size_t comma = raw.find(',', pos);
-      const std::string t = raw.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos);
-      pos = comma == std::string::npos ? raw.size() + 1 : comma + 1;
-      if (t.empty()) {
-        if (comma == std::string::npos && !out.empty()) break;
-        throw CliError(fmt::format("{}: empty value in '{}'", p.name, raw));
-      }
-      char* end = nullptr;
-      errno = 0;
-      const double v = std::strtod(t.c_str(), &end);
-      if (end == t.c_str() || *end != '\0') throw CliError(fmt::format("{}: '{}' is not a number", p.name, t));
-      if (!std::isfinite(v)) throw CliError(fmt::format("{}: '{}' is not a finite number", p.name, t));
-      // Nor may a value too small for the number type arrive as 0.
-      if ((errno == ERANGE && std::fabs(v) <= DBL_MIN) || (p.is_float() && v != 0 && float(v) == 0.0f))
-        throw CliError(fmt::format("{}: '{}' underflows a float32 (the firmware's number type) to 0: a magnitude "
-                                   "other than 0 must be at least {:g}",
-                                   p.name, t, double(std::numeric_limits<float>::denorm_min())));
-      // The firmware keeps float32: a larger value would arrive as infinity.
-      if (p.is_float() && std::fabs(v) > double(FLT_MAX))
-        throw CliError(fmt::format("{}: '{}' overflows a float32 (the firmware's number type): its magnitude must be "
-                                   "at most {:g}", p.name, t, double(FLT_MAX)));
-      if (!p.is_float() && (v != std::floor(v) || v < 0))
-        throw CliError(fmt::format("{}: '{}' must be a whole number >= 0", p.name, t));
-      out.push_back(v);
-    }
-  }
-  if (out.size() != p.size)
-    throw CliError(fmt::format("{} takes {} value{}, got {}", p.name, p.size, p.size == 1 ? "" : "s", out.size()));
-  return out;
+  return parse_param_numbers(p.name, tokens, p.size, p.is_float());
 }
 
 void encode_param_values(const ParamInfo& p, const std::vector<double>& values, uint32_t* words) {

@@ -102,7 +102,6 @@ std::vector<std::string> expand_param_tokens(const ParamInfo& p, const std::vect
       out.push_back(t);
     }
   }
-  if (out.size() == 1 && p.size > 1) out.assign(p.size, out[0]);
   return out;
 }
 

@@ -29,8 +29,8 @@ const std::vector<ParamOption>& param_options(const std::string& name);
 std::string param_options_text(const std::string& name);
 
 // Typed values to what parse_param_values takes: option names become their
-// numbers, and one value for a parameter of several elements is that value
-// for every element (`set Lambda 0.5`). A word that is neither a number nor
+// numbers (one value for a parameter of several elements is that value for
+// every element: parse_param_values, as simulate --set reads it). A word that is neither a number nor
 // an option throws CliError listing the options.
 std::vector<std::string> expand_param_tokens(const ParamInfo& p, const std::vector<std::string>& tokens);
 

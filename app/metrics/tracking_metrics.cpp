@@ -5,6 +5,42 @@
 
 namespace nlsoft::console {
 
+InputMetrics input_metrics(const std::vector<float>& u, int m, const std::vector<float>& lo,
+                           const std::vector<float>& hi) {
+  InputMetrics out;
+  if (m <= 0) return out;
+  const size_t mm = size_t(m), rows = u.size() / mm;
+  if (rows == 0) return out;
+  const bool known = lo.size() == mm && hi.size() == mm;
+  auto range = [&](size_t i) {
+    const double r = known ? double(hi[i]) - double(lo[i]) : 1.0;
+    return r > 0 ? r : 1.0;
+  };
+  double sum = 0;
+  size_t count = 0;
+  for (size_t k = 1; k < rows; ++k)
+    for (size_t i = 0; i < mm; ++i) {
+      const double d = (double(u[k * mm + i]) - double(u[(k - 1) * mm + i])) / range(i);
+      sum += d * d;
+      ++count;
+    }
+  out.u_effort = count > 0 ? std::sqrt(sum / double(count)) : 0.0;
+  if (!known) return out;
+  out.saturated_per_input.assign(mm, 0.0);
+  for (size_t k = 0; k < rows; ++k)
+    for (size_t i = 0; i < mm; ++i) {
+      const double tol = 0.01 * range(i), v = u[k * mm + i];
+      if (v <= double(lo[i]) + tol || v >= double(hi[i]) - tol) out.saturated_per_input[i] += 1;
+    }
+  double total = 0;
+  for (double& s : out.saturated_per_input) {
+    total += s;
+    s /= double(rows);
+  }
+  out.u_saturated = total / double(rows * mm);
+  return out;
+}
+
 double percentile(std::vector<float> v, double p) {
   if (v.empty()) return 0.0;
   const size_t idx = std::min(v.size() - 1, size_t(std::lround(p * double(v.size() - 1))));

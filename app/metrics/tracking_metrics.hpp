@@ -1,6 +1,7 @@
 #pragma once
 // Tracking metrics of a run: the figures the paper reports and the console
 // compares runs by.
+#include <limits>
 #include <vector>
 
 #include "shared/reference.hpp"
@@ -24,6 +25,26 @@ struct TrackingMetrics {
 // Pass nullptr to use every axis; nrmse_all always does.
 TrackingMetrics tracking_metrics(const std::vector<float>& y_ref, const std::vector<float>& y, int n,
                                  const float* weight = nullptr);
+
+// How hard the actuators worked, from rows of m inputs (the one computation
+// behind `runs` metrics, `tune`'s objective and `simulate`):
+struct InputMetrics {
+  // The RMS of the per-step input change, each actuator over its range
+  // u_max - u_min (what Lambda penalises; raw units when the limits are not
+  // known). 0 with fewer than two rows.
+  double u_effort = 0;
+  // Share of actuator-time spent within 1 % of its range of a limit (the
+  // mean of saturated_per_input); NaN when the limits are not known.
+  double u_saturated = std::numeric_limits<double>::quiet_NaN();
+  // Each actuator's share of steps within 1 % of its range of a limit
+  // (empty when the limits are not known): an antagonistic pair (HASEL)
+  // keeps one side at its lower limit by design, a single input pinned at
+  // a limit most of the run is clipping, not tracking.
+  std::vector<double> saturated_per_input;
+};
+// lo, hi: u_min, u_max per actuator (empty when not known).
+InputMetrics input_metrics(const std::vector<float>& u, int m, const std::vector<float>& lo,
+                           const std::vector<float>& hi);
 
 // p in [0, 1] of a sample (copied, not modified).
 double percentile(std::vector<float> v, double p);

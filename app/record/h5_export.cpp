@@ -14,7 +14,7 @@
 #include "app/h5_handle.hpp"
 #include "host/files/output_file.hpp"
 #include "app/record/utc_time.hpp"
-#include "host/rig/rig_catalog.hpp"
+#include "app/record/task_space.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -94,32 +94,6 @@ void put_units(hid_t obj, const std::vector<std::string>& units) {
     put(obj, "unit", units[0]);
   else
     put_strings(obj, "units", units, false);
-}
-
-// The rig's names and units when the run's rig is a shipped or installed
-// one; a lab's own file is not known by name here, so its columns carry no
-// unit (the run still says which rig it was).
-struct Columns {
-  std::vector<std::string> output_names, output_units, input_names, input_units, sensor_names, sensor_units;
-};
-
-Columns columns_of(const RunRow& r) {
-  Columns c;
-  const auto names = rig_names();
-  if (std::find(names.begin(), names.end(), r.platform) != names.end()) {
-    try {
-      const Rig rig = load_rig_arg(r.platform);
-      if (int(rig.outputs.size()) == r.n && int(rig.inputs.size()) == r.m) {
-        for (const auto& o : rig.outputs) c.output_names.push_back(o.name), c.output_units.push_back(o.unit);
-        for (const auto& i : rig.inputs) c.input_names.push_back(i.name), c.input_units.push_back(i.unit);
-        if (int(rig.sensors.size()) == r.w)
-          for (const auto& l : rig.sensors) c.sensor_names.push_back(l.name), c.sensor_units.push_back(l.unit);
-      }
-    } catch (const std::exception&) {
-      // an unreadable rig file: the export goes on without units
-    }
-  }
-  return c;
 }
 
 // One run's samples, by field; rows a field is missing from hold NaN.
@@ -207,7 +181,7 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
   put_number<int32_t>(gid, "decimation", H5T_NATIVE_INT32, r.decimation);
   put_number<uint64_t>(gid, "lost_frames", H5T_NATIVE_UINT64, r.lost_frames);
 
-  const Columns names = columns_of(r);
+  const RigColumns names = rig_columns(r.platform, r.n, r.m, r.w);
   if (!names.output_names.empty()) {
     put_strings(gid, "output_names", names.output_names, false);
     put_strings(gid, "input_names", names.input_names, false);

@@ -14,34 +14,6 @@ namespace nlsoft::console {
 
 namespace {
 
-void input_metrics(const RunSeries& s, const InputLimits& limits, RunMetrics& m) {
-  if (!s.has_u || s.m <= 0 || s.rows() == 0) return;
-  const size_t mm = size_t(s.m), rows = s.rows();
-  if (s.u.size() < rows * mm) return;  // a series built by hand without every row's u
-  const bool known = limits.lo.size() == mm && limits.hi.size() == mm;
-  auto range = [&](size_t i) {
-    const double r = known ? double(limits.hi[i]) - double(limits.lo[i]) : 1.0;
-    return r > 0 ? r : 1.0;
-  };
-  double sum = 0;
-  size_t count = 0;
-  for (size_t k = 1; k < rows; ++k)
-    for (size_t i = 0; i < mm; ++i) {
-      const double d = (double(s.u[k * mm + i]) - double(s.u[(k - 1) * mm + i])) / range(i);
-      sum += d * d;
-      ++count;
-    }
-  m.u_effort = count > 0 ? std::sqrt(sum / double(count)) : 0.0;
-  if (!known) return;
-  size_t pinned = 0;
-  for (size_t k = 0; k < rows; ++k)
-    for (size_t i = 0; i < mm; ++i) {
-      const double tol = 0.01 * range(i), u = s.u[k * mm + i];
-      pinned += u <= double(limits.lo[i]) + tol || u >= double(limits.hi[i]) - tol ? 1 : 0;
-    }
-  m.u_saturated = double(pinned) / double(rows * mm);
-}
-
 std::vector<float> floats(const std::string& text) {
   std::vector<float> out;
   std::istringstream in(text);
@@ -101,7 +73,13 @@ RunMetrics run_metrics(const RunRow& run, const RunSeries& s, const std::vector<
     if (s.has_y_ref) m.ref_span = spans(s.y_ref);
     m.y_span = spans(s.has_y_true ? s.y_true : s.y_hat);
   }
-  input_metrics(s, limits, m);
+  if (s.has_u && s.m > 0 && s.u.size() >= s.rows() * size_t(s.m)) {
+    // a series built by hand may lack some rows' u
+    std::vector<float> u(s.u.begin(), s.u.begin() + long(s.rows() * size_t(s.m)));
+    const InputMetrics im = input_metrics(u, s.m, limits.lo, limits.hi);
+    m.u_effort = im.u_effort;
+    m.u_saturated = im.u_saturated;
+  }
   m.loop_rate_hz = m.loop_rate_set_hz = run.loop_rate_hz;
   // A run whose firmware died half-way spans less in samples than it lasted:
   // both are reported, so neither passes for the other.

@@ -6,6 +6,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/gnuplot_text.hpp"
+#include "app/record/task_space.hpp"
 
 namespace nlsoft::console {
 
@@ -35,14 +36,28 @@ std::vector<std::string> wrap(const std::string& text, size_t width, const std::
   return out;
 }
 
-// The run's identity, tracking figure, reference and parameters at start.
+// The run's identity, tracking figure, reference and parameters at start;
+// an identification run's identity and excitation (no controller ran, so
+// neither a tracking figure nor the controller's parameters belong).
 std::vector<std::string> caption_lines(const PlottedRun& r) {
   constexpr size_t kWidth = 140;
+  std::vector<std::string> lines;
+  if (r.row.kind == "ident") {
+    // Its time as the picture's axis counts it: steps at the set rate (a
+    // --sim-fast simulator's clock stands still).
+    const RunSeries& s = r.series;
+    const double rate = r.row.loop_rate_hz > 0 ? r.row.loop_rate_hz : 1.0;
+    const double seconds = s.rows() ? double(s.step.back() - s.step.front() + 1) / rate : 0.0;
+    lines.push_back(fmt::format("{}: identification on {} {}, {} samples, {:.2f} s at {:g} Hz", run_name(r),
+                                r.row.platform, r.row.firmware, r.metrics.samples, seconds, rate));
+    if (!r.row.excitation.empty())
+      for (const std::string& l : wrap("  excitation " + r.row.excitation, kWidth, "    ")) lines.push_back(l);
+    return lines;
+  }
   const TrackingMetrics& t = r.metrics.has_true ? r.metrics.truth : r.metrics.predicted;
-  std::vector<std::string> lines = {fmt::format("{}: {} {}, {} samples over {:.2f} s, nrmse {} ({})", run_name(r),
-                                                r.row.platform, r.row.firmware, r.metrics.samples,
-                                                r.metrics.duration_s, nrmse_words(t.nrmse, true),
-                                                r.metrics.has_true ? "y_true" : "y_hat")};
+  lines.push_back(fmt::format("{}: {} {}, {} samples over {:.2f} s, nrmse {} ({})", run_name(r), r.row.platform,
+                              r.row.firmware, r.metrics.samples, r.metrics.duration_s, nrmse_words(t.nrmse, true),
+                              r.metrics.has_true ? "y_true" : "y_hat"));
   if (!r.row.reference.empty())
     for (const std::string& l : wrap("  reference " + r.row.reference, kWidth, "    ")) lines.push_back(l);
   std::string params;
@@ -53,9 +68,11 @@ std::vector<std::string> caption_lines(const PlottedRun& r) {
   return lines;
 }
 
-// Columns of a run's data block: t, y_ref[n], y_hat[n], y_true[n], u[m].
+// Columns of a run's data block: t, y_ref[n], y_hat[n], y_true[n], u[m],
+// l[w] (the sensors of an identification run).
 struct Columns {
   int n, m;
+  int l(int j) const { return 2 + 3 * n + m + j; }
   int ref(int a) const { return 2 + a; }
   int hat(int a) const { return 2 + n + a; }
   int truth(int a) const { return 2 + 2 * n + a; }
@@ -76,6 +93,7 @@ std::string data_block(const PlottedRun& r, int index, size_t max_points) {
     for (int a = 0; a < s.n; ++a) out += cell(s.has_y_hat, s.y_hat[i * size_t(s.n) + size_t(a)]);
     for (int a = 0; a < s.n; ++a) out += cell(s.has_y_true, s.y_true[i * size_t(s.n) + size_t(a)]);
     for (int a = 0; a < s.m; ++a) out += cell(s.has_u, s.u[i * size_t(s.m) + size_t(a)]);
+    for (int a = 0; a < s.w; ++a) out += cell(s.has_l, s.l[i * size_t(s.w) + size_t(a)]);
     out += '\n';
   }
   return out + "EOD\n";
@@ -98,10 +116,19 @@ PlottedRun load_plotted_run(RunStore& store, int64_t id) {
   if (r.series.rows() == 0) throw CliError(fmt::format("run {} has no samples to plot", id));
   r.metrics = run_metrics(store, id);
   r.params = store.params(id);
+  const RigColumns c = rig_columns(r.row.platform, r.series.n, r.series.m, r.series.w);
+  for (int a = 0; a < r.series.n; ++a)
+    r.output_labels.push_back(axis_label(c.output_names, c.output_units, size_t(a), fmt::format("y{}", a)));
+  for (int i = 0; i < r.series.m; ++i)
+    r.input_labels.push_back(axis_label(c.input_names, c.input_units, size_t(i), fmt::format("u{}", i)));
+  for (int j = 0; j < r.series.w; ++j)
+    r.sensor_labels.push_back(axis_label(c.sensor_names, c.sensor_units, size_t(j), fmt::format("l{}", j)));
   return r;
 }
 
 std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat format, size_t max_points) {
+  static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
+                                   "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
   if (runs.empty()) throw CliError("runs plot: no run given");
   const int n = runs[0].series.n;
   const int m = runs[0].series.m;
@@ -110,7 +137,33 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
       throw CliError(fmt::format("runs plot: run {} has n={} m={}, run {} has n={} m={}: overlays need one rig",
                                  runs[0].row.id, n, m, r.row.id, r.series.n, r.series.m));
   const bool path = n >= 2;
-  const int panels = n + (m > 0 ? 1 : 0) + (path ? 1 : 0);
+  // The sensors of an identification run (the first run's; an overlay of
+  // two keeps both when they have as many).
+  const int w = runs[0].series.has_l ? runs[0].series.w : 0;
+  const int panels = n + (m > 0 ? 1 : 0) + (w > 0 ? 1 : 0) + (path ? 1 : 0);
+  const PlottedRun& r0 = runs[0];
+  auto label = [](const std::vector<std::string>& labels, int i, const char* prefix) {
+    return size_t(i) < labels.size() && !labels[size_t(i)].empty() ? labels[size_t(i)] : fmt::format("{}{}", prefix, i);
+  };
+  // A series in a legend: its column's name (u0, as the CSV and `runs show`
+  // say it) and the rig's ("u0 h1").
+  auto legend = [](const std::vector<std::string>& labels, int i, const char* prefix) {
+    const std::string column = fmt::format("{}{}", prefix, i);
+    return size_t(i) < labels.size() && !labels[size_t(i)].empty() && labels[size_t(i)] != column
+               ? column + " " + labels[size_t(i)]
+               : column;
+  };
+  // One unit for a panel of several series when they share it ("u (kV)").
+  auto shared_unit = [](const std::vector<std::string>& labels, const char* fallback) {
+    std::string unit;
+    for (const std::string& l : labels) {
+      const size_t open = l.rfind(" (");
+      const std::string u = open == std::string::npos ? "" : l.substr(open);
+      if (u.empty() || (!unit.empty() && u != unit)) return std::string(fallback);
+      unit = u;
+    }
+    return unit.empty() ? std::string(fallback) : fallback + unit;
+  };
   std::vector<std::string> caption;
   for (const PlottedRun& r : runs)
     for (const std::string& l : caption_lines(r)) caption.push_back(l);
@@ -129,7 +182,10 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
   s += fmt::format("set multiplot layout {},1 title {} font \"monospace,8\"\n", panels, gnuplot_string(title));
   const Columns c{n, m};
   for (int a = 0; a < n; ++a) {
-    s += fmt::format("set title {}\nset xlabel \"t (s)\"\nset ylabel \"y{}\"\n", gnuplot_string(fmt::format("output y{}", a)), a);
+    const std::string name = label(r0.output_labels, a, "y");
+    s += fmt::format("set title {}\nset xlabel \"t (s)\"\nset ylabel {}\n",
+                     gnuplot_string(name == fmt::format("y{}", a) ? "output " + name : fmt::format("output y{}: {}", a, name)),
+                     gnuplot_string(name));
     std::vector<std::string> parts;
     for (size_t k = 0; k < runs.size(); ++k) {
       const RunSeries& rs = runs[k].series;
@@ -143,23 +199,39 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
     s += "\n";
   }
   if (m > 0) {
-    static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
-                                     "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
-    s += "set title \"actuator inputs u\"\nset xlabel \"t (s)\"\nset ylabel \"u\"\nplot ";
+    s += fmt::format("set title \"actuator inputs u\"\nset xlabel \"t (s)\"\nset ylabel {}\nplot ",
+                     gnuplot_string(shared_unit(r0.input_labels, "u")));
     bool first = true;
     for (size_t k = 0; k < runs.size(); ++k) {
       if (!runs[k].series.has_u) continue;
       for (int i = 0; i < m; ++i) {
         s += (first ? "" : ", \\\n     ") +
-             series(runs, k, fmt::format("1:{}", c.u(i)), fmt::format("u{}", i), kColours[size_t(i) % 10]);
+             series(runs, k, fmt::format("1:{}", c.u(i)), legend(r0.input_labels, i, "u"), kColours[size_t(i) % 10]);
         first = false;
       }
     }
     if (first) s += "NaN notitle";
     s += "\n";
   }
+  if (w > 0) {
+    s += fmt::format("set title \"sensors l\"\nset xlabel \"t (s)\"\nset ylabel {}\nplot ",
+                     gnuplot_string(shared_unit(r0.sensor_labels, "l")));
+    bool any = false;
+    for (size_t k = 0; k < runs.size(); ++k) {
+      if (!runs[k].series.has_l || runs[k].series.w != w) continue;
+      for (int j = 0; j < w; ++j) {
+        s += (any ? ", \\\n     " : "") +
+             series(runs, k, fmt::format("1:{}", c.l(j)), legend(r0.sensor_labels, j, "l"), kColours[size_t(j) % 10]);
+        any = true;
+      }
+    }
+    if (!any) s += "NaN notitle";
+    s += "\n";
+  }
   if (path) {
-    s += "set title \"x-y path (y0 across, y1 up)\"\nset xlabel \"y0\"\nset ylabel \"y1\"\nset size ratio -1\nplot ";
+    s += fmt::format("set title {}\nset xlabel {}\nset ylabel {}\nset size ratio -1\nplot ",
+                     gnuplot_string(fmt::format("x-y path (y0 across, y1 up)")),
+                     gnuplot_string(label(r0.output_labels, 0, "y")), gnuplot_string(label(r0.output_labels, 1, "y")));
     std::vector<std::string> parts;
     for (size_t k = 0; k < runs.size(); ++k) {
       const RunSeries& rs = runs[k].series;
@@ -197,6 +269,8 @@ std::string simulation_plot_script(const SimulationPicture& p, size_t max_points
   r.metrics.has_true = true;
   r.metrics.truth = p.truth;
   r.metrics.predicted = p.predicted;
+  r.output_labels = p.output_labels;
+  r.input_labels = p.input_labels;
   return run_plot_script({r}, p.svg ? ImageFormat::Svg : ImageFormat::Png, max_points);
 }
 

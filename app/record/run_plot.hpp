@@ -19,6 +19,9 @@ struct PlottedRun {
   RunSeries series;
   RunMetrics metrics;
   std::vector<ParamRecord> params;
+  // Axis names with their units ("x (mm)") from the run's rig file; where
+  // the rig is not known, y0, u0, l0.
+  std::vector<std::string> output_labels, input_labels, sensor_labels;
 };
 
 enum class ImageFormat { Svg, Png };

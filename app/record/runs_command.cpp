@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <ctime>
 #include <map>
+#include <sstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -407,6 +408,28 @@ void export_runs(const RunsArgs& a) {
              a.h5.empty() ? "" : " (HDF5)");
 }
 
+// Two runs' values of one parameter, blank-separated elements padded so
+// that element k of one sits above element k of the other.
+std::vector<std::pair<int64_t, std::string>> aligned_columns(int64_t ida, const std::string& a, int64_t idb,
+                                                             const std::string& b) {
+  auto words = [](const std::string& text) {
+    std::vector<std::string> w;
+    std::istringstream in(text);
+    for (std::string t; in >> t;) w.push_back(t);
+    return w;
+  };
+  const std::vector<std::string> wa = words(a), wb = words(b);
+  std::vector<size_t> width(std::max(wa.size(), wb.size()), 0);
+  for (const auto* w : {&wa, &wb})
+    for (size_t k = 0; k < w->size(); ++k) width[k] = std::max(width[k], (*w)[k].size());
+  auto line = [&](const std::vector<std::string>& w) {
+    std::string s;
+    for (size_t k = 0; k < w.size(); ++k) s += fmt::format("{}{:>{}}", k ? "  " : "", w[k], width[k]);
+    return s.empty() ? std::string("(none)") : s;
+  };
+  return {{ida, line(wa)}, {idb, line(wb)}};
+}
+
 void compare(const RunsArgs& a) {
   if (!a.svg.empty() && !a.png.empty()) throw CliError("runs compare: give --svg FILE or --png FILE, not both");
   if (!a.svg.empty() || !a.png.empty()) {
@@ -448,7 +471,14 @@ void compare(const RunsArgs& a) {
     if (v.first == v.second) continue;
     if (!any) fmt::print("  parameters that differ:\n");
     any = true;
-    row(printable(name).c_str(), printable(v.first), printable(v.second));
+    const std::string x = printable(v.first), y = printable(v.second);
+    if (x.size() <= 24 && y.size() <= 24 && x.find(' ') == std::string::npos && y.find(' ') == std::string::npos) {
+      row(printable(name).c_str(), x, y);
+      continue;
+    }
+    // Vectors: one run per line, element under element.
+    fmt::print("  {}\n", printable(name));
+    for (const auto& [id, line] : aligned_columns(ra.id, x, rb.id, y)) fmt::print("    run {:<6} {}\n", id, line);
   }
   if (!any) fmt::print("  same parameters at start\n");
 }

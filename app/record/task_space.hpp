@@ -15,4 +15,17 @@ namespace nlsoft::console {
 // without one.
 std::vector<double> task_space(const std::string& platform);
 
+// The names and units of a run's outputs, inputs and sensors when its rig is
+// a shipped or installed one whose sizes match the run's (n, m, w); empty
+// otherwise (a lab's own file is not known by name here). What `runs export
+// --h5` writes beside the columns and `runs plot` labels its axes with.
+struct RigColumns {
+  std::vector<std::string> output_names, output_units, input_names, input_units, sensor_names, sensor_units;
+};
+RigColumns rig_columns(const std::string& platform, int n, int m, int w);
+
+// "x (mm)": a name with its unit; `fallback` ("y0") where there is no name.
+std::string axis_label(const std::vector<std::string>& names, const std::vector<std::string>& units, size_t i,
+                       const std::string& fallback);
+
 }  // namespace nlsoft::console

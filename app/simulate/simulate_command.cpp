@@ -27,6 +27,13 @@ namespace {
 
 // The nRMSE the README holds the simulated rigs to.
 constexpr double kTrackingTarget = 0.05;
+// An input this long within 1 % of its range of a limit is said to ride it.
+constexpr double kRidingLimit = 0.5;
+
+std::string input_name(const Rig& rig, int i) {
+  return size_t(i) < rig.inputs.size() && !rig.inputs[size_t(i)].name.empty() ? rig.inputs[size_t(i)].name
+                                                                                : fmt::format("u{}", i);
+}
 
 struct SimulateOptions {
   std::string rig = "hasel";
@@ -97,7 +104,7 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
   else if (o.mode != "exact")
     throw CliError(fmt::format("unknown derivative mode '{}'; use exact or fd", o.mode));
   std::vector<ParamWrite> writes;
-  for (const std::string& s : o.sets) writes.push_back(parse_param_write(s));
+  for (const std::string& s : o.sets) writes.push_back(parse_param_write(s, rig.m(), rig.n()));
   apply_param_writes(setup.params, writes, rig.m(), rig.n());
 
   auto model = std::make_unique<LoadedModel>();
@@ -140,8 +147,15 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
   tm.solve_p50_us = percentile(t.solve_us, 0.5);
   tm.solve_p99_us = percentile(t.solve_us, 0.99);
   const auto steps = step_responses(setup.reference, t.y_true, t.n, 0, t.dt);
+  // How hard the inputs worked and how long each rode a limit: the same
+  // figures (and names) as a recorded run's (app/record/run_metrics.hpp).
+  const InputMetrics im = input_metrics(t.u, t.m, std::vector<float>(setup.params.u_min, setup.params.u_min + t.m),
+                                        std::vector<float>(setup.params.u_max, setup.params.u_max + t.m));
   if (!image.empty()) {
-    const std::string bytes = plot({&t, rig.name, ref_name, tm, pm, !o.svg.empty()});
+    SimulationPicture pic{&t, rig.name, ref_name, tm, pm, !o.svg.empty(), {}, {}};
+    for (const RigOutput& y : rig.outputs) pic.output_labels.push_back(y.unit.empty() ? y.name : y.name + " (" + y.unit + ")");
+    for (const RigInput& u : rig.inputs) pic.input_labels.push_back(u.unit.empty() ? u.name : u.name + " (" + u.unit + ")");
+    const std::string bytes = plot(pic);
     OutputFile out(image);
     if (std::fwrite(bytes.data(), 1, bytes.size(), out.get()) != bytes.size())
       throw CliError(fmt::format("cannot write {}", image));
@@ -168,6 +182,9 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
     j["iterations"] = tm.mean_iterations;
     j["compute_p50_us"] = tm.solve_p50_us;
     j["compute_p99_us"] = tm.solve_p99_us;
+    j["u_effort"] = im.u_effort;
+    j["u_saturated"] = im.u_saturated;
+    j["u_saturated_per_input"] = im.saturated_per_input;
     if (!steps.empty()) {
       j["step_response"] = nlohmann::json::array();
       for (const auto& s : steps)
@@ -196,6 +213,15 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
   fmt::print("max error   {:.4g}\n", tm.max_error);
   if (setup.controller == ControllerKind::Mpc)
     fmt::print("NR          {:.2f} iterations per step on average\n", tm.mean_iterations);
+  std::string per;
+  for (size_t i = 0; i < im.saturated_per_input.size(); ++i)
+    per += fmt::format("{}{} {:.0f} %", i ? ", " : "", input_name(rig, int(i)), 100 * im.saturated_per_input[i]);
+  fmt::print("inputs      effort {:.4g} (RMS step change over the range); at a limit: {}\n", im.u_effort, per);
+  for (size_t i = 0; i < im.saturated_per_input.size(); ++i)
+    if (im.saturated_per_input[i] > kRidingLimit)
+      fmt::print("            {} rides its limit {:.0f} % of the steps: the controller is clipped there, not "
+                 "tracking (a wider u range, a larger Lambda or a reachable reference)\n",
+                 input_name(rig, int(i)), 100 * im.saturated_per_input[i]);
   fmt::print("solve time  p50 {:.1f} us, p99 {:.1f} us (this host)\n", tm.solve_p50_us, tm.solve_p99_us);
   for (const auto& s : steps)
     fmt::print("step {:g} -> {:g}: rise 0-90 % {}, overshoot {:.2f} %, steady error {:.2f} mm\n", s.from, s.to,
@@ -227,7 +253,7 @@ void add_simulate_command(CLI::App& app, SimulationPlotter plot) {
       ->capture_default_str();
   sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)")
       ->check(CLI::Range(1L, 100000000L));
-  sub->add_option("--set", o->sets, "override a parameter, NAME=V[,V...], e.g. --set Q=1e6,2e6,1e6 (repeatable)");
+  sub->add_option("--set", o->sets, "override a parameter, NAME=V[,V...], e.g. --set Q=1e6,2e6,1e6; one value sets every element (--set Lambda=1e8) (repeatable)");
   sub->add_option("--model", o->model, "model file (default: the rig's [model] file, among the shipped models)");
   sub->add_option("--csv", o->csv, "also write the whole trace to this CSV file");
   sub->add_option("--svg", o->svg, "also draw it to this SVG file (as runs plot draws a recorded run; gnuplot)");

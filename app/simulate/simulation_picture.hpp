@@ -5,6 +5,7 @@
 // depend on the recorder.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "app/metrics/tracking_metrics.hpp"
 #include "app/simulate/closed_loop.hpp"
@@ -16,6 +17,8 @@ struct SimulationPicture {
   std::string rig, reference;
   TrackingMetrics truth, predicted;
   bool svg = true;  // else PNG
+  // The rig's output and input names with units ("x (mm)"), for the axes.
+  std::vector<std::string> output_labels, input_labels;
 };
 
 // The image's bytes; empty in a build without the recorder.

@@ -57,3 +57,24 @@ TEST(Metrics, FlatReferenceHasNoNormalisedError) {
   EXPECT_TRUE(std::isnan(m.nrmse));
   EXPECT_FALSE(m.nrmse < 0.05);
 }
+
+// The one computation of u_effort and u_saturated (runs, tune, simulate),
+// with each actuator's share of steps at a limit.
+TEST(Metrics, InputEffortAndTheShareOfStepsEachInputSpendsAtALimit) {
+  // two inputs over [0, 10] and [-1, 1], four rows: u0 pinned at its upper
+  // limit throughout, u1 at its lower limit once (within 1 % of the range).
+  const std::vector<float> u = {10, 0, 10, -0.99f, 10, 0.5f, 9.95f, 0};
+  const InputMetrics m = input_metrics(u, 2, {0, -1}, {10, 1});
+  ASSERT_EQ(m.saturated_per_input.size(), 2u);
+  EXPECT_DOUBLE_EQ(m.saturated_per_input[0], 1.0);
+  EXPECT_DOUBLE_EQ(m.saturated_per_input[1], 0.25);
+  EXPECT_DOUBLE_EQ(m.u_saturated, 5.0 / 8.0);
+  // steps: u0 0, 0, -0.005 of its range; u1 -0.495, 0.745, -0.25
+  const double sq = 0.005 * 0.005 + 0.495 * 0.495 + 0.745 * 0.745 + 0.25 * 0.25;
+  EXPECT_NEAR(m.u_effort, std::sqrt(sq / 6.0), 1e-6);
+  // Without limits: effort in raw units, no saturation figures.
+  const InputMetrics raw = input_metrics(u, 2, {}, {});
+  EXPECT_TRUE(std::isnan(raw.u_saturated));
+  EXPECT_TRUE(raw.saturated_per_input.empty());
+  EXPECT_GT(raw.u_effort, 0.0);
+}

@@ -34,6 +34,10 @@ if command -v gnuplot >/dev/null; then
   out=$("$console" simulate --rig hasel --steps 400 --svg "$svg" 2>&1) || { echo "FAIL: hasel --svg: $out"; fail=1; }
   grep -q "simulation drawn to $svg" <<<"$out" || { echo "FAIL: no 'drawn to' in: $out"; fail=1; }
   grep -q "<svg" "$svg" && grep -q "simulate swirl on hasel" "$svg" || { echo "FAIL: $svg is not the simulation's picture"; fail=1; }
+  # Its axes carry the rig's output names and units, its legend the inputs' names.
+  for label in '>x (mm)<' '>z (mm)<' 'output y1: y (mm)' '>u0 h1<'; do
+    grep -qF "$label" "$svg" || { echo "FAIL: no '$label' in the simulation's picture"; fail=1; }
+  done
   rm -f "$svg"
 else
   echo "SKIP: simulate --svg (gnuplot is not installed: apt-get install gnuplot-nox)"
@@ -44,5 +48,25 @@ out=$("$console" simulate --rig hasel --set Lambda=1e12,1e12,1e12,1e12,1e12,1e12
 grep -q "above the 5 % target" <<<"$out" || { echo "FAIL: a poor tracking (Lambda 1e12) is not called above the target: $out"; fail=1; }
 out=$("$console" simulate --rig tendon 2>&1)
 ! grep -q "above the 5 % target" <<<"$out" || { echo "FAIL: tendon's Infinity (0.64 %) called above the target: $out"; fail=1; }
+# One value for a parameter of several elements sets them all, as a
+# script's `set Lambda 1e8` does (hasel: six actuators).
+expect_error "Lambda takes 6 values" simulate --rig hasel --steps 200 --set Lambda=1,2
+out=$("$console" simulate --rig hasel --steps 200 --set Lambda=1e8 --json 2>&1) ||
+  { echo "FAIL: --set Lambda=1e8 refused: $out"; fail=1; }
+# The input metrics of runs and tune, under the same names, with each
+# actuator's share of steps at a limit.
+for key in '"u_effort"' '"u_saturated"' '"u_saturated_per_input":\[[^]]*,[^]]*,[^]]*,[^]]*,[^]]*,[^]]*\]'; do
+  grep -q "$key" <<<"$out" || { echo "FAIL: no $key in simulate --json: $out"; fail=1; }
+done
+# Inputs that ride their limits are named: msd's force held to +-1 N/kg
+# cannot follow its steps.
+out=$("$console" simulate --rig msd --steps 2000 --set u_min=-1 --set u_max=1 2>&1) || { echo "FAIL: msd clipped: $out"; fail=1; }
+grep -q "at a limit: " <<<"$out" || { echo "FAIL: no input line in: $out"; fail=1; }
+grep -q "rides its limit" <<<"$out" || { echo "FAIL: an input pinned at its limit is not said: $out"; fail=1; }
+json=$("$console" simulate --rig msd --steps 2000 --set u_min=-1 --set u_max=1 --json 2>/dev/null)
+python3 -c 'import json,sys; j=json.loads(sys.argv[1]); assert j["u_saturated"] > 0.5 and j["u_saturated_per_input"][0] == j["u_saturated"], j' "$json" ||
+  { echo "FAIL: u_saturated of a clipped msd: $json"; fail=1; }
+out=$("$console" simulate --rig msd --steps 2000 2>&1)
+! grep -q "rides its limit" <<<"$out" || { echo "FAIL: msd within its limits said to ride them: $out"; fail=1; }
 [ $fail -eq 0 ] && echo "simulate CLI: all checks passed"
 exit $fail
