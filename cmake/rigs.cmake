@@ -16,3 +16,9 @@ add_custom_target(nlsoft-rigs ALL DEPENDS ${_staged})
 add_dependencies(nlsoft-console nlsoft-rigs)
 
 install(FILES ${NLSOFT_SHIPPED_RIGS} DESTINATION ${NLSOFT_INSTALL_DATADIR}/rigs)
+
+# Example rig files to copy and edit (rigs/examples/*.toml: docs/rig-file.md
+# shows each in full, and the docs test keeps the two one text): not rigs by
+# name, installed beside them in <prefix>/share/nlsoft/rigs/examples.
+file(GLOB NLSOFT_EXAMPLE_RIGS CONFIGURE_DEPENDS ${NLSOFT_ROOT}/rigs/examples/*.toml)
+install(FILES ${NLSOFT_EXAMPLE_RIGS} DESTINATION ${NLSOFT_INSTALL_DATADIR}/rigs/examples)

@@ -14,6 +14,9 @@ here and named in the output; a fenced block whose first line is
 reads `#` as a comment) is written to NAME first, so the examples check the
 very file the document shows (README's `tune.nls`, which app/CONSOLE.md
 runs too: every file an example names is shown in one of the documents).
+Such a block whose file also ships in rigs/examples/ (lab-arm.toml) must be
+that file's text after its `# file:` line, or the run fails before its
+first example; --shipped-only checks just that, in a second.
 
 Under the sanitizers (--train-lbfgs K) a `train` example that sets no
 --lbfgs runs with --lbfgs K: there it is checked for memory faults, not fit.
@@ -104,6 +107,26 @@ def named_files(path):
             if inside:
                 block.append(line)
     return files
+
+
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+SHIPPED_EXAMPLES = os.path.join("rigs", "examples")
+
+
+def shipped_copies_differ(docs):
+    """A named block whose file also ships in rigs/examples/ must be that file's text (after its `# file:` line),
+    so that the file a reader copies and the one the document shows cannot drift apart. Returns the complaints."""
+    bad = []
+    for doc in docs:
+        for name, text in named_files(doc).items():
+            shipped = os.path.join(REPO, SHIPPED_EXAMPLES, name)
+            if not os.path.exists(shipped):
+                continue
+            with open(shipped, encoding="utf-8") as f:
+                if f.read() != text.split("\n", 1)[1]:
+                    bad.append(f"{os.path.basename(doc)}: the block `# file: {name}` is not {SHIPPED_EXAMPLES}/{name}: "
+                               "change both alike")
+    return bad
 
 
 def examples(path):
@@ -362,6 +385,11 @@ def make_fixtures(a, work, env):
             cells = line.strip().split(",")
             capture.write(f"{int(cells[step]) / 130.0 + 12.5:.6f}," + ",".join(cells[i] for i in ys) + "\n")
 
+    drift = shipped_copies_differ(a.docs)
+    for d in drift:
+        print(f"FAIL: {d}")
+    if drift:
+        return False
     for doc in a.docs:
         for name, text in named_files(doc).items():
             with open(os.path.join(work, name), "w") as f:
@@ -372,8 +400,10 @@ def make_fixtures(a, work, env):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--console", required=True)
-    ap.add_argument("--firmware-sim", required=True)
+    ap.add_argument("--console")
+    ap.add_argument("--firmware-sim")
+    ap.add_argument("--shipped-only", action="store_true",
+                    help="only check that the documents' named blocks are the files shipped in rigs/examples/")
     ap.add_argument("--no-qemu", action="store_true", help="the Cortex-M images were not built: skip QEMU examples "
                     "and `firmware build`")
     ap.add_argument("--part", choices=("all", "host", "qemu"), default="all",
@@ -386,6 +416,16 @@ def main():
                          "training for simulation runs ten times slower and is checked for memory faults, not fit")
     ap.add_argument("docs", nargs="+")
     a = ap.parse_args()
+    if a.shipped_only:
+        drift = shipped_copies_differ(a.docs)
+        for d in drift:
+            print(f"FAIL: {d}")
+        checked = [n for doc in a.docs for n in named_files(doc)
+                   if os.path.exists(os.path.join(REPO, SHIPPED_EXAMPLES, n))]
+        print(f"{len(checked)} shipped example file(s) checked against the documents: {', '.join(checked) or 'none'}")
+        return 1 if drift or not checked else 0
+    if not a.console or not a.firmware_sim:
+        ap.error("--console and --firmware-sim are required to run the examples")
     if a.part == "qemu" and a.no_qemu:
         ap.error("--part qemu runs only QEMU examples, which --no-qemu skips: nothing to run")
     if a.part == "qemu" and not a.work:

@@ -23,6 +23,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 console=$prefix/bin/nlsoft-console
 sim=$prefix/libexec/nlsoft/nlsoft-firmware-sim
 for f in "$console" "$sim" "$prefix/share/nlsoft/models/hasel.nlsm" "$prefix/share/nlsoft/rigs/hasel.toml" \
+  "$prefix/share/nlsoft/rigs/examples/lab-arm.toml" \
   "$prefix/share/doc/nlsoft/README.md" \
   "$prefix/share/doc/nlsoft/CONSOLE.md" "$prefix/share/doc/nlsoft/PROTOCOL.md" \
   "$prefix/share/bash-completion/completions/nlsoft-console"; do

@@ -46,6 +46,20 @@ TEST(Reference, InfinityMatchesFormula) {
   EXPECT_EQ(reference_length(p), 0u);
 }
 
+// docs/rig-file.md: an Infinity on two outputs (its first two components) is
+// an ellipse A wide along y0 and B along y1, not a figure eight: every point
+// lies on ((y0 - c0 - A/2) / (A/2))^2 + ((y1 - c1) / (B/2))^2 = 1 (the
+// eight is the path's y1-y2 plane).
+TEST(Reference, InfinityOnTwoOutputsIsAnEllipse) {
+  const RefParams p = base(RefKind::Infinity);
+  for (uint32_t k = 0; k < 600; k += 7) {
+    float y[2];
+    reference_at(p, nullptr, k, y, 2);
+    const double u = (y[0] - p.c[0] - p.A / 2.0) / (p.A / 2.0), v = (y[1] - p.c[1]) / (p.B / 2.0);
+    EXPECT_NEAR(u * u + v * v, 1.0, 1e-3) << "k = " << k;
+  }
+}
+
 TEST(Reference, PringleMatchesFormula) {
   const RefParams p = base(RefKind::Pringle);
   for (uint32_t k : {0u, 1u, 100u, 200u, 333u, 400u, 401u, 99999u}) {
