@@ -219,8 +219,17 @@ class Firmware {
     for (int j = 0; j < rig_.w; ++j) t.l[j] = l[j];
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
-    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
-    send_health();
+    send_sample(wire, len);
+  }
+
+  // A sample frame (TELEMETRY or IDENT_SAMPLE) and, on a rig with chips,
+  // its step's SENSOR_HEALTH right behind it: queued together or dropped
+  // together, counted once in tx_dropped (PROTOCOL.md 9.6), so a console
+  // never gets the one without the other.
+  void send_sample(const uint8_t* wire, size_t len) {
+    uint8_t health[32];  // SENSOR_HEALTH is 19 bytes on the wire
+    const size_t health_len = len == 0 ? 0 : encode_health(health, sizeof health);
+    if (len == 0 || !tx_.push_pair(wire, len, health, health_len)) ++tx_dropped_;
   }
 
   void ident_start(uint8_t type, const proto::IdentStart& p) {
@@ -578,21 +587,21 @@ class Firmware {
     t.compute_ticks = compute;
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
-    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
-    send_health();
+    send_sample(wire, len);
   }
 
-  // After each sample frame of an image with sensor chips: which channels
-  // of that step are invalid, and how old its chip samples are.
-  void send_health() {
-    if (!chips() || sensors_->count() == 0) return;
+  // For each sample frame of an image with sensor chips: which channels of
+  // that step are invalid, and how old its chip samples are. The frame's
+  // length, 0 without chips.
+  size_t encode_health(uint8_t* wire, size_t cap) {
+    if (!chips() || sensors_->count() == 0) return 0;
     proto::SensorHealth h;
     h.step = step_;
     h.invalid = health_.invalid;
-    h.age_ms = uint16_t(health_.age_ms > 0xFFFFu ? 0xFFFFu : health_.age_ms);
-    uint8_t wire[proto::kWireBufferSize];
-    const size_t len = proto::encode(h, unsolicited_seq_++, 0, wire, sizeof wire);
-    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+    // 65535: no chip channel valid; a valid sample's age saturates below it.
+    h.age_ms = health_.age_ms == SensorHealth::kNoValidSample ? 0xFFFFu
+               : uint16_t(health_.age_ms > 0xFFFEu ? 0xFFFEu : health_.age_ms);
+    return proto::encode(h, unsolicited_seq_++, 0, wire, cap);
   }
 
   // DEVICE_GET's answer for device `index`; false past the last.
@@ -612,12 +621,20 @@ class Firmware {
   }
 
   void log(proto::LogLevel level, const char* text) {
+    if (!queue_log(level, text)) ++tx_dropped_;
+  }
+
+  // A LOG into the TX queue if it has room (leaving the reserve for
+  // replies); false, and nothing sent or counted, if not.
+  bool queue_log(proto::LogLevel level, const char* text) {
     proto::Log g;
     g.level = uint8_t(level);
     std::strncpy(g.text, text, proto::kMaxLogText);
     uint8_t wire[proto::kWireBufferSize];
-    const size_t len = proto::encode(g, unsolicited_seq_++, 0, wire, sizeof wire);
-    if (len == 0 || !tx_.push(wire, len, true)) ++tx_dropped_;
+    const size_t len = proto::encode(g, unsolicited_seq_, 0, wire, sizeof wire);
+    if (len == 0 || !tx_.push(wire, len, true)) return false;
+    ++unsolicited_seq_;
+    return true;
   }
 
   // ------------------------------------------------------------ sensors
@@ -628,15 +645,20 @@ class Firmware {
     health_ = chips() ? sensors_->fill(l, clock_.ms()) : SensorHealth{};
   }
 
-  // Each device's change of state, once (LOG).
+  // Each device's change of state, once (LOG), never dropped: a change
+  // whose LOG finds the TX queue full stays pending in the sampler and is
+  // sent at a later poll, once the port has taken bytes (at boot a board
+  // with six absent chips has more LOGs than a 512-byte queue holds). A
+  // chip that changes again meanwhile is logged once, in its state then.
   void report_devices() {
-    for (int d; (d = sensors_->take_change()) >= 0;) {
+    for (int d; (d = sensors_->peek_change()) >= 0;) {
       const DeviceState st = sensors_->state(d);
       const RigDeviceConfig& c = sensors_->device(d);
       LogText<proto::kMaxLogText> text;
       text << "device " << c.name << " (" << c.chip->name << "): " << proto::device_state_name(uint8_t(st));
       if (st != DeviceState::Ok) text << "; its sensor channels are invalid until it answers again";
-      log(st == DeviceState::Ok ? proto::LogLevel::Info : proto::LogLevel::Warn, text.c_str());
+      if (!queue_log(st == DeviceState::Ok ? proto::LogLevel::Info : proto::LogLevel::Warn, text.c_str())) return;
+      sensors_->take_change();
     }
   }
 

@@ -5,8 +5,9 @@
 // other, so the step itself never touches a bus: it takes the latest sample
 // of each channel and its age (fill). A chip that is absent, answers with
 // another identity, or stops answering (a failed read, or no new sample for
-// four of its periods) has its channels marked invalid: they hold their last
-// good value and say so, they never read as 0 silently. A failed chip is
+// four of its periods plus 100 ms; a chip without a rate, only the former)
+// has its channels marked invalid: they hold their last good value (their
+// offset before the first) and say so, never a silent 0. A failed chip is
 // tried again (begin) at most once a second. Works with any Chip: the port
 // owns the drivers and the buses, the image's rig header the tables.
 #include <cstdint>
@@ -24,10 +25,13 @@ namespace nlsoft::fw {
 using DeviceState = protocol::DeviceState;
 
 // What the step gets besides the values: which sensor channels are
-// invalid (bit i: channel i) and the age of the oldest valid chip sample.
+// invalid (bit i: channel i) and the age of the oldest valid chip sample,
+// kNoValidSample when no channel read from a chip is valid (SENSOR_HEALTH's
+// 65535: never 0, which is a fresh sample's age).
 struct SensorHealth {
+  static constexpr uint32_t kNoValidSample = UINT32_MAX;
   uint32_t invalid = 0;
-  uint32_t age_ms = 0;
+  uint32_t age_ms = kNoValidSample;
 };
 
 class SensorSampler {
@@ -78,14 +82,23 @@ class SensorSampler {
   // invalid one holds its last good value), other channels untouched.
   SensorHealth fill(float* l, uint32_t now_ms) const {
     SensorHealth h;
+    uint32_t oldest = 0;
+    bool any_valid = false;
     for (int i = 0; i < w_; ++i) {
       const RigSensorSource& src = sources_[i];
       if (src.from != SensorFrom::Device || src.device >= count_) continue;
       const Slot& s = slots_[src.device];
-      if (s.state != DeviceState::Ok || !s.sampled) h.invalid |= 1u << i;
-      else if (now_ms - s.sample_ms > h.age_ms) h.age_ms = now_ms - s.sample_ms;
+      if (s.state != DeviceState::Ok || !s.sampled) {
+        h.invalid |= 1u << i;
+      } else {
+        any_valid = true;
+        if (now_ms - s.sample_ms > oldest) oldest = now_ms - s.sample_ms;
+      }
+      // Before the chip's first good sample its reading is 0: the channel
+      // holds its offset (flagged invalid).
       l[i] = src.offset + src.gain * s.value[src.channel];
     }
+    if (any_valid) h.age_ms = oldest;
     return h;
   }
 
@@ -98,6 +111,14 @@ class SensorSampler {
   }
   // Failed begins and reads of device d since boot.
   uint32_t faults(int d) const { return slots_[d].faults; }
+
+  // The device take_change() would return, left pending: the firmware
+  // takes a change only once its LOG is queued.
+  int peek_change() const {
+    for (int d = 0; d < count_; ++d)
+      if (changed_ & (1u << d)) return d;
+    return -1;
+  }
 
   // The next device whose state changed since it was last taken, or -1:
   // the firmware logs each change once.

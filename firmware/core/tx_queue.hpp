@@ -28,6 +28,16 @@ class TxQueue {
     return true;
   }
 
+  // Two droppable frames queued together or not at all (a sample frame and
+  // its SENSOR_HEALTH): neither ever arrives without the other. len_b 0:
+  // the first alone.
+  bool push_pair(const uint8_t* a, size_t len_a, const uint8_t* b, size_t len_b) {
+    if (len_a + len_b + kReserve > room()) return false;
+    push(a, len_a, false);
+    if (len_b > 0) push(b, len_b, false);
+    return true;
+  }
+
   // Hands the HAL as much as it takes, in at most two contiguous pieces.
   void drain(Hal& hal) {
     while (used_ > 0) {
