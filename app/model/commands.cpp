@@ -368,6 +368,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   ModelFit shown = fit;
   shown.lags.clear();  // printed before training
   std::printf("%s", fit_table(shown).c_str());
+  if (const std::string why = float_gap_words(r, fit, unit); !why.empty()) std::printf("%s\n", why.c_str());
   std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
 }
 

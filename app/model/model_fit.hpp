@@ -52,6 +52,11 @@ ModelFit model_fit(const TrainResult& r, const PlantTarget& target);
 std::string fit_table(const ModelFit& f);
 std::string section_table(const FitSection& s, const std::string& unit);
 
+// A line for train to print when the fit's ARX column (double) is far
+// better than the kept model while ARX in float, a candidate, was not; empty
+// when there is nothing to explain.
+std::string float_gap_words(const TrainResult& r, const ModelFit& fit, const std::string& unit);
+
 // The form kept in a model file: JSON text. fit_from_json throws
 // PipelineError naming `where` for a text that is not one; it reads the
 // fits of older consoles too (nRMSE only, no baseline).

@@ -127,5 +127,37 @@ TEST(FitScores, TheLargestModelWithItsFitAndBaselineReadsBack) {
   EXPECT_EQ(arx_from_json(fit_from_json(back.fit, path).arx, path).theta, a.theta);
 }
 
+// msd's 1 kHz identification run: ARX in double simulated the held-out rows
+// at 7.1e-07 m, the kept model (float, as the firmware runs it) at 3.1e-04 m
+// and ARX in float at 0.024 m. train says why, with the three figures; where
+// the double ARX is not far better, it says nothing.
+TEST(FitText, AFarBetterDoubleArxIsExplainedAsFloatRounding) {
+  TrainResult r;
+  r.objective = Objective::Simulation;
+  Candidate kept, arx;
+  kept.layers = {{LayerKind::Dense, 1, Activation::Linear}};
+  kept.held_out_rmse = {3.058e-4};
+  arx.arx = true;
+  arx.held_out_rmse = {0.02425};
+  r.candidates = {kept, arx};
+  r.chosen = 0;
+  ModelFit fit;
+  FitSection s;
+  s.has_arx = true;
+  OutputFit o;
+  o.name = "x";
+  o.arx_free_run.rmse = 7.126e-7;
+  s.outputs = {o};
+  fit.sections = {s};
+  const std::string w = float_gap_words(r, fit, "m");
+  EXPECT_NE(w.find("x: ARX 7.126e-07 m in double, 0.02425 m in float, the kept model 0.0003058 m"), std::string::npos)
+      << w;
+  fit.sections[0].outputs[0].arx_free_run.rmse = 2e-4;  // not twice better: nothing to explain
+  EXPECT_EQ(float_gap_words(r, fit, "m"), "");
+  fit.sections[0].has_arx = false;
+  fit.sections[0].outputs[0].arx_free_run.rmse = 7.126e-7;
+  EXPECT_EQ(float_gap_words(r, fit, "m"), "");
+}
+
 }  // namespace
 }  // namespace nlsoft::pipeline
