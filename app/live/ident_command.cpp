@@ -40,6 +40,7 @@ int run_ident_command(const IdentArgs& a) {
   IdentLine line;
   line.baud = lo.baud;
   line.unlimited = console.link_unlimited();
+  line.sensor_health = sends_sensor_health(console.device());
   const IdentPlan plan =
       plan_ident(a.words, double(info.loop_rate_hz), info.m, info.n, info.w, line, console.known_rig());
   std::fprintf(stderr, "connected: %s %u.%u.%u (%s), %u Hz; recording to %s\n%s\n%s\n", info.firmware, info.fw_major,

@@ -1,5 +1,7 @@
 #include "app/live/ident_plan.hpp"
 
+#include "app/link/device.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -135,15 +137,21 @@ void check_firmware_offers(const p::IdentStart& start, const p::Info& info, uint
                                fw));
 }
 
-size_t ident_sample_wire_bytes(int m, int n, int w) {
-  // Header 5, CRC 2, COBS 1, delimiter 1 (PROTOCOL.md 2, 7).
-  return p::ident_sample_payload_size(unsigned(m), unsigned(n), unsigned(w)) + 9;
+size_t ident_sample_wire_bytes(int m, int n, int w, bool sensor_health) {
+  // Header 5, CRC 2, COBS 1, delimiter 1 (PROTOCOL.md 2, 7); SENSOR_HEALTH's
+  // payload is u32 step, u32 invalid, u16 age_ms.
+  constexpr size_t kFraming = 9, kHealth = 4 + 4 + 2 + kFraming;
+  return p::ident_sample_payload_size(unsigned(m), unsigned(n), unsigned(w)) + kFraming + (sensor_health ? kHealth : 0);
 }
 
-uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud) {
-  const double per_s = 0.8 * double(baud) / 10.0 / double(ident_sample_wire_bytes(m, n, w));
+uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud, bool sensor_health) {
+  const double per_s = 0.8 * double(baud) / 10.0 / double(ident_sample_wire_bytes(m, n, w, sensor_health));
   const double d = std::ceil(rate_hz / per_s);
   return uint16_t(std::clamp(d, 1.0, 65535.0));
+}
+
+bool sends_sensor_health(Device& device) {
+  return (device.info().capabilities & p::capability::kDevices) != 0 && !device.devices().empty();
 }
 
 IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line,
@@ -182,20 +190,22 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
     throw CliError(fmt::format("ident: m + n + w = {} values a step do not fit one IDENT_SAMPLE (at most {})",
                                m + n + w_sensors, p::kMaxIdentFloats));
 
-  const size_t wire = ident_sample_wire_bytes(m, n, w_sensors);
+  const size_t wire = ident_sample_wire_bytes(m, n, w_sensors, line.sensor_health);
   uint16_t dec = uint16_t(w.decimation);
-  const uint16_t carried = line.unlimited ? 1 : ident_decimation_for(rate_hz, m, n, w_sensors, line.baud);
+  const uint16_t carried =
+      line.unlimited ? 1 : ident_decimation_for(rate_hz, m, n, w_sensors, line.baud, line.sensor_health);
+  const char* what = line.sensor_health ? "IDENT_SAMPLE and its SENSOR_HEALTH are" : "IDENT_SAMPLE is";
   if (dec == 0) dec = carried;
   if (line.unlimited)
-    plan.line_words = fmt::format("IDENT_SAMPLE is {} bytes on the wire; a simulated line carries every step: {} "
+    plan.line_words = fmt::format("{} {} bytes on the wire; a simulated line carries every step: {} "
                                   "({:.1f} samples/s at {:g} Hz)",
-                                  wire, dec == 1 ? "every step is recorded" : fmt::format("one step in {} is recorded", dec),
+                                  what, wire, dec == 1 ? "every step is recorded" : fmt::format("one step in {} is recorded", dec),
                                   rate_hz / dec, rate_hz);
   else
     plan.line_words = fmt::format(
-        "IDENT_SAMPLE is {} bytes on the wire; {} baud carries {:.0f} a second (four fifths of the line), so at {:g} "
+        "{} {} bytes on the wire; {} baud carries {:.0f} a second (four fifths of the line), so at {:g} "
         "Hz {} ({:.1f} samples/s){}",
-        wire, line.baud, 0.8 * line.baud / 10.0 / double(wire), rate_hz,
+        what, wire, line.baud, 0.8 * line.baud / 10.0 / double(wire), rate_hz,
         dec == 1 ? "every step is recorded" : fmt::format("one step in {} is recorded", dec), rate_hz / dec,
         dec < carried ? fmt::format("; --decimation {} asks for more than the line carries (it needs {}): frames "
                                     "will be lost",

@@ -43,6 +43,9 @@ IdentWords ident_words(const Command& c);
 struct IdentLine {
   unsigned baud = 115200;
   bool unlimited = false;  // a simulator or a pty: every step fits
+  // Each sample is followed by a SENSOR_HEALTH (a board image whose rig
+  // reads sensor chips, PROTOCOL.md 7): 19 more bytes a sample on the wire.
+  bool sensor_health = false;
 };
 
 struct IdentPlan {
@@ -66,10 +69,16 @@ IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_se
 // which a firmware without it would ignore rather than refuse.
 void check_firmware_offers(const protocol::IdentStart& start, const protocol::Info& info, uint8_t protocol_minor);
 
-// IDENT_SAMPLE's size on the wire for these dimensions, and the smallest
-// decimation whose samples fit four fifths of an 8N1 line at `baud` (the
-// rest is for replies and STATUS, as for TELEMETRY).
-size_t ident_sample_wire_bytes(int m, int n, int w);
-uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud);
+// IDENT_SAMPLE's size on the wire for these dimensions (with the
+// SENSOR_HEALTH that follows it, when it does), and the smallest decimation
+// whose samples fit four fifths of an 8N1 line at `baud` (the rest is for
+// replies and STATUS, as for TELEMETRY).
+size_t ident_sample_wire_bytes(int m, int n, int w, bool sensor_health = false);
+uint16_t ident_decimation_for(double rate_hz, int m, int n, int w, unsigned baud, bool sensor_health = false);
+
+// Whether the firmware follows each sample with a SENSOR_HEALTH: it lists
+// sensor chips (DEVICE_GET, the DEVICES capability).
+class Device;
+bool sends_sensor_health(Device& device);
 
 }  // namespace nlsoft::console

@@ -223,6 +223,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         const protocol::Info info = console_.device().info();
         IdentLine line;
         line.unlimited = console_.link_unlimited();
+        line.sensor_health = sends_sensor_health(console_.device());
         const IdentWords w = ident_words(c);
         const IdentPlan plan =
             plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line, console_.known_rig());

@@ -133,4 +133,23 @@ TEST(IdentPlan, WhatTheWordsLeaveOutComesFromTheRigFileAndTheWordsSayWhere) {
 }
 
 }  // namespace
+// hasel's board image (6 inputs, 3 outputs, 18 sensors at 130 Hz) follows
+// each IDENT_SAMPLE with a SENSOR_HEALTH: 130 + 19 = 149 bytes a sample,
+// which 115200 baud carries at decimation 3 (PROTOCOL.md's table), not the
+// 2 that IDENT_SAMPLE alone would need.
+TEST(IdentPlan, TheDecimationCountsTheSensorHealthThatFollowsEachSample) {
+  EXPECT_EQ(ident_sample_wire_bytes(6, 3, 18), 130u);
+  EXPECT_EQ(ident_sample_wire_bytes(6, 3, 18, true), 149u);
+  EXPECT_EQ(ident_decimation_for(130.0, 6, 3, 18, 115200), 2);
+  EXPECT_EQ(ident_decimation_for(130.0, 6, 3, 18, 115200, true), 3);
+  IdentWords w;
+  w.signal = "prbs";
+  w.duration = "10s";
+  IdentLine board{115200, false, true};
+  const IdentPlan plan = plan_ident(w, 130.0, 6, 3, 18, board, nullptr);
+  EXPECT_EQ(plan.start.decimation, 3);
+  EXPECT_NE(plan.line_words.find("IDENT_SAMPLE and its SENSOR_HEALTH are 149 bytes"), std::string::npos)
+      << plan.line_words;
+}
+
 }  // namespace nlsoft::console
