@@ -34,6 +34,10 @@ TEST(Cli, DatasetTrainInfoEval) {
   r = run_cli("train --rig tendon --data " + csv + " --out " + model + " --epochs 2 --seed 3 --seeds 1 --lbfgs 50");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("test y2: MSE"), std::string::npos) << r.output;
+  // Both streams into one pipe, as into a log file: the header comes first.
+  ASSERT_NE(r.output.find("training on "), std::string::npos) << r.output;
+  ASSERT_NE(r.output.find("one-step epoch 1/"), std::string::npos) << r.output;
+  EXPECT_LT(r.output.find("training on "), r.output.find("one-step epoch 1/")) << r.output;
 
   // The file holds the candidate the choice table marks: the rig's GRU, or
   // the linear model where the GRU's short training left it behind.
