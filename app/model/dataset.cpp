@@ -63,6 +63,19 @@ std::vector<RowRange> pieces_within(const Dataset& d, long begin, long end) {
   return out;
 }
 
+std::vector<RowRange> copy_rows(Dataset& into, long at, const Dataset& from, long begin, long end) {
+  std::vector<RowRange> added;
+  const long len = end - begin;
+  if (len <= 0) return added;
+  into.X.middleRows(at, len) = from.X.middleRows(begin, len);
+  into.Y.middleRows(at, len) = from.Y.middleRows(begin, len);
+  for (const RowRange& p : pieces_within(from, begin, end)) {
+    into.pieces.push_back({p.begin - begin + at, p.end - begin + at});
+    added.push_back(into.pieces.back());
+  }
+  return added;
+}
+
 namespace {
 
 void set_range(Normalisation& nz, int col, double lo, double hi) {

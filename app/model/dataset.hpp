@@ -37,6 +37,11 @@ Dataset build_dataset(const Series& s, int nd, int dd);
 // Rows [begin, end) of d as pieces (each piece of d cut to the range).
 std::vector<RowRange> pieces_within(const Dataset& d, long begin, long end);
 
+// Rows [begin, end) of `from` copied into `into` from its row `at` (into's
+// X and Y already that long), with their pieces, shifted; returns the
+// pieces it added. How runs are stacked into one dataset.
+std::vector<RowRange> copy_rows(Dataset& into, long at, const Dataset& from, long begin, long end);
+
 // x_net = (x - in_offset) * in_scale,  y = y_net * out_scale + out_offset
 // (+ y(k) when residual), the transform shared/forward.hpp applies.
 struct Normalisation {

@@ -46,9 +46,7 @@ Dataset stack(const std::vector<Dataset>& sets) {
   d.Y.resize(rows, d.layout.n);
   long at = 0;
   for (const Dataset& s : sets) {
-    d.X.middleRows(at, s.rows()) = s.X;
-    d.Y.middleRows(at, s.rows()) = s.Y;
-    for (const RowRange& p : s.pieces) d.pieces.push_back({p.begin + at, p.end + at});
+    copy_rows(d, at, s, 0, s.rows());
     at += s.rows();
   }
   return d;

@@ -44,16 +44,9 @@ Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int
   long at = 0;
   auto copy = [&](const std::vector<Part>& parts, bool test) {
     for (size_t i = 0; i < sets.size(); ++i) {
-      const long len = parts[i].end - parts[i].begin;
-      if (len <= 0) continue;
-      d.X.middleRows(at, len) = sets[i].X.middleRows(parts[i].begin, len);
-      d.Y.middleRows(at, len) = sets[i].Y.middleRows(parts[i].begin, len);
-      const long shift = at - parts[i].begin;
-      for (const RowRange& p : pieces_within(sets[i], parts[i].begin, parts[i].end)) {
-        d.pieces.push_back({p.begin + shift, p.end + shift});
-        if (test) out.test_pieces.push_back(d.pieces.back());
-      }
-      at += len;
+      const std::vector<RowRange> added = copy_rows(d, at, sets[i], parts[i].begin, parts[i].end);
+      if (test) out.test_pieces.insert(out.test_pieces.end(), added.begin(), added.end());
+      at += std::max(0L, parts[i].end - parts[i].begin);
     }
   };
   copy(train_p, false);
