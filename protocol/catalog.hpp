@@ -41,6 +41,9 @@ enum class MsgType : uint8_t {
   IdentStart = 0x11,
   // Protocol 1.4: one sensor chip's state (DEVICE_STATUS), by index.
   DeviceGet = 0x12,
+  // Protocol 1.5: the parameters in force saved to flash, or the built-in
+  // defaults back (SETTINGS action), answered ACK / NACK.
+  Settings = 0x13,
   // Replies and unsolicited messages, firmware -> console.
   Ack = 0x40,
   Nack = 0x41,
@@ -146,6 +149,7 @@ inline constexpr MsgInfo kMessages[] = {
      "f32 band_hi,u32 duration",
      28, 28, 1, true, MsgType::Ack},
     {MsgType::DeviceGet, "DEVICE_GET", "DEVICE_GET:u8 index", 1, 1, 1, true, MsgType::DeviceStatus},
+    {MsgType::Settings, "SETTINGS", "SETTINGS:u8 action", 1, 1, 1, true, MsgType::Ack},
     {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false, MsgType(0)},
     {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false, MsgType(0)},
     {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false, MsgType(0)},

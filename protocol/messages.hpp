@@ -88,6 +88,7 @@ constexpr uint32_t kRig = 1u << 8;  // protocol 1.2: RIG_GET answers RIG_INFO
 constexpr uint32_t kIdent = 1u << 9;  // protocol 1.3: IDENT_START, IDENT_SAMPLE
 constexpr uint32_t kIdentMixed = 1u << 10;  // protocol 1.3: IDENT_START honours options bit 1 MIXED
 constexpr uint32_t kDevices = 1u << 11;  // protocol 1.4: DEVICE_GET answers DEVICE_STATUS; SENSOR_HEALTH
+constexpr uint32_t kSettings = 1u << 12;  // protocol 1.5: SETTINGS saves the parameters to flash (PROTOCOL.md 9.11)
 }  // namespace capability
 
 // RIG_INFO.accept (PROTOCOL.md 7): which model shapes a model upload may have.
@@ -105,7 +106,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 4;
+constexpr uint8_t kProtocolMinor = 5;
 
 // ---------------------------------------------------------------- requests
 
@@ -655,6 +656,19 @@ struct SensorHealth {
   }
 };
 
+// Protocol 1.5: the settings that survive a power cycle (PROTOCOL.md 9.11).
+enum class SettingsAction : uint8_t {
+  Save = 0,      // the parameters in force become the ones every boot starts with
+  Defaults = 1,  // the built-in values in force again, and at every boot from now on
+  Report = 2,    // say again, in a LOG, where the settings in force came from
+};
+
+struct Settings {
+  static constexpr MsgType kType = MsgType::Settings;
+  uint8_t action = 0;  // SettingsAction
+  template <class S, class V> static void fields(S& s, V& v) { v.u8("action", s.action); }
+};
+
 // ------------------------------------------------------------- pack/unpack
 
 namespace detail {
@@ -829,6 +843,7 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::RigGet: f(RigGet{}); return true;
     case MsgType::IdentStart: f(IdentStart{}); return true;
     case MsgType::DeviceGet: f(DeviceGet{}); return true;
+    case MsgType::Settings: f(Settings{}); return true;
     case MsgType::Ack: f(Ack{}); return true;
     case MsgType::Nack: f(Nack{}); return true;
     case MsgType::Pong: f(Pong{}); return true;

@@ -128,6 +128,7 @@ void Suite::run(std::chrono::seconds patience) {
     check_rig(*this);
     check_ident(*this);
     check_devices(*this);
+    check_settings(*this);
   } catch (const LinkError& e) {
     // Whether the device answers again tells a lasting fault from a pause
     // (a board that rebooted, an emulator its host stopped scheduling).
@@ -165,6 +166,8 @@ void Suite::run(std::chrono::seconds patience) {
     const bool device_message = m.type == p::MsgType::DeviceGet || m.type == p::MsgType::DeviceStatus ||
                                 m.type == p::MsgType::SensorHealth;
     if (device_message && (!(info.info.capabilities & p::capability::kDevices) || devices == 0)) continue;
+    // SETTINGS is protocol 1.5's, with the SETTINGS capability (optional: a board without a settings store).
+    if (m.type == p::MsgType::Settings && !(info.info.capabilities & p::capability::kSettings)) continue;
     if (m.is_request) {
       if (!requests_answered.count(t)) missing.push_back(std::string(m.name) + " never answered");
     } else if (t != uint8_t(p::MsgType::Info) && t != uint8_t(p::MsgType::InfoEx) && !seen.count(t)) {

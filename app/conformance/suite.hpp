@@ -83,6 +83,7 @@ void check_transfers(Suite& s);
 void check_rig(Suite& s);
 void check_ident(Suite& s);
 void check_devices(Suite& s);
+void check_settings(Suite& s);
 
 // Helpers shared by the check files.
 std::string join(const std::vector<std::string>& v, const char* sep);

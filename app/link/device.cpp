@@ -217,6 +217,36 @@ void Device::telemetry_config(uint8_t mask, uint16_t decimation) {
 
 p::Status Device::status() { return session_.call<p::Status>(p::StatusGet{}); }
 
+std::string Device::settings_missing() const {
+  if (has(p::capability::kSettings)) return "";
+  return fmt::format(
+      "the firmware ({}) keeps no settings: it has no SETTINGS capability (protocol 1.5; a board image without "
+      "a flash driver, or a simulator started without --settings); its parameters last until it resets",
+      protocol_minor() < 5 ? fmt::format("protocol 1.{}", protocol_minor()) : std::string("this one"));
+}
+
+std::string Device::settings(p::SettingsAction action) {
+  if (const std::string missing = settings_missing(); !missing.empty()) throw CliError(missing);
+  p::Settings req;
+  req.action = uint8_t(action);
+  try {
+    session_.call<p::Ack>(req);
+  } catch (const NackError& e) {
+    if (e.status() == p::StatusCode::WrongState)
+      throw CliError("the firmware changes its saved settings only while no run is active (a flash erase would "
+                     "stall its control loop): stop the run first");
+    throw;
+  }
+  switch (action) {
+    case p::SettingsAction::Save:
+      return "settings saved: the firmware starts with the parameters in force from now on";
+    case p::SettingsAction::Defaults:
+      return "settings: the built-in parameters are in force again, and the firmware starts with them from now on";
+    case p::SettingsAction::Report: break;
+  }
+  return "settings: the firmware says where its settings came from (its LOG)";
+}
+
 std::vector<p::DeviceStatus> Device::devices() {
   if (!has(p::capability::kDevices))
     throw CliError(fmt::format("the firmware ({}) cannot report its sensor chips: it has no DEVICES capability "

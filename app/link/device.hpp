@@ -72,6 +72,14 @@ class Device {
   // for a firmware without chips. Throws CliError for a firmware without
   // the DEVICES capability (it cannot say).
   std::vector<protocol::DeviceStatus> devices();
+  // Protocol 1.5: SETTINGS (PROTOCOL.md 9.11): save the parameters in force
+  // to the firmware's flash, put the built-in ones back, or ask where the
+  // settings in force came from (the firmware's LOG answers). Returns what
+  // was done, in words; throws CliError for a firmware without the
+  // SETTINGS capability or while a run is active, NackError otherwise.
+  std::string settings(protocol::SettingsAction action);
+  // Why settings() would be refused before anything is sent; "" when it would not.
+  std::string settings_missing() const;
 
   Session& session() { return session_; }
   // Asked between the requests of a long exchange (an upload's chunks, the

@@ -507,7 +507,10 @@ Reply Session::transact_locked(uint8_t type, const uint8_t* payload, size_t leng
   const uint8_t seq = next_seq_++;
   const size_t n = p::encode_frame(type, seq, 0, payload, length, wire, sizeof wire);
   if (n == 0) throw LinkError(unencodable_words(type));
-  const auto per_try = type == uint8_t(p::MsgType::XferCommit) ? options_.commit_timeout : options_.timeout;
+  // XFER_COMMIT validates a whole object, SETTINGS erases a flash sector (PROTOCOL.md 10).
+  const auto per_try = type == uint8_t(p::MsgType::XferCommit) || type == uint8_t(p::MsgType::Settings)
+                           ? options_.commit_timeout
+                           : options_.timeout;
   LinkStats before;
   {
     std::lock_guard<std::mutex> lock(stats_mu_);

@@ -32,7 +32,7 @@ namespace nlsoft::console {
 
 struct SessionOptions {
   std::chrono::milliseconds timeout{250};          // per try
-  std::chrono::milliseconds commit_timeout{1500};  // XFER_COMMIT validates a whole object
+  std::chrono::milliseconds commit_timeout{1500};  // XFER_COMMIT validates a whole object; SETTINGS erases flash
   int tries = 4;                                   // first send + 3 retransmissions
   std::chrono::milliseconds silence_limit{3000};   // heartbeat is 1 s
   std::chrono::milliseconds reconnect_interval{300};

@@ -12,6 +12,7 @@
 #include "app/link/serial_ports.hpp"
 #include "app/link/sim_launcher.hpp"
 #include "app/progress_bar.hpp"
+#include "app/record/recorder.hpp"
 #include "app/record/sqlite.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "host/rig/rig_plant.hpp"
@@ -43,6 +44,29 @@ std::string pick_port(const std::string& who, const std::string& cmd) {
   for (const SerialPort& p : c) list += fmt::format("\n  {}  ({})", p.path, describe_port(p));
   throw CliError(fmt::format("{}nothing to connect to: {} ports could be the board, give one (nlsoft-console {}PORT):{}",
                              who, c.size(), cmd, list));
+}
+
+// --sim's settings flash (PROTOCOL.md 9.11): one file per rig beside the
+// recording database (<db>.RIG.settings, as <db>.session.log), so what
+// `settings save` keeps survives the console and the simulator, and a
+// database of its own (a test's, another lab's) has settings of its own;
+// none under --no-record, which keeps nothing; "none": none either.
+std::string sim_settings_file(const ConnectArgs& a, const std::string& rig_file, const std::string& who) {
+  if (a.sim_settings == "none") return "";
+  if (!a.sim_settings.empty()) return a.sim_settings;
+  if (a.no_record) return "";
+  std::string name = load_rig_arg(rig_file).name;
+  for (char& ch : name)
+    if (ch == '/' || ch == '\\' || ch == ' ') ch = '_';
+  const std::string path = (a.db.empty() ? default_db_path() : a.db) + "." + name + ".settings";
+  try {
+    ensure_parent_dir(path);
+  } catch (const std::exception& e) {
+    throw CliError(fmt::format("{}--sim: no folder for the simulator's settings: {}; give --sim-settings FILE or "
+                               "--sim-settings none",
+                               who, e.what()));
+  }
+  return path;
 }
 
 }  // namespace
@@ -80,6 +104,11 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
       ->check(CLI::PositiveNumber);
   app.add_option("--sim-rate", a.sim_rate, "Control loop rate of the simulator, Hz")->check(CLI::PositiveNumber);
   app.add_flag("--sim-fast", a.sim_fast, "Let the simulator run faster than real time");
+  app.add_option("--sim-settings", a.sim_settings,
+                 "The simulator's settings flash, where `settings save` (W in the TUI) keeps the parameters across "
+                 "a restart (default: one file per rig beside the recording database, <db>.RIG.settings, e.g. "
+                 "~/.local/share/nlsoft/runs.db.hasel.settings; none under --no-record; none: a simulator that keeps "
+                 "no settings)");
   app.add_option("--timeout", a.timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
 }
 
@@ -116,6 +145,10 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   o.qemu_board = a.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");
+  if (!a.sim_settings.empty() && a.sim.empty()) throw CliError(who + "--sim-settings is for --sim's simulator; give --sim too");
+  if (!a.sim.empty())
+    if (const std::string file = sim_settings_file(a, o.sim_rig, who); !file.empty())
+      o.sim_args.insert(o.sim_args.end(), {"--settings", file});
   o.db_path = a.db;
   o.record = !a.no_record;
   o.db_busy = std::chrono::milliseconds(int64_t(a.db_busy_s * 1000));

@@ -12,7 +12,7 @@
 namespace nlsoft::console {
 
 struct ConnectArgs {
-  std::string port, sim, qemu, board = "mps2-an386", db, rig;
+  std::string port, sim, qemu, board = "mps2-an386", db, rig, sim_settings;
   unsigned baud = 115200;
   bool no_record = false, sim_fast = false;
   double sim_rate = 0;
@@ -21,7 +21,7 @@ struct ConnectArgs {
 };
 
 // PORT, --sim, --qemu, --board, --rig, --baud, --sim-fast, --sim-rate, --db,
-// --no-record, --timeout, --db-busy. `what` is the verb of the help lines ("connect
+// --no-record, --timeout, --db-busy, --sim-settings. `what` is the verb of the help lines ("connect
 // to", "tune").
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what);
 

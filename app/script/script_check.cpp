@@ -79,6 +79,14 @@ std::vector<ScriptError> check_script(const Script& script, LiveConsole& console
           if (!o.reference.empty()) tune_reference(console, o.reference);
           break;
         }
+        case K::Settings:
+          if (const std::string missing = console.device().settings_missing(); !missing.empty())
+            throw CliError(missing);
+          if (run_active && c.name != "report")
+            throw CliError(fmt::format("settings {} only while no run is active (a run started by 'start' is): a "
+                                       "flash erase would stall the firmware's loop",
+                                       c.name));
+          break;
         case K::Start: run_active = true; break;
         case K::Stop: run_active = false; break;
         default: break;

@@ -266,6 +266,15 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
   } else if (verb == "devices") {
     at_most(1, "devices");
     c.kind = Command::Kind::Devices;
+  } else if (verb == "settings") {
+    need(2, "settings save|defaults|report");
+    at_most(2, "settings save|defaults|report");
+    if (t[1] != "save" && t[1] != "defaults" && t[1] != "report")
+      throw fail(fmt::format("'settings {}': say settings save (the parameters in force survive a reset), settings "
+                             "defaults (the built-in ones back) or settings report (where they came from)",
+                             t[1]));
+    c.kind = Command::Kind::Settings;
+    c.name = t[1];
   } else if (verb == "wait") {
     need(2, "wait DURATION");
     at_most(2, "wait DURATION");
@@ -438,6 +447,8 @@ const std::vector<std::string>& script_help() {
       "echo TEXT                   print TEXT",
       "note TEXT                   attach notes to the current (or last) run",
       "devices                     how each sensor chip answers the firmware (as rig check)",
+      "settings save|defaults|report  keep the parameters in force across a reset (the firmware's flash),",
+      "                            put the built-in ones back, or say where the ones in force came from",
       "sweep PARAM V1 V2 ... run D run once per value and print a table of metrics; each row",
       "  [settle=DURATION]         restarts the reference from its first point with the actuators",
       "                            neutral, and is measured after settle (default 1s)",

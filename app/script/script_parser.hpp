@@ -19,6 +19,7 @@
 //   expect METRIC OP VALUE    expect nrmse < 0.05   (OP: < <= > >= == !=)
 //   export csv FILE
 //   echo TEXT
+//   settings save|defaults|report   SETTINGS (PROTOCOL.md 9.11)
 //   note TEXT                 notes on the current (or last) run
 //   sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]
 //   tune NAME=LO..HI[:log|:lin]... [objective=EXPR] [budget=N|DURATION] [apply] ...
@@ -51,7 +52,7 @@ bool compare(double lhs, CmpOp op, double rhs);
 struct Command {
   enum class Kind {
     Set, Get, ParamsSave, ParamsLoad, ParamsReapply, ParamsDiff, ParamsReset, Ref, RefLoad, ModelUpload, Run, Start, Stop, Hold, Neutral, Resume,
-    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune, Ident, Devices,
+    Wait, Expect, ExportCsv, Echo, Sweep, Note, Tune, Ident, Devices, Settings,
   };
   Kind kind = Kind::Echo;
   int line = 0;

@@ -288,6 +288,13 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         break;
       }
       case K::Echo: out_(c.name); break;
+      case K::Settings: {
+        const auto action = c.name == "save"       ? protocol::SettingsAction::Save
+                            : c.name == "defaults" ? protocol::SettingsAction::Defaults
+                                                   : protocol::SettingsAction::Report;
+        out_(console_.device().settings(action));
+        break;
+      }
       case K::Devices: {
         int bad = 0;
         for (const std::string& line : device_lines(console_.rig(), console_.device().devices(), bad)) out_(line);

@@ -72,6 +72,7 @@ class App : public Ui {
   void stop_run();
   void hold(bool resume);
   void neutral();
+  void save_settings();  // W: SETTINGS save
   void check_simulator();
   void restart_simulator();
   void command(const std::string& line);

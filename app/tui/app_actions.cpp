@@ -58,6 +58,16 @@ void App::neutral() {
   });
 }
 
+void App::save_settings() {
+  worker_.post("saving settings", [this] {
+    try {
+      message(console_.device().settings(protocol::SettingsAction::Save), Role::Ok);
+    } catch (const std::exception& e) {
+      message(e.what(), Role::Error);
+    }
+  });
+}
+
 // Polled by the UI thread: a simulator that ended under the console (kill
 // -9, a crash) is said once, with how; the run in progress is ended with
 // that reason and its gap, and R offers a new simulator.

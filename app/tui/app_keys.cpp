@@ -133,6 +133,7 @@ App::KeyResult App::on_key(KeyAction action, int ch) {
       return KeyResult::Done;
     }
     case KeyAction::Neutral: neutral(); return KeyResult::Done;
+    case KeyAction::SaveSettings: save_settings(); return KeyResult::Done;
     case KeyAction::CommandLine:
       prompt_done_ = nullptr;
       cmd_.start(":");

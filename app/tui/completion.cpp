@@ -14,7 +14,7 @@ namespace {
 const std::vector<std::string>& commands() {
   static const std::vector<std::string> c = {"set",  "get",    "params", "ref",  "run",    "start", "stop",
                                              "hold", "neutral", "resume", "wait", "expect", "export", "echo",
-                                             "note", "devices", "sweep",  "tune",   "ident",  "plot",   "overlay", "model", "help", "quit"};
+                                             "note", "devices", "settings", "sweep",  "tune",   "ident",  "plot",   "overlay", "model", "help", "quit"};
   return c;
 }
 
@@ -78,6 +78,8 @@ Completion complete_command(const std::string& line, const std::vector<std::stri
     pool = {"infinity", "pringle", "diagonal", "swirl", "steps", "hold", "load"};
   } else if (w.size() == 2 && w[0] == "params") {
     pool = {"save", "load", "reapply", "diff", "reset"};
+  } else if (w.size() == 2 && w[0] == "settings") {
+    pool = {"save", "defaults", "report"};
   } else if (w.size() == 2 && w[0] == "model") {
     pool = {"upload"};
   } else if (w.size() == 3 && ((w[0] == "model" && w[1] == "upload") || (w[0] == "ref" && w[1] == "load") ||

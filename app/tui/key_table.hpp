@@ -34,6 +34,7 @@ enum class KeyAction {
   CommandLine,
   Quit,
   Restart,
+  SaveSettings,
 };
 
 // A key code (ncurses') and the name the help and the bar give it; an alias

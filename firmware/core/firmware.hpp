@@ -17,6 +17,7 @@
 #include "firmware/core/reference_slot.hpp"
 #include "firmware/core/rig_reply.hpp"
 #include "firmware/core/sensor_sampler.hpp"
+#include "firmware/core/settings_service.hpp"
 #include "firmware/core/tx_queue.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
@@ -59,7 +60,9 @@ struct Buffers {
 
 // Chips: the image reads sensor chips (its rig names a [[device]]); an
 // image without is built without the sampler's code (2.8 kB of flash).
-template <class Cap, size_t TxCapacity = 1024, bool Chips = false>
+// Settings: the port has a settings store (SETTINGS, PROTOCOL.md 9.11); a
+// port without is built without the service's code (1.9 kB of flash).
+template <class Cap, size_t TxCapacity = 1024, bool Chips = false, bool Settings = false>
 class Firmware {
  public:
   Firmware(Hal& hal, const Identity& id, const Buffers& b)
@@ -81,8 +84,19 @@ class Firmware {
     sensors_ = &sensors;
   }
 
+  // Settings that survive a power cycle (SETTINGS, PROTOCOL.md 9.11): the
+  // store over two flash sectors the port reserves, and two buffers of
+  // settings_payload_max(ParamService<Cap>::count()) bytes each. Before
+  // begin(), which applies the newest record; without it the firmware
+  // has no SETTINGS capability.
+  void attach_settings(SettingsStore& store, uint8_t* payload, size_t payload_cap, uint8_t* scratch,
+                       size_t scratch_cap) {
+    static_assert(Settings, "an image built without settings has no service to attach a store to");
+    settings_svc_.attach(store, payload, payload_cap, scratch, scratch_cap);
+  }
+
   // Loads the compiled-in model (may be null: the firmware then waits for an
-  // upload) and the platform's preset parameters.
+  // upload) and the platform's preset parameters, then the saved settings.
   Status begin(const uint8_t* model_file, size_t model_len) {
     clock_.start(hal_.ticks(), hal_.tick_rate_hz());
     last_heartbeat_ms_ = 0;
@@ -93,7 +107,12 @@ class Firmware {
     // Until the console selects one, a run follows the rig's own task.
     ref_.select(rig_.reference);
     if (chips()) sensors_->begin(clock_.ms());
-    return model_file ? model_.begin(model_file, model_len) : Status::Ok;
+    const Status m = model_file ? model_.begin(model_file, model_len) : Status::Ok;
+    if (m != Status::Ok) return m;
+    if constexpr (Settings) {
+      if (settings_svc_.boot()) model_.reconfigure();
+    }
+    return Status::Ok;
   }
 
   // The largest table object worth receiving: one that fits the staging
@@ -116,6 +135,11 @@ class Firmware {
         used += decoder_.feed(in + used, got - used, r);
         if (r.kind == proto::DecodeResult::Kind::Frame) handle(r.frame);
       }
+    }
+    // Where the settings came from, once a console has spoken (a LOG sent
+    // at boot would reach nobody), and again after each SETTINGS.
+    if constexpr (Settings) {
+      if (settings_svc_.log_pending() && decoder_.stats().frames_ok > 0) settings_log();
     }
     if (chips()) {
       sensors_->poll(clock_.ms());
@@ -406,6 +430,11 @@ class Firmware {
         if (!device_status(p.index, d)) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
         return reply(d);
       }
+      case T::Settings: {
+        proto::Settings p;
+        if (!unpack_or_nack(f, p)) return;
+        return settings(f.header.type, p.action);
+      }
       default: return;  // handle() answers Unsupported
     }
   }
@@ -484,6 +513,52 @@ class Firmware {
     ack(type);
   }
 
+  // SETTINGS (PROTOCOL.md 9.11). Save and defaults only while idle: a
+  // sector erase stalls a board's CPU (its code runs from the same flash).
+  void settings(uint8_t type, uint8_t action) {
+    if constexpr (!Settings) {
+      (void)action;
+      return nack(type, proto::StatusCode::Unsupported, proto::kNoField, proto::kNoField);
+    } else {
+      settings_request(type, action);
+    }
+  }
+  void settings_request(uint8_t type, uint8_t action) {
+    using A = proto::SettingsAction;
+    if (!settings_svc_.attached()) return nack(type, proto::StatusCode::Unsupported, proto::kNoField, proto::kNoField);
+    if (action > uint8_t(A::Report)) return nack(type, proto::StatusCode::OutOfRange, 0, proto::kNoField);
+    if (action != uint8_t(A::Report) && state_ != proto::RunState::Idle)
+      return nack(type, proto::StatusCode::WrongState, 0, proto::kNoField);
+    proto::StatusCode s = proto::StatusCode::Ok;
+    if (action == uint8_t(A::Save)) s = settings_svc_.save();
+    if (action == uint8_t(A::Defaults)) {
+      s = settings_svc_.restore_defaults();
+      if (s == proto::StatusCode::Ok) {
+        rig_params(rig_, params_);  // the values begin() put in force
+        settings_ = FwSettings{};
+        model_.reconfigure();
+      }
+    }
+    if (s != proto::StatusCode::Ok) {
+      log(proto::LogLevel::Error, s == proto::StatusCode::TooLarge
+                                      ? "settings not saved: the parameters do not fit the settings sector"
+                                      : "settings not saved: the flash refused (erase, program or read-back); the "
+                                        "previous settings stand");
+      return nack(type, s, proto::kNoField, proto::kNoField);
+    }
+    ack(type);
+    settings_svc_.log_again();
+    settings_log();
+  }
+
+  // The LOG of where the settings in force came from; pending until the
+  // TX queue has room for it.
+  void settings_log() {
+    LogText<proto::kMaxLogText - 1> text;  // one short of the frame's 245: strncpy in queue_log copies its NUL too
+    settings_svc_.describe(text);
+    if (queue_log(settings_svc_.log_level(), text.c_str())) settings_svc_.log_sent();
+  }
+
   proto::TransferReceiver* receiver(uint8_t kind) {
     if (kind == uint8_t(proto::XferKind::Model)) return &model_rx_;
     if (kind == uint8_t(proto::XferKind::RefTable)) return &table_rx_;
@@ -537,7 +612,8 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | c::kRig | c::kIdent | c::kIdentMixed | c::kDevices | (id_.has_y_true ? c::kYTrue : 0);
+                     c::kLog | c::kRig | c::kIdent | c::kIdentMixed | c::kDevices | (id_.has_y_true ? c::kYTrue : 0) |
+                     (settings_attached() ? c::kSettings : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }
@@ -688,6 +764,12 @@ class Firmware {
   Params<Cap> params_{};
   FwSettings settings_{};
   ParamService<Cap> params_svc_;
+  // Empty without Settings, so an image without a store pays no RAM either.
+  std::conditional_t<Settings, SettingsService<Cap>, NoSettingsService> settings_svc_{params_svc_};
+  bool settings_attached() const {
+    if constexpr (Settings) return settings_svc_.attached();
+    return false;
+  }
   ReferenceSlot ref_;
   ModelSlot<Cap> model_;
   proto::TransferReceiver model_rx_, table_rx_;

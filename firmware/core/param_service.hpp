@@ -29,7 +29,7 @@ template <class Cap>
 class ParamService {
  public:
   static constexpr uint16_t kFwCount = 2;
-  static uint16_t count() { return uint16_t(ParamId::Count) + kFwCount; }
+  static constexpr uint16_t count() { return uint16_t(ParamId::Count) + kFwCount; }
 
   // P: the parameter set in force; m, n: the platform's dimensions.
   ParamService(Params<Cap>& P, int m, int n, FwSettings& fw) : P_(P), m_(m), n_(n), fw_(fw) {}

@@ -336,6 +336,12 @@ void build() {
   add("info_ex_hasel_1_4", "A 1.4 firmware's INFO_EX: protocol_minor 4 and the DEVICES capability (bit 11).",
       frame(info_ex14, 2, frame_flags::kReply));
 
+  InfoEx info_ex15 = info_ex14;
+  info_ex15.protocol_minor = 5;
+  info_ex15.info.capabilities |= capability::kSettings;
+  add("info_ex_hasel_1_5", "A 1.5 firmware's INFO_EX: protocol_minor 5 and the SETTINGS capability (bit 12).",
+      frame(info_ex15, 2, frame_flags::kReply));
+
   RigInfo rig;
   rig.rig_hash = 0x5A17C0DEu;
   set_text(rig.rig_name, "hasel");
@@ -557,6 +563,28 @@ void build() {
   sh.age_ms = 7;
   add("sensor_health", "Protocol 1.4: sensor channels 3 to 5 invalid at step 1200, the oldest valid sample 7 ms old.",
       frame(sh, 86));
+
+  Settings save;
+  save.action = static_cast<uint8_t>(SettingsAction::Save);
+  add("settings_save", "Protocol 1.5: save the parameters in force to flash; ACK once the record is written.",
+      frame(save, 92));
+  Settings defaults;
+  defaults.action = static_cast<uint8_t>(SettingsAction::Defaults);
+  add("settings_defaults", "Protocol 1.5: the built-in defaults in force again, and at every boot from now on.",
+      frame(defaults, 93));
+  Settings report;
+  report.action = static_cast<uint8_t>(SettingsAction::Report);
+  add("settings_report", "Protocol 1.5: ACK, then a LOG saying where the settings in force came from.",
+      frame(report, 94));
+  Ack settings_ack;
+  settings_ack.request_type = static_cast<uint8_t>(MsgType::Settings);
+  add("settings_ack", "Protocol 1.5: the ACK of settings_save.", frame(settings_ack, 92, frame_flags::kReply));
+  Nack settings_busy;
+  settings_busy.request_type = static_cast<uint8_t>(MsgType::Settings);
+  settings_busy.status = static_cast<uint8_t>(StatusCode::WrongState);
+  settings_busy.field = 0;
+  add("settings_nack_running", "Protocol 1.5: SETTINGS refused while a run is active (wrong_state, field 0).",
+      frame(settings_busy, 92, frame_flags::kReply));
 
   Log log;
   log.level = static_cast<uint8_t>(LogLevel::Warn);

@@ -72,7 +72,7 @@ complete_is "stm32f4" nlsoft-console tune --qemu hasel --board s
 complete_is "watchdog_ms=" nlsoft-console simulate --set w
 complete_is "infinity" nlsoft-console simulate --reference inf
 complete_is "exact fd" nlsoft-console simulate --mode ""
-complete_is "--sim --sim-fast --sim-rate" nlsoft-console --sim
+complete_is "--sim --sim-fast --sim-rate --sim-settings" nlsoft-console --sim
 complete_is "--sim" nlsoft-console conformance --si
 
 # A Tab starts the console only where a rig's name is typed: one process

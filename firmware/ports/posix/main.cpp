@@ -25,6 +25,7 @@
 #include "host/rig/rig_plant.hpp"
 #include "host/rig/rig_option.hpp"
 #include "firmware/core/firmware.hpp"
+#include "firmware/ports/posix/file_flash.hpp"
 #include "firmware/ports/posix/pty.hpp"
 #include "firmware/ports/posix/sim_hal.hpp"
 #include "protocol/rig_shapes.hpp"
@@ -35,7 +36,7 @@ namespace {
 
 using namespace nlsoft;
 using Cap = HostCapacity;
-using Fw = fw::Firmware<Cap, 16384>;
+using Fw = fw::Firmware<Cap, 16384, false, true>;  // no sensor chips; a settings store (--settings)
 
 volatile sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
@@ -43,6 +44,10 @@ void on_signal(int) { g_stop = 1; }
 // Port memory: generous on a host; room for the largest model the host
 // capacity runs.
 alignas(4) uint8_t g_model_staging[model_file_max<Cap>()];
+// A settings record and its read-back (--settings).
+constexpr size_t kSettingsMax = fw::settings_payload_max(fw::ParamService<Cap>::count());
+uint8_t g_settings[kSettingsMax];
+uint8_t g_settings_scratch[kSettingsMax];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
 
@@ -121,6 +126,12 @@ int main(int argc, char** argv) {
                "serve RIG_INFO accept 0, as an MCU image does: the shapes the simulator has kernels for at the rig's "
                "dimensions, listed, and any other model refused (at XFER_BEGIN by its size, at its header by its "
                "shape); without it, any shape within the limits (accept 1)");
+  std::string settings_path;
+  app.add_option("--settings", settings_path,
+                 "the board's settings flash, kept in this file (two 16 KiB sectors, created erased when missing): "
+                 "SETTINGS save writes the parameters there and the next start applies them (PROTOCOL.md 9.11); "
+                 "without it, or when another simulator holds the file, the simulator keeps no settings and INFO has no "
+                 "SETTINGS capability");
   CLI11_PARSE(app, argc, argv);
 
   // The rig and its plant, or a clear refusal before the pty exists.
@@ -185,6 +196,23 @@ int main(int argc, char** argv) {
                          g_table_points, uint32_t(sizeof g_table_points / sizeof(float))};
   static std::unique_ptr<Fw> firmware = std::make_unique<Fw>(hal, id, bufs);
   if (shape_list) firmware->serve_shape_list();
+  static fw::posix::FileFlash flash;
+  static fw::SettingsStore settings_store(flash, 0, 1);
+  if (!settings_path.empty()) {
+    std::string error;
+    const fw::posix::FileFlash::Opened opened = flash.open(settings_path, error);
+    if (opened == fw::posix::FileFlash::Opened::Failed) {
+      std::fprintf(stderr, "nlsoft-firmware-sim: error: --settings: %s\n", error.c_str());
+      return 2;
+    }
+    // Two consoles with --sim of one rig: the second simulator runs, as a
+    // board without a settings store (no SETTINGS capability).
+    if (opened == fw::posix::FileFlash::Opened::Busy)
+      std::fprintf(stderr, "nlsoft-firmware-sim: --settings: %s; this simulator keeps no settings\n", error.c_str());
+    else
+      firmware->attach_settings(settings_store, g_settings, sizeof g_settings, g_settings_scratch,
+                                sizeof g_settings_scratch);
+  }
   const Status s = firmware->begin(model.empty() ? nullptr : model.data(), model.size());
   if (s != Status::Ok) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: model '%s' refused: %s\n", model_path.c_str(), status_name(s));

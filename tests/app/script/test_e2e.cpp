@@ -581,5 +581,38 @@ TEST_F(ConsoleE2E, SimulatorLogIsPrivateAndRemoved) {
   EXPECT_FALSE(std::filesystem::exists(dir));
 }
 
+// SETTINGS (PROTOCOL.md 9.11): a parameter kept with `settings save` is in
+// force when the next console starts the simulator again with the same
+// database (its settings file is beside it), `settings defaults` brings the
+// built-in value back, and a simulator that keeps no settings is refused
+// in words before anything runs.
+TEST_F(ConsoleE2E, SavedSettingsSurviveTheSimulatorAndDefaultsBringTheBuiltInBack) {
+  auto r = run_script("set Lambda 0.5\nsettings save\n", "msd");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("settings saved: the firmware starts with the parameters in force from now on"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("settings: built-in (nothing saved)"), std::string::npos) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(db() + ".msd.settings")) << db() + ".msd.settings";
+  r = run_script("get Lambda\nsettings defaults\nget Lambda\n", "msd");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("settings: from flash, save 1 ("), std::string::npos) << r.output;
+  const size_t saved = r.output.find("Lambda = 0.5");
+  ASSERT_NE(saved, std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Lambda = 0.04", saved), std::string::npos) << r.output;  // msd's built-in Lambda
+  r = run_script("get Lambda\n", "msd");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("settings: built-in (restored by request)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("Lambda = 0.04"), std::string::npos) << r.output;
+
+  r = run_script("set Lambda 0.5\nsettings save\n", "msd", "--sim-settings none");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("keeps no settings: it has no SETTINGS capability"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Lambda = 0.5"), std::string::npos) << "the script ran: " << r.output;
+  r = run_script("settings keep\n", "msd");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("'settings keep': say settings save"), std::string::npos) << r.output;
+}
+
 }  // namespace
 }  // namespace nlsoft::console

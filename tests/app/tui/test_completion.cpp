@@ -31,7 +31,9 @@ TEST(Completion, CommandsParametersOptionsSignals) {
 TEST(Completion, AmbiguousWordsExtendToWhatTheyShareAndListTheChoices) {
   const Completion c = complete_command("s", kParams);
   EXPECT_EQ(c.text, "s");
-  EXPECT_EQ(c.candidates, (std::vector<std::string>{"set", "start", "stop", "sweep"}));
+  EXPECT_EQ(c.candidates, (std::vector<std::string>{"set", "start", "stop", "settings", "sweep"}));
+  EXPECT_EQ(complete_command("sett", kParams).text, "settings ");
+  EXPECT_EQ(complete_command("settings d", kParams).text, "settings defaults ");
   const Completion n = complete_command("set N", kParams);
   EXPECT_EQ(n.text, "set N");
   EXPECT_EQ(n.candidates, (std::vector<std::string>{"N", "N1", "Nc"}));
