@@ -553,7 +553,7 @@ TEST(ConsoleTui, HelpFitsEightyColumnsAndClosingItKeepsTheKey) {
   t.keys(shell_quote(":set Lam") + " Tab");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":set Lambda"); }, s)) << s;
   t.keys("C-u s Tab");
-  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":s   [set start stop sweep]"); }, s)) << s;
+  ASSERT_TRUE(t.wait_for([](const std::string& x) { return contains(x, ":s   [set start stop settings sweep]"); }, s)) << s;
   t.keys("Escape");
   ASSERT_TRUE(t.wait_for([](const std::string& x) { return !contains(x, "nlsoft-console keys") && contains(x, " u | window"); },
                          s))
