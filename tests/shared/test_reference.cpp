@@ -55,7 +55,8 @@ TEST(Reference, InfinityOnTwoOutputsIsAnEllipse) {
   for (uint32_t k = 0; k < 600; k += 7) {
     float y[2];
     reference_at(p, nullptr, k, y, 2);
-    const double u = (y[0] - p.c[0] - p.A / 2.0) / (p.A / 2.0), v = (y[1] - p.c[1]) / (p.B / 2.0);
+    const double a = double(p.A) / 2.0, b = double(p.B) / 2.0;
+    const double u = (double(y[0]) - double(p.c[0]) - a) / a, v = (double(y[1]) - double(p.c[1])) / b;
     EXPECT_NEAR(u * u + v * v, 1.0, 1e-3) << "k = " << k;
   }
 }
