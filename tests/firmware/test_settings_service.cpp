@@ -75,7 +75,8 @@ constexpr size_t kRecordMax = fw::settings_payload_max(fw::ParamService<Cap>::co
 // One board: the firmware over the shared flash; a new Board is a reboot.
 class Board {
  public:
-  Board(RamFlash* flash, const RigConfig& rig) : rig_(rig), store_(*flash, 0, 1) {
+  // flash null: a board without a settings store (its SettingsStore sits over a flash never attached).
+  Board(RamFlash* flash, const RigConfig& rig) : rig_(rig), store_(flash ? *flash : unattached_, 0, 1) {
     const fw::Identity id{&rig_, "nlsoft-test", 0, 1, 0, 130, false};
     const fw::Buffers b{staging_.data(), staging_.size(), table_, sizeof table_, points_, 30};
     fw_ = std::make_unique<Fw>(hal_, id, b);
@@ -150,6 +151,7 @@ class Board {
     return g;
   }
   RigConfig rig_;
+  RamFlash unattached_;
   fw::SettingsStore store_;
   MemoryHal hal_;
   std::vector<uint8_t> staging_ = std::vector<uint8_t>(64 * 1024);
