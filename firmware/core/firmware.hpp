@@ -705,7 +705,11 @@ class Firmware {
   bool queue_log(proto::LogLevel level, const char* text) {
     proto::Log g;
     g.level = uint8_t(level);
-    std::strncpy(g.text, text, proto::kMaxLogText);
+    // A bounded copy, always terminated (strncpy's truncation warning fires
+    // on callers whose buffers are exactly the text's length).
+    size_t i = 0;
+    for (; i < proto::kMaxLogText && text[i] != '\0'; ++i) g.text[i] = text[i];
+    g.text[i] = '\0';
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(g, unsolicited_seq_, 0, wire, sizeof wire);
     if (len == 0 || !tx_.push(wire, len, true)) return false;

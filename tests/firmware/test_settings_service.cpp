@@ -112,7 +112,9 @@ class Board {
     const auto [type, payload] = request(m);
     R r;
     EXPECT_EQ(type, uint8_t(R::kType)) << proto::message_name(type);
-    if (type == uint8_t(R::kType)) EXPECT_EQ(proto::unpack(payload.data(), payload.size(), r), proto::StatusCode::Ok);
+    if (type == uint8_t(R::kType)) {
+      EXPECT_EQ(proto::unpack(payload.data(), payload.size(), r), proto::StatusCode::Ok);
+    }
     return r;
   }
   proto::Nack settings_nack(proto::SettingsAction a) {

@@ -76,7 +76,9 @@ TEST(FitText, KeyHintsAreDroppedWholeAndTheLineEndsInAnEllipsis) {
     // Every hint shown is whole.
     const std::string head = shown.substr(0, shown.size() - kMore.size());
     EXPECT_EQ(all.compare(0, head.size(), head), 0) << shown;
-    if (!head.empty()) EXPECT_TRUE(all[head.size() - 1] == ' ' && all[head.size()] == ' ') << "cut inside a hint: " << shown;
+    if (!head.empty()) {
+      EXPECT_TRUE(all[head.size() - 1] == ' ' && all[head.size()] == ' ') << "cut inside a hint: " << shown;
+    }
   }
 }
 
