@@ -232,6 +232,8 @@ std::string float_gap_words(const TrainResult& r, const ModelFit& fit, const std
        ++j) {
     const OutputFit& o = fit.sections[0].outputs[j];
     if (!(o.arx_free_run.rmse * 2.0 < kept.held_out_rmse[j])) continue;
+    // Below a hundred-thousandth of the span both are rounding: nothing to explain.
+    if (o.span > 0 && kept.held_out_rmse[j] < 1e-5 * o.span) continue;
     words += fmt::format("{}{}: ARX {:.4g}{} in double, {:.4g}{} in float, the kept model {:.4g}{}",
                          words.empty() ? "" : "; ", o.name, o.arx_free_run.rmse, u, arx->held_out_rmse[j], u,
                          kept.held_out_rmse[j], u);

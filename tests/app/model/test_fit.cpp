@@ -146,6 +146,7 @@ TEST(FitText, AFarBetterDoubleArxIsExplainedAsFloatRounding) {
   s.has_arx = true;
   OutputFit o;
   o.name = "x";
+  o.span = 2.0;
   o.arx_free_run.rmse = 7.126e-7;
   s.outputs = {o};
   fit.sections = {s};
@@ -154,6 +155,10 @@ TEST(FitText, AFarBetterDoubleArxIsExplainedAsFloatRounding) {
       << w;
   fit.sections[0].outputs[0].arx_free_run.rmse = 2e-4;  // not twice better: nothing to explain
   EXPECT_EQ(float_gap_words(r, fit, "m"), "");
+  fit.sections[0].outputs[0].arx_free_run.rmse = 7.126e-7;
+  fit.sections[0].outputs[0].span = 1e3;  // the kept model within 1e-5 of the span: rounding on both sides
+  EXPECT_EQ(float_gap_words(r, fit, "m"), "");
+  fit.sections[0].outputs[0].span = 2.0;
   fit.sections[0].has_arx = false;
   fit.sections[0].outputs[0].arx_free_run.rmse = 7.126e-7;
   EXPECT_EQ(float_gap_words(r, fit, "m"), "");
