@@ -9,6 +9,7 @@
 #include "app/model/error.hpp"
 #include "app/model/fit_scores.hpp"
 #include "app/model/pooled_runs.hpp"
+#include "app/model/train_simulation.hpp"
 
 namespace nlsoft::pipeline {
 
@@ -102,9 +103,7 @@ LagChoice probe_network_lags(LagChoice c, const std::vector<Series>& runs, const
   long rows = 0;
   for (const Series& s : runs) rows += s.rows();
   // A third of the L-BFGS budget train_simulation gives the full training.
-  const int full = o.sim.lbfgs_evals >= 0 ? o.sim.lbfgs_evals
-                                          : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 2000L));
-  p.sim.lbfgs_evals = std::max(20, full / 3);
+  p.sim.lbfgs_evals = std::max(20, lbfgs_budget(o.sim, rows) / 3);
   c.probe_shape = describe_layers(p.layers);
   for (int L : lengths) {
     if (o.stop && o.stop->load()) break;

@@ -46,6 +46,10 @@ struct Best {
 
 }  // namespace
 
+int lbfgs_budget(const SimulationOptions& o, long rows) {
+  return o.lbfgs_evals >= 0 ? o.lbfgs_evals : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 2000L));
+}
+
 SimulationReport fit_simulation(Network& net, const SimulationData& s, const std::vector<RowRange>& train,
                                 const std::vector<RowRange>& val, const SimulationOptions& o,
                                 const SimulationProgress& progress) {
@@ -119,8 +123,7 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
   // kept, and 20 such checks without a better one end the search.
   long rows = 0;
   for (const RowRange& r : train) rows += r.end - r.begin;
-  const int budget = o.lbfgs_evals >= 0 ? o.lbfgs_evals
-                                        : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 2000L));
+  const int budget = lbfgs_budget(o, rows);
   if (budget > 0 && !stopped(o)) {
     const std::vector<long> starts = window_starts(train, H, H, 0);
     struct Halt {};

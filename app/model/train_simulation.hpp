@@ -43,6 +43,10 @@ struct SimulationReport {
 // phase ("simulation", "L-BFGS"), step, steps, train loss, validation free-run loss, best so far.
 using SimulationProgress = std::function<void(const char*, int, int, double, double, double)>;
 
+// The L-BFGS evaluations a training of `rows` rows gets (o.lbfgs_evals, or
+// its -1 rule above).
+int lbfgs_budget(const SimulationOptions& o, long rows);
+
 // Improves net (the warm start) in place; net ends with the best weights
 // by validation free run, which may be the warm start's own.
 SimulationReport fit_simulation(Network& net, const SimulationData& s, const std::vector<RowRange>& train,
