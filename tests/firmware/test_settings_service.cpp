@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "memory_hal.hpp"
 #include "firmware/core/firmware.hpp"
 #include "firmware/core/settings_service.hpp"
 #include "protocol/decoder.hpp"
@@ -26,30 +27,7 @@ namespace {
 using Cap = HostCapacity;
 using Fw = fw::Firmware<Cap, 1024, false, true>;  // built with settings
 
-class MemoryHal final : public fw::Hal {
- public:
-  std::deque<uint8_t> in;
-  std::vector<uint8_t> out;
-  size_t serial_read(uint8_t* buf, size_t cap) override {
-    size_t n = 0;
-    while (n < cap && !in.empty()) buf[n++] = in.front(), in.pop_front();
-    return n;
-  }
-  size_t serial_write(const uint8_t* data, size_t len) override {
-    out.insert(out.end(), data, data + len);
-    return len;
-  }
-  uint32_t ticks() override { return t_ += 1000; }
-  uint32_t tick_rate_hz() const override { return 1000000; }
-  void actuate(const float*, int) override {}
-  void read_sensors(float* l, int w) override {
-    for (int i = 0; i < w; ++i) l[i] = 0;
-  }
-  bool read_output(float*, int) override { return false; }
-
- private:
-  uint32_t t_ = 0;
-};
+using test::MemoryHal;
 
 // Two 4 KiB sectors with a NOR part's rules; `fail` makes every erase fail.
 class RamFlash final : public fw::FlashPart {
