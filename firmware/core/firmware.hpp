@@ -85,14 +85,13 @@ class Firmware {
   }
 
   // Settings that survive a power cycle (SETTINGS, PROTOCOL.md 9.11): the
-  // store over two flash sectors the port reserves, and two buffers of
-  // settings_payload_max(ParamService<Cap>::count()) bytes each. Before
+  // store over two flash sectors the port reserves, and a buffer of
+  // settings_payload_max(ParamService<Cap>::count()) bytes. Before
   // begin(), which applies the newest record; without it the firmware
   // has no SETTINGS capability.
-  void attach_settings(SettingsStore& store, uint8_t* payload, size_t payload_cap, uint8_t* scratch,
-                       size_t scratch_cap) {
+  void attach_settings(SettingsStore& store, uint8_t* payload, size_t payload_cap) {
     static_assert(Settings, "an image built without settings has no service to attach a store to");
-    settings_svc_.attach(store, payload, payload_cap, scratch, scratch_cap);
+    settings_svc_.attach(store, payload, payload_cap);
   }
 
   // Loads the compiled-in model (may be null: the firmware then waits for an

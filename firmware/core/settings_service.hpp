@@ -52,12 +52,10 @@ class SettingsService {
 
   explicit SettingsService(ParamService<Cap>& params) : params_(params) {}
 
-  // A store and its buffers (payload: a whole record; scratch: the same
-  // size, for the read-back of a save). Before boot().
-  void attach(SettingsStore& store, uint8_t* payload, size_t payload_cap, uint8_t* scratch, size_t scratch_cap) {
+  // A store and the buffer of a whole record. Before boot().
+  void attach(SettingsStore& store, uint8_t* payload, size_t payload_cap) {
     store_ = &store;
     buf_ = payload, cap_ = payload_cap;
-    scratch_ = scratch, scratch_cap_ = scratch_cap;
     source_ = SettingsSource::Nothing;
   }
   bool attached() const { return store_ != nullptr; }
@@ -150,12 +148,11 @@ class SettingsService {
 
  private:
   proto::StatusCode write(size_t len) {
-    SettingsRecord before;
-    const bool any = store_->load(scratch_, scratch_cap_, before) == SettingsStatus::Ok;
-    const SettingsStatus s = store_->save(buf_, uint32_t(len), scratch_, scratch_cap_);
+    const SettingsStatus s = store_->save(buf_, uint32_t(len));
     if (s == SettingsStatus::TooLarge) return proto::StatusCode::TooLarge;
-    if (s != SettingsStatus::Ok) return proto::StatusCode::Internal;
-    seq_ = any ? before.seq + 1u : 1u;
+    SettingsRecord saved;
+    if (s != SettingsStatus::Ok || store_->newest(saved) != SettingsStatus::Ok) return proto::StatusCode::Internal;
+    seq_ = saved.seq;
     return proto::StatusCode::Ok;
   }
 
@@ -243,8 +240,6 @@ class SettingsService {
   SettingsStore* store_ = nullptr;
   uint8_t* buf_ = nullptr;
   size_t cap_ = 0;
-  uint8_t* scratch_ = nullptr;
-  size_t scratch_cap_ = 0;
   SettingsSource source_ = SettingsSource::NoStore;
   uint32_t seq_ = 0;
   uint16_t values_ = 0, skipped_ = 0;

@@ -32,12 +32,16 @@ namespace nlsoft::fw {
 // clear bits (the part's rule: programming a 1 over a 0 leaves the 0).
 class FlashPart {
  public:
-  virtual ~FlashPart() = default;
   virtual uint32_t sector_base(int sector) const = 0;
   virtual uint32_t sector_size(int sector) const = 0;
   virtual bool erase(int sector) = 0;
   virtual bool program(uint32_t addr, const uint8_t* data, size_t len) = 0;
   virtual void read(uint32_t addr, uint8_t* out, size_t len) const = 0;
+
+ protected:
+  // Not virtual: a virtual destructor brings operator delete, and with it
+  // the heap, into every image; nothing is destroyed through a FlashPart.
+  ~FlashPart() = default;
 };
 
 enum class SettingsStatus : uint8_t {
@@ -72,20 +76,23 @@ class SettingsStore {
     const int pick = !ok[0] && !ok[1] ? -1 : !ok[1] ? 0 : !ok[0] ? 1 : (newer(r[1].seq, r[0].seq) ? 1 : 0);
     if (pick < 0) return SettingsStatus::None;
     out = r[pick];
-    if (pick == 0) check(0, buf, cap, out);  // sector 1's check, read last, may have left its bytes in buf
+    if (pick == 0 && buf) check(0, buf, cap, out);  // sector 1's check, read last, may have left its bytes in buf
     return SettingsStatus::Ok;
   }
 
+  // The newest record that checks, its payload read only for the CRC:
+  // no buffer of a record's size.
+  SettingsStatus newest(SettingsRecord& out) const { return load(nullptr, 0, out); }
+
   // Writes payload (length 0: a record that says "built-in defaults") as
-  // the newest record. On any failure the newest record is the one before.
-  // scratch: at least `length` bytes, for reading records back.
-  SettingsStatus save(const uint8_t* payload, uint32_t length, uint8_t* scratch, size_t scratch_cap) {
-    SettingsRecord newest;
-    const bool any = load(scratch, scratch_cap, newest) == SettingsStatus::Ok;
-    const int target_sector = any && newest.sector == 0 ? 1 : 0;
-    if (uint64_t(kHeader) + length > flash_.sector_size(sector_[target_sector]) || length > scratch_cap)
-      return SettingsStatus::TooLarge;
-    const uint32_t seq = any ? newest.seq + 1u : 1u;
+  // the newest record, and reads it back. On any failure the newest record
+  // is the one before.
+  SettingsStatus save(const uint8_t* payload, uint32_t length) {
+    SettingsRecord last;
+    const bool any = newest(last) == SettingsStatus::Ok;
+    const int target_sector = any && last.sector == 0 ? 1 : 0;
+    if (uint64_t(kHeader) + length > flash_.sector_size(sector_[target_sector])) return SettingsStatus::TooLarge;
+    const uint32_t seq = any ? last.seq + 1u : 1u;
     const uint32_t base = flash_.sector_base(sector_[target_sector]);
     uint8_t head[16];
     put32(head + 0, kMagic);
@@ -102,7 +109,7 @@ class SettingsStore {
     if (!flash_.program(base, head, sizeof head)) return SettingsStatus::FlashFailed;
     if (!flash_.program(base + 16, commit, sizeof commit)) return SettingsStatus::FlashFailed;
     SettingsRecord back;
-    if (!check(target_sector, scratch, scratch_cap, back) || back.seq != seq) return SettingsStatus::FlashFailed;
+    if (!check(target_sector, nullptr, 0, back) || back.seq != seq) return SettingsStatus::FlashFailed;
     return SettingsStatus::Ok;
   }
 
@@ -110,17 +117,29 @@ class SettingsStore {
   // a is newer than b, across the wrap of seq.
   static bool newer(uint32_t a, uint32_t b) { return int32_t(a - b) > 0; }
 
+  // Record i's header and CRC. With buf, its payload is copied there (cap
+  // bytes; a longer record does not check); without, read in chunks for
+  // the CRC alone.
   bool check(int i, uint8_t* buf, size_t cap, SettingsRecord& out) const {
     const uint32_t base = flash_.sector_base(sector_[i]);
     uint8_t head[20];
     flash_.read(base, head, sizeof head);
     if (get32(head) != kMagic || get32(head + 16) != kCommit) return false;
     const uint32_t length = get32(head + 8);
-    if (length > cap || uint64_t(kHeader) + length > flash_.sector_size(sector_[i])) return false;
-    if (length) flash_.read(base + kHeader, buf, length);
+    if ((buf && length > cap) || uint64_t(kHeader) + length > flash_.sector_size(sector_[i])) return false;
     Crc32 crc;
     crc.update(head + 4, 8);
-    if (length) crc.update(buf, length);
+    if (buf && length) {
+      flash_.read(base + kHeader, buf, length);
+      crc.update(buf, length);
+    }
+    for (uint32_t done = 0; !buf && done < length;) {
+      uint8_t chunk[32];
+      const uint32_t n = length - done < sizeof chunk ? length - done : uint32_t(sizeof chunk);
+      flash_.read(base + kHeader + done, chunk, n);
+      crc.update(chunk, n);
+      done += n;
+    }
     if (crc.value() != get32(head + 12)) return false;
     out = SettingsRecord{i, get32(head + 4), length};
     return true;

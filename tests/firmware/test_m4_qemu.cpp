@@ -142,6 +142,24 @@ TEST_F(M4Image, Stm32f4RigImageBootsWithItsPwmAndAdcAndServesTheLink) {
   EXPECT_EQ(as<proto::Pong>(must(peer_->request(ping), "PING")).nonce, 0xF446u);
 }
 
+// The stm32f4 images carry the settings store over the part's flash
+// (ports/stm32f4/flash.hpp), but netduinoplus2 models no flash interface
+// (0x40023C00 reads 0 and ignores writes, the flash is ROM): the image
+// finds none at boot and claims no SETTINGS, and a SETTINGS request is
+// refused as unsupported rather than failing in the flash. The driver
+// itself is tested against a model of the interface (test_stm32f4_flash.cpp).
+TEST_F(M4Image, Stm32f4ImageClaimsNoSettingsWhereTheFlashInterfaceDoesNotAnswer) {
+  boot(NLSOFT_STM32F4_IMAGE_DIR "/nlsoft-stm32f4-tendon.elf", "stm32f4");
+  if (IsSkipped() || HasFatalFailure()) return;
+  const proto::Info info = handshake();
+  EXPECT_FALSE(info.capabilities & proto::capability::kSettings);
+  proto::Settings save;
+  save.action = uint8_t(proto::SettingsAction::Save);
+  const Received r = must(peer_->request(save), "SETTINGS save");
+  ASSERT_EQ(r.header.type, uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(r).status, uint8_t(proto::StatusCode::Unsupported));
+}
+
 // hasel's board image reads six LIS3MDL on SPI2; netduinoplus2 has the SPI
 // controller but no chip on it, so each reads back undriven: the image
 // reports every chip absent (DEVICE_STATUS, at its chip select) and every

@@ -58,7 +58,7 @@ class Board {
     const fw::Identity id{&rig_, "nlsoft-test", 0, 1, 0, 130, false};
     const fw::Buffers b{staging_.data(), staging_.size(), table_, sizeof table_, points_, 30};
     fw_ = std::make_unique<Fw>(hal_, id, b);
-    if (flash) fw_->attach_settings(store_, record_, sizeof record_, scratch_, sizeof scratch_);
+    if (flash) fw_->attach_settings(store_, record_, sizeof record_);
   }
   Status begin() { return fw_->begin(nullptr, 0); }
 
@@ -137,7 +137,7 @@ class Board {
   std::vector<uint8_t> staging_ = std::vector<uint8_t>(64 * 1024);
   uint8_t table_[8 + 4 * 3 * 10];
   float points_[30];
-  uint8_t record_[kRecordMax], scratch_[kRecordMax];
+  uint8_t record_[kRecordMax];
   std::unique_ptr<Fw> fw_;
   uint8_t seq_ = 0;
 };
@@ -281,8 +281,7 @@ TEST_F(Settings, ValuesThisBuildRefusesAreSkippedAndNamed) {
   p[2] = uint8_t(count), p[3] = uint8_t(count >> 8);
   {
     fw::SettingsStore store(flash_, 0, 1);
-    uint8_t scratch[kRecordMax];
-    ASSERT_EQ(store.save(p.data(), uint32_t(p.size()), scratch, sizeof scratch), fw::SettingsStatus::Ok);
+    ASSERT_EQ(store.save(p.data(), uint32_t(p.size())), fw::SettingsStatus::Ok);
   }
   auto b = boot();
   EXPECT_EQ(b->word(kN), rig_.N + 5u);
@@ -299,8 +298,7 @@ TEST_F(Settings, ValuesThisBuildRefusesAreSkippedAndNamed) {
 TEST_F(Settings, ARecordOfAnotherFormatIsNotRead) {
   const uint8_t p[] = {2, 0, 0, 0};
   fw::SettingsStore store(flash_, 0, 1);
-  uint8_t scratch[16];
-  ASSERT_EQ(store.save(p, sizeof p, scratch, sizeof scratch), fw::SettingsStatus::Ok);
+  ASSERT_EQ(store.save(p, sizeof p), fw::SettingsStatus::Ok);
   auto b = boot();
   EXPECT_EQ(b->word(kN), uint32_t(rig_.N));
   ASSERT_FALSE(b->logs.empty());

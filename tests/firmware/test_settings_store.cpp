@@ -12,7 +12,7 @@
 namespace nlsoft::fw {
 namespace {
 
-class FlashModel : public FlashPart {
+class FlashModel final : public FlashPart {
  public:
   explicit FlashModel(uint32_t sector_bytes, int sectors = 2)
       : size_(sector_bytes), mem_(size_t(sector_bytes) * size_t(sectors), 0xFF) {
@@ -91,8 +91,7 @@ Loaded boot(FlashModel& flash) {
 
 SettingsStatus save(FlashModel& flash, const std::vector<uint8_t>& v) {
   SettingsStore store(flash, 0, 1);
-  uint8_t scratch[256];
-  return store.save(v.data(), uint32_t(v.size()), scratch, sizeof scratch);
+  return store.save(v.data(), uint32_t(v.size()));
 }
 
 TEST(SettingsStore, NothingSavedLoadsNothing) {

@@ -6,6 +6,10 @@
 #include <cstddef>
 #include <cstdint>
 
+namespace nlsoft::fw {
+class FlashPart;
+}
+
 namespace nlsoft::fw::board {
 
 // Clock tree, tick source, link at `baud`, watchdog: everything before the
@@ -26,5 +30,15 @@ bool serial_busy();
 
 // Called once per loop turn; a loop that stops turning resets the part.
 void watchdog_kick();
+
+// The flash and the two sectors of it the settings store keeps
+// (PROTOCOL.md 9.11), on a port built with NLSOFT_BOARD_SETTINGS=1; part
+// null when the part's flash interface does not answer (an emulator that
+// models none): the image then has no SETTINGS capability. After start().
+struct SettingsFlash {
+  FlashPart* part = nullptr;
+  int sector_a = 0, sector_b = 0;
+};
+SettingsFlash settings_flash();
 
 }  // namespace nlsoft::fw::board

@@ -42,7 +42,14 @@ PortHal g_hal;
 constexpr bool kChips = kRigDeviceCount > 0;
 #endif
 
-using Fw = fw::Firmware<Cap, kTxCapacity, kChips>;
+// A port whose part keeps settings in its flash (stm32f4) builds with
+// NLSOFT_BOARD_SETTINGS=1; the others without the service's code.
+#ifndef NLSOFT_BOARD_SETTINGS
+#define NLSOFT_BOARD_SETTINGS 0
+#endif
+constexpr bool kSettings = NLSOFT_BOARD_SETTINGS;
+
+using Fw = fw::Firmware<Cap, kTxCapacity, kChips, kSettings>;
 
 alignas(4) uint8_t g_model_staging[kModelFileMax];
 uint8_t g_table_staging[kTableFileMax];
@@ -63,6 +70,20 @@ void attach_chips(Fw& fw, H& hal) {
   if constexpr (kChips) fw.attach_sensors(hal.sensors());
 }
 
+// The settings store over the board's two sectors and a record's buffer;
+// without a flash that answers the image has no SETTINGS.
+template <class F>
+void attach_settings(F& fw) {
+  if constexpr (kSettings) {
+    constexpr size_t kMax = fw::settings_payload_max(fw::ParamService<Cap>::count());
+    static uint8_t payload[kMax];
+    const fw::board::SettingsFlash flash = fw::board::settings_flash();
+    if (!flash.part) return;
+    static fw::SettingsStore store(*flash.part, flash.sector_a, flash.sector_b);
+    fw.attach_settings(store, payload, sizeof payload);
+  }
+}
+
 }  // namespace
 
 int main() {
@@ -71,6 +92,7 @@ int main() {
   // The rig's sensor chips (a board image of a rig with [[device]] tables),
   // begun with the firmware, sampled between its steps.
   attach_chips(g_fw, g_hal);
+  attach_settings(g_fw);
   // The period follows the clock the board reached, not the one it asked
   // for: a part left on its reset oscillator still steps at the preset rate.
   systick_start(fw::board::core_clock_hz() / kRateHz);

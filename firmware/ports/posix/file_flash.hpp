@@ -11,13 +11,13 @@
 
 namespace nlsoft::fw::posix {
 
-class FileFlash : public FlashPart {
+class FileFlash final : public FlashPart {
  public:
   static constexpr uint32_t kSectorSize = 16384;
   static constexpr int kSectors = 2;
 
   FileFlash() = default;
-  ~FileFlash() override;
+  ~FileFlash();
   FileFlash(const FileFlash&) = delete;
   FileFlash& operator=(const FileFlash&) = delete;
 

@@ -44,10 +44,9 @@ void on_signal(int) { g_stop = 1; }
 // Port memory: generous on a host; room for the largest model the host
 // capacity runs.
 alignas(4) uint8_t g_model_staging[model_file_max<Cap>()];
-// A settings record and its read-back (--settings).
+// A settings record (--settings).
 constexpr size_t kSettingsMax = fw::settings_payload_max(fw::ParamService<Cap>::count());
 uint8_t g_settings[kSettingsMax];
-uint8_t g_settings_scratch[kSettingsMax];
 uint8_t g_table_staging[8 + 4 * 3 * 20000];
 float g_table_points[3 * 20000];
 
@@ -210,8 +209,7 @@ int main(int argc, char** argv) {
     if (opened == fw::posix::FileFlash::Opened::Busy)
       std::fprintf(stderr, "nlsoft-firmware-sim: --settings: %s; this simulator keeps no settings\n", error.c_str());
     else
-      firmware->attach_settings(settings_store, g_settings, sizeof g_settings, g_settings_scratch,
-                                sizeof g_settings_scratch);
+      firmware->attach_settings(settings_store, g_settings, sizeof g_settings);
   }
   const Status s = firmware->begin(model.empty() ? nullptr : model.data(), model.size());
   if (s != Status::Ok) {

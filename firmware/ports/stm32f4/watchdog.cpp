@@ -14,18 +14,30 @@ constexpr uint32_t kDiv32 = 3u, kCounts = 500u;
 // DBGMCU_APB1_FZ.DBG_IWDG_STOP: the watchdog pauses while a debugger halts
 // the core, so a breakpoint does not reset the part under the debugger.
 constexpr uint32_t kDbgmcuApb1Fz = 0xE0042008u, kDbgIwdgStop = 1u << 12;
+
+// A flash erase stalls the CPU for up to half a second (flash.hpp); LSI /
+// 64 with 4095 counts is 5.6-15 s, ten times the longest 16 KB erase.
+constexpr uint32_t kDiv64 = 4u, kLongCounts = 4095u;
+
+void set_period(uint32_t prescaler, uint32_t counts) {
+  // A write while the previous update still crosses into the LSI domain
+  // is lost.
+  (void)wait_for([] { return reg(kSr) == 0; });
+  reg(kKr) = kUnlock;
+  reg(kPr) = prescaler;
+  reg(kRlr) = counts;
+  (void)wait_for([] { return reg(kSr) == 0; });
+  reg(kKr) = kReload;
+}
 }  // namespace
 
 void watchdog_start() {
   reg(kDbgmcuApb1Fz) = reg(kDbgmcuApb1Fz) | kDbgIwdgStop;
   reg(kKr) = kStart;  // also starts the LSI
-  reg(kKr) = kUnlock;
-  reg(kPr) = kDiv32;
-  reg(kRlr) = kCounts;
-  // The new values cross into the LSI domain; a kick before then is lost.
-  (void)wait_for([] { return reg(kSr) == 0; });
-  reg(kKr) = kReload;
+  set_period(kDiv32, kCounts);
 }
+
+void watchdog_long(bool on) { on ? set_period(kDiv64, kLongCounts) : set_period(kDiv32, kCounts); }
 
 void watchdog_kick() { reg(kKr) = kReload; }
 

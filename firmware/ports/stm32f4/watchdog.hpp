@@ -7,5 +7,8 @@ namespace nlsoft::fw::stm32f4 {
 
 void watchdog_start();
 void watchdog_kick();
+// on: a period of tens of seconds, for a flash erase that stalls the CPU;
+// off: back to the half second.
+void watchdog_long(bool on);
 
 }  // namespace nlsoft::fw::stm32f4
