@@ -25,7 +25,7 @@ target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_APP_INCLUDE} PRIV
 target_include_directories(nlsoft_console_live SYSTEM PRIVATE ${HDF5_C_INCLUDE_DIRS} ${HDF5_INCLUDE_DIRS})
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
-  PUBLIC nlsoft_console_core nlsoft_firmware_image nlsoft_model_pipeline nlsoft_rig_console nlsoft_gnuplot_text nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
+  PUBLIC nlsoft_console_core nlsoft_console_text nlsoft_firmware_image nlsoft_model_pipeline nlsoft_rig_console nlsoft_gnuplot_text nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
   PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT ${HDF5_C_LIBRARIES} ${HDF5_LIBRARIES})
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)

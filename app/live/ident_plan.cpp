@@ -12,7 +12,7 @@
 #include "host/files/cli_error.hpp"
 #include "host/rig/rig.hpp"
 #include "shared/excitation.hpp"
-#include "app/script/script_parser.hpp"
+#include "app/text/duration.hpp"
 
 namespace nlsoft::console {
 
@@ -82,44 +82,10 @@ double check_ident_words(const IdentWords& w) {
     throw CliError(fmt::format("ident: --decimation {} is outside 1..65535", w.decimation));
   if (w.duration.empty()) throw CliError("ident: --duration is required (e.g. --duration 10min)");
   try {
-    return parse_duration(w.duration);
+    return text::parse_duration(w.duration);
   } catch (const std::invalid_argument& e) {
     throw CliError(std::string("ident: --duration ") + e.what());
   }
-}
-
-IdentWords ident_words(const Command& c) {
-  IdentWords w;
-  w.signal = c.name;
-  w.duration = c.values.empty() ? "" : c.values[0];
-  for (const auto& [k, v] : c.options) {
-    try {
-      size_t used = 0;
-      if (k == "seed") {
-        const unsigned long long x = std::stoull(v, &used);
-        if (used != v.size() || x > 0xFFFFFFFFull) throw std::out_of_range(v);
-        w.seed = uint32_t(x);
-      } else if (k == "amplitude") {
-        w.amplitude = std::stod(v, &used);
-      } else if (k == "decimation") {
-        w.decimation = std::stoi(v, &used);
-        if (w.decimation < 1) throw std::out_of_range(v);
-      } else if (k == "band") {
-        w.band = v, used = v.size();
-      } else if (k == "joint") {
-        w.joint = true, used = v.size();
-      } else if (k == "mixed") {
-        w.mixed = true, used = v.size();
-      } else if (k == "y_offset") {
-        used = v.size();  // the capture's, not the excitation's (script_runner merges it)
-      }
-      if (used != v.size()) throw std::invalid_argument(v);
-    } catch (const std::logic_error&) {
-      throw CliError(fmt::format("ident: {}={} is not a valid {}", k, v,
-                                 k == "seed" ? "seed (0..4294967295)" : k == "decimation" ? "decimation (1..65535)" : "number"));
-    }
-  }
-  return w;
 }
 
 void check_firmware_offers(const p::IdentStart& start, const p::Info& info, uint8_t protocol_minor) {

@@ -34,12 +34,6 @@ struct IdentWords {
 // bad one. Returns the duration in seconds.
 double check_ident_words(const IdentWords& w);
 
-// A script's `ident SIGNAL DURATION key=value...` as the command's words:
-// name is the signal, values[0] the duration, options seed, amplitude,
-// band, joint, mixed, decimation. Throws CliError for a value that is no number.
-struct Command;
-IdentWords ident_words(const Command& c);
-
 struct IdentLine {
   unsigned baud = 115200;
   bool unlimited = false;  // a simulator or a pty: every step fits

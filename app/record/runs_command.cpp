@@ -34,7 +34,7 @@
 #include "app/record/run_store.hpp"
 #include "app/record/tune_log.hpp"
 #include "app/record/utc_time.hpp"
-#include "app/script/script_parser.hpp"
+#include "app/text/duration.hpp"
 
 namespace nlsoft::console {
 
@@ -191,7 +191,7 @@ std::string since_text(const std::string& since) {
     else if (end != c && v > 0 && (unit == "w" || unit == "weeks" || unit == "week")) back_s = v * 7 * 86400;
     else {
       try {
-        back_s = parse_duration(since);
+        back_s = text::parse_duration(since);
       } catch (const std::invalid_argument&) {
       }
     }

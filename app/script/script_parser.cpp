@@ -4,7 +4,6 @@
 #include <sys/stat.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +15,9 @@
 #include "host/files/printable.hpp"
 #include "app/live/ident_plan.hpp"
 #include "app/record/run_metrics.hpp"
+#include "app/script/ident_words.hpp"
+#include "app/text/duration.hpp"
+#include "app/text/tokenize.hpp"
 #include "app/tune/tune_options.hpp"
 
 namespace nlsoft::console {
@@ -68,57 +70,6 @@ bool compare(double a, CmpOp op, double b) {
   return false;
 }
 
-double parse_duration(const std::string& text) {
-  char* end = nullptr;
-  errno = 0;
-  const double v = std::strtod(text.c_str(), &end);
-  if (end == text.c_str()) throw std::invalid_argument(fmt::format("'{}' is not a duration (e.g. 5s, 250ms, 2min)", text));
-  const std::string unit = end;
-  double scale = 0;
-  if (unit == "s" || unit == "sec") scale = 1;
-  else if (unit == "ms") scale = 1e-3;
-  else if (unit == "min" || unit == "m") scale = 60;
-  else if (unit == "h") scale = 3600;
-  else if (unit.empty())
-    throw std::invalid_argument(fmt::format("'{}' needs a unit: {}s, {}ms or {}min", text, text, text, text));
-  else
-    throw std::invalid_argument(fmt::format("'{}': unknown unit '{}' (use ms, s, min or h)", text, unit));
-  if (!std::isfinite(v) || v <= 0) throw std::invalid_argument(fmt::format("'{}': a duration must be > 0", text));
-  // Longer than any run or session: the step counts, clocks and budgets
-  // computed from it would overflow.
-  constexpr double kMaxDays = 30;
-  if (v * scale > kMaxDays * 86400)
-    throw std::invalid_argument(
-        fmt::format("'{}': a duration is at most {:g} days ({:g}h)", text, kMaxDays, kMaxDays * 24));
-  return v * scale;
-}
-
-std::vector<std::string> tokenize(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool in_quotes = false, have = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (in_quotes) {
-      if (c == '\\' && i + 1 < line.size() && line[i + 1] == '"') cur += line[++i];
-      else if (c == '"') in_quotes = false;
-      else cur += c;
-    } else if (c == '#' && !have) {
-      break;  // a comment to the end of the line
-    } else if (c == '"') {
-      in_quotes = have = true;
-    } else if (c == ' ' || c == '\t') {
-      if (have) out.push_back(cur), cur.clear(), have = false;
-    } else {
-      cur += c;
-      have = true;
-    }
-  }
-  if (in_quotes) throw std::invalid_argument("unterminated \"quote\"");
-  if (have) out.push_back(cur);
-  return out;
-}
-
 namespace {
 
 std::string join_errors(const std::vector<ScriptError>& all) {
@@ -152,7 +103,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
   }
   std::vector<std::string> t;
   try {
-    t = tokenize(line);
+    t = text::tokenize(line);
   } catch (const std::invalid_argument& e) {
     throw fail(e.what());
   }
@@ -169,7 +120,7 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
   };
   auto duration = [&](const std::string& s) {
     try {
-      return parse_duration(s);
+      return text::parse_duration(s);
     } catch (const std::invalid_argument& e) {
       throw fail(e.what());
     }

@@ -75,12 +75,6 @@ struct Script {
   std::vector<Command> commands;
 };
 
-// "5s", "250ms", "2min", "1.5s"; throws std::invalid_argument in words.
-double parse_duration(const std::string& text);
-
-// Splits on blanks; "double quotes" group, \" escapes a quote.
-std::vector<std::string> tokenize(const std::string& line);
-
 // Parses one line (already known not to be blank or a comment). Throws
 // ScriptError(file, line, ...).
 Command parse_command(const std::string& line, const std::string& file, int lineno);

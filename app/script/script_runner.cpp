@@ -20,6 +20,7 @@
 #include "app/record/loop_rate.hpp"
 #include "app/record/merge_y.hpp"
 #include "app/record/run_store.hpp"
+#include "app/script/ident_words.hpp"
 #include "host/rig/rig.hpp"
 
 namespace nlsoft::console {

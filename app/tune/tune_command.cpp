@@ -10,7 +10,7 @@
 #include "app/live/connect_args.hpp"
 #include "app/live/live_console.hpp"
 #include "app/progress_bar.hpp"
-#include "app/script/script_parser.hpp"
+#include "app/text/duration.hpp"
 #include "app/tune/tuner.hpp"
 
 namespace nlsoft::console {
@@ -35,8 +35,8 @@ TuneOptions options_from(const TuneArgs& a) {
     if (time && !runs) o.budget_runs = 0;
     o.objective = a.objective;
     o.reference = a.reference;
-    o.settle_s = a.settle == "0" ? 0.0 : parse_duration(a.settle);
-    o.window_s = parse_duration(a.window);
+    o.settle_s = a.settle == "0" ? 0.0 : text::parse_duration(a.settle);
+    o.window_s = text::parse_duration(a.window);
     o.method = a.method;
     o.seed = a.seed;
     o.max_saturated = a.max_saturated;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "app/script/script_parser.hpp"
+#include "app/text/duration.hpp"
 #include "app/tune/objective.hpp"
 
 namespace nlsoft::console {
@@ -27,7 +27,7 @@ bool set_budget(TuneOptions& o, const std::string& written) {
   // A number with a unit of time: a wall-time budget, which must be positive.
   if (end != text.c_str() && !unit.empty() && !(v > 0)) {
     try {
-      parse_duration("1" + unit);
+      text::parse_duration("1" + unit);
     } catch (const std::invalid_argument&) {
       throw std::invalid_argument(
           fmt::format("budget '{}': give runs (40) or wall time (10min, 90s); both may be given", text));
@@ -35,7 +35,7 @@ bool set_budget(TuneOptions& o, const std::string& written) {
     throw std::invalid_argument(fmt::format("budget '{}': a time budget must be positive, e.g. 90s or 10min", text));
   }
   try {
-    o.budget_s = parse_duration(text);
+    o.budget_s = text::parse_duration(text);
     return false;
   } catch (const std::invalid_argument&) {
     throw std::invalid_argument(
@@ -73,7 +73,7 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
     const std::string key = eq == std::string::npos ? w : w.substr(0, eq);
     const std::string value = eq == std::string::npos ? "" : w.substr(eq + 1);
     auto duration = [&] {
-      return value == "0" ? 0.0 : parse_duration(value);
+      return value == "0" ? 0.0 : text::parse_duration(value);
     };
     if (eq == std::string::npos)
       throw std::invalid_argument(fmt::format(
@@ -89,7 +89,7 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
     } else if (key == "settle") {
       o.settle_s = duration();
     } else if (key == "window") {
-      o.window_s = parse_duration(value);
+      o.window_s = text::parse_duration(value);
     } else if (key == "seed") {
       char* end = nullptr;
       o.seed = std::strtoul(value.c_str(), &end, 10);

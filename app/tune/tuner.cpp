@@ -15,7 +15,7 @@
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/record/tune_log.hpp"
-#include "app/script/script_parser.hpp"
+#include "app/text/tokenize.hpp"
 #include "app/tune/motion_check.hpp"
 #include "app/tune/objective.hpp"
 
@@ -47,7 +47,7 @@ std::string values_text(const std::vector<SearchSpace::Write>& writes) {
 
 RefParams tune_reference(LiveConsole& console, const std::string& text) {
   // "swirl hold=1": a preset and its overrides, as `ref` takes them.
-  const std::vector<std::string> words = tokenize(text);
+  const std::vector<std::string> words = text::tokenize(text);
   if (words.empty()) throw CliError("reference \"\": give a preset, e.g. reference=\"swirl hold=1\"");
   std::vector<std::pair<std::string, std::string>> keys;
   for (size_t i = 1; i < words.size(); ++i) {
