@@ -5,11 +5,11 @@
 #include <cstdio>
 
 #include "host/files/cli_error.hpp"
+#include "app/console_command.hpp"
 #include "app/conformance/command.hpp"
 #include "app/firmware/firmware_command.hpp"
 #include "app/link/device_check.hpp"
 #include "app/link/ports_command.hpp"
-#include "app/live/console_command.hpp"
 #include "app/live/flash_command.hpp"
 #include "app/live/ident_command.hpp"
 #include "app/model/commands.hpp"

@@ -1,4 +1,4 @@
-#include "app/live/console_command.hpp"
+#include "app/console_command.hpp"
 
 #include <fmt/format.h>
 #include <unistd.h>
