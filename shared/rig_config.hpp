@@ -10,6 +10,7 @@
 // rig_params() says TooLarge when the rig does not fit it.
 #include <cstdint>
 
+#include "shared/firmware_features.hpp"
 #include "shared/params.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/reference.hpp"
@@ -36,6 +37,10 @@ struct RigConfig {
   DerivMode mode;
   Feedback feedback;
   RefParams reference;  // the task a run follows until the console selects one
+  // The services beyond the minimum the rig file asks for ([firmware]
+  // features, shared/firmware_features.hpp); a firmware serves those it
+  // was built with among them.
+  uint32_t features = kAllFirmwareFeatures;
 };
 
 // The rig's defaults as the parameter set the controller runs. Fails

@@ -54,8 +54,15 @@ std::vector<float> limits(Suite& s, const char* name) {
 void check_ident(Suite& s) {
   s.group("ident");
   const p::Info& info = s.info.info;
-  if (!s.offers(p::capability::kIdent, "IDENT", 3, "ident", "no identification runs to check")) return;
   const float rate = float(info.loop_rate_hz ? info.loop_rate_hz : 100);
+  if (!(info.capabilities & p::capability::kIdent) && s.info.protocol_minor >= 3) {
+    p::IdentStart start;  // one the firmware would take, had it identification runs
+    start.run_id = 0x1D000000u | (s.random() & 0xFFFFu);
+    start.amplitude = 0.5f, start.band_lo = rate / 100.0f, start.band_hi = rate / 10.0f, start.duration = 10;
+    s.left_out("ident_left_out", "identification runs", s.pr.request(start), p::kNoField);
+    return;
+  }
+  if (!s.offers(p::capability::kIdent, "IDENT", 3, "ident", "no identification runs to check")) return;
   p::IdentStart base;
   base.run_id = 0x1D000000u | (s.random() & 0xFFFFu);
   base.signal = uint8_t(p::IdentSignal::Prbs);

@@ -95,8 +95,11 @@ bool table_in_force(Suite& s) {
 
 void check_transfers(Suite& s) {
   s.group("transfers");
+  if (!(s.info.info.capabilities & p::capability::kXferModel))
+    s.left_out("xfer_model_left_out", "model uploads",
+               begin(s, 64, 0, p::xfer_options::kRestart, uint8_t(p::XferKind::Model)), 0);
   if (!(s.info.info.capabilities & p::capability::kXferRefTable)) {
-    s.check("xfer_heal", false, "INFO lacks the XFER_REF_TABLE capability");
+    s.left_out("xfer_table_left_out", "reference-table uploads", begin(s, 64, 0), 0);
     return;
   }
   const uint8_t n = s.info.info.n;

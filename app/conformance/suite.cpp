@@ -43,6 +43,11 @@ bool Suite::offers(uint32_t capability, const char* cap_name, int since_minor, c
   return false;
 }
 
+void Suite::left_out(const std::string& check_name, const char* service, const Frame& reply, uint8_t field) {
+  check(check_name, nacked(reply, p::StatusCode::Unsupported, field, p::kNoField),
+        fmt::format("left out of this image ({}): {}", service, describe(reply)));
+}
+
 void Suite::check(const std::string& name, bool pass, const std::string& detail) {
   results_.push_back({group_, name, pass, detail});
   if (on_result_) on_result_(results_.back());
@@ -168,6 +173,12 @@ void Suite::run(std::chrono::seconds patience) {
     if (device_message && (!(info.info.capabilities & p::capability::kDevices) || devices == 0)) continue;
     // SETTINGS is protocol 1.5's, with the SETTINGS capability (optional: a board without a settings store).
     if (m.type == p::MsgType::Settings && !(info.info.capabilities & p::capability::kSettings)) continue;
+    // An image without either transfer (9.12) refuses XFER_BEGIN, as the
+    // transfers group checked, and has no transfer to answer the others in.
+    const bool xfer = m.type == p::MsgType::XferBegin || m.type == p::MsgType::XferChunk ||
+                      m.type == p::MsgType::XferCommit || m.type == p::MsgType::XferAbort ||
+                      m.type == p::MsgType::XferAck;
+    if (xfer && !(info.info.capabilities & (p::capability::kXferRefTable | p::capability::kXferModel))) continue;
     if (m.is_request) {
       if (!requests_answered.count(t)) missing.push_back(std::string(m.name) + " never answered");
     } else if (t != uint8_t(p::MsgType::Info) && t != uint8_t(p::MsgType::InfoEx) && !seen.count(t)) {

@@ -44,6 +44,11 @@ class Suite {
   // claims that version without it.
   bool offers(uint32_t capability, const char* cap_name, int since_minor, const std::string& check_name,
               const char* nothing_to_check);
+  // A service this image leaves out (PROTOCOL.md 9.12, the rig file's
+  // [firmware] features): its capability bit is clear, and `reply`, the
+  // answer to its request, must be NACK unsupported naming `field`. One
+  // check named `check_name`: left out, not failed.
+  void left_out(const std::string& check_name, const char* service, const Frame& reply, uint8_t field);
   uint32_t random() { return uint32_t(rng_()); }
   std::optional<p::Status> status();
   std::optional<p::InfoEx> info_now();

@@ -109,6 +109,12 @@ std::string rig_config_part(const Rig& rig) {
   o += fmt::format("  c.reference.omega = {}, c.reference.lambda = {}, c.reference.scale = {};\n", flt(r.omega),
                    flt(r.lambda), flt(r.scale));
   for (int i = 0; i < kRefMaxLevels; ++i) o += fmt::format("  c.reference.levels[{}] = {};\n", i, flt(r.levels[i]));
+  std::vector<std::string> services;
+  for (const FirmwareFeature& f : kFirmwareFeatures)
+    if (c.features & f.bit) services.push_back(f.name);
+  // The port carries those of them its board can (firmware/ports/cortex-m/main.cpp).
+  o += fmt::format("  c.features = 0x{:x}u;  // [firmware] features: {}\n", c.features,
+                   services.empty() ? std::string("none beyond the minimum") : fmt::format("{}", fmt::join(services, ", ")));
   o += "  return c;\n}\nconstexpr RigConfig kRig = image_rig();\n";
   return o;
 }
@@ -365,6 +371,12 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
     fail(rig, rig.devices[0].line, "[[device]] #1",
          fmt::format("a header without a board has no bus drivers for device '{}': build an image for {}",
                      rig.devices[0].name, fmt::join(image_boards(), " or ")));
+  if (const BoardPins* board = find_board(request.board); board && rig.firmware_line > 0)
+    for (const FirmwareFeature& f : kFirmwareFeatures)
+      if (rig.firmware_features & f.bit)
+        if (const std::string why = board_lacks(*board, f); !why.empty())
+          fail(rig, rig.firmware_line, "[firmware] features",
+               fmt::format("'{}': {}; leave it out, or build for a board that has it", f.name, why));
   const std::vector<RigLayer> layers = !request.model_file.empty() ? model_layers(request.model_file, rig)
                                        : !request.layers.empty()   ? request.layers
                                                                    : rig.model.layers;

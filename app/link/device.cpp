@@ -217,11 +217,24 @@ void Device::telemetry_config(uint8_t mask, uint16_t decimation) {
 
 p::Status Device::status() { return session_.call<p::Status>(p::StatusGet{}); }
 
+std::string firmware_lacks(const p::Info& info, uint8_t protocol_minor, uint32_t feature_bit) {
+  const FirmwareFeature* f = firmware_feature(feature_bit);
+  if (!f || (info.capabilities & f->capabilities) != 0) return "";
+  return fmt::format("the firmware ({} {}.{}.{}, protocol 1.{}) was built without {}: its rig file's [firmware] "
+                     "features leave out \"{}\" (docs/rig-file.md){}",
+                     info.firmware, info.fw_major, info.fw_minor, info.fw_patch, protocol_minor, f->what, f->name,
+                     protocol_minor < 5 ? ", or it predates the service: update it" : "");
+}
+
+std::string Device::lacks(uint32_t feature_bit) const { return firmware_lacks(info(), protocol_minor(), feature_bit); }
+
 std::string Device::settings_missing() const {
   if (has(p::capability::kSettings)) return "";
   return fmt::format(
-      "the firmware ({}) keeps no settings: it has no SETTINGS capability (protocol 1.5; a board image without "
-      "a flash driver, or a simulator started without --settings); its parameters last until it resets",
+      "the firmware ({}) keeps no settings: it has no SETTINGS capability (protocol 1.5; an image built without "
+      "\"settings\" in its rig file's [firmware] features, an stm32f4 image under QEMU, which has no flash "
+      "interface, an mps2-an386 image, or a simulator started without --settings); its parameters last until it "
+      "resets",
       protocol_minor() < 5 ? fmt::format("protocol 1.{}", protocol_minor()) : std::string("this one"));
 }
 

@@ -13,6 +13,7 @@
 #include "app/link/param_catalog.hpp"
 #include "app/link/session.hpp"
 #include "protocol/messages.hpp"
+#include "shared/firmware_features.hpp"
 #include "shared/reference.hpp"
 
 namespace nlsoft::console {
@@ -21,6 +22,11 @@ namespace nlsoft::console {
 struct ParamRefused : NackError {
   ParamRefused(const protocol::Nack& n, const std::string& words) : NackError(n, words) {}
 };
+
+// Empty when the firmware offers the service of shared/firmware_features.hpp
+// `feature_bit`; else why not, for an error: its image was built without it
+// (PROTOCOL.md 9.12), or one older than protocol 1.5 may predate it.
+std::string firmware_lacks(const protocol::Info& info, uint8_t protocol_minor, uint32_t feature_bit);
 
 class Device {
  public:
@@ -44,6 +50,8 @@ class Device {
   // else the platform's ("hasel", "custom").
   std::string rig_label() const;
   bool has(uint32_t capability) const { return (info().capabilities & capability) != 0; }
+  // firmware_lacks of this firmware.
+  std::string lacks(uint32_t feature_bit) const;
 
   // Walks PARAM_LIST 0..count-1.
   void load_params(const Progress& progress = {});

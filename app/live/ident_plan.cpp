@@ -92,10 +92,12 @@ void check_firmware_offers(const p::IdentStart& start, const p::Info& info, uint
   const std::string fw =
       fmt::format("{} {}.{}.{}, protocol {}.{}", info.firmware, info.fw_major, info.fw_minor, info.fw_patch,
                   p::kProtocolVersion, protocol_minor);
-  if (!(info.capabilities & p::capability::kIdent))
+  if (!(info.capabilities & p::capability::kIdent) && protocol_minor < 3)
     throw CliError(fmt::format("the firmware ({}) has no identification runs (the IDENT capability of protocol "
                                "1.3): update it",
                                fw));
+  if (const std::string why = firmware_lacks(info, protocol_minor, feature::kIdent); !why.empty())
+    throw CliError(why);
   if ((start.options & p::ident_options::kMixed) && !(info.capabilities & p::capability::kIdentMixed))
     throw CliError(fmt::format("the firmware ({}) has no mixed excitation (the IDENT_MIXED capability; it would "
                                "ignore --mixed and drive one independent stream per input): update it, or leave "

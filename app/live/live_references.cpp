@@ -27,8 +27,7 @@ void LiveReferences::remember(const RefParams& ref, const std::string& table_fil
 }
 
 void LiveReferences::upload_table(const std::string& csv_path, uint16_t hold, const Progress& progress) {
-  if (!device_.has(p::capability::kXferRefTable))
-    throw CliError("this firmware does not accept reference tables (no XFER_REF_TABLE capability)");
+  if (const std::string why = device_.lacks(feature::kTableUpload); !why.empty()) throw CliError(why);
   const ReferenceTablePoints pts = read_reference_csv(csv_path, device_.info().n);
   device_.upload(p::XferKind::RefTable, reference_table_object(pts), progress);
   RefParams r{};

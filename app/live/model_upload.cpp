@@ -20,8 +20,7 @@ namespace nlsoft::console {
 namespace p = nlsoft::protocol;
 
 ModelUpload::Result ModelUpload::send(const std::string& path, const Progress& progress) {
-  if (!device_.has(p::capability::kXferModel))
-    throw CliError("this firmware does not accept models (no XFER_MODEL capability)");
+  if (const std::string why = device_.lacks(feature::kModelUpload); !why.empty()) throw CliError(why);
   if (run_.id.load() != 0) throw CliError("a model cannot change during a run: stop the run first");
   // Bounded before a byte is read: by the firmware's model_max, or what the
   // console's own capacity holds if that is more, so that a model of

@@ -24,6 +24,7 @@
 #include "protocol/messages.hpp"
 #include "protocol/reply_cache.hpp"
 #include "protocol/transfer.hpp"
+#include "shared/firmware_features.hpp"
 #include "shared/rig_config.hpp"
 
 namespace nlsoft::fw {
@@ -58,12 +59,26 @@ struct Buffers {
   uint32_t table_points_cap;
 };
 
-// Chips: the image reads sensor chips (its rig names a [[device]]); an
-// image without is built without the sampler's code (2.8 kB of flash).
-// Settings: the port has a settings store (SETTINGS, PROTOCOL.md 9.11); a
-// port without is built without the service's code (1.9 kB of flash).
-template <class Cap, size_t TxCapacity = 1024, bool Chips = false, bool Settings = false>
+// Features (shared/firmware_features.hpp): the services the image is built
+// with beyond the minimum. Without feature::kChips (a rig without
+// [[device]]) it has none of the sampler's code (2.8 kB of flash); without
+// kSettings none of the settings service's (about 4 kB on stm32f4); without
+// kIdent, kModelUpload, kTableUpload none of those requests' handling. The
+// rig's own `features` (RigConfig) narrows them at run time: the simulator,
+// built with all, serves what the rig file asks for.
+constexpr uint32_t kDefaultFeatures = feature::kIdent | feature::kModelUpload | feature::kTableUpload;
+static_assert(firmware_feature(feature::kIdent)->capabilities ==
+                      (proto::capability::kIdent | proto::capability::kIdentMixed) &&
+                  firmware_feature(feature::kModelUpload)->capabilities == proto::capability::kXferModel &&
+                  firmware_feature(feature::kTableUpload)->capabilities == proto::capability::kXferRefTable &&
+                  firmware_feature(feature::kSettings)->capabilities == proto::capability::kSettings,
+              "shared/firmware_features.hpp's capability bits are protocol/messages.hpp's");
+
+template <class Cap, size_t TxCapacity = 1024, uint32_t Features = kDefaultFeatures>
 class Firmware {
+  static constexpr bool Chips = (Features & feature::kChips) != 0;
+  static constexpr bool Settings = (Features & feature::kSettings) != 0;
+
  public:
   Firmware(Hal& hal, const Identity& id, const Buffers& b)
       : hal_(hal),
@@ -91,7 +106,7 @@ class Firmware {
   // has no SETTINGS capability.
   void attach_settings(SettingsStore& store, uint8_t* payload, size_t payload_cap) {
     static_assert(Settings, "an image built without settings has no service to attach a store to");
-    settings_svc_.attach(store, payload, payload_cap);
+    if (rig_.features & feature::kSettings) settings_svc_.attach(store, payload, payload_cap);
   }
 
   // Loads the compiled-in model (may be null: the firmware then waits for an
@@ -163,7 +178,10 @@ class Firmware {
     have_y_true_ = id_.has_y_true && hal_.read_output(y_true_, n);
     watchdog_check();
 
-    if (state_ == proto::RunState::Ident || (ident_.active() && state_ != proto::RunState::Idle)) return ident_step(t0, l_);
+    if constexpr ((Features & feature::kIdent) != 0) {
+      if (state_ == proto::RunState::Ident || (ident_.active() && state_ != proto::RunState::Idle))
+        return ident_step(t0, l_);
+    }
     if (state_ != proto::RunState::Running) {
       if (state_ != proto::RunState::Hold) neutral(u_);
       hal_.actuate(u_, m);
@@ -352,7 +370,7 @@ class Firmware {
         proto::XferBegin p;
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
-        if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        if (!rx) return nack(f.header.type, no_receiver(p.kind), 0, proto::kNoField);
         if (rx == &model_rx_ && state_ != proto::RunState::Idle && model_.in_staging())
           return nack(f.header.type, proto::StatusCode::WrongState, proto::kNoField, proto::kNoField);
         // After the size rules of TransferReceiver::begin (out_of_range, too_large): section 9.4's order.
@@ -368,7 +386,7 @@ class Firmware {
         proto::XferChunk p;
         if (!unpack_or_nack(f, p)) return;
         proto::TransferReceiver* rx = receiver(p.kind);
-        if (!rx) return nack(f.header.type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+        if (!rx) return nack(f.header.type, no_receiver(p.kind), 0, proto::kNoField);
         const uint32_t before = rx->next_offset();
         const proto::XferReply r = rx->chunk(p);
         if (rx == &model_rx_ && r.status == proto::StatusCode::Ok) {
@@ -398,9 +416,13 @@ class Firmware {
         return run_start(f.header.type, p.run_id);
       }
       case T::IdentStart: {
-        proto::IdentStart p;
-        if (!unpack_or_nack(f, p)) return;
-        return ident_start(f.header.type, p);
+        if constexpr ((Features & feature::kIdent) != 0) {
+          if (!offers(feature::kIdent)) return;  // unsupported (handle())
+          proto::IdentStart p;
+          if (!unpack_or_nack(f, p)) return;
+          ident_start(f.header.type, p);
+        }
+        return;
       }
       case T::RunStop:
         state_ = proto::RunState::Idle;
@@ -494,7 +516,7 @@ class Firmware {
 
   void commit(uint8_t type, uint8_t kind) {
     proto::TransferReceiver* rx = receiver(kind);
-    if (!rx) return nack(type, proto::StatusCode::UnknownId, 0, proto::kNoField);
+    if (!rx) return nack(type, no_receiver(kind), 0, proto::kNoField);
     const proto::XferReply c = rx->commit();
     if (c.status != proto::StatusCode::Ok) return nack(type, c.status, c.field, proto::kNoField);
     proto::StatusCode s;
@@ -558,11 +580,24 @@ class Firmware {
     if (queue_log(settings_svc_.log_level(), text.c_str())) settings_svc_.log_sent();
   }
 
+  // The receiver of a kind this image takes; null for an unknown kind, and
+  // for one it was built without (or whose rig leaves it out).
   proto::TransferReceiver* receiver(uint8_t kind) {
-    if (kind == uint8_t(proto::XferKind::Model)) return &model_rx_;
-    if (kind == uint8_t(proto::XferKind::RefTable)) return &table_rx_;
+    if (kind == uint8_t(proto::XferKind::Model) && offers(feature::kModelUpload)) return &model_rx_;
+    if (kind == uint8_t(proto::XferKind::RefTable) && offers(feature::kTableUpload)) return &table_rx_;
     return nullptr;
   }
+  // What XFER answers for a kind without a receiver (PROTOCOL.md 9.4):
+  // unknown_id for a kind the protocol does not have, unsupported for one
+  // this image leaves out.
+  static proto::StatusCode no_receiver(uint8_t kind) {
+    return kind == uint8_t(proto::XferKind::Model) || kind == uint8_t(proto::XferKind::RefTable)
+               ? proto::StatusCode::Unsupported
+               : proto::StatusCode::UnknownId;
+  }
+
+  // The image has the service and its rig asks for it.
+  bool offers(uint32_t f) const { return (Features & f) != 0 && (rig_.features & f) != 0; }
 
   // ----------------------------------------------------------- replies
   template <class M>
@@ -598,8 +633,8 @@ class Firmware {
 
   proto::InfoEx info() const {
     proto::InfoEx x;
-    x.table_max = uint32_t(table_rx_.capacity());
-    x.model_max = uint32_t(model_rx_.capacity());
+    x.table_max = offers(feature::kTableUpload) ? uint32_t(table_rx_.capacity()) : 0;
+    x.model_max = offers(feature::kModelUpload) ? uint32_t(model_rx_.capacity()) : 0;
     proto::Info& i = x.info;
     i.platform = uint8_t(rig_.platform);
     i.m = rig_.m, i.n = rig_.n, i.w = rig_.w, i.nd = rig_.nd, i.dd = rig_.dd;
@@ -610,9 +645,12 @@ class Firmware {
     i.model_hash = model_.hash();
     i.param_hash = param_hash_;
     namespace c = proto::capability;
-    i.capabilities = c::kParams | c::kRefBuiltin | c::kXferRefTable | c::kXferModel | c::kTelemetry | c::kRunHold |
-                     c::kLog | c::kRig | c::kIdent | c::kIdentMixed | c::kDevices | (id_.has_y_true ? c::kYTrue : 0) |
-                     (settings_attached() ? c::kSettings : 0);
+    i.capabilities = c::kParams | c::kRefBuiltin | c::kTelemetry | c::kRunHold | c::kLog | c::kRig | c::kDevices |
+                     (id_.has_y_true ? c::kYTrue : 0);
+    // The services it may leave out (PROTOCOL.md 9.12); saved settings only
+    // with a store that answers.
+    for (const FirmwareFeature& f : kFirmwareFeatures)
+      if (f.bit == feature::kSettings ? settings_attached() : offers(f.bit)) i.capabilities |= f.capabilities;
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }

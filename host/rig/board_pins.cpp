@@ -26,6 +26,8 @@ BoardPins stm32f4() {
   for (const auto& p : f4::kChipSelect) b.chip_selects.push_back(pin_name(p));
   // I2C1 in fast mode; SPI at the prescaler's fastest, APB2 / 2 (SPI1) and APB1 / 2 (SPI2) at 84 MHz.
   for (BoardBus& bus : b.buses) bus.max_clock_hz = bus.kind == BusKind::I2c ? 400000u : 21000000u;
+  b.firmware_features = kAllFirmwareFeatures;
+  b.settings_flash = "flash sectors 1 and 2";  // firmware/ports/stm32f4/flash.hpp
   return b;
 }
 
@@ -50,6 +52,13 @@ const std::vector<BoardPins>& boards() {
 }
 
 }  // namespace
+
+std::string board_lacks(const BoardPins& board, const FirmwareFeature& f) {
+  if (board.firmware_features & f.bit) return "";
+  if (f.bit == feature::kSettings)
+    return "board " + board.board + " has nowhere to keep saved settings (no settings flash: its port keeps none)";
+  return "board " + board.board + "'s port cannot carry " + f.what;
+}
 
 const BoardPins* find_board(const std::string& name) {
   for (const BoardPins& b : boards())

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "shared/firmware_features.hpp"
 #include "shared/rig_devices.hpp"
 
 namespace nlsoft::console {
@@ -30,7 +31,14 @@ struct BoardPins {
   std::vector<std::string> adc_pins;  // the pin of each of those channels ("PA6"), same order
   std::vector<BoardBus> buses;
   std::vector<std::string> chip_selects;  // GPIO chip selects of SPI chips, in the order SpiTarget::cs counts them
+  // The services of shared/firmware_features.hpp the board's port can carry
+  // (the port's NLSOFT_BOARD_SETTINGS says the same for its build).
+  uint32_t firmware_features = kAllFirmwareFeatures & ~feature::kSettings;
+  std::string settings_flash;  // where the port keeps saved settings; empty: nowhere
 };
+
+// The board's port cannot carry `f`: why, for a rig file's error; empty when it can.
+std::string board_lacks(const BoardPins& board, const FirmwareFeature& f);
 
 // nullptr for a board without a pin table.
 const BoardPins* find_board(const std::string& name);

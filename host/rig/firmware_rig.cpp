@@ -26,6 +26,7 @@ RigConfig firmware_rig(const Rig& rig) {
   c.mode = k.mode;
   c.feedback = k.feedback;
   c.reference = rig_reference(rig, rig.reference.kind);
+  c.features = rig.firmware_features;
   return c;
 }
 

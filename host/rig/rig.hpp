@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "shared/excitation.hpp"
+#include "shared/firmware_features.hpp"
 #include "shared/params.hpp"
 #include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
@@ -192,6 +193,11 @@ struct Rig {
   RigPlant plant;
   RigReference reference;
   RigIdent ident;
+  // [firmware]: the services an image of this rig carries beyond the
+  // minimum (shared/firmware_features.hpp). Without the table, all the
+  // board can carry.
+  uint32_t firmware_features = kAllFirmwareFeatures;
+  int firmware_line = 0;  // of `features`; 0 when the file does not list them
 
   int m() const { return int(inputs.size()); }
   int n() const { return int(outputs.size()); }

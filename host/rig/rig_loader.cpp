@@ -987,6 +987,45 @@ void read_ident(const std::string& file, const Section& root, const toml::table&
   }
 }
 
+// [firmware] features = ["ident", ...]: each a name of shared/firmware_features.hpp,
+// once, and one the rig's board can carry.
+void read_firmware(const std::string& file, const Section& root, const toml::table& t, Rig& rig,
+                   const BoardPins* board) {
+  const toml::table* ft = sub_table(root, t, "firmware");
+  if (!ft) return;
+  const Section s(file, *ft, "[firmware]", line_of(*ft), {"features"});
+  if (!s.has("features")) return;
+  std::vector<std::string> known;
+  for (const FirmwareFeature& f : kFirmwareFeatures) known.push_back(std::string("\"") + f.name + "\"");
+  const toml::node& n = s.node("features");
+  if (!n.is_array())
+    s.fail(line_of(n), "features",
+           std::string("expected a list of services, e.g. [\"ident\", \"settings\"] (or [] for the minimum), got ") +
+               type_name(n));
+  uint32_t features = 0;
+  const toml::array& a = *n.as_array();
+  for (size_t i = 0; i < a.size(); ++i) {
+    const std::string at = "features[" + std::to_string(i) + "]";
+    if (!a[i].is_string()) s.fail(line_of(a[i]), at, std::string("expected a service's name, got ") + type_name(a[i]));
+    const std::string name = a[i].as_string()->get();
+    const FirmwareFeature* found = nullptr;
+    for (const FirmwareFeature& f : kFirmwareFeatures)
+      if (name == f.name) found = &f;
+    if (!found)
+      s.fail(line_of(a[i]), at,
+             "'" + printable_excerpt(name, 40) + "' is not a service an image can leave out (known: " + join(known) +
+                 "; the link, parameters, runs on the compiled-in references and telemetry are always there)");
+    if (features & found->bit) s.fail(line_of(a[i]), at, "'" + name + "' is listed twice");
+    if (board) {
+      if (const std::string why = board_lacks(*board, *found); !why.empty())
+        s.fail(line_of(a[i]), at, "'" + name + "': " + why + "; leave it out");
+    }
+    features |= found->bit;
+  }
+  rig.firmware_features = features;
+  rig.firmware_line = s.line("features");
+}
+
 }  // namespace
 
 const char* output_source_name(OutputSource s) {
@@ -1006,7 +1045,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   }
   const Section root(file, t, "", 1,
                      {"name", "description", "info_platform", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "device", "controller",
-                      "model", "plant", "reference", "ident"});
+                      "model", "plant", "reference", "ident", "firmware"});
   Rig rig;
   rig.file = file;
   rig.hash = rig_file_hash(text);
@@ -1079,6 +1118,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
                   " s, not " + num(rig.rate_hz));
   read_reference(file, root, t, rig);
   read_ident(file, root, t, rig);
+  read_firmware(file, root, t, rig, pins.board);
   return rig;
 }
 

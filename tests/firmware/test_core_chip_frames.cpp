@@ -61,7 +61,7 @@ class SlowUartHal final : public fw::Hal {
 
 // The Cortex-M ports' queue (firmware/ports/cortex-m/platform_config.hpp).
 constexpr size_t kBoardTxQueue = 512;
-using BoardFw = fw::Firmware<HaselCapacity, kBoardTxQueue, true>;
+using BoardFw = fw::Firmware<HaselCapacity, kBoardTxQueue, fw::kDefaultFeatures | feature::kChips>;
 
 class HaselBoard : public ::testing::Test {
  protected:

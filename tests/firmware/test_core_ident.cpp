@@ -62,7 +62,7 @@ class MemoryHal final : public fw::Hal {
   uint32_t t_ = 0;
 };
 
-using Fw = fw::Firmware<HaselCapacity, 1024, true>;  // with a sampler: a test attaches fake chips
+using Fw = fw::Firmware<HaselCapacity, 1024, fw::kDefaultFeatures | feature::kChips>;  // with a sampler: a test attaches fake chips
 
 class IdentRun : public ::testing::Test {
  protected:

@@ -25,7 +25,7 @@ namespace proto = nlsoft::protocol;
 namespace {
 
 using Cap = HostCapacity;
-using Fw = fw::Firmware<Cap, 1024, false, true>;  // built with settings
+using Fw = fw::Firmware<Cap, 1024, fw::kDefaultFeatures | feature::kSettings>;  // built with settings
 
 using test::MemoryHal;
 

@@ -43,17 +43,25 @@ constexpr bool kChips = kRigDeviceCount > 0;
 #endif
 
 // A port whose part keeps settings in its flash (stm32f4) builds with
-// NLSOFT_BOARD_SETTINGS=1; the others without the service's code.
+// NLSOFT_BOARD_SETTINGS=1. The image carries the services its rig file
+// asks for ([firmware] features) that the board can have, and the chips'
+// sampler when it reads chips; nothing else is compiled in.
 #ifndef NLSOFT_BOARD_SETTINGS
 #define NLSOFT_BOARD_SETTINGS 0
 #endif
-constexpr bool kSettings = NLSOFT_BOARD_SETTINGS;
+constexpr uint32_t kBoardFeatures = fw::kDefaultFeatures | (NLSOFT_BOARD_SETTINGS ? feature::kSettings : 0u);
+constexpr uint32_t kFeatures = (kRig.features & kBoardFeatures) | (kChips ? feature::kChips : 0u);
+constexpr bool kSettings = (kFeatures & feature::kSettings) != 0;
 
-using Fw = fw::Firmware<Cap, kTxCapacity, kChips, kSettings>;
+using Fw = fw::Firmware<Cap, kTxCapacity, kFeatures>;
 
-alignas(4) uint8_t g_model_staging[kModelFileMax];
-uint8_t g_table_staging[kTableFileMax];
-float g_table_points[kTableFloats];
+// Staging for what the image receives; a word where it receives nothing.
+constexpr size_t kModelStaging = kFeatures & feature::kModelUpload ? kModelFileMax : 4;
+constexpr size_t kTableStaging = kFeatures & feature::kTableUpload ? kTableFileMax : 4;
+constexpr uint32_t kTablePointFloats = kFeatures & feature::kTableUpload ? kTableFloats : 1;
+alignas(4) uint8_t g_model_staging[kModelStaging];
+uint8_t g_table_staging[kTableStaging];
+float g_table_points[kTablePointFloats];
 
 // has_y_true: the simulated plant's output on a HIL image, the rig's ADC
 // outputs on a board whose rig file wires every output.
@@ -61,7 +69,7 @@ Fw g_fw(g_hal,
         fw::Identity{&kRig, NLSOFT_FIRMWARE_NAME, kVersionMajor, kVersionMinor, kVersionPatch, kRateHz,
                      PortHal::kMeasuresOutput},
         fw::Buffers{g_model_staging, sizeof g_model_staging, g_table_staging,
-                    sizeof g_table_staging, g_table_points, kTableFloats});
+                    sizeof g_table_staging, g_table_points, kTablePointFloats});
 
 // A template so that, without chips, the call is never compiled against a
 // HAL that has no sampler (a discarded branch outside a template still is).

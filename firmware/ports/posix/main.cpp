@@ -36,7 +36,7 @@ namespace {
 
 using namespace nlsoft;
 using Cap = HostCapacity;
-using Fw = fw::Firmware<Cap, 16384, false, true>;  // no sensor chips; a settings store (--settings)
+using Fw = fw::Firmware<Cap, 16384, fw::kDefaultFeatures | feature::kSettings>;  // no sensor chips; a settings store (--settings)
 
 volatile sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }

@@ -460,6 +460,31 @@ TEST(ImageHeader, ImageKindsAreFourWordsAndNoOther) {
   }
 }
 
+// [firmware] features travel in the RigConfig; a service the rig file asks
+// for that the board's port cannot carry is refused at the list's line.
+TEST(ImageHeader, FirmwareFeaturesAreWrittenAndABoardThatLacksOneRefusesIt) {
+  EXPECT_TRUE(contains(source_of(kRig, "stm32f4").header,
+                       "c.features = 0xfu;  // [firmware] features: ident, model-upload, table-upload, settings"));
+  const std::string none = std::string(kRig) + "\n[firmware]\nfeatures = []\n";
+  EXPECT_TRUE(contains(source_of(none, "mps2-an386").header,
+                       "c.features = 0x0u;  // [firmware] features: none beyond the minimum"));
+  // The rig's own board (stm32f4) keeps settings; mps2-an386 has nowhere to.
+  const std::string with = std::string(kRig) + "\n[firmware]\nfeatures = [\"settings\"]\n";
+  EXPECT_NO_THROW(source_of(with, "stm32f4"));
+  try {
+    source_of(with, "mps2-an386");
+    ADD_FAILURE() << "mps2-an386 took settings";
+  } catch (const RigError& e) {
+    EXPECT_EQ(e.line, line_of(with, "features"));
+    EXPECT_TRUE(contains(e.what(), "[firmware] features: 'settings': board mps2-an386 has nowhere to keep saved "
+                                   "settings (no settings flash: its port keeps none); leave it out, or build for a "
+                                   "board that has it"))
+        << e.what();
+  }
+  // Without the list, every board builds what it can carry.
+  EXPECT_NO_THROW(source_of(kRig, "mps2-an386"));
+}
+
 TEST(ImageHeader, AHeaderWithoutABoardRefusesDevices) {
   const std::string t = with_devices();
   ImageRequest q;

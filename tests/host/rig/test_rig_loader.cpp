@@ -288,7 +288,7 @@ TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
   const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
   expect_error(tab, line_of(tab, "[plnt]"), "plnt",
                "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, device, controller, "
-               "model, plant, reference, ident)");
+               "model, plant, reference, ident, firmware)");
   const std::string c = edit("eps = 0.01", "eps = 0.01\nlambda = [1.0, 1.0]");
   expect_error(c, line_of(c, "lambda ="), "[controller] lambda", "unknown key (known: Q, Lambda, s, b, r, N, N1, Nc, eps,");
 }
@@ -607,6 +607,73 @@ TEST(RigLoader, GenericKeysBelongToTheGenericKindAndItsRate) {
   const Rig r = parse_rig(big, "big.toml");
   EXPECT_EQ(generic_spec_problem(generic_plant_spec(r)), nullptr);
   EXPECT_EQ(generic_plant_spec(r).w, 32);
+}
+
+// [firmware] features: names of shared/firmware_features.hpp, each once,
+// each one the rig's board can carry; the firmware's RigConfig carries them.
+TEST(RigLoader, FirmwareFeaturesAreNamedServicesTheBoardCanCarry) {
+  const Rig all = parse_rig(kBase, "probe.toml");
+  EXPECT_EQ(all.firmware_features, kAllFirmwareFeatures);
+  EXPECT_EQ(all.firmware_line, 0);
+  EXPECT_EQ(firmware_rig(all).features, kAllFirmwareFeatures);
+
+  const std::string some = std::string(kBase) + "\n[firmware]\nfeatures = [\"settings\", \"ident\"]\n";
+  const Rig r = parse_rig(some, "probe.toml");
+  EXPECT_EQ(r.firmware_features, feature::kSettings | feature::kIdent);
+  EXPECT_EQ(r.firmware_line, line_of(some, "features"));
+  EXPECT_EQ(firmware_rig(r).features, feature::kSettings | feature::kIdent);
+  const std::string none = std::string(kBase) + "\n[firmware]\nfeatures = []\n";
+  EXPECT_EQ(parse_rig(none, "probe.toml").firmware_features, 0u);
+
+  std::string t = std::string(kBase) + "\n[firmware]\nfeatures = [\"ident\", \"telemetry\"]\n";
+  expect_error(t, line_of(t, "features"), "[firmware] features[1]",
+               "'telemetry' is not a service an image can leave out (known: \"ident\", \"model-upload\", "
+               "\"table-upload\", \"settings\"; the link, parameters, runs on the compiled-in references and "
+               "telemetry are always there)");
+  t = std::string(kBase) + "\n[firmware]\nfeatures = [\"ident\", \"ident\"]\n";
+  expect_error(t, line_of(t, "features"), "[firmware] features[1]", "'ident' is listed twice");
+  t = std::string(kBase) + "\n[firmware]\nfeatures = \"ident\"\n";
+  expect_error(t, line_of(t, "features"), "[firmware] features", "expected a list of services");
+  t = std::string(kBase) + "\n[firmware]\nfeatures = [1]\n";
+  expect_error(t, line_of(t, "features"), "[firmware] features[0]", "expected a service's name, got an integer");
+  t = std::string(kBase) + "\n[firmware]\nfeature = []\n";
+  expect_error(t, line_of(t, "feature = "), "[firmware] feature", "unknown key (known: features)");
+}
+
+TEST(RigLoader, SettingsOnABoardWithoutASettingsFlashAreRefusedAtTheirLine) {
+  // mps2-an386's memory is RAM: its port keeps no settings.
+  std::string chips_only = R"(name = "shield"
+rate_hz = 100.0
+nd = 1
+dd = 1
+board = "mps2-an386"
+
+[[input]]
+name = "u"
+min = 0.0
+max = 1.0
+neutral = 0.5
+
+[[output]]
+name = "y"
+min = -1.0
+max = 1.0
+
+[controller]
+Q = [1.0]
+Lambda = [1.0]
+s = 1e-20
+b = 1e-5
+r = 400.0
+N = 3
+Nc = 1
+eps = 0.01
+
+[firmware]
+features = ["ident", "settings"]
+)";
+  expect_error(chips_only, line_of(chips_only, "features"), "[firmware] features[1]",
+               "'settings': board mps2-an386 has nowhere to keep saved settings");
 }
 
 }  // namespace

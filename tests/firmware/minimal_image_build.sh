@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# An image with only what its rig uses (the build part; minimal_image_qemu.sh
+# boots it): msd's and hasel's shipped rig files with `[firmware] features
+# = []` build images without identification runs, transfers or saved
+# settings, whose code is not linked at all (none of those services'
+# symbols in the ELF; the build's no-heap check passes on them) and which
+# are smaller than the shipped images of the same rig. A file that asks a
+# board for a service it cannot carry is refused at the list's line.
+# Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
+#   minimal_image_build.sh CONSOLE ROOT STAGE_FOLDER SHIPPED_STM32F4_FOLDER
+set -u
+console=$1 root=$2
+stage=$3 part=build
+shipped=$4
+. "$(dirname "$0")/rig_image_test_prelude.sh"
+
+minimal() {  # minimal RIG: RIG-min.toml, the shipped file renamed with no service beyond the minimum
+  sed "s/^name = \"$1\"/name = \"$1-min\"/" "$root/rigs/$1.toml" >"$1-min.toml"
+  printf '\n[firmware]\nfeatures = []\n' >>"$1-min.toml"
+}
+minimal msd
+minimal hasel
+flash_of() { sed -n 's/.*flash \([0-9]*\) bytes.*/\1/p' "$1" | head -1; }
+
+for board in mps2-an386 stm32f4; do
+  "$console" firmware build --rig msd-min.toml --board $board >build-msd-$board.txt 2>&1 ||
+    say "firmware build --rig msd-min.toml --board $board: $(tail -5 build-msd-$board.txt)"
+done
+"$console" firmware build --rig hasel-min.toml --board stm32f4 >build-hasel.txt 2>&1 ||
+  say "firmware build --rig hasel-min.toml --board stm32f4: $(tail -5 build-hasel.txt)"
+cat build-hasel.txt
+
+# Left out means not linked: no symbol of the services the file leaves out.
+for elf in $(awk '$2 ~ /\.elf$/ {print $2}' build-msd-*.txt build-hasel.txt); do
+  syms=$(arm-none-eabi-nm -C "$elf" | grep -E 'IdentRun|Excitation::advance|SettingsService|SettingsStore|send_ident_sample|TransferReceiver::chunk' | head -3)
+  [ -z "$syms" ] || say "$elf links a service its rig file leaves out: $syms"
+done
+# Smaller than the shipped hasel board image (every service).
+board_elf=$(grep -- "/nlsoft-stm32f4-hasel-min.elf\$" build-hasel.txt | awk '{print $2}')
+if [ -f "$board_elf" ] && [ -f "$shipped/nlsoft-stm32f4-hasel.elf" ]; then
+  min=$(arm-none-eabi-size "$board_elf" | awk 'NR == 2 {print $1 + $2}')
+  full=$(arm-none-eabi-size "$shipped/nlsoft-stm32f4-hasel.elf" | awk 'NR == 2 {print $1 + $2}')
+  echo "hasel on stm32f4: flash $min bytes with no service beyond the minimum, $full with every one"
+  [ "$min" -lt "$full" ] || say "the minimal hasel image ($min bytes) is not smaller than the full one ($full)"
+else
+  say "no hasel board image to compare: $(cat build-hasel.txt)"
+fi
+
+# A service the board cannot carry: refused at its line, nothing built.
+cp msd-min.toml msd-settings.toml
+sed -i 's/^features = \[\]$/features = ["settings"]/' msd-settings.toml
+line=$(grep -n '^features' msd-settings.toml | cut -d: -f1)
+if "$console" firmware build --rig msd-settings.toml --board mps2-an386 --out refused >refused.txt 2>&1; then
+  say "mps2-an386 built an image with saved settings"
+fi
+grep -q "msd-settings.toml:$line: \[firmware\] features: 'settings': board mps2-an386 has nowhere to keep saved settings" refused.txt ||
+  say "the refusal does not name the line: $(cat refused.txt)"
+[ ! -e refused ] || say "a refused build left refused/"
+built
