@@ -3,6 +3,7 @@
 // (Algorithm 1), solve for U by Newton-Raphson, apply u(k) = U_0, predict
 // y_hat(k+1) for the next step's y-queue. All state is inside the object; its
 // size is fixed by the capacity, nothing is allocated.
+#include "shared/hot_path.hpp"
 #include "shared/horizon.hpp"
 #include "shared/input_vector.hpp"
 #include "shared/newton.hpp"
@@ -14,8 +15,7 @@
 
 // The step is hot code too (see rollout.hpp): at -Os its per-value
 // helpers (finite, the queue rolls) stay calls, ~600 instructions a step.
-#pragma GCC push_options
-#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
+NLSOFT_HOT_BEGIN
 
 namespace nlsoft {
 
@@ -182,4 +182,4 @@ class Controller {
 
 }  // namespace nlsoft
 
-#pragma GCC pop_options
+NLSOFT_HOT_END

@@ -18,6 +18,7 @@
 // it meets it; measured with it on the shipped models, tracking was the same
 // (Swirl nRMSE 3.32 % with, 3.33 % without). Both derivative modes build this
 // same system and differ only in how G is obtained.
+#include "shared/hot_path.hpp"
 #include "shared/capacity.hpp"
 #include "shared/params.hpp"
 
@@ -25,8 +26,7 @@
 // for size (-Os): measured on the Cortex-M4F, -Os here costs 2.3x the
 // instructions per step (the accessors and the unrolled tangent loops are
 // not inlined), while the rest of an image gains nothing from -O2.
-#pragma GCC push_options
-#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
+NLSOFT_HOT_BEGIN
 
 namespace nlsoft {
 
@@ -85,9 +85,9 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
     // they are zero (G's columns there are), see newton.hpp.
     constexpr int kT = K * (K + 1) / 2;
     float J = 0.0f, g[K], h[kT];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < K; ++a) g[a] = 0.0f;
-#pragma GCC unroll 64
+NLSOFT_UNROLL(64)
     for (int i = 0; i < kT; ++i) h[i] = 0.0f;
     // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
     for (int t = P.N1 - 1; t < P.N; ++t)
@@ -98,17 +98,17 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
         J += q * e * e;
         const float* __restrict Gr = G + row * K;
         int idx = 0;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int a = 0; a < K; ++a) {
           const float qga = 2.0f * q * Gr[a];
           g[a] -= qga * e;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
           for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
         }
       }
     // smoothness (du_j = U_j - U_{j-1}) and the barrier, unknown by unknown;
     // unrolled, so h's diagonal is indexed by constants and h stays in registers
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < K; ++a) {
       if (a >= k) break;
       const int i = Cap::Nc == 1 ? a : a % m, j = Cap::Nc == 1 ? 0 : a / m;
@@ -128,10 +128,10 @@ void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const 
     }
     S.J = J;
     int idx = 0;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < K; ++a) {
       S.g[a] = g[a];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
       for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
     }
     return;
@@ -210,4 +210,4 @@ float cost_value(const Params<Cap>& P, int m, int n, const float* y_ref, const f
 
 }  // namespace nlsoft
 
-#pragma GCC pop_options
+NLSOFT_HOT_END

@@ -11,12 +11,12 @@
 // or the generic one where the capacity keeps it.
 #include <utility>
 
+#include "shared/hot_path.hpp"
 #include "shared/rollout.hpp"
 
 // See rollout.hpp: the step's hot code is compiled for speed even in images
 // built for size.
-#pragma GCC push_options
-#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
+NLSOFT_HOT_BEGIN
 
 namespace nlsoft {
 
@@ -50,21 +50,21 @@ namespace detail {
 template <int Count>
 __attribute__((always_inline)) inline void activate_fixed(Activation act, float* z, float* df) {
   if (act == Activation::Relu) {
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
     for (int j = 0; j < Count; ++j) {
       const bool on = z[j] > 0.0f;
       df[j] = on ? 1.0f : 0.0f;
       z[j] = on ? z[j] : 0.0f;
     }
   } else if (act == Activation::Tanh) {
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
     for (int j = 0; j < Count; ++j) {
       const float t = fast_tanh(z[j]);
       df[j] = 1.0f - t * t;
       z[j] = t;
     }
   } else if (act == Activation::Linear) {
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
     for (int j = 0; j < Count; ++j) df[j] = 1.0f;
   } else {
     activate_slopes(act, z, df, Count);
@@ -77,17 +77,17 @@ template <int In, int Out>
 inline void dense_values(Activation act, const float* W, const float* x, float* y, float* df) {
   const float* bias = W + In * Out;
   float z[Out];
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
   for (int j = 0; j < Out; ++j) z[j] = bias[j];
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
   for (int i = 0; i < In; ++i) {
     const float xi = x[i];
     const float* w = W + i * Out;
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
     for (int j = 0; j < Out; ++j) z[j] += xi * w[j];
   }
   activate_fixed<Out>(act, z, df);
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
   for (int j = 0; j < Out; ++j) y[j] = z[j];
 }
 
@@ -141,27 +141,27 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     const float* sc = Mo.in_scale();
     const float* off = Mo.in_offset();
     float z[kC0];
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
     for (int q = 0; q < kC0; ++q) z[q] = bias[q];
     // every loop here has a constant trip count: unrolled, the entries' indices are constants
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
     for (int i = S::queue; i < S::p; ++i) add_entry(z, W0, (x0[i] - off[i]) * sc[i], i);
     for (int q = 0; q < kC0; ++q) pre[ND * kC0 + q] = z[q];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
     for (int j = 0; j < ND; ++j) {
       float r[kC0];
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) r[q] = z[q];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int t = j + 1; t < ND; ++t)  // u-slot t holds u(k+j-t), from x0
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int i = 0; i < M; ++i) {
           const int e = t * M + i, xi = (t - j - 1) * M + i;
           add_entry(r, W0, (x0[xi] - off[e]) * sc[e], e);
         }
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int t = j; t < ND; ++t)  // y-slot t holds y(k+j-t), from x0
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int i = 0; i < N; ++i) {
           const int e = ND * M + t * N + i, xi = ND * M + (t - j) * N + i;
           add_entry(r, W0, (x0[xi] - off[e]) * sc[e], e);
@@ -174,7 +174,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   // z += x W1[e]
   __attribute__((always_inline)) static inline void add_entry(float* z, const float* W0, float x, int e) {
     const float* w = W0 + e * kC0;
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
     for (int q = 0; q < kC0; ++q) z[q] += x * w[q];
   }
 
@@ -223,20 +223,20 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     float A[kTangents ? ND : 1][kTangents ? kC0 : 1][K];
     {
       float z[kC0];
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) z[q] = 0.0f;
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int t = 0; t < ND; ++t) {
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int i = 0; i < M; ++i) add_entry(z, W0, (U[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
         for (int q = 0; q < kC0; ++q) cu[t][q] = z[q];
         if constexpr (kTangents) {  // every index a constant, W1's rows read in order
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
           for (int i = 0; i < K; ++i) {  // K = Cap::m >= M: columns past M are zero
             const float si = i < M ? sc[t * M + i] : 0.0f;
             const float* w = W0 + (t * M + (i < M ? i : 0)) * kC0;
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
             for (int q = 0; q < kC0; ++q) A[t][q][i] = (t > 0 ? A[t - 1][q][i] : 0.0f) + si * w[q];
           }
         }
@@ -269,11 +269,11 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     const float* W0 = Mo.weights(Mo.layer[0]);
     float cu[ND][Cap::width];
     float d[kC0];
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
     for (int q = 0; q < kC0; ++q) d[q] = 0.0f;
     for (int t = 0; t < ND; ++t) {
       add_entry(d, W0, delta * sc[t * M + a], t * M + a);
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) cu[t][q] = held_sums(s)[t][q] + d[q];
     }
     const float A[1][1][K] = {};
@@ -296,17 +296,17 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       const int full = j < ND ? j : ND - 1;  // u-slots 0..full hold U
       const float* prow = c.pre + (j < ND ? j : ND) * kC0;
       float z[kC0];
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) z[q] = prow[q] + cu[full][q];
       for (int t = 0; t < preds; ++t) {  // y-slot t holds y_hat(k+j-t)
         const float* y = Y + (j - t - 1) * N;
         const int e0 = kU + t * N;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int i = 0; i < N; ++i) add_entry(z, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
       }
       float slope[S::layers][Cap::width];
       float* v = s.v[0];
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) v[q] = z[q];
       detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
       const float(*T1)[K] = s.T[0];
@@ -316,12 +316,12 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
           // a unit that is off (ReLU) passes no tangent: jacobian_rows skips it
           if (slope[0][q] == 0.0f) continue;
           float acc[K];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
           for (int a = 0; a < K; ++a) acc[a] = A[full][q][a];
           for (int t = 0; t < preds; ++t) {  // a prediction enters with its row of G
             const int e0 = kU + t * N;
             const float* g = G + (j - t - 1) * N * K;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
             for (int i = 0; i < N; ++i)
               detail::tangent_axpy<K>(acc, sc[e0 + i] * W0[(e0 + i) * kC0 + q], g + i * K);
           }
@@ -330,7 +330,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       }
       int cur = 0;
       if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
       for (int i = 0; i < N; ++i) {
         const int r = j * N + i;
         const float prev = j > 0 ? Y[r - N] : x0[kU + i];
@@ -366,22 +366,22 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       float* z = s.v[0];
       float zr[kC0];
       const float* prow = c.pre + (j < ND ? j : ND) * kC0;
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) zr[q] = prow[q];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int t = 0; t < slots; ++t) {  // u-slot t holds U's row j - t
         const float* u = U + (j - t < Nc ? j - t : Nc - 1) * M;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int i = 0; i < M; ++i) add_entry(zr, W0, (u[i] - off[t * M + i]) * sc[t * M + i], t * M + i);
       }
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int t = 0; t < preds; ++t) {  // y-slot t holds y_hat(k+j-t)
         const float* y = Y + (j - t - 1) * N;
         const int e0 = kU + t * N;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
         for (int i = 0; i < N; ++i) add_entry(zr, W0, (y[i] - off[e0 + i]) * sc[e0 + i], e0 + i);
       }
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) z[q] = zr[q];
 
       if constexpr (kTangents) {
@@ -389,24 +389,24 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
           float acc[K];
           detail::tangent_zero<K>(acc);
           // a prediction enters with its row of G: dz += sc_e W1[e][q] dy
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
           for (int t = 0; t < preds; ++t) {
             const int e0 = kU + t * N;
             const float* g = G + (j - t - 1) * N * K;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
             for (int i = 0; i < N; ++i)
               detail::tangent_axpy<K>(acc, sc[e0 + i] * W0[(e0 + i) * kC0 + q], g + i * K);
           }
           // U itself enters through its weight, into the columns of its row
           // of U; the row is picked among the capacity's Nc blocks so every
           // index is a constant and acc stays in registers.
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
           for (int t = 0; t < slots; ++t) {
             const int row = j - t < Nc ? j - t : Nc - 1;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
             for (int rr = 0; rr < Cap::Nc; ++rr) {
               if (rr != row) continue;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
               for (int i = 0; i < M; ++i)
                 if (rr * M + i < K) acc[rr * M + i] += sc[t * M + i] * W0[(t * M + i) * kC0 + q];
             }
@@ -430,7 +430,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);
 
       // ---- output: y = y_net out_scale + out_offset (+ y(k+j) if residual) ----
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
       for (int i = 0; i < N; ++i) {
         const int r = j * N + i;
         const float prev = j > 0 ? Y[r - N] : x0[kU + i];
@@ -453,26 +453,26 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       // R's N x out entries stay in registers; each weight is read once for
       // all N rows, and an input that is off (ReLU, slope 0) is not summed.
       float Rr[N][out];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int r = 0; r < N; ++r)
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
         for (int c = 0; c < out; ++c) Rr[r][c] = R[r * Cap::width + c];
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
       for (int i = 0; i < in; ++i) {
         const float f = scale ? slope[l - 1][i] : 1.0f;
         float acc[N];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
         for (int r = 0; r < N; ++r) acc[r] = 0.0f;
         if (f != 0.0f) {
           const float* w = Wl + i * out;
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
           for (int c = 0; c < out; ++c) {
             const float wc = w[c];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
             for (int r = 0; r < N; ++r) acc[r] += Rr[r][c] * wc;
           }
         }
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
         for (int r = 0; r < N; ++r) R2[r * Cap::width + i] = acc[r] * f;
       }
       return sweep<l - 1>(Mo, slope, R2, R);
@@ -500,10 +500,10 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
       constexpr int in = units[kL - 2];
       constexpr bool scale = !(kL == 2 && First::gru);
       const float* Wl = Mo.weights(Mo.layer[kL - 1]);
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int r = 0; r < N; ++r) {
         const float d = os[r] * slope[kL - 1][r];
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
         for (int i = 0; i < in; ++i)
           Ra[r * Cap::width + i] = d * Wl[i * N + r] * (scale ? slope[kL - 2][i] : 1.0f);
       }
@@ -513,15 +513,15 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     // all N rows. A Dense unit that is off has R's column zero and a
     // tangent that may not have been computed (the one-row kernel skips it).
     float acc[N][K];
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
     for (int r = 0; r < N; ++r) detail::tangent_zero<K>(acc[r]);
-#pragma GCC unroll 16
+NLSOFT_UNROLL(16)
     for (int q = 0; q < units[0]; ++q) {
       if (!First::gru && slope[0][q] == 0.0f) continue;
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
       for (int r = 0; r < N; ++r) detail::tangent_axpy<K>(acc[r], R[r * Cap::width + q], T1[q]);
     }
-#pragma GCC unroll 4
+NLSOFT_UNROLL(4)
     for (int r = 0; r < N; ++r) {
       float* g = G + r * K;
       detail::tangent_scale<K>(g, acc[r], 1.0f);
@@ -572,4 +572,4 @@ Status select_kernels(const Model<Cap>& M, RolloutKernels<Cap>& out) {
 
 }  // namespace nlsoft
 
-#pragma GCC pop_options
+NLSOFT_HOT_END

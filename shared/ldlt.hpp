@@ -6,6 +6,8 @@
 // half the work of pivoted LU and no square roots. Hand-written because
 // Eigen's fixed-size LDLT costs more flash than the whole solver on an MCU;
 // tests hold it against Eigen::LDLT.
+#include "shared/hot_path.hpp"
+
 namespace nlsoft {
 
 // False when a pivot is not above 1e-10 of the largest diagonal entry or
@@ -57,7 +59,7 @@ inline void ldlt_solve(const float* LD, int k, int ld, float* b) {
 template <int K>
 inline bool ldlt_decompose_fixed(float* A) {
   float scale = 0.0f;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int i = 0; i < K; ++i) {
     const float d = A[i * K + i];
     if (!(d - d == 0.0f)) return false;
@@ -65,11 +67,11 @@ inline bool ldlt_decompose_fixed(float* A) {
   }
   if (!(scale > 0.0f)) return false;
   const float tiny = scale * 1e-10f;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int j = 0; j < K; ++j) {
     float v[K];
     float d = A[j * K + j];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int p = 0; p < j; ++p) {
       v[p] = A[j * K + p] * A[p * K + p];
       d -= A[j * K + p] * v[p];
@@ -77,10 +79,10 @@ inline bool ldlt_decompose_fixed(float* A) {
     if (!(d > tiny) || !(d - d == 0.0f)) return false;
     A[j * K + j] = d;
     const float inv = 1.0f / d;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int i = j + 1; i < K; ++i) {
       float s = A[i * K + j];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
       for (int p = 0; p < j; ++p) s -= A[i * K + p] * v[p];
       A[i * K + j] = s * inv;
     }
@@ -90,15 +92,15 @@ inline bool ldlt_decompose_fixed(float* A) {
 
 template <int K>
 inline void ldlt_solve_fixed(const float* LD, float* b) {
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int i = 1; i < K; ++i)
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int p = 0; p < i; ++p) b[i] -= LD[i * K + p] * b[p];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int i = 0; i < K; ++i) b[i] /= LD[i * K + i];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int i = K - 2; i >= 0; --i)
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int p = i + 1; p < K; ++p) b[i] -= LD[p * K + i] * b[p];
 }
 

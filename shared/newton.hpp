@@ -26,6 +26,7 @@
 // happened is reported in the result flags.
 #include <cmath>
 
+#include "shared/hot_path.hpp"
 #include "shared/cost.hpp"
 #include "shared/ldlt.hpp"
 #include "shared/kernels.hpp"
@@ -34,8 +35,7 @@
 // for size (-Os): measured on the Cortex-M4F, -Os here costs 2.3x the
 // instructions per step (the accessors and the unrolled tangent loops are
 // not inlined), while the rest of an image gains nothing from -O2.
-#pragma GCC push_options
-#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
+NLSOFT_HOT_BEGIN
 
 namespace nlsoft {
 
@@ -135,9 +135,9 @@ bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bo
                       SolverScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
   if constexpr (K <= 8) k = K;  // newton_solve pads small systems: constant trip counts
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int a = 0; a < k; ++a)
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int b = 0; b <= a; ++b) s.A[a * K + b] = S.H[a * K + b] + (a == b ? damping : 0.0f);
   if (any_active)  // rows and columns of the held unknowns become the identity's
     for (int a = 0; a < k; ++a)
@@ -148,14 +148,14 @@ bool damped_direction(const NewtonSystem<Cap>& S, int k, float damping, const bo
   } else {
     if (!ldlt_decompose(s.A, k, K)) return false;
   }
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int a = 0; a < k; ++a) s.dU[a] = active[a] ? 0.0f : -S.g[a];
   if constexpr (K <= 8)
     ldlt_solve_fixed<K>(s.A, s.dU);
   else
     ldlt_solve(s.A, k, K, s.dU);
   float probe = 0.0f;  // x * 0 is 0 for finite x, NaN otherwise
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int a = 0; a < k; ++a) probe += s.dU[a] * 0.0f;
   return probe == 0.0f;
 }
@@ -185,12 +185,12 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   // of K, and only the first k go back.
   float* const U_out = U;
   if (kPadded) {
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < K; ++a) s.U_pad[a] = a < k ? U[a] : 0.0f;
     U = s.U_pad;
   }
   float lo[K], hi[K];
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
   for (int a = 0, i = 0; a < kk; ++a, i = i + 1 == m ? 0 : i + 1) {  // i = a % m
     lo[a] = a < k ? P.u_min[i] : -3.0e38f;
     hi[a] = a < k ? P.u_max[i] : 3.0e38f;
@@ -231,7 +231,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     r.iterations = uint8_t(it + 1);
     // J and g all finite: x * 0 is 0 for finite x, NaN otherwise
     float probe = cur->J * 0.0f;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < kk; ++a) probe += cur->g[a] * 0.0f;
     bool ok = probe == 0.0f;
     if (pending) {
@@ -252,7 +252,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     bool active[K];
     bool any_free = false, any_active = false;
     float hmax = 0.0f;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < kk; ++a) {
       active[a] = a >= k || (U[a] <= lo[a] && cur->g[a] > 0.0f) || (U[a] >= hi[a] && cur->g[a] < 0.0f);
       any_free = any_free || !active[a];
@@ -279,7 +279,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
     // Take the step inside the limits; predict J's decrease from the model.
     float step = 0.0f, lin = 0.0f, quad = 0.0f;
     bool clamped = false;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < kk; ++a) {
       s.U_base[a] = U[a];
       const float want = U[a] + s.dU[a];
@@ -288,11 +288,11 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
       s.dU[a] = U[a] - s.U_base[a];
       step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
     }
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < kk; ++a) {  // dU' H dU over H's lower triangle (H is symmetric)
       lin += cur->g[a] * s.dU[a];
       float hd = 0.0f;
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
       for (int b = 0; b < a; ++b) hd += cur->H[a * K + b] * s.dU[b];
       quad += s.dU[a] * (2.0f * hd + cur->H[a * K + a] * s.dU[a]);
     }
@@ -322,7 +322,7 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
   r.cost = cur->J;
   r.y_hat = cur->Y;
   if (kPadded)
-#pragma GCC unroll 8
+NLSOFT_UNROLL(8)
     for (int a = 0; a < K; ++a)
       if (a < k) U_out[a] = U[a];
   return r;
@@ -330,4 +330,4 @@ NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, 
 
 }  // namespace nlsoft
 
-#pragma GCC pop_options
+NLSOFT_HOT_END

@@ -21,6 +21,7 @@
 //  - activations use the fast exp of activation.hpp.
 // GRU layers run as in forward.hpp with a zero initial state (the paper's
 // single-timestep use).
+#include "shared/hot_path.hpp"
 #include "shared/activation.hpp"
 #include "shared/forward.hpp"
 
@@ -28,8 +29,7 @@
 // for size (-Os): measured on the Cortex-M4F, -Os here costs 2.3x the
 // instructions per step (the accessors and the unrolled tangent loops are
 // not inlined), while the rest of an image gains nothing from -O2.
-#pragma GCC push_options
-#pragma GCC optimize("O2", "no-tree-loop-distribute-patterns")
+NLSOFT_HOT_BEGIN
 
 namespace nlsoft {
 
@@ -61,17 +61,17 @@ namespace detail {
 // the accumulators stay in registers (the M4F has 32 single-precision ones).
 template <int K>
 inline void tangent_axpy(float* acc, float w, const float* t) {
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
   for (int a = 0; a < K; ++a) acc[a] += w * t[a];
 }
 template <int K>
 inline void tangent_scale(float* out, const float* acc, float f) {
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
   for (int a = 0; a < K; ++a) out[a] = acc[a] * f;
 }
 template <int K>
 inline void tangent_zero(float* acc) {
-#pragma GCC unroll 32
+NLSOFT_UNROLL(32)
   for (int a = 0; a < K; ++a) acc[a] = 0.0f;
 }
 
@@ -275,4 +275,4 @@ void rollout(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc
 
 }  // namespace nlsoft
 
-#pragma GCC pop_options
+NLSOFT_HOT_END

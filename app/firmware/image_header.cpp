@@ -133,12 +133,16 @@ std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers) {
   o += "// The one network shape the image compiles a kernel for, and the capacity every array is sized from:\n";
   o += "// the rig's dimensions and horizons, the shape's weights and widest layer (shared/capacity.hpp).\n";
   o += "using ImageShape = " + shape + ";\n";
+  if (rig.firmware_size_first)
+    o += "// [firmware] optimize = \"size\": no kernel of its own for the shape, the generic one (less flash,\n"
+         "// more instructions a step), and the image built with NLSOFT_SIZE_FIRST (image.cmake).\n";
   o += "struct ImageCapacity {\n";
   o += fmt::format("  static constexpr int m = {}, n = {}, w = {}, nd = {};\n", rig.m(), rig.n(), rig.w(), rig.nd);
   o += fmt::format("  static constexpr int N = {}, Nc = {};\n", k.N, k.Nc);
   o += fmt::format("  static constexpr int width = ShapeNeeds<ImageShape>::width, layers = {};\n", layers.size());
   o += "  static constexpr int weights = ShapeNeeds<ImageShape>::weights;\n";
-  o += "  using Shapes = ShapeList<ImageShape>;\n  static constexpr bool generic = false;\n};\n";
+  o += rig.firmware_size_first ? "  using Shapes = ShapeList<>;\n  static constexpr bool generic = true;\n};\n"
+                                : "  using Shapes = ShapeList<ImageShape>;\n  static constexpr bool generic = false;\n};\n";
   o += "using Cap = ImageCapacity;\n";
   return o;
 }
@@ -421,8 +425,9 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
   out.cmake = fmt::format(
       "# Generated with nlsoft_rig.hpp beside it; read by firmware/ports/cortex-m/images.cmake.\n"
       "set(NLSOFT_IMAGE_RIG {})\nset(NLSOFT_IMAGE_MODEL {})\nset(NLSOFT_IMAGE_BOARD {})\nset(NLSOFT_IMAGE_HIL {})\n"
-      "set(NLSOFT_IMAGE_NOTE {})\n",
-      cmake_bracket(rig.name), cmake_bracket(model), out.board ? 1 : 0, out.hil ? 1 : 0, cmake_bracket(out.board ? std::string() : out.note));
+      "set(NLSOFT_IMAGE_NOTE {})\nset(NLSOFT_IMAGE_DEFINITIONS {})\n",
+      cmake_bracket(rig.name), cmake_bracket(model), out.board ? 1 : 0, out.hil ? 1 : 0,
+      cmake_bracket(out.board ? std::string() : out.note), rig.firmware_size_first ? "NLSOFT_SIZE_FIRST=1" : "\"\"");
   return out;
 }
 

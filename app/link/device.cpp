@@ -219,7 +219,10 @@ p::Status Device::status() { return session_.call<p::Status>(p::StatusGet{}); }
 
 std::string firmware_lacks(const p::Info& info, uint8_t protocol_minor, uint32_t feature_bit) {
   const FirmwareFeature* f = firmware_feature(feature_bit);
-  if (!f || (info.capabilities & f->capabilities) != 0) return "";
+  // The service's first bit says whether it is there (IDENT; IDENT_MIXED
+  // only refines it).
+  const uint32_t primary = f ? f->capabilities & (0u - f->capabilities) : 0;
+  if (!f || (info.capabilities & primary) != 0) return "";
   return fmt::format("the firmware ({} {}.{}.{}, protocol 1.{}) was built without {}: its rig file's [firmware] "
                      "features leave out \"{}\" (docs/rig-file.md){}",
                      info.firmware, info.fw_major, info.fw_minor, info.fw_patch, protocol_minor, f->what, f->name,

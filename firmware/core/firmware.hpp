@@ -648,9 +648,14 @@ class Firmware {
     i.capabilities = c::kParams | c::kRefBuiltin | c::kTelemetry | c::kRunHold | c::kLog | c::kRig | c::kDevices |
                      (id_.has_y_true ? c::kYTrue : 0);
     // The services it may leave out (PROTOCOL.md 9.12); saved settings only
-    // with a store that answers.
-    for (const FirmwareFeature& f : kFirmwareFeatures)
-      if (f.bit == feature::kSettings ? settings_attached() : offers(f.bit)) i.capabilities |= f.capabilities;
+    // with a store that answers. Their bits taken at compile time: the
+    // table's names stay out of the image.
+    constexpr uint32_t ident = firmware_feature(feature::kIdent)->capabilities,
+                       model = firmware_feature(feature::kModelUpload)->capabilities,
+                       table = firmware_feature(feature::kTableUpload)->capabilities,
+                       saved = firmware_feature(feature::kSettings)->capabilities;
+    i.capabilities |= (offers(feature::kIdent) ? ident : 0) | (offers(feature::kModelUpload) ? model : 0) |
+                      (offers(feature::kTableUpload) ? table : 0) | (settings_attached() ? saved : 0);
     std::strncpy(i.firmware, id_.name, proto::kMaxNameLen);
     return x;
   }

@@ -198,6 +198,9 @@ struct Rig {
   // board can carry.
   uint32_t firmware_features = kAllFirmwareFeatures;
   int firmware_line = 0;  // of `features`; 0 when the file does not list them
+  // [firmware] optimize = "size": the image's controller compiled for flash,
+  // not speed (shared/hot_path.hpp), with the generic network kernel.
+  bool firmware_size_first = false;
 
   int m() const { return int(inputs.size()); }
   int n() const { return int(outputs.size()); }

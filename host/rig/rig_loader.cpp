@@ -993,7 +993,8 @@ void read_firmware(const std::string& file, const Section& root, const toml::tab
                    const BoardPins* board) {
   const toml::table* ft = sub_table(root, t, "firmware");
   if (!ft) return;
-  const Section s(file, *ft, "[firmware]", line_of(*ft), {"features"});
+  const Section s(file, *ft, "[firmware]", line_of(*ft), {"features", "optimize"});
+  if (s.has("optimize")) rig.firmware_size_first = s.choice("optimize", {"speed", "size"}) == "size";
   if (!s.has("features")) return;
   std::vector<std::string> known;
   for (const FirmwareFeature& f : kFirmwareFeatures) known.push_back(std::string("\"") + f.name + "\"");

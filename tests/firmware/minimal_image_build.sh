@@ -4,8 +4,10 @@
 # = []` build images without identification runs, transfers or saved
 # settings, whose code is not linked at all (none of those services'
 # symbols in the ELF; the build's no-heap check passes on them) and which
-# are smaller than the shipped images of the same rig. A file that asks a
-# board for a service it cannot carry is refused at the list's line.
+# are smaller than the shipped images of the same rig; with `optimize =
+# "size"` as well, smaller again (the generic kernel, the controller at -Os).
+# A file that asks a board for a service it cannot carry is refused at the
+# list's line.
 # Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
 #   minimal_image_build.sh CONSOLE ROOT STAGE_FOLDER SHIPPED_STM32F4_FOLDER
 set -u
@@ -20,6 +22,8 @@ minimal() {  # minimal RIG: RIG-min.toml, the shipped file renamed with no servi
 }
 minimal msd
 minimal hasel
+sed 's/^name = "hasel-min"/name = "hasel-small"/' hasel-min.toml >hasel-small.toml
+printf 'optimize = "size"\n' >>hasel-small.toml
 flash_of() { sed -n 's/.*flash \([0-9]*\) bytes.*/\1/p' "$1" | head -1; }
 
 for board in mps2-an386 stm32f4; do
@@ -29,9 +33,12 @@ done
 "$console" firmware build --rig hasel-min.toml --board stm32f4 >build-hasel.txt 2>&1 ||
   say "firmware build --rig hasel-min.toml --board stm32f4: $(tail -5 build-hasel.txt)"
 cat build-hasel.txt
+"$console" firmware build --rig hasel-small.toml --board stm32f4 >build-small.txt 2>&1 ||
+  say "firmware build --rig hasel-small.toml --board stm32f4: $(tail -5 build-small.txt)"
+cat build-small.txt
 
 # Left out means not linked: no symbol of the services the file leaves out.
-for elf in $(awk '$2 ~ /\.elf$/ {print $2}' build-msd-*.txt build-hasel.txt); do
+for elf in $(awk '$2 ~ /\.elf$/ {print $2}' build-msd-*.txt build-hasel.txt build-small.txt); do
   syms=$(arm-none-eabi-nm -C "$elf" | grep -E 'IdentRun|Excitation::advance|SettingsService|SettingsStore|send_ident_sample|TransferReceiver::chunk' | head -3)
   [ -z "$syms" ] || say "$elf links a service its rig file leaves out: $syms"
 done
@@ -42,6 +49,11 @@ if [ -f "$board_elf" ] && [ -f "$shipped/nlsoft-stm32f4-hasel.elf" ]; then
   full=$(arm-none-eabi-size "$shipped/nlsoft-stm32f4-hasel.elf" | awk 'NR == 2 {print $1 + $2}')
   echo "hasel on stm32f4: flash $min bytes with no service beyond the minimum, $full with every one"
   [ "$min" -lt "$full" ] || say "the minimal hasel image ($min bytes) is not smaller than the full one ($full)"
+  small_elf=$(grep -- "/nlsoft-stm32f4-hasel-small.elf\$" build-small.txt | awk '{print $2}')
+  small=$(arm-none-eabi-size "$small_elf" | awk 'NR == 2 {print $1 + $2}')
+  echo "hasel on stm32f4: flash $small bytes with no service beyond the minimum, optimize = \"size\""
+  [ -n "$small" ] && [ "$small" -lt "$min" ] || say "optimize = \"size\" ($small bytes) is not smaller than $min"
+  arm-none-eabi-nm -C "$small_elf" | grep -q 'ShapedRollout' && say "the size-first image links the shape's own kernel"
 else
   say "no hasel board image to compare: $(cat build-hasel.txt)"
 fi

@@ -93,7 +93,7 @@ function(nlsoft_cortex_m_image prefix id rig model rig_dir hil bin out_stamp)
   target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
   target_link_options(${name} PRIVATE -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map)
   target_compile_definitions(${name} PRIVATE NLSOFT_HIL=${hil} NLSOFT_FIRMWARE_NAME="${id}"
-    NLSOFT_HAVE_MODEL=${have_model})
+    NLSOFT_HAVE_MODEL=${have_model} ${NLSOFT_IMAGE_DEFINITIONS})
   if(have_model)
     # One source for every image of the folder: it depends on each model (the
     # compiler's dependency list does not name an .incbin file).
@@ -145,6 +145,8 @@ function(nlsoft_cortex_m_images)
     # many of them as NLSOFT_IMAGE_KINDS asks; none left is an error.
     unset(NLSOFT_IMAGE_BOARD)
     set(NLSOFT_IMAGE_NOTE "")
+    # The rig's own compile definitions (NLSOFT_SIZE_FIRST: [firmware] optimize = "size").
+    set(NLSOFT_IMAGE_DEFINITIONS "")
     include(${rig_dir}/image.cmake)
     if(NOT DEFINED NLSOFT_IMAGE_BOARD)
       message(FATAL_ERROR "${rig_dir}/image.cmake does not say whether the header is for the board image "

@@ -485,6 +485,17 @@ TEST(ImageHeader, FirmwareFeaturesAreWrittenAndABoardThatLacksOneRefusesIt) {
   EXPECT_NO_THROW(source_of(kRig, "mps2-an386"));
 }
 
+// [firmware] optimize = "size": the generic kernel instead of the shape's,
+// and the image compiled with NLSOFT_SIZE_FIRST; "speed" (the default) as before.
+TEST(ImageHeader, ASizeFirstImageHasTheGenericKernelAndItsDefinition) {
+  const ImageSource speed = source_of(kRig, "stm32f4");
+  EXPECT_TRUE(contains(speed.header, "using Shapes = ShapeList<ImageShape>;\n  static constexpr bool generic = false;"));
+  EXPECT_TRUE(contains(speed.cmake, "set(NLSOFT_IMAGE_DEFINITIONS \"\")"));
+  const ImageSource size = source_of(std::string(kRig) + "\n[firmware]\noptimize = \"size\"\n", "stm32f4");
+  EXPECT_TRUE(contains(size.header, "using Shapes = ShapeList<>;\n  static constexpr bool generic = true;"));
+  EXPECT_TRUE(contains(size.cmake, "set(NLSOFT_IMAGE_DEFINITIONS NLSOFT_SIZE_FIRST=1)"));
+}
+
 TEST(ImageHeader, AHeaderWithoutABoardRefusesDevices) {
   const std::string t = with_devices();
   ImageRequest q;

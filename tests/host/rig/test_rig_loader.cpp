@@ -637,7 +637,12 @@ TEST(RigLoader, FirmwareFeaturesAreNamedServicesTheBoardCanCarry) {
   t = std::string(kBase) + "\n[firmware]\nfeatures = [1]\n";
   expect_error(t, line_of(t, "features"), "[firmware] features[0]", "expected a service's name, got an integer");
   t = std::string(kBase) + "\n[firmware]\nfeature = []\n";
-  expect_error(t, line_of(t, "feature = "), "[firmware] feature", "unknown key (known: features)");
+  expect_error(t, line_of(t, "feature = "), "[firmware] feature", "unknown key (known: features, optimize)");
+  EXPECT_FALSE(all.firmware_size_first);
+  EXPECT_TRUE(parse_rig(std::string(kBase) + "\n[firmware]\noptimize = \"size\"\n", "p.toml").firmware_size_first);
+  EXPECT_FALSE(parse_rig(std::string(kBase) + "\n[firmware]\noptimize = \"speed\"\n", "p.toml").firmware_size_first);
+  t = std::string(kBase) + "\n[firmware]\noptimize = \"small\"\n";
+  expect_error(t, line_of(t, "optimize"), "[firmware] optimize", "'small' is not one of: speed, size");
 }
 
 TEST(RigLoader, SettingsOnABoardWithoutASettingsFlashAreRefusedAtTheirLine) {
