@@ -87,6 +87,17 @@ TEST(PosixFeatures, TheMinimumRefusesEveryServiceItLeavesOutAndStillRuns) {
   EXPECT_EQ(sim.refusal(ident), unsupported);
   EXPECT_EQ(sim.refusal(begin_of(proto::XferKind::Model)), unsupported);
   EXPECT_EQ(sim.refusal(begin_of(proto::XferKind::RefTable)), unsupported);
+  for (proto::XferKind kind : {proto::XferKind::Model, proto::XferKind::RefTable}) {
+    proto::XferChunk chunk;
+    chunk.kind = uint8_t(kind), chunk.size = 4;
+    EXPECT_EQ(sim.refusal(chunk), unsupported);
+    proto::XferCommit commit;
+    commit.kind = uint8_t(kind);
+    EXPECT_EQ(sim.refusal(commit), unsupported);
+    proto::XferAbort abort;  // an abort of what is not open is ACKed, as ever
+    abort.kind = uint8_t(kind);
+    EXPECT_EQ(sim.must(abort).header.type, uint8_t(proto::MsgType::Ack));
+  }
   proto::XferBegin other = begin_of(proto::XferKind::Model);
   other.kind = 9;  // a kind the protocol does not have stays unknown_id
   EXPECT_EQ(sim.refusal(other), int(proto::StatusCode::UnknownId));
