@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "app/conformance/suite.hpp"
+#include "app/conformance/watchdog_silence.hpp"
 
 namespace nlsoft::console::conformance {
 
@@ -228,25 +229,15 @@ void check_ident(Suite& s) {
     s.check("ident_watchdog", false, wd ? fmt::format("watchdog_ms = {}: {}", timeout_ms, why) : "no watchdog_ms parameter");
     return;
   }
-  uint8_t safe = uint8_t(p::RunState::Neutral);
-  if (const p::ParamDesc* ss = s.param("safe_state"))
-    safe = s.original.at(ss->id).values[0] == 0 ? uint8_t(p::RunState::Hold) : uint8_t(p::RunState::Neutral);
+  const uint8_t safe = watchdog_safe_state(s);
   p::IdentStart watched = base;
   watched.run_id ^= 4;
   watched.decimation = uint16_t(std::max(1.0f, rate / 10));  // quiet: the heartbeat is what we listen to
   const Frame wf = s.pr.request(watched);
   const auto st0 = s.status();
   const uint32_t quiet_from = st0 ? st0->uptime_ms : 0;
-  s.pr.take_statuses();
-  std::optional<p::Status> beat;
-  const auto deadline = Clock::now() + std::chrono::seconds(20);
-  while (Clock::now() < deadline) {
-    std::this_thread::sleep_for(Ms(100));
-    for (const p::Status& b : s.pr.take_statuses()) beat = b;
-    if (beat && beat->uptime_ms - quiet_from >= 2 * timeout_ms) break;
-  }
-  const bool tripped = acked(wf, p::MsgType::IdentStart) && beat && beat->run_state == safe &&
-                       (beat->watchdog & p::watchdog_flags::kTripped) && (beat->watchdog & p::watchdog_flags::kArmed);
+  const std::optional<p::Status> beat = heartbeat_after_silence(s, quiet_from, timeout_ms);
+  const bool tripped = acked(wf, p::MsgType::IdentStart) && watchdog_tripped(beat, safe);
   s.check("ident_watchdog", tripped,
           fmt::format("IDENT_START: {}; silent for {} ms of firmware time: heartbeat {} (expected run_state {}, "
                       "watchdog bits armed and tripped)",

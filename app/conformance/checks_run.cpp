@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "app/conformance/suite.hpp"
+#include "app/conformance/watchdog_silence.hpp"
 
 namespace nlsoft::console::conformance {
 
@@ -195,9 +196,7 @@ void check_watchdog(Suite& s) {
     s.check("watchdog", false, fmt::format("watchdog_ms = {}: {}", timeout_ms, why));
     return;
   }
-  uint8_t safe = uint8_t(p::RunState::Neutral);
-  if (const p::ParamDesc* ss = s.param("safe_state"))
-    safe = s.original.at(ss->id).values[0] == 0 ? uint8_t(p::RunState::Hold) : uint8_t(p::RunState::Neutral);
+  const uint8_t safe = watchdog_safe_state(s);
   configure_telemetry(s, s.telemetry_mask, 0, why);  // quiet, so heartbeats are what we hear
   // Traffic every fifth of the timeout keeps the run going, for three
   // timeouts of the firmware's clock (its uptime, not ours). A trip after
@@ -243,21 +242,12 @@ void check_watchdog(Suite& s) {
                                                  "stepped {} ms between two replies asked {} ms apart: the host did "
                                                  "not run the console or the target meanwhile)",
                                                  attempt + 1, stepped, timeout_ms / 5)));
-  // Silence: listen to the heartbeat only, until the firmware's clock is
-  // two timeouts past our last frame.
-  s.pr.take_statuses();
+  // Silence from our last frame on; the LOGs before it are dropped, so a
+  // LOG after it is the link coming back.
   s.pr.take_logs();
   const uint32_t quiet_from = st ? st->uptime_ms : 0;
-  std::optional<p::Status> beat;
-  const auto deadline = Clock::now() + std::chrono::seconds(20);
-  while (Clock::now() < deadline) {
-    std::this_thread::sleep_for(Ms(100));
-    for (const p::Status& b : s.pr.take_statuses()) beat = b;
-    if (beat && beat->uptime_ms - quiet_from >= 2 * timeout_ms) break;
-  }
-  const bool tripped = beat && beat->run_state == safe && (beat->watchdog & p::watchdog_flags::kTripped) &&
-                       (beat->watchdog & p::watchdog_flags::kArmed);
-  s.check("watchdog_trips", tripped,
+  const std::optional<p::Status> beat = heartbeat_after_silence(s, quiet_from, timeout_ms);
+  s.check("watchdog_trips", watchdog_tripped(beat, safe),
           fmt::format("silent for {} ms of firmware time: heartbeat {} (expected run_state {}, watchdog bits armed and "
                       "tripped)",
                       beat ? beat->uptime_ms - quiet_from : 0, state_of(beat), safe));
