@@ -392,6 +392,20 @@ void refuse_infinite_range(const Section& s, double min, double max) {
                "): narrow the range");
 }
 
+// An [[input]] or an [[output]]: a named channel in a unit, between a min
+// and a max. Both are read, and refused, in the same words.
+template <class Channel>
+void read_name_and_range(const Section& s, NameBook& names, Channel& c) {
+  c.name = s.text("name");
+  names.add(s, c.name);
+  c.unit = s.line_text("unit", "");
+  c.min = s.number("min");
+  c.max = s.number("max");
+  if (!(c.min < c.max))
+    s.fail(s.line("max"), "max", "must be > min (" + num(c.min) + " at line " + std::to_string(s.line("min")) + ")");
+  refuse_infinite_range(s, c.min, c.max);
+}
+
 void read_inputs(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
                  PinBook& pins, LimitLines& lines) {
   const auto tables = table_array(root, t, "input");
@@ -401,14 +415,7 @@ void read_inputs(const std::string& file, const Section& root, const toml::table
     if (i >= size_t(RigCapacity::m))
       s.fail(s.line(), "", "over capacity: at most m = " + std::to_string(RigCapacity::m) + " inputs");
     RigInput in;
-    in.name = s.text("name");
-    names.add(s, in.name);
-    in.unit = s.line_text("unit", "");
-    in.min = s.number("min");
-    in.max = s.number("max");
-    if (!(in.min < in.max))
-      s.fail(s.line("max"), "max", "must be > min (" + num(in.min) + " at line " + std::to_string(s.line("min")) + ")");
-    refuse_infinite_range(s, in.min, in.max);
+    read_name_and_range(s, names, in);
     in.neutral = s.number("neutral");
     if (in.neutral < in.min || in.neutral > in.max)
       s.fail(s.line("neutral"), "neutral",
@@ -462,14 +469,7 @@ void read_outputs(const std::string& file, const Section& root, const toml::tabl
     if (i >= size_t(RigCapacity::n))
       s.fail(s.line(), "", "over capacity: at most n = " + std::to_string(RigCapacity::n) + " outputs");
     RigOutput out;
-    out.name = s.text("name");
-    names.add(s, out.name);
-    out.unit = s.line_text("unit", "");
-    out.min = s.number("min");
-    out.max = s.number("max");
-    if (!(out.min < out.max))
-      s.fail(s.line("max"), "max", "must be > min (" + num(out.min) + " at line " + std::to_string(s.line("min")) + ")");
-    refuse_infinite_range(s, out.min, out.max);
+    read_name_and_range(s, names, out);
     out.span = s.has("span") ? s.positive("span") : out.max - out.min;
     if (!(out.span <= double(FLT_MAX)))
       s.fail(s.line("span"), "span", "must be a float (at most " + num(double(FLT_MAX)) + "), not " + num(out.span));
