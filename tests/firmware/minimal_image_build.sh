@@ -4,16 +4,15 @@
 # = []` build images without identification runs, transfers or saved
 # settings, whose code is not linked at all (none of those services'
 # symbols in the ELF; the build's no-heap check passes on them) and which
-# are smaller than the shipped images of the same rig; with `optimize =
+# are smaller than the images of the same rig with every service; with `optimize =
 # "size"` as well, smaller again (the generic kernel, the controller at -Os).
 # A file that asks a board for a service it cannot carry is refused at the
 # list's line.
 # Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
-#   minimal_image_build.sh CONSOLE ROOT STAGE_FOLDER SHIPPED_STM32F4_FOLDER
+#   minimal_image_build.sh CONSOLE ROOT STAGE_FOLDER
 set -u
 console=$1 root=$2
 stage=$3 part=build
-shipped=$4
 . "$(dirname "$0")/rig_image_test_prelude.sh"
 
 minimal() {  # minimal RIG: RIG-min.toml, the shipped file renamed with no service beyond the minimum
@@ -22,6 +21,7 @@ minimal() {  # minimal RIG: RIG-min.toml, the shipped file renamed with no servi
 }
 minimal msd
 minimal hasel
+sed 's/^name = "hasel"/name = "hasel-full"/' "$root/rigs/hasel.toml" >hasel-full.toml
 sed 's/^name = "hasel-min"/name = "hasel-small"/' hasel-min.toml >hasel-small.toml
 printf 'optimize = "size"\n' >>hasel-small.toml
 flash_of() { sed -n 's/.*flash \([0-9]*\) bytes.*/\1/p' "$1" | head -1; }
@@ -33,6 +33,8 @@ done
 "$console" firmware build --rig hasel-min.toml --board stm32f4 >build-hasel.txt 2>&1 ||
   say "firmware build --rig hasel-min.toml --board stm32f4: $(tail -5 build-hasel.txt)"
 cat build-hasel.txt
+"$console" firmware build --rig hasel-full.toml --board stm32f4 >build-full.txt 2>&1 ||
+  say "firmware build --rig hasel-full.toml --board stm32f4: $(tail -5 build-full.txt)"
 "$console" firmware build --rig hasel-small.toml --board stm32f4 >build-small.txt 2>&1 ||
   say "firmware build --rig hasel-small.toml --board stm32f4: $(tail -5 build-small.txt)"
 cat build-small.txt
@@ -42,11 +44,14 @@ for elf in $(awk '$2 ~ /\.elf$/ {print $2}' build-msd-*.txt build-hasel.txt buil
   syms=$(arm-none-eabi-nm -C "$elf" | grep -E 'IdentRun|Excitation::advance|SettingsService|SettingsStore|send_ident_sample|TransferReceiver::chunk' | head -3)
   [ -z "$syms" ] || say "$elf links a service its rig file leaves out: $syms"
 done
-# Smaller than the shipped hasel board image (every service).
+# Smaller than hasel's board image with every service.
 board_elf=$(grep -- "/nlsoft-stm32f4-hasel-min.elf\$" build-hasel.txt | awk '{print $2}')
-if [ -f "$board_elf" ] && [ -f "$shipped/nlsoft-stm32f4-hasel.elf" ]; then
+full_elf=$(grep -- "/nlsoft-stm32f4-hasel-full.elf\$" build-full.txt | awk '{print $2}')
+if [ -f "$board_elf" ] && [ -f "$full_elf" ]; then
   min=$(arm-none-eabi-size "$board_elf" | awk 'NR == 2 {print $1 + $2}')
-  full=$(arm-none-eabi-size "$shipped/nlsoft-stm32f4-hasel.elf" | awk 'NR == 2 {print $1 + $2}')
+  full=$(arm-none-eabi-size "$full_elf" | awk 'NR == 2 {print $1 + $2}')
+  # The symbols the minimal image must not link are there with every service.
+  arm-none-eabi-nm -C "$full_elf" | grep -q 'SettingsService' || say "the full image links no SettingsService: the symbol check proves nothing"
   echo "hasel on stm32f4: flash $min bytes with no service beyond the minimum, $full with every one"
   [ "$min" -lt "$full" ] || say "the minimal hasel image ($min bytes) is not smaller than the full one ($full)"
   small_elf=$(grep -- "/nlsoft-stm32f4-hasel-small.elf\$" build-small.txt | awk '{print $2}')
@@ -55,7 +60,7 @@ if [ -f "$board_elf" ] && [ -f "$shipped/nlsoft-stm32f4-hasel.elf" ]; then
   [ -n "$small" ] && [ "$small" -lt "$min" ] || say "optimize = \"size\" ($small bytes) is not smaller than $min"
   arm-none-eabi-nm -C "$small_elf" | grep -q 'ShapedRollout' && say "the size-first image links the shape's own kernel"
 else
-  say "no hasel board image to compare: $(cat build-hasel.txt)"
+  say "no hasel board images to compare: $(cat build-hasel.txt build-full.txt)"
 fi
 
 # A service the board cannot carry: refused at its line, nothing built.
