@@ -106,8 +106,8 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
   app.add_flag("--sim-fast", a.sim_fast, "Let the simulator run faster than real time");
   app.add_option("--sim-settings", a.sim_settings,
                  "The simulator's settings flash, where `settings save` (W in the TUI) keeps the parameters across "
-                 "a restart (default: one file per rig beside the recording database, <db>.RIG.settings, e.g. "
-                 "~/.local/share/nlsoft/runs.db.hasel.settings; none under --no-record; none: a simulator that keeps "
+                 "a restart (default: one file per rig beside the recording database, <db>.RIG.settings; "
+                 "none under --no-record; none: a simulator that keeps "
                  "no settings)");
   app.add_option("--timeout", a.timeout_ms, "Reply timeout per try, ms (3 retries follow)")->check(CLI::Range(10, 60000));
 }

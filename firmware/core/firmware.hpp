@@ -575,7 +575,7 @@ class Firmware {
   // The LOG of where the settings in force came from; pending until the
   // TX queue has room for it.
   void settings_log() {
-    LogText<proto::kMaxLogText - 1> text;  // one short of the frame's 245: strncpy in queue_log copies its NUL too
+    LogText<proto::kMaxLogText> text;
     settings_svc_.describe(text);
     if (queue_log(settings_svc_.log_level(), text.c_str())) settings_svc_.log_sent();
   }

@@ -148,10 +148,10 @@ class SettingsService {
 
  private:
   proto::StatusCode write(size_t len) {
-    const SettingsStatus s = store_->save(buf_, uint32_t(len));
-    if (s == SettingsStatus::TooLarge) return proto::StatusCode::TooLarge;
     SettingsRecord saved;
-    if (s != SettingsStatus::Ok || store_->newest(saved) != SettingsStatus::Ok) return proto::StatusCode::Internal;
+    const SettingsStatus s = store_->save(buf_, uint32_t(len), &saved);
+    if (s == SettingsStatus::TooLarge) return proto::StatusCode::TooLarge;
+    if (s != SettingsStatus::Ok) return proto::StatusCode::Internal;
     seq_ = saved.seq;
     return proto::StatusCode::Ok;
   }

@@ -85,9 +85,9 @@ class SettingsStore {
   SettingsStatus newest(SettingsRecord& out) const { return load(nullptr, 0, out); }
 
   // Writes payload (length 0: a record that says "built-in defaults") as
-  // the newest record, and reads it back. On any failure the newest record
-  // is the one before.
-  SettingsStatus save(const uint8_t* payload, uint32_t length) {
+  // the newest record, and reads it back; `saved`, if given, is then that
+  // record. On any failure the newest record is the one before.
+  SettingsStatus save(const uint8_t* payload, uint32_t length, SettingsRecord* saved = nullptr) {
     SettingsRecord last;
     const bool any = newest(last) == SettingsStatus::Ok;
     const int target_sector = any && last.sector == 0 ? 1 : 0;
@@ -110,6 +110,7 @@ class SettingsStore {
     if (!flash_.program(base + 16, commit, sizeof commit)) return SettingsStatus::FlashFailed;
     SettingsRecord back;
     if (!check(target_sector, nullptr, 0, back) || back.seq != seq) return SettingsStatus::FlashFailed;
+    if (saved) *saved = back;
     return SettingsStatus::Ok;
   }
 

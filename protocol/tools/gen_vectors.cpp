@@ -564,18 +564,24 @@ void build() {
   add("sensor_health", "Protocol 1.4: sensor channels 3 to 5 invalid at step 1200, the oldest valid sample 7 ms old.",
       frame(sh, 86));
 
-  Settings save;
-  save.action = static_cast<uint8_t>(SettingsAction::Save);
-  add("settings_save", "Protocol 1.5: save the parameters in force to flash; ACK once the record is written.",
-      frame(save, 92));
-  Settings defaults;
-  defaults.action = static_cast<uint8_t>(SettingsAction::Defaults);
-  add("settings_defaults", "Protocol 1.5: the built-in defaults in force again, and at every boot from now on.",
-      frame(defaults, 93));
-  Settings report;
-  report.action = static_cast<uint8_t>(SettingsAction::Report);
-  add("settings_report", "Protocol 1.5: ACK, then a LOG saying where the settings in force came from.",
-      frame(report, 94));
+  struct SettingsVector {
+    SettingsAction action;
+    const char* name;
+    const char* note;
+    uint8_t seq;
+  };
+  for (const SettingsVector& v : {
+           SettingsVector{SettingsAction::Save, "settings_save",
+                          "Protocol 1.5: save the parameters in force to flash; ACK once the record is written.", 92},
+           SettingsVector{SettingsAction::Defaults, "settings_defaults",
+                          "Protocol 1.5: the built-in defaults in force again, and at every boot from now on.", 93},
+           SettingsVector{SettingsAction::Report, "settings_report",
+                          "Protocol 1.5: ACK, then a LOG saying where the settings in force came from.", 94},
+       }) {
+    Settings req;
+    req.action = static_cast<uint8_t>(v.action);
+    add(v.name, v.note, frame(req, v.seq));
+  }
   Ack settings_ack;
   settings_ack.request_type = static_cast<uint8_t>(MsgType::Settings);
   add("settings_ack", "Protocol 1.5: the ACK of settings_save.", frame(settings_ack, 92, frame_flags::kReply));

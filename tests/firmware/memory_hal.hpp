@@ -1,7 +1,8 @@
 #pragma once
 // A firmware HAL for the core's tests: serial bytes in memory, a tick
 // counter that advances a millisecond on every read, no actuators, zero
-// sensors and no measured output.
+// sensors and no measured output. A test that needs more (sensors that
+// follow u, a slow line) overrides those calls.
 #include <cstddef>
 #include <cstdint>
 #include <deque>
@@ -11,7 +12,7 @@
 
 namespace nlsoft::test {
 
-class MemoryHal final : public fw::Hal {
+class MemoryHal : public fw::Hal {
  public:
   std::deque<uint8_t> in;
   std::vector<uint8_t> out;

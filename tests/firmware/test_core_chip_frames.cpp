@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "fake_chip.hpp"
+#include "memory_hal.hpp"
 #include "firmware/core/firmware.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
@@ -27,36 +28,19 @@ namespace proto = nlsoft::protocol;
 
 namespace {
 
-// A UART: each serial_write takes at most `per_write` bytes (0: the line
-// is busy and takes none). A millisecond passes at every tick read.
-class SlowUartHal final : public fw::Hal {
+// The core tests' in-memory port (memory_hal.hpp) as a UART: each
+// serial_write takes at most `per_write` bytes (0: the line is busy and
+// takes none); the outputs read 0.
+class SlowUartHal final : public test::MemoryHal {
  public:
-  std::vector<uint8_t> in, out;
   size_t per_write = 0;
-  size_t serial_read(uint8_t* buf, size_t cap) override {
-    size_t n = 0;
-    while (n < cap && n < in.size()) buf[n] = in[n], ++n;
-    in.erase(in.begin(), in.begin() + long(n));
-    return n;
-  }
   size_t serial_write(const uint8_t* data, size_t len) override {
-    const size_t n = len < per_write ? len : per_write;
-    out.insert(out.end(), data, data + n);
-    return n;
-  }
-  uint32_t ticks() override { return t_ += 1000; }
-  uint32_t tick_rate_hz() const override { return 1000000; }
-  void actuate(const float*, int) override {}
-  void read_sensors(float* l, int w) override {
-    for (int i = 0; i < w; ++i) l[i] = 0.0f;
+    return MemoryHal::serial_write(data, len < per_write ? len : per_write);
   }
   bool read_output(float* y, int n) override {
     for (int j = 0; j < n; ++j) y[j] = 0.0f;
     return true;
   }
-
- private:
-  uint32_t t_ = 0;
 };
 
 // The Cortex-M ports' queue (firmware/ports/cortex-m/platform_config.hpp).

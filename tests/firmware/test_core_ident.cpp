@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "fake_chip.hpp"
+#include "memory_hal.hpp"
 #include "firmware/core/firmware.hpp"
 #include "protocol/decoder.hpp"
 #include "protocol/encoder.hpp"
@@ -30,24 +31,11 @@ namespace proto = nlsoft::protocol;
 
 namespace {
 
-// Serial bytes in memory; a millisecond passes at every tick read. The
-// sensors and outputs follow the last u, so a sample shows what was read.
-class MemoryHal final : public fw::Hal {
+// The core tests' in-memory port (memory_hal.hpp) whose sensors and
+// outputs follow the last u, so a sample shows what was read.
+class EchoHal final : public test::MemoryHal {
  public:
-  std::deque<uint8_t> in;
-  std::vector<uint8_t> out;
   std::vector<std::vector<float>> actuated;
-  size_t serial_read(uint8_t* buf, size_t cap) override {
-    size_t n = 0;
-    while (n < cap && !in.empty()) buf[n++] = in.front(), in.pop_front();
-    return n;
-  }
-  size_t serial_write(const uint8_t* data, size_t len) override {
-    out.insert(out.end(), data, data + len);
-    return len;
-  }
-  uint32_t ticks() override { return t_ += 1000; }
-  uint32_t tick_rate_hz() const override { return 1000000; }
   void actuate(const float* u, int m) override { actuated.emplace_back(u, u + m); }
   void read_sensors(float* l, int w) override {
     for (int i = 0; i < w; ++i) l[i] = 100.0f + float(i) + last_u0();
@@ -59,7 +47,6 @@ class MemoryHal final : public fw::Hal {
 
  private:
   float last_u0() const { return actuated.empty() ? 0.0f : actuated.back()[0]; }
-  uint32_t t_ = 0;
 };
 
 using Fw = fw::Firmware<HaselCapacity, 1024, fw::kDefaultFeatures | feature::kChips>;  // with a sampler: a test attaches fake chips
@@ -161,7 +148,7 @@ class IdentRun : public ::testing::Test {
     return s;
   }
 
-  MemoryHal hal_;
+  EchoHal hal_;
   alignas(4) uint8_t staging_[model_file_max<HaselCapacity>()];
   uint8_t table_[8 + 4 * 3 * 10];
   float points_[30];

@@ -9,7 +9,8 @@ set -euo pipefail
 build=$1 seconds=$2
 here=$(cd "$(dirname "$0")/../../.." && pwd)
 out=${3:-$build/fuzz-out}
-mkdir -p "$out/decoder" "$out/intake" "$out/seeds-intake"
+mkdir -p "$out/seeds-intake"
+. "$here/cmake/fuzz_run.sh"
 
 # The intake's input is two bytes (which INFO, run or not and chunk size)
 # and the line: each golden frame as a msd-shaped and a hasel-shaped
@@ -25,18 +26,6 @@ done
 { printf '\001\277'; cat "$out/seeds-intake/all.body"; } >"$out/seeds-intake/all"
 rm -f "$out/seeds-intake/all.body"
 
-status=0
-run() {
-  local target=$1 corpus=$2 seeds=$3
-  echo "fuzz: $target for ${seconds} s" >&2
-  # -rss_limit_mb: the recorder's queue and SQLite's cache stay well under it.
-  if ! ("$build/$target" -max_total_time="$seconds" -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$out/$corpus-" \
-      "$out/$corpus" "$seeds" 2>"$out/$corpus.log"); then
-    status=1
-    echo "fuzz: $target FOUND A FAULT: see $out/$corpus.log and $out/$corpus-crash-*" >&2
-  fi
-  grep -E '^stat::number_of_executed_units|^stat::average_exec_per_sec|^#[0-9]+ *DONE' "$out/$corpus.log" >&2 || true
-}
-run protocol/fuzz/nlsoft-fuzz-decoder decoder "$here/protocol/fuzz/corpus"
-run app/link/fuzz/nlsoft-fuzz-intake intake "$out/seeds-intake"
-exit $status
+fuzz_run "$build" "$out" "$seconds" protocol/fuzz/nlsoft-fuzz-decoder decoder "$here/protocol/fuzz/corpus"
+fuzz_run "$build" "$out" "$seconds" app/link/fuzz/nlsoft-fuzz-intake intake "$out/seeds-intake"
+exit $fuzz_status

@@ -646,38 +646,12 @@ TEST(RigLoader, FirmwareFeaturesAreNamedServicesTheBoardCanCarry) {
 }
 
 TEST(RigLoader, SettingsOnABoardWithoutASettingsFlashAreRefusedAtTheirLine) {
-  // mps2-an386's memory is RAM: its port keeps no settings.
-  std::string chips_only = R"(name = "shield"
-rate_hz = 100.0
-nd = 1
-dd = 1
-board = "mps2-an386"
-
-[[input]]
-name = "u"
-min = 0.0
-max = 1.0
-neutral = 0.5
-
-[[output]]
-name = "y"
-min = -1.0
-max = 1.0
-
-[controller]
-Q = [1.0]
-Lambda = [1.0]
-s = 1e-20
-b = 1e-5
-r = 400.0
-N = 3
-Nc = 1
-eps = 0.01
-
-[firmware]
-features = ["ident", "settings"]
-)";
-  expect_error(chips_only, line_of(chips_only, "features"), "[firmware] features[1]",
+  // mps2-an386's memory is RAM: its port keeps no settings. (Its inputs
+  // have no PWM pin there.)
+  const std::string shield = rig_text::replaced(rig_of(1, 1, 0), "pwm = \"PC6\"\n", "");
+  const std::string t =
+      "board = \"mps2-an386\"\n" + shield + "\n[firmware]\nfeatures = [\"ident\", \"settings\"]\n";
+  expect_error(t, line_of(t, "features"), "[firmware] features[1]",
                "'settings': board mps2-an386 has nowhere to keep saved settings");
 }
 
