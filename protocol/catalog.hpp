@@ -44,6 +44,9 @@ enum class MsgType : uint8_t {
   // Protocol 1.5: the parameters in force saved to flash, or the built-in
   // defaults back (SETTINGS action), answered ACK / NACK.
   Settings = 0x13,
+  // Protocol 1.6: closed-loop runs carry the sensors l too (SENSOR_SAMPLE
+  // before each TELEMETRY), what a model is trained from.
+  SensorStream = 0x14,
   // Replies and unsolicited messages, firmware -> console.
   Ack = 0x40,
   Nack = 0x41,
@@ -62,6 +65,7 @@ enum class MsgType : uint8_t {
   IdentSample = 0x4C,  // protocol 1.3: one step of an identification run (unsolicited)
   DeviceStatus = 0x4D,  // protocol 1.4: the reply to DEVICE_GET
   SensorHealth = 0x4E,  // protocol 1.4: the sensor channels' health at a sample's step (unsolicited)
+  SensorSample = 0x4F,  // protocol 1.6: a closed-loop step's sensors l, before its TELEMETRY (unsolicited)
 };
 
 // Telemetry field mask bits; fields appear in the payload in bit order.
@@ -150,6 +154,7 @@ inline constexpr MsgInfo kMessages[] = {
      28, 28, 1, true, MsgType::Ack},
     {MsgType::DeviceGet, "DEVICE_GET", "DEVICE_GET:u8 index", 1, 1, 1, true, MsgType::DeviceStatus},
     {MsgType::Settings, "SETTINGS", "SETTINGS:u8 action", 1, 1, 1, true, MsgType::Ack},
+    {MsgType::SensorStream, "SENSOR_STREAM", "SENSOR_STREAM:u8 on", 1, 1, 1, true, MsgType::Ack},
     {MsgType::Ack, "ACK", "ACK:u8 request_type", 1, 1, 1, false, MsgType(0)},
     {MsgType::Nack, "NACK", "NACK:u8 request_type,u8 status,u8 field,u8 element", 4, 4, 1, false, MsgType(0)},
     {MsgType::Pong, "PONG", "PONG:u32 nonce,u32 uptime_ms", 8, 8, 1, false, MsgType(0)},
@@ -193,6 +198,8 @@ inline constexpr MsgInfo kMessages[] = {
      false, MsgType(0)},
     {MsgType::SensorHealth, "SENSOR_HEALTH", "SENSOR_HEALTH:u32 step,u32 invalid,u16 age_ms", 10, 10, 1, false,
      MsgType(0)},
+    // 1..32 sensors (SENSOR_HEALTH's u32 mask bounds a rig's channels).
+    {MsgType::SensorSample, "SENSOR_SAMPLE", "SENSOR_SAMPLE:u32 step,f32[] l", 8, 132, 4, false, MsgType(0)},
 };
 
 constexpr size_t kMessageCount = sizeof(kMessages) / sizeof(kMessages[0]);

@@ -36,6 +36,8 @@ constexpr uint8_t kMaxShapeBytes = 78;
 // IDENT_SAMPLE's vectors: m + n + w floats after 13 fixed bytes fill at
 // most the 246-byte payload.
 constexpr uint8_t kMaxIdentFloats = static_cast<uint8_t>((kMaxPayload - kIdentSampleFixedSize) / 4);  // 58
+// A rig's sensor channels: SENSOR_HEALTH's invalid mask is a u32.
+constexpr uint8_t kMaxSensorChannels = 32;
 
 // IDENT_START.signal: numbering shared with shared/excitation.hpp.
 enum class IdentSignal : uint8_t { Steps = 0, Prbs = 1, Walk = 2, Chirp = 3, Aprbs = 4 };
@@ -89,6 +91,7 @@ constexpr uint32_t kIdent = 1u << 9;  // protocol 1.3: IDENT_START, IDENT_SAMPLE
 constexpr uint32_t kIdentMixed = 1u << 10;  // protocol 1.3: IDENT_START honours options bit 1 MIXED
 constexpr uint32_t kDevices = 1u << 11;  // protocol 1.4: DEVICE_GET answers DEVICE_STATUS; SENSOR_HEALTH
 constexpr uint32_t kSettings = 1u << 12;  // protocol 1.5: SETTINGS saves the parameters to flash (PROTOCOL.md 9.11)
+constexpr uint32_t kSensorStream = 1u << 13;  // protocol 1.6: SENSOR_STREAM, SENSOR_SAMPLE (a rig with sensors)
 }  // namespace capability
 
 // RIG_INFO.accept (PROTOCOL.md 7): which model shapes a model upload may have.
@@ -106,7 +109,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 5;
+constexpr uint8_t kProtocolMinor = 6;
 
 // ---------------------------------------------------------------- requests
 
@@ -669,6 +672,29 @@ struct Settings {
   template <class S, class V> static void fields(S& s, V& v) { v.u8("action", s.action); }
 };
 
+// Protocol 1.6: whether each closed-loop TELEMETRY is preceded by its
+// step's SENSOR_SAMPLE (PROTOCOL.md 9.6). Off at boot.
+struct SensorStream {
+  static constexpr MsgType kType = MsgType::SensorStream;
+  uint8_t on = 0;  // 0 off, 1 on; anything else is out_of_range
+  template <class S, class V> static void fields(S& s, V& v) { v.u8("on", s.on); }
+};
+
+// Protocol 1.6: the sensors l the controller read at one closed-loop step,
+// sent right before that step's TELEMETRY. A message of its own, not a
+// TELEMETRY field: TELEMETRY's mask is full and its layout fixed within
+// version 1 (PROTOCOL.md 7); pairing by `step` keeps its loss accounting.
+struct SensorSample {
+  static constexpr MsgType kType = MsgType::SensorSample;
+  uint32_t step = 0;
+  uint8_t w = 0;  // from the payload's length: 1..kMaxSensorChannels
+  float l[kMaxSensorChannels] = {};
+  template <class S, class V> static void fields(S& s, V& v) {
+    v.u32("step", s.step);
+    v.f32_tail("l", s.l, s.w, kMaxSensorChannels);
+  }
+};
+
 // ------------------------------------------------------------- pack/unpack
 
 namespace detail {
@@ -859,6 +885,8 @@ bool with_message_type(uint8_t type, F&& f) {
     case MsgType::IdentSample: f(IdentSample{}); return true;
     case MsgType::DeviceStatus: f(DeviceStatus{}); return true;
     case MsgType::SensorHealth: f(SensorHealth{}); return true;
+    case MsgType::SensorStream: f(SensorStream{}); return true;
+    case MsgType::SensorSample: f(SensorSample{}); return true;
   }
   return false;
 }

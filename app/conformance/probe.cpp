@@ -65,7 +65,18 @@ Probe::Probe(Ms timeout) : timeout_(timeout), session_(probe_options(timeout)) {
   session_.on_telemetry([this](const p::Telemetry& t, uint32_t) {
     std::lock_guard<std::mutex> lock(mu_);
     types_seen_.insert(uint8_t(p::MsgType::Telemetry));
-    if (recording_) telemetry_.push_back({t.tseq, t.step});
+    if (recording_) {
+      const bool paired = sensors_ && sensors_->step == t.step;
+      if (sensors_ && !paired) ++stray_sensors_;
+      telemetry_.push_back({t.tseq, t.step, paired ? int(sensors_->w) : -1});
+    }
+    sensors_.reset();
+  });
+  session_.on_sensor_sample([this](const p::SensorSample& s) {
+    std::lock_guard<std::mutex> lock(mu_);
+    types_seen_.insert(uint8_t(p::MsgType::SensorSample));
+    if (recording_ && sensors_) ++stray_sensors_;
+    sensors_ = s;
   });
   session_.on_ident_sample([this](const p::IdentSample& t, uint32_t) {
     std::lock_guard<std::mutex> lock(mu_);
@@ -255,7 +266,16 @@ std::vector<Frame> Probe::send_fenced(const std::vector<uint8_t>& bytes, const p
 void Probe::record_telemetry(bool on) {
   std::lock_guard<std::mutex> lock(mu_);
   recording_ = on;
-  if (on) telemetry_.clear();
+  if (on) {
+    telemetry_.clear();
+    stray_sensors_ = 0;
+    sensors_.reset();
+  }
+}
+
+unsigned Probe::stray_sensor_samples() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return stray_sensors_;
 }
 
 std::vector<TelemetrySample> Probe::telemetry() {

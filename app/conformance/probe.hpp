@@ -50,6 +50,9 @@ bool nacked(const Frame& f, p::StatusCode status, uint8_t field, uint8_t element
 struct TelemetrySample {
   uint16_t tseq;
   uint32_t step;
+  // Protocol 1.6: the width of the SENSOR_SAMPLE of this step that came
+  // right before it; -1: none did.
+  int sensors_w = -1;
 };
 
 class Probe {
@@ -104,6 +107,8 @@ class Probe {
 
   void record_telemetry(bool on);
   std::vector<TelemetrySample> telemetry();
+  // SENSOR_SAMPLEs recorded that no TELEMETRY of their step followed.
+  unsigned stray_sensor_samples() const;
   // IDENT_SAMPLE frames (protocol 1.3) since the last take, kept always:
   // an identification run's samples are few enough (the checks' runs are short).
   std::vector<p::IdentSample> take_ident_samples();
@@ -163,6 +168,8 @@ class Probe {
   std::optional<Frame> send(const RawRequest& req, LinkStats& before);
   bool recording_ = false;
   std::vector<TelemetrySample> telemetry_;
+  std::optional<p::SensorSample> sensors_;  // the latest, until a TELEMETRY takes it
+  unsigned stray_sensors_ = 0;
   std::vector<p::IdentSample> ident_;
   std::vector<p::Status> statuses_;
   std::vector<std::string> logs_;

@@ -134,6 +134,7 @@ void Suite::run(std::chrono::seconds patience) {
     check_ident(*this);
     check_devices(*this);
     check_settings(*this);
+    check_sensor_stream(*this);
   } catch (const LinkError& e) {
     // Whether the device answers again tells a lasting fault from a pause
     // (a board that rebooted, an emulator its host stopped scheduling).
@@ -173,6 +174,11 @@ void Suite::run(std::chrono::seconds patience) {
     if (device_message && (!(info.info.capabilities & p::capability::kDevices) || devices == 0)) continue;
     // SETTINGS is protocol 1.5's, with the SETTINGS capability (optional: a board without a settings store).
     if (m.type == p::MsgType::Settings && !(info.info.capabilities & p::capability::kSettings)) continue;
+    // SENSOR_STREAM and SENSOR_SAMPLE are protocol 1.6's, with the
+    // SENSOR_STREAM capability (a rig with sensors).
+    if ((m.type == p::MsgType::SensorStream || m.type == p::MsgType::SensorSample) &&
+        !(info.info.capabilities & p::capability::kSensorStream))
+      continue;
     // An image without either transfer (9.12) refuses XFER_BEGIN, as the
     // transfers group checked, and has no transfer to answer the others in.
     const bool xfer = m.type == p::MsgType::XferBegin || m.type == p::MsgType::XferChunk ||

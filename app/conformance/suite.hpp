@@ -89,6 +89,7 @@ void check_rig(Suite& s);
 void check_ident(Suite& s);
 void check_devices(Suite& s);
 void check_settings(Suite& s);
+void check_sensor_stream(Suite& s);
 
 // Helpers shared by the check files.
 std::string join(const std::vector<std::string>& v, const char* sep);

@@ -215,6 +215,12 @@ void Device::telemetry_config(uint8_t mask, uint16_t decimation) {
   session_.call<p::Ack>(req);
 }
 
+void Device::sensor_stream(bool on) {
+  p::SensorStream req;
+  req.on = on ? 1 : 0;
+  session_.call<p::Ack>(req);
+}
+
 p::Status Device::status() { return session_.call<p::Status>(p::StatusGet{}); }
 
 std::string firmware_lacks(const p::Info& info, uint8_t protocol_minor, uint32_t feature_bit) {

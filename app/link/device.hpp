@@ -75,6 +75,9 @@ class Device {
   void run_stop();
   void run_hold(protocol::HoldMode mode);
   void telemetry_config(uint8_t mask, uint16_t decimation);
+  // Protocol 1.6: a SENSOR_SAMPLE before each TELEMETRY (a firmware with
+  // the SENSOR_STREAM capability: a rig with sensors).
+  void sensor_stream(bool on);
   protocol::Status status();
   // Protocol 1.4: every sensor chip's state (DEVICE_GET 0..count-1); empty
   // for a firmware without chips. Throws CliError for a firmware without

@@ -42,6 +42,12 @@ SampleFault ident_sample_fault(const p::IdentSample& s, const p::Info* info) {
   return finite(s.u, s.m) && finite(s.y, s.n) && finite(s.l, s.w) ? SampleFault::None : SampleFault::NotFinite;
 }
 
+SampleFault sensor_sample_fault(const p::SensorSample& s, const p::Info* info) {
+  // Before INFO only the frame's own bound (unpack's) holds it.
+  if (info && s.w != info->w) return SampleFault::Dimensions;
+  return finite(s.l, s.w) ? SampleFault::None : SampleFault::NotFinite;
+}
+
 std::string telemetry_refusal(const p::Telemetry& t, const p::Info* info) {
   switch (telemetry_fault(t, info)) {
     case SampleFault::None: return "";
@@ -62,6 +68,16 @@ std::string ident_sample_refusal(const p::IdentSample& s, const p::Info* info) {
                                 s.m, s.n, s.w, info->m, info->n, info->w)
                   : fmt::format("an IDENT_SAMPLE frame with m={} n={} w={}, more than a sample holds", s.m, s.n, s.w);
     case SampleFault::NotFinite: return fmt::format("an IDENT_SAMPLE frame (step {}) carrying NaN or infinity", s.step);
+  }
+  return "";
+}
+
+std::string sensor_sample_refusal(const p::SensorSample& s, const p::Info* info) {
+  switch (sensor_sample_fault(s, info)) {
+    case SampleFault::None: return "";
+    case SampleFault::Dimensions:
+      return fmt::format("a SENSOR_SAMPLE frame with w={}, the firmware's INFO says w={}", s.w, info ? info->w : 0);
+    case SampleFault::NotFinite: return fmt::format("a SENSOR_SAMPLE frame (step {}) carrying NaN or infinity", s.step);
   }
   return "";
 }

@@ -17,10 +17,13 @@ namespace nlsoft::console {
 // console's sample can hold is checked).
 std::string telemetry_refusal(const protocol::Telemetry& t, const protocol::Info* info);
 std::string ident_sample_refusal(const protocol::IdentSample& s, const protocol::Info* info);
+// Protocol 1.6: its w must be INFO's (a sample keeps at most that many).
+std::string sensor_sample_refusal(const protocol::SensorSample& s, const protocol::Info* info);
 
 // What is wrong with a frame: its shape, or its values.
 enum class SampleFault { None, Dimensions, NotFinite };
 SampleFault telemetry_fault(const protocol::Telemetry& t, const protocol::Info* info);
 SampleFault ident_sample_fault(const protocol::IdentSample& s, const protocol::Info* info);
+SampleFault sensor_sample_fault(const protocol::SensorSample& s, const protocol::Info* info);
 
 }  // namespace nlsoft::console

@@ -261,7 +261,7 @@ void Session::on_frame(const p::FrameView& f) {
   // The sample frames' dimensions against INFO's, once, here: past this
   // point a sample's vectors are the firmware's shape (sample_check.hpp).
   std::optional<p::Info> info;
-  if (type == p::MsgType::Telemetry || type == p::MsgType::IdentSample) {
+  if (type == p::MsgType::Telemetry || type == p::MsgType::IdentSample || type == p::MsgType::SensorSample) {
     std::lock_guard<std::mutex> lock(identity_mu_);
     if (have_identity_) info = identity_;
   }
@@ -282,6 +282,12 @@ void Session::on_frame(const p::FrameView& f) {
   } else if (type == p::MsgType::SensorHealth) {
     p::SensorHealth h;
     if (p::unpack(f, h) == p::StatusCode::Ok && health_handler_) health_handler_(h);
+  } else if (type == p::MsgType::SensorSample) {
+    p::SensorSample s;
+    if (p::unpack(f, s) != p::StatusCode::Ok) return;
+    if (const auto fault = sensor_sample_fault(s, info ? &*info : nullptr); fault != SampleFault::None)
+      return refuse_sample(int(fault), sensor_sample_refusal(s, info ? &*info : nullptr));
+    if (sensor_sample_handler_) sensor_sample_handler_(s);
   } else if (type == p::MsgType::Status) {
     p::Status s;
     if (p::unpack(f, s) != p::StatusCode::Ok) return;

@@ -110,6 +110,9 @@ class Session {
   // Protocol 1.4: the health of the sensor channels at the step of the
   // sample frame before it (a rig with sensor chips).
   using HealthHandler = std::function<void(const protocol::SensorHealth&)>;
+  // Protocol 1.6: a closed-loop step's sensors, before its TELEMETRY, its
+  // width already checked against INFO's w.
+  using SensorSampleHandler = std::function<void(const protocol::SensorSample&)>;
   using StatusHandler = std::function<void(const protocol::Status&)>;
   using LogHandler = std::function<void(const protocol::Log&)>;
   using EventHandler = std::function<void(const LinkEvent&)>;
@@ -125,6 +128,7 @@ class Session {
   void on_telemetry(TelemetryHandler h) { telemetry_handler_ = std::move(h); }
   void on_ident_sample(IdentHandler h) { ident_handler_ = std::move(h); }
   void on_sensor_health(HealthHandler h) { health_handler_ = std::move(h); }
+  void on_sensor_sample(SensorSampleHandler h) { sensor_sample_handler_ = std::move(h); }
   void on_status(StatusHandler h) { status_handler_ = std::move(h); }
   void on_log(LogHandler h) { log_handler_ = std::move(h); }
   void on_event(EventHandler h) { event_handler_ = std::move(h); }
@@ -241,6 +245,7 @@ class Session {
 
   IdentHandler ident_handler_;
   HealthHandler health_handler_;
+  SensorSampleHandler sensor_sample_handler_;
   TelemetryHandler telemetry_handler_;
   StatusHandler status_handler_;
   LogHandler log_handler_;

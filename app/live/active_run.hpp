@@ -42,6 +42,7 @@ struct ActiveRun {
   // Both read by the reader thread and run_for while a stop writes them.
   std::atomic<uint16_t> decimation{1};            // the run's: telemetry's, or an identification run's
   std::atomic<uint16_t> telemetry_decimation{1};  // TELEMETRY_CONFIG's, put back when an identification run ends
+  std::atomic<uint8_t> sensors_w{0};  // SENSOR_STREAM on: closed-loop samples carry these many sensors l (0: off)
 
   Recorder& recorder;
 

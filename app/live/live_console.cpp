@@ -69,6 +69,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_->on_telemetry([&intake](const p::Telemetry& t, uint32_t lost) { intake.on_telemetry(t, lost); });
   session_->on_ident_sample([&intake](const p::IdentSample& t, uint32_t lost) { intake.on_ident_sample(t, lost); });
   session_->on_sensor_health([&intake](const p::SensorHealth& h) { intake.on_sensor_health(h); });
+  session_->on_sensor_sample([&intake](const p::SensorSample& s) { intake.on_sensor_sample(s); });
   session_->on_status([this](const p::Status& s) {
     parts_->intake.on_status(s);
     parts_->resets.note_uptime(s.uptime_ms);
@@ -143,12 +144,17 @@ void LiveConsole::configure_telemetry() {
   const p::Info info = device_->info();
   uint8_t mask = tf::kAll;
   if (!(info.capabilities & p::capability::kYTrue)) mask = uint8_t(mask & ~tf::kYTrue);
+  // Closed-loop runs keep the sensors a model reads (PROTOCOL.md 9.6), so
+  // `train --run` and `model fit --run` can learn from them.
+  const bool sensors = (info.capabilities & p::capability::kSensorStream) != 0 && info.w > 0;
   int dec = options_.decimation;
   if (dec <= 0) {
     dec = 1;
     if (!link_unlimited()) {
-      // 8N1: ten bits a byte; keep a fifth of the line for replies.
-      const double frame = double(p::telemetry_payload_size(mask, info.n, info.m) + 9);
+      // 8N1: ten bits a byte; keep a fifth of the line for replies. A step
+      // with sensors sends its SENSOR_SAMPLE too (4 + 4w payload + 9).
+      const double frame = double(p::telemetry_payload_size(mask, info.n, info.m) + 9) +
+                           (sensors ? 4.0 * info.w + 13.0 : 0.0);
       const double per_s = 0.8 * options_.baud / 10.0 / frame;
       dec = std::max(1, int(std::ceil(double(info.loop_rate_hz) / per_s)));
     }
@@ -157,6 +163,25 @@ void LiveConsole::configure_telemetry() {
   run.decimation = uint16_t(std::min(dec, 65535));
   run.telemetry_decimation = run.decimation.load();
   device_->telemetry_config(mask, run.decimation.load());
+  if (sensors) device_->sensor_stream(true);
+  run.sensors_w = sensors ? info.w : 0;
+  if (sensors && dec > 1) notices_.say(trainable_note(info, mask, dec));
+}
+
+// Why a closed-loop run of this link cannot be trained from, and the baud
+// that would carry every step (PROTOCOL.md 9.6, "With the sensors").
+std::string LiveConsole::trainable_note(const p::Info& info, uint8_t mask, int decimation) const {
+  const double bytes = double(p::telemetry_payload_size(mask, info.n, info.m) + 9) + 4.0 * info.w + 13.0;
+  const double need = double(info.loop_rate_hz) * bytes * 10.0 / 0.8;
+  unsigned baud = 0;
+  for (const unsigned b : {230400u, 460800u, 921600u, 1000000u, 2000000u})
+    if (baud == 0 && b >= need) baud = b;
+  return fmt::format(
+      "closed-loop runs record every {} step ({:.0f} bytes a step with the sensors at {} Hz over {} baud): "
+      "`train --run` and `model fit --run` need every step{}",
+      decimation == 2 ? std::string("2nd") : decimation == 3 ? std::string("3rd") : fmt::format("{}th", decimation),
+      bytes, info.loop_rate_hz, options_.baud,
+      baud ? fmt::format(": --baud {} or more carries them", baud) : std::string(": a native USB port carries them"));
 }
 
 void LiveConsole::disconnect() {

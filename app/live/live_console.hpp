@@ -113,6 +113,7 @@ class LiveConsole {
   // RIG_INFO against the rig file given: one warning per console.
   void check_rig();
   void configure_telemetry();
+  std::string trainable_note(const protocol::Info& info, uint8_t mask, int decimation) const;
   // INFO until it answers: a simulator or a board may still be starting.
   void handshake_patiently();
   // A port that may not exist yet (--wait), opened by its by-id name.

@@ -49,6 +49,8 @@ int64_t LiveRuns::begin(const std::string& label, p::IdentStart* ident, const st
     ri.excitation = excitation_json;
   } else {
     ri.reference = p_.references.run_json();
+    // Its samples carry the sensors (SENSOR_SAMPLE), what a model reads.
+    ri.w = run.sensors_w.load();
   }
   for (const auto& [pi, v] : p_.device.get_all()) ri.params.emplace_back(pi.name, format_param_values(pi, v));
   const int64_t id = run.recorder.begin_run(ri);

@@ -12,7 +12,24 @@ namespace p = nlsoft::protocol;
 namespace tf = protocol::telemetry_field;
 
 void SampleIntake::on_telemetry(const p::Telemetry& t, uint32_t lost_before) {
-  on_sample(sample_from(t, 0, tick_rate_hz_.load()), (t.mask & tf::kStep) != 0, lost_before);
+  Sample s = sample_from(t, 0, tick_rate_hz_.load());
+  // Its step's sensors came right before it; a SENSOR_SAMPLE of another
+  // step (its own TELEMETRY lost) is no sensor reading of this one.
+  // Only while the console asked for them, and only as many as it asked
+  // for: the run's record says how many sensors its samples hold, and a
+  // device that sends them unasked, or of another width, adds none.
+  const uint8_t w = run_.sensors_w.load();
+  if (w > 0 && have_sensors_ && sensors_.w == w && (t.mask & tf::kStep) && sensors_.step == t.step) {
+    s.w = std::min<uint8_t>(w, Sample::kMaxSensors);
+    std::copy(sensors_.l, sensors_.l + s.w, s.l);
+  }
+  have_sensors_ = false;
+  on_sample(s, (t.mask & tf::kStep) != 0, lost_before);
+}
+
+void SampleIntake::on_sensor_sample(const p::SensorSample& s) {
+  sensors_ = s;
+  have_sensors_ = true;
 }
 
 void SampleIntake::on_ident_sample(const p::IdentSample& t, uint32_t lost_before) {

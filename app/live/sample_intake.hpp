@@ -27,6 +27,9 @@ class SampleIntake {
   void on_telemetry(const protocol::Telemetry& t, uint32_t lost_before);
   void on_ident_sample(const protocol::IdentSample& t, uint32_t lost_before);
   void on_sensor_health(const protocol::SensorHealth& h);  // protocol 1.4: recorded beside the samples
+  // Protocol 1.6: a closed-loop step's sensors, kept for the TELEMETRY of
+  // the same step that follows it (PROTOCOL.md 9.6), recorded in its l.
+  void on_sensor_sample(const protocol::SensorSample& s);
   // Converts compute ticks to microseconds; watches for the firmware
   // leaving the run.
   void on_status(const protocol::Status& s);
@@ -56,6 +59,10 @@ class SampleIntake {
   // known, bits 32..47 age_ms, bits 0..31 invalid.
   std::atomic<uint64_t> health_{0};
   std::atomic<int64_t> health_at_ns_{0};  // steady clock
+  // The latest SENSOR_SAMPLE, until a TELEMETRY takes it (the reader
+  // thread's alone: both arrive there).
+  protocol::SensorSample sensors_{};
+  bool have_sensors_ = false;
 };
 
 }  // namespace nlsoft::console

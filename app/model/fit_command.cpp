@@ -23,6 +23,7 @@ struct FitArgs {
   std::vector<int64_t> runs, train_runs;
   std::vector<std::string> data;
   bool json = false;
+  int horizon = -1;  // < 0: each run's controller horizon N
 };
 
 // The image's path, checked before any work so a bad one costs nothing and
@@ -52,9 +53,9 @@ Dataset stack(const std::vector<Dataset>& sets) {
   return d;
 }
 
-Series load_run_series(const RunLoader& load_run, const std::string& db, int64_t id, const PlantTarget& target) {
-  if (!load_run) throw PipelineError("--run needs the console's database, which this build lacks");
-  return recorded_series(load_run(db, id), target);
+RecordedRun read_run(const RunLoader& loader, const std::string& db, int64_t id) {
+  if (!loader) throw PipelineError("--run needs the console's database, which this build lacks");
+  return loader(db, id);
 }
 
 void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformNamer& name_platform,
@@ -97,10 +98,16 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
 
   // Every input read, and refused, before anything is printed or drawn.
   std::vector<Series> series;
-  for (int64_t id : a.runs) series.push_back(load_run_series(load_run, a.db, id, target));
+  std::vector<int> horizons;  // per series: how many steps ahead it is scored too (0, 1: not)
+  for (int64_t id : a.runs) {
+    const RecordedRun run = read_run(load_run, a.db, id);
+    series.push_back(recorded_series(run, target));
+    horizons.push_back(a.horizon >= 0 ? a.horizon : run.horizon);
+  }
   for (const std::string& file : a.data) {
     series.push_back(read_training_csv(file, target));
     check_dimensions(series.back(), target);
+    horizons.push_back(std::max(a.horizon, 0));
   }
   ArxModel arx;
   std::string arx_from = "none";
@@ -108,7 +115,7 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
     std::vector<Dataset> sets;
     std::string names;
     for (int64_t id : a.train_runs) {
-      sets.push_back(build_dataset(load_run_series(load_run, a.db, id, target), M.nd, M.dd));
+      sets.push_back(build_dataset(recorded_series(read_run(load_run, a.db, id), target), M.nd, M.dd));
       names += (names.empty() ? "run " : ", run ") + std::to_string(id);
     }
     const Dataset d = stack(sets);
@@ -121,13 +128,14 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
   const ArxModel* baseline = arx.theta.size() > 0 ? &arx : nullptr;
 
   std::vector<FittedRun> fitted;
-  for (const Series& s : series) {
+  for (size_t i = 0; i < series.size(); ++i) {
+    const Series& s = series[i];
     const Dataset d = build_dataset(s, M.nd, M.dd);
     FittedRun r;
     r.name = s.name;
     r.section = fit_section(s.name + " (" + std::to_string(d.rows()) + " rows), model " + a.model + " of rig " +
                                 target.name,
-                            f, baseline, d, d.pieces, target);
+                            f, baseline, d, d.pieces, target, horizons[i]);
     if (!image.empty()) {
       r.time = label_times(s, M.nd, M.dd, target.rate_hz > 0 ? 1.0 / target.rate_hz : 0.0);
       r.y = measured(d, d.pieces);
@@ -178,7 +186,9 @@ void add_model_fit_command(CLI::App& model, TargetResolver resolve, PlatformName
       "fit",
       "Judge a model on recorded runs or files as system identification does: per run, a free-run\n"
       "simulation (the y history fed the model's own predictions, driven by the run's recorded u and\n"
-      "sensors l) and one-step prediction; per output RMSE (its unit), nRMSE (of its span) and\n"
+      "sensors l), one-step prediction and, for a recorded run, prediction as far ahead as its\n"
+      "controller's horizon N looked (the figure that says whether the model is still right where\n"
+      "the controller works); per output RMSE (its unit), nRMSE (of its span) and\n"
       "fit % = 100 (1 - |y - yhat| / |y - mean(y)|), as MATLAB's compare. Beside it, the linear ARX\n"
       "baseline on the same lags that train kept with the model (or refitted from --train-run).\n"
       "Example: nlsoft-console model fit arm.nlsm --run 4 --svg fit.svg\n"
@@ -196,6 +206,11 @@ void add_model_fit_command(CLI::App& model, TargetResolver resolve, PlatformName
       ->type_name("FILE");
   fit->add_option("--png", args->png, "the same as a PNG")->type_name("FILE");
   fit->add_flag("--json", args->json, "print the figures as JSON");
+  fit->add_option("--horizon", args->horizon,
+                  "also score predictions K steps ahead (default: a run's controller horizon N as it started; "
+                  "0: not)")
+      ->type_name("K")
+      ->check(CLI::Range(0, 1000));
   fit->callback([args, resolve, name_platform, load_run, plot] { run_fit(*args, resolve, name_platform, load_run, plot); });
 }
 

@@ -1,5 +1,6 @@
 #include "app/model/fit_scores.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -17,18 +18,30 @@ long count_rows(const std::vector<RowRange>& pieces) {
 
 // One pass over the pieces for any predictor step(x, y) (T: its number
 // type); the free run's y history lives in its own copy of x.
+// Feeds the newest output y into the history queue yq (dd outputs, newest first).
+template <class T>
+void shift_in(std::vector<T>& yq, const T* y, const InputLayout& L) {
+  for (int i = L.dd * L.n - 1; i >= L.n; --i) yq[size_t(i)] = yq[size_t(i - L.n)];
+  for (int j = 0; j < L.n; ++j) yq[size_t(j)] = y[j];
+}
+
 template <class T, class Step>
-Simulation run(const Dataset& d, const std::vector<RowRange>& pieces, Step step) {
+Simulation run(const Dataset& d, const std::vector<RowRange>& pieces, int horizon, Step step) {
   const InputLayout& L = d.layout;
   const long rows = count_rows(pieces);
   Simulation s;
   s.one_step.resize(rows, L.n);
   s.free_run.resize(rows, L.n);
-  std::vector<T> x(size_t(L.p())), y(size_t(L.n)), yq(size_t(L.dd * L.n));
+  if (horizon > 1) s.k_step.resize(rows, L.n);
+  std::vector<T> x(size_t(L.p())), y(size_t(L.n)), yq(size_t(L.dd * L.n)), kq(yq.size());
+  // Row r of X holds the measured history its prediction starts from.
+  const auto history = [&](std::vector<T>& q, long r) {
+    for (int i = 0; i < L.dd * L.n; ++i) q[size_t(i)] = T(d.X(r, L.y_begin() + i));
+  };
   long out = 0;
   for (const RowRange& piece : pieces) {
     if (piece.end <= piece.begin) continue;
-    for (int i = 0; i < L.dd * L.n; ++i) yq[size_t(i)] = T(d.X(piece.begin, L.y_begin() + i));
+    history(yq, piece.begin);
     for (long r = piece.begin; r < piece.end; ++r, ++out) {
       for (int i = 0; i < L.p(); ++i) x[size_t(i)] = T(d.X(r, i));
       step(x.data(), y.data());
@@ -36,8 +49,17 @@ Simulation run(const Dataset& d, const std::vector<RowRange>& pieces, Step step)
       for (int i = 0; i < L.dd * L.n; ++i) x[size_t(L.y_begin() + i)] = yq[size_t(i)];
       step(x.data(), y.data());
       for (int j = 0; j < L.n; ++j) s.free_run(out, j) = double(y[size_t(j)]);
-      for (int i = L.dd * L.n - 1; i >= L.n; --i) yq[size_t(i)] = yq[size_t(i - L.n)];
-      for (int j = 0; j < L.n; ++j) yq[size_t(j)] = y[size_t(j)];
+      shift_in(yq, y.data(), L);
+      if (horizon <= 1) continue;
+      const long from = std::max(piece.begin, r - horizon + 1);
+      history(kq, from);
+      for (long q = from; q <= r; ++q) {
+        for (int i = 0; i < L.p(); ++i) x[size_t(i)] = T(d.X(q, i));
+        for (int i = 0; i < L.dd * L.n; ++i) x[size_t(L.y_begin() + i)] = kq[size_t(i)];
+        step(x.data(), y.data());
+        shift_in(kq, y.data(), L);
+      }
+      for (int j = 0; j < L.n; ++j) s.k_step(out, j) = double(y[size_t(j)]);
     }
   }
   return s;
@@ -54,16 +76,17 @@ void check_layout(const InputLayout& a, const InputLayout& d, const char* what) 
 
 }  // namespace
 
-Simulation simulate_network(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces) {
+Simulation simulate_network(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces,
+                            int horizon) {
   const Model<HostCapacity> M = model.view();
   check_layout(InputLayout{M.m, M.n, M.w, M.nd, M.dd}, d.layout, "model");
   ForwardScratch<HostCapacity, float> scratch;
-  return run<float>(d, pieces, [&](const float* x, float* y) { forward(M, x, y, scratch); });
+  return run<float>(d, pieces, horizon, [&](const float* x, float* y) { forward(M, x, y, scratch); });
 }
 
-Simulation simulate_arx(const ArxModel& arx, const Dataset& d, const std::vector<RowRange>& pieces) {
+Simulation simulate_arx(const ArxModel& arx, const Dataset& d, const std::vector<RowRange>& pieces, int horizon) {
   check_layout(arx.layout, d.layout, "ARX baseline");
-  return run<double>(d, pieces, [&](const double* x, double* y) { arx.predict(x, y); });
+  return run<double>(d, pieces, horizon, [&](const double* x, double* y) { arx.predict(x, y); });
 }
 
 Eigen::MatrixXd measured(const Dataset& d, const std::vector<RowRange>& pieces) {

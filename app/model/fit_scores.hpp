@@ -22,14 +22,20 @@ struct Score {
 };
 
 // Predictions for the rows of `pieces`, in that order (rows x n).
+// k_step (with horizon k > 1, else empty): each row predicted k steps
+// ahead, from the measured history k - 1 rows before it and the
+// predictor's own outputs since, as the controller predicts over its
+// horizon N (paper eq. 3); a row nearer than that to its piece's start is
+// predicted from the start.
 struct Simulation {
-  Eigen::MatrixXd one_step, free_run;
+  Eigen::MatrixXd one_step, free_run, k_step;
 };
 
 // The network run as the firmware runs it (shared/forward.hpp, float).
 // Throws PipelineError when the model's dimensions are not the data's.
-Simulation simulate_network(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces);
-Simulation simulate_arx(const ArxModel& arx, const Dataset& d, const std::vector<RowRange>& pieces);
+Simulation simulate_network(const ModelFile& model, const Dataset& d, const std::vector<RowRange>& pieces,
+                            int horizon = 0);
+Simulation simulate_arx(const ArxModel& arx, const Dataset& d, const std::vector<RowRange>& pieces, int horizon = 0);
 
 // The measured y(k+1) of the rows of `pieces`, in the order above.
 Eigen::MatrixXd measured(const Dataset& d, const std::vector<RowRange>& pieces);

@@ -39,8 +39,13 @@ nlohmann::json section_json(const FitSection& s) {
                         {"one_step", score_json(o.one_step)},
                         {"free_run", score_json(o.free_run)}};
     if (s.has_arx) e["arx"] = {{"one_step", score_json(o.arx_one_step)}, {"free_run", score_json(o.arx_free_run)}};
+    if (s.horizon > 1) {
+      e["k_step"] = score_json(o.k_step);
+      if (s.has_arx) e["arx"]["k_step"] = score_json(o.arx_k_step);
+    }
     j["outputs"].push_back(e);
   }
+  if (s.horizon > 1) j["horizon"] = s.horizon;
   return j;
 }
 
@@ -49,9 +54,11 @@ FitSection section_from(const nlohmann::json& j, const std::string& title) {
   s.title = title;
   s.rows = j.at("rows").get<long>();
   s.has_arx = !j.at("outputs").empty();
+  s.horizon = j.contains("horizon") ? j.at("horizon").get<int>() : 0;
   for (const auto& o : j.at("outputs")) {
     OutputFit f;
     f.name = o.at("name").get<std::string>();
+    if (s.horizon > 1) f.k_step = score_from(o.at("k_step"));
     f.span = o.at("span").get<double>();
     if (o.contains("one_step")) {
       f.one_step = score_from(o.at("one_step"));
@@ -66,6 +73,7 @@ FitSection section_from(const nlohmann::json& j, const std::string& title) {
     if (o.contains("arx")) {
       f.arx_one_step = score_from(o.at("arx").at("one_step"));
       f.arx_free_run = score_from(o.at("arx").at("free_run"));
+      if (s.horizon > 1) f.arx_k_step = score_from(o.at("arx").at("k_step"));
     } else {
       s.has_arx = false;
     }
@@ -84,18 +92,21 @@ std::string cell(const char* fmt, double v) {
 }  // namespace
 
 FitSection fit_section(const std::string& title, const ModelFile& model, const ArxModel* arx, const Dataset& d,
-                       const std::vector<RowRange>& pieces, const PlantTarget& target) {
+                       const std::vector<RowRange>& pieces, const PlantTarget& target, int horizon) {
   FitSection s;
   s.title = title;
+  s.horizon = horizon > 1 ? horizon : 0;
   const Eigen::MatrixXd y = measured(d, pieces);
   s.rows = long(y.rows());
-  const Simulation net = simulate_network(model, d, pieces);
+  const Simulation net = simulate_network(model, d, pieces, s.horizon);
   const std::vector<Score> one = score(y, net.one_step, target.y_span), free = score(y, net.free_run, target.y_span);
-  std::vector<Score> arx_one, arx_free;
+  const std::vector<Score> ahead = s.horizon ? score(y, net.k_step, target.y_span) : std::vector<Score>{};
+  std::vector<Score> arx_one, arx_free, arx_ahead;
   if (arx) {
-    const Simulation a = simulate_arx(*arx, d, pieces);
+    const Simulation a = simulate_arx(*arx, d, pieces, s.horizon);
     arx_one = score(y, a.one_step, target.y_span);
     arx_free = score(y, a.free_run, target.y_span);
+    if (s.horizon) arx_ahead = score(y, a.k_step, target.y_span);
     s.has_arx = true;
   }
   for (int j = 0; j < d.layout.n; ++j) {
@@ -104,9 +115,11 @@ FitSection fit_section(const std::string& title, const ModelFile& model, const A
     o.span = size_t(j) < target.y_span.size() ? target.y_span[size_t(j)] : 0.0;
     o.one_step = one[size_t(j)];
     o.free_run = free[size_t(j)];
+    if (s.horizon) o.k_step = ahead[size_t(j)];
     if (arx) {
       o.arx_one_step = arx_one[size_t(j)];
       o.arx_free_run = arx_free[size_t(j)];
+      if (s.horizon) o.arx_k_step = arx_ahead[size_t(j)];
     }
     s.outputs.push_back(o);
   }
@@ -142,9 +155,12 @@ std::string section_table(const FitSection& s, const std::string& unit) {
   out += "\n";
   const std::string u = unit.empty() ? "" : " " + unit;
   for (const OutputFit& o : s.outputs) {
-    const std::pair<const Score*, const Score*> rows[] = {{&o.one_step, &o.arx_one_step}, {&o.free_run, &o.arx_free_run}};
-    const char* names[] = {"one-step", "free-run"};
-    for (int k = 0; k < 2; ++k) {
+    const std::pair<const Score*, const Score*> rows[] = {
+        {&o.one_step, &o.arx_one_step}, {&o.k_step, &o.arx_k_step}, {&o.free_run, &o.arx_free_run}};
+    const std::string ahead = std::to_string(s.horizon) + "-step";
+    const char* names[] = {"one-step", ahead.c_str(), "free-run"};
+    for (int k = 0; k < 3; ++k) {
+      if (k == 1 && s.horizon <= 1) continue;
       const Score& n = *rows[k].first;
       std::snprintf(line, sizeof line, "  %-10s %11s  %-9s %13s %11s %8s", o.name.c_str(), (cell("%.4g", o.span) + u).c_str(),
                     names[k], (cell("%.4g", n.rmse) + u).c_str(), (cell("%#.3g", 100.0 * n.nrmse) + " %").c_str(),

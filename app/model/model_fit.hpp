@@ -21,6 +21,7 @@ struct OutputFit {
   double span = 0;                   // the output's span, its unit
   Score one_step, free_run;          // the network
   Score arx_one_step, arx_free_run;  // the ARX baseline (when the section has one)
+  Score k_step, arx_k_step;          // at the section's horizon (when it has one)
 };
 
 // The fit on one stretch of data.
@@ -28,6 +29,8 @@ struct FitSection {
   std::string title;  // what was fitted, in words: "held-out data of rig msd: run 2, whole (997 rows)"
   long rows = 0;
   bool has_arx = false;
+  // > 1: also scored k steps ahead, the controller's horizon N (fit_scores.hpp).
+  int horizon = 0;
   std::vector<OutputFit> outputs;
 };
 
@@ -44,7 +47,7 @@ struct ModelFit {
 
 // Scores the network, and `arx` unless null, on rows `pieces` of d.
 FitSection fit_section(const std::string& title, const ModelFile& model, const ArxModel* arx, const Dataset& d,
-                       const std::vector<RowRange>& pieces, const PlantTarget& target);
+                       const std::vector<RowRange>& pieces, const PlantTarget& target, int horizon = 0);
 
 ModelFit model_fit(const TrainResult& r, const PlantTarget& target);
 

@@ -85,7 +85,8 @@ Series recorded_series(const RecordedRun& r, const PlantTarget& t) {
   if (!any_u) throw PipelineError(r.name + " recorded no commands u");
   if (t.w > 0 && r.w < 0)
     throw PipelineError(r.name + " holds no sensor readings l, and rig '" + t.name + "' has " + std::to_string(t.w) +
-                        " sensors its model reads (a run records y_ref, y_hat, y_true and u only)");
+                        " sensors its model reads (a closed-loop run holds them when its firmware streams them, "
+                        "protocol 1.6 SENSOR_STREAM; an older firmware's runs hold y_ref, y_hat, y_true and u only)");
   const int w = std::max(r.w, 0);
   if (w != t.w)
     throw PipelineError(r.name + " has " + std::to_string(w) + " sensor readings, rig '" + t.name + "' has " +

@@ -22,6 +22,7 @@ struct RecordedRun {
   int m = 0, n = 0;
   int w = -1;                             // < 0: no sensor readings recorded
   double rate_hz = 0;                     // the loop rate recorded with the run (0: not known)
+  int horizon = 0;                        // the controller's N as the run started (0: not known)
   std::vector<int64_t> k, step, time_us;  // per sample; -1 where the sample lacks it
   std::vector<double> u, y, l;            // rows x m, n, w; NaN where the sample lacks it
   long rows() const { return static_cast<long>(k.size()); }

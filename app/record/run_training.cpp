@@ -1,6 +1,7 @@
 #include "app/record/run_training.hpp"
 
 #include <cmath>
+#include <cstdlib>
 
 #include "host/files/cli_error.hpp"
 #include "app/record/recorder.hpp"
@@ -9,6 +10,9 @@
 namespace nlsoft::console {
 
 namespace tf = protocol::telemetry_field;
+
+// Above any controller's horizon (shared/capacity.hpp's N is far below).
+constexpr long kMaxRecordedHorizon = 1000;
 
 pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
   try {
@@ -20,8 +24,17 @@ pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
     r.m = row.m;
     r.n = row.n;
     r.rate_hz = row.loop_rate_hz;
-    // Sensors are kept by identification runs (schema v6); a closed-loop
-    // run holds none, and r.w stays < 0 for it.
+    // A database is outside input: a horizon past any controller's (or no
+    // number) is not known, not a loop of that length.
+    for (const ParamRecord& p : store.params(id)) {
+      if (!p.at_start || p.name != "N") continue;
+      char* end = nullptr;
+      const long n = std::strtol(p.value.c_str(), &end, 10);
+      if (end != p.value.c_str() && *end == '\0' && n >= 1 && n <= kMaxRecordedHorizon) r.horizon = int(n);
+    }
+    // Sensors are kept by identification runs (schema v6) and by closed-loop
+    // runs recorded with the sensor stream (protocol 1.6); r.w stays < 0
+    // for a closed-loop run without them.
     if (row.w > 0) r.w = row.w;
     const double nan = std::nan("");
     store.for_each_sample(id, [&](const Sample& s) {

@@ -263,14 +263,17 @@ class Firmware {
     send_sample(wire, len);
   }
 
-  // A sample frame (TELEMETRY or IDENT_SAMPLE) and, on a rig with chips,
-  // its step's SENSOR_HEALTH right behind it: queued together or dropped
-  // together, counted once in tx_dropped (PROTOCOL.md 9.6), so a console
-  // never gets the one without the other.
-  void send_sample(const uint8_t* wire, size_t len) {
+  // A sample frame (TELEMETRY or IDENT_SAMPLE), with its step's
+  // SENSOR_SAMPLE before it while the stream is on (closed loop only) and,
+  // on a rig with chips, its SENSOR_HEALTH right behind it: queued together
+  // or dropped together, counted once in tx_dropped (PROTOCOL.md 9.6), so a
+  // console never gets the one without the others.
+  void send_sample(const uint8_t* wire, size_t len, const uint8_t* before = nullptr, size_t before_len = 0) {
     uint8_t health[32];  // SENSOR_HEALTH is 19 bytes on the wire
     const size_t health_len = len == 0 ? 0 : encode_health(health, sizeof health);
-    if (len == 0 || !tx_.push_pair(wire, len, health, health_len)) ++tx_dropped_;
+    const uint8_t* frames[3] = {before, wire, health};
+    const size_t lens[3] = {before_len, len, health_len};
+    if (len == 0 || !tx_.push_group(frames, lens, 3)) ++tx_dropped_;
   }
 
   void ident_start(uint8_t type, const proto::IdentStart& p) {
@@ -441,6 +444,15 @@ class Firmware {
           return nack(f.header.type, proto::StatusCode::Unsupported, 0, proto::kNoField);
         mask_ = p.mask;
         decimation_ = p.decimation;
+        return ack(f.header.type);
+      }
+      case T::SensorStream: {
+        proto::SensorStream p;
+        if (!unpack_or_nack(f, p)) return;
+        // A rig without sensors has nothing to stream: no capability bit.
+        if (rig_.w == 0) return nack(f.header.type, proto::StatusCode::Unsupported, proto::kNoField, proto::kNoField);
+        if (p.on > 1) return nack(f.header.type, proto::StatusCode::OutOfRange, 0, proto::kNoField);
+        sensor_stream_ = p.on != 0;
         return ack(f.header.type);
       }
       case T::StatusGet: return send_status(f.header.seq, true);
@@ -646,7 +658,7 @@ class Firmware {
     i.param_hash = param_hash_;
     namespace c = proto::capability;
     i.capabilities = c::kParams | c::kRefBuiltin | c::kTelemetry | c::kRunHold | c::kLog | c::kRig | c::kDevices |
-                     (id_.has_y_true ? c::kYTrue : 0);
+                     (id_.has_y_true ? c::kYTrue : 0) | (rig_.w > 0 ? c::kSensorStream : 0);
     // The services it may leave out (PROTOCOL.md 9.12); saved settings only
     // with a store that answers. Their bits taken at compile time: the
     // table's names stay out of the image.
@@ -705,7 +717,17 @@ class Firmware {
     t.compute_ticks = compute;
     uint8_t wire[proto::kWireBufferSize];
     const size_t len = proto::encode(t, unsolicited_seq_++, 0, wire, sizeof wire);
-    send_sample(wire, len);
+    // The sensors the step read, what a model learns from (PROTOCOL.md 9.6).
+    uint8_t sensors[proto::kMaxSensorChannels * 4 + 4 + 9];  // payload, header, CRC, COBS, delimiter
+    size_t sensors_len = 0;
+    if (sensor_stream_) {
+      proto::SensorSample ss;
+      ss.step = step_;
+      ss.w = uint8_t(rig_.w);
+      for (int j = 0; j < rig_.w; ++j) ss.l[j] = l_[j];
+      sensors_len = proto::encode(ss, unsolicited_seq_++, 0, sensors, sizeof sensors);
+    }
+    send_sample(wire, len, sensors, sensors_len);
   }
 
   // For each sample frame of an image with sensor chips: which channels of
@@ -841,6 +863,7 @@ class Firmware {
   ComputeStats stats_{};
   float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
   float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
+  bool sensor_stream_ = false;  // SENSOR_SAMPLE before each TELEMETRY (SENSOR_STREAM)
   bool have_y_true_ = false;
   // Constant false without Chips, so the compiler drops every use.
   bool chips() const {

@@ -28,13 +28,15 @@ class TxQueue {
     return true;
   }
 
-  // Two droppable frames queued together or not at all (a sample frame and
-  // its SENSOR_HEALTH): neither ever arrives without the other. len_b 0:
-  // the first alone.
-  bool push_pair(const uint8_t* a, size_t len_a, const uint8_t* b, size_t len_b) {
-    if (len_a + len_b + kReserve > room()) return false;
-    push(a, len_a, false);
-    if (len_b > 0) push(b, len_b, false);
+  // Droppable frames queued together or not at all (a SENSOR_SAMPLE, its
+  // sample frame and its SENSOR_HEALTH): none ever arrives without the
+  // others. A length of 0 is a frame left out.
+  bool push_group(const uint8_t* const* frames, const size_t* lens, int count) {
+    size_t total = 0;
+    for (int i = 0; i < count; ++i) total += lens[i];
+    if (total + kReserve > room()) return false;
+    for (int i = 0; i < count; ++i)
+      if (lens[i] > 0) push(frames[i], lens[i], false);
     return true;
   }
 

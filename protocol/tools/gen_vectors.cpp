@@ -564,6 +564,28 @@ void build() {
   add("sensor_health", "Protocol 1.4: sensor channels 3 to 5 invalid at step 1200, the oldest valid sample 7 ms old.",
       frame(sh, 86));
 
+  SensorStream stream_on;
+  stream_on.on = 1;
+  add("sensor_stream_on", "Protocol 1.6: each closed-loop TELEMETRY from now on preceded by its step's SENSOR_SAMPLE.",
+      frame(stream_on, 95));
+  Ack stream_ack;
+  stream_ack.request_type = static_cast<uint8_t>(MsgType::SensorStream);
+  add("sensor_stream_ack", "Protocol 1.6: the ACK of sensor_stream_on.", frame(stream_ack, 95, frame_flags::kReply));
+  Nack stream_none;
+  stream_none.request_type = static_cast<uint8_t>(MsgType::SensorStream);
+  stream_none.status = static_cast<uint8_t>(StatusCode::Unsupported);
+  add("sensor_stream_nack_no_sensors",
+      "Protocol 1.6: SENSOR_STREAM refused unsupported by the firmware of a rig without sensors (w 0).",
+      frame(stream_none, 95, frame_flags::kReply));
+  SensorSample ss;
+  ss.step = 1200;
+  ss.w = 3;
+  ss.l[0] = 0.5f;
+  ss.l[1] = -1.25f;
+  ss.l[2] = 3.0f;
+  add("sensor_sample", "Protocol 1.6: the three sensors of closed-loop step 1200, sent right before its TELEMETRY.",
+      frame(ss, 87));
+
   struct SettingsVector {
     SettingsAction action;
     const char* name;

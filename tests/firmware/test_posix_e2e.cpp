@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -637,4 +638,108 @@ TEST(PosixFirmwareNoise, TheSameIdentificationRunGivesTheSameDataAfterAnyIdleTim
     for (int j = 0; j < a[k].n; ++j) ASSERT_EQ(a[k].y[j], b[k].y[j]) << "step " << k << " y" << j;
     for (int j = 0; j < a[k].w; ++j) ASSERT_EQ(a[k].l[j], b[k].l[j]) << "step " << k << " l" << j;
   }
+}
+
+namespace {
+
+// SENSOR_STREAM with `on` answered: the reply's type and, for a NACK, its status and field.
+std::optional<Received> sensor_stream(Peer& peer, uint8_t on) {
+  proto::SensorStream s;
+  s.on = on;
+  return peer.request(s);
+}
+
+}  // namespace
+
+// Protocol 1.6 (PROTOCOL.md 7 SENSOR_STREAM, SENSOR_SAMPLE; 9.6): a rig with
+// sensors streams them on request. While on, each closed-loop TELEMETRY is
+// preceded by the SENSOR_SAMPLE of its step, INFO's w wide; a value past 1
+// is refused naming field 0; off, none comes. A rig without sensors (msd)
+// has no capability and refuses the request `unsupported`.
+TEST(PosixSensorStream, EachClosedLoopTelemetryFollowsItsStepsSensors) {
+  SimProcess sim({NLSOFT_FIRMWARE_SIM, "--rig", "hasel", "--fast"});
+  ASSERT_FALSE(sim.path().empty()) << "the simulator printed no pty path";
+  Peer peer(sim.path());
+  ASSERT_TRUE(peer.ok());
+  auto info = peer.request(proto::InfoGet{});
+  ASSERT_TRUE(info);
+  const auto ex = as<proto::InfoEx>(*info);
+  ASSERT_EQ(ex.info.w, 18);
+  EXPECT_NE(ex.info.capabilities & proto::capability::kSensorStream, 0u);
+  EXPECT_EQ(ex.protocol_minor, 6);
+  ASSERT_TRUE(peer.request(watchdog_off()));
+
+  auto r = sensor_stream(peer, 2);
+  ASSERT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Nack));
+  const auto nack = as<proto::Nack>(*r);
+  EXPECT_EQ(nack.status, uint8_t(proto::StatusCode::OutOfRange));
+  EXPECT_EQ(nack.field, 0);
+  r = sensor_stream(peer, 1);
+  ASSERT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Ack));
+  proto::TelemetryConfig tc;
+  tc.mask = proto::telemetry_field::kAll;
+  tc.decimation = 1;
+  ASSERT_TRUE(peer.request(tc));
+  proto::RunStart start;
+  start.run_id = 9;
+  r = peer.request(start);
+  ASSERT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Ack)) << "RUN_START";
+
+  // 200 closed-loop steps, in arrival order.
+  std::vector<Received> frames;
+  size_t telemetry = 0;
+  while (telemetry < 200) {
+    auto t = peer.wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::Telemetry); }, 2000);
+    ASSERT_TRUE(t) << "TELEMETRY stopped after " << telemetry;
+    for (auto& u : peer.unsolicited) frames.push_back(std::move(u));
+    peer.unsolicited.clear();
+    frames.push_back(std::move(*t));
+    ++telemetry;
+  }
+  const uint8_t tt = uint8_t(proto::MsgType::Telemetry), st = uint8_t(proto::MsgType::SensorSample);
+  size_t paired = 0;
+  bool varies = false;
+  std::optional<proto::SensorSample> first;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    if (frames[k].header.type == st) {
+      ASSERT_TRUE(k + 1 < frames.size() && frames[k + 1].header.type == tt) << "a SENSOR_SAMPLE not before a TELEMETRY";
+      continue;
+    }
+    if (frames[k].header.type != tt) continue;
+    ASSERT_GT(k, 0u);
+    ASSERT_EQ(frames[k - 1].header.type, st) << "a TELEMETRY without its SENSOR_SAMPLE (frame " << k << ")";
+    const auto s = as<proto::SensorSample>(frames[k - 1]);
+    const auto t = as<proto::Telemetry>(frames[k]);
+    ASSERT_EQ(s.step, t.step);
+    ASSERT_EQ(s.w, 18);
+    for (int i = 0; i < s.w; ++i) ASSERT_TRUE(std::isfinite(s.l[i]));
+    if (!first) first = s;
+    else varies = varies || std::memcmp(first->l, s.l, sizeof s.l) != 0;
+    ++paired;
+  }
+  EXPECT_EQ(paired, 200u);
+  EXPECT_TRUE(varies) << "the sensors never changed over 200 steps";
+
+  // Off: the run goes on without them.
+  r = sensor_stream(peer, 0);
+  ASSERT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Ack));
+  peer.unsolicited.clear();
+  size_t after = 0, stray = 0;
+  while (after < 100) {
+    auto t = peer.wait_for([](const Received& x) { return x.header.type == uint8_t(proto::MsgType::Telemetry); }, 2000);
+    ASSERT_TRUE(t);
+    ++after;
+    for (const auto& u : peer.unsolicited) stray += u.header.type == st;
+    peer.unsolicited.clear();
+  }
+  // What was queued before the ACK arrived before it.
+  EXPECT_EQ(stray, 0u);
+
+  SimProcess msd({NLSOFT_FIRMWARE_SIM, "--rig", "msd", "--fast"});
+  ASSERT_FALSE(msd.path().empty());
+  Peer msd_peer(msd.path());
+  ASSERT_TRUE(msd_peer.ok());
+  r = sensor_stream(msd_peer, 1);
+  ASSERT_TRUE(r && r->header.type == uint8_t(proto::MsgType::Nack));
+  EXPECT_EQ(as<proto::Nack>(*r).status, uint8_t(proto::StatusCode::Unsupported));
 }

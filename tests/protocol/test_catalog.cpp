@@ -26,7 +26,7 @@ TEST(Catalog, EachRequestIsAnsweredByItsReplyOrNack) {
       {T::XferAbort, T::Ack},       {T::RunStart, T::Ack},         {T::RunStop, T::Ack},
       {T::RunHold, T::Ack},         {T::TelemetryConfig, T::Ack},  {T::StatusGet, T::Status},
       {T::RigGet, T::RigInfo},      {T::IdentStart, T::Ack},       {T::DeviceGet, T::DeviceStatus},
-      {T::Settings, T::Ack},
+      {T::Settings, T::Ack},        {T::SensorStream, T::Ack},
   };
   size_t requests = 0;
   for (const np::MsgInfo& m : np::kMessages) requests += m.is_request ? 1 : 0;

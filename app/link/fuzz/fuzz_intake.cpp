@@ -6,7 +6,8 @@
 //   build-fuzz/app/link/fuzz/nlsoft-fuzz-intake -max_total_time=60 CORPUS protocol/fuzz/corpus
 //
 // Input: byte 0 picks the firmware's INFO (m, n, w, or none yet), byte 1
-// whether a run records and the chunk size the port delivers; the rest is
+// whether a run records, whether it asked for the sensors (SENSOR_STREAM)
+// and the chunk size the port delivers; the rest is
 // the line. Every sample that arrives must be of INFO's shape and finite,
 // every LOG line free of what a terminal acts on.
 #include <unistd.h>
@@ -112,6 +113,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   run.left_state = 0;
   run.left_watchdog = 0;
   run.id = recording ? r.run_id : 0;
+  run.sensors_w = (mode & 0x40) != 0 ? info.w : 0;
 
   c::Session session;
   const bool known = pick < 0xf0;  // else: no INFO yet, only the capacity is checked
@@ -131,6 +133,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     intake.on_ident_sample(s, lost);
   });
   session.on_sensor_health([&](const p::SensorHealth& h) { intake.on_sensor_health(h); });
+  session.on_sensor_sample([&](const p::SensorSample& s) {
+    check(!known || s.w == info.w);
+    check(s.w <= p::kMaxSensorChannels);
+    for (int i = 0; i < s.w; ++i) check(std::isfinite(s.l[i]));
+    intake.on_sensor_sample(s);
+  });
   session.on_status([&](const p::Status& s) { intake.on_status(s); });
   session.on_log([&](const p::Log& l) { check(text_safe(l.text)); });
 

@@ -64,5 +64,52 @@ TEST(SampleIntake, AnInvalidChannelIsAGapInTheLivePlotsNotTheZeroSent) {
   EXPECT_TRUE(std::isnan(shown[0].l[2]));
 }
 
+protocol::Telemetry telemetry_at(uint32_t step) {
+  protocol::Telemetry t{};
+  t.mask = protocol::telemetry_field::kStep | protocol::telemetry_field::kU;
+  t.n = 1;
+  t.m = 1;
+  t.step = step;
+  t.u[0] = 0.5f;
+  return t;
+}
+
+protocol::SensorSample sensors_at(uint32_t step, uint8_t w, float first) {
+  protocol::SensorSample s{};
+  s.step = step;
+  s.w = w;
+  for (int i = 0; i < w; ++i) s.l[i] = first + float(i);
+  return s;
+}
+
+// Protocol 1.6: a closed-loop step's SENSOR_SAMPLE comes right before its
+// TELEMETRY; the sample the plots (and the recorder) get carries its l.
+// One of another step (its TELEMETRY lost), of another width, or sent
+// while the console did not ask for them adds nothing.
+TEST(SampleIntake, AClosedLoopStepCarriesTheSensorsSentBeforeItsTelemetry) {
+  test::TempDir dir;
+  Recorder recorder(dir.file("r.db"));
+  ActiveRun run(recorder);
+  SampleIntake intake(run, nullptr);
+  run.sensors_w = 3;
+  intake.on_sensor_sample(sensors_at(7, 3, 10.0f));
+  intake.on_telemetry(telemetry_at(7), 0);
+  intake.on_sensor_sample(sensors_at(7, 3, 20.0f));  // its TELEMETRY (step 7 again) lost: step 8 follows
+  intake.on_telemetry(telemetry_at(8), 0);
+  intake.on_sensor_sample(sensors_at(9, 2, 30.0f));  // not the width asked for
+  intake.on_telemetry(telemetry_at(9), 0);
+  intake.on_telemetry(telemetry_at(10), 0);  // no SENSOR_SAMPLE: the one of step 9 is not reused
+  run.sensors_w = 0;
+  intake.on_sensor_sample(sensors_at(11, 3, 40.0f));  // unasked
+  intake.on_telemetry(telemetry_at(11), 0);
+  const std::vector<Sample> shown = intake.live().snapshot(5);
+  ASSERT_EQ(shown.size(), 5u);
+  EXPECT_EQ(shown[0].step, 7u);
+  ASSERT_EQ(shown[0].w, 3);
+  EXPECT_EQ(shown[0].l[0], 10.0f);
+  EXPECT_EQ(shown[0].l[2], 12.0f);
+  for (size_t i = 1; i < shown.size(); ++i) EXPECT_EQ(shown[i].w, 0) << "step " << shown[i].step;
+}
+
 }  // namespace
 }  // namespace nlsoft::console

@@ -69,6 +69,47 @@ TEST(FitScores, TheArxBaselineRecoversADifferenceEquation) {
   EXPECT_LT(score(y, worse.free_run, {})[0].fit, score(y, worse.one_step, {})[0].fit);
 }
 
+// k steps ahead (the controller's horizon, paper eq. 3): from the measured
+// history k - 1 rows back and the predictor's own outputs since. With k = 1
+// that is one-step; with k past the data's length every row starts from
+// the first, which is the free run; in between, an off baseline errs more
+// than one step ahead, and each row is the one worked out by hand.
+TEST(FitScores, KStepsAheadStartsFromTheHistoryKMinusOneRowsBack) {
+  Series s;
+  const long q = 300;
+  s.resize(q, 1, 1, 0);
+  double y1 = 0, y0 = 0, u1 = 0;
+  for (long k = 0; k < q; ++k) {
+    s.time(k) = 0.01 * double(k);
+    s.u(k, 0) = std::sin(0.37 * double(k)) + ((k / 13) % 2 ? 0.5 : -0.5);
+    s.y(k, 0) = y0;
+    const double next = 0.5 * y0 - 0.2 * y1 + 2.0 * s.u(k, 0) + 0.3 * u1 + 1.0;
+    y1 = y0, y0 = next, u1 = s.u(k, 0);
+  }
+  const Dataset d = build_dataset(s, 2, 2);
+  ArxModel off = fit_arx(d, d.pieces);
+  off.theta(2, 0) += 0.05;  // its pole a little off: errors grow as it feeds itself
+  const Eigen::MatrixXd y = measured(d, d.pieces);
+  EXPECT_EQ(simulate_arx(off, d, d.pieces, 1).k_step.rows(), 0);  // k = 1 is one-step: not repeated
+  const Simulation far = simulate_arx(off, d, d.pieces, int(q) + 10);
+  EXPECT_EQ(far.k_step, far.free_run);
+  const double one = score(y, far.one_step, {})[0].rmse;
+  for (int k : {2, 3, 5, 10}) EXPECT_GT(score(y, simulate_arx(off, d, d.pieces, k).k_step, {})[0].rmse, one) << k;
+  // The row k steps ahead of its start, by hand: from row 10's history, 3 steps.
+  const Simulation three = simulate_arx(off, d, d.pieces, 3);
+  Eigen::VectorXd x = d.X.row(10).transpose();
+  double yhat[1];
+  for (long r = 10; r <= 12; ++r) {
+    const Eigen::VectorXd row = d.X.row(r).transpose();
+    for (int i = 0; i < d.layout.p(); ++i)
+      if (i < d.layout.y_begin() || i >= d.layout.y_begin() + d.layout.dd * d.layout.n) x(i) = row(i);
+    off.predict(x.data(), yhat);
+    x(d.layout.y_begin() + 1) = x(d.layout.y_begin());
+    x(d.layout.y_begin()) = yhat[0];
+  }
+  EXPECT_NEAR(three.k_step(12, 0), yhat[0], 1e-12);
+}
+
 TEST(FitScores, AnOlderConsolesFitStillReads) {
   const ModelFit f = fit_from_json(
       R"j({"rig":"msd","held_out":"the last 1/11 of the run (90 rows)","rows":90,)j"
@@ -112,7 +153,7 @@ TEST(FitScores, TheLargestModelWithItsFitAndBaselineReadsBack) {
   sec.title = "held-out data of rig big: " + fit.held_out;
   sec.rows = 100;
   sec.has_arx = true;
-  for (int j = 0; j < 6; ++j) sec.outputs.push_back({"y" + std::to_string(j), 1.0, {}, {}, {}, {}});
+  for (int j = 0; j < 6; ++j) sec.outputs.push_back({"y" + std::to_string(j), 1.0, {}, {}, {}, {}, {}, {}});
   fit.sections = {sec, sec};
   f.fit = fit_to_json(fit);
   const std::string path = ::testing::TempDir() + "/largest_" + std::to_string(::getpid()) + ".nlsm";

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
@@ -137,6 +138,76 @@ TEST_F(TrainRuns, AnExportedRunIsTheSameTrainingSetAsTheRun) {
   const std::string hash_b = line_of(from_csv.output, "wrote ").substr(("wrote " + b).size());
   EXPECT_EQ(hash_a, hash_b);
   EXPECT_TRUE(contains(hash_a, "hash 0x")) << from_run.output;
+}
+
+// Protocol 1.6: a closed-loop run of hasel, whose model reads 18 sensors,
+// holds them (the console turns SENSOR_STREAM on), so it trains a model
+// alone or with others, and `model fit` judges a model on it as far ahead
+// as its controller looked (N = 3 as the run started). A run that holds
+// no sensors (a 1.5 firmware's) is refused, saying why.
+TEST_F(TrainRuns, AClosedLoopRunOfARigWithSensorsTrainsAndIsJudgedAtItsHorizon) {
+  const std::string script = dir_.file("swirl.nls");
+  std::ofstream(script) << "ref swirl\nrun 10s label=swirl\n";
+  auto r = console("--sim hasel --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string csv = dir_.file("swirl.csv");
+  r = console("runs export 1 --csv " + shell_quote(csv) + " --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::ifstream in(csv);
+  std::string header, row;
+  ASSERT_TRUE(std::getline(in, header));
+  ASSERT_TRUE(std::getline(in, row));
+  EXPECT_TRUE(contains(header, ",l0,") && contains(header, ",l17")) << header;
+  EXPECT_FALSE(contains(header, ",l18")) << header;
+
+  const std::string model = dir_.file("swirl.nlsm");
+  r = console("train --rig hasel --run 1 --db " + shell_quote(db()) + " --out " + shell_quote(model) + " --seeds 1");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "training on 1 run of rig hasel: ")) << r.output;
+  EXPECT_TRUE(contains(r.output, "wrote " + model)) << r.output;
+
+  r = console("model fit " + shell_quote(model) + " --run 1 --db " + shell_quote(db()) + " --json");
+  ASSERT_EQ(r.code, 0) << r.output;
+  const nlohmann::json j = nlohmann::json::parse(r.output);
+  ASSERT_EQ(j["runs"].size(), 1u);
+  EXPECT_EQ(j["runs"][0]["horizon"], 3);
+  ASSERT_EQ(j["runs"][0]["outputs"].size(), 3u);
+  for (const auto& o : j["runs"][0]["outputs"]) {
+    const double one = o["one_step"]["rmse"], ahead = o["k_step"]["rmse"];
+    EXPECT_GT(ahead, 0.0) << o.dump();
+    EXPECT_TRUE(std::isfinite(ahead)) << o.dump();
+    EXPECT_GE(ahead, one) << o.dump();
+  }
+  r = console("model fit " + shell_quote(model) + " --run 1 --db " + shell_quote(db()) + " --horizon 0");
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_FALSE(contains(r.output, "3-step")) << r.output;  // one-step and free-run only
+  EXPECT_TRUE(contains(r.output, "one-step")) << r.output;
+
+  // The same rig's run without sensors, as a 1.5 firmware's: refused by name.
+  {
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "hasel";
+    ri.n = 3;
+    ri.m = 6;
+    ri.loop_rate_hz = 130;
+    const int64_t id = rec.begin_run(ri);
+    Sample s;
+    s.n = 3;
+    s.m = 6;
+    s.mask = protocol::telemetry_field::kStep | protocol::telemetry_field::kU | protocol::telemetry_field::kYTrue;
+    for (int k = 0; k < 50; ++k) {
+      s.k = uint64_t(k);
+      s.step = uint32_t(k);
+      rec.add_sample(id, s);
+    }
+    rec.end_run(id, "completed", 50, 0);
+    rec.flush();
+  }
+  r = console("train --rig hasel --run 1 --run 2 --db " + shell_quote(db()) + " --out " + shell_quote(dir_.file("x.nlsm")));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 2 holds no sensor readings l, and rig 'hasel' has 18 sensors")) << r.output;
+  EXPECT_FALSE(std::ifstream(dir_.file("x.nlsm")).good());
 }
 
 TEST_F(TrainRuns, RunsThatCannotTrainAModelAreRefusedByName) {
