@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <map>
@@ -10,6 +11,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "host/files/output_file.hpp"
+#include "app/record/step_time.hpp"
 
 namespace nlsoft::console {
 
@@ -52,7 +54,10 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
   // An identification run's sensors last, so the columns before keep their places.
   for (int i = 0; i < w; ++i) head += fmt::format(",l{}", i);
   if (have_health) head += ",l_invalid,l_age_ms";
-  head += '\n';
+  // The step time last, for the same reason: readers that count columns
+  // (and `train --data`, which knows a run export by its first three) keep
+  // finding theirs.
+  head += ",t\n";
   std::fputs(head.c_str(), f.get());
   size_t rows = 0;
   fmt::memory_buffer line;
@@ -64,6 +69,7 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
   };
   for (size_t r = 0; r < runs.size(); ++r) {
     const RunRow& run = runs[r];
+    StepClock clock(run.loop_rate_hz);
     store.for_each_sample(run.id, [&](const Sample& s) {
       line.clear();
       if (several) fmt::format_to(std::back_inserter(line), "{},", run.id);
@@ -89,6 +95,11 @@ size_t export_runs_csv(RunStore& store, const std::vector<int64_t>& run_ids, con
         if (h != health[r].end()) fmt::format_to(std::back_inserter(line), ",{},{}", h->second.invalid, h->second.age_ms);
         else line.append(std::string_view(",,"));
       }
+      // Shortest digits that read back as the same double: t of a row is
+      // exactly (step - first step) / loop_rate_hz.
+      const double t = clock.at(s.has(tf::kStep), s.step);
+      if (std::isnan(t)) line.push_back(',');
+      else fmt::format_to(std::back_inserter(line), ",{}", t);
       line.push_back('\n');
       std::fwrite(line.data(), 1, line.size(), f.get());
       ++rows;

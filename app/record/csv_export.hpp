@@ -1,6 +1,10 @@
 #pragma once
 // A run's samples as CSV: one header line, one row per sample, floats with
-// 9 significant digits so a reader gets the recorded f32 back exactly.
+// 9 significant digits so a reader gets the recorded f32 back exactly. The
+// last column, t, is the step time (app/record/step_time.hpp), written with
+// the shortest digits that give its double back; time_us is the firmware's
+// clock as sent. Column names stay y_true0..: a rig's names and units go to
+// the HDF5 export, which has room for them.
 #include <string>
 #include <vector>
 

@@ -13,6 +13,9 @@
 #include "host/files/cli_error.hpp"
 #include "app/h5_handle.hpp"
 #include "host/files/output_file.hpp"
+#include "host/files/printable.hpp"
+#include "host/rig/rig_catalog.hpp"
+#include "app/record/step_time.hpp"
 #include "app/record/utc_time.hpp"
 #include "app/record/task_space.hpp"
 
@@ -87,20 +90,62 @@ void strings_dataset(hid_t parent, const std::string& name, const std::vector<st
   dataset(parent, name, type.get(), type.get(), ptrs.data(), values.size(), 0);
 }
 
-// A column's unit: one word when every column shares it, else one per column.
-void put_units(hid_t obj, const std::vector<std::string>& units) {
+// A dataset's columns: `names` and `units` one per column, so a script
+// reads them the same way on every dataset; `unit` as well when every column
+// shares one (what format 1 wrote alone then, and still the handier word).
+void put_columns(hid_t obj, const std::vector<std::string>& names, const std::vector<std::string>& units) {
   if (units.empty()) return;
+  put_strings(obj, "names", names, false);
+  put_strings(obj, "units", units, false);
   if (std::all_of(units.begin(), units.end(), [&](const std::string& u) { return u == units[0]; }))
     put(obj, "unit", units[0]);
-  else
-    put_strings(obj, "units", units, false);
+}
+
+std::string sizes(int n, int m, int w) { return fmt::format("n={} m={} w={}", n, m, w); }
+
+// A run without sensors (w 0) fits a rig that has some: it recorded none.
+bool fits(const Rig& rig, const RunRow& r) { return rig.n() == r.n && rig.m() == r.m && (r.w == 0 || rig.w() == r.w); }
+
+RigColumns columns_of(const Rig& rig, const RunRow& r) {
+  RigColumns c;
+  for (const auto& o : rig.outputs) c.output_names.push_back(o.name), c.output_units.push_back(o.unit);
+  for (const auto& i : rig.inputs) c.input_names.push_back(i.name), c.input_units.push_back(i.unit);
+  if (r.w > 0)
+    for (const auto& l : rig.sensors) c.sensor_names.push_back(l.name), c.sensor_units.push_back(l.unit);
+  return c;
+}
+
+// The run's own rig when the console knows it by name and its sizes are the
+// run's; else no names, and `why_not` says why in a few words.
+RigColumns own_rig_columns(const RunRow& r, std::string& why_not) {
+  if (r.platform.empty()) {
+    why_not = fmt::format("run {} names no rig", r.id);
+    return {};
+  }
+  // Only a name in the rigs folders ($NLSOFT_RIGS, the shipped ones): a
+  // platform holding '/' or ending in .toml would be taken for a path by
+  // load_rig_arg, and a run's name is no path.
+  const auto known = rig_names();
+  if (std::find(known.begin(), known.end(), r.platform) == known.end()) {
+    why_not = fmt::format("run {}'s rig \"{}\" is in no rigs folder", r.id, printable(r.platform));
+    return {};
+  }
+  try {
+    const Rig rig = load_rig_arg(r.platform);
+    if (fits(rig, r)) return columns_of(rig, r);
+    why_not = fmt::format("run {} has {}, the shipped rig {} {}", r.id, sizes(r.n, r.m, r.w), r.platform,
+                          sizes(rig.n(), rig.m(), rig.w()));
+  } catch (const std::exception&) {
+    why_not = fmt::format("run {}'s rig file {} cannot be read", r.id, r.platform);
+  }
+  return {};
 }
 
 // One run's samples, by field; rows a field is missing from hold NaN.
 struct Columnar {
   std::vector<uint64_t> k;
   std::vector<uint32_t> step, time_us;
-  std::vector<double> t;
+  std::vector<double> t, t_firmware;
   std::vector<float> y_ref, y_hat, y_true, u, l, cost, compute_us;
   std::vector<uint8_t> iterations;
   std::vector<uint32_t> l_invalid;  // SENSOR_HEALTH's mask per row (rigs with sensor chips)
@@ -113,8 +158,9 @@ struct Columnar {
 Columnar read_run(RunStore& store, const RunRow& r) {
   Columnar c;
   const size_t n = size_t(r.n), m = size_t(r.m);
+  StepClock clock(r.loop_rate_hz);
   // time_us is the firmware's 32-bit microsecond clock: it wraps every
-  // 71.6 minutes, so t is unwrapped here, from the run's first sample.
+  // 71.6 minutes, so t_firmware is unwrapped here, from the run's first sample.
   uint64_t high = 0;
   uint32_t last = 0;
   bool first = true;
@@ -126,14 +172,15 @@ Columnar read_run(RunStore& store, const RunRow& r) {
     c.k.push_back(s.k);
     c.step.push_back(s.has(tf::kStep) ? s.step : 0);
     c.time_us.push_back(s.has(tf::kTime) ? s.time_us : 0);
+    c.t.push_back(clock.at(s.has(tf::kStep), s.step));
     if (s.has(tf::kTime)) {
       if (!first && s.time_us < last) high += uint64_t(1) << 32;
       const double us = double(high + s.time_us);
       if (first) t0 = us, first = false;
       last = s.time_us;
-      c.t.push_back((us - t0) * 1e-6);
+      c.t_firmware.push_back((us - t0) * 1e-6);
     } else {
-      c.t.push_back(std::numeric_limits<double>::quiet_NaN());
+      c.t_firmware.push_back(std::numeric_limits<double>::quiet_NaN());
     }
     auto add = [](std::vector<float>& to, bool has, const float* v, size_t count) {
       for (size_t i = 0; i < count; ++i) to.push_back(has ? v[i] : kMissing);
@@ -158,7 +205,7 @@ Columnar read_run(RunStore& store, const RunRow& r) {
   return c;
 }
 
-uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
+uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumns& names) {
   H5Handle g = group(file, fmt::format("run_{}", r.id));
   const hid_t gid = g.get();
   put_number<int64_t>(gid, "id", H5T_NATIVE_INT64, r.id);
@@ -181,7 +228,6 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
   put_number<int32_t>(gid, "decimation", H5T_NATIVE_INT32, r.decimation);
   put_number<uint64_t>(gid, "lost_frames", H5T_NATIVE_UINT64, r.lost_frames);
 
-  const RigColumns names = rig_columns(r.platform, r.n, r.m, r.w);
   if (!names.output_names.empty()) {
     put_strings(gid, "output_names", names.output_names, false);
     put_strings(gid, "input_names", names.input_names, false);
@@ -192,27 +238,36 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
   put_number<uint64_t>(gid, "samples", H5T_NATIVE_UINT64, rows);
 
   dataset(gid, "k", H5T_STD_U64LE, H5T_NATIVE_UINT64, c.k.data(), rows, 0);
-  if (c.seen & tf::kStep) dataset(gid, "step", H5T_STD_U32LE, H5T_NATIVE_UINT32, c.step.data(), rows, 0);
-  if (c.seen & tf::kTime) {
+  if (c.seen & tf::kStep) {
+    dataset(gid, "step", H5T_STD_U32LE, H5T_NATIVE_UINT32, c.step.data(), rows, 0);
     H5Handle t = dataset(gid, "t", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, c.t.data(), rows, 0);
     put(t.get(), "unit", "s");
-    put(t.get(), "description", "firmware time since the run's first sample");
+    put(t.get(), "description",
+        "control-step time: (step - the run's first step) / loop_rate_hz (NaN: no step in the row, or no rate)");
+  }
+  if (c.seen & tf::kTime) {
+    H5Handle t = dataset(gid, "t_firmware", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, c.t_firmware.data(), rows, 0);
+    put(t.get(), "unit", "s");
+    put(t.get(), "description",
+        "the firmware's clock since the run's first sample (a --sim-fast simulator's is the host's)");
     H5Handle us = dataset(gid, "time_us", H5T_STD_U32LE, H5T_NATIVE_UINT32, c.time_us.data(), rows, 0);
     put(us.get(), "unit", "us");
+    put(us.get(), "description", "the firmware's 32-bit microsecond clock as sent");
   }
   struct Vec {
     const char* name;
     uint8_t field;
     const std::vector<float>& data;
     size_t cols;
+    const std::vector<std::string>& names;
     const std::vector<std::string>& units;
     const char* description;
   };
   const Vec vecs[] = {
-      {"y_ref", tf::kYRef, c.y_ref, n, names.output_units, "reference r"},
-      {"y_hat", tf::kYHat, c.y_hat, n, names.output_units, "the model's one-step prediction"},
-      {"y_true", tf::kYTrue, c.y_true, n, names.output_units, "measured output"},
-      {"u", tf::kU, c.u, m, names.input_units, "applied input"},
+      {"y_ref", tf::kYRef, c.y_ref, n, names.output_names, names.output_units, "reference r"},
+      {"y_hat", tf::kYHat, c.y_hat, n, names.output_names, names.output_units, "the model's one-step prediction"},
+      {"y_true", tf::kYTrue, c.y_true, n, names.output_names, names.output_units, "measured output"},
+      {"u", tf::kU, c.u, m, names.input_names, names.input_units, "applied input"},
   };
   std::vector<std::string> absent;
   for (const Vec& v : vecs) {
@@ -221,12 +276,12 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
       continue;
     }
     H5Handle d = dataset(gid, v.name, H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, v.data.data(), rows, v.cols);
-    put_units(d.get(), v.units);
+    put_columns(d.get(), v.names, v.units);
     put(d.get(), "description", v.description);
   }
   if (c.seen_l && r.w > 0) {
     H5Handle d = dataset(gid, "l", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, c.l.data(), rows, size_t(r.w));
-    put_units(d.get(), names.sensor_units);
+    put_columns(d.get(), names.sensor_names, names.sensor_units);
     put(d.get(), "description", "sensors (the network's extra inputs)");
   } else if (r.w > 0) {
     absent.push_back("l");
@@ -295,13 +350,41 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r) {
 
 }  // namespace
 
-uint64_t export_runs_h5(RunStore& store, const std::vector<int64_t>& ids, const std::string& path) {
+H5Export export_runs_h5(RunStore& store, const std::vector<int64_t>& ids, const std::string& path,
+                        const std::string& rig_arg) {
   if (ids.empty()) throw CliError("runs export: name at least one run");
   std::vector<RunRow> runs;
   std::set<int64_t> seen;
   for (int64_t id : ids) {
     if (!seen.insert(id).second) throw CliError(fmt::format("runs export: run {} is named twice", id));
     runs.push_back(store.run(id));  // "no run N" before anything is written
+  }
+  // Every run's channel names before the file is begun: a --rig that is not
+  // the runs' is refused with nothing written.
+  std::vector<RigColumns> columns;
+  std::vector<std::string> unnamed;
+  if (!rig_arg.empty()) {
+    const Rig rig = load_rig_arg(rig_arg);
+    for (const RunRow& r : runs) {
+      if (!fits(rig, r))
+        throw CliError(fmt::format("runs export --rig {}: the rig {} has {}, run {} (rig \"{}\") has {}: its "
+                                   "channels are another rig's",
+                                   printable(rig_arg), printable(rig.name), sizes(rig.n(), rig.m(), rig.w()), r.id,
+                                   printable(r.platform), sizes(r.n, r.m, r.w)));
+      columns.push_back(columns_of(rig, r));
+    }
+  } else {
+    for (const RunRow& r : runs) {
+      std::string why_not;
+      columns.push_back(own_rig_columns(r, why_not));
+      if (!why_not.empty()) unnamed.push_back(why_not);
+    }
+  }
+  H5Export report;
+  if (!unnamed.empty()) {
+    report.unnamed = "exported without channel names and units: ";
+    for (size_t i = 0; i < unnamed.size(); ++i) report.unnamed += (i ? "; " : "") + unnamed[i];
+    report.unnamed += " (--rig FILE names them)";
   }
   // Checked (a directory, a loop of links) before the work, not after.
   OutputFile out(path);
@@ -310,18 +393,16 @@ uint64_t export_runs_h5(RunStore& store, const std::vector<int64_t>& ids, const 
   // one piece through OutputFile: the file appears whole or not at all, and
   // a pipe or /dev/stdout gets it as well as a regular file does.
   std::vector<char> image;
-  uint64_t samples = 0;
   {
     H5Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), "file access"), H5Pclose);
     check(H5Pset_fapl_core(fapl.get(), 1 << 20, 0), "core driver");
     const std::string name = "nlsoft-export-" + std::to_string(::getpid());
     H5Handle file(check(H5Fcreate(name.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.get()), "create"), H5Fclose);
     put(file.get(), "format", "nlsoft runs");
-    put_number<int32_t>(file.get(), "format_version", H5T_NATIVE_INT32, 1);
+    // 2: t became the step time; version 1's t (the firmware clock) is t_firmware.
+    put_number<int32_t>(file.get(), "format_version", H5T_NATIVE_INT32, 2);
     put(file.get(), "exported_at", utc_now());
-    for (const RunRow& r : runs) {
-      samples += write_run(file.get(), store, r);
-    }
+    for (size_t i = 0; i < runs.size(); ++i) report.samples += write_run(file.get(), store, runs[i], columns[i]);
     check(H5Fflush(file.get(), H5F_SCOPE_GLOBAL), "flush");
     const ssize_t size = H5Fget_file_image(file.get(), nullptr, 0);
     if (size <= 0) fail("file image");
@@ -331,7 +412,7 @@ uint64_t export_runs_h5(RunStore& store, const std::vector<int64_t>& ids, const 
   if (std::fwrite(image.data(), 1, image.size(), out.get()) != image.size())
     throw CliError(fmt::format("writing {} failed", path));
   out.commit();
-  return samples;
+  return report;
 }
 
 }  // namespace nlsoft::console

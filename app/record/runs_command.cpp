@@ -49,7 +49,7 @@ struct RunsArgs {
   int64_t tune = 0;  // runs plot --tune S
   std::string csv, h5, svg, png, label;
   bool json = false, force = false;
-  std::string capture, rig;  // runs merge-y FILE.csv [--rig FILE]
+  std::string capture, rig;  // runs merge-y FILE.csv [--rig FILE]; runs export --h5 FILE [--rig FILE]
   std::optional<double> offset;
 };
 
@@ -393,11 +393,16 @@ void show(const RunsArgs& a) {
 
 void export_runs(const RunsArgs& a) {
   if (!a.csv.empty() && !a.h5.empty()) throw CliError("runs export: give --csv FILE or --h5 FILE, not both");
+  if (!a.rig.empty() && a.h5.empty())
+    throw CliError("runs export --rig: a CSV keeps its columns y_true0.., u0..; the rig's names and units go into "
+                   "HDF5 (--h5 FILE)");
   auto store = open_store(a);
   const std::string path = !a.h5.empty() ? a.h5 : a.csv.empty() ? "-" : a.csv;
   if (!a.h5.empty() && path == "-" && ::isatty(STDOUT_FILENO))
     throw CliError("runs export --h5 -: standard output is a terminal; name a file (--h5 runs.h5) or redirect it");
-  const uint64_t rows = a.h5.empty() ? export_runs_csv(*store, a.ids, path) : export_runs_h5(*store, a.ids, path);
+  H5Export h5;
+  if (!a.h5.empty()) h5 = export_runs_h5(*store, a.ids, path, a.rig);
+  const uint64_t rows = a.h5.empty() ? export_runs_csv(*store, a.ids, path) : h5.samples;
   std::string which = fmt::format("run {}", a.ids.front());
   if (a.ids.size() > 1) {
     which = "runs";
@@ -406,6 +411,7 @@ void export_runs(const RunsArgs& a) {
   // The file may be standard output: the report goes where it cannot mix in.
   fmt::print(stderr, "{}: {} samples written to {}{}\n", which, rows, path == "-" ? "standard output" : path,
              a.h5.empty() ? "" : " (HDF5)");
+  if (!h5.unnamed.empty()) fmt::print(stderr, "{}\n", h5.unnamed);
 }
 
 // Two runs' values of one parameter, blank-separated elements padded so
@@ -594,6 +600,9 @@ void add_runs_command(CLI::App& app) {
   e->add_option("--h5", args->h5,
                 "HDF5 file: a group run_ID per run with t, u, y_ref, y_hat, y_true, cost, iterations as datasets with "
                 "units; the run's rig, firmware, model hash and parameters as attributes; its gaps");
+  e->add_option("--rig", args->rig,
+                "HDF5: the rig (NAME|PATH) whose outputs', inputs' and sensors' names and units the runs' columns get "
+                "(default: each run's rig when it is a shipped one); its n, m, w must be the runs'");
   e->callback([args] { export_runs(*args); });
   CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
   db(c);

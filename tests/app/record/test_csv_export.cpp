@@ -1,5 +1,6 @@
 // CSV export: header names every column, floats round-trip exactly, missing
-// fields are empty cells, and a failed export leaves no file behind.
+// fields are empty cells, t is the step time, and a failed export leaves no
+// file behind.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -73,11 +74,12 @@ TEST(CsvExport, RoundTripsEveryRecordedValue) {
   ASSERT_TRUE(std::getline(in, line));
   EXPECT_EQ(line,
             "k,step,time_us,y_ref0,y_ref1,y_ref2,y_hat0,y_hat1,y_hat2,y_true0,y_true1,y_true2,u0,u1,cost,iterations,"
-            "compute_us");
+            "compute_us,t");
   size_t rows = 0;
   while (std::getline(in, line)) {
     const auto c = split(line);
-    ASSERT_EQ(c.size(), 17u) << line;
+    ASSERT_EQ(c.size(), 18u) << line;
+    EXPECT_EQ(c[17], "") << "the run recorded no loop rate: its steps have no time";
     const Sample& s = written[rows];
     EXPECT_EQ(std::stoull(c[0]), s.k);
     EXPECT_EQ(std::stoul(c[1]), s.step);
@@ -98,6 +100,81 @@ TEST(CsvExport, RoundTripsEveryRecordedValue) {
     ++rows;
   }
   EXPECT_EQ(rows, 100u);
+}
+
+// The step time: (step - the run's first step) / the run's loop rate, the
+// very double, whatever the firmware's clock said (a --sim-fast simulator's
+// time_us is the host's: 34 us per step of a 130 Hz run here). A row without
+// a step has an empty t; each run of several counts from its own first step.
+TEST(CsvExport, TIsTheStepCountOverTheLoopRateNotTheFirmwareClock) {
+  test::TempDir dir;
+  const std::string db = dir.file("runs.db");
+  std::vector<int64_t> ids;
+  {
+    Recorder r(db);
+    for (uint32_t first : {100u, 7u}) {
+      RunInfo info;
+      info.platform = "hasel";
+      info.n = 3;
+      info.m = 6;
+      info.loop_rate_hz = 130;
+      const int64_t id = r.begin_run(info);
+      for (uint64_t k = 0; k < 50; ++k) {
+        Sample s;
+        s.k = k;
+        s.n = 3;
+        s.m = 6;
+        s.mask = k == 20 ? uint8_t(tf::kTime | tf::kU) : uint8_t(tf::kStep | tf::kTime | tf::kU);
+        s.step = first + uint32_t(k);
+        s.time_us = uint32_t(5000 + 34 * k);
+        r.add_sample(id, s);
+      }
+      r.end_run(id, "completed", 50, 0);
+      ids.push_back(id);
+    }
+  }
+  RunStore store(db);
+  // t_col: the last column's index (3 + 3n + m + 3, one more with a run column).
+  auto check = [&](const std::string& csv, size_t t_col, size_t runs) {
+    const size_t rows_each = 50;
+    std::ifstream in(csv);
+    std::string line;
+    ASSERT_TRUE(std::getline(in, line));
+    EXPECT_EQ(line.substr(line.rfind(',')), ",t") << line;
+    EXPECT_EQ(split(line).size(), t_col + 1) << line;
+    size_t row = 0;
+    while (std::getline(in, line)) {
+      const auto c = split(line);
+      ASSERT_EQ(c.size(), t_col + 1) << line;
+      const size_t k = row % rows_each;
+      if (k == 20) {
+        EXPECT_EQ(c[t_col], "") << line;
+      } else {
+        EXPECT_EQ(std::strtod(c[t_col].c_str(), nullptr), double(k) / 130.0) << line;
+      }
+      ++row;
+    }
+    EXPECT_EQ(row, rows_each * runs);
+  };
+  const std::string one = dir.file("one.csv");
+  ASSERT_EQ(export_run_csv(store, ids[0], one), 50u);
+  check(one, 3 + 3 * 3 + 6 + 3, 1);
+  // The first rows by hand: t = 0, 1/130, 2/130, and time_us as sent.
+  {
+    std::ifstream in(one);
+    std::string line;
+    std::getline(in, line);
+    for (int k = 0; k < 3; ++k) {
+      std::getline(in, line);
+      const auto c = split(line);
+      EXPECT_EQ(c[1], std::to_string(100 + k));
+      EXPECT_EQ(c[2], std::to_string(5000 + 34 * k));
+      EXPECT_EQ(std::strtod(c.back().c_str(), nullptr), double(k) / 130.0);
+    }
+  }
+  const std::string both = dir.file("both.csv");
+  ASSERT_EQ(export_runs_csv(store, ids, both), 100u);
+  check(both, 1 + 3 + 3 * 3 + 6 + 3, 2);
 }
 
 TEST(CsvExport, UnwritablePathIsAClearErrorAndNoFileIsLeft) {

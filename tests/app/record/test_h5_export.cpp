@@ -1,7 +1,9 @@
 // `runs export ... --h5`: runs written by the recorder come back from the
 // file through HDF5's own reader, dataset by dataset and attribute by
-// attribute; gaps and fields the firmware never sent stay visible; several
-// runs in one CSV carry a run column; bad requests write nothing.
+// attribute; gaps and fields the firmware never sent stay visible; t is the
+// step time; the rig's names and units label the columns (or the export says
+// why not); several runs in one CSV carry a run column; bad requests write
+// nothing.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 #include <sys/stat.h>
@@ -15,6 +17,7 @@
 #include <sstream>
 
 #include "app/h5_handle.hpp"
+#include "host/rig/rig_catalog.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/run_store.hpp"
 #include "app/support/run_process.hpp"
@@ -163,7 +166,7 @@ TEST_F(H5Export, EveryDatasetAndAttributeOfTwoRunsReadsBackWithGapsAndUnits) {
   H5Handle f(H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   ASSERT_TRUE(f.ok()) << "HDF5 cannot open what was written";
   EXPECT_EQ(string_attr(f.get(), "format"), "nlsoft runs");
-  EXPECT_EQ(number_attr<int32_t>(f.get(), "format_version", H5T_NATIVE_INT32), 1);
+  EXPECT_EQ(number_attr<int32_t>(f.get(), "format_version", H5T_NATIVE_INT32), 2);
 
   H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", ida).c_str(), H5P_DEFAULT), H5Gclose);
   ASSERT_TRUE(g.ok());
@@ -186,8 +189,11 @@ TEST_F(H5Export, EveryDatasetAndAttributeOfTwoRunsReadsBackWithGapsAndUnits) {
   EXPECT_EQ(cols, 0u);
   const auto t = read<double>(g.get(), "t", H5T_NATIVE_DOUBLE, rows, cols);
   ASSERT_EQ(rows, 100u);
-  // The 32-bit microsecond clock wrapped at sample 60: t goes on rising.
-  for (size_t i = 0; i < 100; ++i) EXPECT_NEAR(t[i], 0.01 * double(i), 1e-9) << i;
+  for (size_t i = 0; i < 100; ++i) EXPECT_EQ(t[i], double(i) / 100.0) << i;  // step i at 100 Hz
+  const auto t_fw = read<double>(g.get(), "t_firmware", H5T_NATIVE_DOUBLE, rows, cols);
+  ASSERT_EQ(rows, 100u);
+  // The 32-bit microsecond clock wrapped at sample 60: t_firmware goes on rising.
+  for (size_t i = 0; i < 100; ++i) EXPECT_NEAR(t_fw[i], 0.01 * double(i), 1e-9) << i;
   const auto y_true = read<float>(g.get(), "y_true", H5T_NATIVE_FLOAT, rows, cols);
   ASSERT_EQ(rows, 100u);
   ASSERT_EQ(cols, 3u);
@@ -332,7 +338,8 @@ TEST_F(H5Export, SensorHealthMarksInvalidChannelsInBothFormats) {
   std::ifstream in(csv);
   std::string line;
   ASSERT_TRUE(std::getline(in, line));
-  EXPECT_EQ(line.substr(line.size() - std::string(",l0,l1,l2,l_invalid,l_age_ms").size()), ",l0,l1,l2,l_invalid,l_age_ms")
+  EXPECT_EQ(line.substr(line.size() - std::string(",l0,l1,l2,l_invalid,l_age_ms,t").size()),
+            ",l0,l1,l2,l_invalid,l_age_ms,t")
       << line;
   std::vector<std::string> rows;
   while (std::getline(in, line)) rows.push_back(line);
@@ -342,9 +349,9 @@ TEST_F(H5Export, SensorHealthMarksInvalidChannelsInBothFormats) {
     for (int i = 0; i < cells; ++i) at = row.rfind(',', at - 1);
     return row.substr(at + 1);
   };
-  EXPECT_EQ(tail(rows[0], 5), "0.25,0.5,0.75,,") << rows[0];  // no health recorded
-  EXPECT_EQ(tail(rows[1], 5), "1.25,,1.75,2,7") << rows[1];   // l1 invalid
-  EXPECT_EQ(tail(rows[2], 5), "2.25,2.5,2.75,0,3") << rows[2];
+  EXPECT_EQ(tail(rows[0], 6), "0.25,0.5,0.75,,,0") << rows[0];  // no health recorded
+  EXPECT_EQ(tail(rows[1], 6), "1.25,,1.75,2,7,0.01") << rows[1];  // l1 invalid
+  EXPECT_EQ(tail(rows[2], 6), "2.25,2.5,2.75,0,3,0.02") << rows[2];
 
   const std::string h5 = dir_.file("health.h5");
   ASSERT_EQ(runs(fmt::format("export {} --h5 {}", id, shell_quote(h5))).code, 0);
@@ -366,6 +373,220 @@ TEST_F(H5Export, SensorHealthMarksInvalidChannelsInBothFormats) {
   EXPECT_TRUE(std::isnan(age[0]));
   EXPECT_EQ(age[1], 7.0f);
   EXPECT_EQ(age[2], 3.0f);
+}
+
+// A hasel identification run (3 outputs, 6 inputs, 18 sensors) at 130 Hz
+// as a --sim-fast simulator records it: steps from 100, its clock the host's
+// (34 us a step); sample 5 carries no step.
+int64_t record_sim_fast_run(const std::string& db) {
+  Recorder r(db);
+  RunInfo ri;
+  ri.platform = "hasel";
+  ri.kind = "ident";
+  ri.n = 3;
+  ri.m = 6;
+  ri.w = 18;
+  ri.loop_rate_hz = 130;
+  const int64_t id = r.begin_run(ri);
+  for (uint32_t k = 0; k < 40; ++k) {
+    Sample s;
+    s.k = k;
+    s.n = 3;
+    s.m = 6;
+    s.w = 18;
+    s.mask = k == 5 ? uint8_t(tf::kTime | tf::kYTrue | tf::kU) : uint8_t(tf::kStep | tf::kTime | tf::kYTrue | tf::kU);
+    s.step = 100 + k;
+    s.time_us = 1000 + 34 * k;
+    for (int i = 0; i < 18; ++i) s.l[i] = float(k) + 0.5f * float(i);
+    r.add_sample(id, s);
+  }
+  r.end_run(id, "completed", 40, 0);
+  r.flush();
+  return id;
+}
+
+std::vector<std::string> dataset_strings(hid_t g, const char* dataset, const char* attr) {
+  H5Handle d(H5Dopen2(g, dataset, H5P_DEFAULT), H5Dclose);
+  if (!d.ok()) return {"<no dataset>"};
+  return strings(d.get(), attr, false);
+}
+
+// What MATLAB's iddata needs: t steps by 1/loop_rate_hz, the very doubles
+// (step - first step) / rate, not the host's clock the simulator sent.
+TEST_F(H5Export, TIsTheStepTimeAndTheFirmwareClockIsKeptBeside) {
+  const int64_t id = record_sim_fast_run(db());
+  const std::string out = dir_.file("fast.h5");
+  const auto r = runs(fmt::format("export {} --h5 {}", id, shell_quote(out)));
+  ASSERT_EQ(r.code, 0) << r.output;
+  H5Handle f(H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(f.ok());
+  H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", id).c_str(), H5P_DEFAULT), H5Gclose);
+  ASSERT_TRUE(g.ok());
+  size_t rows = 0, cols = 0;
+  const auto t = read<double>(g.get(), "t", H5T_NATIVE_DOUBLE, rows, cols);
+  ASSERT_EQ(rows, 40u);
+  EXPECT_EQ(cols, 0u);
+  for (size_t k = 0; k < 40; ++k) {
+    if (k == 5) EXPECT_TRUE(std::isnan(t[k])) << t[k];  // no step in the row
+    else EXPECT_EQ(t[k], double(k) / 130.0) << k;
+  }
+  const auto t_fw = read<double>(g.get(), "t_firmware", H5T_NATIVE_DOUBLE, rows, cols);
+  ASSERT_EQ(rows, 40u);
+  for (size_t k = 0; k < 40; ++k) EXPECT_NEAR(t_fw[k], 34e-6 * double(k), 1e-12) << k;
+  const auto us = read<uint32_t>(g.get(), "time_us", H5T_NATIVE_UINT32, rows, cols);
+  ASSERT_EQ(rows, 40u);
+  EXPECT_EQ(us[3], 1000u + 3 * 34);
+  H5Handle td(H5Dopen2(g.get(), "t", H5P_DEFAULT), H5Dclose);
+  EXPECT_EQ(string_attr(td.get(), "unit"), "s");
+  EXPECT_EQ(number_attr<double>(g.get(), "loop_rate_hz", H5T_NATIVE_DOUBLE), 130.0);
+}
+
+// Each dataset's columns carry their names and units, as rigs/hasel.toml
+// gives them, and the group names the outputs, inputs and sensors.
+TEST_F(H5Export, AHaselRunsColumnsCarryTheRigFilesNamesAndUnits) {
+  const int64_t id = record_sim_fast_run(db());
+  const std::string out = dir_.file("named.h5");
+  const auto r = runs(fmt::format("export {} --h5 {}", id, shell_quote(out)));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_FALSE(contains(r.output, "without channel names")) << r.output;
+  const Rig rig = load_rig_arg("hasel");  // the file the console reads ($NLSOFT_RIGS)
+  std::vector<std::string> out_names, out_units, in_names, in_units, l_names, l_units;
+  for (const auto& o : rig.outputs) out_names.push_back(o.name), out_units.push_back(o.unit);
+  for (const auto& i : rig.inputs) in_names.push_back(i.name), in_units.push_back(i.unit);
+  for (const auto& l : rig.sensors) l_names.push_back(l.name), l_units.push_back(l.unit);
+  // Not vacuous: the file is the one these words describe.
+  ASSERT_EQ(out_names, (std::vector<std::string>{"x", "y", "z"}));
+  ASSERT_EQ(in_names.size(), 6u);
+  EXPECT_EQ(in_names[0], "h1");
+  ASSERT_EQ(l_names.size(), 18u);
+  EXPECT_EQ(l_names[0], "b1x");
+  EXPECT_EQ(l_units[0], "gauss");
+
+  H5Handle f(H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(f.ok());
+  H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", id).c_str(), H5P_DEFAULT), H5Gclose);
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(strings(g.get(), "output_names", false), out_names);
+  EXPECT_EQ(strings(g.get(), "input_names", false), in_names);
+  EXPECT_EQ(strings(g.get(), "sensor_names", false), l_names);
+  EXPECT_EQ(dataset_strings(g.get(), "y_true", "names"), out_names);
+  EXPECT_EQ(dataset_strings(g.get(), "y_true", "units"), out_units);
+  EXPECT_EQ(dataset_strings(g.get(), "u", "names"), in_names);
+  EXPECT_EQ(dataset_strings(g.get(), "u", "units"), in_units);
+  EXPECT_EQ(dataset_strings(g.get(), "l", "names"), l_names);
+  EXPECT_EQ(dataset_strings(g.get(), "l", "units"), l_units);
+  // Shared by every column: also the one word format 1 wrote.
+  H5Handle y(H5Dopen2(g.get(), "y_true", H5P_DEFAULT), H5Dclose);
+  EXPECT_EQ(string_attr(y.get(), "unit"), "mm");
+  H5Handle l(H5Dopen2(g.get(), "l", H5P_DEFAULT), H5Dclose);
+  EXPECT_EQ(string_attr(l.get(), "unit"), "gauss");
+}
+
+// A run of a rig the console does not know by name (a lab's own file) is
+// exported without names, and one line says so and how to name them; --rig
+// FILE names them. A shipped rig's name on a run of other sizes is the same.
+TEST_F(H5Export, ARunOfAnUnknownRigIsExportedWithoutNamesAndSaysSo) {
+  int64_t id = 0, other = 0;
+  {
+    Recorder rec(db());
+    for (const char* platform : {"bench-arm", "hasel"}) {
+      RunInfo ri;
+      ri.platform = platform;
+      ri.n = 1;
+      ri.m = 1;
+      ri.loop_rate_hz = 50;
+      const int64_t run = rec.begin_run(ri);
+      for (uint32_t k = 0; k < 5; ++k) {
+        Sample s;
+        s.k = k;
+        s.n = 1;
+        s.m = 1;
+        s.mask = uint8_t(tf::kStep | tf::kYTrue | tf::kU);
+        s.step = k;
+        s.y_true()[0] = float(k);
+        s.u()[0] = -float(k);
+        rec.add_sample(run, s);
+      }
+      rec.end_run(run, "completed", 5, 0);
+      (std::string(platform) == "hasel" ? other : id) = run;
+    }
+    rec.flush();
+  }
+  const std::string out = dir_.file("unnamed.h5");
+  auto r = runs(fmt::format("export {} --h5 {}", id, shell_quote(out)));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, fmt::format("exported without channel names and units: run {}'s rig \"bench-arm\" "
+                                             "is in no rigs folder (--rig FILE names them)\n",
+                                             id)))
+      << r.output;
+  {
+    H5Handle f(H5Fopen(out.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    ASSERT_TRUE(f.ok());
+    H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", id).c_str(), H5P_DEFAULT), H5Gclose);
+    ASSERT_TRUE(g.ok());
+    EXPECT_FALSE(H5Aexists(g.get(), "output_names") > 0);
+    H5Handle y(H5Dopen2(g.get(), "y_true", H5P_DEFAULT), H5Dclose);
+    ASSERT_TRUE(y.ok());
+    EXPECT_FALSE(H5Aexists(y.get(), "names") > 0);
+    size_t rows = 0, cols = 0;
+    EXPECT_EQ(read<double>(g.get(), "t", H5T_NATIVE_DOUBLE, rows, cols)[4], 4.0 / 50.0);
+  }
+  // The shipped rig's name on a run of other sizes: no names, said.
+  r = runs(fmt::format("export {} --h5 {}", other, shell_quote(dir_.file("other.h5"))));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, fmt::format("run {} has n=1 m=1 w=0, the shipped rig hasel n=3 m=6 w=18", other)))
+      << r.output;
+
+  // The lab's file, by path: a copy of msd's (one output x in m, one input u in N/kg).
+  const std::string lab = dir_.file("bench-arm.toml");
+  {
+    std::ifstream from(rig_path("msd"));
+    std::ofstream to(lab);
+    to << from.rdbuf();
+  }
+  const std::string named = dir_.file("named.h5");
+  r = runs(fmt::format("export {} {} --h5 {} --rig {}", id, other, shell_quote(named), shell_quote(lab)));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_FALSE(contains(r.output, "without channel names")) << r.output;
+  H5Handle f(H5Fopen(named.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  ASSERT_TRUE(f.ok());
+  for (int64_t run : {id, other}) {
+    H5Handle g(H5Gopen2(f.get(), fmt::format("run_{}", run).c_str(), H5P_DEFAULT), H5Gclose);
+    ASSERT_TRUE(g.ok());
+    EXPECT_EQ(strings(g.get(), "output_names", false), std::vector<std::string>{"x"});
+    EXPECT_EQ(dataset_strings(g.get(), "y_true", "units"), std::vector<std::string>{"m"});
+    EXPECT_EQ(dataset_strings(g.get(), "u", "names"), std::vector<std::string>{"u"});
+    EXPECT_EQ(dataset_strings(g.get(), "u", "units"), std::vector<std::string>{"N/kg"});
+  }
+}
+
+// --rig names a rig whose sizes are not the run's: refused, naming both,
+// with nothing written; and a CSV takes no --rig (its columns keep their names).
+TEST_F(H5Export, ARigOfOtherSizesThanTheRunsIsRefusedNamingBoth) {
+  std::vector<Sample> a;
+  const int64_t id = record_run(db(), true, a);  // hasel: n=3 m=6 w=0
+  const std::string out = dir_.file("refused.h5");
+  auto r = runs(fmt::format("export {} --h5 {} --rig msd", id, shell_quote(out)));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, fmt::format("runs export --rig msd: the rig msd has n=1 m=1 w=0, run {} (rig "
+                                             "\"hasel\") has n=3 m=6 w=0",
+                                             id)))
+      << r.output;
+  EXPECT_FALSE(exists(out));
+  const int64_t ident = record_sim_fast_run(db());  // hasel with its 18 sensors; tendon has 11
+  r = runs(fmt::format("export {} --h5 {} --rig tendon", ident, shell_quote(out)));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "the rig tendon has n=3 m=2 w=11")) << r.output;
+  EXPECT_FALSE(exists(out));
+  r = runs(fmt::format("export {} --h5 {} --rig {}", id, shell_quote(out), shell_quote(dir_.file("none.toml"))));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "none.toml")) << r.output;
+  EXPECT_FALSE(exists(out));
+  const std::string csv = dir_.file("refused.csv");
+  r = runs(fmt::format("export {} --csv {} --rig hasel", id, shell_quote(csv)));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "go into HDF5")) << r.output;
+  EXPECT_FALSE(exists(csv));
 }
 
 TEST_F(H5Export, SeveralRunsInOneCsvCarryARunColumn) {
