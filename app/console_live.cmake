@@ -19,6 +19,7 @@ file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/script/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/tui/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/tune/*.cpp
+  ${CMAKE_CURRENT_SOURCE_DIR}/replay/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/live/*.cpp)
 add_library(nlsoft_console_live STATIC ${NLSOFT_CONSOLE_LIVE_SOURCES})
 target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_APP_INCLUDE} PRIVATE ${CURSES_INCLUDE_DIRS})
@@ -26,7 +27,9 @@ target_include_directories(nlsoft_console_live SYSTEM PRIVATE ${HDF5_C_INCLUDE_D
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)
 target_link_libraries(nlsoft_console_live
   PUBLIC nlsoft_console_core nlsoft_console_text nlsoft_firmware_image nlsoft_model_pipeline nlsoft_rig_console nlsoft_gnuplot_text nlsoft::protocol Boost::system SQLite::SQLite3 Threads::Threads
-  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT ${HDF5_C_LIBRARIES} ${HDF5_LIBRARIES})
+  PRIVATE ${CURSES_LIBRARIES} PkgConfig::NLOPT ${HDF5_C_LIBRARIES} ${HDF5_LIBRARIES}
+  # runs replay runs the simulator's firmware core in the console's process.
+  nlsoft_firmware_core)
 
 target_link_libraries(nlsoft-console PRIVATE nlsoft_console_live)
 target_compile_definitions(nlsoft-console PRIVATE NLSOFT_VERSION="${PROJECT_VERSION}")

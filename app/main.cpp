@@ -17,6 +17,7 @@
 #include "app/record/run_plot.hpp"
 #include "app/record/run_training.hpp"
 #include "app/record/runs_command.hpp"
+#include "app/replay/replay_command.hpp"
 #include "app/rig/rig_command.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "app/rig/rig_pipeline.hpp"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
   // (its options sit on the main app); at most one subcommand per call.
   app.require_subcommand(0, 1);
   add_runs_command(app);
+  add_replay_command(*app.get_subcommand("runs"));
   add_ports_command(app);
   add_tune_command(app);
   add_conformance_command(app);

@@ -125,7 +125,7 @@ std::vector<std::pair<ParamInfo, std::vector<double>>> Device::get_all() {
   return out;
 }
 
-void Device::select_reference(const RefParams& ref) {
+p::RefSelect ref_select_of(const RefParams& ref) {
   static_assert(sizeof(RefParams) == 52, "REF_SELECT payload is RefParams as is");
   p::RefSelect req;
   req.ref_id = uint8_t(ref.kind);
@@ -139,8 +139,10 @@ void Device::select_reference(const RefParams& ref) {
   req.lambda = ref.lambda;
   req.scale = ref.scale;
   std::copy(ref.levels, ref.levels + 3, req.levels);
-  session_.call<p::Ack>(req);
+  return req;
 }
+
+void Device::select_reference(const RefParams& ref) { session_.call<p::Ack>(ref_select_of(ref)); }
 
 void Device::upload(p::XferKind kind, const std::vector<uint8_t>& object, const Progress& progress) {
   if (object.empty()) throw CliError("nothing to upload: the object is empty");

@@ -28,6 +28,9 @@ struct ParamRefused : NackError {
 // (PROTOCOL.md 9.12), or one older than protocol 1.5 may predate it.
 std::string firmware_lacks(const protocol::Info& info, uint8_t protocol_minor, uint32_t feature_bit);
 
+// REF_SELECT of a reference: its fields as they are (the payload is RefParams).
+protocol::RefSelect ref_select_of(const RefParams& ref);
+
 class Device {
  public:
   using Progress = std::function<void(size_t done, size_t total)>;

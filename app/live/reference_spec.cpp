@@ -135,4 +135,33 @@ std::string reference_json(const RefParams& r, const std::string& table_file) {
   return j.dump();
 }
 
+RefParams reference_from_json(const std::string& text, const std::string& where) {
+  RefParams r{};
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    const std::string kind = j.at("kind").get<std::string>();
+    bool known = false;
+    for (int k = 0; k < kRefKindCount; ++k)
+      if (kind == reference_kind_name(RefKind(k))) r.kind = RefKind(k), known = true;
+    if (!known) throw CliError(fmt::format("{}: reference kind '{}' is not one this console knows", where, kind));
+    if (r.kind == RefKind::Table)
+      throw CliError(fmt::format("{}: the reference was an uploaded table{}, whose points a run does not keep", where,
+                                 j.contains("table") ? " (" + j.at("table").get<std::string>() + ")" : ""));
+    r.hold = j.at("hold").get<uint16_t>();
+    r.A = j.at("a").get<float>(), r.B = j.at("b").get<float>(), r.C = j.at("c").get<float>();
+    const auto& c = j.at("center");
+    for (int i = 0; i < 3; ++i) r.c[i] = c.at(size_t(i)).get<float>();
+    r.omega = j.at("omega").get<float>(), r.lambda = j.at("lambda").get<float>(), r.scale = j.at("scale").get<float>();
+    const auto& levels = j.at("levels");
+    if (levels.size() > size_t(kRefMaxLevels))
+      throw CliError(fmt::format("{}: {} step levels, at most {}", where, levels.size(), kRefMaxLevels));
+    r.level_count = uint8_t(levels.size());
+    for (size_t i = 0; i < levels.size(); ++i) r.levels[i] = levels[i].get<float>();
+  } catch (const nlohmann::json::exception& e) {
+    throw CliError(fmt::format("{}: not a reference as the console records one: {}", where, e.what()));
+  }
+  if (const char* why = reference_check(r)) throw CliError(fmt::format("{}: the reference is refused: {}", where, why));
+  return r;
+}
+
 }  // namespace nlsoft::console

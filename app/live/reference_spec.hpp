@@ -31,4 +31,11 @@ std::vector<std::string> reference_keys_for(RefKind kind);
 
 std::string reference_json(const RefParams& r, const std::string& table_file = {});
 
+// The reverse, for a run's reference as the runs table keeps it: the same
+// floats back (each was written exactly). Throws CliError naming `where`
+// for a text that is not one, a kind without its parameters in the text
+// (an uploaded table: its points are not kept) or values the firmware
+// would refuse.
+RefParams reference_from_json(const std::string& text, const std::string& where);
+
 }  // namespace nlsoft::console

@@ -469,8 +469,9 @@ void compare(const RunsArgs& a) {
   row("label", printable(ra.label), printable(rb.label));
   row("platform", printable(ra.platform), printable(rb.platform));
   auto num = [](double v) { return fmt::format("{:.5g}", v); };
-  for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "loop_rate_hz", "compute_p50_us",
-                        "compute_p99_us", "iterations", "lost_frames", "gaps", "samples", "duration_s"})
+  for (const char* m : {"rmse", "nrmse", "max_error", "rmse_hat", "nrmse_hat", "u_effort", "u_saturated",
+                        "loop_rate_hz", "compute_p50_us", "compute_p99_us", "iterations", "lost_frames", "gaps",
+                        "samples", "duration_s"})
     row(m, num(metric_value(ma, m).value_or(0)), num(metric_value(mb, m).value_or(0)));
   bool any = false;
   for (const auto& [name, v] : pdiff) {
@@ -554,6 +555,18 @@ void merge_capture(const RunsArgs& a) {
 }
 
 }  // namespace
+
+void compare_runs(const std::string& db, int64_t a, int64_t b, bool json, const std::string& svg,
+                  const std::string& png) {
+  RunsArgs args;
+  args.db = db;
+  args.id = a;
+  args.other = b;
+  args.json = json;
+  args.svg = svg;
+  args.png = png;
+  compare(args);
+}
 
 void add_runs_command(CLI::App& app) {
   auto args = std::make_shared<RunsArgs>();

@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 //   tui         -> script, tune, live, link, record
 //   script      -> tune, live, link, record, model, text
 //   tune        -> live, link, record, text
+//   replay      -> live, link, record, simulate
 //   live        -> link, record, firmware, model, text
 //   conformance -> link, firmware
 //   link        -> simulate
@@ -36,6 +37,7 @@ const std::vector<std::string> kOrder = {
     "tui",          // the ncurses console: plots, panels, the ':' line
     "script",       // the script language: parser, checks, runner
     "tune",         // the tuner (NLopt) and its command
+    "replay",       // a recorded run again, in this process, with changes
     "live",         // the live console: connect, runs, ident, references
     "conformance",  // the firmware conformance suite
     "link",         // serial link, session, device

@@ -49,7 +49,7 @@ complete_is "mps2-an386 stm32f4" nlsoft-console --qemu hasel --board ""
 complete_is "stm32f4" nlsoft-console flash --board s
 complete_is "tune.nls tune2.nls" nlsoft-console --sim hasel --script tu
 complete_is "runs.db" nlsoft-console runs list --db r
-complete_is "compare delete export label list merge-y plot show" nlsoft-console runs ""
+complete_is "compare delete export label list merge-y plot replay show" nlsoft-console runs ""
 complete_is "mocap.csv" nlsoft-console ident --sim hasel --y-from mo
 complete_is "mocap.csv" nlsoft-console runs merge-y 1 mo
 complete_is "--offset" nlsoft-console runs merge-y 1 mocap.csv --o
@@ -93,7 +93,7 @@ calls_for() {
     failures=$((failures + 1))
   fi
 }
-calls_for 0 "compare delete export label list merge-y plot show" nlsoft-console runs ""
+calls_for 0 "compare delete export label list merge-y plot replay show" nlsoft-console runs ""
 calls_for 0 "--json" nlsoft-console runs show 12 --j
 calls_for 1 "hasel msd tendon" nlsoft-console --sim ""
 calls_for 1 "hasel" nlsoft-console rig check ha
@@ -135,7 +135,7 @@ check_against_help() {
 }
 check_against_help nlsoft-console
 for c in simulate conformance flash firmware dataset train tune ident runs model ports rig; do check_against_help nlsoft-console "$c"; done
-for c in list show export compare plot label delete merge-y; do check_against_help nlsoft-console runs "$c"; done
+for c in list show export compare plot label delete merge-y replay; do check_against_help nlsoft-console runs "$c"; done
 for c in import eval info fit; do check_against_help nlsoft-console model "$c"; done
 for c in check list; do check_against_help nlsoft-console rig "$c"; done
 check_against_help nlsoft-console firmware build

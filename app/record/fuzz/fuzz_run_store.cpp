@@ -1,8 +1,10 @@
 // libFuzzer target for the recording database's readers: the input bytes
 // are written as a database file and read by every RunStore path that
-// `runs list|show|export`, `train --run` and `model fit --run` take (the
-// run list, one run, its samples as rows and as columns, parameters, gaps,
-// sensor health, link events, a CSV export). Any outcome but a value or a
+// `runs list|show|export|replay`, `train --run` and `model fit --run` take
+// (the run list, one run, its samples as rows and as columns, parameters,
+// gaps, sensor health, link events, a CSV export, what a replay starts
+// from: the reference read back from its JSON, the parameters' text, the
+// step count). Any outcome but a value or a
 // DbError/CliError is a finding: a crash, a sanitizer report, a hang.
 // Build and run (clang only; see app/CMakeLists.txt):
 //   CC=clang CXX=clang++ cmake -S . -B build-fuzz -DNLSOFT_FUZZ=ON
@@ -25,8 +27,10 @@
 #include <string>
 
 #include "app/record/csv_export.hpp"
+#include "host/files/cli_error.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/schema.hpp"
+#include "app/replay/recorded_start.hpp"
 
 namespace nc = nlsoft::console;
 
@@ -74,8 +78,8 @@ void make_seeds(const std::string& dir) {
     exec(db, std::string("INSERT INTO runs(id,started_at,ended_at,platform,firmware,model_hash,param_hash,loop_rate_hz,"
                          "n,m,label,samples") +
                  (version >= 6 ? ",kind,w,excitation" : "") +
-                 ") VALUES(1,'2026-01-01T00:00:00.000Z','2026-01-01T00:00:01.000Z','msd','sim 1.0',1,2,100,2,1,"
-                 "'seed',4" +
+                 ") VALUES(1,'2026-01-01T00:00:00.000Z','2026-01-01T00:00:01.000Z','msd','nlsoft-posix 0.1.0',1,2,"
+                 "100,2,1,'seed',4" +
                  (version >= 6 ? std::string(ident ? ",'ident',3,'{\"signal\":\"prbs\"}'" : ",'control',0,''") : "") +
                  ")");
     for (int k = 0; k < 4; ++k)
@@ -84,6 +88,9 @@ void make_seeds(const std::string& dir) {
                    "," + std::to_string(k) + "," + std::to_string(k * 10000) + "," + floats(n, 1) + "," +
                    floats(n, 2) + "," + floats(n, 3) + "," + floats(m, 4) + ",0.5,3,12.5" +
                    (version >= 6 ? "," + (w ? floats(w, 5) : std::string("NULL")) : "") + ")");
+    // The reference as the console records it: what a replay reads back.
+    exec(db, "UPDATE runs SET reference='{\"kind\":\"swirl\",\"hold\":10,\"a\":4.0,\"b\":4.0,\"c\":4.0,"
+             "\"center\":[0.0,0.0,4.0],\"omega\":0.006,\"lambda\":1040.0,\"scale\":1.0,\"levels\":[0.5]}'");
     exec(db, "INSERT INTO params(run_id,t,at_start,name,value) VALUES(1,0,1,'Q','1 2'),(1,0.5,0,'reference',"
              "'{\"kind\":\"swirl\"}')");
     exec(db, std::string("INSERT INTO gaps(run_id,t,after_k,lost_frames,reason") + (version >= 3 ? ",duration_s" : "") +
@@ -113,6 +120,11 @@ void read_everything() {
     (void)store.sensor_health(r.id);
     (void)store.link_events(r.id);
     nc::export_run_csv(store, r.id, "/dev/null");
+    try {
+      (void)nc::recorded_start(store, r.id);
+    } catch (const nlsoft::console::CliError&) {
+      // A run a replay refuses, in words: the other readers go on.
+    }
   }
   (void)store.last_run_id();
 }

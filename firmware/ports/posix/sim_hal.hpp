@@ -1,35 +1,18 @@
 #pragma once
 // The posix HAL: serial over a pty master, a 1 MHz tick from the monotonic
-// clock, and a simulated plant in the loop as the actuators and sensors.
+// clock, and a simulated plant in the loop as the actuators and sensors
+// (sim_plant_hal.hpp).
 #include <errno.h>
 #include <time.h>
 #include <unistd.h>
 
-#include "firmware/core/hal.hpp"
-#include "shared/sim_plant.hpp"
+#include "firmware/ports/posix/sim_plant_hal.hpp"
 
 namespace nlsoft::fw::posix {
 
-class SimHal final : public Hal {
+class SimHal final : public SimPlantHal {
  public:
   explicit SimHal(int fd) : fd_(fd) {}
-  // Runs the hand-written plant `kind`; false (nothing changed) for one the
-  // registry has not (shared/plant_registry.hpp).
-  bool use_plant(PlantKind kind, uint32_t seed) {
-    if (!plant_.select(kind, seed)) return false;
-    seed_ = seed;
-    dt_ = plant_.dt();
-    return true;
-  }
-  // Runs a rig's generic plant; false (nothing changed) when the spec is
-  // refused (generic_spec_problem).
-  bool use_generic(const GenericPlantSpec& spec, uint32_t seed) {
-    if (!plant_.select(spec, seed)) return false;
-    seed_ = seed;
-    dt_ = plant_.dt();
-    return true;
-  }
-  void set_period(float dt) { dt_ = dt; }
 
   // What the port's last ppoll said: reads are tried only when bytes are
   // there, and a short read means they have all been taken. An idle
@@ -56,19 +39,9 @@ class SimHal final : public Hal {
     return uint32_t(uint64_t(ts.tv_sec) * 1000000u + uint64_t(ts.tv_nsec) / 1000u);
   }
   uint32_t tick_rate_hz() const override { return 1000000u; }
-  void actuate(const float* u, int) override { plant_.step(u, dt_); }
-  void read_sensors(float* l, int) override { plant_.sensors(l); }
-  bool read_output(float* y, int) override {
-    plant_.output(y);
-    return true;
-  }
-  void run_begins() override { plant_.reseed_noise(seed_); }
 
  private:
   int fd_;
-  SimPlant plant_;
-  uint32_t seed_ = 0;
-  float dt_ = 0.0f;
   size_t bytes_in_ = 0;
   bool readable_ = false;  // until ppoll says so
 };

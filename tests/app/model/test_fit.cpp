@@ -34,12 +34,9 @@ TEST(FitScores, FitPercentIsMatlabComparesOnAHandComputedCase) {
   EXPECT_TRUE(std::isnan(score(y, yhat, {10.0})[0].fit));
 }
 
-// y(k+1) = 0.5 y(k) - 0.2 y(k-1) + 2 u(k) + 0.3 u(k-1) + 1: the baseline's
-// coefficients are these, and its free run from the first measured
-// history reproduces y (fit 100 %).
-TEST(FitScores, TheArxBaselineRecoversADifferenceEquation) {
+// q rows of y(k+1) = 0.5 y(k) - 0.2 y(k-1) + 2 u(k) + 0.3 u(k-1) + 1.
+Series difference_equation(long q) {
   Series s;
-  const long q = 400;
   s.resize(q, 1, 1, 0);
   double y1 = 0, y0 = 0, u1 = 0;
   for (long k = 0; k < q; ++k) {
@@ -49,7 +46,13 @@ TEST(FitScores, TheArxBaselineRecoversADifferenceEquation) {
     const double next = 0.5 * y0 - 0.2 * y1 + 2.0 * s.u(k, 0) + 0.3 * u1 + 1.0;
     y1 = y0, y0 = next, u1 = s.u(k, 0);
   }
-  const Dataset d = build_dataset(s, 2, 2);
+  return s;
+}
+
+// The difference equation above: the baseline's coefficients are these,
+// and its free run from the first measured history reproduces y (fit 100 %).
+TEST(FitScores, TheArxBaselineRecoversADifferenceEquation) {
+  const Dataset d = build_dataset(difference_equation(400), 2, 2);
   const ArxModel a = fit_arx(d, d.pieces);
   // Input order: u(k), u(k-1), y(k), y(k-1), bias.
   const double want[] = {2.0, 0.3, 0.5, -0.2, 1.0};
@@ -75,18 +78,8 @@ TEST(FitScores, TheArxBaselineRecoversADifferenceEquation) {
 // the first, which is the free run; in between, an off baseline errs more
 // than one step ahead, and each row is the one worked out by hand.
 TEST(FitScores, KStepsAheadStartsFromTheHistoryKMinusOneRowsBack) {
-  Series s;
   const long q = 300;
-  s.resize(q, 1, 1, 0);
-  double y1 = 0, y0 = 0, u1 = 0;
-  for (long k = 0; k < q; ++k) {
-    s.time(k) = 0.01 * double(k);
-    s.u(k, 0) = std::sin(0.37 * double(k)) + ((k / 13) % 2 ? 0.5 : -0.5);
-    s.y(k, 0) = y0;
-    const double next = 0.5 * y0 - 0.2 * y1 + 2.0 * s.u(k, 0) + 0.3 * u1 + 1.0;
-    y1 = y0, y0 = next, u1 = s.u(k, 0);
-  }
-  const Dataset d = build_dataset(s, 2, 2);
+  const Dataset d = build_dataset(difference_equation(q), 2, 2);
   ArxModel off = fit_arx(d, d.pieces);
   off.theta(2, 0) += 0.05;  // its pole a little off: errors grow as it feeds itself
   const Eigen::MatrixXd y = measured(d, d.pieces);

@@ -144,7 +144,9 @@ TEST_F(ModelFit, AHeldOutRunOfAnotherSeedIsReportedApart) {
   EXPECT_EQ(table_of(info.output, "fit on held-out data"), held) << info.output;
   EXPECT_EQ(table_of(info.output, "fit on the training runs'"), fold) << info.output;
 
-  const auto fit = console("model fit " + q("v.nlsm") + " --rig " + shell_quote(rig) + " --run 2 --db " + db);
+  // train's table has no k-step row: model fit's at the run's horizon is left out to compare.
+  const auto fit =
+      console("model fit " + q("v.nlsm") + " --rig " + shell_quote(rig) + " --run 2 --db " + db + " --horizon 0");
   ASSERT_EQ(fit.code, 0) << fit.output;
   EXPECT_EQ(rows_of(table_of(fit.output, "fit on run 2 (")), rows_of(held)) << fit.output;
 

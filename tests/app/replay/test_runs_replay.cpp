@@ -1,0 +1,177 @@
+// `runs replay ID` on runs a real console session recorded against
+// nlsoft-firmware-sim: with nothing changed the replay is the recording,
+// bit for bit; a change moves the figures the way it must; runs that cannot
+// be replayed as they ran are refused by name, and what a replay does not
+// repeat is said, never left out silently.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "app/record/recorder.hpp"
+#include "app/record/run_store.hpp"
+#include "app/record/sample.hpp"
+#include "app/support/run_process.hpp"
+#include "app/support/temp_dir.hpp"
+
+namespace nlsoft::console {
+namespace {
+
+using test::run_process;
+using test::shell_quote;
+
+bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+
+class RunsReplay : public ::testing::Test {
+ protected:
+  void SetUp() override { ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1); }
+  test::ProcessResult console(const std::string& args) const {
+    return run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
+  }
+  std::string db() const { return dir_.file("runs.db"); }
+  // A session on the simulator running `script`; its runs recorded in db().
+  void session(const std::string& rig, const std::string& script) {
+    const std::string file = dir_.file("s.nls");
+    std::ofstream(file) << script;
+    const auto r = console("--sim " + rig + " --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(file));
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  nlohmann::json compare(int64_t a, int64_t b) const {
+    const auto r = console("runs compare " + std::to_string(a) + " " + std::to_string(b) + " --json --db " +
+                           shell_quote(db()));
+    EXPECT_EQ(r.code, 0) << r.output;
+    return nlohmann::json::parse(r.output);
+  }
+  test::TempDir dir_;
+};
+
+// Every float of two runs' samples, bit for bit, step by step.
+void expect_same_samples(RunStore& store, int64_t a, int64_t b) {
+  const RunSeries x = store.series(a), y = store.series(b);
+  ASSERT_EQ(x.rows(), y.rows());
+  ASSERT_GT(x.rows(), 500u);
+  EXPECT_EQ(x.step, y.step);
+  const auto same = [](const std::vector<float>& p, const std::vector<float>& q) {
+    return p.size() == q.size() && std::memcmp(p.data(), q.data(), p.size() * sizeof(float)) == 0;
+  };
+  EXPECT_TRUE(same(x.y_ref, y.y_ref)) << "y_ref";
+  EXPECT_TRUE(same(x.y_hat, y.y_hat)) << "y_hat";
+  EXPECT_TRUE(same(x.y_true, y.y_true)) << "y_true";
+  EXPECT_TRUE(same(x.u, y.u)) << "u";
+  EXPECT_TRUE(same(x.cost, y.cost)) << "cost";
+  EXPECT_EQ(x.iterations, y.iterations);
+  ASSERT_TRUE(x.has_l);
+  ASSERT_TRUE(y.has_l);
+  EXPECT_TRUE(same(x.l, y.l)) << "l";
+}
+
+// A Swirl on hasel under tuned parameters, replayed with nothing changed:
+// the same samples, every float of them, and the replay says so.
+TEST_F(RunsReplay, NothingChangedGivesTheRecordingBackBitForBit) {
+  session("hasel", "set Q 2e6 2e6 1e6\nset Lambda 2\nref swirl\nrun 8s label=swirl\n");
+  const auto r = console("runs replay 1 --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 2: run 1 replayed on nlsoft-posix")) << r.output;
+  EXPECT_TRUE(contains(r.output, "nothing changed")) << r.output;
+  EXPECT_TRUE(contains(r.output, "y_true and u identical at all")) << r.output;
+  EXPECT_TRUE(contains(r.output, "same parameters at start")) << r.output;
+  RunStore store(db());
+  expect_same_samples(store, 1, 2);
+  const RunRow replayed = store.run(2);
+  EXPECT_EQ(replayed.kind, "replay");
+  EXPECT_EQ(replayed.label, "replay of run 1");
+  EXPECT_EQ(replayed.model_hash, store.run(1).model_hash);
+  const nlohmann::json c = compare(1, 2);
+  EXPECT_EQ(c["a"]["nrmse"], c["b"]["nrmse"]);
+  EXPECT_TRUE(c["param_diff"].empty()) << c.dump();
+}
+
+// A constructed case: Q a hundredth of the run's weighs tracking error
+// less against input effort, so the replay tracks worse with less effort;
+// a hundredfold Lambda spends less effort too. The change is in the
+// replay's parameters and label, not in the recording's.
+TEST_F(RunsReplay, AChangedWeightMovesTrackingAndEffortTheWayItWeighs) {
+  session("hasel", "ref swirl\nrun 8s label=swirl\n");
+  auto r = console("runs replay 1 --set Q=1e4 --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "changed: Q=1e4")) << r.output;
+  EXPECT_TRUE(contains(r.output, "steps identical; apart from step")) << r.output;
+  nlohmann::json c = compare(1, 2);
+  EXPECT_GT(c["b"]["nrmse"].get<double>(), c["a"]["nrmse"].get<double>() * 1.05) << c.dump();
+  EXPECT_LT(c["b"]["u_effort"].get<double>(), c["a"]["u_effort"].get<double>()) << c.dump();
+  EXPECT_EQ(c["param_diff"]["Q"][1], "10000 10000 10000") << c.dump();
+
+  r = console("runs replay 1 --set Lambda=100 --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  c = compare(1, 3);
+  EXPECT_LT(c["b"]["u_effort"].get<double>(), c["a"]["u_effort"].get<double>()) << c.dump();
+  RunStore store(db());
+  EXPECT_EQ(store.run(3).label, "replay of run 1: Lambda=100");
+}
+
+// What cannot be replayed as it ran is refused, naming the run and why,
+// with nothing recorded; what a replay does not repeat is said.
+TEST_F(RunsReplay, RunsThatCannotBeReplayedAreRefusedAndWhatIsNotRepeatedIsSaid) {
+  session("hasel", "ident prbs 2s seed=3\nref swirl\nrun 3s label=swirl\nset Lambda 2\n");
+  // Run 3: a board's run, as a console records one.
+  {
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "hasel";
+    ri.firmware = "nlsoft-f446 0.1.0";
+    ri.n = 3;
+    ri.m = 6;
+    ri.loop_rate_hz = 130;
+    ri.reference = R"({"kind":"swirl","hold":10,"a":4,"b":4,"c":4,"center":[0,0,4],"omega":0,"lambda":0,"scale":1,"levels":[]})";
+    const int64_t id = rec.begin_run(ri);
+    Sample s;
+    s.n = 3;
+    s.m = 6;
+    s.mask = protocol::telemetry_field::kStep | protocol::telemetry_field::kU;
+    rec.add_sample(id, s);
+    rec.end_run(id, "completed", 1, 0);
+  }
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {"1", "run 1 is an identification run"},
+      {"3", "run 3 was recorded on nlsoft-f446 0.1.0 (hasel), not on the simulator"},
+      {"9", "no run 9"},
+      {"2 --rig tendon", "run 2 was recorded on rig 'hasel', not on rig 'tendon'"},
+      {"2 --set Q", "--set Q: give NAME=VALUE"},
+      {"2 --set Q=-1", "Q[0] = -1 is out of range"},
+      {"2 --set nope=1", "unknown parameter 'nope'"},
+      {"2 --model " + shell_quote(dir_.file("none.nlsm")), "cannot open model file"},
+  };
+  for (const Case& c : cases) {
+    const auto r = console("runs replay " + c.args + " --db " + shell_quote(db()));
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, c.message)) << c.args << "\n" << r.output;
+  }
+  RunStore store(db());
+  EXPECT_EQ(store.last_run_id(), 3) << "a refused replay recorded a run";
+}
+
+// A run during which a parameter changed: the replay keeps what it started
+// with and says so before it runs.
+TEST_F(RunsReplay, AParameterChangedDuringTheRunIsSaidNotRepeated) {
+  session("hasel", "ref swirl\nrun 2s label=swirl\n");
+  {
+    // The console records a change during a run as a params row after its start.
+    Recorder rec(db());
+    rec.add_param_change(1, 1.5, "Lambda", "3 3 3 3 3 3");
+    rec.flush();
+  }
+  const auto r = console("runs replay 1 --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "Lambda was changed 1 time during run 1; the replay keeps the value it started with"))
+      << r.output;
+}
+
+}  // namespace
+}  // namespace nlsoft::console
