@@ -113,12 +113,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   run.left_state = 0;
   run.left_watchdog = 0;
   run.id = recording ? r.run_id : 0;
-  run.sensors_w = (mode & 0x40) != 0 ? info.w : 0;
 
   c::Session session;
   const bool known = pick < 0xf0;  // else: no INFO yet, only the capacity is checked
   const p::Info info = info_for(pick);
   if (known) session.take_identity(info);
+  run.sensors_w = (mode & 0x40) != 0 ? info.w : 0;
   c::SampleIntake& intake = *r.intake;
   session.on_telemetry([&](const p::Telemetry& t, uint32_t lost) {
     check(!known || (t.n == info.n && t.m == info.m));
