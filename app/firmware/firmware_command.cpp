@@ -9,6 +9,7 @@
 #include "app/firmware/image_build.hpp"
 #include "app/firmware/image_header.hpp"
 #include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 
@@ -30,7 +31,7 @@ void add_firmware_command(CLI::App& app) {
   auto q = std::make_shared<ImageBuild>();
   CLI::App* build = fw->add_subcommand(
       "build", "Generate the rig's image header and build its images with arm-none-eabi-g++ (docs/rig-file.md)");
-  build->add_option("--rig", q->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
+  add_rig_option(build, q->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
       ->required()
       ->check(rig_arg_validator());
   build->add_option("--board", q->board, "the board: mps2-an386 (QEMU) or stm32f4 (a Nucleo-64)")
@@ -64,7 +65,7 @@ void add_firmware_command(CLI::App& app) {
   auto h = std::make_shared<HeaderArgs>();
   CLI::App* header = fw->add_subcommand(
       "header", "Write the rig's nlsoft_rig.hpp alone, for a port another tool builds (the Teensy sketch)");
-  header->add_option("--rig", h->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
+  add_rig_option(header, h->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
       ->required()
       ->check(rig_arg_validator());
   header->add_option("--model", h->model, "model file whose layer table is the compiled shape (default: the rig's [model] layers)")

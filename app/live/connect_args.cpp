@@ -16,6 +16,7 @@
 #include "app/record/sqlite.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "host/rig/rig_plant.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 
@@ -86,7 +87,7 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                  "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
                  "image in -M netduinoplus2)")
       ->check(CLI::IsMember(qemu_boards()));
-  app.add_option("--rig", a.rig,
+  add_rig_option(&app, a.rig,
                  fmt::format("With PORT: the rig file the board's image was built from, {}: references and "
                              "defaults come from it, and the console warns when the firmware names another rig or "
                              "rig hash (default: the shipped rig the firmware names; --sim and --qemu take their "

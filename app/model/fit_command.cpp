@@ -12,6 +12,7 @@
 #include "app/model/fit_plot.hpp"
 #include "app/model/model_fit.hpp"
 #include "host/files/output_file.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -199,7 +200,7 @@ void add_model_fit_command(CLI::App& model, TargetResolver resolve, PlatformName
   fit->add_option("--data", args->data, "a dataset CSV or a run export (as train --data); repeat for several")
       ->type_name("FILE");
   fit->add_option("--db", args->db, "the runs' database (default: the console's, as `runs list`)")->type_name("FILE");
-  fit->add_option("--rig", args->rig, "the rig (default: the one the model was trained for)")->type_name("NAME|PATH");
+  add_rig_option(fit, args->rig, "the rig (default: the one the model was trained for)");
   fit->add_option("--train-run", args->train_runs, "refit the ARX baseline on this run; repeat for several")
       ->type_name("ID");
   fit->add_option("--svg", args->svg, "draw measured against simulated outputs to an SVG ('-': standard output)")

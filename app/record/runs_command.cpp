@@ -35,6 +35,7 @@
 #include "app/record/tune_log.hpp"
 #include "app/record/utc_time.hpp"
 #include "app/text/duration.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 
@@ -613,8 +614,8 @@ void add_runs_command(CLI::App& app) {
   e->add_option("--h5", args->h5,
                 "HDF5 file: a group run_ID per run with t, u, y_ref, y_hat, y_true, cost, iterations as datasets with "
                 "units; the run's rig, firmware, model hash and parameters as attributes; its gaps");
-  e->add_option("--rig", args->rig,
-                "HDF5: the rig (NAME|PATH) whose outputs', inputs' and sensors' names and units the runs' columns get "
+  add_rig_option(e, args->rig,
+                "HDF5: the rig whose outputs', inputs' and sensors' names and units the runs' columns get "
                 "(default: each run's rig when it is a shipped one); its n, m, w must be the runs'");
   e->callback([args] { export_runs(*args); });
   CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
@@ -656,7 +657,7 @@ void add_runs_command(CLI::App& app) {
   my->add_option("--offset", args->offset,
                  "The capture clock's offset in seconds (run time = capture time - S); default: estimated from the "
                  "run's inputs and sensors");
-  my->add_option("--rig", args->rig, "The rig file whose output names the columns may carry (default: the run's rig)");
+  add_rig_option(my, args->rig, "The rig file whose output names the columns may carry (default: the run's rig)");
   my->footer(
       "The capture is interpolated linearly onto the run's samples (run time: the control step over the loop\n"
       "rate, from the run's first step); samples outside it keep no measured output. One transaction: a bad\n"

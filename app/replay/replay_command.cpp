@@ -21,6 +21,7 @@
 #include "host/files/cli_error.hpp"
 #include "host/paths/install_paths.hpp"
 #include "host/rig/rig_catalog.hpp"
+#include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
 
@@ -323,7 +324,7 @@ void add_replay_command(CLI::App& runs) {
   c->add_option("--model", a->model, "run this model instead (default: the rig's shipped model, which must be the "
                                      "run's)")
       ->type_name("FILE");
-  c->add_option("--rig", a->rig, "the run's rig file, for a rig that is not shipped")->type_name("PATH");
+  add_rig_option(c, a->rig, "the run's rig file, for a rig that is not shipped");
   c->add_option("--seed", a->seed, "the plant's noise seed (default 1, the simulator's; a --sim run records none)")
       ->capture_default_str();
   c->add_option("--label", a->label, "the replay's label (default: \"replay of run ID\" and the first change)");
