@@ -168,7 +168,9 @@ void print_choice(const TrainResult& r, const std::string& unit) {
   const std::string u = unit.empty() ? "" : " " + unit;
   auto rmse = [&](const Candidate& c) {
     std::string out;
-    for (double v : c.held_out_rmse) out += (out.empty() ? "" : ", ") + fmt::format("{:.4g}{}", v, u);
+    // A free run that blew up has no error to print, only the fact.
+    for (double v : c.held_out_rmse)
+      out += (out.empty() ? "" : ", ") + (std::isfinite(v) ? fmt::format("{:.4g}{}", v, u) : std::string("diverged"));
     return out;
   };
   for (size_t i = 0; i < r.candidates.size(); ++i) {

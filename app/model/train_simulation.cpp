@@ -57,7 +57,12 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
   std::vector<double>& th = net.theta();
   Best best;
   rep.start_val = free_run_loss(net, s, val);
-  best.offer(rep.start_val, th);
+  // The start stands until a finite free run beats it. A start whose free
+  // run blew up (a least-squares map that diverges on the validation rows,
+  // as one fitted on closed-loop runs can) is kept as the weights all the
+  // same: an empty set would leave the network without any.
+  best.theta = th;
+  if (std::isfinite(rep.start_val)) best.val = rep.start_val;
   long longest = 0;
   for (const RowRange& r : train) longest = std::max(longest, r.end - r.begin);
   // A short data set gets windows as long as its pieces allow.

@@ -159,6 +159,31 @@ TEST(SimulationObjective, TrainsDefaultsBeatArxOnTheCascadedTanks) {
 }
 
 // Ctrl-C (the stop flag) ends training with a model, not an error.
+// A start whose free run of the validation rows blows up (weights that
+// diverge when fed back) leaves the network its weights, of the right
+// count, whatever the search finds: an empty set once crashed `train` on
+// runs recorded in closed loop.
+TEST(SimulationObjective, AStartThatBlowsUpKeepsItsWeights) {
+  InputLayout L{};
+  L.m = 1, L.n = 1, L.w = 0, L.nd = 2, L.dd = 2;
+  Random rng(5);
+  SimulationData s = random_problem(L, false, rng);
+  Network net(L.p(), {LayerSpec{LayerKind::Dense, 1, Activation::Linear}});
+  net.initialise(rng);
+  // y(k+1) = 1e30 y(k): the fed-back output overflows within a few steps.
+  for (double& t : net.theta()) t = 1e30;
+  const std::vector<RowRange> rows{{0, 30}}, val{{30, 40}};
+  ASSERT_FALSE(std::isfinite(free_run_loss(net, s, val)));
+  SimulationOptions o;
+  o.horizon = 8;
+  o.epochs = 2;
+  o.lbfgs_evals = 5;
+  const size_t count = net.param_count();
+  const SimulationReport rep = fit_simulation(net, s, rows, val, o, {});
+  EXPECT_FALSE(std::isfinite(rep.start_val));
+  EXPECT_EQ(net.theta().size(), count);
+}
+
 TEST(SimulationObjective, AStopRequestKeepsTheBestModelSoFar) {
   const PlantTarget t = tanks_target();
   const Series train_s = read_training_csv(tanks("train.csv"), t);
