@@ -109,7 +109,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 6;
+constexpr uint8_t kProtocolMinor = 7;
 
 // ---------------------------------------------------------------- requests
 
@@ -603,7 +603,7 @@ struct IdentSample {
 
 // Protocol 1.4: a sensor chip's state, by its index in the image's device
 // table (DEVICE_GET walks 0 .. count - 1, as PARAM_LIST does).
-enum class DeviceState : uint8_t { Ok = 0, Absent = 1, WrongId = 2, Stopped = 3 };
+enum class DeviceState : uint8_t { Ok = 0, Absent = 1, WrongId = 2, Stopped = 3, Fault = 4 };
 // As a console shows it; an unknown value (a newer firmware's) is "unknown".
 constexpr const char* device_state_name(uint8_t state) {
   switch (static_cast<DeviceState>(state)) {
@@ -611,6 +611,7 @@ constexpr const char* device_state_name(uint8_t state) {
     case DeviceState::Absent: return "absent";
     case DeviceState::WrongId: return "wrong id";
     case DeviceState::Stopped: return "stopped";
+    case DeviceState::Fault: return "fault";
   }
   return "unknown";
 }

@@ -83,6 +83,40 @@ constexpr SpiBusPins kSpi[] = {
     {"spi1", 0x40013000u, {kGpioA, 5}, {kGpioA, 6}, {kGpioA, 7}, true},
     {"spi2", 0x40003800u, {kGpioB, 13}, {kGpioB, 14}, {kGpioB, 15}, false},
 };
+// The servo buses (Dynamixel): a USART in single-wire half-duplex mode
+// (HDSEL) on its TX pin, open-drain with the pull-up the servos' line wants.
+// USART1 on PB6 (AF7) and USART6 on PC6 (AF8), both on APB2: a rig drives
+// servos or PWM on those pins, not both.
+struct SerialBusPins {
+  const char* name;
+  uint32_t base;
+  Pin tx;
+  uint8_t af;
+  uint8_t irq;
+  uint32_t rcc_apb2_bit;
+};
+// The clock both USARTs run from (APB2) on each part the port builds for
+// (F446, F411, F401: firmware/ports/stm32f4/part.hpp asserts its part's is
+// here). A baud must come out of every one of them: the rig file does not
+// say which part is on the board.
+constexpr uint32_t kServoBusClocksHz[] = {90000000u, 100000000u, 84000000u};
+// With 16x oversampling the divider (BRR) is clock / baud, at least 16; the
+// baud it gives may miss the asked one by this much (Dynamixel's servos
+// take a few per cent; 2 % leaves them margin).
+constexpr float kServoBaudTolerance = 0.02f;
+constexpr uint32_t servo_brr(uint32_t clock_hz, uint32_t baud) { return (clock_hz + baud / 2u) / baud; }
+constexpr bool baud_reachable(uint32_t clock_hz, uint32_t baud) {
+  const uint32_t brr = baud == 0u ? 0u : servo_brr(clock_hz, baud);
+  if (brr < 16u || brr > 0xFFFFu) return false;
+  const float got = float(clock_hz) / float(brr);
+  const float miss = got > float(baud) ? got - float(baud) : float(baud) - got;
+  return miss <= kServoBaudTolerance * float(baud);
+}
+constexpr SerialBusPins kServoBus[] = {
+    {"usart1", 0x40011000u, {kGpioB, 6}, 7, 37, 1u << 4},
+    {"usart6", 0x40011400u, {kGpioC, 6}, 8, 71, 1u << 5},
+};
+
 // Chip selects, in the order a rig's SpiTarget::cs counts them: free pins of
 // the morpho and Arduino headers, none a PWM, ADC, bus, USART2, SWD or the
 // button's pin.
@@ -97,5 +131,6 @@ constexpr AnalogueInput kNoAnalogue = {{0, 0}, kNoChannel, 0.0f, 1.0f};
 constexpr int kPwmCount = int(sizeof kPwm / sizeof kPwm[0]);
 constexpr int kAnalogueCount = int(sizeof kAnalogue / sizeof kAnalogue[0]);
 constexpr int kChipSelectCount = int(sizeof kChipSelect / sizeof kChipSelect[0]);
+constexpr int kServoBusCount = int(sizeof kServoBus / sizeof kServoBus[0]);
 
 }  // namespace nlsoft::fw::stm32f4

@@ -14,19 +14,32 @@ namespace nlsoft {
 // LIS3MDL); an image holds its own rig's count only.
 constexpr int kRigMaxDevices = 8;
 
-enum class BusKind : uint8_t { I2c = 0, Spi = 1 };
+// Serial: a single-wire half-duplex UART of servos (chips::on_serial).
+enum class BusKind : uint8_t { I2c = 0, Spi = 1, Serial = 2 };
 
 struct RigDeviceConfig {
   const char* name;              // the rig file's device name (DEVICE_STATUS carries it)
   const chips::ChipSpec* chip;   // its row of shared/chips/catalog.hpp
   uint8_t bus;                   // index into the board's bus table, in the rig file's board order
   BusKind kind;
-  uint8_t address;               // I²C: the 7-bit address
+  uint8_t address;               // I²C: the 7-bit address; Serial: the servo's id
   uint8_t cs;                    // SPI: index into the board's chip-select table
-  uint32_t clock_hz;             // at most the chip's and the bus's maximum
+  uint32_t clock_hz;             // at most the chip's and the bus's maximum; Serial: the bus's baud
   // The file's range and rate as the chip's settings (shared/chips/): the
   // value and its register bits; {0, 0} where the chip has no such setting.
   chips::Setting range, rate;
+  // Serial: what the firmware does with a servo in `fault` (its status
+  // reports an error): hold it at its last goal, or release it (torque off).
+  bool release_on_fault = false;
+};
+
+// Input i's servo, when one drives it: the device (a row of the device
+// table, on a serial bus; kNoServo when none) and its goal position for u:
+// goal_at_neutral + goal_per_unit * (u - neutral), in the servo's steps.
+constexpr uint8_t kNoServo = 0xFF;
+struct RigServoInput {
+  uint8_t device;
+  float neutral, goal_per_unit, goal_at_neutral;
 };
 
 // Where sensor channel i is read: an analogue input of the board (the

@@ -34,7 +34,7 @@ void check_devices(Suite& s) {
     }
     if (d.index != get.index || d.count != count)
       faults.push_back(fmt::format("index {}: DEVICE_STATUS index {} count {}", get.index, d.index, d.count));
-    if (d.state > uint8_t(p::DeviceState::Stopped)) faults.push_back(fmt::format("index {}: state {}", get.index, d.state));
+    if (d.state > uint8_t(p::DeviceState::Fault)) faults.push_back(fmt::format("index {}: state {}", get.index, d.state));
     names.push_back(fmt::format("{} {}", d.name, p::device_state_name(d.state)));
     if (!faults.empty()) break;
     get.index = uint8_t(get.index + 1);

@@ -75,7 +75,7 @@ void add_firmware_command(CLI::App& app) {
       "The header every image is compiled from (kRig: the rig's values; Cap: the capacity sized from its\n"
       "dimensions, horizons and one network shape), without a board's pins.\n"
       "Example:\n"
-      "  nlsoft-console firmware header --rig tendon --out firmware/ports/teensy/nlsoft\n");
+      "  nlsoft-console firmware header --rig msd --out firmware/ports/teensy/nlsoft\n");
   header->callback([h] {
     const Rig rig = load_rig_arg(h->rig);
     ImageRequest request;

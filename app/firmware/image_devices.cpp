@@ -25,7 +25,16 @@ int catalog_row(const chips::ChipSpec* chip) {
   throw std::logic_error("a device's chip is not in the catalog");
 }
 
+std::string servo_row(const RigDevice& d) {
+  return fmt::format("    {{{}, chips::kCatalog[{}], {}, BusKind::Serial, {}, 0, {}u, {{0.0f, 0x00}}, {{{}, 0x{:02x}}}, {}}},"
+                     "  // {} id {} on {} at {} baud, read at {} Hz, {} on a fault\n",
+                     cpp_string_literal(d.name), catalog_row(d.chip), d.bus_index, d.address, d.clock_hz,
+                     flt(d.rate_hz), d.rate_bits, d.release_on_fault ? "true" : "false", d.chip->name, d.address,
+                     d.bus, d.clock_hz, d.rate_hz, d.release_on_fault ? "released" : "held");
+}
+
 std::string device_row(const RigDevice& d) {
+  if (d.kind == BusKind::Serial) return servo_row(d);
   const bool i2c = d.kind == BusKind::I2c;
   std::string where = i2c ? fmt::format("at 0x{:02x}", d.address) : "chip select " + d.cs;
   std::string settings = fmt::format("{} Hz clock", d.clock_hz);
@@ -50,6 +59,26 @@ std::string source_row(const Rig& rig, const RigSensor& s) {
                          flt(s.offset), s.name, s.adc);
     default: return fmt::format("    {{SensorFrom::None, 0, 0, 1.0f, 0.0f}},  // {}: not wired\n", s.name);
   }
+}
+
+// Which inputs servos drive, and how u becomes a goal position.
+std::string servos_part(const Rig& rig) {
+  int count = 0;
+  std::string rows;
+  for (const RigInput& in : rig.inputs) {
+    if (in.servo_device < 0) {
+      rows += fmt::format("    {{kNoServo, 0.0f, 0.0f, 0.0f}},  // {}: no servo\n", in.name);
+      continue;
+    }
+    ++count;
+    rows += fmt::format("    {{{}, {}, {}, {}}},  // {}: servo {}\n", in.servo_device, flt(in.neutral),
+                        flt(in.goal_per_unit), flt(in.goal_at_neutral), in.name, in.servo);
+  }
+  std::string o = "// Input i's servo: {device, neutral, goal_per_unit, goal_at_neutral}; goal = goal_at_neutral +\n"
+                  "// goal_per_unit * (u - neutral), written to every servo in one SYNC_WRITE per step.\n";
+  o += fmt::format("constexpr int kRigServoCount = {};\n", count);
+  o += fmt::format("constexpr RigServoInput kRigServoInputs[{}] = {{\n{}}};\n", rig.inputs.size(), rows);
+  return o;
 }
 
 }  // namespace
@@ -79,6 +108,7 @@ std::string devices_part(const Rig& rig) {
   if (rig.sensors.empty()) o += "    {SensorFrom::None, 0, 0, 1.0f, 0.0f},  // no sensor channel\n";
   for (const RigSensor& s : rig.sensors) o += source_row(rig, s);
   o += "};\n";
+  o += servos_part(rig);
   return o;
 }
 

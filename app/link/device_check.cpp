@@ -19,6 +19,7 @@ std::string place(const Rig& rig, const p::DeviceStatus& d) {
   if (!board || d.bus >= board->buses.size()) return fmt::format("bus {} address {}", d.bus, d.address);
   const BoardBus& bus = board->buses[d.bus];
   if (bus.kind == BusKind::I2c) return fmt::format("{} at 0x{:02x}", bus.name, d.address);
+  if (bus.kind == BusKind::Serial) return fmt::format("{} id {}", bus.name, d.address);
   if (bus.own_chip_select) return bus.name;
   return fmt::format("{} chip select {}", bus.name,
                      d.address < board->chip_selects.size() ? board->chip_selects[d.address] : "?");

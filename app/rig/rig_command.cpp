@@ -51,8 +51,16 @@ nlohmann::json to_json(const Rig& r) {
   j["devices"] = json::array();
   for (const RigDevice& d : r.devices) {
     json e = {{"name", d.name}, {"chip", d.chip->name}, {"bus", d.bus}, {"clock_hz", d.clock_hz}};
-    if (d.kind == BusKind::I2c) e["address"] = d.address;
-    else e["cs"] = d.cs;
+    if (d.kind == BusKind::I2c) {
+      e["address"] = d.address;
+    } else if (d.kind == BusKind::Serial) {
+      e.erase("clock_hz");
+      e["id"] = d.address;
+      e["baud"] = d.clock_hz;
+      e["on_fault"] = d.release_on_fault ? "release" : "hold";
+    } else {
+      e["cs"] = d.cs;
+    }
     if (d.chip->range_count) e["range"] = d.range;
     if (d.chip->rate_count) e["rate_hz"] = d.rate_hz;
     j["devices"].push_back(e);
@@ -115,7 +123,10 @@ void print_summary(const Rig& r) {
   fmt::print("  m = {} inputs:\n", r.m());
   for (const RigInput& i : r.inputs)
     fmt::print("    {:<10} [{}, {}]{}, neutral {}{}\n", i.name, i.min, i.max, unit(i.unit), i.neutral,
-               i.pwm.empty() ? ", not wired" : ", PWM " + i.pwm);
+               !i.servo.empty() ? fmt::format(", servo {} (goal {} + {} per{})", i.servo, i.goal_at_neutral,
+                                              i.goal_per_unit, i.unit.empty() ? " unit" : unit(i.unit))
+               : i.pwm.empty()  ? ", not wired"
+                                : ", PWM " + i.pwm);
   fmt::print("  n = {} outputs:\n", r.n());
   for (const RigOutput& o : r.outputs)
     fmt::print("    {:<10} [{}, {}]{}, span {}, {}\n", o.name, o.min, o.max, unit(o.unit), o.span,
@@ -133,7 +144,10 @@ void print_summary(const Rig& r) {
              unwired.empty() ? "" : ", not wired: " + unwired);
   for (const RigDevice& d : r.devices)
     fmt::print("    device {:<10} {} on {} {}{}{}\n", d.name, d.chip->name, d.bus,
-               d.kind == BusKind::I2c ? fmt::format("at 0x{:02x}", d.address) : "chip select " + d.cs,
+               d.kind == BusKind::I2c      ? fmt::format("at 0x{:02x}", d.address)
+               : d.kind == BusKind::Serial ? fmt::format("id {} at {} baud, {} on a fault", d.address, d.clock_hz,
+                                                         d.release_on_fault ? "released" : "held")
+                                           : "chip select " + d.cs,
                d.chip->range_count ? fmt::format(", {} {}", d.range, d.chip->range_unit) : "",
                d.chip->rate_count ? fmt::format(", {} Hz", d.rate_hz) : "");
   const RigController& c = r.controller;

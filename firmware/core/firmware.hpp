@@ -753,7 +753,7 @@ class Firmware {
     d.count = uint8_t(count);
     d.state = uint8_t(sensors_->state(index));
     d.bus = c.bus;
-    d.address = c.kind == BusKind::I2c ? c.address : c.cs;
+    d.address = c.kind == BusKind::Spi ? c.cs : c.address;  // a servo's id on a serial bus
     d.age_ms = sensors_->age_ms(index, clock_.ms());
     d.faults = sensors_->faults(index);
     std::strncpy(d.name, c.name, proto::kMaxNameLen);
@@ -800,7 +800,17 @@ class Firmware {
       const RigDeviceConfig& c = sensors_->device(d);
       LogText<proto::kMaxLogText> text;
       text << "device " << c.name << " (" << c.chip->name << "): " << proto::device_state_name(uint8_t(st));
-      if (st != DeviceState::Ok) text << "; its sensor channels are invalid until it answers again";
+      if (st == DeviceState::Fault) {
+        const char* names[4];
+        const size_t n = sensors_->fault_names(d, names, 4);
+        for (size_t i = 0; i < n; ++i) text << (i == 0 ? ": " : ", ") << names[i];
+      }
+      if (c.kind == BusKind::Serial && st == DeviceState::Fault)
+        text << (c.release_on_fault ? "; released (torque off)" : "; held at its last goal");
+      if (st == DeviceState::Fault)
+        text << "; its channels are invalid until it answers without an error";
+      else if (st != DeviceState::Ok)
+        text << "; its sensor channels are invalid until it answers again";
       if (!queue_log(st == DeviceState::Ok ? proto::LogLevel::Info : proto::LogLevel::Warn, text.c_str())) return;
       sensors_->take_change();
     }

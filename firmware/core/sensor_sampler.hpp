@@ -21,7 +21,8 @@ namespace nlsoft::fw {
 // A device's state as DEVICE_STATUS carries it (PROTOCOL.md 7): ok;
 // absent (nothing answered at its address or chip select); wrong id
 // (something answered, with another identity); stopped (it answered, then
-// a read failed or no new sample came).
+// a read failed or no new sample came); fault (it answers, reporting an
+// error of its own: a servo's overload).
 using DeviceState = protocol::DeviceState;
 
 // What the step gets besides the values: which sensor channels are
@@ -111,6 +112,8 @@ class SensorSampler {
   }
   // Failed begins and reads of device d since boot.
   uint32_t faults(int d) const { return slots_[d].faults; }
+  // What device d in `fault` reported (a servo's error bits), at most `max` names.
+  size_t fault_names(int d, const char** names, size_t max) const { return chips_[d]->fault_names(names, max); }
 
   // The device take_change() would return, left pending: the firmware
   // takes a change only once its LOG is queued.
@@ -150,6 +153,7 @@ class SensorSampler {
     set(d, r == drivers::ChipStatus::kOk        ? DeviceState::Ok
            : r == drivers::ChipStatus::kWrongId ? DeviceState::WrongId
            : r == drivers::ChipStatus::kBusFault ? DeviceState::Stopped
+           : r == drivers::ChipStatus::kFault    ? DeviceState::Fault
                                                  : DeviceState::Absent);
     // A chip back from a fault starts its staleness afresh.
     if (s.state == DeviceState::Ok) s.sample_ms = now_ms;
@@ -169,7 +173,9 @@ class SensorSampler {
     }
     if (r == drivers::ChipStatus::kNotReady && now_ms - s.sample_ms < stale_ms(d)) return;
     ++s.faults;
-    set(d, r == drivers::ChipStatus::kWrongId ? DeviceState::WrongId : DeviceState::Stopped);
+    set(d, r == drivers::ChipStatus::kWrongId ? DeviceState::WrongId
+           : r == drivers::ChipStatus::kFault ? DeviceState::Fault
+                                              : DeviceState::Stopped);
   }
 
   // A change is logged once; at boot only a chip that is not ok is news.

@@ -46,4 +46,21 @@ class SpiBus {
   ~SpiBus() = default;
 };
 
+// A single-wire half-duplex serial bus: a chain of servos (Dynamixel).
+// exchange() waits for what was sent before to leave, sends `n` bytes, then
+// gathers the answer into `rx` until the line stays quiet for the port's gap
+// (a few byte times past the servos' return delay) or `cap` bytes came; the
+// port drops the line's echo of its own bytes. `got` says how many came: 0
+// is a silent bus (kTimeout). n == 0 only listens (for an answer still on
+// its way). send() queues bytes and returns at once: the
+// step's broadcast SYNC_WRITE, which no servo answers.
+class SerialBus {
+ public:
+  virtual BusStatus exchange(const uint8_t* tx, size_t n, uint8_t* rx, size_t cap, size_t& got) = 0;
+  virtual BusStatus send(const uint8_t* tx, size_t n) = 0;
+
+ protected:
+  ~SerialBus() = default;
+};
+
 }  // namespace nlsoft::fw::drivers

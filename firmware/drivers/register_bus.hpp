@@ -17,6 +17,7 @@ struct BusAttachment {
   uint8_t address = 0;
   SpiBus* spi = nullptr;
   SpiTarget target{};
+  SerialBus* serial = nullptr;  // a servo's bus; `address` is then its id
 };
 
 struct RegisterConvention {

@@ -26,6 +26,16 @@ BoardPins stm32f4() {
   for (const auto& p : f4::kChipSelect) b.chip_selects.push_back(pin_name(p));
   // I2C1 in fast mode; SPI at the prescaler's fastest, APB2 / 2 (SPI1) and APB1 / 2 (SPI2) at 84 MHz.
   for (BoardBus& bus : b.buses) bus.max_clock_hz = bus.kind == BusKind::I2c ? 400000u : 21000000u;
+  // The servo buses at the 16x divider's fastest on the slowest part's APB2 (84 MHz / 16).
+  for (const auto& u : f4::kServoBus) {
+    BoardBus bus{u.name, BusKind::Serial, {pin_name(u.tx)}, false, 84000000u / 16u};
+    bus.makes_baud = [](uint32_t baud) {
+      for (uint32_t clock : f4::kServoBusClocksHz)
+        if (!f4::baud_reachable(clock, baud)) return false;
+      return true;
+    };
+    b.buses.push_back(bus);
+  }
   b.firmware_features = kAllFirmwareFeatures;
   b.settings_flash = "flash sectors 1 and 2";  // firmware/ports/stm32f4/flash.hpp
   return b;

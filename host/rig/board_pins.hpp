@@ -18,6 +18,8 @@ struct BoardBus {
   std::vector<std::string> pins;  // the pins it takes (SCL SDA; SCK MISO MOSI); none where its lines are its own
   bool own_chip_select = false;   // SPI: one chip, on the controller's own select line (no GPIO chip selects)
   uint32_t max_clock_hz = 0;      // the fastest clock the port runs the bus at
+  // Serial: whether the port's USART makes `baud` (on every part the board may carry).
+  bool (*makes_baud)(uint32_t baud) = nullptr;
 };
 
 struct BoardPins {

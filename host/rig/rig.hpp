@@ -48,6 +48,13 @@ struct RigInput {
   double min = 0, max = 0, neutral = 0;
   std::string pwm;  // the board's PWM pin ("PC6"); empty when not wired
   int line = 0, pwm_line = 0;  // of the [[input]] table and its pwm key, for errors about the board
+  // A servo drives it instead ([[device]] on a serial bus, by name): its
+  // goal position = goal_at_neutral + goal_per_unit * (u - neutral), in the
+  // servo's goal steps.
+  std::string servo;
+  int servo_device = -1;  // its row of Rig::devices
+  double goal_per_unit = 0, goal_at_neutral = 0;
+  int servo_line = 0;
 };
 
 // How an output reaches the console: an ADC channel on the board, an
@@ -76,6 +83,7 @@ struct RigDevice {
   double rate_hz = 0;  // 0 when the chip has no rate setting
   uint8_t rate_bits = 0;
   int line = 0;        // of the [[device]] table
+  bool release_on_fault = false;  // a servo: on_fault = "release" (torque off), else "hold"
 };
 
 struct RigOutput {

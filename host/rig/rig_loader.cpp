@@ -406,12 +406,32 @@ void read_name_and_range(const Section& s, NameBook& names, Channel& c) {
   refuse_infinite_range(s, c.min, c.max);
 }
 
+// An input's servo keys; the servo itself is found once the devices are read (link_servos).
+void read_servo_keys(const Section& s, RigInput& in) {
+  if (!s.has("servo")) {
+    for (const char* k : {"goal_per_unit", "goal_at_neutral"})
+      if (s.has(k)) s.fail(s.line(k), k, "only with servo = \"DEVICE\" (the input names no servo)");
+    return;
+  }
+  if (s.has("pwm"))
+    s.fail(s.line("servo"), "servo",
+           "the input is on pwm = \"" + in.pwm + "\" (line " + std::to_string(s.line("pwm")) +
+               "): a servo or a PWM pin drives it, not both");
+  in.servo = s.text("servo");
+  in.servo_line = s.line("servo");
+  in.goal_per_unit = s.number("goal_per_unit");
+  if (!(std::fabs(in.goal_per_unit) > 0.0) || !std::isfinite(in.goal_per_unit))
+    s.fail(s.line("goal_per_unit"), "goal_per_unit", "must be a finite number other than 0 (goal steps per " +
+                                                         (in.unit.empty() ? std::string("unit") : in.unit) + ")");
+  in.goal_at_neutral = s.number("goal_at_neutral");
+}
+
 void read_inputs(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
                  PinBook& pins, LimitLines& lines) {
   const auto tables = table_array(root, t, "input");
   for (size_t i = 0; i < tables.size(); ++i) {
     const Section s(file, *tables[i], nth("input", i), line_of(*tables[i]),
-                    {"name", "unit", "min", "max", "neutral", "pwm"});
+                    {"name", "unit", "min", "max", "neutral", "pwm", "servo", "goal_per_unit", "goal_at_neutral"});
     if (i >= size_t(RigCapacity::m))
       s.fail(s.line(), "", "over capacity: at most m = " + std::to_string(RigCapacity::m) + " inputs");
     RigInput in;
@@ -427,6 +447,7 @@ void read_inputs(const std::string& file, const Section& root, const toml::table
       in.pwm_line = s.line("pwm");
       pins.pwm(s, in.pwm);
     }
+    read_servo_keys(s, in);
     rig.inputs.push_back(in);
     lines.push_back({s.line("min"), s.line("max")});
   }
@@ -515,6 +536,90 @@ void read_setting(const Section& s, const std::string& key, const chips::ChipSpe
                      join(offered)));
 }
 
+
+void read_chip_clock(const Section& s, const PinBook& pins, const BoardBus& bus, RigDevice& d) {
+    const chips::ChipSpec& chip = *d.chip;
+    const bool i2c = d.kind == BusKind::I2c;
+    // A chip on both buses states its SPI maximum; on I2C the bus's own bounds it.
+    const bool chip_bound = !i2c || !chip.on_spi;
+    // Standard-mode I2C and the paper's SPI clock, unless the chip is slower.
+    const uint32_t fallback = std::min<uint32_t>(i2c ? 100000u : 1000000u, chip.max_clock_hz);
+    d.clock_hz = s.has("clock_hz") ? uint32_t(s.integer("clock_hz", 1, 100000000, " Hz")) : fallback;
+    if (chip_bound && d.clock_hz > chip.max_clock_hz)
+      s.fail(s.line("clock_hz"), "clock_hz",
+             fmt::format("{} Hz is above chip {}'s maximum, {} Hz", d.clock_hz, chip.name, chip.max_clock_hz));
+    if (d.clock_hz > bus.max_clock_hz)
+      s.fail(s.line("clock_hz"), "clock_hz",
+             fmt::format("{} Hz is above bus {}'s maximum on board {}, {} Hz", d.clock_hz, d.bus, pins.board_name,
+                         bus.max_clock_hz));
+}
+
+// A sensor chip's place on an I2C or SPI bus: its address or chip select.
+void read_chip_address(const Section& s, PinBook& pins, const BoardBus& bus, RigDevice& d) {
+  const chips::ChipSpec& chip = *d.chip;
+  const bool i2c = bus.kind == BusKind::I2c;
+  if (i2c ? !chip.on_i2c : !chip.on_spi)
+    s.fail(s.line("bus"), "bus",
+           fmt::format("{} is a{} bus, and chip {} talks {} only", d.bus, i2c ? "n I2C" : " SPI", chip.name,
+                       i2c ? "SPI" : "I2C"));
+  for (const char* k : {"baud", "on_fault"})
+    if (s.has(k)) s.fail(s.line(k), k, "only for a servo on a serial bus (bus " + d.bus + " is not one)");
+  const std::string bus_is = fmt::format("bus = \"{}\" (line {}) is {}", d.bus, s.line("bus"), i2c ? "I2C" : "SPI");
+  if (i2c) {
+    if (s.has("cs")) s.fail(s.line("cs"), "cs", "a chip select is for a SPI bus: " + bus_is + "; give address");
+    // The 7-bit addresses I2C leaves to devices (0x00-0x07 and 0x78-0x7f are reserved).
+    d.address = s.has("address") ? int(s.integer("address", 0x08, 0x77, " (a 7-bit I2C address)"))
+                                 : chip.default_address;
+    pins.take(s, "address", fmt::format("{} address 0x{:02x}", d.bus, d.address));
+  } else if (bus.own_chip_select) {
+    if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is);
+    if (s.has("cs"))
+      s.fail(s.line("cs"), "cs", "bus " + d.bus + " selects its one chip itself (its own select line): no cs");
+    pins.take(s, "bus", d.bus + "'s one chip");
+  } else {
+    if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is + "; give cs");
+    d.cs = s.text("cs");
+    pins.cs(s, d.cs);
+    d.cs_index = index_of(pins.board->chip_selects, d.cs);
+  }
+}
+
+// A servo on a serial bus: its id (address), the bus's baud, what a fault does.
+void read_servo_device(const Section& s, const Rig& rig, PinBook& pins, const BoardBus& bus, RigDevice& d) {
+  const chips::ChipSpec& chip = *d.chip;
+  if (bus.kind != BusKind::Serial)
+    s.fail(s.line("bus"), "bus",
+           fmt::format("chip {} is a servo on a serial bus, and {} is a{} bus", chip.name, d.bus,
+                       bus.kind == BusKind::I2c ? "n I2C" : " SPI"));
+  if (!chips::on_serial(chip))
+    s.fail(s.line("chip"), "chip", fmt::format("{} is a serial (servo) bus, and chip {} is no servo", d.bus, chip.name));
+  for (const char* k : {"cs", "clock_hz"})
+    if (s.has(k)) s.fail(s.line(k), k, "not for a servo: a serial bus has no " + std::string(k) + " (give baud)");
+  // Protocol 1.0 leaves 0xFE to broadcast; 2.0 also 0xFD (a header byte).
+  const int top = chip.servo_protocol == 1 ? 253 : 252;
+  if (!s.has("address"))
+    s.fail(s.line(), "address", fmt::format("missing: the servo's id on the bus, 0..{}", top));
+  d.address = int(s.integer("address", 0, top, fmt::format(" (a Dynamixel {}.0 id)", int(chip.servo_protocol))));
+  pins.take(s, "address", fmt::format("{} id {}", d.bus, d.address));
+  d.clock_hz = s.has("baud") ? uint32_t(s.integer("baud", 1, 100000000, " baud")) : chip.default_baud;
+  const int baud_line = s.has("baud") ? s.line("baud") : s.line();
+  if (d.clock_hz > chip.max_clock_hz)
+    s.fail(baud_line, "baud", fmt::format("{} baud is above chip {}'s fastest, {}", d.clock_hz, chip.name,
+                                          chip.max_clock_hz));
+  if (!bus.makes_baud || !bus.makes_baud(d.clock_hz))
+    s.fail(baud_line, "baud",
+           fmt::format("bus {} cannot make {} baud within 2 % on board {} (at most {}; its divider is its clock / "
+                       "baud, at least 16)",
+                       d.bus, d.clock_hz, pins.board_name, bus.max_clock_hz));
+  for (const RigDevice& o : rig.devices)
+    if (o.bus == d.bus && o.clock_hz != d.clock_hz)
+      s.fail(baud_line, "baud",
+             fmt::format("{} baud, and device {} (line {}) runs bus {} at {}: one bus, one baud", d.clock_hz, o.name,
+                         o.line, d.bus, o.clock_hz));
+  d.release_on_fault = s.text("on_fault", "hold") == "release";
+  if (s.has("on_fault")) (void)s.choice("on_fault", {"hold", "release"});
+}
+
 void read_devices(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
                   PinBook& pins) {
   const auto tables = table_array(root, t, "device");
@@ -523,7 +628,7 @@ void read_devices(const std::string& file, const Section& root, const toml::tabl
   for (const BoardBus& b : pins.board->buses) bus_names.push_back(b.name);
   for (size_t i = 0; i < tables.size(); ++i) {
     const Section s(file, *tables[i], nth("device", i), line_of(*tables[i]),
-                    {"name", "chip", "bus", "address", "cs", "clock_hz", "range", "rate_hz"});
+                    {"name", "chip", "bus", "address", "cs", "clock_hz", "range", "rate_hz", "baud", "on_fault"});
     if (i >= size_t(RigCapacity::devices))
       s.fail(s.line(), "", "over capacity: at most " + std::to_string(RigCapacity::devices) + " devices");
     RigDevice d;
@@ -540,52 +645,25 @@ void read_devices(const std::string& file, const Section& root, const toml::tabl
                  join(bus_names) + ")");
     const BoardBus& bus = pins.board->buses[size_t(d.bus_index)];
     d.kind = bus.kind;
-    const bool i2c = bus.kind == BusKind::I2c;
-    if (i2c ? !chip.on_i2c : !chip.on_spi)
-      s.fail(s.line("bus"), "bus",
-             fmt::format("{} is a{} bus, and chip {} talks {} only", d.bus, i2c ? "n I2C" : " SPI", chip.name,
-                         i2c ? "SPI" : "I2C"));
-    const std::string bus_is = fmt::format("bus = \"{}\" (line {}) is {}", d.bus, s.line("bus"), i2c ? "I2C" : "SPI");
-    if (i2c) {
-      if (s.has("cs")) s.fail(s.line("cs"), "cs", "a chip select is for a SPI bus: " + bus_is + "; give address");
-      // The 7-bit addresses I2C leaves to devices (0x00-0x07 and 0x78-0x7f are reserved).
-      d.address = s.has("address") ? int(s.integer("address", 0x08, 0x77, " (a 7-bit I2C address)"))
-                                   : chip.default_address;
-      pins.take(s, "address", fmt::format("{} address 0x{:02x}", d.bus, d.address));
-    } else if (bus.own_chip_select) {
-      if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is);
-      if (s.has("cs"))
-        s.fail(s.line("cs"), "cs", "bus " + d.bus + " selects its one chip itself (its own select line): no cs");
-      pins.take(s, "bus", d.bus + "'s one chip");
+    const bool serial_chip = chips::on_serial(chip);
+    if (bus.kind == BusKind::Serial || serial_chip) {
+      read_servo_device(s, rig, pins, bus, d);
     } else {
-      if (s.has("address")) s.fail(s.line("address"), "address", "an address is for an I2C bus: " + bus_is + "; give cs");
-      d.cs = s.text("cs");
-      pins.cs(s, d.cs);
-      d.cs_index = index_of(pins.board->chip_selects, d.cs);
+      read_chip_address(s, pins, bus, d);
     }
     // The bus's pins are its own from its first chip on: an ADC input on one is refused.
     const bool first_on_bus = std::none_of(rig.devices.begin(), rig.devices.end(),
                                            [&](const RigDevice& o) { return o.bus == d.bus; });
     if (first_on_bus)
       for (const std::string& pin : bus.pins) pins.take(s, "bus", pin);
-    // A chip on both buses states its SPI maximum; on I2C the bus's own bounds it.
-    const bool chip_bound = !i2c || !chip.on_spi;
-    // Standard-mode I2C and the paper's SPI clock, unless the chip is slower.
-    const uint32_t fallback = std::min<uint32_t>(i2c ? 100000u : 1000000u, chip.max_clock_hz);
-    d.clock_hz = s.has("clock_hz") ? uint32_t(s.integer("clock_hz", 1, 100000000, " Hz")) : fallback;
-    if (chip_bound && d.clock_hz > chip.max_clock_hz)
-      s.fail(s.line("clock_hz"), "clock_hz",
-             fmt::format("{} Hz is above chip {}'s maximum, {} Hz", d.clock_hz, chip.name, chip.max_clock_hz));
-    if (d.clock_hz > bus.max_clock_hz)
-      s.fail(s.line("clock_hz"), "clock_hz",
-             fmt::format("{} Hz is above bus {}'s maximum on board {}, {} Hz", d.clock_hz, d.bus, pins.board_name,
-                         bus.max_clock_hz));
+    if (d.kind != BusKind::Serial) read_chip_clock(s, pins, bus, d);
     read_setting(s, "range", chip, chip.ranges, chip.range_count, chip.range_unit ? chip.range_unit : "", d.range,
                  d.range_bits);
     read_setting(s, "rate_hz", chip, chip.rates, chip.rate_count, "Hz", d.rate_hz, d.rate_bits);
     rig.devices.push_back(d);
   }
 }
+
 
 // source = "device": a channel of a [[device]], by the device's name and the
 // chip's channel name.
@@ -607,6 +685,48 @@ void read_device_channel(const Section& s, const Rig& rig, RigSensor& sen) {
            fmt::format("chip {} (device {}) has no channel '{}' (channels: {})", chip.name, device,
                        printable_excerpt(channel, 40), join(channels)));
   read_scaling(s, sen.gain, sen.offset);
+}
+
+
+bool drives_an_input(const Rig& rig, int device) {
+  return std::any_of(rig.inputs.begin(), rig.inputs.end(), [&](const RigInput& in) { return in.servo_device == device; });
+}
+
+// Each input's servo, by name: a [[device]] on a serial bus, one input per
+// servo, whose goal stays inside the servo's goal range over [min, max].
+void link_servos(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
+  const auto tables = table_array(root, t, "input");
+  for (size_t i = 0; i < rig.inputs.size(); ++i) {
+    RigInput& in = rig.inputs[i];
+    if (in.servo.empty()) continue;
+    const Section s(file, *tables[i], nth("input", i), in.line,
+                    {"name", "unit", "min", "max", "neutral", "pwm", "servo", "goal_per_unit", "goal_at_neutral"});
+    std::vector<std::string> servos;
+    for (size_t d = 0; d < rig.devices.size(); ++d) {
+      if (!chips::on_serial(*rig.devices[d].chip)) continue;
+      servos.push_back(rig.devices[d].name);
+      if (rig.devices[d].name == in.servo) in.servo_device = int(d);
+    }
+    if (in.servo_device < 0)
+      s.fail(in.servo_line, "servo",
+             "no servo [[device]] is named '" + printable_excerpt(in.servo, 40) + "'" +
+                 (servos.empty() ? std::string(" (the file has none: a device with a servo chip on a serial bus)")
+                                 : " (servos: " + join(servos) + ")"));
+    for (size_t j = 0; j < i; ++j)
+      if (rig.inputs[j].servo_device == in.servo_device)
+        s.fail(in.servo_line, "servo",
+               fmt::format("servo {} already drives input {} (line {}): one servo, one input", in.servo,
+                           rig.inputs[j].name, rig.inputs[j].servo_line));
+    const chips::ChipSpec& chip = *rig.devices[size_t(in.servo_device)].chip;
+    for (const auto& [key, u] : {std::pair<const char*, double>{"min", in.min}, {"max", in.max}}) {
+      const double goal = in.goal_at_neutral + in.goal_per_unit * (u - in.neutral);
+      if (!(goal >= 0.0 && goal <= double(chip.goal_max)))
+        s.fail(s.line("goal_per_unit"), "goal_per_unit",
+               fmt::format("puts {} = {} at goal {} (goal_at_neutral + goal_per_unit * ({} - neutral)), outside "
+                           "chip {}'s goal range 0..{}",
+                           key, num(u), num(goal), key, chip.name, chip.goal_max));
+    }
+  }
 }
 
 void read_sensors(const std::string& file, const Section& root, const toml::table& t, Rig& rig, NameBook& names,
@@ -642,13 +762,15 @@ void read_sensors(const std::string& file, const Section& root, const toml::tabl
   // A chip nobody reads would still be configured and polled, its faults
   // reported: a device left over from an edit, refused rather than kept.
   for (size_t d = 0; d < rig.devices.size(); ++d)
-    if (read_by[d] == 0) {
+    if (read_by[d] == 0 && !drives_an_input(rig, int(d))) {
       const Section s(file, *table_array(root, t, "device")[d], nth("device", d), rig.devices[d].line,
-                      {"name", "chip", "bus", "address", "cs", "clock_hz", "range", "rate_hz"});
+                      {"name", "chip", "bus", "address", "cs", "clock_hz", "range", "rate_hz", "baud", "on_fault"});
       s.fail(s.line("name"), "name",
              "no [[sensor]] reads device '" + rig.devices[d].name +
-                 "': give a sensor source = \"device\" with device = \"" + rig.devices[d].name +
-                 "\", or remove the device");
+                 "': give a sensor source = \"device\" with device = \"" + rig.devices[d].name + "\"" +
+                 (chips::on_serial(*rig.devices[d].chip) ? ", or an [[input]] servo = \"" + rig.devices[d].name + "\""
+                                                        : std::string()) +
+                 ", or remove the device");
     }
 }
 
@@ -1100,6 +1222,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   read_inputs(file, root, t, rig, names, pins, limit_lines);
   read_outputs(file, root, t, rig, names, pins);
   read_devices(file, root, t, rig, names, pins);
+  link_servos(file, root, t, rig);
   read_sensors(file, root, t, rig, names, pins);
   if (rig.lags_auto)
     rig.nd = rig.dd = std::max(1, std::min(RigCapacity::nd, (RigCapacity::p - rig.w()) / (rig.m() + rig.n())));

@@ -30,9 +30,19 @@ struct ChipSpec {
   int range_count;
   const Setting* rates;              // data rates in Hz
   int rate_count;
-  uint32_t max_clock_hz;             // the fastest clock: SPI's for a chip on_spi, else I²C's
+  uint32_t max_clock_hz;             // the fastest clock: SPI's for a chip on_spi, else I²C's; a servo's highest baud
   uint8_t spi_mode;                  // SPI: CPOL << 1 | CPHA
+  // A smart servo on a single-wire half-duplex serial bus (Dynamixel):
+  // the packet protocol it speaks (1 or 2; 0 for a chip that is no servo),
+  // the model number it answers with (its identity), the baud it leaves the
+  // factory at, and the highest goal position its control table takes.
+  uint8_t servo_protocol = 0;
+  uint16_t model_number = 0;
+  uint32_t default_baud = 0;
+  uint32_t goal_max = 0;
 };
+
+constexpr bool on_serial(const ChipSpec& c) { return c.servo_protocol != 0; }
 
 // Where `s` is in `list` (matched on value and bits), or -1: a driver
 // takes its per-setting constants (a sensitivity) from the same index.

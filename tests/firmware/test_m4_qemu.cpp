@@ -215,11 +215,11 @@ TEST_F(M4Image, Stm32f4HaselImageReportsItsSixAbsentChipsAndRunsInNetduinoplus2)
 }
 
 TEST_F(M4Image, RealBoardImageServesTheLinkWithoutAPlant) {
-  boot(NLSOFT_M4_IMAGE_DIR "/nlsoft-m4-tendon.elf");
+  boot(NLSOFT_M4_IMAGE_DIR "/nlsoft-m4-msd.elf");
   if (IsSkipped() || HasFatalFailure()) return;
   const proto::Info info = handshake();
-  EXPECT_EQ(info.platform, uint8_t(PlatformId::Tendon));
-  EXPECT_EQ(info.m, 2);
+  EXPECT_EQ(info.platform, uint8_t(PlatformId::Msd));
+  EXPECT_EQ(info.m, 1);
   EXPECT_STREQ(info.firmware, "nlsoft-an386");
   EXPECT_FALSE(info.capabilities & proto::capability::kYTrue);
   proto::Ping ping;

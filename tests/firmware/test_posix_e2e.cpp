@@ -666,7 +666,7 @@ TEST(PosixSensorStream, EachClosedLoopTelemetryFollowsItsStepsSensors) {
   const auto ex = as<proto::InfoEx>(*info);
   ASSERT_EQ(ex.info.w, 18);
   EXPECT_NE(ex.info.capabilities & proto::capability::kSensorStream, 0u);
-  EXPECT_EQ(ex.protocol_minor, 6);
+  EXPECT_EQ(ex.protocol_minor, 7);
   ASSERT_TRUE(peer.request(watchdog_off()));
 
   auto r = sensor_stream(peer, 2);

@@ -128,10 +128,10 @@ function(nlsoft_cortex_m_images)
   # holding it would never be pulled into the link.
   # The sensor chip drivers too: an image whose rig names no chip calls none
   # of them, and the link leaves them out.
-  set(drivers ${NLSOFT_ROOT}/firmware/drivers)
+  include(${NLSOFT_ROOT}/firmware/drivers/sources.cmake)
+  list(TRANSFORM NLSOFT_DRIVER_SOURCES PREPEND ${NLSOFT_ROOT}/firmware/drivers/ OUTPUT_VARIABLE drivers)
   add_library(m4_board OBJECT ${NLSOFT_CORTEX_M_DIR}/reset.cpp ${NLSOFT_CORTEX_M_DIR}/systick.cpp
-    ${A_BOARD_SOURCES} ${drivers}/register_bus.cpp ${drivers}/lis3mdl.cpp ${drivers}/lsm303dlhc_mag.cpp
-    ${drivers}/dps310.cpp ${drivers}/max1111.cpp)
+    ${A_BOARD_SOURCES} ${drivers})
   target_link_libraries(m4_board PUBLIC m4_flags)
 
   set(images "")

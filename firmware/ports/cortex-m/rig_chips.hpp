@@ -8,6 +8,7 @@
 
 #include "firmware/core/sensor_sampler.hpp"
 #include "firmware/drivers/dps310.hpp"
+#include "firmware/drivers/dynamixel_servo.hpp"
 #include "firmware/drivers/lis3mdl.hpp"
 #include "firmware/drivers/lsm303dlhc_mag.hpp"
 #include "firmware/drivers/max1111.hpp"
@@ -28,10 +29,16 @@ class RigChips {
       if (Devices[d].chip == chip) return true;
     return false;
   }
+  static constexpr bool names_a_servo() {
+    for (int d = 0; d < Count; ++d)
+      if (chips::on_serial(*Devices[d].chip)) return true;
+    return false;
+  }
   static constexpr bool every_chip_has_a_driver() {
     for (int d = 0; d < Count; ++d) {
       const chips::ChipSpec* c = Devices[d].chip;
-      if (c != &chips::kLis3mdl && c != &chips::kLsm303dlhcMag && c != &chips::kDps310 && c != &chips::kMax1111)
+      if (c != &chips::kLis3mdl && c != &chips::kLsm303dlhcMag && c != &chips::kDps310 && c != &chips::kMax1111 &&
+          !chips::on_serial(*c))
         return false;
     }
     return true;
@@ -44,13 +51,19 @@ class RigChips {
   explicit RigChips(const RigSensorSource* sources) : sampler_(chips_, Devices, samples_, Count, sources, W) {}
 
   // Builds each driver over its bus; nullptr for a bus the port lacks
-  // leaves the chip absent (its begin() is never reached: kBadConfig).
-  void start(drivers::I2cBus* const* i2c, int i2c_count, drivers::SpiBus* const* spi, int spi_count) {
+  // leaves the chip absent (its begin() is never reached: kBadConfig). The
+  // board's buses count I2C first, then SPI, then serial (board_pins).
+  void start(drivers::I2cBus* const* i2c, int i2c_count, drivers::SpiBus* const* spi, int spi_count,
+             drivers::SerialBus* const* serial = nullptr, int serial_count = 0) {
     for (int d = 0; d < Count; ++d) {
       const RigDeviceConfig& c = Devices[d];
       drivers::BusAttachment at;
       if (c.kind == BusKind::I2c) {
         at.i2c = c.bus < i2c_count ? i2c[c.bus] : nullptr;
+        at.address = c.address;
+      } else if (c.kind == BusKind::Serial) {
+        const int k = c.bus - i2c_count - spi_count;
+        at.serial = k >= 0 && k < serial_count ? serial[k] : nullptr;
         at.address = c.address;
       } else {
         const int k = c.bus - i2c_count;
@@ -62,6 +75,8 @@ class RigChips {
   }
 
   SensorSampler& sampler() { return sampler_; }
+  // Device d's driver once started (a servo's, for its torque), else nullptr.
+  drivers::Chip* chip(int d) const { return chips_[d]; }
 
  private:
   union Slot {
@@ -71,6 +86,7 @@ class RigChips {
     drivers::Lsm303dlhcMag lsm303dlhc_mag;
     drivers::Dps310 dps310;
     drivers::Max1111 max1111;
+    drivers::DynamixelServo servo;
   };
 
   // Every row's chip has a driver (every_chip_has_a_driver), so one of the
@@ -85,6 +101,8 @@ class RigChips {
       if (c.chip == &chips::kDps310) return new (&s.dps310) drivers::Dps310({at, c.rate});
     if constexpr (names(&chips::kMax1111))
       if (c.chip == &chips::kMax1111) return new (&s.max1111) drivers::Max1111({at.spi, at.target});
+    if constexpr (names_a_servo())
+      if (chips::on_serial(*c.chip)) return new (&s.servo) drivers::DynamixelServo({at.serial, at.address, c.chip});
     return nullptr;
   }
 
@@ -100,7 +118,8 @@ template <int W, const RigDeviceConfig* Devices>
 class RigChips<0, W, Devices> {
  public:
   explicit RigChips(const RigSensorSource*) {}
-  void start(drivers::I2cBus* const*, int, drivers::SpiBus* const*, int) {}
+  void start(drivers::I2cBus* const*, int, drivers::SpiBus* const*, int, drivers::SerialBus* const* = nullptr,
+             int = 0) {}
 };
 
 }  // namespace nlsoft::fw::cortex_m

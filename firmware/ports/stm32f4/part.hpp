@@ -7,6 +7,8 @@
 // manual (RM0390 F446, RM0368 F401, RM0383 F411), clock tree chapter.
 #include <cstdint>
 
+#include "shared/board_stm32f4.hpp"
+
 namespace nlsoft::fw::stm32f4 {
 
 struct Part {
@@ -29,6 +31,9 @@ constexpr Part kPart{"f401", 84000000u, 8, 168, 4, 7, 2, 1, 2, 2, false};
 #error "define NLSOFT_STM32F4_PART_F446RE, _F411RE or _F401RE"
 #endif
 
+static_assert(kPart.core_hz / kPart.apb2_div == kServoBusClocksHz[0] || kPart.core_hz / kPart.apb2_div == kServoBusClocksHz[1] ||
+                  kPart.core_hz / kPart.apb2_div == kServoBusClocksHz[2],
+              "the rig loader checks servo bauds against every part's APB2 clock (shared/board_stm32f4.hpp)");
 static_assert(16000000u / kPart.pll_m * kPart.pll_n / kPart.pll_p == kPart.core_hz, "PLL does not give core_hz");
 
 // The reset clock, where a part stays when its PLL does not lock.

@@ -9,7 +9,12 @@
 // source = "adc" (kRigOutputAnalogue): read_output() then measures y, and
 // the image says so (INFO's y_true capability); otherwise it reads none.
 // The rig's sensor chips ([[device]]) hang on I2C1, SPI1 and SPI2
-// (kI2c, kSpi), sampled between control steps (rig_chips.hpp).
+// (kI2c, kSpi), sampled between control steps (rig_chips.hpp). Its servos
+// (Dynamixel, [[device]] on usart1 or usart6: kServoBus) are devices too,
+// read between steps; an input a servo drives (kRigServoInputs) is written
+// by one SYNC_WRITE per step instead of a PWM duty. A servo in `fault` is
+// left out of it (held at its last goal), or released (torque off) once,
+// as its device row says.
 #include <new>
 #include <type_traits>
 
@@ -20,6 +25,7 @@
 #include "firmware/ports/stm32f4/clock_tree.hpp"
 #include "firmware/ports/stm32f4/gpio.hpp"
 #include "firmware/ports/stm32f4/i2c1.hpp"
+#include "firmware/ports/stm32f4/servo_usart.hpp"
 #include "firmware/ports/stm32f4/spi.hpp"
 #include "shared/board_stm32f4.hpp"
 
@@ -51,6 +57,8 @@ class RigHal final : public Hal {
   uint32_t tick_rate_hz() const override { return board::core_clock_hz(); }
 
   void actuate(const float* u, int m) override {
+    if constexpr (kRigServoCount > 0) write_servos(u, m);
+    if constexpr (kRigServoCount == M) return;  // every input a servo's: no PWM row to drive
     for (int i = 0; i < m && i < M; ++i) {
       const stm32f4::PwmOutput& o = stm32f4::kRigPwm[i];
       if (o.timer == 0) continue;
@@ -166,6 +174,43 @@ class RigHal final : public Hal {
     reg(kAdc + 0x08) = reg(kAdc + 0x08) | (1u << 30);  // SWSTART
   }
 
+  static constexpr int kSerialCount = int(sizeof stm32f4::kServoBus / sizeof stm32f4::kServoBus[0]);
+  static constexpr int kBusesBeforeSerial =
+      int(sizeof stm32f4::kI2c / sizeof stm32f4::kI2c[0]) + int(sizeof stm32f4::kSpi / sizeof stm32f4::kSpi[0]);
+
+  // The goals of the servo-driven inputs, in one SYNC_WRITE per protocol on
+  // each servo bus (a rig's servos share one bus: the loader holds them to
+  // one baud per bus, and a board image drives the buses its devices name).
+  void write_servos(const float* u, int m) {
+    for (int b = 0; b < kSerialCount; ++b) {
+      if (serial_[b] == nullptr) continue;
+      drivers::ServoGoal goals[drivers::kMaxGoals];
+      size_t n = 0;
+      for (int i = 0; i < m && i < M; ++i) {
+        const RigServoInput& s = kRigServoInputs[i];
+        if (s.device == kNoServo || kRigDevices[s.device].bus != kBusesBeforeSerial + b) continue;
+        const RigDeviceConfig& c = kRigDevices[s.device];
+        if (chips_.sampler().state(s.device) == DeviceState::Fault) {
+          release_once(s.device, c);
+          continue;  // held at its last goal (or released): no new goal while it reports a fault
+        }
+        released_ &= ~(1u << s.device);
+        const drivers::dynamixel::TickMapping map{s.goal_at_neutral - s.goal_per_unit * s.neutral, s.goal_per_unit, 0,
+                                                  int32_t(c.chip->goal_max)};
+        int32_t goal = 0;
+        if (n < drivers::kMaxGoals && drivers::dynamixel::goal_ticks(map, u[i], &goal))
+          goals[n++] = drivers::ServoGoal{c.address, c.chip->servo_protocol, uint32_t(goal)};
+      }
+      if (n > 0) (void)drivers::write_goals(*serial_[b], goals, n);
+    }
+  }
+  // A servo whose row says release goes limp once per fault.
+  void release_once(int d, const RigDeviceConfig& c) {
+    if (!c.release_on_fault || (released_ & (1u << d))) return;
+    if (auto* servo = static_cast<drivers::DynamixelServo*>(chips_.chip(d))) (void)servo->torque(false);
+    released_ |= 1u << d;
+  }
+
   // The masters of the buses the rig's chips use (I2C1 at the slowest clock
   // its chips take), then the drivers over them.
   static constexpr bool uses_i2c() {
@@ -203,7 +248,15 @@ class RigHal final : public Hal {
       bus->start();
       spi[b] = bus;
     }
-    chips_.start(i2c, kI2cCount, spi, kSpiCount);
+    for (int d = 0; d < kRigDeviceCount; ++d) {
+      const RigDeviceConfig& c = kRigDevices[d];
+      const int b = c.bus - kI2cCount - kSpiCount;
+      if (c.kind != BusKind::Serial || b < 0 || b >= kSerialCount || serial_[b] != nullptr) continue;
+      ServoUsart* bus = new (&buses.serial[b].bus) ServoUsart(kServoBus[b], board_clocks(), c.clock_hz);
+      bus->start();
+      serial_[b] = bus;
+    }
+    chips_.start(i2c, kI2cCount, spi, kSpiCount, serial_, kSerialCount);
   }
 
   // Raw storage: the masters take the clock tree, known only once the board started.
@@ -217,17 +270,25 @@ class RigHal final : public Hal {
     ~SpiSlot() {}
     stm32f4::Spi bus;
   };
+  union SerialSlot {
+    SerialSlot() {}
+    ~SerialSlot() {}
+    stm32f4::ServoUsart bus;
+  };
 
   uint32_t period_ = 1;
   volatile uint16_t raw_[kAdcCount > 0 ? kAdcCount : 1] = {};
   struct Buses {
     I2cSlot i2c;
     SpiSlot spi[sizeof stm32f4::kSpi / sizeof stm32f4::kSpi[0]];
+    SerialSlot serial[sizeof stm32f4::kServoBus / sizeof stm32f4::kServoBus[0]];
   };
   struct NoBuses {};
   // Room for the masters in an image with chips only.
   [[no_unique_address]] std::conditional_t<(kRigDeviceCount > 0), Buses, NoBuses> buses_;
   RigChips<kRigDeviceCount, W, kRigDevices> chips_{kRigSensorSources};
+  drivers::SerialBus* serial_[kSerialCount] = {};
+  uint32_t released_ = 0;  // bit d: servo d was released for its current fault
 };
 
 }  // namespace nlsoft::fw::cortex_m

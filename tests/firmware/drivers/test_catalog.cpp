@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <iterator>
 #include <set>
 #include <string>
 
@@ -29,7 +30,14 @@ TEST(ChipCatalog, EveryChipIsConsistent) {
     ASSERT_NE(c->name, nullptr);
     EXPECT_TRUE(names.insert(c->name).second) << c->name << " twice";
     EXPECT_EQ(find_chip(c->name), c);
-    EXPECT_TRUE(c->on_i2c || c->on_spi) << c->name;
+    EXPECT_TRUE(c->on_i2c || c->on_spi || on_serial(*c)) << c->name;
+    if (on_serial(*c)) {
+      EXPECT_FALSE(c->on_i2c || c->on_spi) << c->name << ": a servo is on a serial bus only";
+      EXPECT_TRUE(c->servo_protocol == 1 || c->servo_protocol == 2) << c->name;
+      EXPECT_GT(c->model_number, 0u) << c->name;
+      EXPECT_TRUE(c->goal_max == 1023u || c->goal_max == 4095u) << c->name;
+      EXPECT_LE(c->default_baud, c->max_clock_hz) << c->name;
+    }
     if (c->on_i2c) {
       EXPECT_TRUE(c->default_address >= 0x08 && c->default_address <= 0x77) << c->name;
     }
@@ -78,7 +86,11 @@ TEST(ChipCatalog, CountsAreTheArraysSizes) {
   expect_channels(kDps310, dps310::kChannels, dps310::kUnits);
   EXPECT_EQ(kDps310.rate_count, static_cast<int>(sizeof(dps310::kRates) / sizeof(dps310::kRates[0])));
   expect_channels(kMax1111, max1111::kChannels, max1111::kUnits);
-  EXPECT_EQ(sizeof(kCatalog) / sizeof(kCatalog[0]), 4u) << "a chip added: its counts checked here too";
+  for (const ChipSpec* servo : {&kRx64, &kMx28, &kAx12a, &kXl430W250, &kXm430W350}) {
+    expect_channels(*servo, dynamixel::kChannels, dynamixel::kUnits);
+    EXPECT_EQ(servo->rate_count, static_cast<int>(std::size(dynamixel::kReadRates))) << servo->name;
+  }
+  EXPECT_EQ(sizeof(kCatalog) / sizeof(kCatalog[0]), 9u) << "a chip added: its counts checked here too";
 }
 
 }  // namespace

@@ -56,9 +56,9 @@ TEST(RigDevices, AGoodFileGivesEachDeviceItsBusAndRegisterBits) {
 
 TEST(RigDevices, AnUnknownChipOrBusIsRefusedWithTheKnownOnes) {
   expect_error(edit("chip = \"dps310\"", "chip = \"bmp388\""), line("chip = \"dps310\""), "[[device]] #2 chip",
-               "'bmp388' is not one of: lis3mdl, lsm303dlhc_mag, dps310, max1111");
+               "'bmp388' is not one of: lis3mdl, lsm303dlhc_mag, dps310, max1111, rx-64, mx-28, ax-12a");
   expect_error(edit("bus = \"spi1\"", "bus = \"spi3\""), line("bus = \"spi1\""), "[[device]] #3 bus",
-               "unknown bus 'spi3' on board stm32f4 (buses: i2c1, spi1, spi2)");
+               "unknown bus 'spi3' on board stm32f4 (buses: i2c1, spi1, spi2, usart1, usart6)");
 }
 
 TEST(RigDevices, AChipOnABusKindItCannotUseIsRefused) {

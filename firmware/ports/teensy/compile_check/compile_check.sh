@@ -15,8 +15,9 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 # The sketch's nlsoft_rig.hpp, as its README has the user write it (into
 # a folder of our own, so the source tree stays clean), for a shipped rig
-# whose sensors the sketch reads itself (hasel's are chips on SPI: refused).
-NLSOFT_RIGS="$root/rigs" "$console" firmware header --rig tendon --out "$out/rig"
+# whose sensors and actuators the sketch drives itself (hasel's chips on SPI and
+# tendon's Dynamixel servos on a USART: refused, no bus drivers without a board).
+NLSOFT_RIGS="$root/rigs" "$console" firmware header --rig msd --out "$out/rig"
 mapfile -t warnings < <(grep '^-' "$root/cmake/warning_flags.txt")  # the one warnings list
 common=(-std=gnu++17 -fno-exceptions -fno-rtti -fno-threadsafe-statics -Os "${warnings[@]}" -Werror
   -I"$here" -I"$out/rig" -I"$root" -x c++ -c "$root/firmware/ports/teensy/nlsoft/nlsoft.ino")

@@ -3,9 +3,9 @@
 //
 //   1. Generate the rig's header beside this sketch (its values and the
 //      capacity sized for it; README.md):
-//        nlsoft-console firmware header --rig tendon --out firmware/ports/teensy/nlsoft
+//        nlsoft-console firmware header --rig msd --out firmware/ports/teensy/nlsoft
 //   2. Generate model_data.h from the trained model (README.md):
-//        xxd -i -n nlsoft_model app/models/tendon.nlsm > model_data.h
+//        xxd -i -n nlsoft_model app/models/msd.nlsm > model_data.h
 //   3. Fill in board_actuate() and board_read_sensors() for your rig.
 //   4. Build with Teensyduino (README.md has the include path), upload, then
 //        nlsoft-console /dev/ttyACM0
