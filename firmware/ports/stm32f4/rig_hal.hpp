@@ -14,7 +14,7 @@
 // read between steps; an input a servo drives (kRigServoInputs) is written
 // by one SYNC_WRITE per step instead of a PWM duty. A servo in `fault` is
 // left out of it (held at its last goal), or released (torque off) once,
-// as its device row says.
+// as its device row says, until it answers ok again.
 #include <new>
 #include <type_traits>
 
@@ -190,11 +190,19 @@ class RigHal final : public Hal {
         const RigServoInput& s = kRigServoInputs[i];
         if (s.device == kNoServo || kRigDevices[s.device].bus != kBusesBeforeSerial + b) continue;
         const RigDeviceConfig& c = kRigDevices[s.device];
-        if (chips_.sampler().state(s.device) == DeviceState::Fault) {
-          release_once(s.device, c);
-          continue;  // held at its last goal (or released): no new goal while it reports a fault
+        // A servo that reported a fault gets no new goal until it answers
+        // again without one (ok): not while it is silent or garbled after it.
+        const uint32_t bit = 1u << s.device;
+        const DeviceState state = chips_.sampler().state(s.device);
+        if (state == DeviceState::Fault) held_ |= bit;
+        if (state == DeviceState::Ok) {
+          held_ &= ~bit;
+          released_ &= ~bit;
         }
-        released_ &= ~(1u << s.device);
+        if (held_ & bit) {
+          release_once(s.device, c);
+          continue;  // held at its last goal (or released)
+        }
         const drivers::dynamixel::TickMapping map{s.goal_at_neutral - s.goal_per_unit * s.neutral, s.goal_per_unit, 0,
                                                   int32_t(c.chip->goal_max)};
         int32_t goal = 0;
@@ -288,6 +296,7 @@ class RigHal final : public Hal {
   [[no_unique_address]] std::conditional_t<(kRigDeviceCount > 0), Buses, NoBuses> buses_;
   RigChips<kRigDeviceCount, W, kRigDevices> chips_{kRigSensorSources};
   drivers::SerialBus* serial_[kSerialCount] = {};
+  uint32_t held_ = 0;      // bit d: servo d faulted and has not answered ok since
   uint32_t released_ = 0;  // bit d: servo d was released for its current fault
 };
 

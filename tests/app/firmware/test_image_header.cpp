@@ -215,7 +215,7 @@ TEST(ImageHeader, ANamedPlantMakesTheHilImage) {
   // A 2-input, 3-output, 11-sensor rig is tendon's plant's size.
   std::ifstream in(NLSOFT_SOURCE_DIR "/rigs/tendon.toml");
   std::string tendon((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const ImageSource s = source_of(replaced(tendon, "name = \"tendon\"", "name = \"bender\""), "mps2-an386", "b.toml");
+  const ImageSource s = source_of(replaced(tendon, "name = \"tendon\"", "name = \"bender\""), "stm32f4", "b.toml");
   EXPECT_TRUE(s.hil);
   EXPECT_TRUE(contains(s.header, "#include \"shared/plant_tendon.hpp\"")) << s.header;
   EXPECT_TRUE(contains(s.header, "using Plant = TendonPlant;")) << s.header;
