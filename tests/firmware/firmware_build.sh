@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A rig file made into firmware, as a lab would (the build part;
 # firmware_build_qemu.sh runs what it builds): tendon's rig under another
-# name, at another rate and tuning (t.toml), built with `nlsoft-console
+# name, at another rate and tuning, without its servos (t.toml), built with `nlsoft-console
 # firmware build --rig t.toml` for both boards: the board image and the HIL
 # image of each, both named and sized in the output (build-BOARD.txt), the
 # stm32f4 .bin files too, and the build's progress naming its steps.
@@ -12,8 +12,19 @@ console=$1 src=$2
 stage=$3 part=build
 . "$(dirname "$0")/rig_image_test_prelude.sh"
 
+# Without tendon's Dynamixel servos (its inputs then drive no pin): a rig
+# both boards can carry.
+python3 - "$src/rigs/tendon.toml" >tendon-no-servos.toml <<'PY'
+import sys
+skip = False
+for line in open(sys.argv[1]):
+    if line.startswith("[[device]]"): skip = True
+    elif skip and (line.startswith("[") or line.startswith("#")): skip = False
+    if skip or line.split("=")[0].strip() in ("servo", "goal_per_unit", "goal_at_neutral"): continue
+    sys.stdout.write(line)
+PY
 sed -e 's/^name = "tendon"/name = "bender"/' -e 's/^rate_hz = 120.0/rate_hz = 100.0/' \
-    -e 's/^Q = \[1e-3, 5e3, 2e3\]/Q = [1e-3, 4e3, 3e3]/' -e 's/^eps = .*/eps = 0.01/' "$src/rigs/tendon.toml" >t.toml
+    -e 's/^Q = \[1e-3, 5e3, 2e3\]/Q = [1e-3, 4e3, 3e3]/' -e 's/^eps = .*/eps = 0.01/' tendon-no-servos.toml >t.toml
 grep -q '^rate_hz = 100.0' t.toml && grep -q '^Q = \[1e-3, 4e3, 3e3\]' t.toml || { echo "FAIL: t.toml not edited"; exit 1; }
 
 for board in mps2-an386 stm32f4; do

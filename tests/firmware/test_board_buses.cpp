@@ -40,7 +40,7 @@ TEST(BoardBuses, An386BusesAreThePortsAndARigFileNamesThemAlone) {
 TEST(BoardBuses, Stm32f4BusesAndChipSelectsTakeNoPinTwice) {
   const console::BoardPins* b = console::find_board("stm32f4");
   ASSERT_NE(b, nullptr);
-  ASSERT_EQ(b->buses.size(), 3u);
+  ASSERT_EQ(b->buses.size(), 5u);
   EXPECT_EQ(b->buses[0].name, "i2c1");
   EXPECT_EQ(b->buses[0].kind, BusKind::I2c);
   EXPECT_EQ(b->buses[0].pins, (std::vector<std::string>{"PB8", "PB9"}));
@@ -49,6 +49,17 @@ TEST(BoardBuses, Stm32f4BusesAndChipSelectsTakeNoPinTwice) {
   EXPECT_EQ(b->buses[2].name, "spi2");
   EXPECT_EQ(b->buses[2].kind, BusKind::Spi);
   EXPECT_EQ(b->buses[2].pins, (std::vector<std::string>{"PB13", "PB14", "PB15"}));
+  // The servo buses, each on its USART's TX pin alone (single wire).
+  EXPECT_EQ(b->buses[3].name, "usart1");
+  EXPECT_EQ(b->buses[3].kind, BusKind::Serial);
+  EXPECT_EQ(b->buses[3].pins, (std::vector<std::string>{"PB6"}));
+  EXPECT_EQ(b->buses[4].name, "usart6");
+  EXPECT_EQ(b->buses[4].pins, (std::vector<std::string>{"PC6"}));
+  ASSERT_NE(b->buses[3].makes_baud, nullptr);
+  EXPECT_TRUE(b->buses[3].makes_baud(1000000u));
+  EXPECT_TRUE(b->buses[3].makes_baud(57600u));
+  EXPECT_FALSE(b->buses[3].makes_baud(4000000u)) << "3.913 Mbit/s on the F446's 90 MHz APB2";
+  EXPECT_FALSE(b->buses[3].makes_baud(6000000u)) << "a divider under 16";
   EXPECT_EQ(b->chip_selects.size(), size_t(fw::stm32f4::kChipSelectCount));
   ASSERT_EQ(b->adc_pins.size(), b->adc.size());
 
@@ -65,10 +76,14 @@ TEST(BoardBuses, Stm32f4BusesAndChipSelectsTakeNoPinTwice) {
     std::vector<std::string> js;
     for (auto j = first; j != last; ++j) js.push_back(j->second);
     if (js.size() > 1) {
-      // The one sharing the table declares: SPI1's MISO/MOSI are ADC1_IN6/IN7's pins.
-      const bool spi1_adc = js.size() == 2 && ((js[0] == "spi1" && js[1].rfind("ADC1_IN", 0) == 0) ||
-                                               (js[1] == "spi1" && js[0].rfind("ADC1_IN", 0) == 0));
-      EXPECT_TRUE(spi1_adc) << it->first << " has " << js.size() << " jobs: " << js[0] << ", " << js[1];
+      // The sharing the table declares: SPI1's MISO/MOSI are ADC1_IN6/IN7's
+      // pins, and the servo buses' TX pins PWM pins (a rig uses one or the other).
+      auto pair_of = [&](const char* a, const char* b_prefix) {
+        return js.size() == 2 && ((js[0] == a && js[1].rfind(b_prefix, 0) == 0) ||
+                                  (js[1] == a && js[0].rfind(b_prefix, 0) == 0));
+      };
+      const bool declared = pair_of("spi1", "ADC1_IN") || pair_of("usart1", "PWM") || pair_of("usart6", "PWM");
+      EXPECT_TRUE(declared) << it->first << " has " << js.size() << " jobs: " << js[0] << ", " << js[1];
     }
     it = last;
   }

@@ -65,9 +65,9 @@ if [ $images = 1 ] && [ -x /usr/bin/qemu-system-arm ]; then
 fi
 # An image built from a rig file with the prefix's own copy of the firmware sources.
 if [ $images = 1 ] && [ -x /usr/bin/arm-none-eabi-g++ ]; then
-  out=$(run timeout 600 "$console" firmware build --rig tendon --board mps2-an386 --out "$work/fw" 2>&1) ||
+  out=$(run timeout 600 "$console" firmware build --rig msd --board mps2-an386 --out "$work/fw" 2>&1) ||
     fail "firmware build from $prefix: $out"
-  [ -s "$work/fw/nlsoft-m4-tendon-hil.elf" ] || fail "firmware build from $prefix made no HIL image: $out"
+  [ -s "$work/fw/nlsoft-m4-msd-hil.elf" ] || fail "firmware build from $prefix made no HIL image: $out"
   grep -qxF "CMAKE_HOME_DIRECTORY:INTERNAL=$prefix/share/nlsoft/firmware-src/firmware/ports/mps2-an386" \
     "$work/fw/.build/CMakeCache.txt" || fail "firmware build from $prefix did not use its firmware-src: $out"
   echo "$out"

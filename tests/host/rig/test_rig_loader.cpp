@@ -284,7 +284,8 @@ TEST(RigLoader, UnknownPinListsTheBoardsPins) {
 
 TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
   const std::string t = edit("pwm = \"PC6\"", "pmw = \"PC6\"");
-  expect_error(t, line_of(t, "pmw"), "[[input]] #1 pmw", "unknown key (known: name, unit, min, max, neutral, pwm)");
+  expect_error(t, line_of(t, "pmw"), "[[input]] #1 pmw",
+               "unknown key (known: name, unit, min, max, neutral, pwm, servo, goal_per_unit, goal_at_neutral)");
   const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
   expect_error(tab, line_of(tab, "[plnt]"), "plnt",
                "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, device, controller, "
