@@ -54,8 +54,10 @@ drivers::BusStatus ServoUsart::exchange(const uint8_t* tx, size_t n, uint8_t* rx
   if (n > 0) {
     if (!transmit(tx, n, true)) return drivers::BusStatus::kTimeout;
     // Whatever the receiver held from before is stale: SR then DR clears it.
-    (void)reg(base() + kSr);
-    (void)reg(base() + kDr);
+    const uint32_t sr = reg(base() + kSr);
+    const uint32_t dr = reg(base() + kDr);
+    (void)sr;
+    (void)dr;
   }
   reg(base() + kCr1) = kUe | kTe | kRe;
   const uint32_t hz = board::core_clock_hz() != 0 ? board::core_clock_hz() : core_hz_;
