@@ -1,8 +1,14 @@
-# The images of a Cortex-M4F port, included by the port's own project
-# (ports/mps2-an386, ports/stm32f4) after project():
+# The images of a Cortex-M port, included by the port's own project
+# (ports/mps2-an386, ports/mps2-an500, ports/stm32f4) after project():
 #
 #   nlsoft_cortex_m_images(PREFIX nlsoft-m4 NAME nlsoft-an386 LINKER_SCRIPT an386.ld
-#                          BOARD_SOURCES board.cpp ... [DEFINITIONS X=1 ...] [BIN])
+#                          BOARD_SOURCES board.cpp ... [DEFINITIONS X=1 ...] [BIN]
+#                          [CPU -mcpu=... ...] [PORT_DIR dir])
+#
+# CPU: the core's flags (default the Cortex-M4F's, the toolchain file's
+# NLSOFT_M4_CPU_FLAGS). PORT_DIR: the folder whose rig_hal.hpp the board
+# image includes (default the calling project's own), so a port for another
+# core on the same peripherals (mps2-an500) builds the same sources.
 #
 # One image per rig folder under NLSOFT_RIG_DIR: each holds the rig header
 # nlsoft_rig.hpp and image.cmake, both generated from a rig file
@@ -90,7 +96,7 @@ function(nlsoft_cortex_m_image prefix id rig model rig_dir hil bin out_stamp)
   target_link_libraries(${name} PRIVATE m4_board m4_flags)
   # nlsoft_rig.hpp, then the port's rig_hal.hpp.
   target_include_directories(${name} BEFORE PRIVATE ${rig_dir})
-  target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
+  target_include_directories(${name} PRIVATE ${NLSOFT_PORT_DIR})
   target_link_options(${name} PRIVATE -Wl,-Map=$<TARGET_FILE_DIR:${name}>/${name}.map)
   target_compile_definitions(${name} PRIVATE NLSOFT_HIL=${hil} NLSOFT_FIRMWARE_NAME="${id}"
     NLSOFT_HAVE_MODEL=${have_model} ${NLSOFT_IMAGE_DEFINITIONS})
@@ -106,8 +112,19 @@ function(nlsoft_cortex_m_image prefix id rig model rig_dir hil bin out_stamp)
 endfunction()
 
 function(nlsoft_cortex_m_images)
-  cmake_parse_arguments(A "BIN" "PREFIX;NAME;LINKER_SCRIPT" "BOARD_SOURCES;DEFINITIONS" ${ARGN})
-  set(cpu -mcpu=cortex-m4 -mthumb -mfpu=fpv4-sp-d16 -mfloat-abi=hard)
+  cmake_parse_arguments(A "BIN" "PREFIX;NAME;LINKER_SCRIPT;PORT_DIR" "BOARD_SOURCES;DEFINITIONS;CPU" ${ARGN})
+  set(cpu ${NLSOFT_M4_CPU_FLAGS})
+  if(A_CPU)
+    set(cpu ${A_CPU})
+  endif()
+  if(NOT cpu)
+    message(FATAL_ERROR "no CPU flags: give CPU, or configure with ports/cortex-m/cmake/arm-none-eabi.cmake")
+  endif()
+  # Read by nlsoft_cortex_m_image, called from here.
+  set(NLSOFT_PORT_DIR ${CMAKE_CURRENT_SOURCE_DIR})
+  if(A_PORT_DIR)
+    set(NLSOFT_PORT_DIR ${A_PORT_DIR})
+  endif()
   add_library(m4_flags INTERFACE)
   # -flto: the image is one program, so what one translation unit never
   # calls from another (and the copies of shared/'s inline functions) goes.
