@@ -11,6 +11,7 @@
 #include "app/conformance/suite.hpp"
 #include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
+#include "host/rig/board_option.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "host/rig/rig_plant.hpp"
 
@@ -21,7 +22,7 @@ namespace {
 using namespace conformance;
 
 struct ConformanceArgs {
-  std::string port, sim, qemu, model, board = "mps2-an386";
+  std::string port, sim, qemu, model, board = kDefaultQemuBoard;
   unsigned baud = 115200;
   bool json = false, shape_list = false;
   int timeout_ms = 250;
@@ -31,7 +32,7 @@ int run_conformance(const ConformanceArgs& a) {
   if (int(!a.port.empty()) + int(!a.sim.empty()) + int(!a.qemu.empty()) != 1)
     throw CliError(
         "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim RIG or --qemu RIG");
-  if (a.qemu.empty() && a.board != "mps2-an386") throw CliError("--board names the image --qemu boots; give --qemu too");
+  if (a.qemu.empty() && a.board != kDefaultQemuBoard) throw CliError("--board names the image --qemu boots; give --qemu too");
   SimLauncher launcher;
   Summary summary;
   summary.port = a.port;
@@ -53,7 +54,7 @@ int run_conformance(const ConformanceArgs& a) {
     // The rig's HIL image: a shipped one, or built from the file.
     const std::string image = hil_image_for(a.qemu, a.board, "--qemu", a.model);
     summary.port = launcher.start_qemu(image, a.board);
-    summary.target = "qemu " + load_rig_arg(a.qemu).name + (a.board == "mps2-an386" ? "" : " on " + a.board);
+    summary.target = "qemu " + load_rig_arg(a.qemu).name + (a.board == kDefaultQemuBoard ? "" : " on " + a.board);
   }
   // An emulated MCU answers a few times slower than the host simulator.
   const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));
@@ -100,9 +101,9 @@ void add_conformance_command(CLI::App& app) {
       ->check(CLI::ExistingFile)
       ->type_name("FILE.nlsm");
   c->add_option("--board", a->board,
-                "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
-                "image in -M netduinoplus2)")
-      ->check(CLI::IsMember(qemu_boards()));
+                fmt::format("With --qemu: the board whose image QEMU boots: {} (default {})",
+                            describe_boards(qemu_board_names()), kDefaultQemuBoard))
+      ->check(board_validator(qemu_board_names(), "run under QEMU"));
   c->add_flag("--shape-list", a->shape_list,
               "With --sim: the simulator lists the shapes it accepts (RIG_INFO accept 0), as an MCU image does, so "
               "the refusal of a model at XFER_BEGIN by its size is checked too");

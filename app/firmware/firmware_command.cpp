@@ -9,6 +9,7 @@
 #include "app/firmware/image_build.hpp"
 #include "app/firmware/image_header.hpp"
 #include "host/rig/rig_catalog.hpp"
+#include "host/rig/board_option.hpp"
 #include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
@@ -26,7 +27,7 @@ void print_image(const char* what, const BuiltImage& b) {
 }  // namespace
 
 void add_firmware_command(CLI::App& app) {
-  CLI::App* fw = app.add_subcommand("firmware", "Cortex-M4F images for a rig, built from its rig file");
+  CLI::App* fw = app.add_subcommand("firmware", "Cortex-M images for a rig, built from its rig file");
   fw->require_subcommand(1);
   auto q = std::make_shared<ImageBuild>();
   CLI::App* build = fw->add_subcommand(
@@ -34,9 +35,9 @@ void add_firmware_command(CLI::App& app) {
   add_rig_option(build, q->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
       ->required()
       ->check(rig_arg_validator());
-  build->add_option("--board", q->board, "the board: mps2-an386 (QEMU) or stm32f4 (a Nucleo-64)")
+  build->add_option("--board", q->board, "the board: " + describe_boards(image_board_names()))
       ->required()
-      ->check(CLI::IsMember(image_boards()));
+      ->check(board_validator(image_board_names(), "build images"));
   build->add_option("--model", q->model,
                     "model file to embed; its layer table is the compiled shape (default: the rig's [model] file "
                     "among the shipped models)")
@@ -47,8 +48,8 @@ void add_firmware_command(CLI::App& app) {
   build->add_flag("--hil", q->hil_only, "only the image with the simulated plant in the loop (needs [plant])");
   build->footer(
       "Builds <prefix>-<rig>.elf, the board's image (stm32f4: PWM and ADC pins from the rig file), and, when the\n"
-      "rig has a [plant], <prefix>-<rig>-hil.elf with the plant simulated on the MCU; prefix nlsoft-m4 or\n"
-      "nlsoft-stm32f4 (with a .bin for st-flash). Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi "
+      "rig has a [plant], <prefix>-<rig>-hil.elf with the plant simulated on the MCU; prefix nlsoft-m4\n"
+      "(mps2-an386) or nlsoft-stm32f4 (with a .bin for st-flash). Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi "
       "cmake\n"
       "Examples:\n"
       "  nlsoft-console firmware build --rig lab/arm.toml --board stm32f4\n"

@@ -27,6 +27,7 @@
 #include "host/paths/install_paths.hpp"
 #include "host/files/printable.hpp"
 #include "app/progress_bar.hpp"
+#include "host/rig/board_table.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "shared/crc32.hpp"
 
@@ -38,7 +39,6 @@ namespace {
 
 constexpr const char* kToolchainPackages = "gcc-arm-none-eabi libnewlib-arm-none-eabi cmake";
 
-std::string image_prefix(const std::string& board) { return board == "stm32f4" ? "nlsoft-stm32f4" : "nlsoft-m4"; }
 
 std::string read_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -245,8 +245,7 @@ LastBuilt last_built_with_model(const Rig& rig, const std::string& board, bool h
     // The model the user named (the image embeds a copy of it).
     const std::string model =
         cmake_bracket_value(cmake, "NLSOFT_IMAGE_MODEL_SOURCE").value_or(std::string());
-    const std::string elf =
-        fmt::format("{}/{}-{}{}.elf", e.path().string(), image_prefix(board), rig.name, hil ? "-hil" : "");
+    const std::string elf = e.path().string() + "/" + image_file_name(board_for(board, "--board"), rig.name, hil);
     if (model.empty() || !fs::exists(model, ec) || !fs::exists(elf, ec)) continue;
     // A HIL image comes from a build of both images or of the HIL one alone (--hil), each its own folder.
     bool current = false;
@@ -426,8 +425,8 @@ BuiltImages build_images(const ImageBuild& q) {
   write_image_source(source, staged_rigs + "/" + rig.name);
   fs::remove(log, ec);
 
-  const std::string prefix = image_prefix(q.board);
-  const std::string what = fmt::format("{}-{}{}", prefix, rig.name, q.hil_only ? "-hil" : "");
+  const Board& board = board_for(q.board, "--board");
+  const std::string what = fmt::format("{}-{}{}", board.image_prefix, rig.name, q.hil_only ? "-hil" : "");
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   if (!note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), note.c_str());
   if (!source.note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), source.note.c_str());
@@ -478,8 +477,8 @@ BuiltImages build_images(const ImageBuild& q) {
   }
   BuiltImages out;
   out.dir = dir;
-  const std::string board_elf = dir + "/" + prefix + "-" + rig.name + ".elf";
-  const std::string hil_elf = dir + "/" + prefix + "-" + rig.name + "-hil.elf";
+  const std::string board_elf = dir + "/" + image_file_name(board, rig.name, false);
+  const std::string hil_elf = dir + "/" + image_file_name(board, rig.name, true);
   if (!q.hil_only && fs::exists(board_elf)) out.board = sized(board_elf);
   if (source.hil && fs::exists(hil_elf)) out.hil = sized(hil_elf);
   if (out.board.path.empty() && out.hil.path.empty())
@@ -499,9 +498,8 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
                                "loop; `firmware build --rig {}` builds its board image",
                                who, rig.name, rig.file, rig.file));
   if (const std::string shipped = shipped_name(rig); !shipped.empty()) {
-    const std::string rel = board == "stm32f4" ? "stm32f4/nlsoft-stm32f4-" + shipped + "-hil.elf"
-                                               : "m4/nlsoft-m4-" + shipped + "-hil.elf";
-    if (const Lookup l = find_image_file(rel); !l.found.empty()) return l.found;
+    if (const Lookup l = find_image_file(shipped_image(board_for(board, "--board"), shipped, true)); !l.found.empty())
+      return l.found;
   }
   ImageBuild q;
   q.rig = rig.file;
@@ -514,21 +512,21 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
     // --model`), as built: only its HIL image when that is all it has.
     const LastBuilt last = last_built_with_model(rig, board, true);
     q.model = last.model;
-    q.hil_only = !last.dir.empty() && !fs::exists(fmt::format("{}/{}-{}.elf", last.dir, image_prefix(board), rig.name));
+    q.hil_only =
+        !last.dir.empty() && !fs::exists(last.dir + "/" + image_file_name(board_for(board, "--board"), rig.name, false));
   }
   return build_images(q).hil.path;
 }
 
-std::string stm32f4_image_for(const std::string& rig_arg, bool hil, const std::string& who) {
+std::string image_for(const std::string& rig_arg, const std::string& board, bool hil, const std::string& who) {
   const Rig rig = load_rig_arg(rig_arg);
   if (const std::string shipped = shipped_name(rig); !shipped.empty()) {
-    if (const Lookup l = find_image_file(fmt::format("stm32f4/nlsoft-stm32f4-{}{}.elf", shipped, hil ? "-hil" : ""));
-        !l.found.empty())
+    if (const Lookup l = find_image_file(shipped_image(board_for(board, "--board"), shipped, hil)); !l.found.empty())
       return l.found;
   }
   ImageBuild q;
   q.rig = rig.file;
-  q.board = "stm32f4";
+  q.board = board;
   q.model = last_built_with_model(rig, q.board, hil).model;
   q.who = who;
   const BuiltImages b = build_images(q);

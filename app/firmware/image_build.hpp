@@ -12,7 +12,7 @@ namespace nlsoft::console {
 
 struct ImageBuild {
   std::string rig;    // a shipped rig's name or a rig file
-  std::string board;  // mps2-an386 or stm32f4
+  std::string board;  // a board of the board table (host/rig/board_table.hpp)
   std::string model;  // embedded; empty: the rig's [model] file among the shipped models, if found
   std::string out;    // where the images go; empty: the cache folder
   bool hil_only = false;
@@ -42,8 +42,8 @@ BuiltImages build_images(const ImageBuild& request);
 std::string hil_image_for(const std::string& rig, const std::string& board, const std::string& who,
                           const std::string& model = "");
 
-// The stm32f4 image (the board's, or the HIL one) for `rig`, the same way
-// (the model of the one last built from the file, else the rig's).
-std::string stm32f4_image_for(const std::string& rig, bool hil, const std::string& who);
+// The image (the board's, or the HIL one) for `rig` on `board`, the same
+// way (the model of the one last built from the file, else the rig's).
+std::string image_for(const std::string& rig, const std::string& board, bool hil, const std::string& who);
 
 }  // namespace nlsoft::console

@@ -12,6 +12,7 @@
 #include "app/model/model_section.hpp"
 #include "app/model/model_store.hpp"
 #include "host/rig/board_pins.hpp"
+#include "host/rig/board_table.hpp"
 #include "host/rig/firmware_rig.hpp"
 #include "host/rig/rig_plant.hpp"
 #include "shared/board_stm32f4.hpp"
@@ -71,11 +72,6 @@ void write_text_if_changed(const std::string& path, const std::string& text) {
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) throw CliError(fmt::format("cannot write {}: {}", path, ec.message()));
-}
-
-const std::vector<std::string>& image_boards() {
-  static const std::vector<std::string> boards = {"mps2-an386", "stm32f4"};
-  return boards;
 }
 
 std::string rig_config_part(const Rig& rig) {
@@ -215,7 +211,7 @@ std::string plant_part(const Rig& rig) {
 }
 
 std::string pins_part(const Rig& rig, const std::string& board) {
-  if (board != "stm32f4") return "";
+  if (const Board* b = board_named(board); !b || b->pins != PinTable::Stm32f4) return "";
   const BoardPins* pins = find_board(board);
   if (!pins) throw CliError("no pin table for board " + board);
   namespace f4 = fw::stm32f4;
@@ -367,14 +363,13 @@ ImageKinds images_for(const Rig& rig, const ImageRequest& request, bool has_plan
 }  // namespace
 
 ImageSource image_source(const Rig& rig, const ImageRequest& request) {
-  bool known = request.board == kPortableBoard;
-  for (const std::string& b : image_boards()) known = known || b == request.board;
-  if (!known)
-    throw CliError(fmt::format("--board {}: the images are built for {}", request.board, fmt::join(image_boards(), ", ")));
+  if (request.board != kPortableBoard)
+    if (const std::string why = board_refusal(request.board, image_board_names(), "build images"); !why.empty())
+      throw CliError(fmt::format("--board {}: {}", request.board, why));
   if (request.board == kPortableBoard && !rig.devices.empty())
     fail(rig, rig.devices[0].line, "[[device]] #1",
          fmt::format("a header without a board has no bus drivers for device '{}': build an image for {}",
-                     rig.devices[0].name, fmt::join(image_boards(), " or ")));
+                     rig.devices[0].name, fmt::join(image_board_names(), " or ")));
   if (const BoardPins* board = find_board(request.board); board && rig.firmware_line > 0)
     for (const FirmwareFeature& f : kFirmwareFeatures)
       if (rig.firmware_features & f.bit)
@@ -409,7 +404,7 @@ ImageSource image_source(const Rig& rig, const ImageRequest& request) {
   h += plant.empty() ? "// No [plant]: no HIL image.\n" : plant;
   h += "\n" + pins_part(rig, request.board);
   if (request.board != kPortableBoard) h += "\n" + devices_part(rig);
-  if (request.board == "stm32f4" && out.board) {
+  if (const Board* b = board_named(request.board); b && b->pins == PinTable::Stm32f4 && out.board) {
     std::vector<std::string> adc;
     for (const RigOutput& y : rig.outputs)
       if (y.source == OutputSource::Adc) adc.push_back(y.name);

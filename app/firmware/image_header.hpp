@@ -14,8 +14,6 @@
 
 namespace nlsoft::console {
 
-// The boards the images are built for (firmware/ports/<board>).
-const std::vector<std::string>& image_boards();
 // The board of a header with no board's pins: for a port another tool
 // builds (the Teensy sketch, `firmware header`).
 inline const char* const kPortableBoard = "portable";
@@ -34,7 +32,7 @@ const char* image_kinds_name(ImageKinds k);
 ImageKinds parse_image_kinds(const std::string& word, const std::string& option);
 
 struct ImageRequest {
-  std::string board;                // one of image_boards()
+  std::string board;                // a board of the board table (host/rig/board_table.hpp), or kPortableBoard
   ImageKinds images = ImageKinds::Both;
   std::string model_file;           // embedded and its layer table is the shape; empty: none embedded
   std::vector<RigLayer> layers;     // with no model_file: the shape (default: the rig's [model] layers)

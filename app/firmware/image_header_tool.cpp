@@ -13,6 +13,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/firmware/image_header.hpp"
+#include "host/rig/board_table.hpp"
 
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
@@ -20,7 +21,7 @@ int main(int argc, char** argv) {
   std::string rig_file, board, out, model, shape, images = "both";
   bool no_model = false;
   app.add_option("--rig", rig_file, "the rig file")->required();
-  app.add_option("--board", board, "mps2-an386 or stm32f4")->required();
+  app.add_option("--board", board, "the board: " + describe_boards(image_board_names()))->required();
   app.add_option("--out", out, "the folder to write into")->required();
   app.add_option("--model", model, "the model file the image embeds; its layer table is the shape");
   app.add_flag("--no-model", no_model, "embed no model (the shape from --shape or the rig's [model] layers)");

@@ -37,29 +37,11 @@ std::string find_firmware_sim() {
                  "\nbuild it (cmake --build build --target nlsoft-firmware-sim), install it, or set NLSOFT_FIRMWARE_SIM");
 }
 
-const std::vector<std::string>& qemu_boards() {
-  static const std::vector<std::string> boards = {"mps2-an386", "stm32f4"};
-  return boards;
-}
-
 std::string find_built_image(const std::string& rel) {
   const Lookup l = find_image_file(rel);
   if (!l.found.empty()) return l.found;
   throw CliError(fmt::format("cannot find the firmware image {}; tried:{}\nbuild it (needs arm-none-eabi-g++)", rel,
                              l.tried_lines()));
-}
-
-std::string find_m4_image(const std::string& platform, const std::string& board) {
-  if (const char* env = std::getenv("NLSOFT_M4_IMAGE"); env && *env) {
-    if (::access(env, R_OK) == 0) return env;
-    throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
-  }
-  try {
-    return board == "stm32f4" ? find_built_image("stm32f4/nlsoft-stm32f4-" + platform + "-hil.elf")
-                              : find_built_image("m4/nlsoft-m4-" + platform + "-hil.elf");
-  } catch (const CliError& e) {
-    throw CliError(std::string(e.what()) + " or set NLSOFT_M4_IMAGE");
-  }
 }
 
 namespace {
@@ -85,18 +67,13 @@ std::string SimLauncher::start(const std::string& rig, const std::vector<std::st
 }
 
 std::string SimLauncher::start_qemu(const std::string& elf, const std::string& board) {
-  if (board != "mps2-an386" && board != "stm32f4")
-    throw CliError(fmt::format("--board {}: QEMU runs mps2-an386 or stm32f4", board));
+  if (const std::string why = board_refusal(board, qemu_board_names(), "run under QEMU"); !why.empty())
+    throw CliError(fmt::format("--board {}: {}", board, why));
   if (!executable("/usr/bin/qemu-system-arm") && !executable("/usr/local/bin/qemu-system-arm"))
     throw CliError("qemu-system-arm is not installed (apt-get install qemu-system-arm)");
   std::vector<std::string> argv = {"qemu-system-arm", "-nographic", "-monitor", "none"};
-  if (board == "stm32f4") {
-    // USART2 is the STM32F405's second serial port; the first (USART1) goes nowhere.
-    argv.insert(argv.end(), {"-M", "netduinoplus2", "-serial", "null", "-serial", "pty"});
-  } else {
-    argv.insert(argv.end(), {"-M", "mps2-an386", "-serial", "pty"});
-  }
-  argv.insert(argv.end(), {"-kernel", elf});
+  const std::vector<std::string> machine = qemu_machine_args(*board_named(board), elf);
+  argv.insert(argv.end(), machine.begin(), machine.end());
   return spawn(argv, "qemu-system-arm", &qemu_pty);
 }
 

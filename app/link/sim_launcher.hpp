@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "host/paths/install_paths.hpp"
+#include "host/rig/board_table.hpp"
 
 namespace nlsoft::console {
 
@@ -18,16 +19,6 @@ namespace nlsoft::console {
 // the build tree, the install prefix, PATH). Throws CliError listing every
 // place tried.
 std::string find_firmware_sim();
-
-// The boards whose Cortex-M4F images QEMU runs: "mps2-an386" (the default)
-// and "stm32f4" (a Nucleo-64 image in QEMU's netduinoplus2, an STM32F405).
-const std::vector<std::string>& qemu_boards();
-
-// The Cortex-M4F image with the simulated plant in the loop for `platform`
-// on `board`: $NLSOFT_M4_IMAGE, else find_built_image of
-// m4/nlsoft-m4-<platform>-hil.elf (mps2-an386) or
-// stm32f4/nlsoft-stm32f4-<platform>-hil.elf (stm32f4).
-std::string find_m4_image(const std::string& platform, const std::string& board = "mps2-an386");
 
 // A firmware image, `rel` under the build tree's firmware/ or the install
 // prefix's share/nlsoft/firmware/. Throws CliError naming every place tried.
@@ -44,9 +35,8 @@ class SimLauncher {
   // the pty path. extra_args go after --rig (e.g. --rate 10000).
   std::string start(const std::string& rig, const std::vector<std::string>& extra_args = {});
   // Boots a HIL image for `board` in qemu-system-arm with the link's UART
-  // on a pty (mps2-an386: UART0, the first serial port; stm32f4: USART2,
-  // the second, on -M netduinoplus2).
-  std::string start_qemu(const std::string& elf, const std::string& board = "mps2-an386");
+  // on a pty: the board table's machine and -serial arguments (board_table.hpp).
+  std::string start_qemu(const std::string& elf, const std::string& board = kDefaultQemuBoard);
   void stop();
   pid_t pid() const {
     std::lock_guard<std::mutex> lock(mu_);

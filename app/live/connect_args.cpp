@@ -16,6 +16,7 @@
 #include "app/record/sqlite.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "host/rig/rig_plant.hpp"
+#include "host/rig/board_option.hpp"
 #include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
@@ -80,13 +81,13 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                  fmt::format("Start nlsoft-firmware-sim for this rig, {}, and {} it", rig_arg_help(), what))
       ->check(rig_arg_validator());
   app.add_option("--qemu", a.qemu,
-                 fmt::format("Boot this rig's Cortex-M4F image (plant in the loop) in qemu-system-arm and {} it",
+                 fmt::format("Boot this rig's Cortex-M image (plant in the loop) in qemu-system-arm and {} it",
                              what))
       ->check(rig_arg_validator());
   app.add_option("--board", a.board,
-                 "With --qemu: the board whose image QEMU boots, mps2-an386 (default) or stm32f4 (a Nucleo-64 "
-                 "image in -M netduinoplus2)")
-      ->check(CLI::IsMember(qemu_boards()));
+                 fmt::format("With --qemu: the board whose image QEMU boots: {} (default {})",
+                             describe_boards(qemu_board_names()), kDefaultQemuBoard))
+      ->check(board_validator(qemu_board_names(), "run under QEMU"));
   add_rig_option(&app, a.rig,
                  fmt::format("With PORT: the rig file the board's image was built from, {}: references and "
                              "defaults come from it, and the console warns when the firmware names another rig or "
@@ -123,7 +124,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
     throw CliError(who + "give either a PORT or --sim/--qemu, not both");
   if (!a.rig.empty() && a.port.empty())
     throw CliError(who + "--rig names the rig of a board given by PORT; with --sim or --qemu the rig is theirs");
-  if (a.qemu.empty() && a.board != "mps2-an386")
+  if (a.qemu.empty() && a.board != kDefaultQemuBoard)
     throw CliError(who + "--board names the image --qemu boots; give --qemu too");
   LiveOptions o;
   o.port = port;

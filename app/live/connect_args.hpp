@@ -8,11 +8,12 @@
 #include <string>
 
 #include "app/live/live_console.hpp"
+#include "host/rig/board_table.hpp"
 
 namespace nlsoft::console {
 
 struct ConnectArgs {
-  std::string port, sim, qemu, board = "mps2-an386", db, rig, sim_settings;
+  std::string port, sim, qemu, board = kDefaultQemuBoard, db, rig, sim_settings;
   unsigned baud = 115200;
   bool no_record = false, sim_fast = false;
   double sim_rate = 0;

@@ -14,6 +14,7 @@
 #include "host/files/cli_error.hpp"
 #include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
+#include "host/rig/board_option.hpp"
 #include "host/rig/rig_catalog.hpp"
 #include "host/rig/rig_option.hpp"
 
@@ -22,13 +23,10 @@ namespace nlsoft::console {
 namespace {
 
 struct FlashArgs {
-  std::string board = "stm32f4", rig, image, port = "/dev/ttyACM0", script;
+  std::string board = flash_board_names().front(), rig, image, port = "/dev/ttyACM0", script;
   bool hil = false, no_connect = false;
 };
 
-// openocd's own description of every ST Nucleo-64 with an F4: ST-LINK/V2-1
-// over SWD, target stm32f4x; the same file serves the F401, F411 and F446.
-constexpr const char* kOpenocdBoard = "board/st_nucleo_f4.cfg";
 
 int run_child(const std::vector<std::string>& args) {
   std::vector<char*> argv;
@@ -56,10 +54,11 @@ int run_flash(const FlashArgs& a) {
         "openocd is not installed or not on PATH: apt-get install openocd (or write the .bin yourself with st-flash "
         "from stlink-tools; see firmware/ports/stm32f4/README.md)");
   // The rig's image: a shipped one, or built from its file (firmware build).
-  const std::string image = !a.image.empty() ? a.image : stm32f4_image_for(a.rig, a.hil, "--rig");
+  const std::string image = !a.image.empty() ? a.image : image_for(a.rig, a.board, a.hil, "--rig");
   if (::access(image.c_str(), R_OK) != 0) throw CliError(fmt::format("cannot read the image {}", image));
-  std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), kOpenocdBoard);
-  const int rc = run_child({openocd, "-f", kOpenocdBoard, "-c", fmt::format("program {{{}}} verify reset exit", image)});
+  const std::string& config = board_for(a.board, "--board").openocd_config;
+  std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), config.c_str());
+  const int rc = run_child({openocd, "-f", config, "-c", fmt::format("program {{{}}} verify reset exit", image)});
   if (rc != 0)
     throw CliError(fmt::format("openocd failed (exit status {}): is the Nucleo plugged in by its ST-LINK USB port, "
                                "and may you use it (the udev rules of the openocd package, group plugdev)?",
@@ -86,8 +85,9 @@ int run_flash(const FlashArgs& a) {
 void add_flash_command(CLI::App& app) {
   auto a = std::make_shared<FlashArgs>();
   CLI::App* c = app.add_subcommand("flash", "Write the firmware to a board with openocd, then connect to it");
-  c->add_option("--board", a->board, "The board: stm32f4 (a Nucleo-64 through its on-board ST-LINK)")
-      ->check(CLI::IsMember({"stm32f4"}));
+  c->add_option("--board", a->board,
+                 "The board: " + describe_boards(flash_board_names()) + ", through its on-board ST-LINK")
+      ->check(board_validator(flash_board_names(), "be flashed (no openocd configuration: QEMU runs its images)"));
   add_rig_option(c, a->rig,
                  "Whose image (required): the rig, " + rig_arg_help() +
                      "; a rig file's image is built from it (firmware build)")

@@ -8,6 +8,7 @@
 
 #include "app/link/port_path.hpp"
 #include "app/link/session.hpp"
+#include "host/rig/board_table.hpp"
 
 namespace nlsoft::console {
 
@@ -18,7 +19,7 @@ struct LiveOptions {
   std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it
   std::string rig_file;      // the rig the board runs; empty: the shipped rig the firmware names
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
-  std::string qemu_board = "mps2-an386";  // whose image: mps2-an386 or stm32f4
+  std::string qemu_board = kDefaultQemuBoard;  // whose image: a board of qemu_board_names()
   std::vector<std::string> sim_args;
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit

@@ -1,7 +1,8 @@
-"""Boots an nlsoft Cortex-M4F image in qemu-system-arm with its link's UART
+"""Boots an nlsoft Cortex-M image in qemu-system-arm with its link's UART
 on a pseudo-terminal and -icount shift=0 (1 ns of virtual time per
-instruction), and finds the pty QEMU reports. Boards: mps2-an386 (UART0, the
-first serial port) and stm32f4 (USART2 of -M netduinoplus2, the second)."""
+instruction), and finds the pty QEMU reports. BOARDS: the tools' view of the
+console's board table (host/rig/board_table.cpp), which these scripts cannot
+read; tests/host/rig/test_board_table.cpp holds the two equal."""
 import re
 import shutil
 import subprocess
@@ -12,14 +13,24 @@ import os
 ICOUNT = os.environ.get("NLSOFT_ICOUNT", "shift=0")
 
 
+# Per board: the port folder, the image folder under build/firmware/, the
+# image prefix, and QEMU's machine with the -serial arguments that put the
+# link's UART on the pty (mps2: UART0, the first serial port; stm32f4:
+# USART2 of -M netduinoplus2, the second).
+BOARDS = {
+    "mps2-an386": ("firmware/ports/mps2-an386", "m4", "nlsoft-m4", ["-M", "mps2-an386", "-serial", "pty"]),
+    "stm32f4": ("firmware/ports/stm32f4", "stm32f4", "nlsoft-stm32f4",
+                ["-M", "netduinoplus2", "-serial", "null", "-serial", "pty"]),
+}
+
+
 def available():
     return shutil.which(QEMU) is not None
 
 
 class Qemu:
     def __init__(self, elf, timeout=10.0, board="mps2-an386"):
-        machine = (["-M", "netduinoplus2", "-serial", "null", "-serial", "pty"] if board == "stm32f4"
-                   else ["-M", "mps2-an386", "-serial", "pty"])
+        machine = BOARDS[board][3]
         self.proc = subprocess.Popen(
             [QEMU] + machine + ["-nographic", "-monitor", "none", "-icount", ICOUNT, "-kernel", elf],
             stdin=subprocess.DEVNULL, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)

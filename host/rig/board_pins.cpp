@@ -1,5 +1,6 @@
 #include "host/rig/board_pins.hpp"
 
+#include "host/rig/board_table.hpp"
 #include "shared/board_stm32f4.hpp"
 
 namespace nlsoft::console {
@@ -10,10 +11,10 @@ std::string pin_name(const fw::stm32f4::Pin& p) {
   return std::string("P") + char('A' + (p.port - fw::stm32f4::kGpioA) / 0x400u) + std::to_string(p.number);
 }
 
-BoardPins stm32f4() {
+BoardPins stm32f4(const std::string& board) {
   namespace f4 = fw::stm32f4;
   BoardPins b;
-  b.board = "stm32f4";
+  b.board = board;
   b.rig_board = true;
   for (const auto& o : f4::kPwm) b.pwm.push_back(pin_name(o.pin));
   for (const auto& a : f4::kAnalogue) {
@@ -43,11 +44,12 @@ BoardPins stm32f4() {
 
 // The buses firmware/ports/mps2-an386/buses.hpp drives (a port header the
 // host build cannot include; tests/firmware/test_board_buses.cpp holds the
-// two lists equal). The FPGA gives each bus lines of its own, and each
-// PL022 one chip on its own frame select.
-BoardPins mps2_an386() {
+// two lists equal), on every MPS2 FPGA image that has them at the AN386's
+// addresses. The FPGA gives each bus lines of its own, and each PL022 one
+// chip on its own frame select.
+BoardPins mps2_shields(const std::string& board) {
   BoardPins b;
-  b.board = "mps2-an386";
+  b.board = board;
   b.rig_board = true;
   // The SBCON's SCL in fast mode at most; a PL022 at half its 25 MHz clock.
   for (const char* name : {"i2c-shield0", "i2c-shield1"}) b.buses.push_back({name, BusKind::I2c, {}, false, 400000u});
@@ -56,8 +58,13 @@ BoardPins mps2_an386() {
   return b;
 }
 
-const std::vector<BoardPins>& boards() {
-  static const std::vector<BoardPins> all = {stm32f4(), mps2_an386()};
+const std::vector<BoardPins>& pin_tables() {
+  static const std::vector<BoardPins> all = [] {
+    std::vector<BoardPins> t;
+    for (const Board& b : boards())
+      t.push_back(b.pins == PinTable::Stm32f4 ? stm32f4(b.name) : mps2_shields(b.name));
+    return t;
+  }();
   return all;
 }
 
@@ -71,14 +78,14 @@ std::string board_lacks(const BoardPins& board, const FirmwareFeature& f) {
 }
 
 const BoardPins* find_board(const std::string& name) {
-  for (const BoardPins& b : boards())
+  for (const BoardPins& b : pin_tables())
     if (b.board == name) return &b;
   return nullptr;
 }
 
 std::vector<std::string> board_names() {
   std::vector<std::string> names;
-  for (const BoardPins& b : boards())
+  for (const BoardPins& b : pin_tables())
     if (b.rig_board) names.push_back(b.board);
   return names;
 }

@@ -1,6 +1,7 @@
 #pragma once
 // The pins and buses a rig file may name, per board: what the firmware's own
 // tables wire (shared/board_stm32f4.hpp; the mps2-an386 port's buses.hpp),
+// one per board of the board table (board_table.hpp, its PinTable),
 // read from those tables where the host can see them, so the file and the
 // image cannot disagree about which pins and buses exist.
 #include <cstdint>
@@ -24,9 +25,9 @@ struct BoardBus {
 
 struct BoardPins {
   std::string board;
-  // A rig file's `board` may name it. mps2-an386, QEMU's board, has no pins
-  // to wire actuators or ADC sensors to, only its shield buses: a rig file
-  // names it to put sensor chips where QEMU's chip models are.
+  // A rig file's `board` may name it. The MPS2 boards (QEMU's) have no pins
+  // to wire actuators or ADC sensors to, only their shield buses: a rig file
+  // names one to put sensor chips where QEMU's chip models are.
   bool rig_board = false;
   std::vector<std::string> pwm;       // PWM outputs by pin name ("PC6"), in the table's order
   std::vector<int> adc;               // ADC1 channels brought out, in the table's order
