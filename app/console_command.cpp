@@ -112,6 +112,7 @@ void add_live_console(CLI::App& app) {
       "  nlsoft-console --sim hasel              # no hardware: firmware simulator on a pty\n"
       "  nlsoft-console --qemu hasel             # the Cortex-M4F image in QEMU, UART on a pty\n"
       "  nlsoft-console --qemu hasel --board stm32f4   # the Nucleo-64 image in QEMU\n"
+      "  nlsoft-console --qemu hasel --board mps2-an500   # the Cortex-M7 image in QEMU\n"
       "  nlsoft-console /dev/ttyACM0 --baud 1000000\n"
       "  nlsoft-console /dev/ttyACM0 --wait -1     # wait for the board to be plugged in\n"
       "  nlsoft-console ports                      # which port is the board; without a PORT the lone one is taken\n"

@@ -1,7 +1,7 @@
 # What `cmake --install` and the .deb put where (cmake/layout.cmake):
 #   bin/nlsoft-console
 #   libexec/nlsoft/nlsoft-firmware-sim            started by --sim, not a command of its own
-#   share/nlsoft/firmware/{m4,stm32f4}/           the Cortex-M images, when built
+#   share/nlsoft/firmware/{m4,m7,stm32f4}/        the Cortex-M images, when built
 #   share/nlsoft/models/                          the shipped models (cmake/models.cmake)
 #   share/nlsoft/firmware-src/                    what `firmware build` builds an image from
 #   share/man/man1/nlsoft-console.1               (cmake/man_page.cmake)
@@ -10,12 +10,16 @@
 install(TARGETS nlsoft-console RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS nlsoft-firmware-sim RUNTIME DESTINATION ${NLSOFT_INSTALL_LIBEXECDIR})
 
-# The images keep the build tree's m4/ and stm32f4/ folders, so the console
+# The images keep the build tree's m4/, m7/ and stm32f4/ folders, so the console
 # asks for one relative name in either place. ELF for QEMU and openocd, .bin
 # for st-flash; the link maps and no-heap reports stay behind.
 if(TARGET nlsoft-m4-images)
   install(DIRECTORY ${NLSOFT_M4_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/m4
           FILES_MATCHING PATTERN "nlsoft-m4-*.elf" PATTERN "nlsoft-m4-*.bin" PATTERN CMakeFiles EXCLUDE)
+endif()
+if(TARGET nlsoft-m7-images)
+  install(DIRECTORY ${NLSOFT_M7_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/m7
+          FILES_MATCHING PATTERN "nlsoft-m7-*.elf" PATTERN "nlsoft-m7-*.bin" PATTERN CMakeFiles EXCLUDE)
 endif()
 if(TARGET nlsoft-stm32f4-images)
   install(DIRECTORY ${NLSOFT_STM32F4_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/stm32f4
@@ -29,7 +33,7 @@ endif()
 install(DIRECTORY ${NLSOFT_ROOT}/firmware/core ${NLSOFT_ROOT}/firmware/drivers
         DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware)
 install(DIRECTORY ${NLSOFT_ROOT}/firmware/ports/cortex-m ${NLSOFT_ROOT}/firmware/ports/mps2-an386
-                  ${NLSOFT_ROOT}/firmware/ports/stm32f4
+                  ${NLSOFT_ROOT}/firmware/ports/mps2-an500 ${NLSOFT_ROOT}/firmware/ports/stm32f4
         DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware/ports)
 install(DIRECTORY ${NLSOFT_ROOT}/shared ${NLSOFT_ROOT}/protocol DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src
         FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")

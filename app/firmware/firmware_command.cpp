@@ -49,7 +49,7 @@ void add_firmware_command(CLI::App& app) {
   build->footer(
       "Builds <prefix>-<rig>.elf, the board's image (stm32f4: PWM and ADC pins from the rig file), and, when the\n"
       "rig has a [plant], <prefix>-<rig>-hil.elf with the plant simulated on the MCU; prefix nlsoft-m4\n"
-      "(mps2-an386) or nlsoft-stm32f4 (with a .bin for st-flash). Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi "
+      "(mps2-an386), nlsoft-m7 (mps2-an500) or nlsoft-stm32f4 (with a .bin for st-flash). Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi "
       "cmake\n"
       "Examples:\n"
       "  nlsoft-console firmware build --rig lab/arm.toml --board stm32f4\n"

@@ -21,6 +21,7 @@ BOARDS = {
     "mps2-an386": ("firmware/ports/mps2-an386", "m4", "nlsoft-m4", ["-M", "mps2-an386", "-serial", "pty"]),
     "stm32f4": ("firmware/ports/stm32f4", "stm32f4", "nlsoft-stm32f4",
                 ["-M", "netduinoplus2", "-serial", "null", "-serial", "pty"]),
+    "mps2-an500": ("firmware/ports/mps2-an500", "m7", "nlsoft-m7", ["-M", "mps2-an500", "-serial", "pty"]),
 }
 
 

@@ -8,7 +8,7 @@
 //                    build tree                        install prefix
 //   nlsoft-console   <build>/app/                      bin/
 //   simulator        <build>/firmware/                 libexec/nlsoft/
-//   images           <build>/firmware/{m4,stm32f4}/    share/nlsoft/firmware/{m4,stm32f4}/
+//   images           <build>/firmware/{m4,m7,stm32f4}/ share/nlsoft/firmware/{m4,m7,stm32f4}/
 //   models           <build>/share/nlsoft/models/      share/nlsoft/models/
 //   rig files        <build>/share/nlsoft/rigs/        share/nlsoft/rigs/
 //   firmware sources <build>/share/nlsoft/firmware-src share/nlsoft/firmware-src/

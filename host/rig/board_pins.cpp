@@ -45,8 +45,8 @@ BoardPins stm32f4(const std::string& board) {
 // The buses firmware/ports/mps2-an386/buses.hpp drives (a port header the
 // host build cannot include; tests/firmware/test_board_buses.cpp holds the
 // two lists equal), on every MPS2 FPGA image that has them at the AN386's
-// addresses. The FPGA gives each bus lines of its own, and each PL022 one
-// chip on its own frame select.
+// addresses (the an500's port builds the an386's sources). The FPGA gives
+// each bus lines of its own, and each PL022 one chip on its own frame select.
 BoardPins mps2_shields(const std::string& board) {
   BoardPins b;
   b.board = board;

@@ -16,6 +16,10 @@ const std::vector<Board>& boards() {
        // openocd's own description of every ST Nucleo-64 with an F4: ST-LINK/V2-1
        // over SWD, target stm32f4x; the same file serves the F401, F411 and F446.
        "board/st_nucleo_f4.cfg", PinTable::Stm32f4},
+      // The AN386's peripherals at the AN386's addresses around a Cortex-M7
+      // (QEMU 7.2, hw/arm/mps2.c): the same shield buses and UART0.
+      {"mps2-an500", "Cortex-M7", "QEMU's MPS2 AN500", "m7", "nlsoft-m7", "mps2-an500", {"pty"}, "",
+       PinTable::Mps2Shields},
   };
   return all;
 }

@@ -31,8 +31,10 @@ for f in "$console" "$sim" "$prefix/share/nlsoft/models/hasel.nlsm" "$prefix/sha
 done
 [ $man = 0 ] || [ -s "$prefix/share/man/man1/nlsoft-console.1" ] || fail "no man page in $prefix/share/man/man1"
 if [ $images = 1 ]; then
-  # hasel's and tendon's board images are stm32f4's (chips on SPI2, servos on USART1); mps2-an386 runs their HIL images.
-  for rel in m4/nlsoft-m4-hasel-hil.elf m4/nlsoft-m4-msd.elf stm32f4/nlsoft-stm32f4-tendon.elf stm32f4/nlsoft-stm32f4-hasel-hil.elf \
+  # hasel's and tendon's board images are stm32f4's (chips on SPI2, servos on USART1); mps2-an386 and
+  # mps2-an500 run their HIL images.
+  for rel in m4/nlsoft-m4-hasel-hil.elf m4/nlsoft-m4-msd.elf m7/nlsoft-m7-hasel-hil.elf m7/nlsoft-m7-msd.elf \
+    stm32f4/nlsoft-stm32f4-tendon.elf stm32f4/nlsoft-stm32f4-hasel-hil.elf \
     stm32f4/nlsoft-stm32f4-hasel.elf stm32f4/nlsoft-stm32f4-hasel.bin; do
     [ -s "$prefix/share/nlsoft/firmware/$rel" ] || fail "image not installed: share/nlsoft/firmware/$rel"
   done

@@ -107,13 +107,13 @@ fi
 # A --board that is no board's, or a board that cannot do what the command
 # does, is refused with the boards (from the board table) and their cores,
 # before anything is built or booted.
-boards="mps2-an386 (Cortex-M4F, QEMU's MPS2 AN386), stm32f4 (Cortex-M4F, a Nucleo-64; in QEMU, the STM32F405 of netduinoplus2)"
+boards="mps2-an386 (Cortex-M4F, QEMU's MPS2 AN386), stm32f4 (Cortex-M4F, a Nucleo-64; in QEMU, the STM32F405 of netduinoplus2), mps2-an500 (Cortex-M7, QEMU's MPS2 AN500)"
 expect_error "--board: nucleo: no such board; the boards: $boards" firmware build --rig hasel --board nucleo --out fw-nucleo
 [ -e fw-nucleo ] && { echo "FAIL: firmware build --board nucleo made fw-nucleo"; fail=1; }
 expect_error "--board: nucleo: no such board; the boards: $boards" --qemu hasel --board nucleo
 expect_error "--board: nucleo: no such board; the boards: $boards" conformance --qemu hasel --board nucleo
-expect_error "--board: mps2-an386: board mps2-an386 cannot be flashed (no openocd configuration: QEMU runs its images); the boards that can: stm32f4 (Cortex-M4F," \
-  flash --rig hasel --board mps2-an386
+expect_error "--board: mps2-an500: board mps2-an500 cannot be flashed (no openocd configuration: QEMU runs its images); the boards that can: stm32f4 (Cortex-M4F," \
+  flash --rig hasel --board mps2-an500
 
 # `--rig FILE` is `--platform NAME` when the file is the shipped one, and a
 # changed file changes the run.

@@ -48,9 +48,10 @@ TEST(BoardTable, NamesTheBoardsAndTheirImagesOnce) {
     // Every board a rig file may name has its pins and buses.
     ASSERT_NE(find_board(b.name), nullptr) << b.name;
   }
-  EXPECT_EQ(image_board_names(), (Words{"mps2-an386", "stm32f4"}));
-  EXPECT_EQ(qemu_board_names(), (Words{"mps2-an386", "stm32f4"}));
+  EXPECT_EQ(image_board_names(), (Words{"mps2-an386", "stm32f4", "mps2-an500"}));
+  EXPECT_EQ(qemu_board_names(), (Words{"mps2-an386", "stm32f4", "mps2-an500"}));
   EXPECT_EQ(flash_board_names(), (Words{"stm32f4"}));
+  EXPECT_EQ(board_named("mps2-an500")->cpu, "Cortex-M7");
   EXPECT_EQ(board_named("mps2-an386")->cpu, "Cortex-M4F");
   EXPECT_EQ(board_named("nucleo"), nullptr);
   EXPECT_EQ(std::string(kDefaultQemuBoard), "mps2-an386");
@@ -61,16 +62,30 @@ TEST(BoardTable, GivesTheCommandLinesAndImageNamesTheConsoleSpeltBefore) {
             (Words{"-M", "mps2-an386", "-serial", "pty", "-kernel", "a.elf"}));
   EXPECT_EQ(qemu_machine_args(*board_named("stm32f4"), "a.elf"),
             (Words{"-M", "netduinoplus2", "-serial", "null", "-serial", "pty", "-kernel", "a.elf"}));
+  EXPECT_EQ(qemu_machine_args(*board_named("mps2-an500"), "a.elf"),
+            (Words{"-M", "mps2-an500", "-serial", "pty", "-kernel", "a.elf"}));
   EXPECT_EQ(shipped_image(*board_named("mps2-an386"), "hasel", true), "m4/nlsoft-m4-hasel-hil.elf");
   EXPECT_EQ(shipped_image(*board_named("stm32f4"), "tendon", false), "stm32f4/nlsoft-stm32f4-tendon.elf");
+  EXPECT_EQ(shipped_image(*board_named("mps2-an500"), "msd", true), "m7/nlsoft-m7-msd-hil.elf");
   EXPECT_EQ(board_named("stm32f4")->openocd_config, "board/st_nucleo_f4.cfg");
+}
+
+TEST(BoardTable, TheMps2BoardsShareTheShieldBuses) {
+  const BoardPins* an386 = find_board("mps2-an386");
+  const BoardPins* an500 = find_board("mps2-an500");
+  ASSERT_TRUE(an386 && an500);
+  ASSERT_EQ(an386->buses.size(), an500->buses.size());
+  for (size_t i = 0; i < an386->buses.size(); ++i) EXPECT_EQ(an386->buses[i].name, an500->buses[i].name);
+  EXPECT_TRUE(an500->pwm.empty());
+  EXPECT_TRUE(an500->rig_board);
+  EXPECT_FALSE(find_board("stm32f4")->pwm.empty());
 }
 
 TEST(BoardTable, AnUnknownBoardIsRefusedWithEveryBoardAndItsCore) {
   const std::string why = board_refusal("mps2-an999", image_board_names(), "build images");
   EXPECT_EQ(why,
             "no such board; the boards: mps2-an386 (Cortex-M4F, QEMU's MPS2 AN386), stm32f4 (Cortex-M4F, a "
-            "Nucleo-64; in QEMU, the STM32F405 of netduinoplus2)");
+            "Nucleo-64; in QEMU, the STM32F405 of netduinoplus2), mps2-an500 (Cortex-M7, QEMU's MPS2 AN500)");
   try {
     board_for("nucleo", "--board");
     FAIL() << "board_for took 'nucleo'";
@@ -79,15 +94,15 @@ TEST(BoardTable, AnUnknownBoardIsRefusedWithEveryBoardAndItsCore) {
         << e.what();
     EXPECT_EQ(e.exit_code, 2);
   }
-  EXPECT_EQ(board_for("stm32f4", "--board").image_prefix, "nlsoft-stm32f4");
+  EXPECT_EQ(board_for("mps2-an500", "--board").image_prefix, "nlsoft-m7");
 }
 
 TEST(BoardTable, ABoardThatCannotDoItIsRefusedWithTheBoardsThatCan) {
   EXPECT_EQ(board_refusal("stm32f4", flash_board_names(), "be flashed"), "");
-  EXPECT_EQ(board_refusal("mps2-an386", flash_board_names(), "be flashed"),
-            "board mps2-an386 cannot be flashed; the boards that can: stm32f4 (Cortex-M4F, a Nucleo-64; in QEMU, "
+  EXPECT_EQ(board_refusal("mps2-an500", flash_board_names(), "be flashed"),
+            "board mps2-an500 cannot be flashed; the boards that can: stm32f4 (Cortex-M4F, a Nucleo-64; in QEMU, "
             "the STM32F405 of netduinoplus2)");
-  EXPECT_EQ(board_refusal("stm32f4", {}, "fly"), "board stm32f4 cannot fly; the boards that can: none");
+  EXPECT_EQ(board_refusal("mps2-an386", {}, "fly"), "board mps2-an386 cannot fly; the boards that can: none");
 }
 
 // The firmware build's boards and image folders (firmware/CMakeLists.txt,
