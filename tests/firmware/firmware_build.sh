@@ -2,7 +2,7 @@
 # A rig file made into firmware, as a lab would (the build part;
 # firmware_build_qemu.sh runs what it builds): tendon's rig under another
 # name, at another rate and tuning, without its servos (t.toml), built with `nlsoft-console
-# firmware build --rig t.toml` for both boards: the board image and the HIL
+# firmware build --rig t.toml` for each board: the board image and the HIL
 # image of each, both named and sized in the output (build-BOARD.txt), the
 # stm32f4 .bin files too, and the build's progress naming its steps.
 # Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
@@ -27,9 +27,10 @@ sed -e 's/^name = "tendon"/name = "bender"/' -e 's/^rate_hz = 120.0/rate_hz = 10
     -e 's/^Q = \[1e-3, 5e3, 2e3\]/Q = [1e-3, 4e3, 3e3]/' -e 's/^eps = .*/eps = 0.01/' tendon-no-servos.toml >t.toml
 grep -q '^rate_hz = 100.0' t.toml && grep -q '^Q = \[1e-3, 4e3, 3e3\]' t.toml || { echo "FAIL: t.toml not edited"; exit 1; }
 
-for board in mps2-an386 stm32f4; do
+for board in mps2-an386 stm32f4 mps2-an500; do
   prefix=nlsoft-m4
   [ $board = stm32f4 ] && prefix=nlsoft-stm32f4
+  [ $board = mps2-an500 ] && prefix=nlsoft-m7
   # On a terminal (script(1) gives it one), as a person runs it: stdout,
   # the images, to build-BOARD.txt; the progress on the terminal, kept in
   # progress-BOARD.txt.

@@ -12,7 +12,7 @@ stage=$2 part=qemu
 . "$(dirname "$0")/rig_image_test_prelude.sh"
 
 printf 'get Q\n' >getq.nls
-for board in mps2-an386 stm32f4; do
+for board in mps2-an386 stm32f4 mps2-an500; do
   hil=$(grep -- "-bender-hil.elf\$" build-$board.txt | awk '{print $2}')
   [ -f "$hil" ] || { say "$board: no HIL image in build-$board.txt"; continue; }
   before=$(stat -c %Y "$hil")
