@@ -32,7 +32,8 @@ int run_conformance(const ConformanceArgs& a) {
   if (int(!a.port.empty()) + int(!a.sim.empty()) + int(!a.qemu.empty()) != 1)
     throw CliError(
         "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim RIG or --qemu RIG");
-  if (a.qemu.empty() && a.board != kDefaultQemuBoard) throw CliError("--board names the image --qemu boots; give --qemu too");
+  if (a.qemu.empty() && a.board != kDefaultQemuBoard)
+    throw CliError("--board names the image --qemu boots; give --qemu too");
   SimLauncher launcher;
   Summary summary;
   summary.port = a.port;

@@ -46,11 +46,13 @@ void add_firmware_command(CLI::App& app) {
                     "folder for the images (default: the cache folder --qemu, conformance --qemu and flash --rig "
                     "look in, ~/.cache/nlsoft/firmware/<rig>-<board>-<key>)");
   build->add_flag("--hil", q->hil_only, "only the image with the simulated plant in the loop (needs [plant])");
+  std::string prefixes;
+  for (const Board& b : boards()) prefixes += (prefixes.empty() ? "" : ", ") + b.image_prefix + " (" + b.name + ")";
   build->footer(
-      "Builds <prefix>-<rig>.elf, the board's image (stm32f4: PWM and ADC pins from the rig file), and, when the\n"
-      "rig has a [plant], <prefix>-<rig>-hil.elf with the plant simulated on the MCU; prefix nlsoft-m4\n"
-      "(mps2-an386), nlsoft-m7 (mps2-an500) or nlsoft-stm32f4 (with a .bin for st-flash). Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi "
-      "cmake\n"
+      "Builds <prefix>-<rig>.elf, the board's image (stm32f4: PWM and ADC pins from the rig file, and a .bin for\n"
+      "st-flash), and, when the rig has a [plant], <prefix>-<rig>-hil.elf with the plant simulated on the MCU;\n"
+      "prefix " + prefixes + ".\n"
+      "Needs: apt-get install gcc-arm-none-eabi libnewlib-arm-none-eabi cmake\n"
       "Examples:\n"
       "  nlsoft-console firmware build --rig lab/arm.toml --board stm32f4\n"
       "  nlsoft-console firmware build --rig lab/arm.toml --board mps2-an386 --out arm-images\n");

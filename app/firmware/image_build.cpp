@@ -512,8 +512,8 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
     // --model`), as built: only its HIL image when that is all it has.
     const LastBuilt last = last_built_with_model(rig, board, true);
     q.model = last.model;
-    q.hil_only =
-        !last.dir.empty() && !fs::exists(last.dir + "/" + image_file_name(board_for(board, "--board"), rig.name, false));
+    const std::string board_elf = image_file_name(board_for(board, "--board"), rig.name, false);
+    q.hil_only = !last.dir.empty() && !fs::exists(last.dir + "/" + board_elf);
   }
   return build_images(q).hil.path;
 }

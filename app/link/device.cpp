@@ -244,8 +244,8 @@ std::string Device::settings_missing() const {
   return fmt::format(
       "the firmware ({}) keeps no settings: it has no SETTINGS capability (protocol 1.5; an image built without "
       "\"settings\" in its rig file's [firmware] features, an stm32f4 image under QEMU, which has no flash "
-      "interface, an MPS2 image (mps2-an386, mps2-an500), or a simulator started without --settings); its parameters last until it "
-      "resets",
+      "interface, an MPS2 image (mps2-an386, mps2-an500), or a simulator started without --settings); its "
+      "parameters last until it resets",
       protocol_minor() < 5 ? fmt::format("protocol 1.{}", protocol_minor()) : std::string("this one"));
 }
 

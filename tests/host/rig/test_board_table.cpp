@@ -133,7 +133,8 @@ TEST(BoardTable, IsTheFirmwareToolsListOfBoards) {
     const size_t at = py.find(entry);
     ASSERT_NE(at, std::string::npos) << "nlsoft_qemu.py has no entry " << entry;
     const size_t end = py.find(")", py.find("]", at));
-    std::string rest = std::regex_replace(py.substr(at + entry.size(), end - at - entry.size()), std::regex("\\s+"), " ");
+    const std::string rest =
+        std::regex_replace(py.substr(at + entry.size(), end - at - entry.size()), std::regex("\\s+"), " ");
     EXPECT_EQ(rest, " [" + args + "]") << b.name;
     ++entries;
   }
