@@ -505,7 +505,11 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
   q.rig = rig.file;
   q.board = board;
   q.model = model;
-  q.hil_only = false;  // the cache folder `firmware build` fills: both images, built once
+  // The cache folder `firmware build` fills: both images, built once; on a
+  // board the rig's chips are not on, the HIL image alone (`firmware build
+  // --hil`), as the board can run no other (image_header.hpp, ImageKinds).
+  const bool chips_elsewhere = !rig.devices.empty() && rig.board != board;
+  q.hil_only = chips_elsewhere;
   q.who = who;
   if (q.model.empty()) {
     // The image last built from this file with a model (`firmware build
@@ -513,7 +517,7 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
     const LastBuilt last = last_built_with_model(rig, board, true);
     q.model = last.model;
     const std::string board_elf = image_file_name(board_for(board, "--board"), rig.name, false);
-    q.hil_only = !last.dir.empty() && !fs::exists(last.dir + "/" + board_elf);
+    q.hil_only = chips_elsewhere || (!last.dir.empty() && !fs::exists(last.dir + "/" + board_elf));
   }
   return build_images(q).hil.path;
 }
