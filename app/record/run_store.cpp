@@ -10,6 +10,7 @@
 #include <cstring>
 
 #include "host/files/cli_error.hpp"
+#include "app/record/row_columns.hpp"
 #include "app/record/schema.hpp"
 
 namespace nlsoft::console {
@@ -18,12 +19,40 @@ namespace tf = protocol::telemetry_field;
 
 namespace {
 
-const char* kRunColumns =
-    "id,started_at,ifnull(ended_at,''),label,notes,platform,firmware,reference,ifnull(end_reason,''),"
-    "model_hash,param_hash,loop_rate_hz,n,m,decimation,samples,lost_frames";
+// An int64 column as an int: out of int's range reads as -1, which
+// check_counts() refuses (a plain cast would wrap 2^32 + 1 to 1).
+template <auto field>
+void read_count(const Stmt& s, int col, RunRow& r) {
+  const int64_t v = s.int64(col);
+  r.*field = v < 0 || v > 0x7FFFFFFF ? -1 : int(v);
+}
+
+const Column<RunRow> kRunColumns[] = {
+    {"id", read_field<&RunRow::id>},
+    {"started_at", read_field<&RunRow::started_at>},
+    {"ifnull(ended_at,'')", read_field<&RunRow::ended_at>},
+    {"label", read_field<&RunRow::label>},
+    {"notes", read_field<&RunRow::notes>},
+    {"platform", read_field<&RunRow::platform>},
+    {"firmware", read_field<&RunRow::firmware>},
+    {"reference", read_field<&RunRow::reference>},
+    {"ifnull(end_reason,'')", read_field<&RunRow::end_reason>},
+    {"model_hash", read_field<&RunRow::model_hash>},
+    {"param_hash", read_field<&RunRow::param_hash>},
+    {"loop_rate_hz", read_field<&RunRow::loop_rate_hz>},
+    {"n", read_count<&RunRow::n>},
+    {"m", read_count<&RunRow::m>},
+    {"decimation", read_field<&RunRow::decimation>},
+    {"samples", read_field<&RunRow::samples>},
+    {"lost_frames", read_field<&RunRow::lost_frames>},
+};
 
 // Schema v6's columns of an identification run, after kRunColumns.
-const char* kRunColumnsV6 = ",kind,w,excitation";
+const Column<RunRow> kRunColumnsV6[] = {
+    {"kind", read_field<&RunRow::kind>},
+    {"w", read_count<&RunRow::w>},
+    {"excitation", read_field<&RunRow::excitation>},
+};
 
 // A run's counts size the fixed arrays its samples are read into (Sample:
 // n outputs three times and m inputs in v, w sensors in l): checked here,
@@ -40,37 +69,10 @@ void check_counts(const std::string& path, const RunRow& r) {
   if (r.w < 0 || r.w > Sample::kMaxSensors) bad("w (sensors)", r.w, Sample::kMaxSensors);
 }
 
-// An int64 column as an int: out of int's range reads as -1, which
-// check_counts() refuses (a plain cast would wrap 2^32 + 1 to 1).
-int count_of(const Stmt& s, int col) {
-  const int64_t v = s.int64(col);
-  return v < 0 || v > 0x7FFFFFFF ? -1 : int(v);
-}
-
 RunRow read_run(const Stmt& s, bool v6, const std::string& path) {
   RunRow r;
-  r.id = s.int64(0);
-  r.started_at = s.text(1);
-  r.ended_at = s.text(2);
-  r.label = s.text(3);
-  r.notes = s.text(4);
-  r.platform = s.text(5);
-  r.firmware = s.text(6);
-  r.reference = s.text(7);
-  r.end_reason = s.text(8);
-  r.model_hash = uint32_t(s.int64(9));
-  r.param_hash = uint32_t(s.int64(10));
-  r.loop_rate_hz = s.real(11);
-  r.n = count_of(s, 12);
-  r.m = count_of(s, 13);
-  r.decimation = int(s.int64(14));
-  r.samples = uint64_t(s.int64(15));
-  r.lost_frames = uint64_t(s.int64(16));
-  if (v6) {
-    r.kind = s.text(17);
-    r.w = count_of(s, 18);
-    r.excitation = s.text(19);
-  }
+  const int next = read_columns(s, kRunColumns, r);
+  if (v6) read_columns(s, kRunColumnsV6, r, next);
   check_counts(path, r);
   return r;
 }
@@ -128,7 +130,7 @@ RunStore::RunStore(const std::string& path) : path_(path) {
 }
 
 std::string RunStore::run_columns() const {
-  return std::string(kRunColumns) + (version_ >= 6 ? kRunColumnsV6 : "");
+  return select_list(kRunColumns) + (version_ >= 6 ? "," + select_list(kRunColumnsV6) : "");
 }
 
 std::vector<RunRow> RunStore::list() {

@@ -7,6 +7,7 @@
 
 #include "host/files/cli_error.hpp"
 #include "app/gnuplot_text.hpp"
+#include "app/record/row_columns.hpp"
 #include "app/record/utc_time.hpp"
 
 namespace nlsoft::console {
@@ -46,21 +47,25 @@ bool has_tables(Db& db) {
   return s.step() && s.int64(0) > 0;
 }
 
-constexpr const char* kSessionColumns =
-    "id, started_at, ifnull(ended_at,''), objective, space, method, ifnull(end_reason,''), ifnull(best_run,0)";
+const Column<TuneSessionRow> kSessionColumns[] = {
+    {"id", read_field<&TuneSessionRow::id>},
+    {"started_at", read_field<&TuneSessionRow::started_at>},
+    {"ifnull(ended_at,'')", read_field<&TuneSessionRow::ended_at>},
+    {"objective", read_field<&TuneSessionRow::objective>},
+    {"space", read_field<&TuneSessionRow::space>},
+    {"method", read_field<&TuneSessionRow::method>},
+    {"ifnull(end_reason,'')", read_field<&TuneSessionRow::end_reason>},
+    {"ifnull(best_run,0)", read_field<&TuneSessionRow::best_run>},
+};
 
-TuneSessionRow read_session(const Stmt& s) {
-  TuneSessionRow r;
-  r.id = s.int64(0);
-  r.started_at = s.text(1);
-  r.ended_at = s.text(2);
-  r.objective = s.text(3);
-  r.space = s.text(4);
-  r.method = s.text(5);
-  r.end_reason = s.text(6);
-  r.best_run = s.int64(7);
-  return r;
-}
+const Column<TuneEvalRow> kEvalColumns[] = {
+    {"run_id", read_field<&TuneEvalRow::run_id>},
+    {"session_id", read_field<&TuneEvalRow::session_id>},
+    {"eval", read_field<&TuneEvalRow::eval>},
+    {"objective", read_field<&TuneEvalRow::objective>},  // NULL: the evaluation failed
+    {"failed", read_field<&TuneEvalRow::failed>},
+    {"point", read_field<&TuneEvalRow::point>},
+};
 
 }  // namespace
 
@@ -68,17 +73,17 @@ std::vector<TuneSessionRow> tune_sessions(const std::string& db_path) {
   Db db(db_path, Db::Access::ReadOnly);
   std::vector<TuneSessionRow> out;
   if (!has_tables(db)) return out;
-  Stmt s = db.prepare(fmt::format("SELECT {} FROM tune_sessions ORDER BY id", kSessionColumns).c_str());
-  while (s.step()) out.push_back(read_session(s));
+  Stmt s = db.prepare(fmt::format("SELECT {} FROM tune_sessions ORDER BY id", select_list(kSessionColumns)).c_str());
+  while (s.step()) out.push_back(read_row(s, kSessionColumns));
   return out;
 }
 
 TuneSessionRow tune_session(const std::string& db_path, int64_t id) {
   Db db(db_path, Db::Access::ReadOnly);
   if (has_tables(db)) {
-    Stmt s = db.prepare(fmt::format("SELECT {} FROM tune_sessions WHERE id=?", kSessionColumns).c_str());
+    Stmt s = db.prepare(fmt::format("SELECT {} FROM tune_sessions WHERE id=?", select_list(kSessionColumns)).c_str());
     s.bind(1, id);
-    if (s.step()) return read_session(s);
+    if (s.step()) return read_row(s, kSessionColumns);
   }
   throw CliError(fmt::format("no tuning session {} in {} (runs list shows them)", id, db_path));
 }
@@ -88,18 +93,9 @@ std::vector<TuneEvalRow> tune_evals(const std::string& db_path, int64_t session)
   std::vector<TuneEvalRow> out;
   if (!has_tables(db)) return out;
   Stmt s = db.prepare(
-      "SELECT run_id, session_id, eval, objective, failed, point FROM tune_evals WHERE session_id=? ORDER BY eval");
+      fmt::format("SELECT {} FROM tune_evals WHERE session_id=? ORDER BY eval", select_list(kEvalColumns)).c_str());
   s.bind(1, session);
-  while (s.step()) {
-    TuneEvalRow e;
-    e.run_id = s.int64(0);
-    e.session_id = s.int64(1);
-    e.eval = int(s.int64(2));
-    if (!s.is_null(3)) e.objective = s.real(3);
-    e.failed = s.text(4);
-    e.point = s.text(5);
-    out.push_back(e);
-  }
+  while (s.step()) out.push_back(read_row(s, kEvalColumns));
   return out;
 }
 
