@@ -80,11 +80,60 @@ Bytes cat(std::initializer_list<Bytes> parts) {
 
 void set_text(char* dst, const char* src) { std::strcpy(dst, src); }
 
-void build() {
-  // ------------------------------------------------------------ requests
+// The messages that other vectors are made of as well (the streams, the
+// damaged frames), each built once.
+Ping handshake_ping() {
   Ping ping;
   ping.nonce = 0x12345678u;
-  add("ping", "Handshake probe; the reply is PONG with the same nonce.", frame(ping, 1));
+  return ping;
+}
+
+Pong handshake_pong() {
+  Pong pong;
+  pong.nonce = 0x12345678u;
+  pong.uptime_ms = 987654;
+  return pong;
+}
+
+Info hasel_info() {
+  Info info;
+  info.platform = static_cast<uint8_t>(Platform::Hasel);
+  info.m = 6;
+  info.n = 3;
+  info.w = 18;
+  info.nd = 2;
+  info.dd = 2;
+  info.max_n = 8;
+  info.max_nc = 4;
+  info.fw_major = 0;
+  info.fw_minor = 1;
+  info.fw_patch = 0;
+  info.loop_rate_hz = 130;
+  info.model_hash = 0xDEADBEEFu;
+  info.param_hash = 0x0BADF00Du;
+  info.capabilities = capability::kParams | capability::kRefBuiltin |
+                      capability::kXferRefTable | capability::kXferModel |
+                      capability::kTelemetry | capability::kYTrue | capability::kRunHold |
+                      capability::kLog;
+  set_text(info.firmware, "nlsoft-fw posix");
+  return info;
+}
+
+Telemetry msd_compact_telemetry() {
+  Telemetry tmin;
+  tmin.tseq = 1;
+  tmin.mask = telemetry_field::kStep | telemetry_field::kYHat | telemetry_field::kU;
+  tmin.n = 1;
+  tmin.m = 1;
+  tmin.step = 10;
+  tmin.y_hat[0] = 0.25f;
+  tmin.u[0] = -3.5f;
+  return tmin;
+}
+
+// ------------------------------------------------------------ requests
+void handshake_and_param_requests() {
+  add("ping", "Handshake probe; the reply is PONG with the same nonce.", frame(handshake_ping(), 1));
 
   add("info_get", "", frame(InfoGet{}, 2));
 
@@ -122,7 +171,9 @@ void build() {
       "Well-formed frame carrying a NaN; the firmware must NACK it with not_finite, field 1, "
       "element 1.",
       frame(nan_set, 7));
+}
 
+void ref_and_transfer_requests() {
   RefSelect inf;
   inf.ref_id = static_cast<uint8_t>(RefId::Infinity);
   inf.a = 2.0f;
@@ -170,7 +221,9 @@ void build() {
   XferAbort abort_msg;
   abort_msg.kind = static_cast<uint8_t>(XferKind::Model);
   add("xfer_abort", "", frame(abort_msg, 14));
+}
 
+void run_requests() {
   RunStart start;
   start.run_id = 42;
   add("run_start", "", frame(start, 15));
@@ -188,7 +241,9 @@ void build() {
   add("status_get", "Sequence number 255, the last before wrapping to 0.",
       frame(StatusGet{}, 255));
   add("rig_get", "Protocol 1.2: asks for RIG_INFO; sent when INFO_EX has the RIG capability.", frame(RigGet{}, 30));
+}
 
+void ident_requests() {
   IdentStart ident;
   ident.run_id = 43;
   ident.signal = static_cast<uint8_t>(IdentSignal::Prbs);
@@ -221,8 +276,10 @@ void build() {
       "Protocol 1.3: a 10-minute APRBS run at 130 Hz, mixed: a shared level under each input's own (sent only to a "
       "firmware with the IDENT_MIXED capability).",
       frame(ident_mixed, 33));
+}
 
-  // ------------------------------------------------- replies, unsolicited
+// ------------------------------------------------- replies, unsolicited
+void acks_and_nacks() {
   Ack ack;
   ack.request_type = static_cast<uint8_t>(MsgType::RunStart);
   add("ack_run_start", "Reply to run_start: same seq, REPLY flag.",
@@ -282,31 +339,12 @@ void build() {
       "Protocol 1.3: a signal (field 1) the firmware does not have: aprbs (4) at a firmware without it.",
       frame(nack_signal, 33, frame_flags::kReply));
 
-  Pong pong;
-  pong.nonce = 0x12345678u;
-  pong.uptime_ms = 987654;
-  add("pong", "", frame(pong, 1, frame_flags::kReply));
+}
 
-  Info info;
-  info.platform = static_cast<uint8_t>(Platform::Hasel);
-  info.m = 6;
-  info.n = 3;
-  info.w = 18;
-  info.nd = 2;
-  info.dd = 2;
-  info.max_n = 8;
-  info.max_nc = 4;
-  info.fw_major = 0;
-  info.fw_minor = 1;
-  info.fw_patch = 0;
-  info.loop_rate_hz = 130;
-  info.model_hash = 0xDEADBEEFu;
-  info.param_hash = 0x0BADF00Du;
-  info.capabilities = capability::kParams | capability::kRefBuiltin |
-                      capability::kXferRefTable | capability::kXferModel |
-                      capability::kTelemetry | capability::kYTrue | capability::kRunHold |
-                      capability::kLog;
-  set_text(info.firmware, "nlsoft-fw posix");
+void pong_and_info_replies() {
+  add("pong", "", frame(handshake_pong(), 1, frame_flags::kReply));
+
+  const Info info = hasel_info();
   add("info_hasel", "Protocol 1.0's reply to INFO_GET; a 1.1 console still reads it.",
       frame(info, 2, frame_flags::kReply));
 
@@ -341,7 +379,9 @@ void build() {
   info_ex15.info.capabilities |= capability::kSettings;
   add("info_ex_hasel_1_5", "A 1.5 firmware's INFO_EX: protocol_minor 5 and the SETTINGS capability (bit 12).",
       frame(info_ex15, 2, frame_flags::kReply));
+}
 
+void rig_infos() {
   RigInfo rig;
   rig.rig_hash = 0x5A17C0DEu;
   set_text(rig.rig_name, "hasel");
@@ -380,7 +420,9 @@ void build() {
   rig_any.max_weights = 8192;
   add("rig_info_any_shape", "A generic kernel (the simulator): any shape within the limits, an empty list.",
       frame(rig_any, 32, frame_flags::kReply));
+}
 
+void param_and_transfer_replies() {
   ParamDesc desc;
   desc.index = 0;
   desc.count = 14;
@@ -429,7 +471,9 @@ void build() {
   xack.total_size = 1234;
   add("xfer_ack", "Reply to xfer_chunk: the next offset the firmware expects.",
       frame(xack, 11, frame_flags::kReply));
+}
 
+void statuses() {
   Status st;
   st.uptime_ms = 60000;
   st.run_id = 42;
@@ -462,7 +506,9 @@ void build() {
   ident_status.run_id = 43;
   ident_status.run_state = static_cast<uint8_t>(RunState::Ident);
   add("status_ident", "Protocol 1.3: run 43 is an identification run (run_state 5).", frame(ident_status, 82));
+}
 
+void telemetry_frames() {
   Telemetry tel;
   tel.tseq = 65535;
   tel.mask = telemetry_field::kAll;
@@ -485,16 +531,8 @@ void build() {
   add("telemetry_hasel_all", "Every field, hasel dims (n=3, m=6): 81-byte payload, 90 on the wire.",
       frame(tel, 78));
 
-  Telemetry tmin;
-  tmin.tseq = 1;
-  tmin.mask = telemetry_field::kStep | telemetry_field::kYHat | telemetry_field::kU;
-  tmin.n = 1;
-  tmin.m = 1;
-  tmin.step = 10;
-  tmin.y_hat[0] = 0.25f;
-  tmin.u[0] = -3.5f;
   add("telemetry_msd_compact", "msd dims (n=1, m=1), step + y_hat + u: 16-byte payload.",
-      frame(tmin, 79));
+      frame(msd_compact_telemetry(), 79));
 
   Telemetry tnone;
   tnone.tseq = 2;
@@ -502,7 +540,9 @@ void build() {
   tnone.m = 2;
   add("telemetry_empty_mask", "Mask 0: only the telemetry sequence (keeps loss counting alive).",
       frame(tnone, 80));
+}
 
+void ident_samples() {
   IdentSample is;
   is.tseq = 300;
   is.m = 6;
@@ -532,7 +572,9 @@ void build() {
   is_no_y.l[1] = -0.75f;
   add("ident_sample_no_output", "Protocol 1.3: n = 0, a firmware that measures no output; u and two sensors.",
       frame(is_no_y, 85));
+}
 
+void device_frames() {
   DeviceGet dg;
   dg.index = 1;
   add("device_get", "Protocol 1.4: the state of device 1.", frame(dg, 91));
@@ -563,7 +605,9 @@ void build() {
   sh.age_ms = 7;
   add("sensor_health", "Protocol 1.4: sensor channels 3 to 5 invalid at step 1200, the oldest valid sample 7 ms old.",
       frame(sh, 86));
+}
 
+void sensor_stream_frames() {
   SensorStream stream_on;
   stream_on.on = 1;
   add("sensor_stream_on", "Protocol 1.6: each closed-loop TELEMETRY from now on preceded by its step's SENSOR_SAMPLE.",
@@ -585,7 +629,9 @@ void build() {
   ss.l[2] = 3.0f;
   add("sensor_sample", "Protocol 1.6: the three sensors of closed-loop step 1200, sent right before its TELEMETRY.",
       frame(ss, 87));
+}
 
+void settings_frames() {
   struct SettingsVector {
     SettingsAction action;
     const char* name;
@@ -613,20 +659,29 @@ void build() {
   settings_busy.field = 0;
   add("settings_nack_running", "Protocol 1.5: SETTINGS refused while a run is active (wrong_state, field 0).",
       frame(settings_busy, 92, frame_flags::kReply));
+}
 
+void log_frames() {
   Log log;
   log.level = static_cast<uint8_t>(LogLevel::Warn);
   set_text(log.text, "loop overrun at step 12: \"compute\" took 1.2 ms");
   add("log_warn", "", frame(log, 81));
+}
 
-  // --------------------------------------------------------------- streams
+// --------------------------------------------------------------- streams
+void streams() {
+  const Ping ping = handshake_ping();
+  const Pong pong = handshake_pong();
   add("two_frames_back_to_back", "One delimiter between frames is enough.",
       cat({frame(ping, 1), frame(pong, 1, frame_flags::kReply)}));
   add("leading_and_repeated_delimiters",
       "Extra 0x00 bytes are idle: they produce no event and no error.",
       cat({Bytes{0, 0}, frame(ping, 1), Bytes{0, 0, 0}}));
+}
 
-  // ---------------------------------------------------------------- errors
+// ---------------------------------------------------------------- errors
+void damaged_headers_and_crcs() {
+  const Ping ping = handshake_ping();
   {
     Bytes raw = raw_frame(ping, 1);
     raw[raw.size() - 1] ^= 0x01;
@@ -673,6 +728,11 @@ void build() {
     reseal(raw, 0x30);
     add("error_unknown_type", "Type 0x30 is not in the catalogue.", cobs_wire(raw));
   }
+}
+
+void damaged_lengths_and_framing() {
+  const Ping ping = handshake_ping();
+  const Pong pong = handshake_pong();
   {
     Bytes raw = {kProtocolVersion, static_cast<uint8_t>(MsgType::Ping), 1, 0, 3, 1, 2, 3, 0, 0};
     reseal(raw, static_cast<uint8_t>(MsgType::Ping));
@@ -680,7 +740,7 @@ void build() {
         cobs_wire(raw));
   }
   {
-    Bytes raw = raw_frame(tmin, 79);
+    Bytes raw = raw_frame(msd_compact_telemetry(), 79);
     raw[kHeaderSize + 3] = 0x21;  // dims n=2 m=1: the fields no longer add up
     reseal(raw, static_cast<uint8_t>(MsgType::Telemetry));
     add("error_bad_length_telemetry_dims", "telemetry whose dims byte does not match its length.",
@@ -715,11 +775,20 @@ void build() {
       "Garbage with no delimiter before a frame spoils that frame only; the next one is fine.",
       cat({Bytes{0x13, 0x37, 0x42}, frame(ping, 1), frame(ping, 2)}));
   {
-    const Bytes info_wire = frame(info, 2, frame_flags::kReply);
+    const Bytes info_wire = frame(hasel_info(), 2, frame_flags::kReply);
     add("frame_cut_by_reset",
         "A frame cut short by a sender reset, then the next frame: one error, then resync.",
         cat({Bytes(info_wire.begin(), info_wire.begin() + 20), Bytes{0x00}, frame(ping, 3)}));
   }
+}
+
+// golden.txt's vectors, group by group in the file's order.
+void build() {
+  for (void (*group)() : {handshake_and_param_requests, ref_and_transfer_requests, run_requests, ident_requests,
+                          acks_and_nacks, pong_and_info_replies, rig_infos, param_and_transfer_replies, statuses,
+                          telemetry_frames, ident_samples, device_frames, sensor_stream_frames, settings_frames,
+                          log_frames, streams, damaged_headers_and_crcs, damaged_lengths_and_framing})
+    group();
 }
 
 // The golden model file (PROTOCOL.md 9.4, "Model file"), built byte by byte
