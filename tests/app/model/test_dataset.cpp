@@ -216,6 +216,34 @@ TEST(Dataset, AGapCutsTheSeriesAndNoWindowSpansIt) {
   EXPECT_THROW(build_dataset(s, 2, 2), PipelineError);
 }
 
+// Runs stacked into one dataset: the rows copied where asked, and the
+// pieces cut to the copied range and shifted with it, so no free run of the
+// stacked set crosses from one run into the next or through a run's gap.
+TEST(Dataset, CopyRowsStacksRowsWithTheirPiecesShifted) {
+  Series s = tiny(10, 1, 1, 0);
+  s.breaks = {5};
+  const Dataset from = build_dataset(s, 2, 2);  // pieces [0, 3) and [3, 6)
+  Dataset into;
+  into.layout = from.layout;
+  into.X.setZero(2 + 4, from.X.cols());
+  into.Y.setZero(2 + 4, from.Y.cols());
+  into.pieces.push_back({0, 2});  // an earlier run's rows
+  const std::vector<RowRange> added = copy_rows(into, 2, from, 1, 5);
+  ASSERT_EQ(added.size(), 2u);
+  EXPECT_EQ(added[0].begin, 2);
+  EXPECT_EQ(added[0].end, 4);  // from's rows 1, 2
+  EXPECT_EQ(added[1].begin, 4);
+  EXPECT_EQ(added[1].end, 6);  // from's rows 3, 4
+  ASSERT_EQ(into.pieces.size(), 3u);
+  EXPECT_EQ(into.pieces[0].end, 2);
+  for (long r = 0; r < 4; ++r) {
+    EXPECT_EQ(into.X.row(2 + r), from.X.row(1 + r)) << "row " << r;
+    EXPECT_EQ(into.Y.row(2 + r), from.Y.row(1 + r)) << "row " << r;
+  }
+  EXPECT_TRUE(into.X.topRows(2).isZero());
+  EXPECT_TRUE(copy_rows(into, 6, from, 3, 3).empty());  // an empty range copies nothing
+}
+
 // A recorded run's samples become the series: a jump of the firmware's
 // step count is a gap, and a sample lacking the measured output is left
 // out with a gap in its place.
