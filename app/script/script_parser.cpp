@@ -87,10 +87,302 @@ ScriptError::ScriptError(const std::vector<ScriptError>& all)
       message(all.at(0).message),
       count(all.size()) {}
 
+namespace {
+
+// A command line's words, and the ways a verb's parser refuses them: each
+// message names the script's file and line, and quotes the words escaped.
+struct Words {
+  const std::vector<std::string>& t;
+  const std::string& line;  // trimmed, for echo's free text
+  const std::string& file;
+  int lineno;
+
+  const std::string& verb() const { return t[0]; }
+  ScriptError fail(const std::string& msg) const { return ScriptError(file, lineno, printable(msg)); }
+  void need(size_t n, const char* usage) const {
+    if (t.size() < n) throw fail(fmt::format("'{}' needs more: {}", verb(), usage));
+  }
+  void at_most(size_t n, const char* usage) const {
+    if (t.size() > n) throw fail(fmt::format("'{}' takes fewer arguments: {} (extra: '{}')", verb(), usage, t[n]));
+  }
+  double duration(const std::string& s) const {
+    try {
+      return text::parse_duration(s);
+    } catch (const std::invalid_argument& e) {
+      throw fail(e.what());
+    }
+  }
+  // label=TEXT everywhere; early=ok on timed runs, where a run that ends
+  // before its duration is otherwise a failure; settle= on a sweep's rows.
+  void label_options(Command& c, size_t from, const char* usage, bool timed = false, bool settles = false) const {
+    for (size_t i = from; i < t.size(); ++i) {
+      std::pair<std::string, std::string> kv;
+      const bool ok = split_option(t[i], kv) && (kv.first == "label" || (timed && kv.first == "early") ||
+                                                 (settles && kv.first == "settle"));
+      if (!ok) throw fail(fmt::format("'{}': unexpected '{}'; usage: {}", verb(), t[i], usage));
+      if (kv.first == "settle") {
+        c.settle_s = kv.second == "0" ? 0.0 : duration(kv.second);
+      } else if (kv.first == "label") {
+        c.label = kv.second;
+      } else if (kv.second == "ok") {
+        c.allow_early = true;
+      } else if (kv.second != "fail") {
+        throw fail(fmt::format("'{}': early={}: use early=ok (a run may end before its duration) or early=fail",
+                               verb(), kv.second));
+      }
+    }
+  }
+};
+
+void parse_set(const Words& w, Command& c) {
+  w.need(3, "set NAME VALUES...  e.g. set Q 1e6 2e6 1e6");
+  c.kind = Command::Kind::Set;
+  c.name = w.t[1];
+  c.values.assign(w.t.begin() + 2, w.t.end());
+}
+
+void parse_get(const Words& w, Command& c) {
+  w.need(2, "get NAME");
+  w.at_most(2, "get NAME");
+  c.kind = Command::Kind::Get;
+  c.name = w.t[1];
+}
+
+void parse_params(const Words& w, Command& c) {
+  w.need(2, "params save FILE | params load FILE | params reapply | params diff | params reset");
+  const std::string& sub = w.t[1];
+  if (sub == "reapply" || sub == "diff" || sub == "reset") {
+    w.at_most(2, ("params " + sub).c_str());
+    c.kind = sub == "reapply" ? Command::Kind::ParamsReapply
+           : sub == "diff"    ? Command::Kind::ParamsDiff
+                              : Command::Kind::ParamsReset;
+  } else if (sub == "save" || sub == "load") {
+    const std::string usage = "params " + sub + " FILE";
+    w.need(3, usage.c_str());
+    w.at_most(3, usage.c_str());
+    c.kind = sub == "save" ? Command::Kind::ParamsSave : Command::Kind::ParamsLoad;
+    c.name = w.t[2];
+  } else {
+    throw w.fail(fmt::format("params {}: expected save, load, reapply, diff or reset", sub));
+  }
+}
+
+void parse_model(const Words& w, Command& c) {
+  w.need(3, "model upload FILE.nlsm");
+  w.at_most(3, "model upload FILE.nlsm");
+  if (w.t[1] != "upload") throw w.fail(fmt::format("model {}: expected 'upload' (model upload FILE.nlsm)", w.t[1]));
+  c.kind = Command::Kind::ModelUpload;
+  c.name = w.t[2];
+}
+
+void parse_ref(const Words& w, Command& c) {
+  const std::vector<std::string>& t = w.t;
+  w.need(2, "ref NAME key=value...  or  ref load FILE.csv [hold=N]");
+  if (t[1] == "load") {
+    w.need(3, "ref load FILE.csv [hold=N]");
+    c.kind = Command::Kind::RefLoad;
+    c.name = t[2];
+    for (size_t i = 3; i < t.size(); ++i) {
+      std::pair<std::string, std::string> kv;
+      if (!split_option(t[i], kv) || kv.first != "hold")
+        throw w.fail(fmt::format("ref load: unexpected '{}'; only hold=N", t[i]));
+      c.options.push_back(kv);
+    }
+  } else {
+    c.kind = Command::Kind::Ref;
+    c.name = t[1];
+    for (size_t i = 2; i < t.size(); ++i) {
+      std::pair<std::string, std::string> kv;
+      if (!split_option(t[i], kv)) throw w.fail(fmt::format("ref {}: '{}' is not key=value", c.name, t[i]));
+      c.options.push_back(kv);
+    }
+  }
+}
+
+void parse_run(const Words& w, Command& c) {
+  w.need(2, "run DURATION [label=TEXT] [early=ok]  e.g. run 10s label=baseline");
+  c.kind = Command::Kind::Run;
+  c.seconds = w.duration(w.t[1]);
+  w.label_options(c, 2, "run DURATION [label=TEXT] [early=ok]", true);
+}
+
+void parse_start(const Words& w, Command& c) {
+  c.kind = Command::Kind::Start;
+  w.label_options(c, 1, "start [label=TEXT]");
+}
+
+// A verb on its own: stop, hold, neutral, resume, devices.
+template <Command::Kind kind>
+void parse_bare(const Words& w, Command& c) {
+  w.at_most(1, w.verb().c_str());
+  c.kind = kind;
+}
+
+void parse_settings(const Words& w, Command& c) {
+  w.need(2, "settings save|defaults|report");
+  w.at_most(2, "settings save|defaults|report");
+  const std::string& what = w.t[1];
+  if (what != "save" && what != "defaults" && what != "report")
+    throw w.fail(fmt::format("'settings {}': say settings save (the parameters in force survive a reset), settings "
+                             "defaults (the built-in ones back) or settings report (where they came from)",
+                             what));
+  c.kind = Command::Kind::Settings;
+  c.name = what;
+}
+
+void parse_wait(const Words& w, Command& c) {
+  w.need(2, "wait DURATION");
+  w.at_most(2, "wait DURATION");
+  c.kind = Command::Kind::Wait;
+  c.seconds = w.duration(w.t[1]);
+}
+
+CmpOp comparison(const Words& w, const std::string& op) {
+  if (op == "<") return CmpOp::Lt;
+  if (op == "<=") return CmpOp::Le;
+  if (op == ">") return CmpOp::Gt;
+  if (op == ">=") return CmpOp::Ge;
+  if (op == "==" || op == "=") return CmpOp::Eq;
+  if (op == "!=") return CmpOp::Ne;
+  throw w.fail(fmt::format("'{}' is not a comparison; use < <= > >= == !=", op));
+}
+
+void parse_expect(const Words& w, Command& c) {
+  const std::vector<std::string>& t = w.t;
+  w.need(4, "expect METRIC OP VALUE [lost=ok]  e.g. expect nrmse < 0.05");
+  w.at_most(5, "expect METRIC OP VALUE [lost=ok]");
+  // A run with lost samples (frames lost on the link, or refused: values
+  // not finite, dimensions other than INFO's) was scored on part of it:
+  // an expect on it fails unless the script says that is fine.
+  if (t.size() == 5) {
+    std::pair<std::string, std::string> kv;
+    if (!split_option(t[4], kv) || kv.first != "lost" || (kv.second != "ok" && kv.second != "fail"))
+      throw w.fail(fmt::format("expect: unexpected '{}'; only lost=ok (or lost=fail, the default)", t[4]));
+    c.allow_lost = kv.second == "ok";
+  }
+  c.kind = Command::Kind::Expect;
+  c.name = t[1];
+  if (!known_metric(c.name)) throw w.fail(fmt::format("unknown metric '{}'; known: {}", c.name, metric_list()));
+  c.op = comparison(w, t[2]);
+  char* end = nullptr;
+  c.value = std::strtod(t[3].c_str(), &end);
+  if (end == t[3].c_str() || *end != '\0' || !std::isfinite(c.value))
+    throw w.fail(fmt::format("'{}' is not a number", t[3]));
+}
+
+void parse_export(const Words& w, Command& c) {
+  w.need(3, "export csv FILE");
+  w.at_most(3, "export csv FILE");
+  if (w.t[1] != "csv") throw w.fail(fmt::format("export {}: only 'export csv FILE' is supported", w.t[1]));
+  c.kind = Command::Kind::ExportCsv;
+  c.name = w.t[2];
+}
+
+// A quoted "echo" is only known as the verb once tokenized.
+void parse_echo(const Words& w, Command& c) {
+  c.kind = Command::Kind::Echo;
+  c.name = trim(w.line.substr(4));
+}
+
+// sweep PARAM V1 V2 ... run DURATION [label=TEXT]
+void parse_sweep(const Words& w, Command& c) {
+  const std::vector<std::string>& t = w.t;
+  size_t run_at = 0;
+  for (size_t i = 2; i < t.size(); ++i)
+    if (t[i] == "run") run_at = i;
+  if (t.size() < 5 || run_at < 3 || run_at + 1 >= t.size())
+    throw w.fail("usage: sweep PARAM V1 V2 ... run DURATION  e.g. sweep Q0 1e5 1e6 1e7 run 5s");
+  c.kind = Command::Kind::Sweep;
+  c.name = t[1];
+  c.values.assign(t.begin() + 2, t.begin() + long(run_at));
+  c.seconds = w.duration(t[run_at + 1]);
+  w.label_options(c, run_at + 2, "sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]", true,
+                  true);
+}
+
+void parse_tune(const Words& w, Command& c) {
+  c.kind = Command::Kind::Tune;
+  c.values.assign(w.t.begin() + 1, w.t.end());
+  // Every word is checked now; the names against the firmware when it runs.
+  try {
+    parse_tune_words(c.values);
+  } catch (const std::invalid_argument& e) {
+    throw w.fail(e.what());
+  }
+}
+
+void parse_ident(const Words& w, Command& c) {
+  const std::vector<std::string>& t = w.t;
+  const char* usage =
+      "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint|mixed] [decimation=N] [label=TEXT] "
+      "[early=ok] [y_from=FILE.csv [y_offset=S]]  e.g. ident prbs 10min seed=3";
+  w.need(3, usage);
+  c.kind = Command::Kind::Ident;
+  c.name = t[1];
+  c.values = {t[2]};
+  IdentWords words = ident_words(c);
+  for (size_t i = 3; i < t.size(); ++i) {
+    std::pair<std::string, std::string> kv;
+    if (t[i] == "joint" || t[i] == "mixed") kv = {t[i], "1"};
+    else if (!split_option(t[i], kv)) throw w.fail(fmt::format("ident: '{}' is not key=value; usage: {}", t[i], usage));
+    if (kv.first == "label") c.label = kv.second;
+    else if (kv.first == "early" && kv.second == "ok") c.allow_early = true;
+    else if (kv.first == "y_from") c.capture = kv.second;
+    else if (kv.first == "y_offset") {
+      // Checked now, not after the run: a typo must not cost a run's merge.
+      char* end = nullptr;
+      const double v = std::strtod(kv.second.c_str(), &end);
+      if (kv.second.empty() || *end != '\0' || !std::isfinite(v))
+        throw w.fail(fmt::format("ident: y_offset={} is not a number of seconds", kv.second));
+      c.options.push_back(kv);
+    }
+    else if (kv.first == "seed" || kv.first == "amplitude" || kv.first == "band" || kv.first == "joint" ||
+             kv.first == "mixed" || kv.first == "decimation")
+      c.options.push_back(kv);
+    else throw w.fail(fmt::format("ident: unknown option '{}'; usage: {}", t[i], usage));
+  }
+  if (c.capture.empty() && std::any_of(c.options.begin(), c.options.end(), [](const auto& o) { return o.first == "y_offset"; }))
+    throw w.fail("ident: y_offset= goes with y_from=FILE.csv (the capture whose clock it places)");
+  try {
+    words = ident_words(c);
+    c.seconds = check_ident_words(words);
+  } catch (const std::exception& e) {
+    throw w.fail(e.what());
+  }
+}
+
+// Every verb a script line can start with, and its parser.
+struct Verb {
+  const char* name;
+  void (*parse)(const Words& w, Command& c);
+};
+const Verb kVerbs[] = {
+    {"set", parse_set},
+    {"get", parse_get},
+    {"params", parse_params},
+    {"model", parse_model},
+    {"ref", parse_ref},
+    {"run", parse_run},
+    {"start", parse_start},
+    {"stop", parse_bare<Command::Kind::Stop>},
+    {"hold", parse_bare<Command::Kind::Hold>},
+    {"neutral", parse_bare<Command::Kind::Neutral>},
+    {"resume", parse_bare<Command::Kind::Resume>},
+    {"devices", parse_bare<Command::Kind::Devices>},
+    {"settings", parse_settings},
+    {"wait", parse_wait},
+    {"expect", parse_expect},
+    {"export", parse_export},
+    {"echo", parse_echo},
+    {"sweep", parse_sweep},
+    {"tune", parse_tune},
+    {"ident", parse_ident},
+};
+
+}  // namespace
+
 Command parse_command(const std::string& raw, const std::string& file, int lineno) {
   const std::string line = trim(raw);
-  // The message quotes the script's own tokens: shown escaped.
-  auto fail = [&](const std::string& msg) -> ScriptError { return ScriptError(file, lineno, printable(msg)); };
   const std::string first = line.substr(0, line.find_first_of(" \t"));
   if (first == "echo" || first == "note") {
     // Free text: quotes and all are kept as written.
@@ -102,237 +394,24 @@ Command parse_command(const std::string& raw, const std::string& file, int linen
     return c;
   }
   std::vector<std::string> t;
+  const Words w{t, line, file, lineno};
   try {
     t = text::tokenize(line);
   } catch (const std::invalid_argument& e) {
-    throw fail(e.what());
+    throw w.fail(e.what());
   }
-  if (t.empty()) throw fail("empty command");
+  if (t.empty()) throw w.fail("empty command");
   Command c;
   c.line = lineno;
   c.text = line;
-  const std::string verb = t[0];
-  auto need = [&](size_t n, const char* usage) {
-    if (t.size() < n) throw fail(fmt::format("'{}' needs more: {}", verb, usage));
-  };
-  auto at_most = [&](size_t n, const char* usage) {
-    if (t.size() > n) throw fail(fmt::format("'{}' takes fewer arguments: {} (extra: '{}')", verb, usage, t[n]));
-  };
-  auto duration = [&](const std::string& s) {
-    try {
-      return text::parse_duration(s);
-    } catch (const std::invalid_argument& e) {
-      throw fail(e.what());
+  for (const Verb& v : kVerbs)
+    if (w.verb() == v.name) {
+      v.parse(w, c);
+      return c;
     }
-  };
-  // label=TEXT everywhere; early=ok on timed runs, where a run that ends
-  // before its duration is otherwise a failure.
-  auto label_options = [&](size_t from, const char* usage, bool timed = false, bool settles = false) {
-    for (size_t i = from; i < t.size(); ++i) {
-      std::pair<std::string, std::string> kv;
-      const bool ok = split_option(t[i], kv) && (kv.first == "label" || (timed && kv.first == "early") ||
-                                                 (settles && kv.first == "settle"));
-      if (!ok) throw fail(fmt::format("'{}': unexpected '{}'; usage: {}", verb, t[i], usage));
-      if (kv.first == "settle") {
-        c.settle_s = kv.second == "0" ? 0.0 : duration(kv.second);
-      } else if (kv.first == "label") {
-        c.label = kv.second;
-      } else if (kv.second == "ok") {
-        c.allow_early = true;
-      } else if (kv.second != "fail") {
-        throw fail(fmt::format("'{}': early={}: use early=ok (a run may end before its duration) or early=fail", verb,
-                               kv.second));
-      }
-    }
-  };
-
-  if (verb == "set") {
-    need(3, "set NAME VALUES...  e.g. set Q 1e6 2e6 1e6");
-    c.kind = Command::Kind::Set;
-    c.name = t[1];
-    c.values.assign(t.begin() + 2, t.end());
-  } else if (verb == "get") {
-    need(2, "get NAME");
-    at_most(2, "get NAME");
-    c.kind = Command::Kind::Get;
-    c.name = t[1];
-  } else if (verb == "params") {
-    need(2, "params save FILE | params load FILE | params reapply | params diff | params reset");
-    const std::string& sub = t[1];
-    if (sub == "reapply" || sub == "diff" || sub == "reset") {
-      at_most(2, ("params " + sub).c_str());
-      c.kind = sub == "reapply" ? Command::Kind::ParamsReapply
-             : sub == "diff"    ? Command::Kind::ParamsDiff
-                                : Command::Kind::ParamsReset;
-    } else if (sub == "save" || sub == "load") {
-      const std::string usage = "params " + sub + " FILE";
-      need(3, usage.c_str());
-      at_most(3, usage.c_str());
-      c.kind = sub == "save" ? Command::Kind::ParamsSave : Command::Kind::ParamsLoad;
-      c.name = t[2];
-    } else {
-      throw fail(fmt::format("params {}: expected save, load, reapply, diff or reset", sub));
-    }
-  } else if (verb == "model") {
-    need(3, "model upload FILE.nlsm");
-    at_most(3, "model upload FILE.nlsm");
-    if (t[1] != "upload") throw fail(fmt::format("model {}: expected 'upload' (model upload FILE.nlsm)", t[1]));
-    c.kind = Command::Kind::ModelUpload;
-    c.name = t[2];
-  } else if (verb == "ref") {
-    need(2, "ref NAME key=value...  or  ref load FILE.csv [hold=N]");
-    if (t[1] == "load") {
-      need(3, "ref load FILE.csv [hold=N]");
-      c.kind = Command::Kind::RefLoad;
-      c.name = t[2];
-      for (size_t i = 3; i < t.size(); ++i) {
-        std::pair<std::string, std::string> kv;
-        if (!split_option(t[i], kv) || kv.first != "hold")
-          throw fail(fmt::format("ref load: unexpected '{}'; only hold=N", t[i]));
-        c.options.push_back(kv);
-      }
-    } else {
-      c.kind = Command::Kind::Ref;
-      c.name = t[1];
-      for (size_t i = 2; i < t.size(); ++i) {
-        std::pair<std::string, std::string> kv;
-        if (!split_option(t[i], kv)) throw fail(fmt::format("ref {}: '{}' is not key=value", c.name, t[i]));
-        c.options.push_back(kv);
-      }
-    }
-  } else if (verb == "run") {
-    need(2, "run DURATION [label=TEXT] [early=ok]  e.g. run 10s label=baseline");
-    c.kind = Command::Kind::Run;
-    c.seconds = duration(t[1]);
-    label_options(2, "run DURATION [label=TEXT] [early=ok]", true);
-  } else if (verb == "start") {
-    c.kind = Command::Kind::Start;
-    label_options(1, "start [label=TEXT]");
-  } else if (verb == "stop" || verb == "hold" || verb == "neutral" || verb == "resume") {
-    at_most(1, verb.c_str());
-    c.kind = verb == "stop" ? Command::Kind::Stop
-             : verb == "hold" ? Command::Kind::Hold
-             : verb == "neutral" ? Command::Kind::Neutral
-                                 : Command::Kind::Resume;
-  } else if (verb == "devices") {
-    at_most(1, "devices");
-    c.kind = Command::Kind::Devices;
-  } else if (verb == "settings") {
-    need(2, "settings save|defaults|report");
-    at_most(2, "settings save|defaults|report");
-    if (t[1] != "save" && t[1] != "defaults" && t[1] != "report")
-      throw fail(fmt::format("'settings {}': say settings save (the parameters in force survive a reset), settings "
-                             "defaults (the built-in ones back) or settings report (where they came from)",
-                             t[1]));
-    c.kind = Command::Kind::Settings;
-    c.name = t[1];
-  } else if (verb == "wait") {
-    need(2, "wait DURATION");
-    at_most(2, "wait DURATION");
-    c.kind = Command::Kind::Wait;
-    c.seconds = duration(t[1]);
-  } else if (verb == "expect") {
-    need(4, "expect METRIC OP VALUE [lost=ok]  e.g. expect nrmse < 0.05");
-    at_most(5, "expect METRIC OP VALUE [lost=ok]");
-    // A run with lost samples (frames lost on the link, or refused: values
-    // not finite, dimensions other than INFO's) was scored on part of it:
-    // an expect on it fails unless the script says that is fine.
-    if (t.size() == 5) {
-      std::pair<std::string, std::string> kv;
-      if (!split_option(t[4], kv) || kv.first != "lost" || (kv.second != "ok" && kv.second != "fail"))
-        throw fail(fmt::format("expect: unexpected '{}'; only lost=ok (or lost=fail, the default)", t[4]));
-      c.allow_lost = kv.second == "ok";
-    }
-    c.kind = Command::Kind::Expect;
-    c.name = t[1];
-    if (!known_metric(c.name))
-      throw fail(fmt::format("unknown metric '{}'; known: {}", c.name, metric_list()));
-    const std::string& op = t[2];
-    if (op == "<") c.op = CmpOp::Lt;
-    else if (op == "<=") c.op = CmpOp::Le;
-    else if (op == ">") c.op = CmpOp::Gt;
-    else if (op == ">=") c.op = CmpOp::Ge;
-    else if (op == "==" || op == "=") c.op = CmpOp::Eq;
-    else if (op == "!=") c.op = CmpOp::Ne;
-    else throw fail(fmt::format("'{}' is not a comparison; use < <= > >= == !=", op));
-    char* end = nullptr;
-    c.value = std::strtod(t[3].c_str(), &end);
-    if (end == t[3].c_str() || *end != '\0' || !std::isfinite(c.value))
-      throw fail(fmt::format("'{}' is not a number", t[3]));
-  } else if (verb == "export") {
-    need(3, "export csv FILE");
-    at_most(3, "export csv FILE");
-    if (t[1] != "csv") throw fail(fmt::format("export {}: only 'export csv FILE' is supported", t[1]));
-    c.kind = Command::Kind::ExportCsv;
-    c.name = t[2];
-  } else if (verb == "echo") {
-    c.kind = Command::Kind::Echo;
-    c.name = trim(line.substr(4));
-  } else if (verb == "sweep") {
-    // sweep PARAM V1 V2 ... run DURATION [label=TEXT]
-    size_t run_at = 0;
-    for (size_t i = 2; i < t.size(); ++i)
-      if (t[i] == "run") run_at = i;
-    if (t.size() < 5 || run_at < 3 || run_at + 1 >= t.size())
-      throw fail("usage: sweep PARAM V1 V2 ... run DURATION  e.g. sweep Q0 1e5 1e6 1e7 run 5s");
-    c.kind = Command::Kind::Sweep;
-    c.name = t[1];
-    c.values.assign(t.begin() + 2, t.begin() + long(run_at));
-    c.seconds = duration(t[run_at + 1]);
-    label_options(run_at + 2, "sweep PARAM V1 V2 ... run DURATION [settle=DURATION] [label=TEXT] [early=ok]", true,
-                  true);
-  } else if (verb == "tune") {
-    c.kind = Command::Kind::Tune;
-    c.values.assign(t.begin() + 1, t.end());
-    // Every word is checked now; the names against the firmware when it runs.
-    try {
-      parse_tune_words(c.values);
-    } catch (const std::invalid_argument& e) {
-      throw fail(e.what());
-    }
-  } else if (verb == "ident") {
-    const char* usage =
-        "ident SIGNAL DURATION [seed=N] [amplitude=F] [band=LO:HI] [joint|mixed] [decimation=N] [label=TEXT] "
-        "[early=ok] [y_from=FILE.csv [y_offset=S]]  e.g. ident prbs 10min seed=3";
-    need(3, usage);
-    c.kind = Command::Kind::Ident;
-    c.name = t[1];
-    c.values = {t[2]};
-    IdentWords w = ident_words(c);
-    for (size_t i = 3; i < t.size(); ++i) {
-      std::pair<std::string, std::string> kv;
-      if (t[i] == "joint" || t[i] == "mixed") kv = {t[i], "1"};
-      else if (!split_option(t[i], kv)) throw fail(fmt::format("ident: '{}' is not key=value; usage: {}", t[i], usage));
-      if (kv.first == "label") c.label = kv.second;
-      else if (kv.first == "early" && kv.second == "ok") c.allow_early = true;
-      else if (kv.first == "y_from") c.capture = kv.second;
-      else if (kv.first == "y_offset") {
-        // Checked now, not after the run: a typo must not cost a run's merge.
-        char* end = nullptr;
-        const double v = std::strtod(kv.second.c_str(), &end);
-        if (kv.second.empty() || *end != '\0' || !std::isfinite(v))
-          throw fail(fmt::format("ident: y_offset={} is not a number of seconds", kv.second));
-        c.options.push_back(kv);
-      }
-      else if (kv.first == "seed" || kv.first == "amplitude" || kv.first == "band" || kv.first == "joint" ||
-               kv.first == "mixed" || kv.first == "decimation")
-        c.options.push_back(kv);
-      else throw fail(fmt::format("ident: unknown option '{}'; usage: {}", t[i], usage));
-    }
-    if (c.capture.empty() && std::any_of(c.options.begin(), c.options.end(), [](const auto& o) { return o.first == "y_offset"; }))
-      throw fail("ident: y_offset= goes with y_from=FILE.csv (the capture whose clock it places)");
-    try {
-      w = ident_words(c);
-      c.seconds = check_ident_words(w);
-    } catch (const std::exception& e) {
-      throw fail(e.what());
-    }
-  } else {
-    throw fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
+  throw w.fail(fmt::format("unknown command '{}'; commands: set get params ref run start stop hold neutral resume "
                            "wait expect export echo note sweep tune ident",
-                           verb));
-  }
-  return c;
+                           w.verb()));
 }
 
 Script parse_script(const std::string& text, const std::string& file) {
