@@ -189,9 +189,7 @@ void check_watchdog(Suite& s) {
     return;
   }
   std::string why;
-  // Short enough to keep the check brief, long enough that a loaded host
-  // feeding it every fifth of it never misses.
-  const uint32_t timeout_ms = 500;
+  const uint32_t timeout_ms = kWatchdogCheckMs;
   if (!s.set(*wd, {timeout_ms}, why)) {
     s.check("watchdog", false, fmt::format("watchdog_ms = {}: {}", timeout_ms, why));
     return;

@@ -10,6 +10,10 @@
 
 namespace nlsoft::console::conformance {
 
+// The watchdog_ms both checks set: short enough to keep the checks brief,
+// long enough that a loaded host feeding it every fifth of it never misses.
+constexpr uint32_t kWatchdogCheckMs = 500;
+
 // The run state a tripped watchdog leaves: safe_state as the suite found it
 // (0 holds, anything else goes neutral); neutral when there is no such
 // parameter.
