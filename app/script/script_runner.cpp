@@ -151,30 +151,15 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         console_.params().save(c.name);
         out_(fmt::format("parameters saved to {}", c.name));
         break;
-      case K::ParamsLoad: {
-        const auto diff = console_.params().load(c.name);
-        if (diff.empty()) out_(fmt::format("{}: every parameter already has that value", c.name));
-        for (const auto& d : diff) out_("  " + d);
+      case K::ParamsLoad: say_changes(console_.params().load(c.name), c.name + ": every parameter already has that value"); break;
+      case K::ParamsReapply: say_changes(console_.resets().reapply(), "no edits in this session to send again"); break;
+      case K::ParamsDiff:
+        say_changes(console_.params().diff_from_defaults(), "every parameter has the value the firmware boots with");
         break;
-      }
-      case K::ParamsReapply: {
-        const auto sent = console_.resets().reapply();
-        if (sent.empty()) out_("no edits in this session to send again");
-        for (const auto& l : sent) out_("  " + l);
+      case K::ParamsReset:
+        say_changes(console_.params().reset_to_defaults(),
+                    "every parameter already has the value the firmware boots with");
         break;
-      }
-      case K::ParamsDiff: {
-        const auto diff = console_.params().diff_from_defaults();
-        if (diff.empty()) out_("every parameter has the value the firmware boots with");
-        for (const auto& d : diff) out_("  " + d);
-        break;
-      }
-      case K::ParamsReset: {
-        const auto changed = console_.params().reset_to_defaults();
-        if (changed.empty()) out_("every parameter already has the value the firmware boots with");
-        for (const auto& d : changed) out_("  " + d);
-        break;
-      }
       case K::Ref: {
         const RefParams r = reference_from_spec(console_.rig(), console_.device().info().loop_rate_hz, c.name, c.options);
         console_.references().select(r);
@@ -182,104 +167,17 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         out_(fmt::format("reference {} in force: {}", reference_kind_name(r.kind), reference_json(r)));
         break;
       }
-      case K::RefLoad: {
-        uint16_t hold = 1;
-        for (const auto& [k, v] : c.options) {
-          RefParams tmp{};
-          set_reference_key(tmp, console_.device().info().loop_rate_hz, k, v);
-          hold = tmp.hold;
-        }
-        console_.references().upload_table(c.name, hold, [&](size_t d, size_t t) {
-          if (progress_) progress_("upload " + c.name, d, t);
-        });
-        out_(fmt::format("reference table {} uploaded and selected (hold {})", c.name, hold));
-        break;
-      }
-      case K::ModelUpload: {
-        const auto r = console_.model_upload().send(c.name, [&](size_t d, size_t t) {
-          if (progress_) progress_("model " + c.name, d, t);
-        });
-        out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {}", c.name, r.hash,
-                         r.previous_hash, r.bytes, model_size_words(r.params, r.normalisation)));
-        break;
-      }
-      case K::Run: {
-        const RunSummary s = console_.runs().run_for(
-            c.seconds, c.label,
-            [&](size_t d, size_t t) {
-              if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
-            },
-            &cancelled_);
-        int decimation = 1;
-        try {
-          decimation = RunStore(console_.db_path()).run(s.run_id).decimation;
-        } catch (const std::exception&) {
-          // The summary then counts a sample as one step.
-        }
-        out_(summary_line(s) + timed_run_words(c.seconds, console_.device().info().loop_rate_hz, decimation, s.metrics));
-        check_completed(s, c, file);
-        break;
-      }
-      case K::Ident: {
-        const protocol::Info info = console_.device().info();
-        IdentLine line;
-        line.unlimited = console_.link_unlimited();
-        line.sensor_health = sends_sensor_health(console_.device());
-        const IdentWords w = ident_words(c);
-        const IdentPlan plan =
-            plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line, console_.known_rig());
-        out_(plan.excitation_words);
-        out_(plan.line_words);
-        const RunSummary s = console_.runs().run_ident(
-            plan.start, plan.excitation_json,
-            c.label.empty() ? fmt::format("ident {} seed {} {}", w.signal, w.seed, w.duration) : c.label,
-            [&](size_t d, size_t t) {
-              if (progress_) progress_(fmt::format("ident {}", w.signal), d, t);
-            });
-        out_(fmt::format("{}; identification run: {} of {} steps recorded (decimation {})", summary_line(s, true),
-                         s.metrics.samples, plan.start.duration, plan.start.decimation));
-        if (!c.capture.empty()) merge_capture(s.run_id, c);
-        check_completed(s, c, file);
-        break;
-      }
+      case K::RefLoad: ref_load(c); break;
+      case K::ModelUpload: model_upload(c); break;
+      case K::Run: timed_run(c, file); break;
+      case K::Ident: ident(c, file); break;
       case K::Start: out_(fmt::format("run {} started", console_.runs().start(c.label))); break;
       case K::Stop: out_(summary_line(console_.runs().stop())); break;
       case K::Hold: console_.runs().hold(protocol::HoldMode::Hold); out_("holding"); break;
       case K::Neutral: console_.runs().hold(protocol::HoldMode::Neutral); out_("actuators neutral"); break;
       case K::Resume: console_.runs().hold(protocol::HoldMode::Resume); out_("resumed"); break;
-      case K::Wait: {
-        // A signal cannot notify the condition variable: look at it every 50 ms.
-        const auto until = std::chrono::steady_clock::now() +
-                           std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(c.seconds));
-        std::unique_lock<std::mutex> lock(cancel_mu_);
-        while (!cancelled_.load() && !interrupted() && std::chrono::steady_clock::now() < until)
-          cancel_cv_.wait_until(lock, std::min(until, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
-        break;
-      }
-      case K::Expect: {
-        const auto last = console_.runs().last();
-        if (!last) throw CliError("expect needs a finished run first (run DURATION)");
-        const auto v = metric_value(last->metrics, c.name);
-        if (!v) throw CliError(fmt::format("metric '{}' is not available for run {}", c.name, last->run_id));
-        const uint64_t lost = last->metrics.lost_frames;
-        if (lost > 0 && !c.allow_lost && canonical_metric_name(c.name) != "lost_frames" &&
-            canonical_metric_name(c.name) != "gaps") {
-          ++failed_;
-          out_(fmt::format("{}:{}: expect {} {} {:g} failed: run {} lost {} sample{} (on the link, or refused as "
-                           "not finite or of another shape), so {} = {:.6g} scores part of it (add lost=ok if that "
-                           "is expected)",
-                           file, c.line, c.name, cmp_op_text(c.op), c.value, last->run_id, lost, lost == 1 ? "" : "s",
-                           c.name, *v));
-        } else if (compare(*v, c.op, c.value)) {
-          ++passed_;
-          out_(fmt::format("ok: {} = {:.6g} {} {:g}", c.name, *v, cmp_op_text(c.op), c.value));
-        } else {
-          ++failed_;
-          out_(fmt::format("{}:{}: expect {} {} {:g} failed: {} = {:.6g} (run {})", file, c.line, c.name,
-                           cmp_op_text(c.op), c.value, c.name, *v, last->run_id));
-        }
-        break;
-      }
+      case K::Wait: wait(c.seconds); break;
+      case K::Expect: expect(c, file); break;
       case K::ExportCsv: {
         const auto last = console_.runs().last();
         if (!last) throw CliError("export needs a finished run first (run DURATION)");
@@ -301,14 +199,7 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
         for (const std::string& line : device_lines(console_.rig(), console_.device().devices(), bad)) out_(line);
         break;
       }
-      case K::Note: {
-        const auto last = console_.runs().last();
-        const int64_t id = console_.runs().running() ? console_.runs().current() : last ? last->run_id : 0;
-        if (id == 0) throw CliError("note needs a run (start one, or after run DURATION)");
-        console_.recorder().set_notes(id, c.name);
-        out_(fmt::format("notes on run {}: {}", id, c.name));
-        break;
-      }
+      case K::Note: note(c.name); break;
       case K::Sweep: sweep(c, file); break;
       case K::Tune: tune(c); break;
     }
@@ -317,6 +208,113 @@ void ScriptRunner::execute(const Command& c, const std::string& file) {
   } catch (const std::exception& e) {
     throw ScriptError(file, c.line, e.what());
   }
+}
+
+// The lines a params command changed or found, or `none` when there are none.
+void ScriptRunner::say_changes(const std::vector<std::string>& lines, const std::string& none) {
+  if (lines.empty()) out_(none);
+  for (const auto& l : lines) out_("  " + l);
+}
+
+void ScriptRunner::ref_load(const Command& c) {
+  uint16_t hold = 1;
+  for (const auto& [k, v] : c.options) {
+    RefParams tmp{};
+    set_reference_key(tmp, console_.device().info().loop_rate_hz, k, v);
+    hold = tmp.hold;
+  }
+  console_.references().upload_table(c.name, hold, [&](size_t d, size_t t) {
+    if (progress_) progress_("upload " + c.name, d, t);
+  });
+  out_(fmt::format("reference table {} uploaded and selected (hold {})", c.name, hold));
+}
+
+void ScriptRunner::model_upload(const Command& c) {
+  const auto r = console_.model_upload().send(c.name, [&](size_t d, size_t t) {
+    if (progress_) progress_("model " + c.name, d, t);
+  });
+  out_(fmt::format("model {} in force: hash {:08x} confirmed (was {:08x}), {} bytes, {}", c.name, r.hash,
+                   r.previous_hash, r.bytes, model_size_words(r.params, r.normalisation)));
+}
+
+void ScriptRunner::timed_run(const Command& c, const std::string& file) {
+  const RunSummary s = console_.runs().run_for(
+      c.seconds, c.label,
+      [&](size_t d, size_t t) {
+        if (progress_) progress_(fmt::format("run {:g}s", c.seconds), d, t);
+      },
+      &cancelled_);
+  int decimation = 1;
+  try {
+    decimation = RunStore(console_.db_path()).run(s.run_id).decimation;
+  } catch (const std::exception&) {
+    // The summary then counts a sample as one step.
+  }
+  out_(summary_line(s) + timed_run_words(c.seconds, console_.device().info().loop_rate_hz, decimation, s.metrics));
+  check_completed(s, c, file);
+}
+
+void ScriptRunner::ident(const Command& c, const std::string& file) {
+  const protocol::Info info = console_.device().info();
+  IdentLine line;
+  line.unlimited = console_.link_unlimited();
+  line.sensor_health = sends_sensor_health(console_.device());
+  const IdentWords w = ident_words(c);
+  const IdentPlan plan = plan_ident(w, double(info.loop_rate_hz), info.m, info.n, info.w, line, console_.known_rig());
+  out_(plan.excitation_words);
+  out_(plan.line_words);
+  const RunSummary s = console_.runs().run_ident(
+      plan.start, plan.excitation_json,
+      c.label.empty() ? fmt::format("ident {} seed {} {}", w.signal, w.seed, w.duration) : c.label,
+      [&](size_t d, size_t t) {
+        if (progress_) progress_(fmt::format("ident {}", w.signal), d, t);
+      });
+  out_(fmt::format("{}; identification run: {} of {} steps recorded (decimation {})", summary_line(s, true),
+                   s.metrics.samples, plan.start.duration, plan.start.decimation));
+  if (!c.capture.empty()) merge_capture(s.run_id, c);
+  check_completed(s, c, file);
+}
+
+void ScriptRunner::wait(double seconds) {
+  // A signal cannot notify the condition variable: look at it every 50 ms.
+  const auto until = std::chrono::steady_clock::now() +
+                     std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(seconds));
+  std::unique_lock<std::mutex> lock(cancel_mu_);
+  while (!cancelled_.load() && !interrupted() && std::chrono::steady_clock::now() < until)
+    cancel_cv_.wait_until(lock, std::min(until, std::chrono::steady_clock::now() + std::chrono::milliseconds(50)));
+}
+
+void ScriptRunner::expect(const Command& c, const std::string& file) {
+  const auto last = console_.runs().last();
+  if (!last) throw CliError("expect needs a finished run first (run DURATION)");
+  const auto v = metric_value(last->metrics, c.name);
+  if (!v) throw CliError(fmt::format("metric '{}' is not available for run {}", c.name, last->run_id));
+  const uint64_t lost = last->metrics.lost_frames;
+  if (lost > 0 && !c.allow_lost && canonical_metric_name(c.name) != "lost_frames" &&
+      canonical_metric_name(c.name) != "gaps") {
+    ++failed_;
+    out_(fmt::format("{}:{}: expect {} {} {:g} failed: run {} lost {} sample{} (on the link, or refused as "
+                     "not finite or of another shape), so {} = {:.6g} scores part of it (add lost=ok if that "
+                     "is expected)",
+                     file, c.line, c.name, cmp_op_text(c.op), c.value, last->run_id, lost, lost == 1 ? "" : "s",
+                     c.name, *v));
+  } else if (compare(*v, c.op, c.value)) {
+    ++passed_;
+    out_(fmt::format("ok: {} = {:.6g} {} {:g}", c.name, *v, cmp_op_text(c.op), c.value));
+  } else {
+    ++failed_;
+    out_(fmt::format("{}:{}: expect {} {} {:g} failed: {} = {:.6g} (run {})", file, c.line, c.name,
+                     cmp_op_text(c.op), c.value, c.name, *v, last->run_id));
+  }
+}
+
+// Notes on the run in progress, else on the last one.
+void ScriptRunner::note(const std::string& text) {
+  const auto last = console_.runs().last();
+  const int64_t id = console_.runs().running() ? console_.runs().current() : last ? last->run_id : 0;
+  if (id == 0) throw CliError("note needs a run (start one, or after run DURATION)");
+  console_.recorder().set_notes(id, text);
+  out_(fmt::format("notes on run {}: {}", id, text));
 }
 
 // A session where every evaluation failed found nothing: the script fails,

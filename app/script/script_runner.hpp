@@ -6,6 +6,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include "app/live/live_console.hpp"
 #include "app/script/script_parser.hpp"
@@ -49,6 +50,14 @@ class ScriptRunner {
   int fruitless_tunes() const { return fruitless_tunes_; }  // tune sessions where every evaluation failed
 
  private:
+  void say_changes(const std::vector<std::string>& lines, const std::string& none);
+  void ref_load(const Command& c);
+  void model_upload(const Command& c);
+  void timed_run(const Command& c, const std::string& file);
+  void ident(const Command& c, const std::string& file);
+  void wait(double seconds);
+  void expect(const Command& c, const std::string& file);
+  void note(const std::string& text);
   void sweep(const Command& c, const std::string& file);
   void tune(const Command& c);
   void check_completed(const RunSummary& s, const Command& c, const std::string& file);
