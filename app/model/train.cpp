@@ -112,12 +112,80 @@ struct OneStepResult {
   int epochs = 0;
 };
 
+// Adam's moment estimates, one step of the weights at a time.
+struct Adam {
+  static constexpr double b1 = 0.9, b2 = 0.999, eps = 1e-8;
+  std::vector<double> m1, m2;
+  double b1t = 1.0, b2t = 1.0;
+  explicit Adam(size_t weights) : m1(weights, 0.0), m2(weights, 0.0) {}
+  void step(std::vector<double>& th, const std::vector<double>& grad, double lr) {
+    b1t *= b1;
+    b2t *= b2;
+    const double step = lr * std::sqrt(1.0 - b2t) / (1.0 - b1t);
+    for (size_t k = 0; k < th.size(); ++k) {
+      m1[k] = b1 * m1[k] + (1.0 - b1) * grad[k];
+      m2[k] = b2 * m2[k] + (1.0 - b2) * grad[k] * grad[k];
+      th[k] -= step * m1[k] / (std::sqrt(m2[k]) + eps);
+    }
+  }
+};
+
+// The training rows order[start, start + size) as a mini-batch, their
+// y-history inputs perturbed by opt.y_noise.
+void fill_batch(const OneStepData& d, const TrainOptions& opt, const std::vector<long>& order, long start, long size,
+                Random& rng, Eigen::MatrixXd& Xb, Eigen::MatrixXd& Tb) {
+  const InputLayout& L = d.L;
+  Xb.resize(size, L.p());
+  Tb.resize(size, L.n);
+  for (long b = 0; b < size; ++b) {
+    const long r = order[size_t(start + b)];
+    Xb.row(b) = d.Xn.row(r);
+    Tb.row(b) = d.T.row(r);
+  }
+  if (!(opt.y_noise > 0.0)) return;
+  // Independent errors per lag: a shared drift alone would leave
+  // y(k) - y(k-1) clean, and the network would learn to integrate
+  // that difference, which runs away once it is fed its own output.
+  for (long b = 0; b < size; ++b) {
+    for (int lag = 0; lag < L.dd; ++lag) {
+      for (int j = 0; j < L.n; ++j) {
+        const int col = L.y_begin() + lag * L.n + j;
+        const double dn = opt.y_noise * rng.gaussian();
+        Xb(b, col) += dn;
+        if (opt.residual && lag == 0) Tb(b, j) -= dn / d.nz.in_scale(col) / d.nz.out_scale(j);
+      }
+    }
+  }
+}
+
+// One pass of Adam over the training rows, shuffled; the mean batch loss.
+double adam_epoch(Network& net, const OneStepData& d, const TrainOptions& opt, std::vector<long>& order, Random& rng,
+                  Adam& adam, double lr) {
+  const long ntrain = d.P.train_end;
+  for (long i = ntrain - 1; i > 0; --i)  // Fisher-Yates, portable
+    std::swap(order[size_t(i)], order[size_t(rng.integer(0, i))]);
+  Network::Cache cache;
+  Eigen::MatrixXd Xb, Tb;
+  std::vector<double> grad;
+  double sum = 0.0;
+  long batches = 0;
+  for (long start = 0; start < ntrain; start += opt.batch) {
+    fill_batch(d, opt, order, start, std::min<long>(opt.batch, ntrain - start), rng, Xb, Tb);
+    const Eigen::MatrixXd& out = net.forward(Xb, cache);
+    const LossValue lv = loss_of(opt.loss, opt.huber_delta, out, Tb);
+    net.backward(cache, lv.grad, grad);
+    adam.step(net.theta(), grad, lr);
+    sum += lv.value;
+    ++batches;
+  }
+  return sum / static_cast<double>(std::max(1L, batches));
+}
+
 // The paper's training, and the simulation objective's warm start: least
 // squares for a single linear layer, else Adam on shuffled mini-batches of
 // rows with early stopping on the validation rows' one-step loss.
 OneStepResult warm_start(Network& net, const OneStepData& d, const TrainOptions& opt, Random& rng,
                          const std::function<void(const Progress&)>& progress) {
-  const InputLayout& L = d.L;
   const Partition& P = d.P;
   const long ntrain = P.train_end;
   const Eigen::MatrixXd Xval = d.Xn.middleRows(P.val_begin, P.val_end - P.val_begin);
@@ -135,60 +203,17 @@ OneStepResult warm_start(Network& net, const OneStepData& d, const TrainOptions&
     return res;
   }
   std::vector<double>& th = net.theta();
-  std::vector<double> m1(th.size(), 0.0), m2(th.size(), 0.0), grad, best = th;
+  std::vector<double> best = th;
   std::vector<long> order(static_cast<size_t>(ntrain));
   std::iota(order.begin(), order.end(), 0L);
-  const double b1 = 0.9, b2 = 0.999, eps = 1e-8;
-  double lr = opt.lr, b1t = 1.0, b2t = 1.0;
+  Adam adam(th.size());
+  double lr = opt.lr;
   double best_val = val_loss();
   int since_best = 0, since_cut = 0;
   const int cut_after = std::max(3, opt.patience / 3);
-  Network::Cache cache;
-  Eigen::MatrixXd Xb, Tb;
   for (int epoch = 1; epoch <= opt.epochs; ++epoch) {
     if (opt.stop && opt.stop->load(std::memory_order_relaxed)) break;
-    for (long i = ntrain - 1; i > 0; --i)  // Fisher-Yates, portable
-      std::swap(order[size_t(i)], order[size_t(rng.integer(0, i))]);
-    double sum = 0.0;
-    long batches = 0;
-    for (long start = 0; start < ntrain; start += opt.batch) {
-      const long bsz = std::min<long>(opt.batch, ntrain - start);
-      Xb.resize(bsz, L.p());
-      Tb.resize(bsz, L.n);
-      for (long b = 0; b < bsz; ++b) {
-        const long r = order[size_t(start + b)];
-        Xb.row(b) = d.Xn.row(r);
-        Tb.row(b) = d.T.row(r);
-      }
-      if (opt.y_noise > 0.0) {
-        // Independent errors per lag: a shared drift alone would leave
-        // y(k) - y(k-1) clean, and the network would learn to integrate
-        // that difference, which runs away once it is fed its own output.
-        for (long b = 0; b < bsz; ++b) {
-          for (int lag = 0; lag < L.dd; ++lag) {
-            for (int j = 0; j < L.n; ++j) {
-              const int col = L.y_begin() + lag * L.n + j;
-              const double dn = opt.y_noise * rng.gaussian();
-              Xb(b, col) += dn;
-              if (opt.residual && lag == 0) Tb(b, j) -= dn / d.nz.in_scale(col) / d.nz.out_scale(j);
-            }
-          }
-        }
-      }
-      const Eigen::MatrixXd& out = net.forward(Xb, cache);
-      const LossValue lv = loss_of(opt.loss, opt.huber_delta, out, Tb);
-      net.backward(cache, lv.grad, grad);
-      b1t *= b1;
-      b2t *= b2;
-      const double step = lr * std::sqrt(1.0 - b2t) / (1.0 - b1t);
-      for (size_t k = 0; k < th.size(); ++k) {
-        m1[k] = b1 * m1[k] + (1.0 - b1) * grad[k];
-        m2[k] = b2 * m2[k] + (1.0 - b2) * grad[k] * grad[k];
-        th[k] -= step * m1[k] / (std::sqrt(m2[k]) + eps);
-      }
-      sum += lv.value;
-      ++batches;
-    }
+    const double train_loss = adam_epoch(net, d, opt, order, rng, adam, lr);
     const double v = val_loss();
     if (!std::isfinite(v)) throw PipelineError("training diverged (validation loss not finite); try a smaller --lr");
     ++since_cut;
@@ -208,7 +233,7 @@ OneStepResult warm_start(Network& net, const OneStepData& d, const TrainOptions&
     Progress p;
     p.epoch = epoch;
     p.epochs = opt.epochs;
-    p.train_loss = sum / static_cast<double>(std::max(1L, batches));
+    p.train_loss = train_loss;
     p.val_loss = v;
     p.best_val = best_val;
     p.lr = lr;
