@@ -91,141 +91,133 @@ bool table_in_force(Suite& s) {
   return acked(s.pr.request(r), p::MsgType::RefSelect);
 }
 
-}  // namespace
 
-void check_transfers(Suite& s) {
-  s.group("transfers");
-  if (!(s.info.info.capabilities & p::capability::kXferModel))
-    s.left_out("xfer_model_left_out", "model uploads",
-               begin(s, 64, 0, p::xfer_options::kRestart, uint8_t(p::XferKind::Model)), 0);
-  if (!(s.info.info.capabilities & p::capability::kXferRefTable)) {
-    s.left_out("xfer_table_left_out", "reference-table uploads", begin(s, 64, 0), 0);
-    return;
+// A lost chunk heals: the chunk after the gap is ignored.
+void check_heal(Suite& s, const std::vector<uint8_t>& obj, uint32_t crc) {
+  std::string err;
+  Frame b = begin(s, uint32_t(obj.size()), crc);
+  uint32_t next = next_of(b);
+  if (next != 0) {
+    s.check("xfer_heal", false, "XFER_BEGIN: " + describe(b));
+  } else {
+    next = next_of(chunk(s, obj, 0));
+    const uint32_t after_gap = next_of(chunk(s, obj, 2 * kChunk));
+    next = send(s, obj, after_gap, uint32_t(obj.size()), err);
+    const Frame c = commit(s);
+    s.check("xfer_heal", err.empty() && after_gap == kChunk && acked(c, p::MsgType::XferCommit),
+            err.empty() ? fmt::format("{}-byte table: chunk at {} skipped, chunk at {} answered next_offset {}; resent "
+                                      "from there, COMMIT: {}",
+                                      obj.size(), kChunk, 2 * kChunk, after_gap, describe(c))
+                        : err);
   }
-  const uint8_t n = s.info.info.n;
-  const std::vector<uint8_t> obj = table(n, 16);
-  const uint32_t crc = p::crc32(obj.data(), obj.size());
+}
 
-  // A lost chunk heals: the chunk after the gap is ignored.
-  {
-    std::string err;
-    Frame b = begin(s, uint32_t(obj.size()), crc);
-    uint32_t next = next_of(b);
-    if (next != 0) {
-      s.check("xfer_heal", false, "XFER_BEGIN: " + describe(b));
-    } else {
-      next = next_of(chunk(s, obj, 0));
-      const uint32_t after_gap = next_of(chunk(s, obj, 2 * kChunk));
-      next = send(s, obj, after_gap, uint32_t(obj.size()), err);
-      const Frame c = commit(s);
-      s.check("xfer_heal", err.empty() && after_gap == kChunk && acked(c, p::MsgType::XferCommit),
-              err.empty() ? fmt::format("{}-byte table: chunk at {} skipped, chunk at {} answered next_offset {}; resent "
-                                        "from there, COMMIT: {}",
-                                        obj.size(), kChunk, 2 * kChunk, after_gap, describe(c))
-                          : err);
-    }
-  }
-  // A chunk sent twice (its XFER_ACK lost) is stored once.
-  {
-    begin(s, uint32_t(obj.size()), crc);
-    const uint32_t a = next_of(chunk(s, obj, 0));
-    const uint32_t b = next_of(chunk(s, obj, 0));
-    s.check("xfer_duplicate_chunk", a == kChunk && b == kChunk,
-            fmt::format("chunk at 0 twice: next_offset {} then {}", a, b));
+// A chunk sent twice (its XFER_ACK lost) is stored once.
+void check_duplicate_chunk(Suite& s, const std::vector<uint8_t>& obj, uint32_t crc) {
+  begin(s, uint32_t(obj.size()), crc);
+  const uint32_t a = next_of(chunk(s, obj, 0));
+  const uint32_t b = next_of(chunk(s, obj, 0));
+  s.check("xfer_duplicate_chunk", a == kChunk && b == kChunk,
+          fmt::format("chunk at 0 twice: next_offset {} then {}", a, b));
+  abort_xfer(s);
+}
+
+// Interrupted after BEGIN, mid-way and before COMMIT: resumable by a
+// BEGIN of the same object; the table in force stays until COMMIT.
+void check_resume(Suite& s, uint8_t n) {
+  const std::vector<uint8_t> other = table(n, 16, 0.02f);
+  const uint32_t ocrc = p::crc32(other.data(), other.size());
+  const uint32_t r0 = next_of(begin(s, uint32_t(other.size()), ocrc));
+  const uint32_t r1 = next_of(begin(s, uint32_t(other.size()), ocrc, 0));  // resumed at once
+  std::string err;
+  const uint32_t mid = send(s, other, 0, 2 * kChunk, err);
+  const uint32_t r2 = next_of(begin(s, uint32_t(other.size()), ocrc, 0));  // resumed mid-way
+  const bool kept = table_in_force(s);
+  const Frame early = commit(s);
+  const uint32_t last = send(s, other, r2, uint32_t(other.size()) - 1, err);
+  const Frame early2 = commit(s);
+  const uint32_t r3 = next_of(begin(s, uint32_t(other.size()), ocrc, 0));  // resumed before the last byte
+  send(s, other, r3, uint32_t(other.size()), err);
+  const Frame done = commit(s);
+  const bool ok = err.empty() && r0 == 0 && r1 == 0 && mid == 2 * kChunk && r2 == mid && kept &&
+                  nacked(early, p::StatusCode::XferIncomplete, p::kNoField, p::kNoField) &&
+                  nacked(early2, p::StatusCode::XferIncomplete, p::kNoField, p::kNoField) &&
+                  r3 == last && acked(done, p::MsgType::XferCommit);
+  s.check("xfer_resume", ok,
+          fmt::format("BEGIN {} then again {}; {} bytes sent, BEGIN again resumes at {}; previous table {}; COMMIT "
+                      "early: {}; at {} of {} bytes: {}, BEGIN resumes at {}; COMMIT: {}{}",
+                      r0, r1, mid, r2, kept ? "still in force" : "GONE", describe(early), last, other.size(),
+                      describe(early2), r3, describe(done), err.empty() ? "" : "; " + err));
+}
+
+// RESTART starts over; ABORT discards; a CHUNK or COMMIT with nothing
+// open is xfer_not_open.
+void check_restart_abort(Suite& s, const std::vector<uint8_t>& obj, uint32_t crc) {
+  begin(s, uint32_t(obj.size()), crc);
+  std::string err;
+  send(s, obj, 0, kChunk, err);
+  const uint32_t restarted = next_of(begin(s, uint32_t(obj.size()), crc, p::xfer_options::kRestart));
+  const Frame ab = abort_xfer(s);
+  const Frame ab2 = abort_xfer(s);
+  const Frame ch = chunk(s, obj, 0);
+  const Frame co = commit(s);
+  s.check("xfer_restart_abort", restarted == 0 && acked(ab, p::MsgType::XferAbort) && acked(ab2, p::MsgType::XferAbort) &&
+                                    nacked(ch, p::StatusCode::XferNotOpen, 0, p::kNoField) &&
+                                    (nacked(co, p::StatusCode::XferNotOpen, 0, p::kNoField) ||
+                                     nacked(co, p::StatusCode::XferNotOpen, p::kNoField, p::kNoField)),
+          fmt::format("RESTART after {} bytes: next_offset {}; ABORT twice: {}, {}; then CHUNK: {}; COMMIT: {}", kChunk,
+                      restarted, describe(ab), describe(ab2), describe(ch), describe(co)));
+}
+
+// BEGIN refusals.
+void check_begin_refusals(Suite& s) {
+  const Frame zero = begin(s, 0, 0);
+  s.check("xfer_begin_empty", nacked(zero, p::StatusCode::OutOfRange, 2, p::kNoField), "total_size 0: " + describe(zero));
+  const uint32_t limit = s.info.table_max;
+  if (limit) {
+    const Frame big = begin(s, limit + 1, 0);
+    const Frame fits = begin(s, limit, 0);
+    s.check("xfer_begin_too_large",
+            nacked(big, p::StatusCode::TooLarge, 2, p::kNoField) && next_of(fits) == 0,
+            fmt::format("total_size {} (INFO_EX table_max {}): {}; {} bytes: {}", limit + 1, limit, describe(big), limit,
+                        describe(fits)));
     abort_xfer(s);
+  } else {
+    const Frame big = begin(s, 0x7FFFFFFFu, 0);
+    s.check("xfer_begin_too_large", nacked(big, p::StatusCode::TooLarge, 2, p::kNoField),
+            "total_size 2^31 - 1: " + describe(big));
   }
-  // Interrupted after BEGIN, mid-way and before COMMIT: resumable by a
-  // BEGIN of the same object; the table in force stays until COMMIT.
-  {
-    const std::vector<uint8_t> other = table(n, 16, 0.02f);
-    const uint32_t ocrc = p::crc32(other.data(), other.size());
-    const uint32_t r0 = next_of(begin(s, uint32_t(other.size()), ocrc));
-    const uint32_t r1 = next_of(begin(s, uint32_t(other.size()), ocrc, 0));  // resumed at once
-    std::string err;
-    const uint32_t mid = send(s, other, 0, 2 * kChunk, err);
-    const uint32_t r2 = next_of(begin(s, uint32_t(other.size()), ocrc, 0));  // resumed mid-way
-    const bool kept = table_in_force(s);
-    const Frame early = commit(s);
-    const uint32_t last = send(s, other, r2, uint32_t(other.size()) - 1, err);
-    const Frame early2 = commit(s);
-    const uint32_t r3 = next_of(begin(s, uint32_t(other.size()), ocrc, 0));  // resumed before the last byte
-    send(s, other, r3, uint32_t(other.size()), err);
-    const Frame done = commit(s);
-    const bool ok = err.empty() && r0 == 0 && r1 == 0 && mid == 2 * kChunk && r2 == mid && kept &&
-                    nacked(early, p::StatusCode::XferIncomplete, p::kNoField, p::kNoField) &&
-                    nacked(early2, p::StatusCode::XferIncomplete, p::kNoField, p::kNoField) &&
-                    r3 == last && acked(done, p::MsgType::XferCommit);
-    s.check("xfer_resume", ok,
-            fmt::format("BEGIN {} then again {}; {} bytes sent, BEGIN again resumes at {}; previous table {}; COMMIT "
-                        "early: {}; at {} of {} bytes: {}, BEGIN resumes at {}; COMMIT: {}{}",
-                        r0, r1, mid, r2, kept ? "still in force" : "GONE", describe(early), last, other.size(),
-                        describe(early2), r3, describe(done), err.empty() ? "" : "; " + err));
-  }
-  // RESTART starts over; ABORT discards; a CHUNK or COMMIT with nothing
-  // open is xfer_not_open.
-  {
-    begin(s, uint32_t(obj.size()), crc);
-    std::string err;
-    send(s, obj, 0, kChunk, err);
-    const uint32_t restarted = next_of(begin(s, uint32_t(obj.size()), crc, p::xfer_options::kRestart));
-    const Frame ab = abort_xfer(s);
-    const Frame ab2 = abort_xfer(s);
-    const Frame ch = chunk(s, obj, 0);
-    const Frame co = commit(s);
-    s.check("xfer_restart_abort", restarted == 0 && acked(ab, p::MsgType::XferAbort) && acked(ab2, p::MsgType::XferAbort) &&
-                                      nacked(ch, p::StatusCode::XferNotOpen, 0, p::kNoField) &&
-                                      (nacked(co, p::StatusCode::XferNotOpen, 0, p::kNoField) ||
-                                       nacked(co, p::StatusCode::XferNotOpen, p::kNoField, p::kNoField)),
-            fmt::format("RESTART after {} bytes: next_offset {}; ABORT twice: {}, {}; then CHUNK: {}; COMMIT: {}", kChunk,
-                        restarted, describe(ab), describe(ab2), describe(ch), describe(co)));
-  }
-  // BEGIN refusals.
-  {
-    const Frame zero = begin(s, 0, 0);
-    s.check("xfer_begin_empty", nacked(zero, p::StatusCode::OutOfRange, 2, p::kNoField), "total_size 0: " + describe(zero));
-    const uint32_t limit = s.info.table_max;
-    if (limit) {
-      const Frame big = begin(s, limit + 1, 0);
-      const Frame fits = begin(s, limit, 0);
-      s.check("xfer_begin_too_large",
-              nacked(big, p::StatusCode::TooLarge, 2, p::kNoField) && next_of(fits) == 0,
-              fmt::format("total_size {} (INFO_EX table_max {}): {}; {} bytes: {}", limit + 1, limit, describe(big), limit,
-                          describe(fits)));
-      abort_xfer(s);
-    } else {
-      const Frame big = begin(s, 0x7FFFFFFFu, 0);
-      s.check("xfer_begin_too_large", nacked(big, p::StatusCode::TooLarge, 2, p::kNoField),
-              "total_size 2^31 - 1: " + describe(big));
-    }
-    const Frame kind = begin(s, 16, 0, p::xfer_options::kRestart, 9);
-    s.check("xfer_begin_unknown_kind", nacked(kind, p::StatusCode::UnknownId, 0, p::kNoField) ||
-                                           nacked(kind, p::StatusCode::Unsupported, 0, p::kNoField),
-            "kind 9: " + describe(kind));
-  }
-  // CHUNK past the end.
-  {
-    begin(s, uint32_t(obj.size()), crc);
-    const Frame past = chunk(s, obj, uint32_t(obj.size()) - 4, 8);
-    s.check("xfer_chunk_past_end", nacked(past, p::StatusCode::OutOfRange, 1, p::kNoField),
-            fmt::format("8 bytes at {} of a {}-byte object: {}", obj.size() - 4, obj.size(), describe(past)));
-    abort_xfer(s);
-  }
-  // Objects that arrive whole but are wrong: discarded, the table in force stays.
+  const Frame kind = begin(s, 16, 0, p::xfer_options::kRestart, 9);
+  s.check("xfer_begin_unknown_kind", nacked(kind, p::StatusCode::UnknownId, 0, p::kNoField) ||
+                                         nacked(kind, p::StatusCode::Unsupported, 0, p::kNoField),
+          "kind 9: " + describe(kind));
+}
+
+// CHUNK past the end.
+void check_chunk_past_end(Suite& s, const std::vector<uint8_t>& obj, uint32_t crc) {
+  begin(s, uint32_t(obj.size()), crc);
+  const Frame past = chunk(s, obj, uint32_t(obj.size()) - 4, 8);
+  s.check("xfer_chunk_past_end", nacked(past, p::StatusCode::OutOfRange, 1, p::kNoField),
+          fmt::format("8 bytes at {} of a {}-byte object: {}", obj.size() - 4, obj.size(), describe(past)));
+  abort_xfer(s);
+}
+
+// Objects that arrive whole but are wrong: discarded, the table in force stays.
+void check_bad_objects(Suite& s, const std::vector<uint8_t>& obj, uint32_t crc, uint8_t n) {
   struct Bad {
     const char* name;
     std::vector<uint8_t> obj;
     uint32_t crc;
     p::StatusCode status;
   };
-  std::vector<Bad> bads;
-  bads.push_back({"xfer_bad_checksum", obj, crc ^ 1u, p::StatusCode::BadChecksum});
-  {
-    std::vector<uint8_t> fmt2 = obj;
-    fmt2[0] = 2;
-    bads.push_back({"xfer_bad_format", fmt2, p::crc32(fmt2.data(), fmt2.size()), p::StatusCode::BadFormat});
-    const std::vector<uint8_t> wrong_n = table(uint8_t(n == 3 ? 2 : n + 1), 4);
-    bads.push_back({"xfer_inconsistent", wrong_n, p::crc32(wrong_n.data(), wrong_n.size()), p::StatusCode::Inconsistent});
-  }
+  std::vector<uint8_t> fmt2 = obj;
+  fmt2[0] = 2;
+  const std::vector<uint8_t> wrong_n = table(uint8_t(n == 3 ? 2 : n + 1), 4);
+  const Bad bads[] = {
+      {"xfer_bad_checksum", obj, crc ^ 1u, p::StatusCode::BadChecksum},
+      {"xfer_bad_format", fmt2, p::crc32(fmt2.data(), fmt2.size()), p::StatusCode::BadFormat},
+      {"xfer_inconsistent", wrong_n, p::crc32(wrong_n.data(), wrong_n.size()), p::StatusCode::Inconsistent},
+  };
   for (const Bad& b : bads) {
     const Frame bf = begin(s, uint32_t(b.obj.size()), b.crc);
     std::string err;
@@ -243,17 +235,43 @@ void check_transfers(Suite& s) {
                         status_words(uint8_t(b.status)), describe(again), kept ? "still in force" : "GONE",
                         err.empty() ? "" : "; " + err));
   }
-  // A refused model BEGIN changes nothing: the model in force stays, even on
-  // an MCU whose accepted model BEGIN would put its built-in model back.
-  if ((s.info.info.capabilities & p::capability::kXferModel) && s.info.model_max) {
-    const auto was = s.info_now();
-    const Frame big = begin(s, s.info.model_max + 1, 0, p::xfer_options::kRestart, uint8_t(p::XferKind::Model));
-    const auto now = s.info_now();
-    const bool same = was && now && was->info.model_hash == now->info.model_hash;
-    s.check("xfer_model_begin_too_large", nacked(big, p::StatusCode::TooLarge, 2, p::kNoField) && same,
-            fmt::format("model of {} bytes (INFO_EX model_max {}): {}; model_hash {}", s.info.model_max + 1,
-                        s.info.model_max, describe(big), same ? "unchanged" : "CHANGED"));
+}
+
+// A refused model BEGIN changes nothing: the model in force stays, even on
+// an MCU whose accepted model BEGIN would put its built-in model back.
+void check_model_begin_too_large(Suite& s) {
+  if (!((s.info.info.capabilities & p::capability::kXferModel) && s.info.model_max)) return;
+  const auto was = s.info_now();
+  const Frame big = begin(s, s.info.model_max + 1, 0, p::xfer_options::kRestart, uint8_t(p::XferKind::Model));
+  const auto now = s.info_now();
+  const bool same = was && now && was->info.model_hash == now->info.model_hash;
+  s.check("xfer_model_begin_too_large", nacked(big, p::StatusCode::TooLarge, 2, p::kNoField) && same,
+          fmt::format("model of {} bytes (INFO_EX model_max {}): {}; model_hash {}", s.info.model_max + 1,
+                      s.info.model_max, describe(big), same ? "unchanged" : "CHANGED"));
+}
+
+}  // namespace
+
+void check_transfers(Suite& s) {
+  s.group("transfers");
+  if (!(s.info.info.capabilities & p::capability::kXferModel))
+    s.left_out("xfer_model_left_out", "model uploads",
+               begin(s, 64, 0, p::xfer_options::kRestart, uint8_t(p::XferKind::Model)), 0);
+  if (!(s.info.info.capabilities & p::capability::kXferRefTable)) {
+    s.left_out("xfer_table_left_out", "reference-table uploads", begin(s, 64, 0), 0);
+    return;
   }
+  const uint8_t n = s.info.info.n;
+  const std::vector<uint8_t> obj = table(n, 16);
+  const uint32_t crc = p::crc32(obj.data(), obj.size());
+  check_heal(s, obj, crc);
+  check_duplicate_chunk(s, obj, crc);
+  check_resume(s, n);
+  check_restart_abort(s, obj, crc);
+  check_begin_refusals(s);
+  check_chunk_past_end(s, obj, crc);
+  check_bad_objects(s, obj, crc, n);
+  check_model_begin_too_large(s);
   // Leave the reference as the references group did.
   p::RefSelect hold;
   hold.ref_id = uint8_t(p::RefId::Hold);
