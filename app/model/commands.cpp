@@ -210,22 +210,23 @@ std::string fmt_g(double v) {
   return buf;
 }
 
-void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoader& load_run) {
-  need(a.rig, "--rig");
-  if (a.data.empty() && a.runs.empty())
-    throw PipelineError("give the data to train on: --run ID (a recorded run) or --data FILE.csv (see --help)");
-  need(a.out, "--out");
-  const PlantTarget target = resolve(a.rig);
-  Objective objective = Objective::Simulation;
-  if (!a.objective.empty()) {
-    if (a.objective != "simulation" && a.objective != "one-step")
-      throw PipelineError("--objective must be simulation or one-step, got '" + a.objective + "'");
-    objective = a.objective == "one-step" ? Objective::OneStep : Objective::Simulation;
-  }
-  TrainOptions o = default_options(target, objective);
-  // The rig's lags unless overridden, within what every controller holds;
-  // "auto" (or a rig file that leaves them out) searches them on the data.
-  // On a rig that searches, one length given sets both (the controller keeps one).
+Objective objective_of(const TrainArgs& a) {
+  if (a.objective.empty()) return Objective::Simulation;
+  if (a.objective != "simulation" && a.objective != "one-step")
+    throw PipelineError("--objective must be simulation or one-step, got '" + a.objective + "'");
+  return a.objective == "one-step" ? Objective::OneStep : Objective::Simulation;
+}
+
+// The longest history every controller holds for the rig's m, n and w.
+int max_lags_of(const PlantTarget& target) {
+  return std::max(1, std::min(HostCapacity::nd, (HostCapacity::inputs - target.w) / (target.m + target.n)));
+}
+
+// The rig's lags unless overridden, within what every controller holds;
+// "auto" (or a rig file that leaves them out) searches them on the data.
+// On a rig that searches, one length given sets both (the controller keeps
+// one). True when they are searched: nd = dd = 1 until then.
+bool apply_lags(const TrainArgs& a, const PlantTarget& target, TrainOptions& o) {
   const bool rig_auto = target.lags_auto && a.nd.empty() && a.dd.empty();
   const bool nd_auto = a.nd == "auto" || rig_auto, dd_auto = a.dd == "auto" || rig_auto;
   if ((nd_auto && !a.dd.empty() && !dd_auto) || (dd_auto && !a.nd.empty() && !nd_auto))
@@ -234,45 +235,51 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   if (!dd_auto && !a.dd.empty()) o.dd = static_cast<int>(to_long("--dd", a.dd, 1, HostCapacity::nd));
   if (target.lags_auto && a.dd.empty() && !a.nd.empty() && !nd_auto) o.dd = o.nd;
   if (target.lags_auto && a.nd.empty() && !a.dd.empty() && !dd_auto) o.nd = o.dd;
-  const int max_lags = std::max(1, std::min(HostCapacity::nd, (HostCapacity::inputs - target.w) / (target.m + target.n)));
   const bool search = nd_auto || dd_auto;
-  if (search) o.nd = o.dd = 1;  // chosen below, once the runs are read
+  if (search) o.nd = o.dd = 1;  // chosen once the runs are read
   if (const int p = o.nd * target.m + o.dd * target.n + target.w; p > HostCapacity::inputs)
     throw PipelineError(fmt::format("--nd {} --dd {}: the network's input p = nd m + dd n + w = {} exceeds {} for rig "
                                     "'{}' (m = {}, n = {}, w = {})",
                                     o.nd, o.dd, p, HostCapacity::inputs, target.name, target.m, target.n, target.w));
-  if (!a.arch.empty() || !a.hidden.empty()) {
-    const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
-    if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
-    Activation hidden_act = Activation::Relu;
-    if (!a.activation.empty() && !activation_from_name(a.activation, &hidden_act))
-      throw PipelineError("--activation must be relu, tanh, sigmoid, hard_sigmoid or linear, got '" + a.activation +
-                          "'");
-    // Sizes separated by '/' are candidates, each trained and judged.
-    std::vector<std::vector<LayerSpec>> sizes;
-    std::stringstream alternatives(a.hidden.empty() ? "5,5" : a.hidden);
-    std::string one;
-    while (std::getline(alternatives, one, '/')) {
-      std::vector<int> units = to_units(one);
-      if (arch == "gru" && units.empty())
-        throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
-      std::vector<LayerSpec> layers;
-      for (size_t i = 0; i < units.size(); ++i) {
-        if (arch == "gru" && i == 0)
-          layers.push_back({LayerKind::Gru, units[i], Activation::Tanh, Activation::Sigmoid, true});
-        else
-          layers.push_back({LayerKind::Dense, units[i], hidden_act});
-      }
-      layers.push_back({LayerKind::Dense, target.n, units.empty() ? Activation::Linear : Activation::Tanh});
-      sizes.push_back(layers);
+  return search;
+}
+
+// --arch, --hidden and --activation: the network's layers, sizes separated
+// by '/' each a candidate, trained and judged.
+void apply_architecture(const TrainArgs& a, const PlantTarget& target, TrainOptions& o) {
+  const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
+  if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
+  Activation hidden_act = Activation::Relu;
+  if (!a.activation.empty() && !activation_from_name(a.activation, &hidden_act))
+    throw PipelineError("--activation must be relu, tanh, sigmoid, hard_sigmoid or linear, got '" + a.activation +
+                        "'");
+  std::vector<std::vector<LayerSpec>> sizes;
+  std::stringstream alternatives(a.hidden.empty() ? "5,5" : a.hidden);
+  std::string one;
+  while (std::getline(alternatives, one, '/')) {
+    std::vector<int> units = to_units(one);
+    if (arch == "gru" && units.empty())
+      throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
+    std::vector<LayerSpec> layers;
+    for (size_t i = 0; i < units.size(); ++i) {
+      if (arch == "gru" && i == 0)
+        layers.push_back({LayerKind::Gru, units[i], Activation::Tanh, Activation::Sigmoid, true});
+      else
+        layers.push_back({LayerKind::Dense, units[i], hidden_act});
     }
-    if (sizes.empty()) throw PipelineError("--hidden needs a list like 5,5 (or 'none')");
-    o.layers = sizes.front();
-    o.alternatives.assign(sizes.begin() + 1, sizes.end());
-    // One shape asked for is the shape wanted (an image built for it): a
-    // linear model that wins is carried in it. Several ('/') are candidates.
-    o.keep_shape = sizes.size() == 1;
+    layers.push_back({LayerKind::Dense, target.n, units.empty() ? Activation::Linear : Activation::Tanh});
+    sizes.push_back(layers);
   }
+  if (sizes.empty()) throw PipelineError("--hidden needs a list like 5,5 (or 'none')");
+  o.layers = sizes.front();
+  o.alternatives.assign(sizes.begin() + 1, sizes.end());
+  // One shape asked for is the shape wanted (an image built for it): a
+  // linear model that wins is carried in it. Several ('/') are candidates.
+  o.keep_shape = sizes.size() == 1;
+}
+
+// The start, the budgets, the optimiser's numbers and the loss.
+void apply_training_options(const TrainArgs& a, TrainOptions& o) {
   if (!a.start.empty()) {
     if (a.start != "linear" && a.start != "random")
       throw PipelineError("--start must be linear or random, got '" + a.start + "'");
@@ -295,30 +302,35 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   if (a.residual && a.absolute) throw PipelineError("--residual and --absolute exclude each other");
   if (a.residual) o.residual = true;
   if (a.absolute) o.residual = false;
+}
 
-  int validate = -1;
-  const std::vector<Series> runs = training_runs(a, target, load_run, &validate);
-  for (const Series& s : runs) check_dimensions(s, target);
-  std::string lag_words;
-  if (search) {
-    LagChoice lags = search_lags(runs, max_lags, o.folds, validate);
-    {
-      TrainProgress probe_bar(stderr);
-      TrainOptions po = o;
-      po.progress = [&probe_bar](const Progress& p) { probe_bar(p); };
-      const InterruptGuard interrupt;
-      po.stop = &interrupt.flag();
-      lags = probe_network_lags(lags, runs, target, po, validate, max_lags, [&](int L, const std::string& what) {
-        probe_bar.finish();
-        std::fprintf(stderr, "history: trying nd = dd = %d with %s\n", L, what.c_str());
-      });
+// The history searched on the runs (linear models, then networks probed);
+// o's lags set to it, and the words that say how it was chosen.
+std::string choose_lags(const std::vector<Series>& runs, const PlantTarget& target, TrainOptions& o, int validate) {
+  const int max_lags = max_lags_of(target);
+  LagChoice lags = search_lags(runs, max_lags, o.folds, validate);
+  {
+    TrainProgress probe_bar(stderr);
+    TrainOptions po = o;
+    po.progress = [&probe_bar](const Progress& p) { probe_bar(p); };
+    const InterruptGuard interrupt;
+    po.stop = &interrupt.flag();
+    lags = probe_network_lags(lags, runs, target, po, validate, max_lags, [&](int L, const std::string& what) {
       probe_bar.finish();
-    }
-    o.nd = o.dd = lags.lags;
-    lag_words = lags.words();
-    std::printf("history: %s\n", lag_words.c_str());
-    std::fflush(stdout);  // before the progress on stderr, when both go to one file
+      std::fprintf(stderr, "history: trying nd = dd = %d with %s\n", L, what.c_str());
+    });
+    probe_bar.finish();
   }
+  o.nd = o.dd = lags.lags;
+  const std::string words = lags.words();
+  std::printf("history: %s\n", words.c_str());
+  std::fflush(stdout);  // before the progress on stderr, when both go to one file
+  return words;
+}
+
+// What is trained on: the runs, their lengths and gaps, each one's first
+// and last sample, and how their inputs' levels cover the range.
+void print_training_runs(const std::vector<Series>& runs, const PlantTarget& target, const TrainOptions& o) {
   long samples = 0, gaps = 0;
   for (const Series& s : runs) samples += s.rows(), gaps += long(s.breaks.size());
   std::printf("training on %zu run%s of rig %s: %ld samples, %ld gap%s; nd = %d, dd = %d\n", runs.size(),
@@ -339,22 +351,11 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   }
   for (const std::string& note : input_level_notes(runs)) std::printf("%s\n", note.c_str());
   std::fflush(stdout);
-  TrainProgress bar(stderr);
-  o.progress = [&bar](const Progress& p) { bar(p); };
-  // Ctrl-C ends the training with the best model so far, which is written
-  // as any other; a second Ctrl-C interrupts as usual.
-  const InterruptGuard interrupt;
-  o.stop = &interrupt.flag();
-  const TrainResult r = train(runs, target, o, validate);
-  bar.finish();
-  const std::string unit = target.y_unit;
-  print_choice(r, unit);
-  ModelFile f = r.model;
-  ModelFit fit = model_fit(r, target);
-  fit.lags = lag_words.empty() ? fmt::format("nd = dd = {}, {}", o.nd, a.nd.empty() ? "the rig file's" : "given (--nd)")
-                               : lag_words;
-  f.fit = fit_to_json(fit);
-  save_model_file(a.out, f);
+}
+
+// The model written: its size and split, the test rows' errors and the fit's table.
+void print_trained(const std::string& out, const PlantTarget& target, const TrainResult& r, const ModelFile& f,
+                   const ModelFit& fit) {
   const std::string unit2 = target.y_unit.empty() ? std::string("units^2") : target.y_unit + "^2";
   // One-step epochs are the warm start's; a network started from the linear model had none.
   const std::string how = r.candidates.empty() || !r.candidates[r.chosen].linear_start
@@ -370,8 +371,42 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   ModelFit shown = fit;
   shown.lags.clear();  // printed before training
   std::printf("%s", fit_table(shown).c_str());
-  if (const std::string why = float_gap_words(r, fit, unit); !why.empty()) std::printf("%s\n", why.c_str());
-  std::printf("wrote %s, hash 0x%08x\n", a.out.c_str(), f.shape.hash);
+  if (const std::string why = float_gap_words(r, fit, target.y_unit); !why.empty()) std::printf("%s\n", why.c_str());
+  std::printf("wrote %s, hash 0x%08x\n", out.c_str(), f.shape.hash);
+}
+
+void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoader& load_run) {
+  need(a.rig, "--rig");
+  if (a.data.empty() && a.runs.empty())
+    throw PipelineError("give the data to train on: --run ID (a recorded run) or --data FILE.csv (see --help)");
+  need(a.out, "--out");
+  const PlantTarget target = resolve(a.rig);
+  TrainOptions o = default_options(target, objective_of(a));
+  const bool search = apply_lags(a, target, o);
+  if (!a.arch.empty() || !a.hidden.empty()) apply_architecture(a, target, o);
+  apply_training_options(a, o);
+
+  int validate = -1;
+  const std::vector<Series> runs = training_runs(a, target, load_run, &validate);
+  for (const Series& s : runs) check_dimensions(s, target);
+  const std::string lag_words = search ? choose_lags(runs, target, o, validate) : "";
+  print_training_runs(runs, target, o);
+  TrainProgress bar(stderr);
+  o.progress = [&bar](const Progress& p) { bar(p); };
+  // Ctrl-C ends the training with the best model so far, which is written
+  // as any other; a second Ctrl-C interrupts as usual.
+  const InterruptGuard interrupt;
+  o.stop = &interrupt.flag();
+  const TrainResult r = train(runs, target, o, validate);
+  bar.finish();
+  print_choice(r, target.y_unit);
+  ModelFile f = r.model;
+  ModelFit fit = model_fit(r, target);
+  fit.lags = lag_words.empty() ? fmt::format("nd = dd = {}, {}", o.nd, a.nd.empty() ? "the rig file's" : "given (--nd)")
+                               : lag_words;
+  f.fit = fit_to_json(fit);
+  save_model_file(a.out, f);
+  print_trained(a.out, target, r, f, fit);
 }
 
 // ---------------------------------------------------------------- model import
