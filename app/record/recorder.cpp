@@ -427,8 +427,7 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
     if (const auto* si = std::get_if<SampleItem>(&item))
       if (sample_runs.empty() || sample_runs.back() != si->run) sample_runs.push_back(si->run);
   using clock = std::chrono::steady_clock;
-  bool stalled = false;
-  clock::time_point stall_started;
+  std::optional<clock::time_point> stalled_since;  // the first attempt another process's lock refused
   // Runs begun and ended by this batch: the heartbeat's list changes only
   // once the batch has committed.
   std::vector<int64_t> begun, ended;
@@ -447,70 +446,15 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
       db_->exec(locked_out_.load() ? "BEGIN IMMEDIATE" : "BEGIN");
       const std::string now = utc_now();
       for (size_t i = 0; i < batch.size(); ++i) {
-        Item& item = batch[i];
+        const Item& item = batch[i];
         if (std::holds_alternative<SampleItem>(item)) {
-          // A run of samples: full groups through the multi-row insert.
-          size_t end = i;
-          while (end < batch.size() && std::holds_alternative<SampleItem>(batch[end])) ++end;
-          while (end - i >= kSamplesPerInsert) {
-            for (size_t r = 0; r < kSamplesPerInsert; ++r) {
-              const auto& si = std::get<SampleItem>(batch[i + r]);
-              bind_sample(insert_samples_, int(r) * kSampleColumns, si.run, si.s);
-            }
-            insert_samples_.step();
-            insert_samples_.reset_keep_bindings();
-            i += kSamplesPerInsert;
-            samples += kSamplesPerInsert;
-          }
-          for (; i < end; ++i) {
-            const auto& si = std::get<SampleItem>(batch[i]);
-            bind_sample(insert_sample_, 0, si.run, si.s);
-            insert_sample_.step();
-            insert_sample_.reset_keep_bindings();
-            ++samples;
-          }
-          --i;  // the for loop's ++i lands on the item after the run
-          continue;
-        }
-        if (auto* ti = std::get_if<TextItem>(&item)) {
-          switch (ti->kind) {
-            case TextItem::Param:
-              insert_param_.bind(1, ti->run).bind(2, ti->t).bind(3, int64_t(0)).bind(4, ti->x).bind(5, ti->y).exec();
-              break;
-            case TextItem::Gap:
-              insert_gap_.bind(1, ti->run).bind(2, now).bind(3, ti->a).bind(4, ti->b).bind(5, ti->x);
-              // t carries the gap's duration; negative: not known.
-              if (ti->t >= 0) insert_gap_.bind(6, ti->t); else insert_gap_.bind_null(6);
-              insert_gap_.exec();
-              break;
-            case TextItem::Event:
-              insert_event_.bind(1, now);
-              if (ti->run > 0) insert_event_.bind(2, ti->run); else insert_event_.bind_null(2);
-              insert_event_.bind(3, ti->x).bind(4, ti->y).exec();
-              break;
-            case TextItem::Notes: set_notes_.bind(1, ti->x).bind(2, ti->run).exec(); break;
-            case TextItem::Health:  // a: step, b: invalid, t: age_ms
-              insert_health_.bind(1, ti->run).bind(2, ti->a).bind(3, ti->b).bind(4, int64_t(ti->t)).exec();
-              break;
-          }
+          const size_t end = write_samples(batch, i);
+          samples += end - i;
+          i = end - 1;  // the for loop's ++i lands on the item after the run
+        } else if (auto* ti = std::get_if<TextItem>(&item)) {
+          write_text(*ti, now);
         } else if (auto* sy = std::get_if<SyncItem>(&item)) {
-          int64_t result = 0;
-          if (sy->begin) {
-            const RunInfo& r = *sy->begin;
-            insert_run_.bind(1, now).bind(2, r.label).bind(3, r.notes).bind(4, r.platform).bind(5, r.firmware)
-                .bind(6, int64_t(r.model_hash)).bind(7, int64_t(r.param_hash)).bind(8, r.loop_rate_hz)
-                .bind(9, int64_t(r.n)).bind(10, int64_t(r.m)).bind(11, int64_t(r.decimation)).bind(12, r.reference)
-                .bind(13, int64_t(::getpid())).bind(14, host_name()).bind(15, unix_now())
-                .bind(16, r.kind).bind(17, int64_t(r.w)).bind(18, r.excitation)
-                .exec();
-            result = db_->last_insert_id();
-            begun.push_back(result);
-            for (const auto& [name, value] : r.params)
-              insert_param_.bind(1, result).bind(2, 0.0).bind(3, int64_t(1)).bind(4, name).bind(5, value).exec();
-          } else if (sy->end_run > 0) {
-            write_end(*sy, now);
-            ended.push_back(sy->end_run);
-          }
+          const int64_t result = write_sync(*sy, now, begun, ended);
           waiting.push_back(sy->done);
           results.push_back(result);
         }
@@ -519,18 +463,10 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
         const double t = unix_now();
         for (int64_t run : open_runs_) heartbeat_.bind(1, t).bind(2, run).exec();
       }
-      for (int64_t run : sample_runs) {
-        run_exists_.bind(1, run);
-        const bool exists = run_exists_.step();
-        run_exists_.reset();
-        if (!exists)
-          throw DbError(fmt::format("run {} was deleted from {} by another process while it was being recorded", run,
-                                    path_),
-                        SQLITE_ABORT);
-      }
+      check_runs_exist(sample_runs);
       db_->exec("COMMIT");
       committed_ += samples;
-      if (stalled) write_lock_gaps(std::chrono::duration<double>(clock::now() - stall_started).count());
+      if (stalled_since) write_lock_gaps(std::chrono::duration<double>(clock::now() - *stalled_since).count());
       // A run just begun has a fresh mark: its insert wrote it.
       if (heartbeat_due || !begun.empty()) last_heartbeat_ = std::chrono::steady_clock::now();
       for (int64_t run : begun) open_runs_.push_back(run);
@@ -539,28 +475,10 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
       sqlite3_exec(db_->handle(), "ROLLBACK", nullptr, nullptr, nullptr);
       const auto* db_error = dynamic_cast<const DbError*>(&e);
       const int code = db_error ? (db_error->sqlite_code & 0xFF) : 0;
-      if (code == SQLITE_BUSY || code == SQLITE_LOCKED) {
-        // Locked by another process: the whole batch again in a moment,
-        // for as long as the lock lasts.
-        if (!stalled) stall_started = attempt_started;
-        stalled = true;
-        bool stopping = false;
-        if (clock::now() - stall_started >= options_.busy_limit) {
-          std::lock_guard<std::mutex> lock(mu_);
-          if (!locked_out_.load()) {
-            locked_out_ = true;
-            give_up_waiting_samples(batch);
-            give_up_waiting_samples(queue_);
-            sample_runs.clear();
-          }
-          stopping = stop_;
-        }
-        const bool give_up = locked_out_.load() && (stopping || (options_.give_up && options_.give_up()));
-        if (!give_up) {
-          std::this_thread::sleep_for(std::chrono::milliseconds(200));
-          retry = true;
-          continue;
-        }
+      if ((code == SQLITE_BUSY || code == SQLITE_LOCKED) &&
+          wait_out_lock(batch, sample_runs, stalled_since, attempt_started)) {
+        retry = true;
+        continue;
       }
       failed = e.what();
       std::lock_guard<std::mutex> lock(mu_);
@@ -572,10 +490,122 @@ void Recorder::write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr
     for (size_t i = 0; i < waiting.size(); ++i) waiting[i]->set_value(results[i]);
     return;
   }
-  // Nothing of this batch is in the file (its transaction rolled back, or
-  // an earlier write failed): every sample counts lost to its run, which
-  // is then closed with those losses if the file still takes that much (a
-  // full disk has the room the rolled-back batch left).
+  fail_batch(batch, failed);
+}
+
+// Locked by another process: the whole batch again in a moment, for as
+// long as the lock lasts; past busy_limit the samples waiting are given up
+// to the lock (their runs then need not exist at commit). True after the
+// moment's wait; false to give up (locked out, and stopping or told to).
+bool Recorder::wait_out_lock(std::vector<Item>& batch, std::vector<int64_t>& sample_runs,
+                             std::optional<std::chrono::steady_clock::time_point>& stalled_since,
+                             std::chrono::steady_clock::time_point attempt_started) {
+  if (!stalled_since) stalled_since = attempt_started;
+  bool stopping = false;
+  if (std::chrono::steady_clock::now() - *stalled_since >= options_.busy_limit) {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!locked_out_.load()) {
+      locked_out_ = true;
+      give_up_waiting_samples(batch);
+      give_up_waiting_samples(queue_);
+      sample_runs.clear();
+    }
+    stopping = stop_;
+  }
+  const bool give_up = locked_out_.load() && (stopping || (options_.give_up && options_.give_up()));
+  if (give_up) return false;
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  return true;
+}
+
+// The run of samples from batch[first] on, full groups through the
+// multi-row insert; the index after the run.
+size_t Recorder::write_samples(const std::vector<Item>& batch, size_t first) {
+  size_t end = first;
+  while (end < batch.size() && std::holds_alternative<SampleItem>(batch[end])) ++end;
+  size_t i = first;
+  for (; end - i >= kSamplesPerInsert; i += kSamplesPerInsert) {
+    for (size_t r = 0; r < kSamplesPerInsert; ++r) {
+      const auto& si = std::get<SampleItem>(batch[i + r]);
+      bind_sample(insert_samples_, int(r) * kSampleColumns, si.run, si.s);
+    }
+    insert_samples_.step();
+    insert_samples_.reset_keep_bindings();
+  }
+  for (; i < end; ++i) {
+    const auto& si = std::get<SampleItem>(batch[i]);
+    bind_sample(insert_sample_, 0, si.run, si.s);
+    insert_sample_.step();
+    insert_sample_.reset_keep_bindings();
+  }
+  return end;
+}
+
+void Recorder::write_text(const TextItem& ti, const std::string& now) {
+  switch (ti.kind) {
+    case TextItem::Param:
+      insert_param_.bind(1, ti.run).bind(2, ti.t).bind(3, int64_t(0)).bind(4, ti.x).bind(5, ti.y).exec();
+      break;
+    case TextItem::Gap:
+      insert_gap_.bind(1, ti.run).bind(2, now).bind(3, ti.a).bind(4, ti.b).bind(5, ti.x);
+      // t carries the gap's duration; negative: not known.
+      if (ti.t >= 0) insert_gap_.bind(6, ti.t); else insert_gap_.bind_null(6);
+      insert_gap_.exec();
+      break;
+    case TextItem::Event:
+      insert_event_.bind(1, now);
+      if (ti.run > 0) insert_event_.bind(2, ti.run); else insert_event_.bind_null(2);
+      insert_event_.bind(3, ti.x).bind(4, ti.y).exec();
+      break;
+    case TextItem::Notes: set_notes_.bind(1, ti.x).bind(2, ti.run).exec(); break;
+    case TextItem::Health:  // a: step, b: invalid, t: age_ms
+      insert_health_.bind(1, ti.run).bind(2, ti.a).bind(3, ti.b).bind(4, int64_t(ti.t)).exec();
+      break;
+  }
+}
+
+// A run begun (its id, added to `begun`) or ended (added to `ended`), or a
+// flush; what its waiter is told (the new run's id, else 0).
+int64_t Recorder::write_sync(const SyncItem& sy, const std::string& now, std::vector<int64_t>& begun,
+                             std::vector<int64_t>& ended) {
+  if (sy.begin) {
+    const RunInfo& r = *sy.begin;
+    insert_run_.bind(1, now).bind(2, r.label).bind(3, r.notes).bind(4, r.platform).bind(5, r.firmware)
+        .bind(6, int64_t(r.model_hash)).bind(7, int64_t(r.param_hash)).bind(8, r.loop_rate_hz)
+        .bind(9, int64_t(r.n)).bind(10, int64_t(r.m)).bind(11, int64_t(r.decimation)).bind(12, r.reference)
+        .bind(13, int64_t(::getpid())).bind(14, host_name()).bind(15, unix_now())
+        .bind(16, r.kind).bind(17, int64_t(r.w)).bind(18, r.excitation)
+        .exec();
+    const int64_t id = db_->last_insert_id();
+    begun.push_back(id);
+    for (const auto& [name, value] : r.params)
+      insert_param_.bind(1, id).bind(2, 0.0).bind(3, int64_t(1)).bind(4, name).bind(5, value).exec();
+    return id;
+  }
+  if (sy.end_run > 0) {
+    write_end(sy, now);
+    ended.push_back(sy.end_run);
+  }
+  return 0;
+}
+
+void Recorder::check_runs_exist(const std::vector<int64_t>& runs) {
+  for (int64_t run : runs) {
+    run_exists_.bind(1, run);
+    const bool exists = run_exists_.step();
+    run_exists_.reset();
+    if (!exists)
+      throw DbError(fmt::format("run {} was deleted from {} by another process while it was being recorded", run,
+                                path_),
+                    SQLITE_ABORT);
+  }
+}
+
+// Nothing of this batch is in the file (its transaction rolled back, or
+// an earlier write failed): every sample counts lost to its run, which
+// is then closed with those losses if the file still takes that much (a
+// full disk has the room the rolled-back batch left).
+void Recorder::fail_batch(std::vector<Item>& batch, const std::string& failed) {
   {
     std::lock_guard<std::mutex> lock(mu_);
     for (const Item& item : batch)

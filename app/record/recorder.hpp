@@ -15,6 +15,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
@@ -136,6 +137,16 @@ class Recorder {
   void writer();
   void checkpointer();
   void write_batch(std::vector<Item>& batch, std::vector<std::shared_ptr<std::promise<int64_t>>>& waiting);
+  // The parts of a batch's transaction, and what a failed batch leaves.
+  size_t write_samples(const std::vector<Item>& batch, size_t first);
+  void write_text(const TextItem& ti, const std::string& now);
+  int64_t write_sync(const SyncItem& sy, const std::string& now, std::vector<int64_t>& begun,
+                     std::vector<int64_t>& ended);
+  void check_runs_exist(const std::vector<int64_t>& runs);
+  void fail_batch(std::vector<Item>& batch, const std::string& failed);
+  bool wait_out_lock(std::vector<Item>& batch, std::vector<int64_t>& sample_runs,
+                     std::optional<std::chrono::steady_clock::time_point>& stalled_since,
+                     std::chrono::steady_clock::time_point attempt_started);
 
   std::string path_;
   Options options_;
