@@ -200,17 +200,9 @@ std::vector<uint32_t> thin_layers(const p::RigInfo& r, int layers) {
   return units;
 }
 
-}  // namespace
-
-void check_rig(Suite& s) {
-  s.group("rig");
-  if (!s.offers(p::capability::kRig, "RIG", 2, "rig_info", "no RIG_INFO to check")) return;
-  const Frame a = s.pr.request(p::RigGet{});
-  p::RigInfo r;
-  if (!as(a, r)) {
-    s.check("rig_info", false, "RIG_GET answered by " + describe(a));
-    return;
-  }
+// RIG_INFO's dimensions against INFO's, its name, its hash across two
+// RIG_GETs and its shapes.
+void check_rig_info(Suite& s, const Frame& a, const p::RigInfo& r) {
   const p::Info& i = s.info.info;
   std::vector<std::string> dims;
   if (r.m != i.m || r.n != i.n || r.w != i.w || r.nd != i.nd || r.dd != i.dd)
@@ -237,16 +229,18 @@ void check_rig(Suite& s) {
                      : fmt::format("{} listed shape{}, each ending in n={} units, within the limits",
                                    p::shape_count(r), p::shape_count(r) == 1 ? "" : "s", r.n))
               : join(shapes, "; "));
+}
 
-  // The firmware's own line of defence: a model of a refused shape is
-  // refused before its commit, and nothing changes.
-  if (!(i.capabilities & p::capability::kXferModel)) return;
+// The firmware's own line of defence: a model of a refused shape is
+// refused before its commit, and nothing changes. False when no refused
+// shape fits model_max: the model checks after it are left out too.
+bool check_refused_shape(Suite& s, const p::RigInfo& r) {
   const std::vector<uint8_t> model = refused_model(r);
   if (model.empty() || (s.info.model_max && model.size() > s.info.model_max)) {
     s.check("xfer_model_shape_refused", true,
             fmt::format("no refused shape fits model_max {} (a {}-byte model): nothing to check", s.info.model_max,
                         model.size()));
-    return;
+    return false;
   }
   const auto was = s.info_now();
   const Upload u = try_upload(s, model, 0);
@@ -270,51 +264,70 @@ void check_rig(Suite& s) {
                                     (u.refused_at.empty() ? "none" : "one at " + u.refused_at) + ": " +
                                     describe(u.refusal),
                       describe(u.commit), same ? "unchanged" : "changed"));
+  return true;
+}
 
-  // A header split over two chunks is judged at the chunk that completes
-  // it, not at the one at offset 0: here a header of another plant (m + 1)
-  // in a file of an accepted size, cut after its layer count.
-  {
-    const std::vector<uint8_t> other = other_plant(r);
-    if (s.info.model_max && other.size() > s.info.model_max) {
-      s.check("xfer_model_header_split", true,
-              fmt::format("a {}-byte model is above model_max {}: nothing to check", other.size(), s.info.model_max));
-    } else {
-      const size_t cut = model_offset::kLayers + 1;
-      const Upload v = try_upload(s, other, cut);
-      const bool ok = v.refused_at == "chunk 2" && v.acked_before &&
-                      nacked(v.refusal, p::StatusCode::Inconsistent, 2, p::kNoField) &&
-                      nacked(v.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
-      s.check("xfer_model_header_split", ok,
-              fmt::format("a header naming m={} (INFO m={}) sent as {} bytes, then the rest of its {}: {}{}; "
-                          "XFER_COMMIT after it: {}",
-                          other[model_offset::kM], i.m, cut,
-                          kModelHeaderSize + kModelLayerSize * size_t(other[model_offset::kLayers]),
-                          v.refused_at.empty() ? "not refused" : "refused at " + v.refused_at + ": ",
-                          describe(v.refusal), describe(v.commit)));
-    }
+// A header split over two chunks is judged at the chunk that completes
+// it, not at the one at offset 0: here a header of another plant (m + 1)
+// in a file of an accepted size, cut after its layer count.
+void check_header_split(Suite& s, const p::RigInfo& r) {
+  const std::vector<uint8_t> other = other_plant(r);
+  if (s.info.model_max && other.size() > s.info.model_max) {
+    s.check("xfer_model_header_split", true,
+            fmt::format("a {}-byte model is above model_max {}: nothing to check", other.size(), s.info.model_max));
+  } else {
+    const size_t cut = model_offset::kLayers + 1;
+    const Upload v = try_upload(s, other, cut);
+    const bool ok = v.refused_at == "chunk 2" && v.acked_before &&
+                    nacked(v.refusal, p::StatusCode::Inconsistent, 2, p::kNoField) &&
+                    nacked(v.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
+    s.check("xfer_model_header_split", ok,
+            fmt::format("a header naming m={} (INFO m={}) sent as {} bytes, then the rest of its {}: {}{}; "
+                        "XFER_COMMIT after it: {}",
+                        other[model_offset::kM], s.info.info.m, cut,
+                        kModelHeaderSize + kModelLayerSize * size_t(other[model_offset::kLayers]),
+                        v.refused_at.empty() ? "not refused" : "refused at " + v.refused_at + ": ",
+                        describe(v.refusal), describe(v.commit)));
   }
+}
 
-  // More layers than max_layers: unsupported (field 2), at BEGIN by its
-  // size or at its header, never left to COMMIT (where it would be
-  // too_large).
-  {
-    const std::vector<uint8_t> deep = dense_model(r, thin_layers(r, r.max_layers + 1));
-    if (s.info.model_max && deep.size() > s.info.model_max) {
-      s.check("xfer_model_too_many_layers", true,
-              fmt::format("a model of {} layers is {} bytes, above model_max {}: nothing to check", r.max_layers + 1,
-                          deep.size(), s.info.model_max));
-    } else {
-      const Upload v = try_upload(s, deep, 0);
-      const bool ok = (v.refused_at == "XFER_BEGIN" || v.refused_at == "chunk 1") &&
-                      nacked(v.refusal, p::StatusCode::Unsupported, 2, p::kNoField) &&
-                      nacked(v.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
-      s.check("xfer_model_too_many_layers", ok,
-              fmt::format("a model of {} layers (max_layers {}): {}{}; XFER_COMMIT after it: {}", r.max_layers + 1,
-                          r.max_layers, v.refused_at.empty() ? "not refused: " : "refused at " + v.refused_at + ": ",
-                          describe(v.refusal), describe(v.commit)));
-    }
+// More layers than max_layers: unsupported (field 2), at BEGIN by its
+// size or at its header, never left to COMMIT (where it would be
+// too_large).
+void check_too_many_layers(Suite& s, const p::RigInfo& r) {
+  const std::vector<uint8_t> deep = dense_model(r, thin_layers(r, r.max_layers + 1));
+  if (s.info.model_max && deep.size() > s.info.model_max) {
+    s.check("xfer_model_too_many_layers", true,
+            fmt::format("a model of {} layers is {} bytes, above model_max {}: nothing to check", r.max_layers + 1,
+                        deep.size(), s.info.model_max));
+  } else {
+    const Upload v = try_upload(s, deep, 0);
+    const bool ok = (v.refused_at == "XFER_BEGIN" || v.refused_at == "chunk 1") &&
+                    nacked(v.refusal, p::StatusCode::Unsupported, 2, p::kNoField) &&
+                    nacked(v.commit, p::StatusCode::XferNotOpen, 0, p::kNoField);
+    s.check("xfer_model_too_many_layers", ok,
+            fmt::format("a model of {} layers (max_layers {}): {}{}; XFER_COMMIT after it: {}", r.max_layers + 1,
+                        r.max_layers, v.refused_at.empty() ? "not refused: " : "refused at " + v.refused_at + ": ",
+                        describe(v.refusal), describe(v.commit)));
   }
+}
+
+}  // namespace
+
+void check_rig(Suite& s) {
+  s.group("rig");
+  if (!s.offers(p::capability::kRig, "RIG", 2, "rig_info", "no RIG_INFO to check")) return;
+  const Frame a = s.pr.request(p::RigGet{});
+  p::RigInfo r;
+  if (!as(a, r)) {
+    s.check("rig_info", false, "RIG_GET answered by " + describe(a));
+    return;
+  }
+  check_rig_info(s, a, r);
+  if (!(s.info.info.capabilities & p::capability::kXferModel)) return;
+  if (!check_refused_shape(s, r)) return;
+  check_header_split(s, r);
+  check_too_many_layers(s, r);
 }
 
 }  // namespace nlsoft::console::conformance
