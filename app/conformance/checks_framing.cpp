@@ -48,6 +48,67 @@ std::vector<uint8_t> cobs_wire(const std::vector<uint8_t>& raw) {
   return out;
 }
 
+// Back-to-back delimiters are idle, not errors.
+void check_idle_delimiters(Suite& s) {
+  const auto before = s.status();
+  p::Ping ping;
+  ping.nonce = s.random();
+  Frame f;
+  const auto heard = s.pr.send_fenced(std::vector<uint8_t>(64, p::kDelimiter), ping, f);
+  const auto after = s.status();
+  const bool same = before && after && before->frame_errors == after->frame_errors &&
+                    before->crc_errors == after->crc_errors;
+  s.check("idle_delimiters", heard.empty() && same,
+          fmt::format("64 zero bytes: {}, error counters {}", heard.empty() ? "no reply" : "a reply",
+                      same ? "unchanged" : "moved"));
+}
+
+// Every single-bit flip of a PARAM_SET frame: each dropped (the CRC or
+// an earlier check catches it), none answered, none applied.
+void check_bit_flips(Suite& s) {
+  const p::ParamDesc* q = s.param("Q");
+  if (!q) q = s.descs.empty() ? nullptr : &s.descs.front();
+  if (!q || q->type != uint8_t(p::ParamType::F32)) {
+    s.check("bit_flips", true, "no f32 parameter to try");
+    return;
+  }
+  const auto current = s.get(q->id);
+  if (!current) throw LinkError(std::string("PARAM_GET ") + q->name + " refused");
+  const p::ParamValue orig = *current;
+  p::ParamSet set;
+  set.id = q->id;
+  set.count = orig.count;
+  for (uint8_t i = 0; i < set.count; ++i)
+    set.set_f32(i, std::isfinite(q->max) && q->max > 0 ? q->max : 1.0f);  // never the value in force
+  const uint8_t seq = s.pr.next_seq();
+  const std::vector<uint8_t> raw = raw_of(Probe::wire(set, seq));
+  std::vector<uint8_t> all;
+  size_t frames = 0;
+  for (size_t bit = 0; bit < raw.size() * 8; ++bit) {
+    std::vector<uint8_t> r = raw;
+    r[bit / 8] ^= uint8_t(1u << (bit % 8));
+    const auto w = cobs_wire(r);
+    all.insert(all.end(), w.begin(), w.end());
+    ++frames;
+  }
+  const auto before = s.status();
+  p::Ping ping;
+  ping.nonce = s.random();
+  Frame f;
+  const auto heard = s.pr.send_fenced(all, ping, f);
+  const auto after = s.status();
+  const auto now = s.get(q->id);
+  const bool unchanged = now && now->count == orig.count && std::memcmp(now->values, orig.values, 4u * orig.count) == 0;
+  if (!unchanged) s.touched.insert(q->id);
+  const uint32_t errors = before && after ? (after->crc_errors + after->frame_errors) -
+                                                (before->crc_errors + before->frame_errors)
+                                          : 0;
+  s.check("bit_flips", heard.empty() && unchanged && errors >= frames,
+          fmt::format("{} frames, each PARAM_SET {} with one bit flipped: {}, {} counted as errors, value {}", frames,
+                      q->name, heard.empty() ? "no reply" : "answered by " + describe(heard.front()), errors,
+                      unchanged ? "unchanged" : "CHANGED"));
+}
+
 void damaged(Suite& s) {
   std::vector<uint8_t> garbage = {0x00};
   for (const char* c = "\x07garbage!\x13\x37\xff\xfe"; *c; ++c) garbage.push_back(uint8_t(*c));
@@ -61,20 +122,7 @@ void damaged(Suite& s) {
     burst.push_back(p::kDelimiter);
     dropped(s, "garbage_burst", burst, "1 KiB of random bytes", &p::Status::frame_errors, "frame_errors");
   }
-  {
-    // Back-to-back delimiters are idle, not errors.
-    const auto before = s.status();
-    p::Ping ping;
-    ping.nonce = s.random();
-    Frame f;
-    const auto heard = s.pr.send_fenced(std::vector<uint8_t>(64, p::kDelimiter), ping, f);
-    const auto after = s.status();
-    const bool same = before && after && before->frame_errors == after->frame_errors &&
-                      before->crc_errors == after->crc_errors;
-    s.check("idle_delimiters", heard.empty() && same,
-            fmt::format("64 zero bytes: {}, error counters {}", heard.empty() ? "no reply" : "a reply",
-                        same ? "unchanged" : "moved"));
-  }
+  check_idle_delimiters(s);
   {
     p::Ping ping;
     ping.nonce = s.random();
@@ -110,51 +158,7 @@ void damaged(Suite& s) {
     const size_t n = p::encode_frame_raw(h, payload, 3, p::crc_extra(h.type), buf, sizeof buf);
     dropped(s, "bad_length", {buf, buf + n}, "PING with 3 payload bytes", &p::Status::frame_errors, "frame_errors");
   }
-  {
-    // Every single-bit flip of a PARAM_SET frame: each dropped (the CRC or
-    // an earlier check catches it), none answered, none applied.
-    const p::ParamDesc* q = s.param("Q");
-    if (!q) q = s.descs.empty() ? nullptr : &s.descs.front();
-    if (!q || q->type != uint8_t(p::ParamType::F32)) {
-      s.check("bit_flips", true, "no f32 parameter to try");
-    } else {
-      const auto current = s.get(q->id);
-      if (!current) throw LinkError(std::string("PARAM_GET ") + q->name + " refused");
-      const p::ParamValue orig = *current;
-      p::ParamSet set;
-      set.id = q->id;
-      set.count = orig.count;
-      for (uint8_t i = 0; i < set.count; ++i)
-        set.set_f32(i, std::isfinite(q->max) && q->max > 0 ? q->max : 1.0f);  // never the value in force
-      const uint8_t seq = s.pr.next_seq();
-      const std::vector<uint8_t> raw = raw_of(Probe::wire(set, seq));
-      std::vector<uint8_t> all;
-      size_t frames = 0;
-      for (size_t bit = 0; bit < raw.size() * 8; ++bit) {
-        std::vector<uint8_t> r = raw;
-        r[bit / 8] ^= uint8_t(1u << (bit % 8));
-        const auto w = cobs_wire(r);
-        all.insert(all.end(), w.begin(), w.end());
-        ++frames;
-      }
-      const auto before = s.status();
-      p::Ping ping;
-      ping.nonce = s.random();
-      Frame f;
-      const auto heard = s.pr.send_fenced(all, ping, f);
-      const auto after = s.status();
-      const auto now = s.get(q->id);
-      const bool unchanged = now && now->count == orig.count && std::memcmp(now->values, orig.values, 4u * orig.count) == 0;
-      if (!unchanged) s.touched.insert(q->id);
-      const uint32_t errors = before && after ? (after->crc_errors + after->frame_errors) -
-                                                    (before->crc_errors + before->frame_errors)
-                                              : 0;
-      s.check("bit_flips", heard.empty() && unchanged && errors >= frames,
-              fmt::format("{} frames, each PARAM_SET {} with one bit flipped: {}, {} counted as errors, value {}", frames,
-                          q->name, heard.empty() ? "no reply" : "answered by " + describe(heard.front()), errors,
-                          unchanged ? "unchanged" : "CHANGED"));
-    }
-  }
+  check_bit_flips(s);
 }
 
 void byte_at_a_time(Suite& s) {
