@@ -116,25 +116,20 @@ p::ParamSet base_of(const Suite& s, const p::ParamDesc& d) {
   return b;
 }
 
-void refusals(Suite& s) {
-  const p::ParamDesc* dp = pick_f32(s);
-  if (!dp) {
-    s.check("param_set_refusals", false, "no writable f32 parameter to try");
-    return;
-  }
-  const p::ParamDesc& d = *dp;
-  const p::ParamSet base = base_of(s, d);
-  {
-    p::ParamSet x = base;
-    uint16_t unused = 0xFFFF;
-    while (s.original.count(unused)) --unused;
-    x.id = unused;
-    const Frame f = s.pr.request(x);
-    s.check("param_set_unknown_id", nacked(f, p::StatusCode::UnknownId, 0, p::kNoField),
-            fmt::format("PARAM_SET({}) answered by {}", unused, describe(f)));
-  }
-  // Out of range: below min (Q = -1 for Q's min 0), else above max; the
-  // last element, so the element index is tested too.
+// PARAM_SET of an id the firmware does not have.
+void check_unknown_id(Suite& s, const p::ParamSet& base) {
+  p::ParamSet x = base;
+  uint16_t unused = 0xFFFF;
+  while (s.original.count(unused)) --unused;
+  x.id = unused;
+  const Frame f = s.pr.request(x);
+  s.check("param_set_unknown_id", nacked(f, p::StatusCode::UnknownId, 0, p::kNoField),
+          fmt::format("PARAM_SET({}) answered by {}", unused, describe(f)));
+}
+
+// Out of range: below min (Q = -1 for Q's min 0), else above max; the
+// last element, so the element index is tested too.
+void check_out_of_range(Suite& s, const p::ParamDesc& d, const p::ParamSet& base) {
   const uint8_t last = uint8_t(d.size - 1);
   const float big = std::numeric_limits<float>::max() / 4;
   std::optional<float> outside;
@@ -150,6 +145,12 @@ void refusals(Suite& s) {
   } else {
     s.check("param_set_out_of_range", true, fmt::format("{} is unbounded: nothing to try", d.name));
   }
+}
+
+// A NaN in the last element, an infinity in the first, one value too many
+// or too few: each refused naming the element, nothing applied.
+void check_value_refusals(Suite& s, const p::ParamDesc& d, const p::ParamSet& base) {
+  const uint8_t last = uint8_t(d.size - 1);
   {
     p::ParamSet x = base;
     x.set_f32(last, std::numeric_limits<float>::quiet_NaN());
@@ -167,6 +168,11 @@ void refusals(Suite& s) {
     refused(s, "param_set_wrong_size", d, x, p::StatusCode::WrongSize, 1, p::kNoField,
             fmt::format("with {} values (size {})", x.count, d.size));
   }
+}
+
+// Refusals that depend on other parameters or on INFO: u_min above
+// u_max, N above max_n, an integer word above its range.
+void check_cross_refusals(Suite& s) {
   // Cross-parameter rule: u_min[i] >= u_max[i].
   if (const p::ParamDesc* umin = s.param("u_min"); umin && s.param("u_max")) {
     p::ParamSet x = base_of(s, *umin);
@@ -193,8 +199,10 @@ void refusals(Suite& s) {
     x.values[0] = 0x10000u;
     refused(s, "param_set_integer_out_of_range", *n, x, p::StatusCode::OutOfRange, 1, 0, "= 65536");
   }
+}
 
-  // A valid value: the reply is the value in force, and a read agrees.
+// A valid value: the reply is the value in force, and a read agrees.
+void check_valid_set(Suite& s, const p::ParamDesc& d, const p::ParamSet& base) {
   const p::ParamValue& orig = s.original.at(d.id);
   const float now = word_f32(orig.values[0]);
   std::string tried;
@@ -217,6 +225,21 @@ void refusals(Suite& s) {
     return;
   }
   s.check("param_set_valid", false, fmt::format("{}: no valid value accepted:{}", d.name, tried));
+}
+
+void refusals(Suite& s) {
+  const p::ParamDesc* dp = pick_f32(s);
+  if (!dp) {
+    s.check("param_set_refusals", false, "no writable f32 parameter to try");
+    return;
+  }
+  const p::ParamDesc& d = *dp;
+  const p::ParamSet base = base_of(s, d);
+  check_unknown_id(s, base);
+  check_out_of_range(s, d, base);
+  check_value_refusals(s, d, base);
+  check_cross_refusals(s);
+  check_valid_set(s, d, base);
 }
 
 }  // namespace
