@@ -12,6 +12,7 @@
 
 #include <Eigen/QR>
 
+#include "app/model/adam.hpp"
 #include "app/model/error.hpp"
 #include "app/model/excitation.hpp"
 #include "app/model/fit_scores.hpp"
@@ -110,24 +111,6 @@ struct OneStepData {
 struct OneStepResult {
   double best_val = 0;
   int epochs = 0;
-};
-
-// Adam's moment estimates, one step of the weights at a time.
-struct Adam {
-  static constexpr double b1 = 0.9, b2 = 0.999, eps = 1e-8;
-  std::vector<double> m1, m2;
-  double b1t = 1.0, b2t = 1.0;
-  explicit Adam(size_t weights) : m1(weights, 0.0), m2(weights, 0.0) {}
-  void step(std::vector<double>& th, const std::vector<double>& grad, double lr) {
-    b1t *= b1;
-    b2t *= b2;
-    const double step = lr * std::sqrt(1.0 - b2t) / (1.0 - b1t);
-    for (size_t k = 0; k < th.size(); ++k) {
-      m1[k] = b1 * m1[k] + (1.0 - b1) * grad[k];
-      m2[k] = b2 * m2[k] + (1.0 - b2) * grad[k] * grad[k];
-      th[k] -= step * m1[k] / (std::sqrt(m2[k]) + eps);
-    }
-  }
 };
 
 // The training rows order[start, start + size) as a mini-batch, their

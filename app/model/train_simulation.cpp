@@ -7,6 +7,7 @@
 
 #include <LBFGS.h>
 
+#include "app/model/adam.hpp"
 #include "app/model/random.hpp"
 #include "shared/fixed_math.hpp"
 
@@ -50,6 +51,111 @@ int lbfgs_budget(const SimulationOptions& o, long rows) {
   return o.lbfgs_evals >= 0 ? o.lbfgs_evals : int(std::clamp<long>(15000000L / std::max(1L, rows), 50L, 2000L));
 }
 
+namespace {
+
+// Adam over windows that start at a random offset each epoch, so every
+// row is a window's first step in some epoch; the weights end as the best.
+void adam_epochs(Network& net, const SimulationData& s, const std::vector<RowRange>& train,
+                 const std::vector<RowRange>& val, const SimulationOptions& o, int H, const SimulationProgress& progress,
+                 Best& best, SimulationReport& rep) {
+  std::vector<double>& th = net.theta();
+  Random rng(o.seed ^ 0x5157u);
+  Adam adam(th.size());
+  std::vector<double> grad;
+  int since_best = 0;
+  for (int epoch = 1; epoch <= o.epochs && !stopped(o); ++epoch) {
+    std::vector<long> starts = window_starts(train, H, H, int(rng.integer(0, H - 1)));
+    if (starts.empty()) starts = window_starts(train, H, H, 0);
+    for (long i = long(starts.size()) - 1; i > 0; --i) std::swap(starts[size_t(i)], starts[size_t(rng.integer(0, i))]);
+    const double lr = 0.5 * o.lr * (1.0 + fixed_math::cos(kPi * (epoch - 1) / o.epochs));
+    double sum = 0.0;
+    long batches = 0;
+    std::vector<long> batch;
+    for (size_t at = 0; at < starts.size(); at += size_t(o.batch)) {
+      batch.assign(starts.begin() + long(at), starts.begin() + long(std::min(starts.size(), at + size_t(o.batch))));
+      grad.assign(th.size(), 0.0);
+      const double l = simulation_loss(net, s, batch, H, &grad);
+      if (!std::isfinite(l)) continue;  // a window that blew up teaches nothing; the next batch may
+      // Clipping keeps one exploding window from throwing the weights out
+      // of the region the warm start found.
+      double norm = 0.0;
+      for (double g : grad) norm += g * g;
+      norm = std::sqrt(norm);
+      adam.step(th, grad, lr, norm > 1.0 ? 1.0 / norm : 1.0);
+      sum += l;
+      ++batches;
+    }
+    const double v = free_run_loss(net, s, val);
+    const double before = best.val;
+    best.offer(v, th);
+    since_best = best.val < before ? 0 : since_best + 1;
+    rep.epochs = epoch;
+    if (progress) progress("simulation", epoch, o.epochs, batches ? sum / double(batches) : 0.0, v, best.val);
+    if (since_best >= o.patience) break;
+  }
+  th = best.theta;
+}
+
+// L-BFGS from the best weights on windows laid end to end. LBFGS++ rather than NLopt's
+// LD_LBFGS: its backtracking line search steps back from a trial point
+// whose recursion blew up (+inf), where NLopt's gives up ("nlopt
+// failure") at the first one. The validation rows are simulated at every
+// tenth new lowest training loss: the weights that simulate them best are
+// kept, and 20 such checks without a better one end the search.
+void lbfgs(Network& net, const SimulationData& s, const std::vector<RowRange>& train, const std::vector<RowRange>& val,
+           const SimulationOptions& o, int H, const SimulationProgress& progress, Best& best, SimulationReport& rep) {
+  std::vector<double>& th = net.theta();
+  long rows = 0;
+  for (const RowRange& r : train) rows += r.end - r.begin;
+  const int budget = lbfgs_budget(o, rows);
+  if (budget <= 0 || stopped(o)) return;
+  const std::vector<long> starts = window_starts(train, H, H, 0);
+  struct Halt {};
+  double lowest = std::numeric_limits<double>::infinity();
+  int improvements = 0, checks_since_best = 0;
+  std::vector<double> full;
+  auto objective = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) -> double {
+    if (stopped(o) || rep.evals >= budget || checks_since_best >= 20) throw Halt{};
+    th.assign(x.data(), x.data() + x.size());
+    const double l = parallel_loss(net, s, starts, H, o.threads, full);
+    ++rep.evals;
+    if (!std::isfinite(l)) return std::numeric_limits<double>::infinity();  // the line search backs off
+    g = Eigen::Map<const Eigen::VectorXd>(full.data(), Eigen::Index(full.size()));
+    if (l < lowest) {
+      lowest = l;
+      if (++improvements % 10 == 0) {
+        const double v = free_run_loss(net, s, val);
+        const double before = best.val;
+        best.offer(v, th);
+        checks_since_best = best.val < before ? 0 : checks_since_best + 1;
+        if (progress) progress("L-BFGS", rep.evals, budget, l, v, best.val);
+      }
+    }
+    return l;
+  };
+  LBFGSpp::LBFGSParam<double> param;
+  param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
+  param.epsilon = 1e-9;
+  param.epsilon_rel = 1e-9;
+  param.max_linesearch = 40;
+  LBFGSpp::LBFGSSolver<double> solver(param);
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(best.theta.data(), Eigen::Index(best.theta.size()));
+  double fx = 0.0;
+  try {
+    solver.minimize(objective, x, fx);
+  } catch (const Halt&) {
+  } catch (const std::exception&) {
+    // A line search that found no lower point (converged as far as
+    // doubles tell): the weights judged so far stand.
+  }
+  // The last point with the lowest training loss is judged too.
+  const double v = free_run_loss(net, s, val);
+  best.offer(v, th);
+  th = best.theta;
+}
+
+}  // namespace
+
 SimulationReport fit_simulation(Network& net, const SimulationData& s, const std::vector<RowRange>& train,
                                 const std::vector<RowRange>& val, const SimulationOptions& o,
                                 const SimulationProgress& progress) {
@@ -72,108 +178,8 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
     return rep;
   }
 
-  // Adam over windows that start at a random offset each epoch, so every
-  // row is a window's first step in some epoch.
-  Random rng(o.seed ^ 0x5157u);
-  std::vector<double> m1(th.size(), 0.0), m2(th.size(), 0.0), grad;
-  const double b1 = 0.9, b2 = 0.999, eps = 1e-8;
-  double b1t = 1.0, b2t = 1.0;
-  int since_best = 0;
-  for (int epoch = 1; epoch <= o.epochs && !stopped(o); ++epoch) {
-    std::vector<long> starts = window_starts(train, H, H, int(rng.integer(0, H - 1)));
-    if (starts.empty()) starts = window_starts(train, H, H, 0);
-    for (long i = long(starts.size()) - 1; i > 0; --i) std::swap(starts[size_t(i)], starts[size_t(rng.integer(0, i))]);
-    const double lr = 0.5 * o.lr * (1.0 + fixed_math::cos(kPi * (epoch - 1) / o.epochs));
-    double sum = 0.0;
-    long batches = 0;
-    std::vector<long> batch;
-    for (size_t at = 0; at < starts.size(); at += size_t(o.batch)) {
-      batch.assign(starts.begin() + long(at), starts.begin() + long(std::min(starts.size(), at + size_t(o.batch))));
-      grad.assign(th.size(), 0.0);
-      const double l = simulation_loss(net, s, batch, H, &grad);
-      if (!std::isfinite(l)) continue;  // a window that blew up teaches nothing; the next batch may
-      // Clipping keeps one exploding window from throwing the weights out
-      // of the region the warm start found.
-      double norm = 0.0;
-      for (double g : grad) norm += g * g;
-      norm = std::sqrt(norm);
-      const double clip = norm > 1.0 ? 1.0 / norm : 1.0;
-      b1t *= b1;
-      b2t *= b2;
-      const double step = lr * std::sqrt(1.0 - b2t) / (1.0 - b1t);
-      for (size_t k = 0; k < th.size(); ++k) {
-        const double g = clip * grad[k];
-        m1[k] = b1 * m1[k] + (1.0 - b1) * g;
-        m2[k] = b2 * m2[k] + (1.0 - b2) * g * g;
-        th[k] -= step * m1[k] / (std::sqrt(m2[k]) + eps);
-      }
-      sum += l;
-      ++batches;
-    }
-    const double v = free_run_loss(net, s, val);
-    const double before = best.val;
-    best.offer(v, th);
-    since_best = best.val < before ? 0 : since_best + 1;
-    rep.epochs = epoch;
-    if (progress) progress("simulation", epoch, o.epochs, batches ? sum / double(batches) : 0.0, v, best.val);
-    if (since_best >= o.patience) break;
-  }
-  th = best.theta;
-
-  // L-BFGS from the best weights on windows laid end to end. LBFGS++ rather than NLopt's
-  // LD_LBFGS: its backtracking line search steps back from a trial point
-  // whose recursion blew up (+inf), where NLopt's gives up ("nlopt
-  // failure") at the first one. The validation rows are simulated at every
-  // tenth new lowest training loss: the weights that simulate them best are
-  // kept, and 20 such checks without a better one end the search.
-  long rows = 0;
-  for (const RowRange& r : train) rows += r.end - r.begin;
-  const int budget = lbfgs_budget(o, rows);
-  if (budget > 0 && !stopped(o)) {
-    const std::vector<long> starts = window_starts(train, H, H, 0);
-    struct Halt {};
-    double lowest = std::numeric_limits<double>::infinity();
-    int improvements = 0, checks_since_best = 0;
-    std::vector<double> full;
-    auto objective = [&](const Eigen::VectorXd& x, Eigen::VectorXd& g) -> double {
-      if (stopped(o) || rep.evals >= budget || checks_since_best >= 20) throw Halt{};
-      th.assign(x.data(), x.data() + x.size());
-      const double l = parallel_loss(net, s, starts, H, o.threads, full);
-      ++rep.evals;
-      if (!std::isfinite(l)) return std::numeric_limits<double>::infinity();  // the line search backs off
-      g = Eigen::Map<const Eigen::VectorXd>(full.data(), Eigen::Index(full.size()));
-      if (l < lowest) {
-        lowest = l;
-        if (++improvements % 10 == 0) {
-          const double v = free_run_loss(net, s, val);
-          const double before = best.val;
-          best.offer(v, th);
-          checks_since_best = best.val < before ? 0 : checks_since_best + 1;
-          if (progress) progress("L-BFGS", rep.evals, budget, l, v, best.val);
-        }
-      }
-      return l;
-    };
-    LBFGSpp::LBFGSParam<double> param;
-    param.linesearch = LBFGSpp::LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
-    param.epsilon = 1e-9;
-    param.epsilon_rel = 1e-9;
-    param.max_linesearch = 40;
-    LBFGSpp::LBFGSSolver<double> solver(param);
-    Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(best.theta.data(), Eigen::Index(best.theta.size()));
-    double fx = 0.0;
-    try {
-      solver.minimize(objective, x, fx);
-    } catch (const Halt&) {
-    } catch (const std::exception&) {
-      // A line search that found no lower point (converged as far as
-      // doubles tell): the weights judged so far stand.
-    }
-    // The last point with the lowest training loss is judged too.
-    const double v = free_run_loss(net, s, val);
-    best.offer(v, th);
-    th = best.theta;
-  }
+  adam_epochs(net, s, train, val, o, H, progress, best, rep);
+  lbfgs(net, s, train, val, o, H, progress, best, rep);
   rep.best_val = best.val;
   return rep;
 }
