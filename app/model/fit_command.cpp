@@ -59,23 +59,11 @@ RecordedRun read_run(const RunLoader& loader, const std::string& db, int64_t id)
   return loader(db, id);
 }
 
-void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformNamer& name_platform,
-             const RunLoader& load_run, const ScriptPlotter& plot) {
-  if (a.model.empty()) throw PipelineError("MODEL is required (see --help)");
-  if (a.runs.empty() && a.data.empty())
-    throw PipelineError("give the data to judge the model on: --run ID (a recorded run) or --data FILE.csv");
-  if (!a.svg.empty() && !a.png.empty()) throw PipelineError("give --svg FILE or --png FILE, not both");
-  const std::string image = a.svg.empty() ? a.png : a.svg;
-  if (!image.empty()) {
-    if (!plot) throw PipelineError("--svg/--png need gnuplot through the console, which this build lacks");
-    check_image_path(image);
-  }
-
-  const ModelFile f = load_model_file(a.model);
+// The rig the model is judged for: --rig, else the one train recorded,
+// else the model's platform; refused when the model was not made for it.
+PlantTarget fit_target(const FitArgs& a, const ModelFile& f, const ModelFit& stored, bool has_fit,
+                       const TargetResolver& resolve, const PlatformNamer& name_platform) {
   const Model<HostCapacity> M = f.view();
-  const bool has_fit = !f.fit.empty();
-  const ModelFit stored = has_fit ? fit_from_json(f.fit, a.model) : ModelFit{};
-  // The rig: --rig, else the one train recorded, else the model's platform.
   std::string rig = a.rig;
   if (rig.empty()) rig = stored.rig;
   if (rig.empty()) rig = name_platform(f.platform);
@@ -96,22 +84,36 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
     throw PipelineError(a.model + " has m=" + std::to_string(M.m) + " n=" + std::to_string(M.n) + " w=" +
                         std::to_string(M.w) + " but rig '" + target.name + "' has m=" + std::to_string(target.m) +
                         " n=" + std::to_string(target.n) + " w=" + std::to_string(target.w));
+  return target;
+}
 
-  // Every input read, and refused, before anything is printed or drawn.
+// The data the model is judged on, and per series how many steps ahead it
+// is scored too (0, 1: not).
+struct Judged {
   std::vector<Series> series;
-  std::vector<int> horizons;  // per series: how many steps ahead it is scored too (0, 1: not)
+  std::vector<int> horizons;
+};
+
+Judged judged_data(const FitArgs& a, const PlantTarget& target, const RunLoader& load_run) {
+  Judged j;
   for (int64_t id : a.runs) {
     const RecordedRun run = read_run(load_run, a.db, id);
-    series.push_back(recorded_series(run, target));
-    horizons.push_back(a.horizon >= 0 ? a.horizon : run.horizon);
+    j.series.push_back(recorded_series(run, target));
+    j.horizons.push_back(a.horizon >= 0 ? a.horizon : run.horizon);
   }
   for (const std::string& file : a.data) {
-    series.push_back(read_training_csv(file, target));
-    check_dimensions(series.back(), target);
-    horizons.push_back(std::max(a.horizon, 0));
+    j.series.push_back(read_training_csv(file, target));
+    check_dimensions(j.series.back(), target);
+    j.horizons.push_back(std::max(a.horizon, 0));
   }
-  ArxModel arx;
-  std::string arx_from = "none";
+  return j;
+}
+
+// The ARX baseline: refitted on --train-run's runs, else the one train
+// kept; none (theta empty) otherwise. `from` says which.
+ArxModel baseline_arx(const FitArgs& a, const PlantTarget& target, const Model<HostCapacity>& M,
+                      const ModelFit& stored, const RunLoader& load_run, std::string& from) {
+  from = "none";
   if (!a.train_runs.empty()) {
     std::vector<Dataset> sets;
     std::string names;
@@ -120,24 +122,30 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
       names += (names.empty() ? "run " : ", run ") + std::to_string(id);
     }
     const Dataset d = stack(sets);
-    arx = fit_arx(d, d.pieces);
-    arx_from = "refitted on " + names;
-  } else if (!stored.arx.empty()) {
-    arx = arx_from_json(stored.arx, a.model);
-    arx_from = "kept by train";
+    from = "refitted on " + names;
+    return fit_arx(d, d.pieces);
   }
-  const ArxModel* baseline = arx.theta.size() > 0 ? &arx : nullptr;
+  if (!stored.arx.empty()) {
+    from = "kept by train";
+    return arx_from_json(stored.arx, a.model);
+  }
+  return ArxModel{};
+}
 
+// Each series scored (and, for a picture, simulated) by the model and the baseline.
+std::vector<FittedRun> fit_runs(const FitArgs& a, const ModelFile& f, const PlantTarget& target, const Judged& judged,
+                                const ArxModel* baseline, bool drawn) {
+  const Model<HostCapacity> M = f.view();
   std::vector<FittedRun> fitted;
-  for (size_t i = 0; i < series.size(); ++i) {
-    const Series& s = series[i];
+  for (size_t i = 0; i < judged.series.size(); ++i) {
+    const Series& s = judged.series[i];
     const Dataset d = build_dataset(s, M.nd, M.dd);
     FittedRun r;
     r.name = s.name;
     r.section = fit_section(s.name + " (" + std::to_string(d.rows()) + " rows), model " + a.model + " of rig " +
                                 target.name,
-                            f, baseline, d, d.pieces, target, horizons[i]);
-    if (!image.empty()) {
+                            f, baseline, d, d.pieces, target, judged.horizons[i]);
+    if (drawn) {
       r.time = label_times(s, M.nd, M.dd, target.rate_hz > 0 ? 1.0 / target.rate_hz : 0.0);
       r.y = measured(d, d.pieces);
       r.net = simulate_network(f, d, d.pieces).free_run;
@@ -145,30 +153,60 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
     }
     fitted.push_back(std::move(r));
   }
+  return fitted;
+}
 
-  std::string drawn;
-  if (!image.empty()) drawn = plot(fit_plot_script(fitted, a.model, target.y_unit, a.svg.empty() ? FitImage::Png : FitImage::Svg));
-
-  if (a.json) {
-    nlohmann::json j;
-    j["model"] = a.model;
-    j["hash"] = M.hash;
-    j["rig"] = target.name;
-    j["unit"] = target.y_unit;
-    j["arx"] = arx_from;
-    j["runs"] = nlohmann::json::array();
-    for (const FittedRun& r : fitted) {
-      nlohmann::json s = nlohmann::json::parse(section_to_json(r.section, target.y_unit));
-      s["data"] = r.name;
-      j["runs"].push_back(s);
-    }
-    if (image != "-") std::printf("%s\n", j.dump(2).c_str());
-  } else if (image != "-") {
+// The tables, or one JSON object; nothing when the image goes to stdout.
+void print_fit(const FitArgs& a, const std::string& image, const Model<HostCapacity>& M, const PlantTarget& target,
+               const std::vector<FittedRun>& fitted, bool has_baseline, const std::string& arx_from) {
+  if (image == "-") return;
+  if (!a.json) {
     std::printf("model %s (hash 0x%08x), rig %s; ARX baseline on the same lags (nd = %d, dd = %d): %s\n",
                 a.model.c_str(), M.hash, target.name.c_str(), M.nd, M.dd,
-                baseline ? arx_from.c_str() : "none kept with this model (--train-run ID fits one from a recorded run)");
+                has_baseline ? arx_from.c_str() : "none kept with this model (--train-run ID fits one from a recorded run)");
     for (const FittedRun& r : fitted) std::printf("%s", section_table(r.section, target.y_unit).c_str());
+    return;
   }
+  nlohmann::json j;
+  j["model"] = a.model;
+  j["hash"] = M.hash;
+  j["rig"] = target.name;
+  j["unit"] = target.y_unit;
+  j["arx"] = arx_from;
+  j["runs"] = nlohmann::json::array();
+  for (const FittedRun& r : fitted) {
+    nlohmann::json s = nlohmann::json::parse(section_to_json(r.section, target.y_unit));
+    s["data"] = r.name;
+    j["runs"].push_back(s);
+  }
+  std::printf("%s\n", j.dump(2).c_str());
+}
+
+void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformNamer& name_platform,
+             const RunLoader& load_run, const ScriptPlotter& plot) {
+  if (a.model.empty()) throw PipelineError("MODEL is required (see --help)");
+  if (a.runs.empty() && a.data.empty())
+    throw PipelineError("give the data to judge the model on: --run ID (a recorded run) or --data FILE.csv");
+  if (!a.svg.empty() && !a.png.empty()) throw PipelineError("give --svg FILE or --png FILE, not both");
+  const std::string image = a.svg.empty() ? a.png : a.svg;
+  if (!image.empty()) {
+    if (!plot) throw PipelineError("--svg/--png need gnuplot through the console, which this build lacks");
+    check_image_path(image);
+  }
+  const ModelFile f = load_model_file(a.model);
+  const Model<HostCapacity> M = f.view();
+  const bool has_fit = !f.fit.empty();
+  const ModelFit stored = has_fit ? fit_from_json(f.fit, a.model) : ModelFit{};
+  const PlantTarget target = fit_target(a, f, stored, has_fit, resolve, name_platform);
+  // Every input read, and refused, before anything is printed or drawn.
+  const Judged judged = judged_data(a, target, load_run);
+  std::string arx_from;
+  const ArxModel arx = baseline_arx(a, target, M, stored, load_run, arx_from);
+  const ArxModel* baseline = arx.theta.size() > 0 ? &arx : nullptr;
+  const std::vector<FittedRun> fitted = fit_runs(a, f, target, judged, baseline, !image.empty());
+  std::string drawn;
+  if (!image.empty()) drawn = plot(fit_plot_script(fitted, a.model, target.y_unit, a.svg.empty() ? FitImage::Png : FitImage::Svg));
+  print_fit(a, image, M, target, fitted, baseline != nullptr, arx_from);
   if (!image.empty()) {
     OutputFile out(image);
     if (std::fwrite(drawn.data(), 1, drawn.size(), out.get()) != drawn.size())
