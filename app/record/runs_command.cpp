@@ -229,48 +229,64 @@ std::vector<RunRow> chosen_runs(const RunsArgs& a, std::vector<RunRow> runs) {
   return runs;
 }
 
+// The runs of the tuning sessions: each run's evaluation, each session's
+// runs in order, and the sessions.
+struct TuneIndex {
+  std::map<int64_t, TuneEvalRow> eval_of;
+  std::map<int64_t, std::vector<int64_t>> session_runs;
+  std::map<int64_t, TuneSessionRow> sessions;
+};
+
+TuneIndex tune_index(const std::string& path) {
+  TuneIndex t;
+  for (const TuneSessionRow& s : tune_sessions(path)) {
+    t.sessions[s.id] = s;
+    for (const TuneEvalRow& e : tune_evals(path, s.id)) {
+      t.eval_of[e.run_id] = e;
+      t.session_runs[s.id].push_back(e.run_id);
+    }
+  }
+  return t;
+}
+
+// `runs list --json`: one object per run, a tuning evaluation's with its session.
+void list_json(RunStore& store, const std::vector<RunRow>& runs, const std::map<int64_t, TuneEvalRow>& eval_of) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const RunRow& r : runs) {
+    const RunMetrics m = run_metrics(store, r.id);
+    const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
+    nlohmann::json j = {{"id", r.id},           {"started_at", r.started_at}, {"platform", r.platform},
+                        {"label", r.label},     {"samples", r.samples},       {"lost_frames", r.lost_frames},
+                        {"ended_at", r.ended_at}, {"end_reason", r.end_reason}};
+    const std::string ref = reference_of(store, r);
+    j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
+    j["kind"] = r.kind;
+    if (!r.excitation.empty()) j["excitation"] = nlohmann::json::parse(r.excitation, nullptr, false);
+    j["nrmse"] = std::isfinite(t.nrmse) && r.kind != "ident" ? nlohmann::json(t.nrmse) : nlohmann::json();
+    j["measured_output"] = m.has_true;
+    if (const auto e = eval_of.find(r.id); e != eval_of.end()) {
+      nlohmann::json tj = {{"session", e->second.session_id}, {"eval", e->second.eval}, {"point", e->second.point}};
+      tj["objective"] = e->second.objective ? nlohmann::json(*e->second.objective) : nlohmann::json();
+      if (!e->second.failed.empty()) tj["failed"] = e->second.failed;
+      j["tune"] = tj;
+    }
+    out.push_back(j);
+  }
+  fmt::print("{}\n", out.dump(2));
+}
+
 void list(const RunsArgs& a) {
   auto store = open_store(a);
   const auto all_runs = store->list();
   const auto runs = chosen_runs(a, all_runs);
   const bool filtered = !a.match.empty() || !a.since.empty() || a.last > 0;
   const std::string path = a.db.empty() ? default_db_path() : a.db;
-  // The runs of a tuning session: its header goes before its first run, its
-  // evaluations follow indented with their objective, and a session's later
-  // runs stay with it even when other runs came between.
-  std::map<int64_t, TuneEvalRow> eval_of;
-  std::map<int64_t, std::vector<int64_t>> session_runs;
-  std::map<int64_t, TuneSessionRow> sessions;
-  for (const TuneSessionRow& s : tune_sessions(path)) {
-    sessions[s.id] = s;
-    for (const TuneEvalRow& e : tune_evals(path, s.id)) {
-      eval_of[e.run_id] = e;
-      session_runs[s.id].push_back(e.run_id);
-    }
-  }
+  TuneIndex tune = tune_index(path);
+  std::map<int64_t, TuneEvalRow>& eval_of = tune.eval_of;
+  std::map<int64_t, std::vector<int64_t>>& session_runs = tune.session_runs;
+  std::map<int64_t, TuneSessionRow>& sessions = tune.sessions;
   if (a.json) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const RunRow& r : runs) {
-      const RunMetrics m = run_metrics(*store, r.id);
-      const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;
-      nlohmann::json j = {{"id", r.id},           {"started_at", r.started_at}, {"platform", r.platform},
-                          {"label", r.label},     {"samples", r.samples},       {"lost_frames", r.lost_frames},
-                          {"ended_at", r.ended_at}, {"end_reason", r.end_reason}};
-      const std::string ref = reference_of(*store, r);
-      j["reference"] = ref.empty() ? nlohmann::json() : nlohmann::json::parse(ref, nullptr, false);
-      j["kind"] = r.kind;
-      if (!r.excitation.empty()) j["excitation"] = nlohmann::json::parse(r.excitation, nullptr, false);
-      j["nrmse"] = std::isfinite(t.nrmse) && r.kind != "ident" ? nlohmann::json(t.nrmse) : nlohmann::json();
-      j["measured_output"] = m.has_true;
-      if (const auto e = eval_of.find(r.id); e != eval_of.end()) {
-        nlohmann::json tj = {{"session", e->second.session_id}, {"eval", e->second.eval}, {"point", e->second.point}};
-        tj["objective"] = e->second.objective ? nlohmann::json(*e->second.objective) : nlohmann::json();
-        if (!e->second.failed.empty()) tj["failed"] = e->second.failed;
-        j["tune"] = tj;
-      }
-      out.push_back(j);
-    }
-    fmt::print("{}\n", out.dump(2));
+    list_json(*store, runs, eval_of);
     return;
   }
   if (runs.empty()) {
@@ -307,6 +323,9 @@ void list(const RunsArgs& a) {
                r.lost_frames,
                printable(r.label), printable(ended));
   };
+  // The runs of a tuning session: its header goes before its first run, its
+  // evaluations follow indented with their objective, and a session's later
+  // runs stay with it even when other runs came between.
   bool any_eval = false;
   for (const RunRow& r : runs) {
     const auto e = eval_of.find(r.id);
@@ -569,6 +588,105 @@ void compare_runs(const std::string& db, int64_t a, int64_t b, bool json, const 
   compare(args);
 }
 
+namespace {
+
+void add_db_option(CLI::App* c, const std::shared_ptr<RunsArgs>& args) {
+  c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
+}
+
+// runs list, runs show
+void add_reading_commands(CLI::App* runs, const std::shared_ptr<RunsArgs>& args) {
+  CLI::App* l = runs->add_subcommand(
+      "list", "One line per run: rig, reference, samples, nRMSE over the run, lost frames, label, how it ended");
+  add_db_option(l, args);
+  l->add_flag("--json", args->json, "Machine-readable output: an array of runs");
+  l->add_option("--last", args->last, "Only the last N runs (after the other filters)")->check(CLI::PositiveNumber);
+  l->add_option("--label", args->match, "Only runs whose label contains TEXT (any case)");
+  l->add_option("--since", args->since,
+                "Only runs started since a date (2026-11-25, 2026-11-25T10:30, UTC) or a time back from now (2h, 3d)");
+  l->callback([args] { list(*args); });
+  CLI::App* s = runs->add_subcommand("show", "A run's setup, parameters, gaps and metrics");
+  add_db_option(s, args);
+  s->add_option("ID", args->id, "Run id (see runs list)")->required();
+  s->add_flag("--json", args->json, "Machine-readable output");
+  s->callback([args] { show(*args); });
+}
+
+// runs export, compare, plot
+void add_output_commands(CLI::App* runs, const std::shared_ptr<RunsArgs>& args) {
+  CLI::App* e = runs->add_subcommand(
+      "export", "Runs' samples as CSV (one run, or several with a run column) or HDF5 (MATLAB h5read, Python h5py)");
+  add_db_option(e, args);
+  e->add_option("ID", args->ids, "Run ids")->required();
+  e->add_option("--csv", args->csv, "CSV file ('-' or none: standard output)");
+  e->add_option("--h5", args->h5,
+                "HDF5 file: a group run_ID per run with t, u, y_ref, y_hat, y_true, cost, iterations as datasets with "
+                "units; the run's rig, firmware, model hash and parameters as attributes; its gaps");
+  add_rig_option(e, args->rig,
+                "HDF5: the rig whose outputs', inputs' and sensors' names and units the runs' columns get "
+                "(default: each run's rig when it is a shipped one); its n, m, w must be the runs'");
+  e->callback([args] { export_runs(*args); });
+  CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
+  add_db_option(c, args);
+  c->add_option("A", args->id, "First run id")->required();
+  c->add_option("B", args->other, "Second run id")->required();
+  c->add_flag("--json", args->json, "Machine-readable output");
+  c->add_option("--svg", args->svg, "Also draw both runs overlaid, as runs plot A B does");
+  c->add_option("--png", args->png, "Also draw both runs overlaid, as a PNG");
+  c->callback([args] { compare(*args); });
+  CLI::App* p = runs->add_subcommand(
+      "plot", "Draw a run (or two overlaid): y per axis against the reference, u, the x-y path; needs gnuplot");
+  add_db_option(p, args);
+  p->add_option("ID", args->ids, "Run id; a second id overlays that run (dashed)")->expected(1, 2);
+  p->add_option("--tune", args->tune, "A tuning session instead: its objective against the evaluation, best so far")
+      ->check(CLI::PositiveNumber);
+  p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
+  p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
+  p->callback([args] { plot(*args); });
+}
+
+// runs delete, merge-y, label
+void add_editing_commands(CLI::App* runs, const std::shared_ptr<RunsArgs>& args) {
+  CLI::App* d = runs->add_subcommand("delete", "Delete runs with their samples, parameters, gaps and link events");
+  add_db_option(d, args);
+  d->add_option("ID", args->ids, "Run ids (all are deleted, or none)")->required();
+  d->add_flag("--force", args->force,
+              "Delete an unfinished run too (one a killed console left open); a run a console is still recording "
+              "is refused all the same");
+  d->callback([args] {
+    for (const std::string& note : delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force))
+      fmt::print(stderr, "{}\n", printable(note));
+    for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
+  });
+  CLI::App* my = runs->add_subcommand(
+      "merge-y", "Make an external measurement of the outputs (motion capture) a run's measured outputs, y_true");
+  add_db_option(my, args);
+  my->add_option("ID", args->id, "Run id")->required();
+  my->add_option("FILE", args->capture,
+                 "CSV with a header time,y0,y1,... (or the rig's output names), time in seconds on the capture's own "
+                 "clock")
+      ->required();
+  my->add_option("--offset", args->offset,
+                 "The capture clock's offset in seconds (run time = capture time - S); default: estimated from the "
+                 "run's inputs and sensors");
+  add_rig_option(my, args->rig, "The rig file whose output names the columns may carry (default: the run's rig)");
+  my->footer(
+      "The capture is interpolated linearly onto the run's samples (run time: the control step over the loop\n"
+      "rate, from the run's first step); samples outside it keep no measured output. One transaction: a bad\n"
+      "file (a missing or unknown column, a time out of order, NaN, no overlap) changes nothing, exit 2.\n");
+  my->callback([args] { merge_capture(*args); });
+  CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
+  add_db_option(lb, args);
+  lb->add_option("ID", args->id, "Run id")->required();
+  lb->add_option("TEXT", args->label, "The label (quote it if it has blanks; \"\" clears it)")->required();
+  lb->callback([args] {
+    label_run(args->db.empty() ? default_db_path() : args->db, args->id, args->label);
+    fmt::print("run {} labelled \"{}\"\n", args->id, printable(args->label));
+  });
+}
+
+}  // namespace
+
 void add_runs_command(CLI::App& app) {
   auto args = std::make_shared<RunsArgs>();
   CLI::App* runs = app.add_subcommand("runs", "Recorded runs: list, show, export, compare, plot, label, delete");
@@ -588,89 +706,10 @@ void add_runs_command(CLI::App& app) {
       "  nlsoft-console runs label 12 \"Lambda 4, smoother\"\n"
       "  nlsoft-console runs merge-y 12 mocap.csv\n"
       "  nlsoft-console runs delete 12\n");
-  auto db = [&](CLI::App* c) {
-    c->add_option("--db", args->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
-  };
-  db(runs);
-  CLI::App* l = runs->add_subcommand(
-      "list", "One line per run: rig, reference, samples, nRMSE over the run, lost frames, label, how it ended");
-  db(l);
-  l->add_flag("--json", args->json, "Machine-readable output: an array of runs");
-  l->add_option("--last", args->last, "Only the last N runs (after the other filters)")->check(CLI::PositiveNumber);
-  l->add_option("--label", args->match, "Only runs whose label contains TEXT (any case)");
-  l->add_option("--since", args->since,
-                "Only runs started since a date (2026-11-25, 2026-11-25T10:30, UTC) or a time back from now (2h, 3d)");
-  l->callback([args] { list(*args); });
-  CLI::App* s = runs->add_subcommand("show", "A run's setup, parameters, gaps and metrics");
-  db(s);
-  s->add_option("ID", args->id, "Run id (see runs list)")->required();
-  s->add_flag("--json", args->json, "Machine-readable output");
-  s->callback([args] { show(*args); });
-  CLI::App* e = runs->add_subcommand(
-      "export", "Runs' samples as CSV (one run, or several with a run column) or HDF5 (MATLAB h5read, Python h5py)");
-  db(e);
-  e->add_option("ID", args->ids, "Run ids")->required();
-  e->add_option("--csv", args->csv, "CSV file ('-' or none: standard output)");
-  e->add_option("--h5", args->h5,
-                "HDF5 file: a group run_ID per run with t, u, y_ref, y_hat, y_true, cost, iterations as datasets with "
-                "units; the run's rig, firmware, model hash and parameters as attributes; its gaps");
-  add_rig_option(e, args->rig,
-                "HDF5: the rig whose outputs', inputs' and sensors' names and units the runs' columns get "
-                "(default: each run's rig when it is a shipped one); its n, m, w must be the runs'");
-  e->callback([args] { export_runs(*args); });
-  CLI::App* c = runs->add_subcommand("compare", "Two runs' metrics and parameter differences side by side");
-  db(c);
-  c->add_option("A", args->id, "First run id")->required();
-  c->add_option("B", args->other, "Second run id")->required();
-  c->add_flag("--json", args->json, "Machine-readable output");
-  c->add_option("--svg", args->svg, "Also draw both runs overlaid, as runs plot A B does");
-  c->add_option("--png", args->png, "Also draw both runs overlaid, as a PNG");
-  c->callback([args] { compare(*args); });
-  CLI::App* p = runs->add_subcommand(
-      "plot", "Draw a run (or two overlaid): y per axis against the reference, u, the x-y path; needs gnuplot");
-  db(p);
-  p->add_option("ID", args->ids, "Run id; a second id overlays that run (dashed)")->expected(1, 2);
-  p->add_option("--tune", args->tune, "A tuning session instead: its objective against the evaluation, best so far")
-      ->check(CLI::PositiveNumber);
-  p->add_option("--svg", args->svg, "Write an SVG image ('-': standard output)");
-  p->add_option("--png", args->png, "Write a PNG image ('-': standard output)");
-  p->callback([args] { plot(*args); });
-  CLI::App* d = runs->add_subcommand("delete", "Delete runs with their samples, parameters, gaps and link events");
-  db(d);
-  d->add_option("ID", args->ids, "Run ids (all are deleted, or none)")->required();
-  d->add_flag("--force", args->force,
-              "Delete an unfinished run too (one a killed console left open); a run a console is still recording "
-              "is refused all the same");
-  d->callback([args] {
-    for (const std::string& note : delete_runs(args->db.empty() ? default_db_path() : args->db, args->ids, args->force))
-      fmt::print(stderr, "{}\n", printable(note));
-    for (int64_t id : args->ids) fmt::print("run {} deleted\n", id);  // in the order given
-  });
-  CLI::App* my = runs->add_subcommand(
-      "merge-y", "Make an external measurement of the outputs (motion capture) a run's measured outputs, y_true");
-  db(my);
-  my->add_option("ID", args->id, "Run id")->required();
-  my->add_option("FILE", args->capture,
-                 "CSV with a header time,y0,y1,... (or the rig's output names), time in seconds on the capture's own "
-                 "clock")
-      ->required();
-  my->add_option("--offset", args->offset,
-                 "The capture clock's offset in seconds (run time = capture time - S); default: estimated from the "
-                 "run's inputs and sensors");
-  add_rig_option(my, args->rig, "The rig file whose output names the columns may carry (default: the run's rig)");
-  my->footer(
-      "The capture is interpolated linearly onto the run's samples (run time: the control step over the loop\n"
-      "rate, from the run's first step); samples outside it keep no measured output. One transaction: a bad\n"
-      "file (a missing or unknown column, a time out of order, NaN, no overlap) changes nothing, exit 2.\n");
-  my->callback([args] { merge_capture(*args); });
-  CLI::App* lb = runs->add_subcommand("label", "Give a run a new label");
-  db(lb);
-  lb->add_option("ID", args->id, "Run id")->required();
-  lb->add_option("TEXT", args->label, "The label (quote it if it has blanks; \"\" clears it)")->required();
-  lb->callback([args] {
-    label_run(args->db.empty() ? default_db_path() : args->db, args->id, args->label);
-    fmt::print("run {} labelled \"{}\"\n", args->id, printable(args->label));
-  });
+  add_db_option(runs, args);
+  add_reading_commands(runs, args);
+  add_output_commands(runs, args);
+  add_editing_commands(runs, args);
 }
 
 }  // namespace nlsoft::console
