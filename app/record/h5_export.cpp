@@ -205,9 +205,8 @@ Columnar read_run(RunStore& store, const RunRow& r) {
   return c;
 }
 
-uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumns& names) {
-  H5Handle g = group(file, fmt::format("run_{}", r.id));
-  const hid_t gid = g.get();
+// The run's row as attributes, and the rig's names of its columns.
+void write_run_attributes(hid_t gid, const RunRow& r, const RigColumns& names) {
   put_number<int64_t>(gid, "id", H5T_NATIVE_INT64, r.id);
   put(gid, "rig", r.platform);
   put(gid, "kind", r.kind);
@@ -233,10 +232,12 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumn
     put_strings(gid, "input_names", names.input_names, false);
   }
   if (!names.sensor_names.empty()) put_strings(gid, "sensor_names", names.sensor_names, false);
-  const Columnar c = read_run(store, r);
-  const size_t rows = c.k.size(), n = size_t(r.n), m = size_t(r.m);
-  put_number<uint64_t>(gid, "samples", H5T_NATIVE_UINT64, rows);
+}
 
+// The samples, a dataset per field the firmware sent; the fields it never
+// sent are named in "absent".
+void write_samples(hid_t gid, const Columnar& c, const RunRow& r, const RigColumns& names) {
+  const size_t rows = c.k.size(), n = size_t(r.n), m = size_t(r.m);
   dataset(gid, "k", H5T_STD_U64LE, H5T_NATIVE_UINT64, c.k.data(), rows, 0);
   if (c.seen & tf::kStep) {
     dataset(gid, "step", H5T_STD_U32LE, H5T_NATIVE_UINT32, c.step.data(), rows, 0);
@@ -306,8 +307,10 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumn
   // Fields the firmware never sent (y_true on a rig without a measured
   // output): named, so a script tells "not measured" from "forgotten".
   put_strings(gid, "absent", absent, false);
+}
 
-  // Gaps: where frames were lost, after which sample, for how long, why.
+// Gaps: where frames were lost, after which sample, for how long, why.
+void write_gaps(hid_t gid, RunStore& store, const RunRow& r) {
   const auto gaps = store.gaps(r.id);
   H5Handle gg = group(gid, "gaps");
   std::vector<uint64_t> after, lost;
@@ -326,8 +329,10 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumn
   put(dur.get(), "unit", "s");
   strings_dataset(gg.get(), "reason", reason);
   strings_dataset(gg.get(), "at", when);
+}
 
-  // Parameters: the values at the start as attributes, changes as rows.
+// Parameters: the values at the start as attributes, changes as rows.
+void write_parameters(hid_t gid, RunStore& store, const RunRow& r) {
   H5Handle pg = group(gid, "parameters");
   std::vector<double> at;
   std::vector<std::string> pname, pvalue;
@@ -345,7 +350,18 @@ uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumn
   put(ct.get(), "unit", "s");
   strings_dataset(changes.get(), "name", pname);
   strings_dataset(changes.get(), "value", pvalue);
-  return rows;
+}
+
+uint64_t write_run(hid_t file, RunStore& store, const RunRow& r, const RigColumns& names) {
+  H5Handle g = group(file, fmt::format("run_{}", r.id));
+  const hid_t gid = g.get();
+  write_run_attributes(gid, r, names);
+  const Columnar c = read_run(store, r);
+  put_number<uint64_t>(gid, "samples", H5T_NATIVE_UINT64, c.k.size());
+  write_samples(gid, c, r, names);
+  write_gaps(gid, store, r);
+  write_parameters(gid, store, r);
+  return c.k.size();
 }
 
 }  // namespace
