@@ -126,9 +126,110 @@ PlottedRun load_plotted_run(RunStore& store, int64_t id) {
   return r;
 }
 
+namespace {
+
+const char* const kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
+                                "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+
+std::string label(const std::vector<std::string>& labels, int i, const char* prefix) {
+  return size_t(i) < labels.size() && !labels[size_t(i)].empty() ? labels[size_t(i)] : fmt::format("{}{}", prefix, i);
+}
+
+// A series in a legend: its column's name (u0, as the CSV and `runs show`
+// say it) and the rig's ("u0 h1").
+std::string legend(const std::vector<std::string>& labels, int i, const char* prefix) {
+  const std::string column = fmt::format("{}{}", prefix, i);
+  return size_t(i) < labels.size() && !labels[size_t(i)].empty() && labels[size_t(i)] != column
+             ? column + " " + labels[size_t(i)]
+             : column;
+}
+
+// One unit for a panel of several series when they share it ("u (kV)").
+std::string shared_unit(const std::vector<std::string>& labels, const char* fallback) {
+  std::string unit;
+  for (const std::string& l : labels) {
+    const size_t open = l.rfind(" (");
+    const std::string u = open == std::string::npos ? "" : l.substr(open);
+    if (u.empty() || (!unit.empty() && u != unit)) return std::string(fallback);
+    unit = u;
+  }
+  return unit.empty() ? std::string(fallback) : fallback + unit;
+}
+
+// "plot a, \ b, ..." continued over lines; a panel with nothing to draw plots NaN.
+std::string plot_parts(std::vector<std::string> parts) {
+  if (parts.empty()) parts.push_back("NaN notitle");
+  std::string s;
+  for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", \\\n     " : "") + parts[i];
+  return s;
+}
+
+// Output a: each run's reference, prediction and measurement against time.
+std::string output_panel(const std::vector<PlottedRun>& runs, const Columns& c, int a) {
+  const std::string name = label(runs[0].output_labels, a, "y");
+  std::string s = fmt::format(
+      "set title {}\nset xlabel \"t (s)\"\nset ylabel {}\n",
+      gnuplot_string(name == fmt::format("y{}", a) ? "output " + name : fmt::format("output y{}: {}", a, name)),
+      gnuplot_string(name));
+  std::vector<std::string> parts;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const RunSeries& rs = runs[k].series;
+    if (rs.has_y_ref) parts.push_back(series(runs, k, fmt::format("1:{}", c.ref(a)), "y_ref", "#000000"));
+    if (rs.has_y_hat) parts.push_back(series(runs, k, fmt::format("1:{}", c.hat(a)), "y_hat", "#1f77b4"));
+    if (rs.has_y_true) parts.push_back(series(runs, k, fmt::format("1:{}", c.truth(a)), "y_true", "#d62728"));
+  }
+  return s + "plot " + plot_parts(parts) + "\n";
+}
+
+// The m inputs of every run that sent them, in one panel.
+std::string inputs_panel(const std::vector<PlottedRun>& runs, const Columns& c, int m) {
+  std::vector<std::string> parts;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    if (!runs[k].series.has_u) continue;
+    for (int i = 0; i < m; ++i)
+      parts.push_back(
+          series(runs, k, fmt::format("1:{}", c.u(i)), legend(runs[0].input_labels, i, "u"), kColours[size_t(i) % 10]));
+  }
+  return fmt::format("set title \"actuator inputs u\"\nset xlabel \"t (s)\"\nset ylabel {}\nplot ",
+                     gnuplot_string(shared_unit(runs[0].input_labels, "u"))) +
+         plot_parts(parts) + "\n";
+}
+
+// The w sensors of every run with as many, in one panel.
+std::string sensors_panel(const std::vector<PlottedRun>& runs, const Columns& c, int w) {
+  std::vector<std::string> parts;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    if (!runs[k].series.has_l || runs[k].series.w != w) continue;
+    for (int j = 0; j < w; ++j)
+      parts.push_back(series(runs, k, fmt::format("1:{}", c.l(j)), legend(runs[0].sensor_labels, j, "l"),
+                             kColours[size_t(j) % 10]));
+  }
+  return fmt::format("set title \"sensors l\"\nset xlabel \"t (s)\"\nset ylabel {}\nplot ",
+                     gnuplot_string(shared_unit(runs[0].sensor_labels, "l"))) +
+         plot_parts(parts) + "\n";
+}
+
+// y1 against y0, to scale.
+std::string path_panel(const std::vector<PlottedRun>& runs, const Columns& c) {
+  const PlottedRun& r0 = runs[0];
+  std::string s = fmt::format("set title {}\nset xlabel {}\nset ylabel {}\nset size ratio -1\nplot ",
+                              gnuplot_string(fmt::format("x-y path (y0 across, y1 up)")),
+                              gnuplot_string(label(r0.output_labels, 0, "y")),
+                              gnuplot_string(label(r0.output_labels, 1, "y")));
+  std::vector<std::string> parts;
+  for (size_t k = 0; k < runs.size(); ++k) {
+    const RunSeries& rs = runs[k].series;
+    if (rs.has_y_ref) parts.push_back(series(runs, k, fmt::format("{}:{}", c.ref(0), c.ref(1)), "y_ref path", "#000000"));
+    if (rs.has_y_hat) parts.push_back(series(runs, k, fmt::format("{}:{}", c.hat(0), c.hat(1)), "y_hat path", "#1f77b4"));
+    if (rs.has_y_true)
+      parts.push_back(series(runs, k, fmt::format("{}:{}", c.truth(0), c.truth(1)), "y_true path", "#d62728"));
+  }
+  return s + plot_parts(parts) + "\nset size noratio\n";
+}
+
+}  // namespace
+
 std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat format, size_t max_points) {
-  static const char* kColours[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b",
-                                   "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
   if (runs.empty()) throw CliError("runs plot: no run given");
   const int n = runs[0].series.n;
   const int m = runs[0].series.m;
@@ -141,29 +242,6 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
   // two keeps both when they have as many).
   const int w = runs[0].series.has_l ? runs[0].series.w : 0;
   const int panels = n + (m > 0 ? 1 : 0) + (w > 0 ? 1 : 0) + (path ? 1 : 0);
-  const PlottedRun& r0 = runs[0];
-  auto label = [](const std::vector<std::string>& labels, int i, const char* prefix) {
-    return size_t(i) < labels.size() && !labels[size_t(i)].empty() ? labels[size_t(i)] : fmt::format("{}{}", prefix, i);
-  };
-  // A series in a legend: its column's name (u0, as the CSV and `runs show`
-  // say it) and the rig's ("u0 h1").
-  auto legend = [](const std::vector<std::string>& labels, int i, const char* prefix) {
-    const std::string column = fmt::format("{}{}", prefix, i);
-    return size_t(i) < labels.size() && !labels[size_t(i)].empty() && labels[size_t(i)] != column
-               ? column + " " + labels[size_t(i)]
-               : column;
-  };
-  // One unit for a panel of several series when they share it ("u (kV)").
-  auto shared_unit = [](const std::vector<std::string>& labels, const char* fallback) {
-    std::string unit;
-    for (const std::string& l : labels) {
-      const size_t open = l.rfind(" (");
-      const std::string u = open == std::string::npos ? "" : l.substr(open);
-      if (u.empty() || (!unit.empty() && u != unit)) return std::string(fallback);
-      unit = u;
-    }
-    return unit.empty() ? std::string(fallback) : fallback + unit;
-  };
   std::vector<std::string> caption;
   for (const PlottedRun& r : runs)
     for (const std::string& l : caption_lines(r)) caption.push_back(l);
@@ -181,69 +259,10 @@ std::string run_plot_script(const std::vector<PlottedRun>& runs, ImageFormat for
   for (const std::string& l : caption) title += (title.empty() ? "" : "\n") + l;
   s += fmt::format("set multiplot layout {},1 title {} font \"monospace,8\"\n", panels, gnuplot_string(title));
   const Columns c{n, m};
-  for (int a = 0; a < n; ++a) {
-    const std::string name = label(r0.output_labels, a, "y");
-    s += fmt::format("set title {}\nset xlabel \"t (s)\"\nset ylabel {}\n",
-                     gnuplot_string(name == fmt::format("y{}", a) ? "output " + name : fmt::format("output y{}: {}", a, name)),
-                     gnuplot_string(name));
-    std::vector<std::string> parts;
-    for (size_t k = 0; k < runs.size(); ++k) {
-      const RunSeries& rs = runs[k].series;
-      if (rs.has_y_ref) parts.push_back(series(runs, k, fmt::format("1:{}", c.ref(a)), "y_ref", "#000000"));
-      if (rs.has_y_hat) parts.push_back(series(runs, k, fmt::format("1:{}", c.hat(a)), "y_hat", "#1f77b4"));
-      if (rs.has_y_true) parts.push_back(series(runs, k, fmt::format("1:{}", c.truth(a)), "y_true", "#d62728"));
-    }
-    if (parts.empty()) parts.push_back("NaN notitle");
-    s += "plot ";
-    for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", \\\n     " : "") + parts[i];
-    s += "\n";
-  }
-  if (m > 0) {
-    s += fmt::format("set title \"actuator inputs u\"\nset xlabel \"t (s)\"\nset ylabel {}\nplot ",
-                     gnuplot_string(shared_unit(r0.input_labels, "u")));
-    bool first = true;
-    for (size_t k = 0; k < runs.size(); ++k) {
-      if (!runs[k].series.has_u) continue;
-      for (int i = 0; i < m; ++i) {
-        s += (first ? "" : ", \\\n     ") +
-             series(runs, k, fmt::format("1:{}", c.u(i)), legend(r0.input_labels, i, "u"), kColours[size_t(i) % 10]);
-        first = false;
-      }
-    }
-    if (first) s += "NaN notitle";
-    s += "\n";
-  }
-  if (w > 0) {
-    s += fmt::format("set title \"sensors l\"\nset xlabel \"t (s)\"\nset ylabel {}\nplot ",
-                     gnuplot_string(shared_unit(r0.sensor_labels, "l")));
-    bool any = false;
-    for (size_t k = 0; k < runs.size(); ++k) {
-      if (!runs[k].series.has_l || runs[k].series.w != w) continue;
-      for (int j = 0; j < w; ++j) {
-        s += (any ? ", \\\n     " : "") +
-             series(runs, k, fmt::format("1:{}", c.l(j)), legend(r0.sensor_labels, j, "l"), kColours[size_t(j) % 10]);
-        any = true;
-      }
-    }
-    if (!any) s += "NaN notitle";
-    s += "\n";
-  }
-  if (path) {
-    s += fmt::format("set title {}\nset xlabel {}\nset ylabel {}\nset size ratio -1\nplot ",
-                     gnuplot_string(fmt::format("x-y path (y0 across, y1 up)")),
-                     gnuplot_string(label(r0.output_labels, 0, "y")), gnuplot_string(label(r0.output_labels, 1, "y")));
-    std::vector<std::string> parts;
-    for (size_t k = 0; k < runs.size(); ++k) {
-      const RunSeries& rs = runs[k].series;
-      if (rs.has_y_ref) parts.push_back(series(runs, k, fmt::format("{}:{}", c.ref(0), c.ref(1)), "y_ref path", "#000000"));
-      if (rs.has_y_hat) parts.push_back(series(runs, k, fmt::format("{}:{}", c.hat(0), c.hat(1)), "y_hat path", "#1f77b4"));
-      if (rs.has_y_true)
-        parts.push_back(series(runs, k, fmt::format("{}:{}", c.truth(0), c.truth(1)), "y_true path", "#d62728"));
-    }
-    if (parts.empty()) parts.push_back("NaN notitle");
-    for (size_t i = 0; i < parts.size(); ++i) s += (i ? ", \\\n     " : "") + parts[i];
-    s += "\nset size noratio\n";
-  }
+  for (int a = 0; a < n; ++a) s += output_panel(runs, c, a);
+  if (m > 0) s += inputs_panel(runs, c, m);
+  if (w > 0) s += sensors_panel(runs, c, w);
+  if (path) s += path_panel(runs, c);
   s += "unset multiplot\n";
   return s;
 }
