@@ -115,6 +115,86 @@ bool flag(const json& cfg, const char* key, bool fallback) {
   return cfg.contains(key) && cfg[key].is_boolean() ? cfg[key].get<bool>() : fallback;
 }
 
+// The file's model_config: a Keras Sequential model's, parsed.
+json sequential_config(hid_t file, const std::string& path) {
+  const std::vector<std::string> cfg_text = read_string_attribute(file, "model_config", path);
+  if (cfg_text.size() != 1) throw PipelineError(path + ": 'model_config' is not a single string");
+  json model;
+  try {
+    model = json::parse(cfg_text[0]);
+  } catch (const std::exception& e) {
+    throw PipelineError(path + ": model_config is not valid JSON: " + e.what());
+  }
+  const std::string cls = model.value("class_name", "");
+  if (cls != "Sequential")
+    throw PipelineError(path + ": only Keras Sequential models are supported, this is a '" + cls + "' model");
+  return model;
+}
+
+// A layer's weights by their role, with their shapes.
+struct LayerWeights {
+  std::vector<float> kernel, recurrent, bias;
+  std::vector<hsize_t> kd, rd, bd;
+};
+
+LayerWeights read_layer_weights(hid_t root, const std::string& name, const std::string& who, const std::string& path) {
+  Handle group(H5Gopen2(root, name.c_str(), H5P_DEFAULT), H5Gclose);
+  if (!group.ok()) throw PipelineError(who + ": no weights group '" + name + "' in " + path);
+  LayerWeights w;
+  for (const std::string& wn : read_string_attribute(group.get(), "weight_names", who)) {
+    const std::string role = weight_role(wn);
+    if (role == "kernel") w.kernel = read_array(group.get(), wn, w.kd, who);
+    else if (role == "recurrent_kernel") w.recurrent = read_array(group.get(), wn, w.rd, who);
+    else if (role == "bias") w.bias = read_array(group.get(), wn, w.bd, who);
+    else throw PipelineError(who + ": unexpected weight '" + wn + "'");
+  }
+  return w;
+}
+
+// A Dense or GRU layer of `width` inputs appended to net, its weights in the
+// order the firmware reads them; the layer's units.
+int add_layer(KerasNetwork& net, const std::string& lcls, const json& cfg, const std::string& who, int width,
+              LayerWeights w) {
+  const int units = cfg.value("units", 0);
+  if (units <= 0) throw PipelineError(who + ": missing 'units'");
+  const bool use_bias = flag(cfg, "use_bias", true);
+  Layer L;
+  L.in = static_cast<uint16_t>(width);
+  L.out = static_cast<uint16_t>(units);
+  L.offset = static_cast<uint32_t>(net.weights.size());
+  const int cols = lcls == "GRU" ? 3 * units : units;
+  if (w.kd.size() != 2 || w.kd[0] != hsize_t(width) || w.kd[1] != hsize_t(cols))
+    throw PipelineError(who + ": kernel shape does not match " + std::to_string(width) + " x " + std::to_string(cols));
+  if (lcls == "Dense") {
+    L.kind = LayerKind::Dense;
+    L.act = activation_of(cfg, "activation", "linear", who);
+    net.weights.insert(net.weights.end(), w.kernel.begin(), w.kernel.end());
+    if (use_bias && w.bias.size() != size_t(units)) throw PipelineError(who + ": bias shape does not match units");
+    if (!use_bias) w.bias.assign(size_t(units), 0.0f);
+    net.weights.insert(net.weights.end(), w.bias.begin(), w.bias.end());
+  } else {
+    L.kind = LayerKind::Gru;
+    L.act = activation_of(cfg, "activation", "tanh", who);
+    L.rec_act = activation_of(cfg, "recurrent_activation", "hard_sigmoid", who);
+    L.reset_after = flag(cfg, "reset_after", false);  // Keras 2.2 had no such option: false
+    if (flag(cfg, "return_sequences", false) || flag(cfg, "return_state", false))
+      throw PipelineError(who + ": return_sequences / return_state are not supported (one output step only)");
+    if (w.rd.size() != 2 || w.rd[0] != hsize_t(units) || w.rd[1] != hsize_t(cols))
+      throw PipelineError(who + ": recurrent_kernel shape does not match " + std::to_string(units) + " x " +
+                          std::to_string(cols));
+    const size_t nb = size_t(L.reset_after ? 2 : 1) * size_t(cols);
+    if (use_bias && w.bias.size() != nb)
+      throw PipelineError(who + ": bias has " + std::to_string(w.bias.size()) + " values, expected " +
+                          std::to_string(nb) + (L.reset_after ? " (reset_after: 2 x 3 units)" : ""));
+    if (!use_bias) w.bias.assign(nb, 0.0f);
+    net.weights.insert(net.weights.end(), w.kernel.begin(), w.kernel.end());
+    net.weights.insert(net.weights.end(), w.recurrent.begin(), w.recurrent.end());
+    net.weights.insert(net.weights.end(), w.bias.begin(), w.bias.end());
+  }
+  net.layers.push_back(L);
+  return units;
+}
+
 }  // namespace
 
 KerasNetwork read_keras_h5(const std::string& path) {
@@ -127,18 +207,7 @@ KerasNetwork read_keras_h5(const std::string& path) {
   if (H5Fis_hdf5(path.c_str()) <= 0) throw PipelineError("'" + path + "' is not an HDF5 file (or cannot be read)");
   Handle file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
   if (!file.ok()) throw PipelineError("cannot open '" + path + "'");
-
-  const std::vector<std::string> cfg_text = read_string_attribute(file.get(), "model_config", path);
-  if (cfg_text.size() != 1) throw PipelineError(path + ": 'model_config' is not a single string");
-  json model;
-  try {
-    model = json::parse(cfg_text[0]);
-  } catch (const std::exception& e) {
-    throw PipelineError(path + ": model_config is not valid JSON: " + e.what());
-  }
-  const std::string cls = model.value("class_name", "");
-  if (cls != "Sequential")
-    throw PipelineError(path + ": only Keras Sequential models are supported, this is a '" + cls + "' model");
+  const json model = sequential_config(file.get(), path);
   const json& config = model["config"];
   // Keras 2.2 stores the layer list directly, later versions under "layers".
   const json layers = config.is_array() ? config : config.value("layers", json::array());
@@ -152,7 +221,6 @@ KerasNetwork read_keras_h5(const std::string& path) {
   net.inputs = input_size(config, layers);
   if (net.inputs <= 0) throw PipelineError(path + ": cannot find the input shape (batch_input_shape)");
   int width = net.inputs;
-
   for (const json& l : layers) {
     const std::string lcls = l.value("class_name", "?");
     const json cfg = l.value("config", json::object());
@@ -162,62 +230,10 @@ KerasNetwork read_keras_h5(const std::string& path) {
     if (lcls == "Flatten") continue;  // (1, p) -> p: same numbers in the same order
     if (lcls != "Dense" && lcls != "GRU")
       throw PipelineError(who + " is not supported; supported layers: InputLayer, Flatten, Dense, GRU, Dropout");
-
-    Handle group(H5Gopen2(root, name.c_str(), H5P_DEFAULT), H5Gclose);
-    if (!group.ok()) throw PipelineError(who + ": no weights group '" + name + "' in " + path);
-    const std::vector<std::string> names = read_string_attribute(group.get(), "weight_names", who);
-    std::vector<float> kernel, recurrent, bias;
-    std::vector<hsize_t> kd, rd, bd;
-    for (const std::string& wn : names) {
-      const std::string role = weight_role(wn);
-      if (role == "kernel") kernel = read_array(group.get(), wn, kd, who);
-      else if (role == "recurrent_kernel") recurrent = read_array(group.get(), wn, rd, who);
-      else if (role == "bias") bias = read_array(group.get(), wn, bd, who);
-      else throw PipelineError(who + ": unexpected weight '" + wn + "'");
-    }
-    const int units = cfg.value("units", 0);
-    if (units <= 0) throw PipelineError(who + ": missing 'units'");
-    const bool use_bias = flag(cfg, "use_bias", true);
-
-    Layer L;
-    L.in = static_cast<uint16_t>(width);
-    L.out = static_cast<uint16_t>(units);
-    L.offset = static_cast<uint32_t>(net.weights.size());
-    const int cols = lcls == "GRU" ? 3 * units : units;
-    if (kd.size() != 2 || kd[0] != hsize_t(width) || kd[1] != hsize_t(cols))
-      throw PipelineError(who + ": kernel shape does not match " + std::to_string(width) + " x " + std::to_string(cols));
-    if (lcls == "Dense") {
-      L.kind = LayerKind::Dense;
-      L.act = activation_of(cfg, "activation", "linear", who);
-      net.weights.insert(net.weights.end(), kernel.begin(), kernel.end());
-      if (use_bias && bias.size() != size_t(units)) throw PipelineError(who + ": bias shape does not match units");
-      if (!use_bias) bias.assign(size_t(units), 0.0f);
-      net.weights.insert(net.weights.end(), bias.begin(), bias.end());
-    } else {
-      L.kind = LayerKind::Gru;
-      L.act = activation_of(cfg, "activation", "tanh", who);
-      L.rec_act = activation_of(cfg, "recurrent_activation", "hard_sigmoid", who);
-      L.reset_after = flag(cfg, "reset_after", false);  // Keras 2.2 had no such option: false
-      if (flag(cfg, "return_sequences", false) || flag(cfg, "return_state", false))
-        throw PipelineError(who + ": return_sequences / return_state are not supported (one output step only)");
-      if (rd.size() != 2 || rd[0] != hsize_t(units) || rd[1] != hsize_t(cols))
-        throw PipelineError(who + ": recurrent_kernel shape does not match " + std::to_string(units) + " x " +
-                            std::to_string(cols));
-      const size_t nb = size_t(L.reset_after ? 2 : 1) * size_t(cols);
-      if (use_bias && bias.size() != nb)
-        throw PipelineError(who + ": bias has " + std::to_string(bias.size()) + " values, expected " +
-                            std::to_string(nb) + (L.reset_after ? " (reset_after: 2 x 3 units)" : ""));
-      if (!use_bias) bias.assign(nb, 0.0f);
-      net.weights.insert(net.weights.end(), kernel.begin(), kernel.end());
-      net.weights.insert(net.weights.end(), recurrent.begin(), recurrent.end());
-      net.weights.insert(net.weights.end(), bias.begin(), bias.end());
-    }
-    net.layers.push_back(L);
+    width = add_layer(net, lcls, cfg, who, width, read_layer_weights(root, name, who, path));
     net.names.push_back(name);
-    width = units;
   }
   if (net.layers.empty()) throw PipelineError(path + ": the model has no Dense or GRU layer");
   return net;
 }
-
 }  // namespace nlsoft::pipeline
