@@ -155,6 +155,112 @@ Agreement agreement(RunStore& store, int64_t recorded, int64_t replayed) {
   return g;
 }
 
+// The run's parameters, then --set's, in force in the simulator; what
+// differs from the run, in words (the model first when it is another).
+std::vector<std::string> put_in_force(const ReplayArgs& a, SimulatorInProcess& sim, const ParamCatalog& catalog,
+                                      const RecordedStart& start, const std::string& other_model) {
+  for (const auto& [name, value] : start.params) {
+    const ParamInfo* pi = catalog.find(name);
+    if (!pi) throw CliError(fmt::format("run {} recorded parameter '{}', which the simulator has not", a.id, name));
+    set_param(sim, *pi, words_of(value), fmt::format("run {}'s {} = {}", a.id, name, value));
+  }
+  std::vector<std::string> changes;
+  if (!other_model.empty()) changes.push_back(other_model);
+  for (const std::string& s : a.sets) {
+    const size_t eq = s.find('=');
+    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
+      throw CliError(fmt::format("--set {}: give NAME=VALUE (Q=1e6,2e6,1e6; Lambda=0.5)", s));
+    const ParamInfo& pi = catalog.require(s.substr(0, eq));
+    set_param(sim, pi, words_of(s.substr(eq + 1)), "--set " + s);
+    changes.push_back(s);
+  }
+  return changes;
+}
+
+// The replay's row: the run's, changed as said, with the simulator's
+// firmware, model and every parameter as they are now.
+RunInfo replay_run_info(const ReplayArgs& a, const RunRow& row, p::InfoEx info, const ParamCatalog& catalog,
+                        SimulatorInProcess& sim, const std::vector<std::string>& changes, uint16_t decimation,
+                        bool sensors) {
+  RunInfo ri;
+  ri.label = !a.label.empty() ? a.label
+                              : fmt::format("replay of run {}{}", a.id, changes.empty() ? "" : ": " + changes.front() +
+                                                                           (changes.size() > 1 ? ", ..." : ""));
+  ri.notes = fmt::format("runs replay {} (seed {}){}", a.id, a.seed,
+                         changes.empty() ? std::string(", nothing changed") : ", changed: " + fmt::format("{}", fmt::join(changes, "; ")));
+  ri.platform = row.platform;
+  ri.firmware = fmt::format("{} {}.{}.{} (in this process)", info.info.firmware, info.info.fw_major,
+                            info.info.fw_minor, info.info.fw_patch);
+  ri.model_hash = info.info.model_hash;
+  ri.loop_rate_hz = info.info.loop_rate_hz;
+  ri.n = info.info.n;
+  ri.m = info.info.m;
+  ri.decimation = decimation;
+  ri.reference = row.reference;
+  ri.kind = "replay";
+  ri.w = sensors ? info.info.w : 0;
+  for (const ParamInfo& pi : catalog.all()) {
+    p::ParamGet g;
+    g.id = pi.id;
+    p::ParamValue v;
+    if (!sim.request(g).as(v)) throw CliError(fmt::format("the simulator did not report {}", pi.name));
+    ri.params.emplace_back(pi.name, format_param_values(pi, decode_param_values(pi, v.values, v.count)));
+  }
+  if (const SimFrame f = sim.request(p::InfoGet{}); f.as(info)) ri.param_hash = info.info.param_hash;
+  return ri;
+}
+
+// The run's steps again, each TELEMETRY recorded as run `id` with the
+// SENSOR_SAMPLE sent right before it; the samples recorded.
+uint64_t record_steps(SimulatorInProcess& sim, Recorder& recorder, int64_t id, uint32_t steps, int w,
+                      ProgressBar& bar) {
+  uint64_t k = 0;
+  p::SensorSample pending;
+  bool have_pending = false;
+  for (uint32_t step = 0; step < steps; ++step) {
+    if (step % 4096 == 0) bar.update(long(step), long(steps));
+    sim.step();
+    // The console's keep-alives, as a live session sends them: the link
+    // watchdog of the run's parameters stays fed.
+    if (step % 10 == 0) sim.request(p::Ping{});
+    for (const SimFrame& f : sim.take_frames()) {
+      if (f.as(pending)) {
+        have_pending = true;
+        continue;
+      }
+      p::Telemetry t;
+      if (!f.as(t)) continue;
+      Sample s = sample_from(t, k++, 1000000u);
+      if (have_pending && pending.step == t.step && pending.w == w) {
+        s.w = uint8_t(w);
+        std::copy(pending.l, pending.l + w, s.l);
+      }
+      have_pending = false;
+      recorder.add_sample(id, s);
+    }
+    if (k % 8192 == 0) recorder.flush();
+  }
+  return k;
+}
+
+// How the replay `id` agrees with the recording of run `of`, step for step.
+void say_agreement(const std::string& db, int64_t of, int64_t id) {
+  try {
+    RunStore store(db);
+    const Agreement g = agreement(store, of, id);
+    if (g.steps == 0)
+      fmt::print("against the recording: no step both hold the plant's output and inputs\n");
+    else if (!g.apart)
+      fmt::print("against the recording, step for step: y_true and u identical at all {} steps both hold\n", g.steps);
+    else
+      fmt::print("against the recording, step for step: {} of {} steps identical; apart from step {} on, by up to "
+                 "{:.4g} in y_true and {:.4g} in u\n",
+                 g.identical, g.steps, g.first_apart, g.dy, g.du);
+  } catch (const DbError& e) {
+    throw CliError(e.what());
+  }
+}
+
 void replay(const ReplayArgs& a) {
   if (!a.svg.empty() && !a.png.empty()) throw CliError("runs replay: give --svg FILE or --png FILE, not both");
   const std::string db = a.db.empty() ? default_db_path() : a.db;
@@ -184,21 +290,8 @@ void replay(const ReplayArgs& a) {
                                "FILE, the model uploaded then (or another, to see what it would have done)",
                                a.id, row.model_hash, rig.name, model->path, info.info.model_hash));
   const ParamCatalog catalog = catalog_of(sim, info);
-  for (const auto& [name, value] : start.params) {
-    const ParamInfo* pi = catalog.find(name);
-    if (!pi) throw CliError(fmt::format("run {} recorded parameter '{}', which the simulator has not", a.id, name));
-    set_param(sim, *pi, words_of(value), fmt::format("run {}'s {} = {}", a.id, name, value));
-  }
-  std::vector<std::string> changes;
-  if (!same_model) changes.push_back(fmt::format("model {} (0x{:08x})", model->path, info.info.model_hash));
-  for (const std::string& s : a.sets) {
-    const size_t eq = s.find('=');
-    if (eq == std::string::npos || eq == 0 || eq + 1 == s.size())
-      throw CliError(fmt::format("--set {}: give NAME=VALUE (Q=1e6,2e6,1e6; Lambda=0.5)", s));
-    const ParamInfo& pi = catalog.require(s.substr(0, eq));
-    set_param(sim, pi, words_of(s.substr(eq + 1)), "--set " + s);
-    changes.push_back(s);
-  }
+  const std::vector<std::string> changes = put_in_force(
+      a, sim, catalog, start, same_model ? "" : fmt::format("model {} (0x{:08x})", model->path, info.info.model_hash));
   expect_ack(sim, ref_select_of(start.reference), "the run's reference");
   p::TelemetryConfig tc;
   tc.mask = tf::kAll;
@@ -213,32 +306,7 @@ void replay(const ReplayArgs& a) {
   // At rest, as a simulator idles at neutral before a run.
   for (long k = 0; k < std::lround(2.0 * sim.rate_hz()); ++k) sim.step();
   sim.take_frames();
-
-  RunInfo ri;
-  ri.label = !a.label.empty() ? a.label
-                              : fmt::format("replay of run {}{}", a.id, changes.empty() ? "" : ": " + changes.front() +
-                                                                           (changes.size() > 1 ? ", ..." : ""));
-  ri.notes = fmt::format("runs replay {} (seed {}){}", a.id, a.seed,
-                         changes.empty() ? std::string(", nothing changed") : ", changed: " + fmt::format("{}", fmt::join(changes, "; ")));
-  ri.platform = row.platform;
-  ri.firmware = fmt::format("{} {}.{}.{} (in this process)", info.info.firmware, info.info.fw_major,
-                            info.info.fw_minor, info.info.fw_patch);
-  ri.model_hash = info.info.model_hash;
-  ri.loop_rate_hz = info.info.loop_rate_hz;
-  ri.n = info.info.n;
-  ri.m = info.info.m;
-  ri.decimation = tc.decimation;
-  ri.reference = row.reference;
-  ri.kind = "replay";
-  ri.w = sensors ? info.info.w : 0;
-  for (const ParamInfo& pi : catalog.all()) {
-    p::ParamGet g;
-    g.id = pi.id;
-    p::ParamValue v;
-    if (!sim.request(g).as(v)) throw CliError(fmt::format("the simulator did not report {}", pi.name));
-    ri.params.emplace_back(pi.name, format_param_values(pi, decode_param_values(pi, v.values, v.count)));
-  }
-  if (const SimFrame f = sim.request(p::InfoGet{}); f.as(info)) ri.param_hash = info.info.param_hash;
+  const RunInfo ri = replay_run_info(a, row, info, catalog, sim, changes, tc.decimation, sensors);
 
   for (const std::string& s : start.not_repeated) fmt::print("{}\n", s);
   if (row.lost_frames > 0)
@@ -251,33 +319,8 @@ void replay(const ReplayArgs& a) {
   rs.run_id = uint32_t(id);
   expect_ack(sim, rs, "RUN_START");
   const uint32_t steps = start.last_step + 1;
-  uint64_t k = 0;
-  p::SensorSample pending;
-  bool have_pending = false;
   ProgressBar bar(fmt::format("replay of run {}", a.id));
-  for (uint32_t step = 0; step < steps; ++step) {
-    if (step % 4096 == 0) bar.update(long(step), long(steps));
-    sim.step();
-    // The console's keep-alives, as a live session sends them: the link
-    // watchdog of the run's parameters stays fed.
-    if (step % 10 == 0) sim.request(p::Ping{});
-    for (const SimFrame& f : sim.take_frames()) {
-      if (f.as(pending)) {
-        have_pending = true;
-        continue;
-      }
-      p::Telemetry t;
-      if (!f.as(t)) continue;
-      Sample s = sample_from(t, k++, 1000000u);
-      if (have_pending && pending.step == t.step && pending.w == ri.w) {
-        s.w = uint8_t(ri.w);
-        std::copy(pending.l, pending.l + ri.w, s.l);
-      }
-      have_pending = false;
-      recorder.add_sample(id, s);
-    }
-    if (k % 8192 == 0) recorder.flush();
-  }
+  const uint64_t k = record_steps(sim, recorder, id, steps, ri.w, bar);
   sim.request(p::RunStop{});
   recorder.end_run(id, "completed", k, 0);
   bar.update(long(steps), long(steps));
@@ -286,20 +329,7 @@ void replay(const ReplayArgs& a) {
   fmt::print("run {}: run {} replayed on {} ({} steps at {:g} Hz, noise seed {}), {}\n", id, a.id,
              ri.firmware, steps, row.loop_rate_hz, a.seed,
              changes.empty() ? std::string("nothing changed") : "changed: " + fmt::format("{}", fmt::join(changes, "; ")));
-  try {
-    RunStore store(db);
-    const Agreement g = agreement(store, a.id, id);
-    if (g.steps == 0)
-      fmt::print("against the recording: no step both hold the plant's output and inputs\n");
-    else if (!g.apart)
-      fmt::print("against the recording, step for step: y_true and u identical at all {} steps both hold\n", g.steps);
-    else
-      fmt::print("against the recording, step for step: {} of {} steps identical; apart from step {} on, by up to "
-                 "{:.4g} in y_true and {:.4g} in u\n",
-                 g.identical, g.steps, g.first_apart, g.dy, g.du);
-  } catch (const DbError& e) {
-    throw CliError(e.what());
-  }
+  say_agreement(db, a.id, id);
   compare_runs(db, a.id, id, false, a.svg, a.png);
 }
 
