@@ -198,8 +198,10 @@ RunSummary LiveRuns::run_ident(p::IdentStart start, const std::string& excitatio
   return run_steps(start.duration, id, label, progress, nullptr);
 }
 
-RunSummary LiveRuns::run_steps(uint64_t target, int64_t id, const std::string& label, const Progress& progress,
-                                  const std::atomic<bool>* cancel) {
+// Polls the active run every 10 ms until it has made `target` steps or
+// something ends it first.
+LiveRuns::TimedEnd LiveRuns::wait_for_steps(uint64_t target, int64_t id, const Progress& progress,
+                                            const std::atomic<bool>* cancel, std::chrono::steady_clock::time_point started) {
   using clock = std::chrono::steady_clock;
   ActiveRun& run = p_.run;
   const double rate = loop_rate_hz();
@@ -210,126 +212,110 @@ RunSummary LiveRuns::run_steps(uint64_t target, int64_t id, const std::string& l
   const double period_s = double(std::max<uint16_t>(run.decimation.load(), 1)) / rate;
   const auto silence = std::max<clock::duration>(
       p_.options.session.silence_limit, std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(10 * period_s)));
-  const auto started = clock::now();
   // A backstop for a step counter that never advances: twice the run, plus
   // the time to start.
   auto deadline = started + std::chrono::milliseconds(int64_t(seconds * 2000.0) + 5000);
-  std::string early, record_error;
-  bool reached = false;
-  bool was_interrupted = false, stopped = false, cancelled = false, stopped_elsewhere = false;
   bool said_locked_out = false;
-  stop_timed_ = false;
-  timed_run_ = true;
   while (true) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    if (cancel && cancel->load()) {
-      cancelled = true;
-      break;
-    }
-    if (stop_timed_.exchange(false)) {
-      stopped = true;
-      break;
-    }
-    if (interrupted()) {
-      was_interrupted = true;
-      break;
-    }
+    if (cancel && cancel->load()) return {TimedEnd::Cancelled, ""};
+    if (stop_timed_.exchange(false)) return {TimedEnd::Stopped, ""};
+    if (interrupted()) return {TimedEnd::Interrupted, ""};
     // No more telemetry will come for a run someone else stopped; polling
     // on would only keep the caller (and a quitting TUI joining its worker)
     // waiting.
-    if (run.id.load() != id) {
-      stopped_elsewhere = true;
-      break;
-    }
-    if (const std::string err = run.recorder.error(); !err.empty()) {
-      record_error = err;
-      break;
-    }
-    if (const std::string gone = p_.simulator.exit_words(); !gone.empty()) {
-      early = gone;
-      break;
-    }
+    if (run.id.load() != id) return {TimedEnd::StoppedElsewhere, ""};
+    if (const std::string err = run.recorder.error(); !err.empty()) return {TimedEnd::RecordFailed, err};
+    if (const std::string gone = p_.simulator.exit_words(); !gone.empty()) return {TimedEnd::Early, gone};
     if (run.recorder.locked_out() && !said_locked_out) {
       said_locked_out = true;
       p_.notices.say(fmt::format("database {} has been locked by another process for over {:g} s (--db-busy): run {}'s samples "
                       "are counted lost until it is released; the run goes on",
                       p_.db_path, std::chrono::duration<double>(p_.options.db_busy).count(), id));
     }
-    if (run.step_went_back.load()) {
-      early = fmt::format("the firmware's step count went back from {} to {} (a reset, or not this run's steps)",
-                          run.step_back_from.load(), run.step_back_to.load());
-      break;
-    }
-    if (const uint8_t st = run.left_state.load(); st != 0 || run.left_watchdog.load() != 0) {
-      early = left_run_reason(st, run.left_watchdog.load(), p_.session.take_longest_write_gap());
-      break;
-    }
+    if (run.step_went_back.load())
+      return {TimedEnd::Early, fmt::format("the firmware's step count went back from {} to {} (a reset, or not this run's steps)",
+                                           run.step_back_from.load(), run.step_back_to.load())};
+    if (const uint8_t st = run.left_state.load(); st != 0 || run.left_watchdog.load() != 0)
+      return {TimedEnd::Early, left_run_reason(st, run.left_watchdog.load(), p_.session.take_longest_write_gap())};
     const auto now = clock::now();
     if (run.have_last_step) {
       const uint64_t done = uint64_t(run.last_step.load() - run.first_step.load()) + run.decimation;
       if (progress) progress(std::min(done, target), target);
-      if (done >= target) {
-        reached = true;
-        break;
-      }
+      if (done >= target) return {TimedEnd::Reached, ""};
     }
     if (run.user_hold.load()) {  // held on purpose: telemetry pauses, and so does the clock
       deadline += std::chrono::milliseconds(10);
       continue;
     }
-    if (now > deadline) {
-      early = fmt::format("the firmware's step count did not reach {} steps in {:.0f} s", target,
-                          std::chrono::duration<double>(now - started).count());
-      break;
-    }
+    if (now > deadline)
+      return {TimedEnd::Early, fmt::format("the firmware's step count did not reach {} steps in {:.0f} s", target,
+                                           std::chrono::duration<double>(now - started).count())};
     const auto last = run.have_last_step ? clock::time_point(clock::duration(run.last_sample_ns.load())) : started;
-    if (now - last > silence) {
-      early = run.have_last_step ? fmt::format("telemetry stopped arriving (none for {:.1f} s: firmware stopped or link lost)",
-                                            std::chrono::duration<double>(now - last).count())
-                              : "no telemetry arrived after RUN_START";
-      break;
-    }
+    if (now - last > silence)
+      return {TimedEnd::Early,
+              run.have_last_step ? fmt::format("telemetry stopped arriving (none for {:.1f} s: firmware stopped or link lost)",
+                                               std::chrono::duration<double>(now - last).count())
+                                 : "no telemetry arrived after RUN_START"};
   }
+}
+
+// The silence a run ended early in, as a gap: the frames that fell due in
+// it at the run's rate, at most the steps it still had to go. The steps it
+// never reached after that are no gap (the run ended, as its end says), or
+// a gap would outlast the run itself.
+void LiveRuns::record_early_end_gap(int64_t id, uint64_t target, std::chrono::steady_clock::time_point started,
+                                    const std::string& early) {
+  using clock = std::chrono::steady_clock;
+  ActiveRun& run = p_.run;
+  const double rate = loop_rate_hz();
+  const uint16_t d = std::max<uint16_t>(run.decimation.load(), 1);
+  const uint64_t done = run.have_last_step ? uint64_t(run.last_step.load() - run.first_step.load()) + d : 0;
+  const uint64_t missing = done >= target ? 0 : (target - done + d - 1) / d;
+  const auto last = run.have_last_step ? clock::time_point(clock::duration(run.last_sample_ns.load())) : started;
+  const double silent_s = std::chrono::duration<double>(clock::now() - last).count();
+  const uint64_t lost = std::min(missing, uint64_t(silent_s * rate / d));
+  const uint64_t k = run.k.load();
+  if (missing > 0) {
+    run.lost += lost;
+    run.recorder.add_gap(id, k == 0 ? 0 : k - 1, lost, "run ended early: " + early, silent_s);
+  }
+}
+
+// The run is stopped on the firmware whatever the database says; closing
+// its row may fail like the rest of the writes did.
+void LiveRuns::fail_recording(int64_t id, const std::string& label, const std::string& error) {
+  std::string saved;
+  try {
+    const uint64_t kept = finish(id, label, "recording failed: " + error).metrics.samples;
+    // Counted once the run is stopped: what came until RUN_STOP's ACK too.
+    saved = fmt::format("{} of {} samples saved", kept, p_.run.k.load());
+  } catch (const std::exception&) {
+    // The same failure again, most likely: not worth repeating.
+    saved = fmt::format("{} samples received; the run's row could not be closed either", p_.run.k.load());
+  }
+  throw CliError(fmt::format("run {} stopped at once: recording failed ({}); {}", id, error, saved));
+}
+
+RunSummary LiveRuns::run_steps(uint64_t target, int64_t id, const std::string& label, const Progress& progress,
+                                  const std::atomic<bool>* cancel) {
+  const auto started = std::chrono::steady_clock::now();
+  stop_timed_ = false;
+  timed_run_ = true;
+  const TimedEnd end = wait_for_steps(target, id, progress, cancel, started);
   timed_run_ = false;
-  if (!early.empty() && run.id.load() == id) {
-    // The silence the run ended in, as a gap: the frames that fell due in
-    // it at the run's rate, at most the steps it still had to go. The steps
-    // it never reached after that are no gap (the run ended, as its end
-    // says), or a gap would outlast the run itself.
-    const uint16_t d = std::max<uint16_t>(run.decimation.load(), 1);
-    const uint64_t done = run.have_last_step ? uint64_t(run.last_step.load() - run.first_step.load()) + d : 0;
-    const uint64_t missing = done >= target ? 0 : (target - done + d - 1) / d;
-    const auto last = run.have_last_step ? clock::time_point(clock::duration(run.last_sample_ns.load())) : started;
-    const double silent_s = std::chrono::duration<double>(clock::now() - last).count();
-    const uint64_t lost = std::min(missing, uint64_t(silent_s * rate / d));
-    const uint64_t k = run.k.load();
-    if (missing > 0) {
-      run.lost += lost;
-      run.recorder.add_gap(id, k == 0 ? 0 : k - 1, lost, "run ended early: " + early, silent_s);
-    }
-  }
-  if (!record_error.empty()) {
-    // The run is stopped on the firmware whatever the database says; closing
-    // its row may fail like the rest of the writes did.
-    std::string saved;
-    try {
-      const uint64_t kept = finish(id, label, "recording failed: " + record_error).metrics.samples;
-      // Counted once the run is stopped: what came until RUN_STOP's ACK too.
-      saved = fmt::format("{} of {} samples saved", kept, run.k.load());
-    } catch (const std::exception&) {
-      // The same failure again, most likely: not worth repeating.
-      saved = fmt::format("{} samples received; the run's row could not be closed either", run.k.load());
-    }
-    throw CliError(fmt::format("run {} stopped at once: recording failed ({}); {}", id, record_error, saved));
-  }
+  const std::string early = end.kind == TimedEnd::Early ? end.words : "";
+  if (!early.empty() && p_.run.id.load() == id) record_early_end_gap(id, target, started, early);
+  if (end.kind == TimedEnd::RecordFailed) fail_recording(id, label, end.words);
   RunSummary s = finish(id, label,
-                            reached       ? "completed"
-                            : stopped     ? "stopped by the user"
-                            : cancelled   ? "cancelled"
-                            : was_interrupted ? interrupt_reason()
-                                          : "ended early: " + early);
-  if (stopped_elsewhere || stopped || cancelled) return s;
-  if (was_interrupted)
+                        end.kind == TimedEnd::Reached       ? "completed"
+                        : end.kind == TimedEnd::Stopped     ? "stopped by the user"
+                        : end.kind == TimedEnd::Cancelled   ? "cancelled"
+                        : end.kind == TimedEnd::Interrupted ? interrupt_reason()
+                                                            : "ended early: " + early);
+  if (end.kind == TimedEnd::StoppedElsewhere || end.kind == TimedEnd::Stopped || end.kind == TimedEnd::Cancelled)
+    return s;
+  if (end.kind == TimedEnd::Interrupted)
     throw CliError(fmt::format("{}: run {} stopped and kept ({} samples)", interrupt_reason(), s.run_id,
                                s.metrics.samples));
   if (!early.empty()) {

@@ -107,6 +107,16 @@ class LiveRuns {
   // run_for's body over a number of control steps.
   RunSummary run_steps(uint64_t target, int64_t id, const std::string& label, const Progress& progress,
                        const std::atomic<bool>* cancel);
+  // How run_steps' wait for its steps ended.
+  struct TimedEnd {
+    enum Kind { Reached, Stopped, Cancelled, Interrupted, StoppedElsewhere, RecordFailed, Early } kind;
+    std::string words;  // RecordFailed: the database's error; Early: why the run ended
+  };
+  TimedEnd wait_for_steps(uint64_t target, int64_t id, const Progress& progress, const std::atomic<bool>* cancel,
+                          std::chrono::steady_clock::time_point started);
+  void record_early_end_gap(int64_t id, uint64_t target, std::chrono::steady_clock::time_point started,
+                            const std::string& early);
+  [[noreturn]] void fail_recording(int64_t id, const std::string& label, const std::string& error);
   double loop_rate_hz() const;  // the firmware's, or 100 Hz when it names none
 
   Parts p_;
