@@ -599,6 +599,17 @@ void device_frames() {
   set_text(absent.name, "ring1");
   add("device_status_absent", "Protocol 1.4: a chip on SPI bus 1, chip select 4, that never answered (age 0xffffffff).",
       frame(absent, 91, frame_flags::kReply));
+  DeviceStatus servo = ds;
+  servo.index = 1;
+  servo.state = static_cast<uint8_t>(DeviceState::Fault);
+  servo.bus = 3;      // stm32f4's usart1
+  servo.address = 2;  // the servo's id
+  servo.age_ms = 40;
+  servo.faults = 1;
+  set_text(servo.name, "rx64-2");
+  add("device_status_servo_fault",
+      "Protocol 1.7: servo id 2 on stm32f4's usart1 (bus 3) in fault: it answers, reporting an error of its own.",
+      frame(servo, 92, frame_flags::kReply));
   SensorHealth sh;
   sh.step = 1200;
   sh.invalid = 0x00000038u;  // channels 3, 4, 5: one magnetometer's x, y, z
