@@ -118,6 +118,15 @@ class FakeServoChain {
     return true;
   }
 
+  // A little-endian 16-bit field of a packet's parameters.
+  static uint16_t le16(const std::vector<uint8_t>& p, size_t at) {
+    return static_cast<uint16_t>(p.at(at) | p.at(at + 1) << 8);
+  }
+  // 1.0's one-byte address or length, 2.0's two-byte one, at field `k` (0 or 1).
+  static uint16_t field(uint8_t protocol, const std::vector<uint8_t>& p, size_t k) {
+    return protocol == 1 ? static_cast<uint16_t>(p.at(k)) : le16(p, 2 * k);
+  }
+
   void handle(uint8_t protocol, uint8_t id, uint8_t instr, const std::vector<uint8_t>& p, std::vector<uint8_t>& out) {
     namespace dxl = fw::drivers::dynamixel;
     if (instr == uint8_t(dxl::Instruction::kSyncWrite)) return sync_write(protocol, p);
@@ -128,12 +137,11 @@ class FakeServoChain {
     if (instr == uint8_t(dxl::Instruction::kPing)) {
       if (protocol == 2) data = {uint8_t(s->model), uint8_t(s->model >> 8), 45};
     } else if (instr == uint8_t(dxl::Instruction::kRead)) {
-      const uint16_t at = protocol == 1 ? p.at(0) : uint16_t(p.at(0) | p.at(1) << 8);
-      const uint16_t n = protocol == 1 ? p.at(1) : uint16_t(p.at(2) | p.at(3) << 8);
-      for (uint16_t i = 0; i < n; ++i) data.push_back(at + i < 256 ? s->table[at + i] : 0);
+      const uint16_t at = field(protocol, p, 0), n = field(protocol, p, 1);
+      for (size_t i = 0; i < n; ++i) data.push_back(at + i < 256 ? s->table[at + i] : uint8_t(0));
     } else if (instr == uint8_t(dxl::Instruction::kWrite)) {
       const size_t skip = protocol == 1 ? 1 : 2;
-      const uint16_t at = protocol == 1 ? p.at(0) : uint16_t(p.at(0) | p.at(1) << 8);
+      const uint16_t at = field(protocol, p, 0);
       for (size_t i = skip; i < p.size(); ++i)
         if (at + i - skip < 256) s->table[at + i - skip] = p[i];
     } else {
@@ -145,8 +153,8 @@ class FakeServoChain {
   void sync_write(uint8_t protocol, const std::vector<uint8_t>& p) {
     const size_t head = protocol == 1 ? 2 : 4;
     if (p.size() < head) return;
-    const uint16_t at = protocol == 1 ? p[0] : uint16_t(p[0] | p[1] << 8);
-    const size_t n = protocol == 1 ? p[1] : size_t(p[2] | p[3] << 8);
+    const uint16_t at = field(protocol, p, 0);
+    const size_t n = field(protocol, p, 1);
     for (size_t i = head; i + 1 + n <= p.size(); i += 1 + n) {
       FakeServo* s = find(p[i]);
       if (s == nullptr || s->protocol != protocol) continue;
