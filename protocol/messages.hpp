@@ -109,7 +109,7 @@ constexpr uint8_t kTripped = 0x04;          // the link went silent during this 
 
 // Minor revision of the catalogue this library implements (INFO_EX); the
 // frame's version byte stays kProtocolVersion across minor revisions.
-constexpr uint8_t kProtocolMinor = 7;
+constexpr uint8_t kProtocolMinor = 8;
 
 // ---------------------------------------------------------------- requests
 

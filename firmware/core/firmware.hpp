@@ -193,12 +193,17 @@ class Firmware {
     // Built in place: the controller writes only the fields it fills.
     const StepResult<Cap> r = model_.controller().step(ref, l_, have_y_true_ ? y_true_ : nullptr);
     for (int i = 0; i < m; ++i) u_[i] = r.u[i];
-    for (int j = 0; j < n; ++j) y_ref_[j] = ref[j];
     ref_.advance();
     hal_.actuate(u_, m);
     const uint32_t compute = hal_.ticks() - t0;
     stats_.add(compute);
+    // A sample is one instant (PROTOCOL.md 9.6): the output measured now
+    // beside the reference the last step aimed it at and the prediction it
+    // made of it. The first step of a run (or after a resume) had no last
+    // step: it sends its own aim and prediction, one step ahead.
+    if (!aimed_) aim(ref, r);
     if (decimation_ != 0 && step_ % decimation_ == 0) send_telemetry(r, compute);
+    aim(ref, r);
     ++step_;
     tx_.drain(hal_);
   }
@@ -495,6 +500,7 @@ class Firmware {
       model_.controller().reset(u_, y_true_, l);
     else
       model_.controller().reset_at_rest(u_, l);
+    aimed_ = false;
     state_ = proto::RunState::Running;
     ack(type);
   }
@@ -515,6 +521,7 @@ class Firmware {
           float l[Cap::w + 1] = {};
           read_sensors(l);
           model_.controller().reset_at_rest(u_, l);  // histories restart from where the actuators are
+          aimed_ = false;
           watchdog_ &= uint8_t(~watchdog_bits::kTripped);
           link_back_reported_ = false;
         }
@@ -698,6 +705,12 @@ class Firmware {
     (void)seq;
   }
 
+  // What this step aimed the next one's output at, and predicted of it.
+  void aim(const float* ref, const StepResult<Cap>& r) {
+    for (int j = 0; j < rig_.n; ++j) y_ref_[j] = ref[j], y_predicted_[j] = r.y_hat[j];
+    aimed_ = true;
+  }
+
   void send_telemetry(const StepResult<Cap>& r, uint32_t compute) {
     proto::Telemetry t;
     t.tseq = tseq_++;
@@ -708,7 +721,7 @@ class Firmware {
     t.time_us = clock_.us();
     for (int j = 0; j < rig_.n; ++j) {
       t.y_ref[j] = y_ref_[j];
-      t.y_hat[j] = r.y_hat[j];
+      t.y_hat[j] = y_predicted_[j];
       t.y_true[j] = y_true_[j];
     }
     for (int i = 0; i < rig_.m; ++i) t.u[i] = r.u[i];
@@ -871,7 +884,11 @@ class Firmware {
   uint16_t decimation_ = 1;
   uint32_t overruns_ = 0, tx_dropped_ = 0;
   ComputeStats stats_{};
-  float u_[Cap::m] = {}, y_true_[Cap::n] = {}, y_ref_[Cap::n] = {};
+  float u_[Cap::m] = {}, y_true_[Cap::n] = {};
+  // The last closed-loop step's aim r(k+1) and prediction y_hat(k+1), sent
+  // with the output measured at k+1; aimed_ is false until a step set them.
+  float y_ref_[Cap::n] = {}, y_predicted_[Cap::n] = {};
+  bool aimed_ = false;
   float l_[Cap::w + 1] = {};  // the sensors of the step (+1: msd has none)
   bool sensor_stream_ = false;  // SENSOR_SAMPLE before each TELEMETRY (SENSOR_STREAM)
   bool have_y_true_ = false;

@@ -413,7 +413,7 @@ TEST_F(IdentRun, InputsFollowLimitsNarrowedDuringTheRunAndInfoAdvertisesIt) {
   proto::InfoEx ex;
   ASSERT_EQ(proto::unpack(payload.data(), payload.size(), ex), proto::StatusCode::Ok);
   EXPECT_TRUE(ex.info.capabilities & proto::capability::kIdent);
-  EXPECT_EQ(ex.protocol_minor, 7);  // identification runs (1.3), sensor chips (1.4), settings (1.5), sensor stream (1.6), servos (1.7)
+  EXPECT_EQ(ex.protocol_minor, 8);  // identification runs (1.3), sensor chips (1.4), settings (1.5), sensor stream (1.6), servos (1.7), samples of one instant (1.8)
   EXPECT_FALSE(ex.info.capabilities & proto::capability::kSettings);  // built without a settings store
   EXPECT_TRUE(ex.info.capabilities & proto::capability::kDevices);
   expect_ack(prbs(400));
