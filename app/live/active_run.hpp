@@ -38,6 +38,11 @@ struct ActiveRun {
   // STATUS: our run's state and watchdog bits, once it is no longer running.
   std::atomic<uint8_t> left_state{0}, left_watchdog{0};
   std::atomic<bool> user_hold{false};  // hold/neutral asked by us: telemetry pauses on purpose
+  // A timed run's length in control steps (0: until stopped). Its samples
+  // past it are not the run's: the firmware steps on until RUN_STOP
+  // reaches it, a fast simulator thousands of steps, a different number
+  // each time.
+  std::atomic<uint64_t> planned_steps{0};
 
   // Both read by the reader thread and run_for while a stop writes them.
   std::atomic<uint16_t> decimation{1};            // the run's: telemetry's, or an identification run's

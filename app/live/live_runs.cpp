@@ -23,9 +23,10 @@ namespace nlsoft::console {
 
 namespace p = nlsoft::protocol;
 
-int64_t LiveRuns::start(const std::string& label) { return begin(label, nullptr, ""); }
+int64_t LiveRuns::start(const std::string& label) { return begin(label, nullptr, "", 0); }
 
-int64_t LiveRuns::begin(const std::string& label, p::IdentStart* ident, const std::string& excitation_json) {
+int64_t LiveRuns::begin(const std::string& label, p::IdentStart* ident, const std::string& excitation_json,
+                        uint64_t planned_steps) {
   ActiveRun& run = p_.run;
   if (running()) throw CliError(fmt::format("run {} is already active; stop it first", current()));
   if (const std::string err = run.recorder.error(); !err.empty()) throw CliError("recording has stopped: " + err);
@@ -62,6 +63,7 @@ int64_t LiveRuns::begin(const std::string& label, p::IdentStart* ident, const st
   run.left_watchdog = 0;
   run.resync_after_gap = false;
   run.step_went_back = false;
+  run.planned_steps = planned_steps;
   run.label = label;
   run.started_ns = std::chrono::steady_clock::now().time_since_epoch().count();
   p_.live.clear();
@@ -185,8 +187,8 @@ std::string left_run_reason(uint8_t state, uint8_t watchdog, std::chrono::millis
 RunSummary LiveRuns::run_for(double seconds, const std::string& label, const Progress& progress,
                                 const std::atomic<bool>* cancel) {
   if (!(seconds > 0)) throw CliError("run duration must be > 0");
-  const int64_t id = start(label);
   const uint64_t target = std::max<uint64_t>(1, uint64_t(std::llround(seconds * loop_rate_hz())));
+  const int64_t id = begin(label, nullptr, "", target);
   return run_steps(target, id, label, progress, cancel);
 }
 
@@ -194,7 +196,7 @@ RunSummary LiveRuns::run_ident(p::IdentStart start, const std::string& excitatio
                                   const Progress& progress) {
   check_firmware_offers(start, p_.device.info(), p_.device.protocol_minor());
   if (start.duration == 0) throw CliError("an identification run must last at least one control step");
-  const int64_t id = begin(label, &start, excitation_json);
+  const int64_t id = begin(label, &start, excitation_json, start.duration);
   return run_steps(start.duration, id, label, progress, nullptr);
 }
 

@@ -103,7 +103,9 @@ class LiveRuns {
   // of whoever stopped it.
   RunSummary finish(int64_t id, const std::string& label, const std::string& reason);
   // start's body; an identification run when ident is given.
-  int64_t begin(const std::string& label, protocol::IdentStart* ident, const std::string& excitation_json);
+  // planned_steps: a timed run's length (ActiveRun::planned_steps), 0 for one run until stopped.
+  int64_t begin(const std::string& label, protocol::IdentStart* ident, const std::string& excitation_json,
+                uint64_t planned_steps);
   // run_for's body over a number of control steps.
   RunSummary run_steps(uint64_t target, int64_t id, const std::string& label, const Progress& progress,
                        const std::atomic<bool>* cancel);

@@ -67,6 +67,12 @@ void SampleIntake::on_sample(Sample s, bool has_step, uint32_t lost_before) {
     run_.lost += 1 + lost_before;
     return;
   }
+  // A timed run is its planned steps (ActiveRun::planned_steps): what
+  // the firmware sends after them, before RUN_STOP reaches it, is neither
+  // recorded nor lost, so the same run gives the same samples every time.
+  if (const uint64_t plan = run_.planned_steps.load();
+      plan != 0 && has_step && run_.k.load() > 0 && uint64_t(s.step - run_.first_step.load()) >= plan)
+    return;
   const uint64_t k = run_.k.fetch_add(1);
   s.k = k;
   if (k == 0) run_.first_step = s.step;

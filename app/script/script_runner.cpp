@@ -41,9 +41,9 @@ std::string summary_line(const RunSummary& s, bool ident = false) {
 }
 
 // What `run 1s` meant: control steps at the loop rate, the firmware's time,
-// not wall time. A --sim-fast simulator runs them far faster than the clock
-// and keeps stepping until RUN_STOP reaches it, so it records more than it
-// was asked for. A sample is `decimation` steps.
+// not wall time, which a --sim-fast simulator runs far faster than the
+// clock (the steps it makes before RUN_STOP reaches it are not recorded:
+// ActiveRun::planned_steps). A sample is `decimation` steps.
 std::string timed_run_words(double asked_s, double rate_hz, int decimation, const RunMetrics& m) {
   if (!(rate_hz > 0)) return "";
   const double target = std::round(asked_s * rate_hz);
@@ -52,9 +52,6 @@ std::string timed_run_words(double asked_s, double rate_hz, int decimation, cons
                               "{} samples = {:.2f} s of it",
                               asked_s, target, rate_hz, m.samples, steps / rate_hz);
   if (m.wall_s > 0) s += fmt::format(", in {:.2f} s of wall time", m.wall_s);
-  if (steps > 1.1 * target)
-    s += " (a --sim-fast simulator runs past the end until RUN_STOP reaches it; sweep and tune measure only the "
-         "window asked for)";
   return s;
 }
 
@@ -346,8 +343,7 @@ void ScriptRunner::sweep(const Command& c, const std::string& file) {
             if (progress_) progress_(fmt::format("{}={}", c.name, v), d, t);
           },
           &cancelled_);
-      // Over exactly the window asked for: a fast simulator runs past it
-      // before the run is stopped, by a different amount each row.
+      // Over exactly the window asked for, the settle left out.
       const RunMetrics measured = console_.runs().metrics(s.run_id, c.settle_s, c.seconds);
       auto f = [&](const char* m) { return fmt::format("{:.5g}", metric_value(measured, m).value_or(0)); };
       rows.push_back({v, std::to_string(s.run_id) + (s.ended_early ? " (ended early)" : ""), f("samples"), f("rmse"), f("nrmse"), f("nrmse_space"),

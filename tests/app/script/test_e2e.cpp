@@ -97,7 +97,7 @@ TEST_F(ConsoleE2E, SetParametersUploadSwirlRunAndCheckTheRecording) {
       "run 3s label=swirl-e2e\n"
       "note swirl from a CSV table, paper tuning\n"
       "expect lost == 0\n"
-      "expect samples >= 380\n"
+      "expect samples == 390\n"
       "export csv " + dir_.file("run.csv") + "\n");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("Q = 1e+06 2e+06 1e+06"), std::string::npos) << r.output;
@@ -115,7 +115,7 @@ TEST_F(ConsoleE2E, SetParametersUploadSwirlRunAndCheckTheRecording) {
   EXPECT_EQ(run.lost_frames, 0u);
   EXPECT_NE(run.reference.find("\"kind\":\"table\""), std::string::npos) << run.reference;
   const RunSeries s = store.series(run.id);
-  EXPECT_GE(s.rows(), 380u);
+  EXPECT_EQ(s.rows(), 390u);  // 3 s at 130 Hz, every step and no more
   EXPECT_EQ(s.rows(), run.samples);
   EXPECT_TRUE(s.has_y_true);
   // Steps are consecutive (decimation 1) and the reference is the table's
@@ -130,6 +130,34 @@ TEST_F(ConsoleE2E, SetParametersUploadSwirlRunAndCheckTheRecording) {
   size_t lines = 0;
   for (std::string l; std::getline(exported, l);) ++lines;
   EXPECT_EQ(lines, s.rows() + 1);
+}
+
+// A timed run is its planned steps, however far past them the firmware
+// gets before RUN_STOP reaches it: a fast simulator steps thousands of
+// times in the console's 10 ms polls, so the same run recorded twice gave
+// two lengths. Now every step of 2 s at 130 Hz, none after, and the same
+// samples both times.
+TEST_F(ConsoleE2E, AFastTimedRunRecordsItsPlannedStepsAndTheSameSamplesAgain) {
+  RunSeries first;
+  for (int round = 0; round < 2; ++round) {
+    const auto r = run_script("run 2s label=fast\n", "hasel", "--sim-fast");
+    ASSERT_EQ(r.code, 0) << r.output;
+    RunStore store(db());
+    ASSERT_EQ(store.list().size(), size_t(round + 1));
+    const RunRow run = store.run(round + 1);
+    EXPECT_EQ(run.end_reason, "completed");
+    const RunSeries s = store.series(run.id);
+    ASSERT_EQ(s.rows(), 260u);
+    EXPECT_EQ(run.samples, 260u);
+    for (size_t i = 1; i < s.rows(); ++i) ASSERT_EQ(s.step[i], s.step[0] + i) << "at sample " << i;
+    if (round == 0) {
+      first = s;
+      continue;
+    }
+    EXPECT_EQ(s.y_true, first.y_true);
+    EXPECT_EQ(s.u, first.u);
+    EXPECT_EQ(s.y_ref, first.y_ref);
+  }
 }
 
 TEST_F(ConsoleE2E, FailedExpectExitsOneWithFileAndLine) {
