@@ -78,7 +78,8 @@ void ReplayRun::set(const ParamInfo& pi, const std::vector<double>& values, cons
   encode_param_values(pi, values, req.values);
   const SimFrame f = sim_.request(req);
   p::Nack nack;
-  if (f.as(nack)) throw ParamRefused(nack, fmt::format("{}: {}", what, describe_param_refusal(pi, nack, values)));
+  if (f.as(nack)) throw ParamRefused(nack, what.empty() ? describe_param_refusal(pi, nack, values)
+                                         : fmt::format("{}: {}", what, describe_param_refusal(pi, nack, values)));
 }
 
 void ReplayRun::set(const ParamInfo& pi, const std::string& text, const std::string& what) {

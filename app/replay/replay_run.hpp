@@ -35,7 +35,8 @@ class ReplayRun {
 
   // A change: PARAM_SET of `values`. Throws ParamRefused (device.hpp, as a
   // board's refusal: for a tuner, a candidate outside the firmware's
-  // feasible set) naming `what` and the NACK in the parameter's words.
+  // feasible set) naming `what` (when not empty) and the NACK in the
+  // parameter's words.
   void set(const ParamInfo& pi, const std::vector<double>& values, const std::string& what);
   // The same from text: numbers or a parameter's option names, separated
   // by spaces or commas ("1e6,2e6,1e6"), as --set and the recording write them.
