@@ -191,7 +191,8 @@ void add_tune_command(CLI::App& app) {
   t->add_option("--replay", a->replay,
                 "Evaluate each candidate on a replay of recorded run N (runs list) in this process, through the "
                 "simulator's own firmware and plant, instead of a run on a firmware: no PORT, --sim or --qemu; N must "
-                "be a closed-loop run of the simulator, as for runs replay")
+                "be a closed-loop run of the simulator, as for runs replay; --db is where it is, --rig FILE its rig file "
+                "for a rig that is not shipped")
       ->check(CLI::PositiveNumber)
       ->type_name("N");
   t->add_option("--model", a->model,
@@ -208,13 +209,13 @@ void add_tune_command(CLI::App& app) {
   t->add_option("--budget", a->budget, "Runs (40, the default) and/or wall time (10min); give it twice for both");
   t->add_option("--reference", a->reference, "Select this reference preset first (swirl, infinity, ...); default: the one in force");
   t->add_option("--settle", a->settle, "Each run settles this long before it is measured (default 1s)");
-  t->add_option("--window", a->window, "... and is measured over this window (default 5s)");
+  t->add_option("--window", a->window, "... and is measured over this window (default 5s; with --replay: up to the end of the run)");
   t->add_option("--seed", a->seed, "Seed of NLopt's random numbers (default 1)");
   t->add_option("--method", a->method, "bobyqa (default) or neldermead")->check(CLI::IsMember({"bobyqa", "neldermead"}));
   t->add_option("--max-saturated", a->max_saturated,
                 "A run whose inputs sit at a limit for more than this share of the actuator-time scores as failed (default 0.5)")
       ->check(CLI::Range(0.0, 1.0));
-  t->add_option("--save", a->save, "Write the best set here with params save (default tune-SESSION.params)");
+  t->add_option("--save", a->save, "Write the best set here with params save (default tune-SESSION.params; with --replay, tune-replay-N.params)");
   t->add_flag("--apply", a->apply, "Leave the best set in force on the firmware (default: put the old values back)");
   t->footer(
       "Each evaluation is a recorded run (label \"tune S #k\"): the reference restarted from its first point,\n"
