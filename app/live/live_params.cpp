@@ -12,9 +12,10 @@
 
 #include "host/files/cli_error.hpp"
 #include "host/files/input_file.hpp"
+#include "app/link/param_resolve.hpp"
 #include "app/live/param_defaults.hpp"
 #include "app/live/param_text.hpp"
-#include "host/files/output_file.hpp"
+#include "app/live/params_file.hpp"
 #include "host/files/printable.hpp"
 #include "app/record/run_edit.hpp"
 
@@ -22,41 +23,8 @@ namespace nlsoft::console {
 
 namespace p = nlsoft::protocol;
 
-namespace {
-
-// "Q[1]" -> ("Q", 1); "Q" -> ("Q", -1).
-std::pair<std::string, int> split_element(const std::string& name) {
-  const size_t open = name.find('[');
-  if (open != std::string::npos && name.back() == ']') {
-    const std::string idx = name.substr(open + 1, name.size() - open - 2);
-    char* end = nullptr;
-    const long i = std::strtol(idx.c_str(), &end, 10);
-    if (idx.empty() || *end != '\0' || i < 0) throw CliError(fmt::format("'{}': bad element index", name));
-    return {name.substr(0, open), int(i)};
-  }
-  return {name, -1};
-}
-
-}  // namespace
-
 std::pair<ParamInfo, int> LiveParams::resolve(const std::string& name) const {
-  const auto cat = device_.catalog();
-  auto [base, element] = split_element(name);
-  const ParamInfo* info = cat->find(base);
-  if (!info && element < 0) {
-    // "Q0" = Q[0], as in `sweep Q0 1e5 1e6`.
-    size_t d = base.size();
-    while (d > 0 && std::isdigit(static_cast<unsigned char>(base[d - 1]))) --d;
-    if (d > 0 && d < base.size() && cat->find(base.substr(0, d))) {
-      element = std::atoi(base.c_str() + d);
-      info = cat->find(base.substr(0, d));
-    }
-  }
-  if (!info) cat->require(base);  // throws with the known names
-  if (element >= int(info->size))
-    throw CliError(fmt::format("{}[{}]: {} has {} element{} (0..{})", info->name, element, info->name, info->size,
-                               info->size == 1 ? "" : "s", info->size - 1));
-  return {*info, element};
+  return resolve_param(*device_.catalog(), name);
 }
 
 std::vector<double> LiveParams::set(const std::string& name, const std::vector<std::string>& values) {
@@ -97,37 +65,7 @@ std::pair<ParamInfo, std::vector<double>> LiveParams::get(const std::string& nam
   return {info, device_.get(info)};
 }
 
-namespace {
-
-// A name `params load` reads back as the same one word.
-bool is_file_token(const std::string& name) {
-  if (name.empty() || name[0] == '#') return false;
-  for (unsigned char c : name)
-    if (c <= ' ' || c == 0x7f) return false;
-  return true;
-}
-
-}  // namespace
-
-void LiveParams::save(const std::string& path) {
-  const auto all = device_.get_all();
-  const p::Info info = device_.info();
-  // A file holds what was measured, one parameter a line, whatever the
-  // firmware's words contain: its name is escaped where it is decoded (no
-  // newline can plant a line), and a parameter name that would not read
-  // back as one token (a space, a '#') is refused before a byte is written.
-  for (const auto& [pi, v] : all)
-    if (!is_file_token(pi.name))
-      throw CliError(fmt::format("cannot save parameter '{}' to {}: its name would not read back as one word; "
-                                 "nothing written",
-                                 printable(pi.name), path));
-  OutputFile out(path);
-  fmt::print(out.get(), "# nlsoft parameters: {} {}.{}.{}, platform {}, saved {}\n", info.firmware, info.fw_major,
-             info.fw_minor, info.fw_patch, int(info.platform), utc_now());
-  fmt::print(out.get(), "# NAME VALUES...  (load with `params load FILE`)\n");
-  for (const auto& [pi, v] : all) fmt::print(out.get(), "{} {}\n", pi.name, format_param_values(pi, v));
-  out.commit();
-}
+void LiveParams::save(const std::string& path) { write_params_file(path, device_.info(), device_.get_all()); }
 
 std::vector<std::string> LiveParams::load(const std::string& path, bool dry_run) {
   std::istringstream in(read_input_file(path, kParamsFile));

@@ -12,6 +12,7 @@
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
 #include "app/live/reference_table.hpp"
+#include "app/tune/live_param_source.hpp"
 #include "app/tune/search_space.hpp"
 #include "app/tune/tune_options.hpp"
 #include "app/tune/tuner.hpp"
@@ -75,7 +76,8 @@ std::vector<ScriptError> check_script(const Script& script, LiveConsole& console
         case K::ModelUpload: check_readable(c.name, "model"); break;
         case K::Tune: {
           const TuneOptions o = parse_tune_words(c.values);
-          SearchSpace(console, o.dims);
+          LiveParamSource params(console);
+          SearchSpace(params, o.dims);
           if (!o.reference.empty()) tune_reference(console, o.reference);
           break;
         }

@@ -7,7 +7,6 @@
 #include <cstdlib>
 
 #include "host/files/cli_error.hpp"
-#include "app/live/live_console.hpp"
 #include "shared/fixed_math.hpp"
 
 namespace nlsoft::console {
@@ -56,7 +55,7 @@ Dimension parse_dimension(const std::string& spec) {
   return d;
 }
 
-SearchSpace::SearchSpace(LiveConsole& console, std::vector<Dimension> dims) : dims_(std::move(dims)) {
+SearchSpace::SearchSpace(ParamSource& params, std::vector<Dimension> dims) : dims_(std::move(dims)) {
   if (dims_.empty()) throw CliError("tune: give at least one --param NAME=LO..HI[:log|:lin], e.g. --param Lambda=0.01..100:log");
   std::vector<std::string> seen;
   for (const Dimension& d : dims_) {
@@ -64,7 +63,7 @@ SearchSpace::SearchSpace(LiveConsole& console, std::vector<Dimension> dims) : di
     const std::string name = scale ? d.name.substr(0, d.name.size() - 1) : d.name;
     std::pair<ParamInfo, int> resolved;
     try {
-      resolved = console.params().resolve(name);
+      resolved = params.resolve(name);
     } catch (const CliError& e) {
       throw CliError(fmt::format("--param {}: {}", d.spec, e.what()));
     }
@@ -82,7 +81,7 @@ SearchSpace::SearchSpace(LiveConsole& console, std::vector<Dimension> dims) : di
     seen.push_back(key);
     size_t p = 0;
     while (p < original_.size() && original_[p].first.name != info.name) ++p;
-    if (p == original_.size()) original_.emplace_back(info, console.params().get(info.name).second);
+    if (p == original_.size()) original_.emplace_back(info, params.in_force(info));
     const std::vector<double>& now = original_[p].second;
     // Ranges inside the table's: the firmware would refuse every candidate
     // outside, and the search would spend its budget learning that.

@@ -12,7 +12,17 @@
 
 namespace nlsoft::console {
 
-class LiveConsole;
+// The parameters a search's names are resolved against and its start read
+// from: the connected firmware's table (live_param_source.hpp), or the
+// simulator a replay runs in this process (replay_evaluator.hpp).
+class ParamSource {
+ public:
+  virtual ~ParamSource() = default;
+  // "Q" -> (Q, -1); "Q[1]", "Q1" -> (Q, 1). Throws CliError in words.
+  virtual std::pair<ParamInfo, int> resolve(const std::string& name) = 0;
+  // The values in force now.
+  virtual std::vector<double> in_force(const ParamInfo& info) = 0;
+};
 
 // One searched dimension, as written: NAME=LO..HI[:log|:lin].
 //   Lambda=0.01..100:log   every element of Lambda, one value
@@ -33,10 +43,10 @@ class SearchSpace {
  public:
   using Write = std::pair<ParamInfo, std::vector<double>>;
 
-  // Resolves the dimensions against the connected firmware's parameter list
-  // and the values in force: known names, elements that exist, ranges inside
-  // each parameter's own range, no parameter given twice. Throws CliError.
-  SearchSpace(LiveConsole& console, std::vector<Dimension> dims);
+  // Resolves the dimensions against the firmware's parameter list and the
+  // values in force: known names, elements that exist, ranges inside each
+  // parameter's own range, no parameter given twice. Throws CliError.
+  SearchSpace(ParamSource& params, std::vector<Dimension> dims);
 
   size_t size() const { return dims_.size(); }
   const std::vector<Dimension>& dimensions() const { return dims_; }

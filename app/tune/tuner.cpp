@@ -14,8 +14,8 @@
 #include "app/live/live_console.hpp"
 #include "app/live/param_text.hpp"
 #include "app/live/reference_spec.hpp"
-#include "app/record/tune_log.hpp"
 #include "app/text/tokenize.hpp"
+#include "app/tune/live_evaluator.hpp"
 #include "app/tune/motion_check.hpp"
 #include "app/tune/objective.hpp"
 
@@ -30,10 +30,6 @@ enum class Stop { None, Budget, Interrupted, Cancelled, Time, Error };
 
 std::string algorithm_name(const std::string& method) {
   return method == "neldermead" ? "NLopt LN_NELDERMEAD (Nelder-Mead)" : "NLopt LN_BOBYQA";
-}
-
-void put_in_force(LiveConsole& console, const std::vector<SearchSpace::Write>& writes) {
-  for (const auto& [info, values] : writes) console.params().apply(info, values);
 }
 
 std::string values_text(const std::vector<SearchSpace::Write>& writes) {
@@ -68,10 +64,9 @@ using Clock = std::chrono::steady_clock;
 // best so far, why the loop must stop) is kept here between the calls.
 class TuningSession {
  public:
-  TuningSession(LiveConsole& console, const TuneOptions& o, const TuneCallbacks& cb, const std::atomic<bool>* cancel,
-                const Objective& objective, SearchSpace& space)
-      : console_(console), o_(o), cb_(cb), cancel_(cancel), objective_(objective), space_(space),
-        log_(console.db_path()) {}
+  TuningSession(TuneEvaluator& evaluator, const TuneOptions& o, const TuneCallbacks& cb,
+                const std::atomic<bool>* cancel, const Objective& objective, SearchSpace& space)
+      : ev_(evaluator), o_(o), cb_(cb), cancel_(cancel), objective_(objective), space_(space) {}
 
   TuneResult run();
 
@@ -84,24 +79,21 @@ class TuningSession {
   void check_stop();
   double evaluate(const std::vector<double>& x);
   void run_point(TuneEvaluation& e, const std::vector<double>& x, RunMetrics& m);
-  void judge(TuneEvaluation& e, const RunSummary& s, const RunMetrics& m);
+  void judge(TuneEvaluation& e, const TuneOutcome& o);
   void record(TuneEvaluation& e, const std::vector<double>& x, const RunMetrics& m);
   nlopt::result search();
   std::string end_reason(nlopt::result result) const;
-  std::string keep_best();
   void report(const std::string& finish_error);
 
-  LiveConsole& console_;
+  TuneEvaluator& ev_;
   const TuneOptions& o_;
   const TuneCallbacks& cb_;
   const std::atomic<bool>* cancel_;
   const Objective& objective_;
   SearchSpace& space_;
-  TuneLog log_;
   TuneResult r_;
   Clock::time_point started_;
-  // The rig's task space (each output's span): what "the reference barely
-  // moves" is measured against; the console's rig, shipped or a rig file.
+  // What "the reference barely moves" is measured against.
   std::vector<double> task_;
   bool motion_checked_ = false;
   Stop stop_ = Stop::None;
@@ -111,11 +103,9 @@ class TuningSession {
 };
 
 void TuningSession::announce() {
-  out(fmt::format("tuning session {}: minimise {} over {} with {}", r_.session, objective_.text(), space_.text(),
+  out(fmt::format("{}: minimise {} over {} with {}", ev_.name(), objective_.text(), space_.text(),
                   algorithm_name(o_.method)));
-  out(fmt::format("each evaluation is a recorded run: the reference from its first point, {:g} s to settle, measured "
-                  "over {:g} s; failed if the watchdog trips, a frame is lost or the inputs sit at a limit over {:g} % of it",
-                  o_.settle_s, o_.window_s, 100 * o_.max_saturated));
+  out(ev_.evaluation_words(o_));
   std::string budget;
   if (o_.budget_runs > 0) budget = fmt::format("{} run{}", o_.budget_runs, o_.budget_runs == 1 ? "" : "s");
   if (o_.budget_s > 0) budget += fmt::format("{}{:g} s", budget.empty() ? "" : " or ", o_.budget_s);
@@ -167,28 +157,24 @@ double TuningSession::evaluate(const std::vector<double>& x) {
 
 // The point in force, its run, and the run's score or why it failed.
 void TuningSession::run_point(TuneEvaluation& e, const std::vector<double>& x, RunMetrics& m) {
-  try {
-    put_in_force(console_, space_.writes(x));
-  } catch (const NackError& refused) {
-    // The firmware's cross-parameter rules: the point is outside the
-    // feasible set, which is a result, not an error.
-    e.failed = std::string("the firmware refused it: ") + refused.what();
-    return;
-  }
-  const RunSummary s = console_.runs().run_for(
-      o_.settle_s + o_.window_s, fmt::format("tune {} #{}", r_.session, e.eval),
+  const TuneOutcome o = ev_.evaluate(
+      space_.writes(x), e.eval,
       [&](size_t d, size_t t) {
         if (cb_.progress) cb_.progress(fmt::format("eval {}{}", e.eval, budget_suffix()), d, t);
       },
       cancel_);
-  e.run_id = s.run_id;
+  e.run_id = o.run_id;
+  if (!o.refused.empty()) {
+    // The firmware's cross-parameter rules: the point is outside the
+    // feasible set, which is a result, not an error.
+    e.failed = "the firmware refused it: " + o.refused;
+    return;
+  }
   if (cancel_ && cancel_->load()) {
     stop_ = Stop::Cancelled;
     throw nlopt::forced_stop();
   }
-  // Over exactly settle..settle+window: a fast simulator runs past the
-  // end before the run is stopped, by a different amount each time.
-  m = console_.runs().metrics(s.run_id, o_.settle_s, o_.window_s);
+  m = o.metrics;
   e.nrmse = metric_value(m, "nrmse").value_or(kNaN);
   if (!motion_checked_ && m.samples > 0) {
     motion_checked_ = true;
@@ -197,12 +183,13 @@ void TuningSession::run_point(TuneEvaluation& e, const std::vector<double>& x, R
       out(w);
     }
   }
-  judge(e, s, m);
+  judge(e, o);
 }
 
-void TuningSession::judge(TuneEvaluation& e, const RunSummary& s, const RunMetrics& m) {
+void TuningSession::judge(TuneEvaluation& e, const TuneOutcome& o) {
+  const RunMetrics& m = o.metrics;
   const double sat = std::isfinite(m.u_saturated) ? m.u_saturated : 0.0;
-  if (s.ended_early) e.failed = s.end_reason;
+  if (!o.ended_early.empty()) e.failed = o.ended_early;
   else if (m.lost_frames > 0) e.failed = fmt::format("{} telemetry frame{} lost", m.lost_frames, m.lost_frames == 1 ? "" : "s");
   else if (sat > o_.max_saturated)
     e.failed = fmt::format("u at a limit {:.0f} % of the actuator-time (more than {:.0f} %)", 100 * sat,
@@ -233,19 +220,7 @@ void TuningSession::record(TuneEvaluation& e, const std::vector<double>& x, cons
   r_.evaluations = e.eval;
   e.best = r_.have_best ? r_.best_objective : kNaN;
   e.best_eval = r_.best_eval;
-  if (e.run_id > 0) {
-    TuneEvalRow row;
-    row.run_id = e.run_id;
-    row.session_id = r_.session;
-    row.eval = e.eval;
-    if (ok) row.objective = e.objective;
-    row.failed = e.failed;
-    row.point = e.point;
-    log_.add(row);
-    console_.recorder().set_notes(
-        e.run_id, ok ? fmt::format("tuning session {}, evaluation {}: {} = {:.6g}", r_.session, e.eval, objective_.text(), e.objective)
-                     : fmt::format("tuning session {}, evaluation {}: failed: {}", r_.session, e.eval, e.failed));
-  }
+  ev_.scored(e, objective_.text());
   out(fmt::format("eval {}{}: {} -> {}  | best {} (eval {})", e.eval, budget_suffix(), e.point,
                   ok ? fmt::format("{:.5g} (nrmse {:.4f})", e.objective, e.nrmse) : "FAILED: " + e.failed,
                   r_.have_best ? fmt::format("{:.5g}", r_.best_objective) : "-", r_.best_eval));
@@ -310,57 +285,34 @@ std::string TuningSession::end_reason(nlopt::result result) const {
              : fmt::format("the optimiser stopped (NLopt result {})", int(result));
 }
 
-// The best set goes to a file through `params save`, which writes what is
-// in force: so it is put in force first, and the old values back after
-// unless asked to keep it. What went wrong doing so, or "".
-std::string TuningSession::keep_best() {
-  try {
-    if (r_.have_best) {
-      put_in_force(console_, r_.best_values);
-      r_.saved_to = o_.save.empty() ? fmt::format("tune-{}.params", r_.session) : o_.save;
-      console_.params().save(r_.saved_to);
-      r_.applied = o_.apply;
-    }
-    if (!r_.applied) put_in_force(console_, space_.original());
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
-
 void TuningSession::report(const std::string& finish_error) {
-  out(fmt::format("tuning session {} ended: {}; {} evaluation{} ({} failed) in {:.1f} s", r_.session, r_.end_reason,
-                  r_.evaluations, r_.evaluations == 1 ? "" : "s", r_.failures, r_.wall_s));
+  out(fmt::format("{} ended: {}; {} evaluation{} ({} failed) in {:.1f} s", ev_.name(), r_.end_reason, r_.evaluations,
+                  r_.evaluations == 1 ? "" : "s", r_.failures, r_.wall_s));
   if (!r_.have_best) {
-    out("no evaluation succeeded: nothing saved; the parameters are back as they were");
+    out(ev_.nothing_kept_words());
     return;
   }
   const TrackingMetrics& t = r_.best_metrics.has_true ? r_.best_metrics.truth : r_.best_metrics.predicted;
-  out(fmt::format("best: {} = {:.6g} at evaluation {} (run {}; nrmse {:.4f}{}): {}", objective_.text(), r_.best_objective,
-                  r_.best_eval, r_.best_run, t.nrmse,
+  out(fmt::format("best: {} = {:.6g} at evaluation {} ({}nrmse {:.4f}{}): {}", objective_.text(), r_.best_objective,
+                  r_.best_eval, r_.best_run > 0 ? fmt::format("run {}; ", r_.best_run) : "", t.nrmse,
                   std::isfinite(r_.start_objective) ? fmt::format(", start {:.6g}", r_.start_objective) : "",
                   values_text(r_.best_values)));
   if (!r_.best_metrics.has_true && r_.best_metrics.samples > 0) out(fmt::format("  {}", kNoMeasuredOutput));
   if (!r_.saved_to.empty() && finish_error.empty())
-    out(fmt::format("best set saved to {} (params load {} puts it in force); {}", r_.saved_to, r_.saved_to,
-                    r_.applied ? "it is in force now (apply)" : "the parameters are back as they were"));
+    for (const std::string& line : ev_.kept_words(r_)) out(line);
 }
 
 TuneResult TuningSession::run() {
   r_.start_objective = kNaN;
-  r_.session = log_.begin(objective_.text(), space_.text(), o_.method);
+  r_.session = ev_.begin(objective_.text(), space_.text(), o_.method);
   started_ = Clock::now();
   announce();
-  for (const RigOutput& output : console_.rig().outputs) task_.push_back(output.span);
+  task_ = ev_.task_space();
   const nlopt::result result = search();
   r_.wall_s = std::chrono::duration<double>(Clock::now() - started_).count();
   r_.end_reason = end_reason(result);
-  const std::string finish_error = keep_best();
-  try {
-    log_.finish(r_.session, r_.end_reason, r_.best_run);
-  } catch (const std::exception&) {
-    // The runs themselves are recorded; only the session's end is missing.
-  }
+  const std::string finish_error = ev_.keep(r_, space_.original());
+  ev_.finish(r_);
   report(finish_error);
   if (error_) std::rethrow_exception(error_);
   if (!finish_error.empty()) throw CliError("after tuning: " + finish_error);
@@ -369,7 +321,7 @@ TuneResult TuningSession::run() {
 
 }  // namespace
 
-TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCallbacks& cb,
+TuneResult run_tuning(TuneEvaluator& evaluator, const TuneOptions& o, const TuneCallbacks& cb,
                       const std::atomic<bool>* cancel) {
   try {
     validate(o);
@@ -377,9 +329,23 @@ TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCall
     throw CliError(e.what());
   }
   const Objective objective(o.objective);
-  SearchSpace space(console, o.dims);
+  SearchSpace space(evaluator.params(), o.dims);
+  return TuningSession(evaluator, o, cb, cancel, objective, space).run();
+}
+
+TuneResult run_tuning(LiveConsole& console, const TuneOptions& o, const TuneCallbacks& cb,
+                      const std::atomic<bool>* cancel) {
+  try {
+    validate(o);
+  } catch (const std::invalid_argument& e) {
+    throw CliError(e.what());
+  }
+  LiveEvaluator evaluator(console, o);
+  // Every name and range checked before the reference changes.
+  const Objective objective(o.objective);
+  SearchSpace space(evaluator.params(), o.dims);
   if (!o.reference.empty()) console.references().select(tune_reference(console, o.reference));
-  return TuningSession(console, o, cb, cancel, objective, space).run();
+  return TuningSession(evaluator, o, cb, cancel, objective, space).run();
 }
 
 }  // namespace nlsoft::console

@@ -1,0 +1,75 @@
+#include "app/replay/replay_source.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "app/record/run_store.hpp"
+#include "app/record/sqlite.hpp"
+#include "host/files/cli_error.hpp"
+#include "host/paths/install_paths.hpp"
+#include "host/rig/rig_catalog.hpp"
+
+namespace nlsoft::console {
+
+namespace {
+
+// The rig the run was recorded on: its name, or --rig FILE for a rig file
+// (whose name must be the run's).
+Rig replay_rig(int64_t id, const std::string& rig_arg, const RunRow& row) {
+  if (!rig_arg.empty()) {
+    Rig rig = load_rig_arg(rig_arg);
+    if (rig.name != row.platform)
+      throw CliError(fmt::format("run {} was recorded on rig '{}', not on rig '{}' ({})", id, row.platform, rig.name,
+                                 rig_arg));
+    return rig;
+  }
+  try {
+    return load_rig_arg(row.platform);
+  } catch (const CliError& e) {
+    throw CliError(fmt::format("run {} was recorded on rig '{}', which is no shipped rig ({}): give --rig FILE, its "
+                               "rig file",
+                               id, row.platform, e.what()));
+  }
+}
+
+// --model, else the rig's shipped model (its hash is checked against the
+// run's once the simulator runs it).
+void replay_model(int64_t id, const std::string& model_arg, const Rig& rig, LoadedModel& out) {
+  if (!model_arg.empty()) return load_model(model_arg, out);
+  if (rig.model.file.empty())
+    throw CliError(fmt::format("rig '{}' names no [model] file: give --model FILE, the model run {} ran", rig.name, id));
+  const Lookup found = find_model_file(rig.model.file);
+  if (found.found.empty())
+    throw CliError(fmt::format("no model file {} for rig '{}'; looked in:{}\ngive --model FILE, the model run {} ran",
+                               rig.model.file, rig.name, found.tried_lines(), id));
+  load_model(found.found, out);
+}
+
+}  // namespace
+
+ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
+                                const std::string& model_arg) {
+  ReplaySource src;
+  src.id = id;
+  src.db = db;
+  try {
+    RunStore store(db);
+    src.start = recorded_start(store, id);
+  } catch (const DbError& e) {
+    throw CliError(e.what());
+  }
+  const RunRow& row = src.start.row;
+  src.rig = replay_rig(id, rig_arg, row);
+  if (std::lround(src.rig.rate_hz) != std::lround(row.loop_rate_hz))
+    throw CliError(fmt::format("run {} ran at {:g} Hz, rig '{}' at {:g} Hz (a simulator started with --sim-rate): "
+                               "not replayable as it ran",
+                               id, row.loop_rate_hz, src.rig.name, src.rig.rate_hz));
+  auto model = std::make_shared<LoadedModel>();
+  replay_model(id, model_arg, src.rig, *model);
+  src.model = std::move(model);
+  src.model_given = !model_arg.empty();
+  return src;
+}
+
+}  // namespace nlsoft::console

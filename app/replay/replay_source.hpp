@@ -1,0 +1,34 @@
+#pragma once
+// A recorded run read and checked once for replaying it, as many times as
+// asked (`runs replay` once, `tune --replay` once per candidate): its start,
+// the rig it ran on and the model to run. Every refusal is here, before
+// anything runs or is recorded.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "app/replay/recorded_start.hpp"
+#include "app/simulate/model_loader.hpp"
+#include "host/rig/rig.hpp"
+
+namespace nlsoft::console {
+
+struct ReplaySource {
+  int64_t id = 0;
+  std::string db;
+  RecordedStart start;
+  Rig rig;
+  std::shared_ptr<const LoadedModel> model;
+  bool model_given = false;  // --model: another model than the run's may run
+  uint32_t steps() const { return start.last_step + 1; }
+  double duration_s() const { return double(steps()) / start.row.loop_rate_hz; }
+};
+
+// Reads run `id` from `db` and checks it can be replayed as it ran
+// (recorded_start's refusals; the rig, `rig_arg` when given, which must be
+// the run's; its rate; the model, `model_arg` or the rig's shipped one).
+// Throws CliError naming the run.
+ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
+                                const std::string& model_arg);
+
+}  // namespace nlsoft::console
