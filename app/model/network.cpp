@@ -46,8 +46,11 @@ double dact1(Activation a, double x) {
 }
 
 // The derivative where the activation's output gives it without a second
-// tanh or exp (the costliest part of a small network's backward pass).
-Eigen::MatrixXd derivative_from_output(Activation act, const Eigen::MatrixXd& z, const Eigen::MatrixXd& a) {
+// tanh or exp (the costliest part of a small network's backward pass): the
+// same bits as dact1, whose 1 - t*t takes the t the forward pass kept.
+// Blocks of the caches' columns are taken as they are, not copied.
+using ConstRef = Eigen::Ref<const Eigen::MatrixXd>;
+Eigen::MatrixXd derivative_from_output(Activation act, const ConstRef& z, const ConstRef& a) {
   switch (act) {
     case Activation::Tanh: return (1.0 - a.array().square()).matrix();
     case Activation::Sigmoid: return (a.array() * (1.0 - a.array())).matrix();
@@ -59,10 +62,6 @@ Eigen::MatrixXd derivative_from_output(Activation act, const Eigen::MatrixXd& z,
 
 Eigen::MatrixXd activate(Activation a, const Eigen::MatrixXd& z) {
   return z.unaryExpr([a](double x) { return act1(a, x); });
-}
-
-Eigen::MatrixXd activate_derivative(Activation a, const Eigen::MatrixXd& z) {
-  return z.unaryExpr([a](double x) { return dact1(a, x); });
 }
 
 Network::Network(int inputs, const std::vector<LayerSpec>& specs) : inputs_(inputs) {
@@ -171,14 +170,15 @@ void Network::backward_add(const Cache& c, const Eigen::MatrixXd& dOut, std::vec
       // h = (1 - z) h~
       const Eigen::ArrayXXd dhh = d.array() * (1.0 - z);
       const Eigen::ArrayXXd dz = -d.array() * hh;
-      dG.rightCols(u) = (dhh * activate_derivative(L.act, G.rightCols(u)).array()).matrix();
-      dG.leftCols(u) = (dz * activate_derivative(L.rec_act, G.leftCols(u)).array()).matrix();
+      dG.rightCols(u) = (dhh * derivative_from_output(L.act, G.rightCols(u), P.rightCols(u)).array()).matrix();
+      dG.leftCols(u) = (dz * derivative_from_output(L.rec_act, G.leftCols(u), P.leftCols(u)).array()).matrix();
       const double* bias = w + (L.in + u) * g3;
       double* gbias = g + (L.in + u) * g3;
       if (L.reset_after) {
         const ConstRow rbh(bias + g3 + 2 * u, u);
         const Eigen::ArrayXXd dr = dG.rightCols(u).array().rowwise() * rbh.array();
-        dG.middleCols(u, u) = (dr * activate_derivative(L.rec_act, G.middleCols(u, u)).array()).matrix();
+        dG.middleCols(u, u) =
+            (dr * derivative_from_output(L.rec_act, G.middleCols(u, u), P.middleCols(u, u)).array()).matrix();
         Eigen::Map<Eigen::RowVectorXd> grb(gbias + g3, g3);
         grb.head(2 * u) += dG.leftCols(2 * u).colwise().sum();
         grb.tail(u) += (dG.rightCols(u).array() * r).matrix().colwise().sum();

@@ -52,8 +52,7 @@ TuneOutcome LiveEvaluator::evaluate(const std::vector<SearchSpace::Write>& point
       console_.runs().run_for(o_.settle_s + o_.window_s, fmt::format("tune {} #{}", session_, eval), progress, cancel);
   out.run_id = s.run_id;
   if (s.ended_early) out.ended_early = s.end_reason.empty() ? "the run ended early" : s.end_reason;
-  // Over exactly settle..settle+window: a fast simulator runs past the
-  // end before the run is stopped, by a different amount each time.
+  // Over exactly settle..settle+window: the settle left out.
   out.metrics = console_.runs().metrics(s.run_id, o_.settle_s, o_.window_s);
   return out;
 }
