@@ -19,6 +19,7 @@
 #include "app/record/run_store.hpp"
 #include "app/record/sample.hpp"
 #include "app/record/tune_log.hpp"
+#include "app/support/board_run.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
 
@@ -121,23 +122,7 @@ TEST_F(TuneReplay, APoorRecordingIsBeatenOnItsReplays) {
 TEST_F(TuneReplay, WhatCannotBeReplayedOrReachesForAFirmwareIsRefusedWithNothingWritten) {
   session("hasel", "ident prbs 2s seed=3\nref swirl hold=1\nrun 3s label=swirl\n");
   // Run 3: a board's run, as a console records one.
-  {
-    Recorder rec(db());
-    RunInfo ri;
-    ri.platform = "hasel";
-    ri.firmware = "nlsoft-f446 0.1.0";
-    ri.n = 3;
-    ri.m = 6;
-    ri.loop_rate_hz = 130;
-    ri.reference = R"({"kind":"swirl","hold":10,"a":4,"b":4,"c":4,"center":[0,0,4],"omega":0,"lambda":0,"scale":1,"levels":[]})";
-    const int64_t id = rec.begin_run(ri);
-    Sample s;
-    s.n = 3;
-    s.m = 6;
-    s.mask = protocol::telemetry_field::kStep | protocol::telemetry_field::kU;
-    rec.add_sample(id, s);
-    rec.end_run(id, "completed", 1, 0);
-  }
+  ASSERT_EQ(test::record_a_boards_run(db()), 3);
   struct Case {
     std::string args, message;
   };
