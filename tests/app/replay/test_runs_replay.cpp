@@ -17,6 +17,7 @@
 #include "app/record/sample.hpp"
 #include "app/support/board_run.hpp"
 #include "app/support/run_process.hpp"
+#include "app/support/sim_session_test.hpp"
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
@@ -27,27 +28,14 @@ using test::shell_quote;
 
 bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
-class RunsReplay : public ::testing::Test {
+class RunsReplay : public test::SimSessionTest {
  protected:
-  void SetUp() override { ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1); }
-  test::ProcessResult console(const std::string& args) const {
-    return run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
-  }
-  std::string db() const { return dir_.file("runs.db"); }
-  // A session on the simulator running `script`; its runs recorded in db().
-  void session(const std::string& rig, const std::string& script) {
-    const std::string file = dir_.file("s.nls");
-    std::ofstream(file) << script;
-    const auto r = console("--sim " + rig + " --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(file));
-    ASSERT_EQ(r.code, 0) << r.output;
-  }
   nlohmann::json compare(int64_t a, int64_t b) const {
     const auto r = console("runs compare " + std::to_string(a) + " " + std::to_string(b) + " --json --db " +
                            shell_quote(db()));
     EXPECT_EQ(r.code, 0) << r.output;
     return nlohmann::json::parse(r.output);
   }
-  test::TempDir dir_;
 };
 
 // Every float of two runs' samples, bit for bit, step by step.

@@ -21,6 +21,7 @@
 #include "app/record/tune_log.hpp"
 #include "app/support/board_run.hpp"
 #include "app/support/run_process.hpp"
+#include "app/support/sim_session_test.hpp"
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
@@ -54,22 +55,7 @@ std::string param_at_start(RunStore& store, int64_t run, const std::string& name
   return "";
 }
 
-class TuneReplay : public ::testing::Test {
- protected:
-  void SetUp() override { ::setenv("NLSOFT_FIRMWARE_SIM", NLSOFT_FIRMWARE_SIM_BIN, 1); }
-  test::ProcessResult console(const std::string& args) const {
-    return run_process(std::string(NLSOFT_CONSOLE_BIN) + " " + args);
-  }
-  std::string db() const { return dir_.file("runs.db"); }
-  // A session on the simulator running `script`; its runs recorded in db().
-  void session(const std::string& rig, const std::string& script) {
-    const std::string file = dir_.file("s.nls");
-    std::ofstream(file) << script;
-    const auto r = console("--sim " + rig + " --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(file));
-    ASSERT_EQ(r.code, 0) << r.output;
-  }
-  test::TempDir dir_;
-};
+using TuneReplay = test::SimSessionTest;
 
 // The constructed case: hasel's whole Swirl recorded with Q a hundredth of
 // its default (1e6 2e6 1e6). Tuned on replays of that run, the best set's
