@@ -180,13 +180,13 @@ TEST(Newton, AShapeWithFixedActivationsRefusesAModelWithOthers) {
   using C = test::HaselFixedCapacity;
   using S = test::HaselFixedShape;
   RolloutKernels<C> k;
-  auto fixed = test::ShapeModel<C, S>::make(2, Activation::Tanh, Activation::Tanh);
+  auto fixed = test::ShapeModel<C, S>::make(2, Activation::Relu, Activation::Relu);
   ASSERT_EQ(finalize_model(fixed.model), Status::Ok);
-  EXPECT_EQ(fixed.model.layer[0].act, Activation::Relu);  // the shape's, not the arguments'
+  EXPECT_EQ(fixed.model.layer[2].act, Activation::Linear);  // the shape's, not the arguments'
   EXPECT_EQ(select_kernels(fixed.model, k), Status::Ok);
   for (int l = 0; l < 3; ++l) {
-    auto other = test::random_model<C>(6, 3, 18, 2, {{LayerKind::Dense, 5, l == 0 ? Activation::Tanh : Activation::Relu},
-                                                     {LayerKind::Dense, 5, l == 1 ? Activation::Tanh : Activation::Relu},
+    auto other = test::random_model<C>(6, 3, 18, 2, {{LayerKind::Dense, 5, l == 0 ? Activation::Relu : Activation::Tanh},
+                                                     {LayerKind::Dense, 5, l == 1 ? Activation::Relu : Activation::Tanh},
                                                      {LayerKind::Dense, 3, l == 2 ? Activation::Tanh : Activation::Linear}},
                                        2);
     ASSERT_EQ(finalize_model(other.model), Status::Ok);
