@@ -28,6 +28,21 @@ struct Dims {
   static constexpr int p = Cap::nd * Cap::m + Cap::nd * Cap::n + Cap::w;
   // U in R^{Nc x m}, flattened: the Newton-Raphson unknowns
   static constexpr int K = Cap::Nc * Cap::m;
+
+ private:
+  template <class... S>
+  static constexpr bool inputs_fill(ShapeList<S...>) {
+    return sizeof...(S) > 0 && ((S::m == Cap::m) && ...);
+  }
+
+ public:
+  // Whether every model the capacity runs has exactly K unknowns (k = Nc m
+  // = K): an image's does, which runs its shapes only (so m is a shape's,
+  // each the capacity's) with one control row (so Nc = 1). Its solver then
+  // loops over K, a constant, and the code for k < K compiles away.
+  static constexpr bool full_k = !Cap::generic && Cap::Nc == 1 && inputs_fill(typename Cap::Shapes{});
+  // k = Nc m, the unknowns of a problem with this Nc and m.
+  static constexpr int unknowns(int Nc, int m) { return full_k ? K : Nc * m; }
 };
 
 // The shipped models' shapes (app/models/README.md) and the authors' hasel

@@ -161,7 +161,23 @@ class Controller {
   const Model<Cap>& model() const { return *model_; }
 
  private:
-  InputLayout layout() const { return layout_of(*model_); }
+  // An image's capacity runs one shape, its model's (kernels.hpp refuses
+  // others): the layout is that shape's constants, and the step's loops
+  // over m, n and w have fixed trip counts.
+  template <class... S>
+  static constexpr bool one_shape(ShapeList<S...>) {
+    return !Cap::generic && sizeof...(S) == 1;
+  }
+  template <class S>
+  static constexpr InputLayout shape_layout(ShapeList<S>) {
+    return InputLayout{S::m, S::n, S::w, S::nd, S::nd};
+  }
+  InputLayout layout() const {
+    if constexpr (one_shape(typename Cap::Shapes{}))
+      return shape_layout(typename Cap::Shapes{});
+    else
+      return layout_of(*model_);
+  }
   // x * 0 is 0 for a finite x and NaN otherwise: one test for all c values
   static bool all_finite(const float* v, int c) {
     float probe = 0.0f;

@@ -76,7 +76,7 @@ template <class Cap>
 void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const float* U, const float* u_prev,
                   const float* G, NewtonSystem<Cap>& S) {
   constexpr int K = Dims<Cap>::K;
-  const int k = P.Nc * m;
+  const int k = Dims<Cap>::unknowns(P.Nc, m);
   const Barrier bar{P.s, P.b, P.r};
   if constexpr (K <= 8) {
     // Small systems (the MCU capacities): J, g and H's lower triangle

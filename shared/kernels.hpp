@@ -46,9 +46,11 @@ namespace detail {
 
 // activate_slopes() for a layer of a constant width: ReLU, tanh and linear,
 // the shipped models' hidden and output layers, inline and unrolled; the
-// others through the call.
-template <int Count>
-__attribute__((always_inline)) inline void activate_fixed(Activation act, float* z, float* df) {
+// others through the call. Known: the layer's activation when the shape
+// fixes it (net_shape.hpp), and then only its branch is compiled.
+template <int Count, int Known = kActivationAtRunTime>
+__attribute__((always_inline)) inline void activate_fixed(Activation run_time, float* z, float* df) {
+  const Activation act = Known == kActivationAtRunTime ? run_time : Activation(uint8_t(Known));
   if (act == Activation::Relu) {
 NLSOFT_UNROLL(16)
     for (int j = 0; j < Count; ++j) {
@@ -73,7 +75,7 @@ NLSOFT_UNROLL(16)
 
 // A Dense layer past the first, In inputs to Out units: y = act(x W + b)
 // and the slopes act'(.), which the Jacobian's reverse sweep needs.
-template <int In, int Out>
+template <int In, int Out, int Known>
 inline void dense_values(Activation act, const float* W, const float* x, float* y, float* df) {
   const float* bias = W + In * Out;
   float z[Out];
@@ -86,7 +88,7 @@ NLSOFT_UNROLL(16)
 NLSOFT_UNROLL(16)
     for (int j = 0; j < Out; ++j) z[j] += xi * w[j];
   }
-  activate_fixed<Out>(act, z, df);
+  activate_fixed<Out, Known>(act, z, df);
 NLSOFT_UNROLL(16)
   for (int j = 0; j < Out; ++j) y[j] = z[j];
 }
@@ -105,14 +107,17 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   static_assert(S::m <= Cap::m && S::n <= Cap::n && S::w <= Cap::w && S::nd <= Cap::nd, "shape exceeds capacity");
   static_assert(kC0 <= Cap::width, "first layer exceeds capacity");
 
-  // Whether model M has this shape (activations are run-time data).
+  // Whether model M has this shape (and the activations it fixes, if any).
   static bool matches(const Model<Cap>& Mo) {
     if (Mo.m != M || Mo.n != N || Mo.w != W || Mo.nd != ND || Mo.dd != ND || Mo.layer_count != S::layers)
       return false;
     const bool kinds[] = {First::gru, Rest::gru...};
     const int units[] = {First::units, Rest::units...};
-    for (int l = 0; l < S::layers; ++l)
+    const int acts[] = {First::act, Rest::act...};
+    for (int l = 0; l < S::layers; ++l) {
       if ((Mo.layer[l].kind == LayerKind::Gru) != kinds[l] || Mo.layer[l].out != units[l]) return false;
+      if (acts[l] != kActivationAtRunTime && int(Mo.layer[l].act) != acts[l]) return false;
+    }
     return true;
   }
 
@@ -122,7 +127,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
     static_assert(!L::gru, "a GRU runs only as the first layer of a shaped kernel");
     static_assert(L::units <= Cap::width, "layer exceeds capacity");
     const Layer& Lr = Mo.layer[l];
-    detail::dense_values<In, L::units>(Lr.act, Mo.weights(Lr), s.v[cur], s.v[1 - cur], slope[l]);
+    detail::dense_values<In, L::units, L::act>(Lr.act, Mo.weights(Lr), s.v[cur], s.v[1 - cur], slope[l]);
     cur = 1 - cur;
     if constexpr (sizeof...(More) > 0)
       return layers<L::units, More...>(Mo, l + 1, s, cur, slope);
@@ -308,7 +313,7 @@ NLSOFT_UNROLL(8)
       float* v = s.v[0];
 NLSOFT_UNROLL(32)
       for (int q = 0; q < kC0; ++q) v[q] = z[q];
-      detail::activate_fixed<kC0>(Mo.layer[0].act, v, slope[0]);
+      detail::activate_fixed<kC0, First::act>(Mo.layer[0].act, v, slope[0]);
       const float(*T1)[K] = s.T[0];
       if constexpr (kTangents) {
         if (preds == 0) T1 = A[full];  // no prediction enters yet: the tangent is U's alone
@@ -424,7 +429,7 @@ NLSOFT_UNROLL(8)
         detail::gru_cell<K, kTangents>(L0, bias_rec, s.v[0], s.T[0], s.v[1], s.T[1], s.live);
         cur = 1;
       } else {
-        detail::activate_fixed<kC0>(L0.act, z, slope[0]);
+        detail::activate_fixed<kC0, First::act>(L0.act, z, slope[0]);
       }
       const int t1 = cur;  // the first layer's units and their tangents: v[t1], T[t1]
       if constexpr (sizeof...(Rest) > 0) cur = layers<First::units, Rest...>(Mo, 1, s, cur, slope);

@@ -6,18 +6,29 @@
 // model of another shape runs on the generic kernel where the capacity
 // keeps one (the console's), and is refused where it does not (an MCU image,
 // whose flash holds only the kernels it needs).
+#include "shared/activation.hpp"
+
 namespace nlsoft {
 
-// Layers by their output units; the input size follows from the layer before.
-template <int Units>
+// A layer's activation as its kernel knows it: read from the model at run
+// time, or fixed when the shape is compiled (an image that can take no
+// upload runs the model it was built with, so the kernel keeps only that
+// activation's code: on hasel's image the tanh branches of five layer
+// sites were ~5 kB of flash, and no test of the kind remains per layer).
+inline constexpr int kActivationAtRunTime = -1;
+
+// Layers by their output units; the input size follows from the layer
+// before. Act: int(Activation::...), or kActivationAtRunTime.
+template <int Units, int Act = kActivationAtRunTime>
 struct DenseLayer {
-  static constexpr int units = Units, cols = Units;
+  static constexpr int units = Units, cols = Units, act = Act;
   static constexpr bool gru = false;
 };
-// A GRU's gate pre-activations are 3 x units wide.
+// A GRU's gate pre-activations are 3 x units wide; its activations are
+// always read from the model.
 template <int Units>
 struct GruLayer {
-  static constexpr int units = Units, cols = 3 * Units;
+  static constexpr int units = Units, cols = 3 * Units, act = kActivationAtRunTime;
   static constexpr bool gru = true;
 };
 

@@ -102,7 +102,7 @@ void linearise(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Param
     kern.jacobian(M, x0, U, P.N, P.Nc, s.constant, Y, s.G, s.roll);
     return;
   }
-  const int k = P.Nc * M.m, rows = P.N * M.n;
+  const int k = Dims<Cap>::unknowns(P.Nc, M.m), rows = P.N * M.n;
   kern.values(M, x0, U, P.N, P.Nc, s.constant, Y, nullptr, s.roll);
   for (int a = 0; a < k; ++a) s.U_fd[a] = U[a];
   const float inv2e = 0.5f / P.eps;
@@ -173,7 +173,7 @@ template <class Cap>
 NewtonResult newton_solve(const Model<Cap>& M, const RolloutKernels<Cap>& kern, const Params<Cap>& P,
                           const float* x0, const float* y_ref, float* U, SolverState& st, SolverScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
-  const int m = M.m, n = M.n, k = P.Nc * m;
+  const int m = Dims<Cap>::full_k ? Cap::m : M.m, n = M.n, k = Dims<Cap>::unknowns(P.Nc, m);
   const float* u_prev = x0;  // u(k-1) is the newest entry of the u-queue
   NewtonResult r;
   // Small systems (the MCU capacities) run over the capacity's K, so every

@@ -28,6 +28,7 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "shared/remainder.hpp"
 #include "shared/sincos.hpp"
 
 namespace nlsoft {
@@ -105,11 +106,11 @@ inline uint32_t step_levels(const RefParams& p) {
   return p.level_count > kRefMaxLevels ? static_cast<uint32_t>(kRefMaxLevels) : p.level_count;
 }
 
-// 2 pi k / lambda with k reduced modulo lambda first: fmod is exact, so the
+// 2 pi k / lambda with k reduced modulo lambda first: the remainder is exact, so the
 // phase keeps full float precision however long the run (k < 2^24).
 inline float periodic_phase(uint32_t k, float lambda) {
   if (!(lambda > 0.0f) || !std::isfinite(lambda)) return 0.0f;
-  return kTwoPi * std::fmod(static_cast<float>(k), lambda) / lambda;
+  return kTwoPi * fmod_exact(static_cast<float>(k), lambda) / lambda;
 }
 
 // Pringle/Diagonal y0: a zero amplitude in a denominator drops that term

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "shared/remainder.hpp"
+
 namespace nlsoft {
 
 struct SinCos {
@@ -19,7 +21,7 @@ struct SinCos {
 
 inline SinCos sincos_fast(float x) {
   if (!(x - x == 0.0f)) return {x - x, x - x};  // NaN and infinities give NaN
-  if (std::fabs(x) > 6000.0f) x = std::fmod(x, 6.28318531f);
+  if (std::fabs(x) > 6000.0f) x = fmod_exact(x, 6.28318531f);
   // x = q pi/2 + r, |r| <= pi/4; pi/2 in three parts so q pi/2 is exact
   const float t = x * 0.636619772f;
   const int32_t q = int32_t(t + (t >= 0.0f ? 0.5f : -0.5f));

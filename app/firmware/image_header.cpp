@@ -15,6 +15,7 @@
 #include "host/rig/board_table.hpp"
 #include "host/rig/firmware_rig.hpp"
 #include "host/rig/rig_plant.hpp"
+#include "shared/activation.hpp"
 #include "shared/board_stm32f4.hpp"
 #include "shared/platform_id.hpp"
 
@@ -47,8 +48,25 @@ const char* ref_kind_literal(RefKind k) {
   }
 }
 
-std::string layer_type(const RigLayer& l) {
-  return fmt::format("{}<{}>", l.kind == "gru" ? "GruLayer" : "DenseLayer", l.units);
+// A Dense layer's activation is compiled into its kernel when the image
+// runs only the model it is built with (no model uploads): that one
+// activation's code, none of the others' (shared/net_shape.hpp).
+std::string layer_type(const RigLayer& l, bool fixed_model) {
+  if (l.kind == "gru") return fmt::format("GruLayer<{}>", l.units);
+  struct Literal {
+    Activation act;
+    const char* name;
+  };
+  static constexpr Literal kLiterals[] = {{Activation::Linear, "Linear"},
+                                          {Activation::Relu, "Relu"},
+                                          {Activation::Tanh, "Tanh"},
+                                          {Activation::Sigmoid, "Sigmoid"},
+                                          {Activation::HardSigmoid, "HardSigmoid"}};
+  if (fixed_model)
+    for (const Literal& a : kLiterals)
+      if (l.activation == activation_name(a.act))
+        return fmt::format("DenseLayer<{}, int(Activation::{})>", l.units, a.name);
+  return fmt::format("DenseLayer<{}>", l.units);
 }
 
 std::string read_text(const std::string& path) {
@@ -122,12 +140,15 @@ std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers) {
     fail(rig, 1, "nd/dd", fmt::format("an image's network shape has one history length, nd = dd ({} and {} here)",
                                       rig.nd, rig.dd));
   std::string shape = fmt::format("NetShape<{}, {}, {}, {}", rig.m(), rig.n(), rig.w(), rig.nd);
-  for (const RigLayer& l : layers) shape += ", " + layer_type(l);
+  const bool fixed_model = !(rig.firmware_features & feature::kModelUpload);
+  for (const RigLayer& l : layers) shape += ", " + layer_type(l, fixed_model);
   shape += ">";
   const RigController& k = rig.controller;
   std::string o;
   o += "// The one network shape the image compiles a kernel for, and the capacity every array is sized from:\n";
   o += "// the rig's dimensions and horizons, the shape's weights and widest layer (shared/capacity.hpp).\n";
+  if (fixed_model)
+    o += "// No model uploads: the Dense layers' activations are the built-in model's, compiled in.\n";
   o += "using ImageShape = " + shape + ";\n";
   if (rig.firmware_size_first)
     o += "// [firmware] optimize = \"size\": no kernel of its own for the shape, the generic one (less flash,\n"

@@ -899,7 +899,7 @@ class Firmware {
   }
   SensorSampler* sensors_ = nullptr;
   SensorHealth health_{};  // of l_: the chip channels invalid at this step, the oldest sample's age
-  IdentRun ident_{};
+  std::conditional_t<(Features & feature::kIdent) != 0, IdentRun, NoIdentRun> ident_{};
   bool shape_list_ = false;
 };
 

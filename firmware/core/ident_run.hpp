@@ -93,4 +93,12 @@ class IdentRun {
   uint16_t decimation_ = 1;
 };
 
+// What Firmware holds in its place when built without identification
+// runs: never active, so the closed-loop handling that asks compiles to
+// nothing, and no signal generator is constructed at start-up or kept in RAM.
+struct NoIdentRun {
+  bool active() const { return false; }
+  void end() {}
+};
+
 }  // namespace nlsoft::fw

@@ -173,6 +173,29 @@ TYPED_TEST(NewtonOnCapacity, ShapesWithoutAKernelAreRefusedUnlessGeneric) {
   EXPECT_EQ(select_kernels(shaped.model, k), Status::Ok);
 }
 
+// A shape that fixes its layers' activations (an image without model
+// uploads) has no kernel for the same layers with another activation: such
+// a model is refused, as one of another shape is.
+TEST(Newton, AShapeWithFixedActivationsRefusesAModelWithOthers) {
+  using C = test::HaselFixedCapacity;
+  using S = test::HaselFixedShape;
+  RolloutKernels<C> k;
+  auto fixed = test::ShapeModel<C, S>::make(2, Activation::Relu, Activation::Relu);
+  ASSERT_EQ(finalize_model(fixed.model), Status::Ok);
+  EXPECT_EQ(fixed.model.layer[2].act, Activation::Linear);  // the shape's, not the arguments'
+  EXPECT_EQ(select_kernels(fixed.model, k), Status::Ok);
+  for (int l = 0; l < 3; ++l) {
+    auto other = test::random_model<C>(6, 3, 18, 2, {{LayerKind::Dense, 5, l == 0 ? Activation::Relu : Activation::Tanh},
+                                                     {LayerKind::Dense, 5, l == 1 ? Activation::Relu : Activation::Tanh},
+                                                     {LayerKind::Dense, 3, l == 2 ? Activation::Tanh : Activation::Linear}},
+                                       2);
+    ASSERT_EQ(finalize_model(other.model), Status::Ok);
+    RolloutKernels<C> none;
+    EXPECT_EQ(select_kernels(other.model, none), Status::Unsupported) << "layer " << l;
+    EXPECT_EQ(none.values, nullptr);
+  }
+}
+
 TEST(Newton, RecursiveHorizonWarmStartMatchesLongSolve) {
   // N = 4, Nc = 2 with smoothing: the optimum is found by a long solve; a
   // warm start near it reaches it to 1e-4 within three iterations. The

@@ -4,9 +4,12 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <initializer_list>
 
 #include "shared/reference.hpp"
+#include "shared/remainder.hpp"
+#include "shared/rng.hpp"
 
 namespace nlsoft {
 namespace {
@@ -282,4 +285,32 @@ TEST(SinCos, AbsoluteErrorBelowStatedBound) {
   }
   EXPECT_TRUE(std::isnan(nlsoft::sincos_fast(NAN).s));
   EXPECT_TRUE(std::isnan(nlsoft::sincos_fast(INFINITY).c));
+}
+
+// The references' remainder (shared/remainder.hpp) is std::fmod's, bit for
+// bit: step counts over periods (periodic_phase), phases far past 2 pi
+// (sincos_fast), and floats of any exponent against each other.
+TEST(FmodExact, SameBitsAsStdFmod) {
+  auto same = [](float x, float y) {
+    const float want = std::fmod(x, y), got = nlsoft::fmod_exact(x, y);
+    return std::signbit(want) == std::signbit(got) && (want == got || (std::isnan(want) && std::isnan(got)));
+  };
+  for (uint32_t k = 0; k < 20000; k += 7)
+    for (float lambda : {1.0f, 3.0f, 130.0f, 780.5f, 1234.567f, 0.3f})
+      EXPECT_TRUE(same(float(k), lambda)) << k << " mod " << lambda;
+  for (float k : {16777215.0f, 16777216.0f, 9999999.0f})
+    EXPECT_TRUE(same(k, 1234.567f)) << k;
+  nlsoft::Rng rng(57);
+  for (int i = 0; i < 100000; ++i) {
+    const uint32_t bx = rng.next_u32(), by = rng.next_u32() & 0x7fffffffu;
+    float x, y;
+    std::memcpy(&x, &bx, 4);
+    std::memcpy(&y, &by, 4);
+    if (!std::isfinite(x) || !std::isfinite(y) || y == 0.0f) continue;
+    ASSERT_TRUE(same(x, y)) << x << " mod " << y;
+  }
+  for (float x : {-0.0f, 0.0f, -5.5f, 5.5f, 6.28318531f, -1e30f, 3.4e38f})
+    EXPECT_TRUE(same(x, 6.28318531f)) << x;
+  EXPECT_TRUE(std::isnan(nlsoft::fmod_exact(INFINITY, 1.0f)));
+  EXPECT_TRUE(std::isnan(nlsoft::fmod_exact(NAN, 1.0f)));
 }

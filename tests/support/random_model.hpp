@@ -79,10 +79,15 @@ struct ShapeModel<Cap, NetShape<M, N, W, ND, First, Rest...>> {
     constexpr int count = 1 + int(sizeof...(Rest));
     const int units[] = {First::units, Rest::units...};
     const bool gru[] = {First::gru, Rest::gru...};
+    const int fixed[] = {First::act, Rest::act...};  // a shape that fixes an activation gets it
     LayerSpec specs[count];
-    for (int l = 0; l < count; ++l)
-      specs[l] = LayerSpec{gru[l] ? LayerKind::Gru : LayerKind::Dense, units[l], l + 1 == count ? out : hidden,
-                           Activation::Sigmoid, seed % 2 == 0};
+    for (int l = 0; l < count; ++l) {
+      const Activation act = fixed[l] != kActivationAtRunTime ? Activation(uint8_t(fixed[l]))
+                             : l + 1 == count                 ? out
+                                                              : hidden;
+      specs[l] = LayerSpec{gru[l] ? LayerKind::Gru : LayerKind::Dense, units[l], act, Activation::Sigmoid,
+                           seed % 2 == 0};
+    }
     if constexpr (count == 1) return random_model<Cap>(M, N, W, ND, {specs[0]}, seed, scale, residual);
     if constexpr (count == 2) return random_model<Cap>(M, N, W, ND, {specs[0], specs[1]}, seed, scale, residual);
     if constexpr (count == 3)

@@ -25,7 +25,6 @@ struct Mmio {
 };
 
 Mmio g_mmio;
-Flash<Mmio> g_flash(g_mmio);
 
 }  // namespace
 
@@ -35,8 +34,12 @@ namespace nlsoft::fw::board {
 
 SettingsFlash settings_flash() {
   using namespace stm32f4;
-  if (!g_flash.present()) return SettingsFlash{};
-  return SettingsFlash{&g_flash, kSettingsSectorA, kSettingsSectorB};
+  // Here, not a global: an image without saved settings never calls this,
+  // and then links no flash driver at all (a global would keep its vtable,
+  // ~600 B of flash). constexpr: initialised in the image, no guard.
+  static Flash<Mmio> part(g_mmio);
+  if (!part.present()) return SettingsFlash{};
+  return SettingsFlash{&part, kSettingsSectorA, kSettingsSectorB};
 }
 
 }  // namespace nlsoft::fw::board

@@ -68,7 +68,7 @@ constexpr int kSettingsSectorA = 1, kSettingsSectorB = 2;
 template <class Io>
 class Flash final : public FlashPart {
  public:
-  explicit Flash(Io& io) : io_(io) {}
+  constexpr explicit Flash(Io& io) : io_(io) {}
 
   // Whether the part has a flash interface that answers. FLASH_CR reads
   // LOCK set at reset and after a lock; an emulator that models no

@@ -221,9 +221,9 @@ class RigHal final : public Hal {
 
   // The masters of the buses the rig's chips use (I2C1 at the slowest clock
   // its chips take), then the drivers over them.
-  static constexpr bool uses_i2c() {
+  static constexpr bool uses(BusKind kind) {
     for (int d = 0; d < kRigDeviceCount; ++d)
-      if (kRigDevices[d].kind == BusKind::I2c) return true;
+      if (kRigDevices[d].kind == kind) return true;
     return false;
   }
 
@@ -244,8 +244,9 @@ class RigHal final : public Hal {
         spi_used[c.bus - kI2cCount] = true;
       }
     }
-    // At compile time: an image without an I2C chip links no I2C master.
-    if constexpr (uses_i2c()) {
+    // At compile time: an image without an I2C chip links no I2C master,
+    // one without a servo no USART master (nor its 64-bit baud division).
+    if constexpr (uses(BusKind::I2c)) {
       I2c1* bus = new (&buses.i2c.bus) I2c1(board_clocks(), i2c_hz);
       bus->start();
       i2c[0] = bus;
@@ -256,14 +257,15 @@ class RigHal final : public Hal {
       bus->start();
       spi[b] = bus;
     }
-    for (int d = 0; d < kRigDeviceCount; ++d) {
-      const RigDeviceConfig& c = kRigDevices[d];
-      const int b = c.bus - kI2cCount - kSpiCount;
-      if (c.kind != BusKind::Serial || b < 0 || b >= kSerialCount || serial_[b] != nullptr) continue;
-      ServoUsart* bus = new (&buses.serial[b].bus) ServoUsart(kServoBus[b], board_clocks(), c.clock_hz);
-      bus->start();
-      serial_[b] = bus;
-    }
+    if constexpr (uses(BusKind::Serial))
+      for (int d = 0; d < kRigDeviceCount; ++d) {
+        const RigDeviceConfig& c = kRigDevices[d];
+        const int b = c.bus - kI2cCount - kSpiCount;
+        if (c.kind != BusKind::Serial || b < 0 || b >= kSerialCount || serial_[b] != nullptr) continue;
+        ServoUsart* bus = new (&buses.serial[b].bus) ServoUsart(kServoBus[b], board_clocks(), c.clock_hz);
+        bus->start();
+        serial_[b] = bus;
+      }
     chips_.start(i2c, kI2cCount, spi, kSpiCount, serial_, kSerialCount);
   }
 

@@ -485,6 +485,21 @@ TEST(ImageHeader, FirmwareFeaturesAreWrittenAndABoardThatLacksOneRefusesIt) {
   EXPECT_NO_THROW(source_of(kRig, "mps2-an386"));
 }
 
+// An image that takes no model upload runs the model it is built with: its
+// Dense layers' activations are compiled into the shape (net_shape.hpp), a
+// GRU's stay the model's; with uploads every activation is the model's.
+TEST(ImageHeader, AnImageWithoutModelUploadsFixesItsDenseActivations) {
+  EXPECT_TRUE(contains(source_of(kRig, "stm32f4").header,
+                       "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2>>;"));
+  const std::string h = source_of(std::string(kRig) + "\n[firmware]\nfeatures = [\"ident\"]\n", "stm32f4").header;
+  EXPECT_TRUE(contains(h, "// No model uploads: the Dense layers' activations are the built-in model's, compiled in.\n"
+                          "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2, int(Activation::Linear)>>;"))
+      << h;
+  const std::string uploads =
+      source_of(std::string(kRig) + "\n[firmware]\nfeatures = [\"model-upload\"]\n", "stm32f4").header;
+  EXPECT_TRUE(contains(uploads, "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2>>;")) << uploads;
+}
+
 // [firmware] optimize = "size": the generic kernel instead of the shape's,
 // and the image compiled with NLSOFT_SIZE_FIRST; "speed" (the default) as before.
 TEST(ImageHeader, ASizeFirstImageHasTheGenericKernelAndItsDefinition) {
