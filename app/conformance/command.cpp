@@ -49,13 +49,14 @@ int run_conformance(const ConformanceArgs& a) {
     std::vector<std::string> args;
     if (!a.model.empty()) args = {"--model", a.model};
     if (a.shape_list) args.push_back("--shape-list");
-    summary.port = launcher.start(rig_path(a.sim), args);
+    summary.port = launcher.start(rig.file, args);
     summary.target = "sim " + rig.name;
   } else if (!a.qemu.empty()) {
     // The rig's HIL image: a shipped one, or built from the file.
-    const std::string image = hil_image_for(a.qemu, a.board, "--qemu", a.model);
+    const Rig rig = load_rig_arg(a.qemu);
+    const std::string image = hil_image_for(rig, a.board, "--qemu", a.model);
     summary.port = launcher.start_qemu(image, a.board);
-    summary.target = "qemu " + load_rig_arg(a.qemu).name + (a.board == kDefaultQemuBoard ? "" : " on " + a.board);
+    summary.target = "qemu " + rig.name + (a.board == kDefaultQemuBoard ? "" : " on " + a.board);
   }
   // An emulated MCU answers a few times slower than the host simulator.
   const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));

@@ -30,9 +30,10 @@ void add_firmware_command(CLI::App& app) {
   CLI::App* fw = app.add_subcommand("firmware", "Cortex-M images for a rig, built from its rig file");
   fw->require_subcommand(1);
   auto q = std::make_shared<ImageBuild>();
+  auto rig_arg = std::make_shared<std::string>();
   CLI::App* build = fw->add_subcommand(
       "build", "Generate the rig's image header and build its images with arm-none-eabi-g++ (docs/rig-file.md)");
-  add_rig_option(build, q->rig, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
+  add_rig_option(build, *rig_arg, "the rig: a rig file, or a shipped rig's name: " + rig_arg_help())
       ->required()
       ->check(rig_arg_validator());
   build->add_option("--board", q->board, "the board: " + describe_boards(image_board_names()))
@@ -56,8 +57,8 @@ void add_firmware_command(CLI::App& app) {
       "Examples:\n"
       "  nlsoft-console firmware build --rig lab/arm.toml --board stm32f4\n"
       "  nlsoft-console firmware build --rig lab/arm.toml --board mps2-an386 --out arm-images\n");
-  build->callback([q] {
-    const BuiltImages b = build_images(*q);
+  build->callback([q, rig_arg] {
+    const BuiltImages b = build_images(load_rig_arg(*rig_arg), *q);
     print_image("board", b.board);
     print_image("hil", b.hil);
   });

@@ -348,6 +348,9 @@ std::string shipped_name(const Rig& rig) {
   if (shipped.empty()) return "";
   const std::string file = shipped + "/" + rig.name + ".toml";
   if (!fs::exists(file)) return "";
+  // The shipped file itself needs no second read.
+  std::error_code ec;
+  if (fs::equivalent(file, rig.file, ec)) return rig.name;
   try {
     return load_rig(file).hash == rig.hash ? rig.name : "";
   } catch (const std::exception&) {
@@ -357,8 +360,7 @@ std::string shipped_name(const Rig& rig) {
 
 }  // namespace
 
-BuiltImages build_images(const ImageBuild& q) {
-  const Rig rig = load_rig_arg(q.rig);
+BuiltImages build_images(const Rig& rig, const ImageBuild& q) {
   if (q.hil_only && rig.plant.kind == nullptr)
     throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: there is no HIL image to build, only the board's "
                                "(without --hil)",
@@ -486,13 +488,12 @@ BuiltImages build_images(const ImageBuild& q) {
   return out;
 }
 
-std::string hil_image_for(const std::string& rig_arg, const std::string& board, const std::string& who,
+std::string hil_image_for(const Rig& rig, const std::string& board, const std::string& who,
                           const std::string& model) {
   if (const char* env = std::getenv("NLSOFT_M4_IMAGE"); env && *env) {
     if (::access(env, R_OK) == 0) return env;
     throw CliError(fmt::format("$NLSOFT_M4_IMAGE={} cannot be read", env));
   }
-  const Rig rig = load_rig_arg(rig_arg);
   if (rig.plant.kind == nullptr)
     throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: QEMU runs an image with the simulated plant in the "
                                "loop; `firmware build --rig {}` builds its board image",
@@ -502,7 +503,6 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
       return l.found;
   }
   ImageBuild q;
-  q.rig = rig.file;
   q.board = board;
   q.model = model;
   // The cache folder `firmware build` fills: both images, built once; on a
@@ -519,21 +519,19 @@ std::string hil_image_for(const std::string& rig_arg, const std::string& board, 
     const std::string board_elf = image_file_name(board_for(board, "--board"), rig.name, false);
     q.hil_only = chips_elsewhere || (!last.dir.empty() && !fs::exists(last.dir + "/" + board_elf));
   }
-  return build_images(q).hil.path;
+  return build_images(rig, q).hil.path;
 }
 
-std::string image_for(const std::string& rig_arg, const std::string& board, bool hil, const std::string& who) {
-  const Rig rig = load_rig_arg(rig_arg);
+std::string image_for(const Rig& rig, const std::string& board, bool hil, const std::string& who) {
   if (const std::string shipped = shipped_name(rig); !shipped.empty()) {
     if (const Lookup l = find_image_file(shipped_image(board_for(board, "--board"), shipped, hil)); !l.found.empty())
       return l.found;
   }
   ImageBuild q;
-  q.rig = rig.file;
   q.board = board;
   q.model = last_built_with_model(rig, q.board, hil).model;
   q.who = who;
-  const BuiltImages b = build_images(q);
+  const BuiltImages b = build_images(rig, q);
   const std::string path = hil ? b.hil.path : b.board.path;
   if (path.empty())
     throw CliError(fmt::format("{}: rig '{}' ({}) has no [plant]: no HIL image", who, rig.name, rig.file));

@@ -2,20 +2,15 @@
 
 #include <fmt/format.h>
 
-#include <sstream>
 
-#include "host/files/input_file.hpp"
 #include "host/files/printable.hpp"
 #include "host/rig/rig.hpp"
-#include "host/rig/rig_catalog.hpp"
-#include "shared/crc32.hpp"
 
 namespace nlsoft::console {
 
-RigFileId rig_file_id(const std::string& arg) {
+RigFileId rig_file_id(const Rig& rig) {
   RigFileId id;
-  id.path = rig_path(arg);
-  const Rig rig = load_rig_arg(arg);
+  id.path = rig.file;
   id.name = rig.name;
   id.hash = rig.hash;
   return id;

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "host/rig/rig.hpp"
 #include "protocol/messages.hpp"
 
 namespace nlsoft::console {
@@ -15,9 +16,8 @@ struct RigFileId {
   uint32_t hash = 0;
 };
 
-// Reads and hashes the rig file `arg` names (a shipped name or a path).
-// Throws CliError as the rig commands do.
-RigFileId rig_file_id(const std::string& arg);
+// The loaded rig's file, name and hash.
+RigFileId rig_file_id(const Rig& rig);
 
 // Empty when the firmware's RIG_INFO matches the file, or names no hash
 // (0: the image was not built from a rig file); else one warning line.

@@ -7,26 +7,24 @@
 
 namespace nlsoft::console {
 
-void BoardRig::open() {
-  if (!rig_file_.empty()) file_id_ = rig_file_id(rig_file_);
+BoardRig::BoardRig(std::shared_ptr<const Rig> given, const Device& device)
+    : given_(std::move(given)), device_(device) {
+  if (given_) file_id_ = rig_file_id(*given_);
 }
 
 const Rig& BoardRig::rig() const {
+  if (given_) return *given_;
   std::lock_guard<std::mutex> lock(mu_);
-  if (rig_) return *rig_;
-  if (!rig_file_.empty()) {
-    rig_ = load_rig_arg(rig_file_);
-    return *rig_;
-  }
+  if (shipped_) return *shipped_;
   const std::string shipped = rig_name_of_platform(device_.info().platform);
   if (shipped.empty())
     throw CliError("the firmware runs a rig of its own (no shipped rig's number); give its rig file: --rig FILE");
-  rig_ = load_rig_arg(shipped);
-  return *rig_;
+  shipped_ = load_rig_arg(shipped);
+  return *shipped_;
 }
 
 const Rig* BoardRig::known() const {
-  if (rig_file_.empty() && rig_name_of_platform(device_.info().platform).empty()) return nullptr;
+  if (!given_ && rig_name_of_platform(device_.info().platform).empty()) return nullptr;
   return &rig();
 }
 

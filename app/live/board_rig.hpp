@@ -1,9 +1,10 @@
 #pragma once
 // The rig the firmware runs, as its rig file says (references, defaults):
-// --sim/--qemu/--rig's file, else the shipped rig the firmware names; and
-// whether the firmware's RIG_INFO matches the file given. Separate because
-// parameters, references and scripts all ask it, and it is loaded once.
+// --sim/--qemu/--rig's rig (loaded by live_options), else the shipped rig
+// the firmware names; and whether the firmware's RIG_INFO matches the file
+// given. Separate because parameters, references and scripts all ask it.
 #include <atomic>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -16,15 +17,12 @@ namespace nlsoft::console {
 
 class BoardRig {
  public:
-  // rig_file: empty for the shipped rig the firmware names.
-  BoardRig(std::string rig_file, const Device& device) : rig_file_(std::move(rig_file)), device_(device) {}
+  // given: nullptr for the shipped rig the firmware names.
+  BoardRig(std::shared_ptr<const Rig> given, const Device& device);
 
-  // Reads the rig file's identity: a file that cannot be read stops the
-  // console before a simulator starts. Throws CliError.
-  void open();
-  // Any thread. Loaded on first use, then never replaced (references to it
-  // stay valid). Throws CliError when the firmware runs a rig of its own
-  // and no file was given.
+  // Any thread. The rig given, else the shipped one loaded on first use;
+  // never replaced (references to it stay valid). Throws CliError when the
+  // firmware runs a rig of its own and no file was given.
   const Rig& rig() const;
   // The same, or nullptr where rig() would refuse: a firmware that runs a
   // rig of its own, no file given. A file that fails to load still throws.
@@ -34,12 +32,12 @@ class BoardRig {
   std::string mismatch();
 
  private:
-  const std::string rig_file_;
+  const std::shared_ptr<const Rig> given_;
   const Device& device_;
   std::optional<RigFileId> file_id_;
   std::atomic<bool> warned_{false};
   mutable std::mutex mu_;
-  mutable std::optional<Rig> rig_;
+  mutable std::optional<Rig> shipped_;
 };
 
 }  // namespace nlsoft::console

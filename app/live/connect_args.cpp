@@ -53,11 +53,11 @@ std::string pick_port(const std::string& who, const std::string& cmd) {
 // `settings save` keeps survives the console and the simulator, and a
 // database of its own (a test's, another lab's) has settings of its own;
 // none under --no-record, which keeps nothing; "none": none either.
-std::string sim_settings_file(const ConnectArgs& a, const std::string& rig_file, const std::string& who) {
+std::string sim_settings_file(const ConnectArgs& a, const Rig& rig, const std::string& who) {
   if (a.sim_settings == "none") return "";
   if (!a.sim_settings.empty()) return a.sim_settings;
   if (a.no_record) return "";
-  std::string name = load_rig_arg(rig_file).name;
+  std::string name = rig.name;
   for (char& ch : name)
     if (ch == '/' || ch == '\\' || ch == ' ') ch = '_';
   const std::string path = (a.db.empty() ? default_db_path() : a.db) + "." + name + ".settings";
@@ -71,6 +71,16 @@ std::string sim_settings_file(const ConnectArgs& a, const std::string& rig_file,
   return path;
 }
 
+// The rig of --qemu, --sim or --rig, read here once for everything below;
+// a bad one is said in the option's name, as its validator said it.
+std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::string& option) {
+  try {
+    return std::make_shared<const Rig>(load_rig_arg(arg));
+  } catch (const CliError& e) {
+    throw CliError(option + ": " + e.what(), e.exit_code);
+  }
+}
+
 }  // namespace
 
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what) {
@@ -79,11 +89,11 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                  "`nlsoft-console ports` finds");
   app.add_option("--sim", a.sim,
                  fmt::format("Start nlsoft-firmware-sim for this rig, {}, and {} it", rig_arg_help(), what))
-      ->check(rig_arg_validator());
+      ->type_name("RIG");
   app.add_option("--qemu", a.qemu,
                  fmt::format("Boot this rig's Cortex-M image (plant in the loop) in qemu-system-arm and {} it",
                              what))
-      ->check(rig_arg_validator());
+      ->type_name("RIG");
   app.add_option("--board", a.board,
                  fmt::format("With --qemu: the board whose image QEMU boots: {} (default {})",
                              describe_boards(qemu_board_names()), kDefaultQemuBoard))
@@ -93,8 +103,7 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
                              "defaults come from it, and the console warns when the firmware names another rig or "
                              "rig hash (default: the shipped rig the firmware names; --sim and --qemu take their "
                              "rig from their own argument)",
-                             rig_arg_help()))
-      ->check(rig_arg_validator());
+                             rig_arg_help()));
   app.add_option("--baud", a.baud, "Baud rate, any integer the port supports (default 115200)")
       ->check(CLI::Range(50u, 20000000u));
   app.add_option("--db", a.db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)");
@@ -133,15 +142,14 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   // --sim: any rig file with a plant to simulate, checked here so a bad one
   // is said before a simulator starts.
   if (!a.qemu.empty()) {
-    o.qemu_image = hil_image_for(a.qemu, a.board, who + "--qemu");
-    o.rig_file = rig_path(a.qemu);
+    o.rig = load_rig_option(a.qemu, who + "--qemu");
+    o.qemu_image = hil_image_for(*o.rig, a.board, who + "--qemu");
   } else if (!a.sim.empty()) {
-    o.sim_rig = rig_path(a.sim);
-    simulated_plant(load_rig_arg(o.sim_rig), who + "--sim");
-    o.rig_file = o.sim_rig;
+    o.rig = load_rig_option(a.sim, who + "--sim");
+    simulated_plant(*o.rig, who + "--sim");
+    o.sim_rig = o.rig->file;
   } else if (!a.rig.empty()) {
-    o.rig_file = rig_path(a.rig);
-    load_rig_arg(o.rig_file);  // a bad file is said before the board is touched
+    o.rig = load_rig_option(a.rig, who + "--rig");  // a bad file is said before the board is touched
   }
   o.sim_in_qemu = !a.qemu.empty();
   o.qemu_board = a.board;
@@ -149,7 +157,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   if (a.sim_fast) o.sim_args.push_back("--fast");
   if (!a.sim_settings.empty() && a.sim.empty()) throw CliError(who + "--sim-settings is for --sim's simulator; give --sim too");
   if (!a.sim.empty())
-    if (const std::string file = sim_settings_file(a, o.sim_rig, who); !file.empty())
+    if (const std::string file = sim_settings_file(a, *o.rig, who); !file.empty())
       o.sim_args.insert(o.sim_args.end(), {"--settings", file});
   o.db_path = a.db;
   o.record = !a.no_record;

@@ -54,7 +54,7 @@ int run_flash(const FlashArgs& a) {
         "openocd is not installed or not on PATH: apt-get install openocd (or write the .bin yourself with st-flash "
         "from stlink-tools; see firmware/ports/stm32f4/README.md)");
   // The rig's image: a shipped one, or built from its file (firmware build).
-  const std::string image = !a.image.empty() ? a.image : image_for(a.rig, a.board, a.hil, "--rig");
+  const std::string image = !a.image.empty() ? a.image : image_for(load_rig_arg(a.rig), a.board, a.hil, "--rig");
   if (::access(image.c_str(), R_OK) != 0) throw CliError(fmt::format("cannot read the image {}", image));
   const std::string& config = board_for(a.board, "--board").openocd_config;
   std::fprintf(stderr, "flashing %s with %s (%s)\n", image.c_str(), openocd.c_str(), config.c_str());

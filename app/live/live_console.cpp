@@ -38,9 +38,7 @@ void LiveConsole::connect(const Progress& params_progress) {
   session_ = std::make_unique<Session>(options_.session);
   device_ = std::make_unique<Device>(*session_);
   device_->set_give_up([] { return interrupted(); });
-  // A rig file that cannot be read stops us before a simulator starts.
-  rig_ = std::make_unique<BoardRig>(options_.rig_file, *device_);
-  rig_->open();
+  rig_ = std::make_unique<BoardRig>(options_.rig, *device_);
   std::string port = simulator_.start();
   if (!simulator_.present()) port = options_.port;
   if (port.empty()) throw CliError("no port: give a serial device (e.g. /dev/ttyACM0) or --sim hasel");

@@ -3,12 +3,14 @@
 // it records, and how the link behaves (the options of `nlsoft-console`,
 // `tune` and `ident`, read by connect_args.cpp).
 #include <chrono>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "app/link/port_path.hpp"
 #include "app/link/session.hpp"
 #include "host/rig/board_table.hpp"
+#include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
 
@@ -16,8 +18,10 @@ struct LiveOptions {
   std::string port;          // a serial device, or empty with sim_rig/qemu_image
   unsigned baud = 115200;
   std::string qemu_image;    // with sim_in_qemu: the HIL image of the rig (built from its file)
-  std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it
-  std::string rig_file;      // the rig the board runs; empty: the shipped rig the firmware names
+  std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it (a path: the child loads it)
+  // The rig the board runs, loaded once by live_options; nullptr: the
+  // shipped rig the firmware names.
+  std::shared_ptr<const Rig> rig;
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
   std::string qemu_board = kDefaultQemuBoard;  // whose image: a board of qemu_board_names()
   std::vector<std::string> sim_args;

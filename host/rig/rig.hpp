@@ -220,6 +220,9 @@ struct Rig {
 Rig load_rig(const std::string& path);
 // The same from text; `file` names it in errors.
 Rig parse_rig(const std::string& text, const std::string& file);
+// How many rig files this process has read with load_rig: a command line
+// loads its rig once, at the edge, and passes the Rig down (a test counts).
+long rig_files_loaded();
 
 // RIG_INFO's rig_hash (PROTOCOL.md 7): the CRC-32 of `text` without CRs,
 // trailing blanks, and lines that are then empty or comments, so layout and

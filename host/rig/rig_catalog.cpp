@@ -1,6 +1,7 @@
 #include "host/rig/rig_catalog.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -68,7 +69,14 @@ std::vector<std::string> rig_names() {
   return names;
 }
 
+namespace {
+std::atomic<long> g_resolved{0};
+}  // namespace
+
+long rig_args_resolved() { return g_resolved.load(); }
+
 std::string rig_path(const std::string& arg) {
+  ++g_resolved;
   if (names_a_file(arg)) {
     std::error_code ec;
     if (!std::filesystem::exists(arg, ec)) throw CliError("rig file '" + arg + "' does not exist");

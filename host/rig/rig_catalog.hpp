@@ -17,6 +17,8 @@ std::vector<std::string> rig_names();
 // else the rigs folder's <arg>.toml. Throws CliError (exit 2) listing the
 // names, or the folders looked in.
 std::string rig_path(const std::string& arg);
+// How many times this process has called rig_path (a test counts them).
+long rig_args_resolved();
 
 // rig_path then load_rig; a bad file is a CliError with the loader's
 // file:line message.

@@ -3,8 +3,9 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include <cctype>
 #include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <cfloat>
 #include <cmath>
 #include <map>
@@ -1266,7 +1267,14 @@ uint32_t rig_file_hash(const std::string& text) {
   return crc.value();
 }
 
+namespace {
+std::atomic<long> g_loaded{0};
+}  // namespace
+
+long rig_files_loaded() { return g_loaded.load(); }
+
 Rig load_rig(const std::string& path) {
+  ++g_loaded;
   std::string text;
   try {
     text = read_input_file(path, kRigFile);
