@@ -33,7 +33,8 @@ endif()
 install(DIRECTORY ${NLSOFT_ROOT}/firmware/core ${NLSOFT_ROOT}/firmware/drivers
         DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware)
 install(DIRECTORY ${NLSOFT_ROOT}/firmware/ports/cortex-m ${NLSOFT_ROOT}/firmware/ports/mps2-an386
-                  ${NLSOFT_ROOT}/firmware/ports/mps2-an500 ${NLSOFT_ROOT}/firmware/ports/stm32f4
+                  ${NLSOFT_ROOT}/firmware/ports/mps2-an500 ${NLSOFT_ROOT}/firmware/ports/mps2-an385
+                  ${NLSOFT_ROOT}/firmware/ports/stm32f4
         DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src/firmware/ports)
 install(DIRECTORY ${NLSOFT_ROOT}/shared ${NLSOFT_ROOT}/protocol DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware-src
         FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h")

@@ -68,8 +68,11 @@ struct ShapeBytes<NetShape<M, N, W, ND, First, Rest...>> {
 // w, nd (a capacity may carry kernels for other rigs: HostCapacity does).
 // Returns the byte count, or 0 when they do not fit in cap; constexpr so an
 // image can check its list at compile time.
+// (An empty list reads none of its arguments.)
 template <class... S>
-constexpr size_t write_shapes(ShapeList<S...>, int m, int n, int w, int nd, uint8_t* out, size_t cap) {
+constexpr size_t write_shapes(ShapeList<S...>, [[maybe_unused]] int m, [[maybe_unused]] int n,
+                              [[maybe_unused]] int w, [[maybe_unused]] int nd, [[maybe_unused]] uint8_t* out,
+                              size_t cap) {
   size_t at = 0;
   ((at = detail::ShapeBytes<S>::put(m, n, w, nd, out, at, cap)), ...);
   return at > cap ? 0 : at;

@@ -325,10 +325,22 @@ std::string build_failure(const std::string& log, const Rig& rig, const std::str
   // The linker's words for a region too small, and sections.ld's for no stack left.
   if (text.find("overflowed") != std::string::npos || text.find("will not fit in region") != std::string::npos ||
       text.find("leaves no room for the stack") != std::string::npos)
-    return fmt::format("{}: rig '{}' ({}) does not fit board {}'s memory (m = {}, n = {}, w = {}, N = {}, Nc = {}): "
-                       "the linker says so in {}",
+  {
+    // The linker's own line ("region `FLASH' overflowed by 3412 bytes"), and
+    // what a rig file can leave out to fit a small part.
+    std::string said;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+      if (const size_t at = line.find("region "); at != std::string::npos && line.find("overflowed") != std::string::npos) {
+        said = ": " + line.substr(at);
+        break;
+      }
+    return fmt::format("{}: rig '{}' ({}) does not fit board {}'s memory (m = {}, n = {}, w = {}, N = {}, Nc = {}){}; "
+                       "a rig file's [firmware] table leaves services out (features = []) and builds for size "
+                       "(optimize = \"size\"), docs/rig-file.md; the linker's log: {}",
                        who, rig.name, rig.file, board, rig.m(), rig.n(), rig.w(), rig.controller.N, rig.controller.Nc,
-                       log);
+                       said, log);
+  }
   std::vector<std::string> errors;
   std::istringstream in(text);
   for (std::string line; std::getline(in, line);)

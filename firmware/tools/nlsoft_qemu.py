@@ -22,6 +22,7 @@ BOARDS = {
     "stm32f4": ("firmware/ports/stm32f4", "stm32f4", "nlsoft-stm32f4",
                 ["-M", "netduinoplus2", "-serial", "null", "-serial", "pty"]),
     "mps2-an500": ("firmware/ports/mps2-an500", "m7", "nlsoft-m7", ["-M", "mps2-an500", "-serial", "pty"]),
+    "mps2-an385": ("firmware/ports/mps2-an385", "m3", "nlsoft-m3", ["-M", "mps2-an385", "-serial", "pty"]),
 }
 
 

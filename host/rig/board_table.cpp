@@ -20,6 +20,12 @@ const std::vector<Board>& boards() {
       // (QEMU 7.2, hw/arm/mps2.c): the same shield buses and UART0.
       {"mps2-an500", "Cortex-M7", "QEMU's MPS2 AN500", "m7", "nlsoft-m7", "mps2-an500", {"pty"}, "",
        PinTable::Mps2Shields},
+      // A small part: the AN386's peripherals around a Cortex-M3 without an
+      // FPU (QEMU, hw/arm/mps2.c), linked into 64 kB of flash and 20 kB of
+      // RAM (firmware/ports/mps2-an385/an385.ld); a shipped rig with every
+      // service does not fit, its minimum does.
+      {"mps2-an385", "Cortex-M3", "QEMU's MPS2 AN385, in a small part's 64 kB of flash and 20 kB of RAM", "m3",
+       "nlsoft-m3", "mps2-an385", {"pty"}, "", PinTable::Mps2Shields, false},
   };
   return all;
 }
@@ -66,6 +72,10 @@ std::vector<std::string> names_where(Keep keep) {
 
 std::vector<std::string> image_board_names() {
   return names_where([](const Board&) { return true; });
+}
+
+std::vector<std::string> shipped_board_names() {
+  return names_where([](const Board& b) { return b.shipped; });
 }
 
 std::vector<std::string> qemu_board_names() {

@@ -28,6 +28,9 @@ struct Board {
   std::vector<std::string> qemu_serial;   // the -serial arguments that put the link's UART on the pty
   std::string openocd_config;             // `flash` writes it with openocd -f this; empty: it cannot
   PinTable pins = PinTable::Mps2Shields;
+  // The main build builds its images of the shipped rigs (firmware/CMakeLists.txt,
+  // NLSOFT_IMAGE_BOARDS); a small part's are built for a rig file that fits it.
+  bool shipped = true;
 };
 
 // Every board, in the order --help lists them.
@@ -45,6 +48,8 @@ const Board& board_for(const std::string& name, const std::string& option);
 // Every board's name (the boards images are built for); those whose images
 // QEMU boots; those `flash` writes.
 std::vector<std::string> image_board_names();
+// The boards the main build makes the shipped rigs' images for.
+std::vector<std::string> shipped_board_names();
 std::vector<std::string> qemu_board_names();
 std::vector<std::string> flash_board_names();
 // "mps2-an386 (Cortex-M4F, QEMU's MPS2 AN386), stm32f4 (...)": the boards

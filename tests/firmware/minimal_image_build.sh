@@ -9,6 +9,8 @@
 # rig and services do not use, or activations its model lacks); with
 # `optimize = "size"` as well, smaller again (the generic kernel, the
 # controller at -Os).
+# On the small part (mps2-an385, 64 kB of flash): hasel's and msd's minimum
+# fit, hasel with every service is refused by how much it overflows.
 # A file that asks a board for a service it cannot carry is refused at the
 # list's line.
 # Exit 77 (ctest: skipped) without arm-none-eabi-g++ or qemu-system-arm.
@@ -79,6 +81,31 @@ if [ -f "$board_elf" ] && [ -f "$full_elf" ]; then
 else
   say "no hasel board images to compare: $(cat build-hasel.txt build-full.txt)"
 fi
+
+# The small part (mps2-an385: a Cortex-M3 without FPU in 64 kB of flash and
+# 20 kB of RAM): hasel's minimum fits, as does msd's; hasel with every
+# service does not, and the refusal says by how much and what to leave out.
+"$console" firmware build --rig hasel-min.toml --board mps2-an385 --hil >build-m3.txt 2>&1 ||
+  say "firmware build --rig hasel-min.toml --board mps2-an385 --hil: $(tail -5 build-m3.txt)"
+cat build-m3.txt
+m3_elf=$(grep -- "/nlsoft-m3-hasel-min-hil.elf\$" build-m3.txt | awk '{print $2}')
+if [ -f "$m3_elf" ]; then
+  arm-none-eabi-readelf -A "$m3_elf" | grep -q "Tag_CPU_name: \"7-M\"\|Tag_CPU_arch: v7\$" ||
+    say "the an385 image is not built for the Cortex-M3: $(arm-none-eabi-readelf -A "$m3_elf" | head -8)"
+  arm-none-eabi-readelf -A "$m3_elf" | grep -q "Tag_FP_arch" && say "the an385 image uses an FPU the Cortex-M3 lacks"
+  read -r m3_text m3_data m3_bss <<<"$(arm-none-eabi-size "$m3_elf" | awk 'NR == 2 {print $1, $2, $3}')"
+  echo "hasel on mps2-an385 (Cortex-M3, soft float): flash $((m3_text + m3_data)) bytes, RAM $((m3_data + m3_bss)) bytes"
+  [ $((m3_text + m3_data)) -le 65536 ] && [ $((m3_data + m3_bss)) -le 20480 ] || say "the an385 image is larger than its part"
+else
+  say "no an385 hasel image: $(cat build-m3.txt)"
+fi
+"$console" firmware build --rig msd-min.toml --board mps2-an385 >build-m3-msd.txt 2>&1 ||
+  say "firmware build --rig msd-min.toml --board mps2-an385: $(tail -5 build-m3-msd.txt)"
+if "$console" firmware build --rig hasel-full.toml --board mps2-an385 --hil >m3-full.txt 2>&1; then
+  say "hasel with every service built for a 64 kB part: $(cat m3-full.txt)"
+fi
+grep -q "rig 'hasel-full' (hasel-full.toml) does not fit board mps2-an385's memory .*: region .FLASH' overflowed by [0-9]* bytes; .*features = \[\]" m3-full.txt ||
+  say "the an385's refusal of hasel with every service: $(cat m3-full.txt)"
 
 # A service the board cannot carry: refused at its line, nothing built.
 cp msd-min.toml msd-settings.toml

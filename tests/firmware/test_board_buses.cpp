@@ -35,7 +35,7 @@ TEST(BoardBuses, An386BusesAreThePortsAndARigFileNamesThemAlone) {
   EXPECT_TRUE(b->chip_selects.empty());
   EXPECT_TRUE(b->adc.empty());
   // The board table's order (host/rig/board_table.cpp).
-  EXPECT_EQ(console::board_names(), (std::vector<std::string>{"mps2-an386", "stm32f4", "mps2-an500"}));
+  EXPECT_EQ(console::board_names(), (std::vector<std::string>{"mps2-an386", "stm32f4", "mps2-an500", "mps2-an385"}));
 }
 
 TEST(BoardBuses, Stm32f4BusesAndChipSelectsTakeNoPinTwice) {

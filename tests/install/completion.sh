@@ -45,7 +45,7 @@ complete_is "simulate" nlsoft-console si
 complete_is "hasel msd tendon" nlsoft-console --sim ""
 complete_is "hasel" nlsoft-console --qemu h
 complete_is "tendon" nlsoft-console simulate --rig t
-complete_is "mps2-an386 mps2-an500 stm32f4" nlsoft-console --qemu hasel --board ""
+complete_is "mps2-an385 mps2-an386 mps2-an500 stm32f4" nlsoft-console --qemu hasel --board ""
 complete_is "stm32f4" nlsoft-console flash --board s
 complete_is "tune.nls tune2.nls" nlsoft-console --sim hasel --script tu
 complete_is "runs.db" nlsoft-console runs list --db r

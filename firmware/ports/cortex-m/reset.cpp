@@ -1,5 +1,5 @@
-// Reset for any Cortex-M4F image: the handler that makes C++ usable (FPU on,
-// .data copied, .bss zeroed, static constructors run) and the traps a
+// Reset for any Cortex-M image: the handler that makes C++ usable (the FPU on where
+// there is one, .data copied, .bss zeroed, static constructors run) and the traps a
 // bare-metal C++ image needs. Each port's vectors.cpp places them in its
 // vector table, with the interrupts its peripherals raise.
 #include <cstdint>
@@ -38,9 +38,11 @@ __attribute__((noinline)) static void init_runtime() {
 }
 
 void Reset_Handler() {
+#if defined(__ARM_FP)  // a core without an FPU (the M3) has no CPACR to set
   volatile uint32_t& cpacr = *reinterpret_cast<volatile uint32_t*>(0xE000ED88u);
   cpacr = cpacr | (0xFu << 20);  // CP10 and CP11 full access: the FPU
   __asm volatile("dsb\n\tisb" ::: "memory");
+#endif
   init_runtime();
   main();
   for (;;) {

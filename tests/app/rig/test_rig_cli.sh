@@ -107,7 +107,7 @@ fi
 # A --board that is no board's, or a board that cannot do what the command
 # does, is refused with the boards (from the board table) and their cores,
 # before anything is built or booted.
-boards="mps2-an386 (Cortex-M4F, QEMU's MPS2 AN386), stm32f4 (Cortex-M4F, a Nucleo-64; in QEMU, the STM32F405 of netduinoplus2), mps2-an500 (Cortex-M7, QEMU's MPS2 AN500)"
+boards="mps2-an386 (Cortex-M4F, QEMU's MPS2 AN386), stm32f4 (Cortex-M4F, a Nucleo-64; in QEMU, the STM32F405 of netduinoplus2), mps2-an500 (Cortex-M7, QEMU's MPS2 AN500), mps2-an385 (Cortex-M3, QEMU's MPS2 AN385, in a small part's 64 kB of flash and 20 kB of RAM)"
 expect_error "--board: nucleo: no such board; the boards: $boards" firmware build --rig hasel --board nucleo --out fw-nucleo
 [ -e fw-nucleo ] && { echo "FAIL: firmware build --board nucleo made fw-nucleo"; fail=1; }
 expect_error "--board: nucleo: no such board; the boards: $boards" --qemu hasel --board nucleo
