@@ -71,7 +71,7 @@ cat run.txt
 grep -q "firmware warn: device rx64-2 (rx-64): fault: overload; held at its last goal" run.txt ||
   say "the console did not name servo rx64-2 and its overload"
 "$console" runs export 1 --csv run.csv --db runs.db >log.txt 2>&1 || say "runs export: $(cat log.txt)"
-python3 - run.csv run.log <<'PY' || say "the servos' goals are not the controller's inputs"
+python3 - run.csv run.log run.txt <<'PY' || say "the servos' goals are not the controller's inputs"
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))
 goals = {1: [], 2: []}
@@ -97,8 +97,16 @@ print(f"{len(rows)} samples, {len(goals[1])} goals to servo 1 ({matched} of the 
 ok = len(rows) >= 60 and matched == len(rows) and len(set(goals[1])) > 10
 # Held: servo 2 takes no goal once the firmware read its fault: the next
 # read comes within a read period (25 Hz: 5 steps) and its answer through
-# the host's pty, so within 12 goals of the fault.
-ok = ok and fault_at is not None and len(goals[2]) <= fault_at + 12 and len(goals[1]) > len(goals[2]) + 30
+# the host's pty, so within 12 goals of the fault. An answer the host's
+# scheduler held past the firmware's wait (seen about once in ten runs)
+# makes that read fail, the servo is stopped (the console says so) and
+# asked again a second later (120 goals at 120 Hz): then within 132.
+said = open(sys.argv[3]).read()
+stopped_at, fault_said_at = said.find("device rx64-2 (rx-64): stopped"), said.find("device rx64-2 (rx-64): fault")
+stopped_first = 0 <= stopped_at < fault_said_at
+slack = 132 if stopped_first else 12
+print(f"servo 2 held within {slack} goals of its fault" + (" (a read lost first: stopped, asked again)" if stopped_first else ""))
+ok = ok and fault_at is not None and len(goals[2]) <= fault_at + slack and len(goals[1]) > len(goals[2]) + 30
 sys.exit(0 if ok else 1)
 PY
 
