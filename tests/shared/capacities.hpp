@@ -11,14 +11,7 @@ namespace nlsoft::test {
 // A generated image of a one-input rig with a long memory (nd = 16 > 2 Nc m):
 // its kernels keep the first layer's sums beside the tangent buffers.
 using LongHistoryShape = NetShape<1, 1, 0, 16, DenseLayer<16>, DenseLayer<1>>;
-struct LongHistoryCapacity {
-  static constexpr int m = 1, n = 1, w = 0, nd = 16;
-  static constexpr int N = 16, Nc = 1;
-  static constexpr int width = ShapeNeeds<LongHistoryShape>::width, layers = 2;
-  static constexpr int weights = ShapeNeeds<LongHistoryShape>::weights;
-  using Shapes = ShapeList<LongHistoryShape>;
-  static constexpr bool generic = false;
-};
+struct LongHistoryCapacity : OneShapeCapacity<LongHistoryShape, 16, 1> {};
 
 // A generated image that takes no model upload (image_header.cpp): hasel's
 // shape with its activations compiled in, so its kernels keep only those,
@@ -26,14 +19,7 @@ struct LongHistoryCapacity {
 // the shipped model's ReLU: the solver's suites ask for a smooth model.
 using HaselFixedShape = NetShape<6, 3, 18, 2, DenseLayer<5, int(Activation::Tanh)>,
                                  DenseLayer<5, int(Activation::Tanh)>, DenseLayer<3, int(Activation::Linear)>>;
-struct HaselFixedCapacity {
-  static constexpr int m = 6, n = 3, w = 18, nd = 2;
-  static constexpr int N = 3, Nc = 1;
-  static constexpr int width = ShapeNeeds<HaselFixedShape>::width, layers = 3;
-  static constexpr int weights = ShapeNeeds<HaselFixedShape>::weights;
-  using Shapes = ShapeList<HaselFixedShape>;
-  static constexpr bool generic = false;
-};
+struct HaselFixedCapacity : OneShapeCapacity<HaselFixedShape, 3, 1> {};
 
 using ShippedCapacities = ::testing::Types<HostCapacity, HaselCapacity, HaselAuthorsCapacity, TendonCapacity, MsdCapacity,
                                            LongHistoryCapacity, HaselFixedCapacity>;

@@ -7,6 +7,18 @@
 
 namespace nlsoft {
 
+// A generated image's capacity for one shape: the shape's dimensions and
+// buffers, horizons N and Nc, room for `kLayers` layers (at least the
+// shape's).
+template <class Shape, int kN, int kNc, int kLayers = Shape::layers>
+struct OneShapeCapacity {
+  static constexpr int m = Shape::m, n = Shape::n, w = Shape::w, nd = Shape::nd;
+  static constexpr int N = kN, Nc = kNc;
+  static constexpr int width = ShapeNeeds<Shape>::width, layers = kLayers, weights = ShapeNeeds<Shape>::weights;
+  using Shapes = ShapeList<Shape>;
+  static constexpr bool generic = false;
+};
+
 // Tight fits for the paper's three rigs.
 // msd: the paper's Nc = 1 (one unknown: the tangent arrays are a single
 // column) and room for our N = 100.
@@ -22,21 +34,8 @@ struct MsdCapacity {
 // default image runs our 36 -> 5 -> 5 -> 3 (233 weights, app/models);
 // the authors' published Dense 36 -> 10 -> 5 -> 3 (443 weights) gets an image
 // of its own (NLSOFT_M4_HASEL_SHAPE=authors, firmware/ports/cortex-m/images.cmake).
-struct HaselCapacity {
-  static constexpr int m = 6, n = 3, w = 18, nd = 2;
-  static constexpr int N = 4, Nc = 1;
-  static constexpr int width = ShapeNeeds<HaselShape>::width, layers = 4, weights = ShapeNeeds<HaselShape>::weights;
-  using Shapes = ShapeList<HaselShape>;
-  static constexpr bool generic = false;
-};
-struct HaselAuthorsCapacity {
-  static constexpr int m = 6, n = 3, w = 18, nd = 2;
-  static constexpr int N = 4, Nc = 1;
-  static constexpr int width = ShapeNeeds<HaselAuthorsShape>::width, layers = 4;
-  static constexpr int weights = ShapeNeeds<HaselAuthorsShape>::weights;
-  using Shapes = ShapeList<HaselAuthorsShape>;
-  static constexpr bool generic = false;
-};
+struct HaselCapacity : OneShapeCapacity<HaselShape, 4, 1, 4> {};
+struct HaselAuthorsCapacity : OneShapeCapacity<HaselAuthorsShape, 4, 1, 4> {};
 struct TendonCapacity {
   static constexpr int m = 2, n = 3, w = 11, nd = 2;
   static constexpr int N = 4, Nc = 3;
