@@ -9,11 +9,8 @@
 #include "host/files/cli_error.hpp"
 #include "app/conformance/report.hpp"
 #include "app/conformance/suite.hpp"
-#include "app/firmware/image_build.hpp"
 #include "app/link/sim_launcher.hpp"
-#include "host/rig/board_option.hpp"
-#include "host/rig/rig_catalog.hpp"
-#include "host/rig/rig_plant.hpp"
+#include "app/target/target_args.hpp"
 
 namespace nlsoft::console {
 
@@ -22,44 +19,39 @@ namespace {
 using namespace conformance;
 
 struct ConformanceArgs {
-  std::string port, sim, qemu, model, board = kDefaultQemuBoard;
+  TargetArgs target;  // PORT, --sim, --qemu, --board
+  std::string model;
   unsigned baud = 115200;
   bool json = false, shape_list = false;
   int timeout_ms = 250;
 };
 
 int run_conformance(const ConformanceArgs& a) {
-  if (int(!a.port.empty()) + int(!a.sim.empty()) + int(!a.qemu.empty()) != 1)
+  const TargetArgs& t = a.target;
+  if (int(!t.port.empty()) + int(!t.sim.empty()) + int(!t.qemu.empty()) != 1)
     throw CliError(
         "give one of: a serial port (nlsoft-console conformance /dev/ttyACM0), --sim RIG or --qemu RIG");
-  if (a.qemu.empty() && a.board != kDefaultQemuBoard)
-    throw CliError("--board names the image --qemu boots; give --qemu too");
+  if (a.shape_list && t.sim.empty())
+    throw CliError("--shape-list makes the simulator list its shapes; give --sim too");
+  if (!a.model.empty() && !t.port.empty())
+    throw CliError("--model names the model --sim or --qemu starts with; a board runs the model it holds");
+  const Target target = resolve_target(t, "", a.model);
   SimLauncher launcher;
   Summary summary;
-  summary.port = a.port;
-  summary.target = a.port;
-  if (a.shape_list && a.sim.empty())
-    throw CliError("--shape-list makes the simulator list its shapes; give --sim too");
-  if (!a.model.empty() && !a.port.empty())
-    throw CliError("--model names the model --sim or --qemu starts with; a board runs the model it holds");
-  if (!a.sim.empty()) {
-    // Any rig with a plant to simulate, shipped or a file of the user's.
-    const Rig rig = load_rig_arg(a.sim);
-    simulated_plant(rig, "--sim");
+  summary.port = target.port;
+  summary.target = target.port;
+  if (!target.sim_rig.empty()) {
     std::vector<std::string> args;
     if (!a.model.empty()) args = {"--model", a.model};
     if (a.shape_list) args.push_back("--shape-list");
-    summary.port = launcher.start(rig.file, args);
-    summary.target = "sim " + rig.name;
-  } else if (!a.qemu.empty()) {
-    // The rig's HIL image: a shipped one, or built from the file.
-    const Rig rig = load_rig_arg(a.qemu);
-    const std::string image = hil_image_for(rig, a.board, "--qemu", a.model);
-    summary.port = launcher.start_qemu(image, a.board);
-    summary.target = "qemu " + rig.name + (a.board == kDefaultQemuBoard ? "" : " on " + a.board);
+    summary.port = launcher.start(target.sim_rig, args);
+    summary.target = "sim " + target.rig->name;
+  } else if (!target.qemu_image.empty()) {
+    summary.port = launcher.start_qemu(target.qemu_image, target.board);
+    summary.target = "qemu " + target.rig->name + (target.board == kDefaultQemuBoard ? "" : " on " + target.board);
   }
   // An emulated MCU answers a few times slower than the host simulator.
-  const Ms timeout(a.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));
+  const Ms timeout(t.qemu.empty() ? a.timeout_ms : std::max(a.timeout_ms, 500));
   Probe probe{timeout};
   Suite suite(probe, [&](const CheckResult& r) {
     if (!a.json) std::printf("%s\n", result_line(r).c_str()), std::fflush(stdout);
@@ -72,7 +64,7 @@ int run_conformance(const ConformanceArgs& a) {
   try {
     probe.open(summary.port, a.baud);
     // A board may be resetting, QEMU booting: ask for longer before giving up.
-    suite.run(std::chrono::seconds(!a.port.empty() ? 10 : !a.qemu.empty() ? 20 : 3));
+    suite.run(std::chrono::seconds(!t.port.empty() ? 10 : !t.qemu.empty() ? 20 : 3));
   } catch (const LinkError& e) {
     summary.link_error = e.what();
   }
@@ -89,23 +81,13 @@ void add_conformance_command(CLI::App& app) {
   auto a = std::make_shared<ConformanceArgs>();
   CLI::App* c = app.add_subcommand(
       "conformance", "Run the protocol conformance suite (PROTOCOL.md) against a board, the simulator or QEMU");
-  c->add_option("PORT", a->port, "Serial device of the board, e.g. /dev/ttyACM0");
-  c->add_option("--sim", a->sim,
-                "Start nlsoft-firmware-sim for this rig, " + rig_arg_help() + ", any rig with a [plant], and test it")
-      ->check(rig_arg_validator());
-  c->add_option("--qemu", a->qemu,
-                "Boot this rig's Cortex-M4F image (simulated plant in the loop) in qemu-system-arm and test it")
-      ->check(rig_arg_validator());
+  add_target_options(*c, a->target, "Serial device of the board, e.g. /dev/ttyACM0", "test", ", any rig with a [plant]");
   c->add_option("--model", a->model,
                 "With --sim or --qemu: the model the simulator starts with, or the image embeds (default: the rig's "
                 "[model] file; with --qemu FILE, the model of the image `firmware build` made last from FILE). The "
                 "run checks need a model in force")
       ->check(CLI::ExistingFile)
       ->type_name("FILE.nlsm");
-  c->add_option("--board", a->board,
-                fmt::format("With --qemu: the board whose image QEMU boots: {} (default {})",
-                            describe_boards(qemu_board_names()), kDefaultQemuBoard))
-      ->check(board_validator(qemu_board_names(), "run under QEMU"));
   c->add_flag("--shape-list", a->shape_list,
               "With --sim: the simulator lists the shapes it accepts (RIG_INFO accept 0), as an MCU image does, so "
               "the refusal of a model at XFER_BEGIN by its size is checked too");

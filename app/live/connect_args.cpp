@@ -6,17 +6,13 @@
 #include <cstdio>
 
 #include "host/files/cli_error.hpp"
-#include "app/firmware/image_build.hpp"
 #include "app/link/link_error.hpp"
 #include "app/live/interrupt.hpp"
 #include "app/link/serial_ports.hpp"
-#include "app/link/sim_launcher.hpp"
 #include "app/progress_bar.hpp"
 #include "app/record/recorder.hpp"
 #include "app/record/sqlite.hpp"
 #include "host/rig/rig_catalog.hpp"
-#include "host/rig/rig_plant.hpp"
-#include "host/rig/board_option.hpp"
 #include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
@@ -71,33 +67,13 @@ std::string sim_settings_file(const ConnectArgs& a, const Rig& rig, const std::s
   return path;
 }
 
-// The rig of --qemu, --sim or --rig, read here once for everything below;
-// a bad one is said in the option's name, as its validator said it.
-std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::string& option) {
-  try {
-    return std::make_shared<const Rig>(load_rig_arg(arg));
-  } catch (const CliError& e) {
-    throw CliError(option + ": " + e.what(), e.exit_code);
-  }
-}
-
 }  // namespace
 
 void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what) {
-  app.add_option("PORT", a.port,
-                 "Serial device of the board, e.g. /dev/ttyACM0; without PORT, --sim or --qemu: the one board "
-                 "`nlsoft-console ports` finds");
-  app.add_option("--sim", a.sim,
-                 fmt::format("Start nlsoft-firmware-sim for this rig, {}, and {} it", rig_arg_help(), what))
-      ->type_name("RIG");
-  app.add_option("--qemu", a.qemu,
-                 fmt::format("Boot this rig's Cortex-M image (plant in the loop) in qemu-system-arm and {} it",
-                             what))
-      ->type_name("RIG");
-  app.add_option("--board", a.board,
-                 fmt::format("With --qemu: the board whose image QEMU boots: {} (default {})",
-                             describe_boards(qemu_board_names()), kDefaultQemuBoard))
-      ->check(board_validator(qemu_board_names(), "run under QEMU"));
+  add_target_options(app, a.target,
+                     "Serial device of the board, e.g. /dev/ttyACM0; without PORT, --sim or --qemu: the one board "
+                     "`nlsoft-console ports` finds",
+                     what);
   add_rig_option(&app, a.rig,
                  fmt::format("With PORT: the rig file the board's image was built from, {}: references and "
                              "defaults come from it, and the console warns when the firmware names another rig or "
@@ -126,37 +102,31 @@ void add_connect_options(CLI::App& app, ConnectArgs& a, const std::string& what)
 LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   const std::string who = command.empty() ? "" : command + ": ";
   const std::string cmd = command.empty() ? "" : command + " ";
-  if (!a.qemu.empty() && !a.sim.empty()) throw CliError(who + "give either --sim or --qemu, not both");
-  std::string port = a.port;
-  if (port.empty() && a.sim.empty() && a.qemu.empty()) port = pick_port(who, cmd);
-  if (!a.port.empty() && !(a.sim.empty() && a.qemu.empty()))
-    throw CliError(who + "give either a PORT or --sim/--qemu, not both");
-  if (!a.rig.empty() && a.port.empty())
+  const TargetArgs& t = a.target;
+  if (!a.rig.empty() && t.port.empty())
     throw CliError(who + "--rig names the rig of a board given by PORT; with --sim or --qemu the rig is theirs");
-  if (a.qemu.empty() && a.board != kDefaultQemuBoard)
-    throw CliError(who + "--board names the image --qemu boots; give --qemu too");
+  // The rig loaded here once (--qemu's image found or built) for everything below.
+  Target target = resolve_target(t, who);
+  if (target.port.empty() && !target.rig) target.port = pick_port(who, cmd);
   LiveOptions o;
-  o.port = port;
+  o.port = target.port;
   o.baud = a.baud;
-  // --qemu: the rig's HIL image, built from its file when not built yet;
-  // --sim: any rig file with a plant to simulate, checked here so a bad one
-  // is said before a simulator starts.
-  if (!a.qemu.empty()) {
-    o.rig = load_rig_option(a.qemu, who + "--qemu");
-    o.qemu_image = hil_image_for(*o.rig, a.board, who + "--qemu");
-  } else if (!a.sim.empty()) {
-    o.rig = load_rig_option(a.sim, who + "--sim");
-    simulated_plant(*o.rig, who + "--sim");
-    o.sim_rig = o.rig->file;
-  } else if (!a.rig.empty()) {
-    o.rig = load_rig_option(a.rig, who + "--rig");  // a bad file is said before the board is touched
+  o.qemu_image = target.qemu_image;
+  o.sim_rig = target.sim_rig;
+  o.rig = target.rig;
+  if (!a.rig.empty()) {
+    try {  // a bad file is said before the board is touched
+      o.rig = std::make_shared<const Rig>(load_rig_arg(a.rig));
+    } catch (const CliError& e) {
+      throw CliError(who + "--rig: " + e.what(), e.exit_code);
+    }
   }
-  o.sim_in_qemu = !a.qemu.empty();
-  o.qemu_board = a.board;
+  o.sim_in_qemu = !t.qemu.empty();
+  o.qemu_board = t.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});
   if (a.sim_fast) o.sim_args.push_back("--fast");
-  if (!a.sim_settings.empty() && a.sim.empty()) throw CliError(who + "--sim-settings is for --sim's simulator; give --sim too");
-  if (!a.sim.empty())
+  if (!a.sim_settings.empty() && t.sim.empty()) throw CliError(who + "--sim-settings is for --sim's simulator; give --sim too");
+  if (!t.sim.empty())
     if (const std::string file = sim_settings_file(a, *o.rig, who); !file.empty())
       o.sim_args.insert(o.sim_args.end(), {"--settings", file});
   o.db_path = a.db;

@@ -8,12 +8,13 @@
 #include <string>
 
 #include "app/live/live_console.hpp"
-#include "host/rig/board_table.hpp"
+#include "app/target/target_args.hpp"
 
 namespace nlsoft::console {
 
 struct ConnectArgs {
-  std::string port, sim, qemu, board = kDefaultQemuBoard, db, rig, sim_settings;
+  TargetArgs target;  // PORT, --sim, --qemu, --board
+  std::string db, rig, sim_settings;
   unsigned baud = 115200;
   bool no_record = false, sim_fast = false;
   double sim_rate = 0;

@@ -110,7 +110,7 @@ int run_tune(const TuneArgs& a) {
 // reaches none: named as given, so the error says what to leave out.
 void refuse_connection_options(const CLI::App& t, const TuneArgs& a) {
   std::vector<std::string> given;
-  if (!a.link.port.empty()) given.push_back(fmt::format("PORT ({})", a.link.port));
+  if (!a.link.target.port.empty()) given.push_back(fmt::format("PORT ({})", a.link.target.port));
   for (const char* name : {"--sim", "--qemu", "--board", "--baud", "--sim-rate", "--sim-fast", "--sim-settings",
                            "--timeout", "--db-busy"})
     if (t.get_option(name)->count() > 0) given.push_back(name);

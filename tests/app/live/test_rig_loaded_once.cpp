@@ -1,6 +1,6 @@
-// A command line's rig is read once, at the edge: `--sim hasel` and
-// `--qemu hasel` resolve the name once and read the file once in the
-// console, however many parts of it ask for the rig afterwards (the
+// A command line's rig is read once, at the edge (app/target): `--sim
+// hasel` and `--qemu hasel` resolve the name once and read the file once in
+// the console, however many parts of it ask for the rig afterwards (the
 // option's check, the image lookup, the simulator's settings file, the
 // board's rig and its RIG_INFO check). The simulator, a process of its
 // own, reads its own copy.
@@ -14,6 +14,7 @@
 
 #include "app/live/connect_args.hpp"
 #include "app/live/live_console.hpp"
+#include "app/target/target_args.hpp"
 #include "app/support/temp_dir.hpp"
 #include "host/files/cli_error.hpp"
 #include "host/rig/rig.hpp"
@@ -66,6 +67,23 @@ TEST(RigLoadedOnce, AQemuTargetResolvesAndReadsTheRigOnce) {
   EXPECT_EQ(o.qemu_image, image);
   EXPECT_EQ(after.resolved - before.resolved, 1);
   EXPECT_EQ(after.loaded - before.loaded, 1);
+}
+
+// conformance resolves its target as the console does (app/target).
+TEST(RigLoadedOnce, ConformancesTargetIsResolvedTheSameWay) {
+  TargetArgs t;
+  t.sim = "msd";
+  const Reads before = Reads::now();
+  const Target target = resolve_target(t, "", "");
+  const Reads after = Reads::now();
+  ASSERT_NE(target.rig, nullptr);
+  EXPECT_EQ(target.rig->name, "msd");
+  EXPECT_EQ(target.sim_rig, target.rig->file);
+  EXPECT_TRUE(target.qemu_image.empty());
+  EXPECT_EQ(after.resolved - before.resolved, 1);
+  EXPECT_EQ(after.loaded - before.loaded, 1);
+  t.board = "stm32f4";
+  EXPECT_THROW(resolve_target(t, "", ""), CliError);  // --board without --qemu
 }
 
 TEST(RigLoadedOnce, ABadRigIsSaidInTheOptionsName) {
