@@ -10,21 +10,17 @@
 install(TARGETS nlsoft-console RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS nlsoft-firmware-sim RUNTIME DESTINATION ${NLSOFT_INSTALL_LIBEXECDIR})
 
-# The images keep the build tree's m4/, m7/ and stm32f4/ folders, so the console
-# asks for one relative name in either place. ELF for QEMU and openocd, .bin
+# The images keep the build tree's folders (m4/, m7/, stm32f4/: one per board
+# of NLSOFT_IMAGE_BOARDS), so the console asks for one relative name in
+# either place; a board's images are nlsoft-<folder>-*. ELF for QEMU and openocd, .bin
 # for st-flash; the link maps and no-heap reports stay behind.
-if(TARGET nlsoft-m4-images)
-  install(DIRECTORY ${NLSOFT_M4_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/m4
-          FILES_MATCHING PATTERN "nlsoft-m4-*.elf" PATTERN "nlsoft-m4-*.bin" PATTERN CMakeFiles EXCLUDE)
-endif()
-if(TARGET nlsoft-m7-images)
-  install(DIRECTORY ${NLSOFT_M7_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/m7
-          FILES_MATCHING PATTERN "nlsoft-m7-*.elf" PATTERN "nlsoft-m7-*.bin" PATTERN CMakeFiles EXCLUDE)
-endif()
-if(TARGET nlsoft-stm32f4-images)
-  install(DIRECTORY ${NLSOFT_STM32F4_BINARY_DIR}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/stm32f4
-          FILES_MATCHING PATTERN "nlsoft-stm32f4-*.elf" PATTERN "nlsoft-stm32f4-*.bin" PATTERN CMakeFiles EXCLUDE)
-endif()
+foreach(_dir ${NLSOFT_IMAGE_BOARD_DIRS})
+  get_filename_component(_folder ${_dir} NAME)
+  if(TARGET nlsoft-${_folder}-images)
+    install(DIRECTORY ${_dir}/ DESTINATION ${NLSOFT_INSTALL_DATADIR}/firmware/${_folder}
+            FILES_MATCHING PATTERN "nlsoft-${_folder}-*.elf" PATTERN "nlsoft-${_folder}-*.bin" PATTERN CMakeFiles EXCLUDE)
+  endif()
+endforeach()
 
 # The sources `nlsoft-console firmware build` compiles an image from: the
 # firmware core, the sensor chip drivers and the Cortex-M ports, the header-only shared/ and
