@@ -4,17 +4,55 @@
 // the port's bus masters, and the sampler that reads them between control
 // steps (firmware/core/sensor_sampler.hpp). Static storage only: a slot per
 // device large enough for any driver, the driver placed in it at start().
-#include <new>
+#include <cstddef>
+#include <initializer_list>
 
 #include "firmware/core/sensor_sampler.hpp"
-#include "firmware/drivers/dps310.hpp"
-#include "firmware/drivers/dynamixel_servo.hpp"
-#include "firmware/drivers/lis3mdl.hpp"
-#include "firmware/drivers/lsm303dlhc_mag.hpp"
-#include "firmware/drivers/max1111.hpp"
+#include "firmware/drivers/driver_table.hpp"
 #include "shared/rig_devices.hpp"
 
 namespace nlsoft::fw::cortex_m {
+
+// A device table (Count rows at Devices) against the driver table: whether
+// every row's chip has a driver, a slot that holds any driver the table
+// names, and the placing of row d's driver, instantiated only for the rows'
+// drivers so that an image links those and no other.
+template <int Count, const RigDeviceConfig* Devices, class Table>
+struct DeviceDrivers;
+
+template <int Count, const RigDeviceConfig* Devices, class... Rows>
+struct DeviceDrivers<Count, Devices, drivers::DriverTable<Rows...>> {
+  template <class Row>
+  static constexpr bool named() {
+    for (int d = 0; d < Count; ++d)
+      if (Row::drives(Devices[d].chip)) return true;
+    return false;
+  }
+  static constexpr bool every_chip_has_a_driver() {
+    for (int d = 0; d < Count; ++d)
+      if (!(Rows::drives(Devices[d].chip) || ...)) return false;
+    return true;
+  }
+  static constexpr size_t max_of(std::initializer_list<size_t> v) {
+    size_t m = 1;
+    for (size_t x : v) m = x > m ? x : m;
+    return m;
+  }
+  struct Slot {
+    alignas(max_of({alignof(typename Rows::Driver)...})) unsigned char bytes[max_of({sizeof(typename Rows::Driver)...})];
+  };
+  template <class Row>
+  static drivers::Chip* try_place(Slot& s, const RigDeviceConfig& c, const drivers::BusAttachment& at) {
+    if constexpr (named<Row>())
+      if (Row::drives(c.chip)) return Row::place(s.bytes, c, at);
+    return nullptr;
+  }
+  static drivers::Chip* place(Slot& s, const RigDeviceConfig& c, const drivers::BusAttachment& at) {
+    drivers::Chip* chip = nullptr;
+    ((chip = chip != nullptr ? chip : try_place<Rows>(s, c, at)), ...);
+    return chip;
+  }
+};
 
 // Count: the image's kRigDeviceCount; W: its sensor channels; Devices: its
 // device table (kRigDevices), read at compile time so that the image links
@@ -24,26 +62,8 @@ class RigChips {
   static_assert(Count <= kRigMaxDevices, "more chips than a rig file may name");
   static_assert(W <= SensorSampler::kMaxChannels, "more sensor channels than SENSOR_HEALTH's mask holds");
 
-  static constexpr bool names(const chips::ChipSpec* chip) {
-    for (int d = 0; d < Count; ++d)
-      if (Devices[d].chip == chip) return true;
-    return false;
-  }
-  static constexpr bool names_a_servo() {
-    for (int d = 0; d < Count; ++d)
-      if (chips::on_serial(*Devices[d].chip)) return true;
-    return false;
-  }
-  static constexpr bool every_chip_has_a_driver() {
-    for (int d = 0; d < Count; ++d) {
-      const chips::ChipSpec* c = Devices[d].chip;
-      if (c != &chips::kLis3mdl && c != &chips::kLsm303dlhcMag && c != &chips::kDps310 && c != &chips::kMax1111 &&
-          !chips::on_serial(*c))
-        return false;
-    }
-    return true;
-  }
-  static_assert(every_chip_has_a_driver(), "a chip of the device table without a driver here");
+  using Table = DeviceDrivers<Count, Devices, drivers::Drivers>;
+  static_assert(Table::every_chip_has_a_driver(), "a chip of the device table without a driver (drivers/driver_table.hpp)");
 
  public:
   // sources: the image's table. The port's masters by the device table's
@@ -70,7 +90,7 @@ class RigChips {
         at.spi = k >= 0 && k < spi_count ? spi[k] : nullptr;
         at.target = drivers::SpiTarget{c.cs, c.chip->spi_mode, c.clock_hz};
       }
-      chips_[d] = place(slots_[d], c, at);
+      chips_[d] = Table::place(slots_[d], c, at);
     }
   }
 
@@ -79,33 +99,7 @@ class RigChips {
   drivers::Chip* chip(int d) const { return chips_[d]; }
 
  private:
-  union Slot {
-    Slot() {}
-    ~Slot() {}
-    drivers::Lis3mdl lis3mdl;
-    drivers::Lsm303dlhcMag lsm303dlhc_mag;
-    drivers::Dps310 dps310;
-    drivers::Max1111 max1111;
-    drivers::DynamixelServo servo;
-  };
-
-  // Every row's chip has a driver (every_chip_has_a_driver), so one of the
-  // branches the table names always returns.
-  static drivers::Chip* place(Slot& s, const RigDeviceConfig& c, const drivers::BusAttachment& at) {
-    if constexpr (names(&chips::kLis3mdl))
-      if (c.chip == &chips::kLis3mdl) return new (&s.lis3mdl) drivers::Lis3mdl({at, c.range, c.rate});
-    if constexpr (names(&chips::kLsm303dlhcMag))
-      if (c.chip == &chips::kLsm303dlhcMag)
-        return new (&s.lsm303dlhc_mag) drivers::Lsm303dlhcMag({at.i2c, at.address, c.range, c.rate});
-    if constexpr (names(&chips::kDps310))
-      if (c.chip == &chips::kDps310) return new (&s.dps310) drivers::Dps310({at, c.rate});
-    if constexpr (names(&chips::kMax1111))
-      if (c.chip == &chips::kMax1111) return new (&s.max1111) drivers::Max1111({at.spi, at.target});
-    if constexpr (names_a_servo())
-      if (chips::on_serial(*c.chip)) return new (&s.servo) drivers::DynamixelServo({at.serial, at.address, c.chip});
-    return nullptr;
-  }
-
+  using Slot = typename Table::Slot;
   Slot slots_[Count];
   drivers::Chip* chips_[Count] = {};
   SensorSampler::Slot samples_[Count];
