@@ -23,6 +23,8 @@ namespace nlsoft::protocol {
 
 constexpr uint8_t kShapeDense = 1;
 constexpr uint8_t kShapeGru = 2;
+// A shape word's kind is the layer kind's number (shared/layer_kind.hpp).
+static_assert(kShapeDense == uint8_t(LayerKind::Dense) && kShapeGru == uint8_t(LayerKind::Gru));
 constexpr size_t kShapeLayerBytes = 3;
 // The most layers one listed shape can have in kMaxShapeBytes.
 constexpr uint8_t kMaxShapeLayers = (kMaxShapeBytes - 1) / kShapeLayerBytes;  // 25
@@ -39,7 +41,7 @@ namespace detail {
 
 template <class Layer>
 constexpr size_t put_layer(uint8_t* out, size_t at) {
-  out[at] = Layer::gru ? kShapeGru : kShapeDense;
+  out[at] = uint8_t(Layer::kind);
   out[at + 1] = uint8_t(Layer::units & 0xFF);
   out[at + 2] = uint8_t(Layer::units >> 8);
   return at + kShapeLayerBytes;
@@ -125,7 +127,7 @@ constexpr bool shapes_well_formed(const uint8_t* bytes, size_t size) {
   WireShape s;
   while (next_shape(bytes, size, pos, s))
     for (uint8_t l = 0; l < s.layers; ++l)
-      if ((s.kind[l] != kShapeDense && s.kind[l] != kShapeGru) || s.units[l] == 0) return false;
+      if (!layer_kind_known(s.kind[l]) || s.units[l] == 0) return false;
   return pos == size;
 }
 
@@ -162,11 +164,11 @@ inline bool model_shape(const uint8_t* file, size_t len, ModelShape& out) {
   for (uint8_t l = 0; l < L; ++l) {
     const uint8_t* e = file + kModelHeaderSize + kModelLayerSize * l;
     const uint64_t u = uint64_t(e[6] | (e[7] << 8));
-    const bool gru = e[0] == kShapeGru, reset_after = e[3] != 0;
+    const LayerKind kind = LayerKind(e[0]);  // an unknown number sized as Dense (the file's check refuses it)
     s.layers.kind[l] = e[0];
     s.layers.units[l] = uint16_t(u);
-    const uint64_t cols = gru ? 3 * u : u;
-    weights += gru ? in * cols + u * cols + (reset_after ? 2 : 1) * cols : in * u + u;
+    const uint64_t cols = layer_columns(kind, u);
+    weights += layer_weights(kind, in, u, e[3] != 0);
     if (cols > s.widest) s.widest = uint16_t(cols > 0xFFFF ? 0xFFFF : cols);
     in = u;
   }
@@ -218,12 +220,10 @@ constexpr SizeRange model_file_sizes(const RigInfo& rig, const WireShape& s) {
   uint32_t params = 2 * p + 2 * uint32_t(rig.n), extra = 0, in = p;
   for (uint8_t l = 0; l < s.layers; ++l) {
     const uint32_t u = s.units[l];
-    if (s.kind[l] == kShapeGru) {
-      params += in * 3 * u + u * 3 * u + 3 * u;
-      extra += 3 * u;
-    } else {
-      params += in * u + u;
-    }
+    const LayerKind kind = LayerKind(s.kind[l]);
+    // One bias row at the least; a second (reset_after) at the most.
+    params += layer_weights(kind, in, u, false);
+    if (layer_recurrent(s.kind[l])) extra += layer_columns(kind, u);
     in = u;
   }
   const uint32_t base = uint32_t(model_file_size(s.layers, params));

@@ -117,9 +117,9 @@ void gru(const Layer& L, const float* W, const T* x, const float* h_prev, T* h, 
 template <class Cap>
 ConstantInputs constant_inputs(const Model<Cap>& M, const float* x, float* pre) {
   const Layer& L = M.layer[0];
-  const int cols = L.kind == LayerKind::Gru ? 3 * L.out : L.out;
+  const int cols = layer_columns(L.kind, L.out);
   const float* W = M.weights(L);
-  const float* bias = W + uint32_t(L.in) * cols + (L.kind == LayerKind::Gru ? uint32_t(L.out) * cols : 0u);
+  const float* bias = W + uint32_t(L.in) * cols + (layer_recurrent(uint8_t(L.kind)) ? uint32_t(L.out) * cols : 0u);
   const InputAffine in{M.in_scale(), M.in_offset()};
   const int from = M.nd * M.m + M.dd * M.n;  // the sensor block (Algorithm 1)
   for (int j = 0; j < cols; ++j) pre[j] = bias[j];

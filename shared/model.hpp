@@ -19,11 +19,10 @@
 
 #include "shared/activation.hpp"
 #include "shared/capacity.hpp"
+#include "shared/layer_kind.hpp"
 #include "shared/status.hpp"
 
 namespace nlsoft {
-
-enum class LayerKind : uint8_t { Dense = 1, Gru = 2 };
 
 struct Layer {
   LayerKind kind = LayerKind::Dense;
@@ -35,9 +34,7 @@ struct Layer {
 };
 
 inline uint32_t layer_weight_count(const Layer& L) {
-  if (L.kind == LayerKind::Dense) return uint32_t(L.in) * L.out + L.out;
-  const uint32_t g = 3u * L.out;
-  return uint32_t(L.in) * g + uint32_t(L.out) * g + (L.reset_after ? 2u : 1u) * g;
+  return layer_weights(L.kind, uint32_t(L.in), uint32_t(L.out), L.reset_after);
 }
 
 template <class Cap>
@@ -72,10 +69,10 @@ Status check_model_shape(Model<Cap>& M) {
   int width = M.p();
   for (int i = 0; i < M.layer_count; ++i) {
     Layer& L = M.layer[i];
-    if (L.kind != LayerKind::Dense && L.kind != LayerKind::Gru) return Status::UnknownId;
+    if (!layer_kind_known(uint8_t(L.kind))) return Status::UnknownId;
     if (!activation_valid(uint8_t(L.act)) || !activation_valid(uint8_t(L.rec_act))) return Status::UnknownId;
     if (L.in != width || L.out == 0) return Status::Inconsistent;
-    const int buf = L.kind == LayerKind::Gru ? 3 * L.out : L.out;
+    const int buf = layer_columns(L.kind, L.out);
     if (buf > Cap::width) return Status::TooLarge;
     L.offset = offset;
     offset += layer_weight_count(L);

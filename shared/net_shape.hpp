@@ -7,6 +7,7 @@
 // keeps one (the console's), and is refused where it does not (an MCU image,
 // whose flash holds only the kernels it needs).
 #include "shared/activation.hpp"
+#include "shared/layer_kind.hpp"
 
 namespace nlsoft {
 
@@ -22,13 +23,16 @@ inline constexpr int kActivationAtRunTime = -1;
 template <int Units, int Act = kActivationAtRunTime>
 struct DenseLayer {
   static constexpr int units = Units, cols = Units, act = Act;
+  static constexpr LayerKind kind = LayerKind::Dense;
   static constexpr bool gru = false;
 };
 // A GRU's gate pre-activations are 3 x units wide; its activations are
 // always read from the model.
 template <int Units>
 struct GruLayer {
-  static constexpr int units = Units, cols = 3 * Units, act = kActivationAtRunTime;
+  static constexpr int units = Units, cols = layer_columns(LayerKind::Gru, Units),
+                       act = kActivationAtRunTime;
+  static constexpr LayerKind kind = LayerKind::Gru;
   static constexpr bool gru = true;
 };
 

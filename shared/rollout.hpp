@@ -167,7 +167,7 @@ void rollout(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc
   const float* sc = M.in_scale();
   const float* off = M.in_offset();
   const Layer& L0 = M.layer[0];
-  const int cols0 = L0.kind == LayerKind::Gru ? 3 * L0.out : L0.out;
+  const int cols0 = layer_columns(L0.kind, L0.out);
   const float* W0 = M.weights(L0);
   const float* os = M.out_scale();
   const float* oo = M.out_offset();
@@ -233,7 +233,7 @@ void rollout(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc
     for (int l = 0; l < M.layer_count; ++l) {
       const Layer& L = M.layer[l];
       const float* W = M.weights(L);
-      const int cols = L.kind == LayerKind::Gru ? 3 * L.out : L.out;
+      const int cols = layer_columns(L.kind, L.out);
       if (L.kind == LayerKind::Dense) {
         if (l == 0) {  // pre-activations are in place: activate them
           for (int q = 0; q < cols; ++q) {

@@ -52,8 +52,9 @@ std::vector<std::string> shape_faults(const p::RigInfo& r) {
   for (int k = 0; p::next_shape(r.shapes, r.shapes_size, pos, s); ++k) {
     uint32_t in = uint32_t(input_length(r)), weights = 0;
     for (uint8_t l = 0; l < s.layers; ++l) {
-      const uint32_t u = s.units[l], cols = s.kind[l] == p::kShapeGru ? 3 * u : u;
-      weights += s.kind[l] == p::kShapeGru ? in * cols + u * cols + 2 * cols : in * u + u;
+      const LayerKind kind = LayerKind(s.kind[l]);  // a well-formed list names known kinds
+      const uint32_t u = s.units[l], cols = layer_columns(kind, u);
+      weights += layer_weights(kind, in, u, true);
       if (cols > r.max_width) bad.push_back(fmt::format("shape {} layer {}: {} wide > max_width", k, l, cols));
       in = u;
     }

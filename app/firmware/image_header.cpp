@@ -52,7 +52,7 @@ const char* ref_kind_literal(RefKind k) {
 // runs only the model it is built with (no model uploads): that one
 // activation's code, none of the others' (shared/net_shape.hpp).
 std::string layer_type(const RigLayer& l, bool fixed_model) {
-  if (l.kind == "gru") return fmt::format("GruLayer<{}>", l.units);
+  if (l.kind != LayerKind::Dense) return fmt::format("{}<{}>", layer_kind_info(l.kind).image_layer, l.units);
   struct Literal {
     Activation act;
     const char* name;
@@ -334,9 +334,9 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
   std::vector<RigLayer> layers;
   for (int i = 0; i < s.layer_count; ++i) {
     RigLayer l;
-    l.kind = s.layer[i].kind == LayerKind::Gru ? "gru" : "dense";
+    l.kind = s.layer[i].kind;
     l.units = s.layer[i].out;
-    l.activation = l.kind == "gru" ? "" : pipeline::activation_name(s.layer[i].act);
+    l.activation = l.kind == LayerKind::Dense ? pipeline::activation_name(s.layer[i].act) : "";
     layers.push_back(l);
   }
   return layers;

@@ -42,11 +42,11 @@ int main(int argc, char** argv) {
     for (std::string item; std::getline(layers, item, ',');) {
       const size_t colon = item.find(':');
       if (colon == std::string::npos) throw CliError("--shape " + shape + ": kind:units, e.g. dense:10");
+      const nlsoft::LayerKindInfo* kind = nlsoft::layer_kind_named(item.substr(0, colon).c_str());
       RigLayer l;
-      l.kind = item.substr(0, colon);
       l.units = std::stoi(item.substr(colon + 1));
-      if ((l.kind != "dense" && l.kind != "gru") || l.units <= 0)
-        throw CliError("--shape " + shape + ": kind dense or gru, units > 0");
+      if (kind == nullptr || l.units <= 0) throw CliError("--shape " + shape + ": kind dense or gru, units > 0");
+      l.kind = kind->kind;
       request.layers.push_back(l);
     }
     const ImageSource source = image_source(rig, request);

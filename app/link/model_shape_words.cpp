@@ -16,8 +16,8 @@ std::string shape_words(const p::WireShape& s, int input) {
   std::string w = all_dense ? fmt::format("Dense {}", input) : std::to_string(input);
   for (uint8_t l = 0; l < s.layers; ++l) {
     if (all_dense) w += fmt::format("->{}", s.units[l]);
-    else w += fmt::format("->{}({})", s.kind[l] == p::kShapeGru ? "GRU" : s.kind[l] == p::kShapeDense ? "Dense" : "?",
-                          s.units[l]);
+    else if (const LayerKindInfo* k = find_layer_kind(s.kind[l])) w += fmt::format("->{}({})", k->title, s.units[l]);
+    else w += fmt::format("->?({})", s.units[l]);
   }
   return w;
 }

@@ -162,7 +162,7 @@ int add_layer(KerasNetwork& net, const std::string& lcls, const json& cfg, const
   L.in = static_cast<uint16_t>(width);
   L.out = static_cast<uint16_t>(units);
   L.offset = static_cast<uint32_t>(net.weights.size());
-  const int cols = lcls == "GRU" ? 3 * units : units;
+  const int cols = layer_columns(layer_kind_named(lcls.c_str())->kind, units);  // a Dense or GRU class
   if (w.kd.size() != 2 || w.kd[0] != hsize_t(width) || w.kd[1] != hsize_t(cols))
     throw PipelineError(who + ": kernel shape does not match " + std::to_string(width) + " x " + std::to_string(cols));
   if (lcls == "Dense") {

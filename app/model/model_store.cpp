@@ -97,7 +97,7 @@ ModelFile load_model_file(const std::string& path) { return decode_model(read_mo
 
 void save_model_file(const std::string& path, ModelFile& f) { write_file_atomic(path, encode_model_file(f)); }
 
-const char* layer_kind_name(LayerKind k) { return k == LayerKind::Gru ? "GRU" : "Dense"; }
+const char* layer_kind_name(LayerKind k) { return layer_kind_info(k).title; }
 
 bool activation_from_name(const std::string& name, Activation* out) {
   for (uint8_t i = 0; activation_valid(i); ++i) {

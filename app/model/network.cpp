@@ -90,7 +90,7 @@ int Network::outputs() const { return layers_.empty() ? 0 : layers_.back().out; 
 void Network::initialise(Random& rng) {
   for (double& t : theta_) t = 0.0;
   for (const Layer& L : layers_) {
-    const int cols = L.kind == LayerKind::Gru ? 3 * L.out : L.out;
+    const int cols = layer_columns(L.kind, L.out);
     const double limit = std::sqrt(6.0 / (L.in + cols));
     double* k = theta_.data() + L.offset;
     for (int i = 0; i < L.in * cols; ++i) k[i] = rng.uniform(-limit, limit);

@@ -790,7 +790,7 @@ std::string describe_layers(const std::vector<LayerSpec>& layers) {
   std::string out;
   for (const LayerSpec& l : layers) {
     if (!out.empty()) out += ", ";
-    out += (l.kind == LayerKind::Gru ? "GRU " : "Dense ") + std::to_string(l.units);
+    out += std::string(layer_kind_info(l.kind).title) + " " + std::to_string(l.units);
     if (l.kind == LayerKind::Dense) out += std::string(" ") + activation_name(l.act);
   }
   return out;

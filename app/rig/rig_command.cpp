@@ -73,7 +73,7 @@ nlohmann::json to_json(const Rig& r) {
                      {"feedback", c.feedback == Feedback::Measured ? "measured" : "predicted"}};
   json layers = json::array();
   for (const RigLayer& L : r.model.layers) {
-    json e = {{"kind", L.kind}, {"units", L.units}};
+    json e = {{"kind", layer_kind_info(L.kind).name}, {"units", L.units}};
     if (!L.activation.empty()) e["activation"] = L.activation;
     layers.push_back(e);
   }
@@ -155,7 +155,7 @@ void print_summary(const Rig& r) {
              c.mode == DerivMode::Fd ? "fd" : "exact", c.feedback == Feedback::Measured ? "measured" : "predicted");
   std::string layers;
   for (const RigLayer& L : r.model.layers)
-    layers += (layers.empty() ? "" : " -> ") + L.kind + " " + std::to_string(L.units) +
+    layers += (layers.empty() ? "" : " -> ") + std::string(layer_kind_info(L.kind).name) + " " + std::to_string(L.units) +
               (L.activation.empty() ? "" : " " + L.activation);
   fmt::print("  model: {}{}\n", r.model.file.empty() ? "none named" : printable(r.model.file),
              layers.empty() ? "" : " (" + layers + ")");

@@ -34,7 +34,7 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   for (const RigLayer& l : rig.model.layers) {
     pipeline::LayerSpec L;
     L.units = l.units;
-    if (l.kind == "gru") {
+    if (l.kind == LayerKind::Gru) {
       L.kind = LayerKind::Gru;
       L.act = Activation::Tanh;  // Keras' GRU defaults, as `train --arch gru` builds it
       L.rec_act = Activation::Sigmoid;

@@ -12,6 +12,7 @@
 
 #include "shared/excitation.hpp"
 #include "shared/firmware_features.hpp"
+#include "shared/layer_kind.hpp"
 #include "shared/params.hpp"
 #include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
@@ -116,7 +117,7 @@ struct RigController {
 };
 
 struct RigLayer {
-  std::string kind;  // "dense" or "gru"
+  LayerKind kind = LayerKind::Dense;  // the file's kind = "dense" | "gru" (shared/layer_kind.hpp)
   int units = 0;
   std::string activation;  // dense: relu, tanh, sigmoid, linear; gru: empty
 };

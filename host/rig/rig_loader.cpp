@@ -894,13 +894,16 @@ void read_model(const std::string& file, const Section& root, const toml::table&
     if (i >= size_t(HostCapacity::layers))
       l.fail(l.line(), "", "over capacity: at most " + std::to_string(HostCapacity::layers) + " layers");
     RigLayer L;
-    L.kind = l.choice("kind", {"dense", "gru"});
-    // A GRU's gates are 3 x units wide; the widest layer the console holds.
-    const int cols = L.kind == "gru" ? 3 : 1;
-    L.units = int(l.integer("units", 1, HostCapacity::width / cols,
-                            cols == 3 ? " (a GRU is 3 x units wide, at most " + std::to_string(HostCapacity::width) + ")"
-                                      : ""));
-    if (L.kind == "dense") {
+    std::vector<std::pair<std::string, LayerKind>> kinds;
+    for (const LayerKindInfo& k : kLayerKinds) kinds.push_back({k.name, k.kind});
+    L.kind = l.choice("kind", kinds);
+    // A layer's columns (a GRU's gates: 3 x units) within the widest the console holds.
+    const LayerKindInfo& kind = layer_kind_info(L.kind);
+    L.units = int(l.integer("units", 1, HostCapacity::width / kind.gates,
+                            kind.gates > 1 ? fmt::format(" (a {} is {} x units wide, at most {})", kind.title, kind.gates,
+                                                         HostCapacity::width)
+                                           : ""));
+    if (L.kind == LayerKind::Dense) {
       std::vector<std::string> acts;
       for (uint8_t a = 0; activation_valid(a); ++a) acts.push_back(activation_name(Activation(a)));
       L.activation = l.has("activation") ? l.choice("activation", acts) : "linear";

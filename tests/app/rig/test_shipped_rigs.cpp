@@ -135,7 +135,7 @@ TEST_P(ShippedRig, TheModelFileHasTheLayers) {
   for (size_t i = 0; i < rig.model.layers.size(); ++i) {
     const Layer& L = f.shape.layer[i];
     const RigLayer& R = rig.model.layers[i];
-    EXPECT_EQ(R.kind, L.kind == LayerKind::Gru ? "gru" : "dense") << i;
+    EXPECT_EQ(R.kind, L.kind) << i;
     EXPECT_EQ(R.units, int(L.out)) << i;
     if (L.kind == LayerKind::Dense) {
       EXPECT_EQ(R.activation, pipeline::activation_name(L.act)) << i;
