@@ -40,6 +40,7 @@ const std::vector<std::string> kOrder = {
     "replay",       // a recorded run again, in this process, with changes
     "live",         // the live console: connect, runs, ident, references
     "conformance",  // the firmware conformance suite
+    "target",       // what a command talks to: PORT, --sim, --qemu and its image
     "link",         // serial link, session, device
     "record",       // recorded runs (SQLite), runs ..., exports
     "simulate",     // the offline closed loop
