@@ -12,15 +12,17 @@ namespace nlsoft::console {
 
 inline CLI::Option* add_rig_option(CLI::App* app, std::string& rig, const std::string& help) {
   CLI::Option* opt = app->add_option("--rig", rig, help)->type_name("NAME|PATH");
+  // Checked here rather than with excludes(), which would print an empty
+  // "Excludes:" under --rig in every --help (the hidden option's name).
   app->add_option_function<std::string>(
          "--platform",
-         [&rig](const std::string& v) {
+         [&rig, opt](const std::string& v) {
+           if (opt->count() > 0) throw CLI::ExcludesError("--platform", "--rig");
            std::fprintf(stderr, "nlsoft: --platform is deprecated; say --rig %s\n", v.c_str());
            rig = v;
          },
          "deprecated spelling of --rig")
-      ->group("")
-      ->excludes(opt);
+      ->group("");
   return opt;
 }
 
