@@ -2,7 +2,6 @@
 
 #include <fmt/format.h>
 
-
 #include "host/files/printable.hpp"
 #include "host/rig/rig.hpp"
 

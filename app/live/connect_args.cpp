@@ -114,13 +114,7 @@ LiveOptions live_options(const ConnectArgs& a, const std::string& command) {
   o.qemu_image = target.qemu_image;
   o.sim_rig = target.sim_rig;
   o.rig = target.rig;
-  if (!a.rig.empty()) {
-    try {  // a bad file is said before the board is touched
-      o.rig = std::make_shared<const Rig>(load_rig_arg(a.rig));
-    } catch (const CliError& e) {
-      throw CliError(who + "--rig: " + e.what(), e.exit_code);
-    }
-  }
+  if (!a.rig.empty()) o.rig = load_rig_option(a.rig, who + "--rig");  // a bad file is said before the board is touched
   o.sim_in_qemu = !t.qemu.empty();
   o.qemu_board = t.board;
   if (a.sim_rate > 0) o.sim_args.insert(o.sim_args.end(), {"--rate", fmt::format("{:g}", a.sim_rate)});

@@ -10,9 +10,6 @@
 
 namespace nlsoft::console {
 
-namespace {
-
-// A bad rig is said in the option's name, as a validator would say it.
 std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::string& option) {
   try {
     return std::make_shared<const Rig>(load_rig_arg(arg));
@@ -20,8 +17,6 @@ std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::st
     throw CliError(option + ": " + e.what(), e.exit_code);
   }
 }
-
-}  // namespace
 
 void add_target_options(CLI::App& app, TargetArgs& a, const std::string& port_help, const std::string& what,
                         const std::string& sim_more) {

@@ -31,6 +31,11 @@ struct Target {
 void add_target_options(CLI::App& app, TargetArgs& a, const std::string& port_help, const std::string& what,
                         const std::string& sim_more = "");
 
+// The rig `arg` names (a shipped name or a file), loaded; a bad one is said
+// in the option's name ("tune: --rig: unknown rig ..."), as a validator
+// would say it. Throws CliError.
+std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::string& option);
+
 // One of PORT, --sim and --qemu at most, --board only with --qemu; the
 // rig of --sim (which must have a plant) or --qemu loaded, and --qemu's
 // image found or built (embedding `model` when given: hil_image_for).
