@@ -23,6 +23,9 @@ file(GLOB NLSOFT_CONSOLE_LIVE_SOURCES CONFIGURE_DEPENDS
   ${CMAKE_CURRENT_SOURCE_DIR}/replay/*.cpp
   ${CMAKE_CURRENT_SOURCE_DIR}/live/*.cpp)
 add_library(nlsoft_console_live STATIC ${NLSOFT_CONSOLE_LIVE_SOURCES})
+# The kernel's termios2 (asm/termbits.h) redefines glibc's struct termios:
+# compiled alone, never in a unity source beside a file using <termios.h>.
+set_source_files_properties(${CMAKE_CURRENT_SOURCE_DIR}/link/custom_baud.cpp PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 target_include_directories(nlsoft_console_live PUBLIC ${NLSOFT_APP_INCLUDE} PRIVATE ${CURSES_INCLUDE_DIRS})
 target_include_directories(nlsoft_console_live SYSTEM PRIVATE ${HDF5_C_INCLUDE_DIRS} ${HDF5_INCLUDE_DIRS})
 target_compile_definitions(nlsoft_console_live PUBLIC BOOST_ASIO_NO_DEPRECATED)

@@ -16,13 +16,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::string state_of(const std::optional<p::Status>& st) {
-  return st ? fmt::format("run_state {} watchdog 0x{:02x} step {}", st->run_state, st->watchdog, st->step)
-            : "no STATUS";
-}
-
-bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
-
 // Waits until `n` samples came or `wait` passed; returns what came. Asks
 // for STATUS every 100 ms meanwhile, as a console does (9.8): on a slow rig
 // the samples take longer than the watchdog_ms the suite set.

@@ -20,12 +20,6 @@ Frame hold(Suite& s, uint8_t mode) {
   return s.pr.request(h);
 }
 
-std::string state_of(const std::optional<p::Status>& st) {
-  return st ? fmt::format("run_state {} watchdog 0x{:02x}", st->run_state, st->watchdog) : "no STATUS";
-}
-
-bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
-
 bool configure_telemetry(Suite& s, uint8_t mask, uint16_t decimation, std::string& why) {
   p::TelemetryConfig tc;
   tc.mask = mask;

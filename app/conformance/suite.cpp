@@ -213,4 +213,11 @@ void Suite::run(std::chrono::seconds patience) {
                                    pr.first_foreign(), retried));
 }
 
+std::string state_of(const std::optional<p::Status>& st) {
+  return st ? fmt::format("run_state {} watchdog 0x{:02x} step {}", st->run_state, st->watchdog, st->step)
+            : "no STATUS";
+}
+
+bool in_state(const std::optional<p::Status>& st, p::RunState state) { return st && st->run_state == uint8_t(state); }
+
 }  // namespace nlsoft::console::conformance

@@ -96,5 +96,8 @@ std::string join(const std::vector<std::string>& v, const char* sep);
 float word_f32(uint32_t w);
 uint32_t f32_word(float x);
 std::string words_text(const uint32_t* v, uint8_t count, uint8_t type);
+// A STATUS as a failed check quotes it: run state, watchdog bits, step.
+std::string state_of(const std::optional<p::Status>& st);
+bool in_state(const std::optional<p::Status>& st, p::RunState state);
 
 }  // namespace nlsoft::console::conformance

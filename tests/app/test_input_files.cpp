@@ -14,9 +14,12 @@
 
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
+
+using nlsoft::test::contains;
 
 // A sanitizer's shadow memory needs terabytes of address space, so its
 // builds run the console without the limit (the refusals are asserted all
@@ -29,8 +32,6 @@ const char* const kAddressLimit = "ulimit -v 2097152; ";
 
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 class InputFiles : public ::testing::Test {
  protected:

@@ -36,8 +36,8 @@ std::string msd_with(const std::string& features) {
   return path;
 }
 
-struct Sim {
-  explicit Sim(const std::string& rig, const std::string& settings) {
+struct FeatureSim {
+  explicit FeatureSim(const std::string& rig, const std::string& settings) {
     process = std::make_unique<SimProcess>(
         std::vector<std::string>{NLSOFT_FIRMWARE_SIM, "--rig", rig, "--settings", settings});
     if (!process->path().empty()) peer = std::make_unique<Peer>(process->path());
@@ -70,7 +70,7 @@ proto::XferBegin begin_of(proto::XferKind kind) {
 TEST(PosixFeatures, TheMinimumRefusesEveryServiceItLeavesOutAndStillRuns) {
   const std::string settings = temp_path("flash");
   std::remove(settings.c_str());
-  Sim sim(msd_with("[]"), settings);
+  FeatureSim sim(msd_with("[]"), settings);
   ASSERT_TRUE(sim.ok());
   const auto ex = as<proto::InfoEx>(sim.must(proto::InfoGet{}));
   const uint32_t caps = ex.info.capabilities;
@@ -119,7 +119,7 @@ TEST(PosixFeatures, TheMinimumRefusesEveryServiceItLeavesOutAndStillRuns) {
 TEST(PosixFeatures, AListedServiceIsServedAndOnlyThat) {
   const std::string settings = temp_path("flash-some");
   std::remove(settings.c_str());
-  Sim sim(msd_with("[\"settings\", \"table-upload\"]"), settings);
+  FeatureSim sim(msd_with("[\"settings\", \"table-upload\"]"), settings);
   ASSERT_TRUE(sim.ok());
   const auto ex = as<proto::InfoEx>(sim.must(proto::InfoGet{}));
   EXPECT_TRUE(ex.info.capabilities & cap::kSettings);

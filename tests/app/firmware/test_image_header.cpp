@@ -15,8 +15,11 @@
 #include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace {
+
+using nlsoft::test::contains;
 
 using namespace nlsoft::console;
 
@@ -111,8 +114,6 @@ std::string tmp_dir() {
   }();
   return dir;
 }
-
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 ImageSource source_of(const std::string& text, const std::string& board, const std::string& file = "gripper.toml") {
   ImageRequest q;

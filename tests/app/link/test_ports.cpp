@@ -22,17 +22,18 @@
 #include "app/link/sim_launcher.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 extern char** environ;
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+
 namespace fs = std::filesystem;
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 constexpr const char* kStLink = "usb-STMicroelectronics_STM32_STLink_066DFF515049657187163930-if02";
 constexpr const char* kTeensy = "usb-Teensyduino_USB_Serial_12345670-if00";

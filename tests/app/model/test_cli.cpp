@@ -9,25 +9,21 @@
 
 #include "app/model/model_store.hpp"
 #include "cli_runner.hpp"
+#include "app/support/text_checks.hpp"
 
 using nlsoft::test::file_exists;
 using nlsoft::test::run_cli;
 
 namespace {
 
-std::string tmp(const std::string& name) { return ::testing::TempDir() + "/cli_" + name; }
+using nlsoft::test::slurp;
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+std::string cli_tmp(const std::string& name) { return ::testing::TempDir() + "/cli_" + name; }
 
 }  // namespace
 
 TEST(Cli, DatasetTrainInfoEval) {
-  const std::string csv = tmp("t.csv"), model = tmp("t.nlsm");
+  const std::string csv = cli_tmp("t.csv"), model = cli_tmp("t.nlsm");
   auto r = run_cli("dataset --rig tendon --out " + csv + " --steps 3000 --seed 4");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(slurp(csv).substr(0, 16), "time,u0,u1,y0,y1");
@@ -61,7 +57,7 @@ TEST(Cli, DatasetTrainInfoEval) {
   EXPECT_NE(r.output.find(gru ? "GRU     21 -> 5" : "Dense   21 -> 3   linear"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("hash 0x"), std::string::npos);
 
-  const std::string in = tmp("x.csv"), out = tmp("y.csv");
+  const std::string in = cli_tmp("x.csv"), out = cli_tmp("y.csv");
   std::ofstream(in) << std::string("0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n") +
                           "0.5,0.5,0.4,0.4,1,2,3,1,2,3,0.1,0.2,0.3,0.4,0.5,0.6,0.7,0.8,0.9,1,0.5\n";
   r = run_cli("model eval " + model + " --input " + in + " --output " + out);
@@ -74,56 +70,56 @@ TEST(Cli, DatasetTrainInfoEval) {
 // `--platform`, the old spelling of --rig: still taken, said to be
 // deprecated on stderr, and not both at once.
 TEST(Cli, PlatformIsADeprecatedSpellingOfRig) {
-  const std::string csv = tmp("old.csv");
+  const std::string csv = cli_tmp("old.csv");
   auto r = run_cli("dataset --platform msd --out " + csv + " --steps 500");
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("--platform is deprecated; say --rig msd"), std::string::npos) << r.output;
   EXPECT_EQ(slurp(csv).substr(0, 10), "time,u0,y0");
-  r = run_cli("dataset --platform msd --rig msd --out " + tmp("both.csv") + " --steps 500");
+  r = run_cli("dataset --platform msd --rig msd --out " + cli_tmp("both.csv") + " --steps 500");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("excludes"), std::string::npos) << r.output;
 }
 
 TEST(Cli, BadInputExitsWithTwoAndWritesNothing) {
-  const std::string csv = tmp("ok.csv"), model = tmp("ok.nlsm");
+  const std::string csv = cli_tmp("ok.csv"), model = cli_tmp("ok.nlsm");
   ASSERT_EQ(run_cli("dataset --rig msd --out " + csv + " --steps 500").code, 0);
   ASSERT_EQ(run_cli("train --rig msd --data " + csv + " --out " + model).code, 0);
   const std::string good_model = slurp(model);
 
-  const std::string bad_csv = tmp("bad.csv");
+  const std::string bad_csv = cli_tmp("bad.csv");
   std::ofstream(bad_csv) << "time,u0,y0\n0,1,2\n0.001,oops,3\n";
-  const std::string corrupt = tmp("corrupt.nlsm");
+  const std::string corrupt = cli_tmp("corrupt.nlsm");
   std::ofstream(corrupt) << good_model.substr(0, good_model.size() - 3) << "xyz";
-  const std::string short_rows = tmp("short.csv");
+  const std::string short_rows = cli_tmp("short.csv");
   std::ofstream(short_rows) << "1,2,3\n";
 
   struct Case {
     std::string args, message;
   };
   const std::vector<Case> cases = {
-      {"dataset --rig mars --out " + tmp("n1.csv"), "unknown rig 'mars'"},
+      {"dataset --rig mars --out " + cli_tmp("n1.csv"), "unknown rig 'mars'"},
       {"dataset --rig msd", "--out is required"},
-      {"dataset --rig msd --out " + tmp("n1.csv") + " --steps 12x", "--steps must be an integer"},
-      {"dataset --rig msd --out " + tmp("n1.csv") + " --steps 5", "--steps"},
-      {"train --rig msd --data " + tmp("missing.csv") + " --out " + tmp("n2.nlsm"), "cannot open"},
-      {"train --rig msd --data " + bad_csv + " --out " + tmp("n2.nlsm"), "not a number: 'oops'"},
-      {"train --rig hasel --data " + csv + " --out " + tmp("n2.nlsm"), "rig 'hasel' has m=6"},
-      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --epochs -3", "--epochs"},
-      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --lr abc", "--lr"},
-      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --loss l1", "--loss"},
-      {"train --rig msd --data " + csv + " --out " + tmp("n2.nlsm") + " --arch lstm", "--arch"},
+      {"dataset --rig msd --out " + cli_tmp("n1.csv") + " --steps 12x", "--steps must be an integer"},
+      {"dataset --rig msd --out " + cli_tmp("n1.csv") + " --steps 5", "--steps"},
+      {"train --rig msd --data " + cli_tmp("missing.csv") + " --out " + cli_tmp("n2.nlsm"), "cannot open"},
+      {"train --rig msd --data " + bad_csv + " --out " + cli_tmp("n2.nlsm"), "not a number: 'oops'"},
+      {"train --rig hasel --data " + csv + " --out " + cli_tmp("n2.nlsm"), "rig 'hasel' has m=6"},
+      {"train --rig msd --data " + csv + " --out " + cli_tmp("n2.nlsm") + " --epochs -3", "--epochs"},
+      {"train --rig msd --data " + csv + " --out " + cli_tmp("n2.nlsm") + " --lr abc", "--lr"},
+      {"train --rig msd --data " + csv + " --out " + cli_tmp("n2.nlsm") + " --loss l1", "--loss"},
+      {"train --rig msd --data " + csv + " --out " + cli_tmp("n2.nlsm") + " --arch lstm", "--arch"},
       {"model info " + corrupt, "not a valid model file"},
-      {"model info " + tmp("missing.nlsm"), "cannot open"},
-      {"model eval " + model + " --input " + short_rows + " --output " + tmp("n3.csv"), "the model takes p = 4"},
-      {"model eval " + model + " --input " + bad_csv + " --output " + tmp("n3.csv"), "not a number"},
-      {"model import " + csv + " --out " + tmp("n5.nlsm"), "not an HDF5 file"},
+      {"model info " + cli_tmp("missing.nlsm"), "cannot open"},
+      {"model eval " + model + " --input " + short_rows + " --output " + cli_tmp("n3.csv"), "the model takes p = 4"},
+      {"model eval " + model + " --input " + bad_csv + " --output " + cli_tmp("n3.csv"), "not a number"},
+      {"model import " + csv + " --out " + cli_tmp("n5.nlsm"), "not an HDF5 file"},
   };
   for (const Case& c : cases) {
     const auto r = run_cli(c.args);
     EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
   }
-  for (const char* f : {"n1.csv", "n2.nlsm", "n3.csv", "n5.nlsm"}) EXPECT_FALSE(file_exists(tmp(f))) << f;
+  for (const char* f : {"n1.csv", "n2.nlsm", "n3.csv", "n5.nlsm"}) EXPECT_FALSE(file_exists(cli_tmp(f))) << f;
 
   // a failed run over an existing file leaves it as it was
   EXPECT_EQ(run_cli("train --rig msd --data " + bad_csv + " --out " + model).code, 2);

@@ -23,14 +23,15 @@
 #include "shared/model_file.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 // The line of `text` that starts with `prefix` (empty if none).
 std::string line_of(const std::string& text, const std::string& prefix) {

@@ -22,15 +22,17 @@
 #include "app/record/run_store.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
+
+using nlsoft::test::contains;
 
 namespace tf = protocol::telemetry_field;
 using test::run_process;
 using test::shell_quote;
 
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 bool exists(const std::string& p) {
   struct stat st {};
   return ::stat(p.c_str(), &st) == 0;

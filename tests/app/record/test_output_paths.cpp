@@ -16,19 +16,15 @@
 #include "app/record/recorder.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::slurp;
+
 using test::run_process;
 using test::shell_quote;
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 size_t lines(const std::string& s) {
   size_t n = 0;

@@ -17,13 +17,14 @@
 #include "app/record/recorder.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
-using test::shell_quote;
+using nlsoft::test::contains;
 
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+using test::shell_quote;
 
 // `command` through /bin/sh as nobody; output and exit code.
 test::ProcessResult run_as_nobody(const std::string& command) {

@@ -14,14 +14,15 @@
 
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 constexpr const char* kNotApplicable = "n/a (the reference held still; see nrmse_space)";
 

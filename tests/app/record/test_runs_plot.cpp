@@ -11,23 +11,18 @@
 
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
+
+using nlsoft::test::contains;
+using nlsoft::test::slurp;
 
 using test::run_process;
 using test::shell_quote;
 
 bool have_gnuplot() { return run_process("command -v gnuplot").code == 0; }
-
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 class RunsPlot : public ::testing::Test {
  protected:

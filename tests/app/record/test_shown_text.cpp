@@ -12,14 +12,16 @@
 #include "app/record/run_store.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+
 using test::run_process;
 using test::shell_quote;
 
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 bool has_control(const std::string& s) {
   for (char c : s)
     if ((static_cast<unsigned char>(c) < 0x20 && c != '\n') || c == 0x7f) return true;

@@ -19,14 +19,15 @@
 #include "app/support/run_process.hpp"
 #include "app/support/sim_session_test.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
 
 class RunsReplay : public test::SimSessionTest {
  protected:

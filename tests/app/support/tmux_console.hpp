@@ -11,6 +11,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/support/text_checks.hpp"
 #include "run_process.hpp"
 
 namespace nlsoft::console::tui_test {
@@ -68,7 +69,7 @@ class Tmux {
   std::string error_;
 };
 
-inline bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
+using nlsoft::test::contains;
 
 // The frame is painted down to its last row, the key bar: curses writes a
 // frame top to bottom, and under load tmux may show one half written (the

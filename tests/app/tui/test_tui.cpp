@@ -20,16 +20,18 @@
 #include "app/support/tmux_console.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
+
+using nlsoft::test::slurp;
 
 using namespace tui_test;
 
 using test::descendant_named;
 using test::run_process;
 using test::shell_quote;
-
 
 bool has_braille(const std::string& s) {
   // U+2801..U+28FF in UTF-8: E2 A0 81 .. E2 A3 BF
@@ -106,14 +108,6 @@ TEST(ConsoleTui, AsciiFallbackAndResize) {
   EXPECT_FALSE(t.alive());
 }
 
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // Quitting while a `:run` from the command line is going: the worker that
 // waits in run_for is stopped and joined before anything it uses is
 // destroyed (it was a heap-use-after-free of the message log), and the quit
@@ -141,12 +135,12 @@ TEST(ConsoleTui, QuitDuringATimedRunExitsCleanlyAndKeepsTheRun) {
   for (int i = 0; i < 300 && !std::filesystem::exists(status); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after q, y during a timed run\n"
-                                               << t.screen() << read_file(err);
+                                               << t.screen() << slurp(err);
   // `echo` may not have flushed the digits when the file first appears.
   std::string code;
-  for (int i = 0; i < 100 && (code = read_file(status)).find('\n') == std::string::npos; ++i)
+  for (int i = 0; i < 100 && (code = slurp(status)).find('\n') == std::string::npos; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(code, "0\n") << read_file(err);
+  EXPECT_EQ(code, "0\n") << slurp(err);
 
   RunStore store(db);
   const auto runs = store.list();
@@ -356,7 +350,6 @@ TEST(ConsoleTui, AFirmwareResetIsMarkedInThePanelAndAReappliesTheEdits) {
   t.keys("q");
 }
 
-
 // Tuning needs the quantities the knobs act on: u for every actuator, the
 // cost, the Newton iterations and the compute time, chosen with p or :plot;
 // without colour each trace has its own glyph, named in a legend that reads
@@ -521,11 +514,10 @@ TEST(ConsoleTui, ParametersExplainThemselvesAndTakeNamesAndOneValueForAll) {
   EXPECT_TRUE(contains(s, "Lambda = 0.5 0.5 0.5 0.5 0.5 0.5")) << s;
   t.keys("q");
   for (int i = 0; i < 50 && t.alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  const std::string log = read_file(dir.file("runs.session.log"));
+  const std::string log = slurp(dir.file("runs.session.log"));
   EXPECT_TRUE(contains(log, "connected to nlsoft-posix")) << log;
   EXPECT_TRUE(contains(log, "error r: r = -1 is out of range")) << log;
 }
-
 
 // The help overlay wraps to an 80-column terminal, and the key that closes
 // it still does its job (p changes the plot) unless it only means "close".
@@ -596,7 +588,6 @@ TEST(ConsoleTui, AModelUploadedFromTheCommandLineIsConfirmedByItsHash) {
   t.keys("q");
 }
 
-
 // A recorded run under the live one: `:overlay 1` adds it to each y strip
 // as its own trace, named in the legend; `:overlay off` removes it.
 TEST(ConsoleTui, ARecordedRunOverlaysTheLivePlot) {
@@ -658,7 +649,6 @@ TEST(ConsoleTui, TuneShowsItsConvergenceUnderThePlot) {
   t.keys("q");
 }
 
-
 // Quitting during a :tune: the worker's session is cancelled (the run in
 // progress stopped and kept), the parameters are put back, the best so far
 // is saved, and the console exits 0 with the session closed in the database.
@@ -683,12 +673,12 @@ TEST(ConsoleTui, QuitDuringATuneSavesTheBestAndExitsCleanly) {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   ASSERT_TRUE(std::filesystem::exists(status)) << "the console did not exit after q during a tune\n"
-                                               << t.screen() << read_file(err);
+                                               << t.screen() << slurp(err);
   std::string code;
-  for (int i = 0; i < 100 && (code = read_file(status)).find('\n') == std::string::npos; ++i)
+  for (int i = 0; i < 100 && (code = slurp(status)).find('\n') == std::string::npos; ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  EXPECT_EQ(code, "0\n") << read_file(err);
-  EXPECT_TRUE(contains(read_file(saved), "Lambda ")) << "the best so far is saved";
+  EXPECT_EQ(code, "0\n") << slurp(err);
+  EXPECT_TRUE(contains(slurp(saved), "Lambda ")) << "the best so far is saved";
   const auto sessions = tune_sessions(db);
   ASSERT_EQ(sessions.size(), 1u);
   EXPECT_EQ(sessions[0].end_reason, "cancelled");
@@ -703,7 +693,6 @@ namespace nlsoft::console {
 namespace {
 
 using namespace tui_test;
-
 
 // A line's cells: one UTF-8 code point each (the screen has no wide ones).
 std::vector<std::string> cells(const std::string& line) {
@@ -771,7 +760,6 @@ bool highlighted(const std::string& escaped, const std::string& word) {
     if (p == "7" || p == "44") return true;
   return false;
 }
-
 
 // 80x24, the size a terminal opens at: the plot gets most of the width (a
 // narrow parameter panel) and every key of the key bar shows.

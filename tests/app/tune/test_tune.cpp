@@ -16,21 +16,16 @@
 #include "app/record/tune_log.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+using nlsoft::test::slurp;
+
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
-
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class TuneE2E : public ::testing::Test {
  protected:
@@ -86,7 +81,7 @@ class TuneE2E : public ::testing::Test {
     EXPECT_LE(tuned, preset) << r.output;
     // The best set went through `params save`; the parameters are back as
     // they were (no apply).
-    EXPECT_TRUE(contains(read(best), "Lambda ")) << read(best);
+    EXPECT_TRUE(contains(slurp(best), "Lambda ")) << slurp(best);
     EXPECT_TRUE(contains(r.output, "Lambda = " + bad_lambda_echo(bad_lambda))) << r.output;
   }
 
@@ -119,7 +114,7 @@ TEST_F(TuneE2E, HelpTeachesWithAnExampleThatRunsAndIsGroupedAndPlotted) {
   EXPECT_TRUE(contains(r.output, "tuning session 1: minimise")) << r.output;
   EXPECT_TRUE(std::regex_search(r.output, std::regex(R"(eval 1/\d+: Lambda=)"))) << r.output;
   EXPECT_TRUE(contains(r.output, "best: ")) << r.output;
-  EXPECT_TRUE(contains(read(saved), "Q ")) << read(saved);
+  EXPECT_TRUE(contains(slurp(saved), "Q ")) << slurp(saved);
 
   const auto list = console("runs list --db " + shell_quote(db()));
   ASSERT_EQ(list.code, 0) << list.output;
@@ -131,7 +126,7 @@ TEST_F(TuneE2E, HelpTeachesWithAnExampleThatRunsAndIsGroupedAndPlotted) {
   const std::string svg = dir_.file("t.svg");
   const auto plot = console("runs plot --tune 1 --svg " + shell_quote(svg) + " --db " + shell_quote(db()));
   ASSERT_EQ(plot.code, 0) << plot.output;
-  const std::string image = read(svg);
+  const std::string image = slurp(svg);
   EXPECT_TRUE(contains(image, "<svg")) << image.substr(0, 200);
   EXPECT_TRUE(contains(image, "best so far"));
   EXPECT_EQ(console("runs plot --tune 9 --svg " + shell_quote(svg) + " --db " + shell_quote(db())).code, 2);
@@ -197,7 +192,7 @@ TEST_F(TuneE2E, ApplyLeavesTheBestInForceAndRefusedCandidatesFail) {
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.output, m, std::regex(R"(\nLambda = ([0-9.e+]+) [^\n]*1/u\^2)"))) << r.output;
   EXPECT_NE(m[1].str(), "1e+08") << "the best, not the start, is in force\n" << r.output;
-  EXPECT_TRUE(contains(read(saved), "Lambda " + m[1].str())) << read(saved) << r.output;
+  EXPECT_TRUE(contains(slurp(saved), "Lambda " + m[1].str())) << slurp(saved) << r.output;
   EXPECT_TRUE(contains(r.output, "N = 3")) << r.output;
   EXPECT_TRUE(contains(r.output, "Nc is 1, outside 3..4; the search starts at 3")) << r.output;
   EXPECT_TRUE(contains(r.output, "FAILED: the firmware refused it")) << r.output;
@@ -241,7 +236,7 @@ TEST_F(TuneE2E, ATimeBudgetEndsTheSession) {
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "budget 1 s;")) << r.output;
   EXPECT_TRUE(contains(r.output, "ended: time budget of 1 s used")) << r.output;
-  EXPECT_TRUE(contains(read(dir_.file("t.params")), "Lambda ")) << r.output;
+  EXPECT_TRUE(contains(slurp(dir_.file("t.params")), "Lambda ")) << r.output;
 }
 
 // Ctrl-C once the second evaluation has been reported: the run in progress
@@ -256,11 +251,11 @@ TEST_F(TuneE2E, CtrlCStopsAndKeepsTheBest) {
   const auto r = run_process("(" + cmd + " > " + shell_quote(out) + " 2>&1 & p=$!; i=0; " +
                              "while ! grep -q 'eval 2/' " + shell_quote(out) + " && [ $i -lt 1200 ]; do sleep 0.1; i=$((i+1)); done; " +
                              "kill -INT $p; wait $p; echo exit=$?)");
-  const std::string text = read(out);
+  const std::string text = slurp(out);
   EXPECT_TRUE(contains(r.output, "exit=0")) << r.output << text;
   EXPECT_TRUE(contains(text, "ended: interrupted (Ctrl-C)")) << text;
   EXPECT_TRUE(contains(text, "best: ")) << text;
-  EXPECT_TRUE(contains(read(saved), "Lambda ")) << text;
+  EXPECT_TRUE(contains(slurp(saved), "Lambda ")) << text;
   const auto sessions = tune_sessions(db());
   ASSERT_EQ(sessions.size(), 1u);
   EXPECT_EQ(sessions[0].end_reason, "interrupted (Ctrl-C)");

@@ -23,21 +23,16 @@
 #include "app/support/run_process.hpp"
 #include "app/support/sim_session_test.hpp"
 #include "app/support/temp_dir.hpp"
+#include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
 
+using nlsoft::test::contains;
+using nlsoft::test::slurp;
+
 using test::run_process;
 using test::shell_quote;
-
-bool contains(const std::string& s, const std::string& what) { return s.find(what) != std::string::npos; }
-
-std::string read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 // The lines of `text` that start with `prefix`.
 std::vector<std::string> lines_starting(const std::string& text, const std::string& prefix) {
@@ -96,7 +91,7 @@ TEST_F(TuneReplay, APoorRecordingIsBeatenOnItsReplays) {
   EXPECT_NEAR(std::stod(m[2].str()), tuned, 1e-4);
 
   // The saved set is the one the best's replay ran, and not the recording's.
-  const std::string file = read(saved);
+  const std::string file = slurp(saved);
   EXPECT_TRUE(contains(file, "\nQ " + param_at_start(store, 2, "Q") + "\n")) << file;
   EXPECT_TRUE(contains(file, "\nLambda " + param_at_start(store, 2, "Lambda") + "\n")) << file;
   EXPECT_NE(param_at_start(store, 2, "Q"), param_at_start(store, 1, "Q"));
@@ -179,8 +174,8 @@ TEST_F(TuneReplay, OneSeedGivesTheSameSearchTwice) {
   EXPECT_EQ(evals[0], evals[1]);
   ASSERT_EQ(best[0].size(), 1u);
   EXPECT_EQ(best[0], best[1]);
-  EXPECT_EQ(read(dir_.file("seed0.params")).substr(read(dir_.file("seed0.params")).find("\n#") + 1),
-            read(dir_.file("seed1.params")).substr(read(dir_.file("seed1.params")).find("\n#") + 1))
+  EXPECT_EQ(slurp(dir_.file("seed0.params")).substr(slurp(dir_.file("seed0.params")).find("\n#") + 1),
+            slurp(dir_.file("seed1.params")).substr(slurp(dir_.file("seed1.params")).find("\n#") + 1))
       << "the same set saved (the header's time aside)";
   RunStore store(db());
   EXPECT_EQ(store.last_run_id(), 1);
