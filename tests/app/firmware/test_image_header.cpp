@@ -19,6 +19,9 @@
 namespace {
 
 using namespace nlsoft::console;
+using nlsoft::host::CliError;
+using nlsoft::host::RigError;
+using nlsoft::host::parse_rig;
 
 const char* kRig = R"(name = "gripper"
 rate_hz = 80.0

@@ -24,6 +24,11 @@
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
+
+using host::Rig;
+using host::load_rig_arg;
+using host::rig_path;
+
 namespace {
 
 namespace tf = protocol::telemetry_field;
