@@ -17,6 +17,9 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::CliExit;
+
 namespace {
 
 struct ConsoleArgs {

@@ -27,6 +27,9 @@
 
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
+  using nlsoft::host::CliError;
+  using nlsoft::host::CliExit;
+  using nlsoft::host::rig_name_of_platform;
   // A file-size limit (ulimit -f) must make a write fail with EFBIG, which
   // the recorder and every file writer report, not kill the console
   // silently in the middle of a run (SIGXFSZ's default).

@@ -7,6 +7,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::rig_reference;
+
 namespace {
 
 struct Named {

@@ -13,8 +13,8 @@ const std::vector<std::string>& reference_names();
 
 // The path `name` on `rig` (its [reference] geometry); throws CliError for
 // an unknown name.
-RefParams reference_by_name(const Rig& rig, const std::string& name);
+RefParams reference_by_name(const host::Rig& rig, const std::string& name);
 // The rig's default task: its [reference] kind.
-std::string default_reference(const Rig& rig);
+std::string default_reference(const host::Rig& rig);
 
 }  // namespace nlsoft::console

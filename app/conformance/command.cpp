@@ -14,6 +14,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::CliExit;
+using host::kDefaultQemuBoard;
+
 namespace {
 
 using namespace conformance;

@@ -14,6 +14,17 @@
 
 namespace nlsoft::console {
 
+using host::Board;
+using host::Rig;
+using host::add_rig_option;
+using host::board_validator;
+using host::boards;
+using host::describe_boards;
+using host::image_board_names;
+using host::load_rig_arg;
+using host::rig_arg_help;
+using host::rig_arg_validator;
+
 namespace {
 
 void print_image(const char* what, const BuiltImage& b) {

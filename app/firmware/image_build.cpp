@@ -33,6 +33,23 @@
 
 namespace nlsoft::console {
 
+using host::Board;
+using host::CliError;
+using host::Lookup;
+using host::Rig;
+using host::RigError;
+using host::RigsFolder;
+using host::board_for;
+using host::find_firmware_src;
+using host::find_image_file;
+using host::find_model_file;
+using host::find_on_path;
+using host::image_file_name;
+using host::load_rig;
+using host::printable;
+using host::rigs_folders;
+using host::shipped_image;
+
 namespace fs = std::filesystem;
 
 namespace {

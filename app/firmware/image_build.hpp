@@ -33,7 +33,7 @@ struct BuiltImages {
 
 // Throws CliError: a bad rig, a board the rig does not fit, a missing
 // toolchain (naming the Debian packages), a failed build (naming its log).
-BuiltImages build_images(const Rig& rig, const ImageBuild& request);
+BuiltImages build_images(const host::Rig& rig, const ImageBuild& request);
 
 // The image with the simulated plant for `rig` on `board`: $NLSOFT_M4_IMAGE;
 // a shipped rig's built image when the rig is a shipped name or file as
@@ -41,11 +41,11 @@ BuiltImages build_images(const Rig& rig, const ImageBuild& request);
 // `model`, else the model of the image `firmware build --rig FILE --model M`
 // made last from this very file (M unchanged since), else the rig's
 // [model] file among the shipped models, else none.
-std::string hil_image_for(const Rig& rig, const std::string& board, const std::string& who,
+std::string hil_image_for(const host::Rig& rig, const std::string& board, const std::string& who,
                           const std::string& model = "");
 
 // The image (the board's, or the HIL one) for `rig` on `board`, the same
 // way (the model of the one last built from the file, else the rig's).
-std::string image_for(const Rig& rig, const std::string& board, bool hil, const std::string& who);
+std::string image_for(const host::Rig& rig, const std::string& board, bool hil, const std::string& who);
 
 }  // namespace nlsoft::console

@@ -10,6 +10,14 @@
 
 namespace nlsoft::console {
 
+using host::BoardPins;
+using host::Rig;
+using host::RigDevice;
+using host::RigInput;
+using host::RigSensor;
+using host::SensorSource;
+using host::find_board;
+
 namespace {
 
 // A float literal that reads back as the same float.

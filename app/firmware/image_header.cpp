@@ -21,6 +21,28 @@
 
 namespace nlsoft::console {
 
+using host::Board;
+using host::BoardPins;
+using host::CliError;
+using host::OutputSource;
+using host::PinTable;
+using host::Rig;
+using host::RigController;
+using host::RigError;
+using host::RigInput;
+using host::RigLayer;
+using host::RigOutput;
+using host::RigSensor;
+using host::SensorSource;
+using host::board_lacks;
+using host::board_named;
+using host::board_refusal;
+using host::find_board;
+using host::firmware_rig;
+using host::generic_plant_spec;
+using host::has_generic_plant;
+using host::image_board_names;
+
 namespace {
 
 [[noreturn]] void fail(const Rig& rig, int line, const std::string& key, const std::string& what) {
@@ -314,9 +336,9 @@ std::string pins_part(const Rig& rig, const std::string& board) {
 }
 
 std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig) {
-  pipeline::ModelFile f;
+  model::ModelFile f;
   try {
-    f = pipeline::load_model_file(model_file);
+    f = model::load_model_file(model_file);
   } catch (const std::exception& e) {
     throw CliError(fmt::format("--model {}: {}", model_file, e.what()));
   }
@@ -336,7 +358,7 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
     RigLayer l;
     l.kind = s.layer[i].kind;
     l.units = s.layer[i].out;
-    l.activation = l.kind == LayerKind::Dense ? pipeline::activation_name(s.layer[i].act) : "";
+    l.activation = l.kind == LayerKind::Dense ? model::activation_name(s.layer[i].act) : "";
     layers.push_back(l);
   }
   return layers;
@@ -453,8 +475,8 @@ std::string model_copy_for_image(const std::string& model_file, const std::strin
   ss << in.rdbuf();
   if (!in) throw CliError(fmt::format("--model {}: cannot read it", model_file));
   const std::string bytes = ss.str();
-  const pipeline::ModelFileParts parts =
-      pipeline::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
+  const model::ModelFileParts parts =
+      model::split_model_file(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size());
   const bool cut = parts.model_size < bytes.size() && !parts.bad_trailer;
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);

@@ -35,7 +35,7 @@ struct ImageRequest {
   std::string board;                // a board of the board table (host/rig/board_table.hpp), or kPortableBoard
   ImageKinds images = ImageKinds::Both;
   std::string model_file;           // embedded and its layer table is the shape; empty: none embedded
-  std::vector<RigLayer> layers;     // with no model_file: the shape (default: the rig's [model] layers)
+  std::vector<host::RigLayer> layers;  // with no model_file: the shape (default: the rig's [model] layers)
 };
 
 struct ImageSource {
@@ -49,21 +49,21 @@ struct ImageSource {
 // Throws RigError ("file:line: ...") for what the board cannot take (a
 // board image of chips on another board's buses, a HIL image of a rig
 // without a plant), and CliError for a model that does not fit the rig.
-ImageSource image_source(const Rig& rig, const ImageRequest& request);
+ImageSource image_source(const host::Rig& rig, const ImageRequest& request);
 
 // The parts, each a piece of the header. The plant part is the one place
 // that knows which simulated plants an image can carry: empty when the rig
 // has none (only the real-board image is built then).
-std::string rig_config_part(const Rig& rig);
-std::string capacity_part(const Rig& rig, const std::vector<RigLayer>& layers);
-std::string plant_part(const Rig& rig);
-std::string pins_part(const Rig& rig, const std::string& board);
+std::string rig_config_part(const host::Rig& rig);
+std::string capacity_part(const host::Rig& rig, const std::vector<host::RigLayer>& layers);
+std::string plant_part(const host::Rig& rig);
+std::string pins_part(const host::Rig& rig, const std::string& board);
 // The sensor chips and each sensor channel's source (image_devices.cpp).
-std::string devices_part(const Rig& rig);
+std::string devices_part(const host::Rig& rig);
 
 // The layer table of a model file, as [[model.layer]] would spell it;
 // throws CliError when the file cannot be read or does not fit the rig.
-std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig);
+std::vector<host::RigLayer> model_layers(const std::string& model_file, const host::Rig& rig);
 
 // Writes nlsoft_rig.hpp and image.cmake into `dir` (created), replacing
 // files only whose text changed so an unchanged rig rebuilds nothing.

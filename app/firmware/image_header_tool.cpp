@@ -17,6 +17,13 @@
 
 int main(int argc, char** argv) {
   using namespace nlsoft::console;
+  using nlsoft::host::CliError;
+  using nlsoft::host::Rig;
+  using nlsoft::host::RigError;
+  using nlsoft::host::RigLayer;
+  using nlsoft::host::describe_boards;
+  using nlsoft::host::image_board_names;
+  using nlsoft::host::load_rig;
   CLI::App app{"Writes an image's nlsoft_rig.hpp and image.cmake from a rig file"};
   std::string rig_file, board, out, model, shape, images = "both";
   bool no_model = false;

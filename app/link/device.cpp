@@ -14,6 +14,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::printable;
+using host::printable_into;
+
 namespace p = nlsoft::protocol;
 
 p::Info Device::handshake() {

@@ -9,6 +9,12 @@
 
 namespace nlsoft::console {
 
+using host::BoardBus;
+using host::BoardPins;
+using host::Rig;
+using host::RigDevice;
+using host::find_board;
+
 namespace p = nlsoft::protocol;
 
 namespace {

@@ -14,12 +14,12 @@ namespace nlsoft::console {
 // line per sensor chip; returns 0 when every chip of the file is ok, 1 when
 // one is not (absent, wrong id, stopped, or missing from the firmware).
 // Throws LinkError/CliError when the firmware cannot be asked.
-int check_live_devices(const Rig& rig, const std::string& port, unsigned baud);
+int check_live_devices(const host::Rig& rig, const std::string& port, unsigned baud);
 
 // One line per chip, as the firmware reports it (DEVICE_GET) beside the rig
 // file: "device mag1       lis3mdl on spi2 chip select PB12: absent, no
 // sample yet, 3 faults", then the file's chips the firmware lacks. `bad`
 // counts the chips not ok. What `rig check` and the script's `devices` print.
-std::vector<std::string> device_lines(const Rig& rig, const std::vector<protocol::DeviceStatus>& found, int& bad);
+std::vector<std::string> device_lines(const host::Rig& rig, const std::vector<protocol::DeviceStatus>& found, int& bad);
 
 }  // namespace nlsoft::console

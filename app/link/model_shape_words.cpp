@@ -8,6 +8,8 @@
 
 namespace nlsoft::console {
 
+using host::printable;
+
 namespace p = nlsoft::protocol;
 
 std::string shape_words(const p::WireShape& s, int input) {

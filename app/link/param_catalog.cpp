@@ -17,6 +17,9 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::printable;
+
 namespace proto = nlsoft::protocol;
 
 ParamInfo param_info_from(const proto::ParamDesc& d) {

@@ -9,6 +9,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 // "Q[1]" -> ("Q", 1); "Q" -> ("Q", -1).

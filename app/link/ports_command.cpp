@@ -10,6 +10,8 @@
 
 namespace nlsoft::console {
 
+using host::CliExit;
+
 namespace {
 
 nlohmann::json port_json(const SerialPort& p) {

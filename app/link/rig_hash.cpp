@@ -7,6 +7,9 @@
 
 namespace nlsoft::console {
 
+using host::Rig;
+using host::printable;
+
 RigFileId rig_file_id(const Rig& rig) {
   RigFileId id;
   id.path = rig.file;

@@ -17,7 +17,7 @@ struct RigFileId {
 };
 
 // The loaded rig's file, name and hash.
-RigFileId rig_file_id(const Rig& rig);
+RigFileId rig_file_id(const host::Rig& rig);
 
 // Empty when the firmware's RIG_INFO matches the file, or names no hash
 // (0: the image was not built from a rig file); else one warning line.

@@ -19,6 +19,8 @@
 
 namespace nlsoft::console {
 
+using host::printable_into;
+
 namespace p = nlsoft::protocol;
 using Clock = std::chrono::steady_clock;
 

@@ -10,6 +10,8 @@
 
 namespace nlsoft::console {
 
+using host::rig_name_of_platform;
+
 namespace p = nlsoft::protocol;
 
 namespace {

@@ -21,6 +21,15 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Lookup;
+using host::board_named;
+using host::board_refusal;
+using host::find_firmware_sim_file;
+using host::find_image_file;
+using host::qemu_board_names;
+using host::qemu_machine_args;
+
 namespace {
 
 bool executable(const std::string& path) {

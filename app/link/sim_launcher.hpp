@@ -36,7 +36,7 @@ class SimLauncher {
   std::string start(const std::string& rig, const std::vector<std::string>& extra_args = {});
   // Boots a HIL image for `board` in qemu-system-arm with the link's UART
   // on a pty: the board table's machine and -serial arguments (board_table.hpp).
-  std::string start_qemu(const std::string& elf, const std::string& board = kDefaultQemuBoard);
+  std::string start_qemu(const std::string& elf, const std::string& board = host::kDefaultQemuBoard);
   void stop();
   pid_t pid() const {
     std::lock_guard<std::mutex> lock(mu_);

@@ -7,6 +7,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::load_rig_arg;
+using host::rig_name_of_platform;
+
 BoardRig::BoardRig(std::shared_ptr<const Rig> given, const Device& device)
     : given_(std::move(given)), device_(device) {
   if (given_) file_id_ = rig_file_id(*given_);

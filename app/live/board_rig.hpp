@@ -18,26 +18,26 @@ namespace nlsoft::console {
 class BoardRig {
  public:
   // given: nullptr for the shipped rig the firmware names.
-  BoardRig(std::shared_ptr<const Rig> given, const Device& device);
+  BoardRig(std::shared_ptr<const host::Rig> given, const Device& device);
 
   // Any thread. The rig given, else the shipped one loaded on first use;
   // never replaced (references to it stay valid). Throws CliError when the
   // firmware runs a rig of its own and no file was given.
-  const Rig& rig() const;
+  const host::Rig& rig() const;
   // The same, or nullptr where rig() would refuse: a firmware that runs a
   // rig of its own, no file given. A file that fails to load still throws.
-  const Rig* known() const;
+  const host::Rig* known() const;
   // After each handshake: the firmware's RIG_INFO against the file given,
   // in words, once per console; "" when they agree, or said already.
   std::string mismatch();
 
  private:
-  const std::shared_ptr<const Rig> given_;
+  const std::shared_ptr<const host::Rig> given_;
   const Device& device_;
   std::optional<RigFileId> file_id_;
   std::atomic<bool> warned_{false};
   mutable std::mutex mu_;
-  mutable std::optional<Rig> shipped_;
+  mutable std::optional<host::Rig> shipped_;
 };
 
 }  // namespace nlsoft::console

@@ -17,6 +17,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::add_rig_option;
+using host::rig_arg_help;
+
 namespace {
 
 void on_interrupt(int signal) { request_interrupt(signal); }

@@ -20,6 +20,18 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::CliExit;
+using host::add_rig_option;
+using host::board_for;
+using host::board_validator;
+using host::describe_boards;
+using host::find_on_path;
+using host::flash_board_names;
+using host::load_rig_arg;
+using host::rig_arg_help;
+using host::rig_arg_validator;
+
 namespace {
 
 struct FlashArgs {

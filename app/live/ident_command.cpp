@@ -18,6 +18,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::CliExit;
+using host::Rig;
+using host::RigOutput;
+
 namespace {
 
 struct IdentArgs {

@@ -16,6 +16,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::RigIdentChoice;
+
 namespace p = protocol;
 
 namespace {

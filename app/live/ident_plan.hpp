@@ -11,6 +11,10 @@
 
 #include "protocol/messages.hpp"
 
+namespace nlsoft::host {
+struct Rig;
+}  // namespace nlsoft::host
+
 namespace nlsoft::console {
 
 // The signals by IDENT_START's numbering (protocol::IdentSignal), named as
@@ -54,9 +58,8 @@ struct IdentPlan {
 // past half the rate or a duration under one step. The band and amplitude
 // the words leave out come from `rig`'s [ident] (nullptr: no rig file
 // known), else ident's own defaults; excitation_words says which.
-struct Rig;
 IdentPlan plan_ident(const IdentWords& w, double rate_hz, int m, int n, int w_sensors, const IdentLine& line,
-                     const Rig* rig);
+                     const host::Rig* rig);
 
 // Throws CliError when the firmware (its INFO and protocol_minor) lacks
 // what `start` needs: identification runs (IDENT), or MIXED (IDENT_MIXED),

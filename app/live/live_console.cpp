@@ -18,6 +18,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace p = nlsoft::protocol;
 namespace tf = protocol::telemetry_field;
 

@@ -73,8 +73,8 @@ class LiveConsole {
   bool recording() const { return options_.record; }  // false: --no-record, the database goes at exit
   const UdpStream* udp() const { return udp_.get(); }
   // The rig the firmware runs, as its rig file says (BoardRig::rig).
-  const Rig& rig() const { return rig_->rig(); }
-  const Rig* known_rig() const { return rig_->known(); }
+  const host::Rig& rig() const { return rig_->rig(); }
+  const host::Rig* known_rig() const { return rig_->known(); }
   // A simulator or a pseudo-terminal (QEMU's UART): no baud rate limits
   // what the link carries, as configure_telemetry() assumes too.
   bool link_unlimited() const;

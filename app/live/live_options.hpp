@@ -21,9 +21,9 @@ struct LiveOptions {
   std::string sim_rig;       // a rig file: start nlsoft-firmware-sim for it (a path: the child loads it)
   // The rig the board runs, loaded once by live_options; nullptr: the
   // shipped rig the firmware names.
-  std::shared_ptr<const Rig> rig;
+  std::shared_ptr<const host::Rig> rig;
   bool sim_in_qemu = false;  // ... or boot the Cortex-M4F image in QEMU instead
-  std::string qemu_board = kDefaultQemuBoard;  // whose image: a board of qemu_board_names()
+  std::string qemu_board = host::kDefaultQemuBoard;  // whose image: a board of qemu_board_names()
   std::vector<std::string> sim_args;
   std::string db_path;       // empty: default_db_path()
   bool record = true;        // false: a temporary database, deleted on exit

@@ -21,6 +21,13 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::kParamsFile;
+using host::printable;
+using host::printable_excerpt;
+using host::read_input_file;
+
 namespace p = nlsoft::protocol;
 
 std::pair<ParamInfo, int> LiveParams::resolve(const std::string& name) const {

@@ -10,6 +10,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::reference_kind_name;
+using host::rig_reference;
+
 namespace p = nlsoft::protocol;
 
 void LiveReferences::select(const RefParams& ref) {

@@ -21,6 +21,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace p = nlsoft::protocol;
 
 int64_t LiveRuns::start(const std::string& label) { return begin(label, nullptr, "", 0); }

@@ -17,6 +17,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::InputKind;
+using host::read_input_file;
+
 namespace p = nlsoft::protocol;
 
 ModelUpload::Result ModelUpload::send(const std::string& path, const Progress& progress) {
@@ -29,13 +33,13 @@ ModelUpload::Result ModelUpload::send(const std::string& path, const Progress& p
   const uint32_t fw_limit = device_.transfer_limit(p::XferKind::Model);
   const uint64_t host_max = model_file_max<HostCapacity>();
   // The model's limit, and room for the sections after it (never sent).
-  InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max) + pipeline::kSectionsMax, false};
+  InputKind kind{"model file", std::max<uint64_t>(fw_limit, host_max) + model::kSectionsMax, false};
   if (fw_limit >= host_max) kind.limit_words = "this firmware takes models of at most";
   const std::string text = read_input_file(path, kind);
   // A file may carry sections after its model (train's fit) the firmware
   // never gets: only the model is checked and sent.
-  const pipeline::ModelFileParts parts =
-      pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  const model::ModelFileParts parts =
+      model::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (parts.bad_trailer)
     throw CliError(fmt::format("{}: not a usable model file: {}", path, parts.fault));
   const std::vector<uint8_t> bytes(text.begin(), text.begin() + std::ptrdiff_t(parts.model_size));

@@ -7,6 +7,9 @@
 
 namespace nlsoft::console {
 
+using host::Rig;
+using host::rig_params;
+
 std::map<uint16_t, std::vector<double>> firmware_defaults(const Rig& rig) {
   std::map<uint16_t, std::vector<double>> out;
   Params<HostCapacity> P;

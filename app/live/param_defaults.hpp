@@ -15,6 +15,6 @@
 namespace nlsoft::console {
 
 // Sized by the rig's m and n (per-actuator and per-output parameters).
-std::map<uint16_t, std::vector<double>> firmware_defaults(const Rig& rig);
+std::map<uint16_t, std::vector<double>> firmware_defaults(const host::Rig& rig);
 
 }  // namespace nlsoft::console

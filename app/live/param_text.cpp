@@ -9,6 +9,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 struct Entry {

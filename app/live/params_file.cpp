@@ -9,6 +9,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::OutputFile;
+using host::printable;
+
 namespace {
 
 // A name `params load` reads back as the same one word.

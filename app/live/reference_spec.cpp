@@ -11,6 +11,10 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::reference_kind_name;
+
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;

@@ -19,7 +19,7 @@ const std::vector<std::string>& reference_keys();
 
 // Throws CliError for an unknown name or key, a malformed number or a set
 // the firmware would refuse anyway (shared/reference.hpp's reference_check).
-RefParams reference_from_spec(const Rig& rig, double loop_rate_hz, const std::string& name,
+RefParams reference_from_spec(const host::Rig& rig, double loop_rate_hz, const std::string& name,
                               const std::vector<std::pair<std::string, std::string>>& options);
 
 // Applies one key=value to r (used by the spec and the TUI editor).

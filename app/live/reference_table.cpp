@@ -16,6 +16,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::kReferenceCsv;
+using host::printable_excerpt;
+using host::read_input_file;
+
 ReferenceTablePoints read_reference_csv(const std::string& path, int n) {
   std::istringstream in(read_input_file(path, kReferenceCsv));
   ReferenceTablePoints t;

@@ -7,6 +7,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 std::string SimulatorChild::start() {
   if (!options_.sim_in_qemu && options_.sim_rig.empty()) return "";
   launcher_ = std::make_unique<SimLauncher>();

@@ -12,6 +12,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace tf = protocol::telemetry_field;
 namespace ip = boost::asio::ip;
 

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct Adam {
   static constexpr double b1 = 0.9, b2 = 0.999, eps = 1e-8;
@@ -31,4 +31,4 @@ struct Adam {
   }
 };
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

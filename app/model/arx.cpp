@@ -7,7 +7,7 @@
 
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 void ArxModel::predict(const double* x, double* y) const {
   const int p = layout.p();
@@ -82,4 +82,4 @@ ArxModel arx_from_json(const std::string& text, const std::string& where) {
   }
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -12,7 +12,7 @@
 
 #include "app/model/dataset.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct ArxModel {
   InputLayout layout{};
@@ -31,4 +31,4 @@ ArxModel fit_arx(const Dataset& d, const std::vector<RowRange>& pieces);
 std::string arx_to_json(const ArxModel& a);
 ArxModel arx_from_json(const std::string& text, const std::string& where);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -12,7 +12,7 @@
 #include "host/files/output_file.hpp"
 #include "shared/model_file.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 namespace {
 
@@ -38,14 +38,14 @@ class FileBuf : public std::streambuf {
 
 void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& fill) {
   try {
-    console::OutputFile file(path);
+    host::OutputFile file(path);
     FileBuf buf(file.get());
     std::ostream out(&buf);
     fill(out);
     out.flush();
     if (!out) throw PipelineError("write to '" + path + "' failed (disk full?)");
     file.commit();
-  } catch (const console::CliError& e) {
+  } catch (const host::CliError& e) {
     throw PipelineError(e.what());
   }
 }
@@ -56,12 +56,12 @@ void write_file_atomic(const std::string& path, const std::vector<uint8_t>& byte
   });
 }
 
-std::string read_text_file(const std::string& path, const console::InputKind& kind) {
+std::string read_text_file(const std::string& path, const host::InputKind& kind) {
   // A missing file in the pipeline's own words, as its other errors.
   if (::access(path.c_str(), F_OK) != 0) throw PipelineError("cannot open '" + path + "': " + std::strerror(errno));
   try {
-    return console::read_input_file(path, kind);
-  } catch (const console::CliError& e) {
+    return host::read_input_file(path, kind);
+  } catch (const host::CliError& e) {
     throw PipelineError(e.what());
   }
 }
@@ -71,4 +71,4 @@ std::vector<uint8_t> read_model_bytes(const std::string& path) {
   return std::vector<uint8_t>(text.begin(), text.end());
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -10,7 +10,7 @@
 
 #include "host/files/input_file.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 // Streams into a temporary beside path, flushes, then renames over it
 // (host/files/output_file.hpp: "-" is standard output, a device is written in
@@ -22,8 +22,8 @@ void write_file_atomic(const std::string& path, const std::vector<uint8_t>& byte
 
 // A file the user named, whole (host/files/input_file.hpp: bounded, a regular
 // file or a FIFO); throws PipelineError naming the path.
-std::string read_text_file(const std::string& path, const console::InputKind& kind);
+std::string read_text_file(const std::string& path, const host::InputKind& kind);
 // A model file: a regular file no larger than the format allows.
 std::vector<uint8_t> read_model_bytes(const std::string& path);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

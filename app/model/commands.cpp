@@ -29,9 +29,12 @@
 #include "shared/forward.hpp"
 
 namespace nlsoft::console {
+
+using host::add_rig_option;
+
 namespace {
 
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 // Numbers arrive as strings so every malformed value gets our message and
 // exit code 2 rather than a parser-specific code.

@@ -13,14 +13,14 @@ namespace nlsoft::console {
 
 // `--rig ARG` (`--platform` its deprecated synonym) goes through `resolve`
 // (the console's: app/rig/rig_pipeline.hpp rig_target_arg).
-void add_dataset_command(CLI::App& app, pipeline::TargetResolver resolve);
+void add_dataset_command(CLI::App& app, model::TargetResolver resolve);
 // `train --run ID` reads runs through `load_run` (the console's database,
 // app/record/run_training.hpp); without one --run is refused.
-void add_train_command(CLI::App& app, pipeline::TargetResolver resolve, pipeline::RunLoader load_run = {});
+void add_train_command(CLI::App& app, model::TargetResolver resolve, model::RunLoader load_run = {});
 // model import|eval|info|fit: rigs resolved through `resolve`, a model
 // file's platform number named through `name_platform`; `model fit` reads
 // runs and draws through the last two (each empty: none).
-void add_model_command(CLI::App& app, pipeline::TargetResolver resolve, pipeline::PlatformNamer name_platform,
-                       pipeline::RunLoader load_run = {}, ScriptPlotter plot = {});
+void add_model_command(CLI::App& app, model::TargetResolver resolve, model::PlatformNamer name_platform,
+                       model::RunLoader load_run = {}, ScriptPlotter plot = {});
 
 }  // namespace nlsoft::console

@@ -14,7 +14,7 @@
 #include "app/model/error.hpp"
 #include "host/files/printable.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 std::string trim(const std::string& s) {
@@ -62,7 +62,7 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool
         for (size_t d = 0; d < c; ++d)
           if (cells[d] == cells[c])
             throw PipelineError(at + "columns " + std::to_string(d + 1) + " and " + std::to_string(c + 1) +
-                                " are both named '" + console::printable_excerpt(cells[c]) + "'");
+                                " are both named '" + host::printable_excerpt(cells[c]) + "'");
       }
       t.header = cells;
       t.cols = static_cast<int>(cells.size());
@@ -84,13 +84,13 @@ Table parse_csv(std::istream& in, const std::string& name, bool has_header, bool
       errno = 0;
       const double v = cell.empty() ? 0.0 : std::strtod(cell.c_str(), &end);
       const std::string where = name + ":" + std::to_string(lineno) + ": column " + std::to_string(c + 1) +
-                                (t.header.empty() ? std::string() : " ('" + console::printable_excerpt(t.header[c]) + "')");
-      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + console::printable_excerpt(cell) + "'");
-      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + console::printable_excerpt(cell) + "'");
+                                (t.header.empty() ? std::string() : " ('" + host::printable_excerpt(t.header[c]) + "')");
+      if (cell.empty() || end == nullptr || *end != '\0') throw PipelineError(where + ": not a number: '" + host::printable_excerpt(cell) + "'");
+      if (!std::isfinite(v) || errno == ERANGE) throw PipelineError(where + ": not a finite number: '" + host::printable_excerpt(cell) + "'");
       if (std::fabs(v) > double(FLT_MAX)) {
         char most[32];
         std::snprintf(most, sizeof most, "%g", double(FLT_MAX));
-        throw PipelineError(where + ": '" + console::printable_excerpt(cell) + "' is beyond a float's range (+-" +
+        throw PipelineError(where + ": '" + host::printable_excerpt(cell) + "' is beyond a float's range (+-" +
                             most + "), where every measurement is kept");
       }
       t.data.push_back(v);
@@ -124,4 +124,4 @@ void write_csv(std::ostream& out, const Table& t) {
   }
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct Table {
   std::vector<std::string> header;  // empty when read without a header
@@ -32,4 +32,4 @@ std::string without_bom(std::string text);
 // Writes with %.9g, enough to round-trip every float exactly.
 void write_csv(std::ostream& out, const Table& t);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

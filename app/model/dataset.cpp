@@ -6,7 +6,7 @@
 
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 Dataset build_dataset(const Series& s, int nd, int dd) {
   if (nd < 1 || dd < 1) throw PipelineError("nd and dd must be at least 1");
@@ -153,4 +153,4 @@ Partition partition(long rows, int folds) {
   return {val.test_begin, val.test_begin, val.test_end, test.test_begin, test.test_end};
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -12,7 +12,7 @@
 #include "app/model/series.hpp"
 #include "shared/input_vector.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 // Rows [begin, end) that are consecutive control periods: a free-run
 // prediction may run through them without restarting.
@@ -78,4 +78,4 @@ struct Partition {
 };
 Partition partition(long rows, int folds = 10);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -11,7 +11,7 @@
 // before main() runs any product.
 #include <Eigen/Core>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 inline constexpr std::ptrdiff_t kEigenL1Bytes = 48 * 1024;
 inline constexpr std::ptrdiff_t kEigenL2Bytes = 2 * 1024 * 1024;
@@ -22,4 +22,4 @@ inline bool pin_eigen_blocking() {
   return true;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

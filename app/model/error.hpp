@@ -5,10 +5,10 @@
 #include <stdexcept>
 #include <string>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct PipelineError : std::runtime_error {
   explicit PipelineError(const std::string& what) : std::runtime_error(what) {}
 };
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

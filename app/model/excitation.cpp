@@ -9,7 +9,7 @@
 #include "shared/fixed_math.hpp"
 #include "shared/sim_plant.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 constexpr double kTwoPi = 6.283185307179586;
@@ -229,4 +229,4 @@ void neutral_output(const PlantTarget& t, double* y) {
   settle_at_neutral(plant, y);
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -16,7 +16,7 @@
 #include "app/model/series.hpp"
 #include "shared/plant_registry.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 // 120000 steps: 2 min of msd at 1 kHz, 15 of hasel at 130 Hz.
 long default_steps(const PlantTarget& t);
@@ -36,4 +36,4 @@ void neutral_output(PlantKind kind, double* y);
 // throws PipelineError.
 void neutral_output(const PlantTarget& t, double* y);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

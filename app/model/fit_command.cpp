@@ -15,9 +15,15 @@
 #include "host/rig/rig_option.hpp"
 
 namespace nlsoft::console {
+
+using host::OutputFile;
+using host::OutputTarget;
+using host::add_rig_option;
+using host::output_target;
+
 namespace {
 
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 struct FitArgs {
   std::string model, rig, db, svg, png;

@@ -6,7 +6,7 @@
 
 #include "app/gnuplot_text.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 std::string num(double v) {
@@ -87,4 +87,4 @@ std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::strin
   return s + "unset multiplot\n";
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -11,7 +11,7 @@
 #include "app/model/model_fit.hpp"
 #include "app/model/series.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct FittedRun {
   std::string name;                // "run 3", a file
@@ -31,4 +31,4 @@ enum class FitImage { Svg, Png };
 std::string fit_plot_script(const std::vector<FittedRun>& runs, const std::string& model_name, const std::string& unit,
                             FitImage format, long max_points = 4000);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

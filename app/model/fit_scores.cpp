@@ -7,7 +7,7 @@
 #include "app/model/error.hpp"
 #include "shared/forward.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 long count_rows(const std::vector<RowRange>& pieces) {
@@ -118,4 +118,4 @@ std::vector<Score> score(const Eigen::MatrixXd& y, const Eigen::MatrixXd& yhat, 
   return out;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

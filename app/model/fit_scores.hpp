@@ -13,7 +13,7 @@
 #include "app/model/dataset.hpp"
 #include "app/model/model_store.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct Score {
   double rmse = 0;   // the output's unit
@@ -43,4 +43,4 @@ Eigen::MatrixXd measured(const Dataset& d, const std::vector<RowRange>& pieces);
 // Per output j, yhat (from a Simulation) against y; span[j] <= 0: nRMSE = RMSE.
 std::vector<Score> score(const Eigen::MatrixXd& y, const Eigen::MatrixXd& yhat, const std::vector<double>& span);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 std::vector<int> input_level_counts(const std::vector<Series>& runs) {
   int m = 0;
@@ -63,4 +63,4 @@ std::vector<std::string> input_level_notes(const std::vector<Series>& runs) {
   return notes;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -11,7 +11,7 @@
 
 #include "app/model/series.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 // Per input, the distinct values over every run, counted up to 3 (3 means
 // "3 or more"); empty runs add nothing.
@@ -22,4 +22,4 @@ std::vector<int> input_level_counts(const std::vector<Series>& runs);
 // or more.
 std::vector<std::string> input_level_notes(const std::vector<Series>& runs);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

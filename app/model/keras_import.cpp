@@ -10,7 +10,7 @@
 #include "app/model/error.hpp"
 #include "app/model/model_store.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 using nlohmann::json;
@@ -200,8 +200,8 @@ int add_layer(KerasNetwork& net, const std::string& lcls, const json& cfg, const
 KerasNetwork read_keras_h5(const std::string& path) {
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // our messages, not HDF5's stack dumps
   try {
-    console::check_input_file(path, {"Keras HDF5 file", uint64_t(4) << 30});
-  } catch (const console::CliError& e) {
+    host::check_input_file(path, {"Keras HDF5 file", uint64_t(4) << 30});
+  } catch (const host::CliError& e) {
     throw PipelineError(e.what());
   }
   if (H5Fis_hdf5(path.c_str()) <= 0) throw PipelineError("'" + path + "' is not an HDF5 file (or cannot be read)");
@@ -236,4 +236,4 @@ KerasNetwork read_keras_h5(const std::string& path) {
   if (net.layers.empty()) throw PipelineError(path + ": the model has no Dense or GRU layer");
   return net;
 }
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

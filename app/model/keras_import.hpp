@@ -14,7 +14,7 @@
 
 #include "shared/model.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct KerasNetwork {
   int inputs = 0;               // p, from the input shape
@@ -26,4 +26,4 @@ struct KerasNetwork {
 // Throws PipelineError.
 KerasNetwork read_keras_h5(const std::string& path);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -11,7 +11,7 @@
 #include "app/model/pooled_runs.hpp"
 #include "app/model/train_simulation.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 namespace {
 
@@ -124,4 +124,4 @@ LagChoice probe_network_lags(LagChoice c, const std::vector<Series>& runs, const
   return c;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -20,7 +20,7 @@
 #include "app/model/series.hpp"
 #include "app/model/train.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct LagTrial {
   int lags = 0;
@@ -52,4 +52,4 @@ LagChoice probe_network_lags(LagChoice c, const std::vector<Series>& runs, const
                              const TrainOptions& o, int validate, int max_lags,
                              const std::function<void(int lags, const std::string& what)>& before_each);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

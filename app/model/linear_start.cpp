@@ -4,7 +4,7 @@
 
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 bool holds_linear_model(const std::vector<LayerSpec>& layers, int n) {
   if (layers.empty() || layers.back().kind != LayerKind::Dense || layers.back().units != n ||
@@ -59,4 +59,4 @@ void embed_linear_model(Network& net, const Network& linear, const Eigen::Matrix
   }
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -25,7 +25,7 @@
 
 #include "app/model/network.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 // Whether `layers` can hold a linear Dense layer of n outputs unchanged:
 // Dense hidden layers of relu or linear units, each at least n wide, and a
@@ -40,4 +40,4 @@ bool holds_linear_model(const std::vector<LayerSpec>& layers, int n);
 // zero. Throws PipelineError, changing nothing, where net cannot hold it.
 void embed_linear_model(Network& net, const Network& linear, const Eigen::MatrixXd& X);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -8,7 +8,7 @@
 
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 nlohmann::json score_json(const Score& s) {
@@ -260,4 +260,4 @@ std::string float_gap_words(const TrainResult& r, const ModelFit& fit, const std
          "better model left behind.";
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -14,7 +14,7 @@
 #include "app/model/plant_target.hpp"
 #include "app/model/train.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct OutputFit {
   std::string name;
@@ -68,4 +68,4 @@ ModelFit fit_from_json(const std::string& text, const std::string& where);
 // One section as JSON (model fit --json).
 std::string section_to_json(const FitSection& s, const std::string& unit);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

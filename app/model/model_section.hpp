@@ -31,7 +31,7 @@
 #include "shared/crc32.hpp"
 #include "shared/model_file.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 constexpr uint8_t kSectionFit = 1;
 constexpr size_t kSectionOverhead = 16;
@@ -97,4 +97,4 @@ inline std::vector<uint8_t> model_section(uint8_t kind, const std::string& text)
   return s;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -9,7 +9,7 @@
 #include "app/model/model_section.hpp"
 #include "shared/model_file.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 void finalize(ModelFile& f) {
   Model<HostCapacity> m = f.view();
@@ -109,4 +109,4 @@ bool activation_from_name(const std::string& name, Activation* out) {
   return false;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -10,7 +10,7 @@
 #include "shared/capacity.hpp"
 #include "shared/model.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 constexpr uint8_t kNoPlatform = 255;
 
@@ -52,4 +52,4 @@ using ::nlsoft::activation_name;  // shared/activation.hpp
 // Parses the Keras spelling ("relu", "hard_sigmoid", ...); false if unknown.
 bool activation_from_name(const std::string& name, Activation* out);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

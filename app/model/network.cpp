@@ -6,7 +6,7 @@
 #include "app/model/error.hpp"
 #include "shared/fixed_math.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 // Before any product: see eigen_blocking.hpp.
@@ -193,4 +193,4 @@ void Network::backward_add(const Cache& c, const Eigen::MatrixXd& dOut, std::vec
   if (dX) *dX = std::move(d);
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

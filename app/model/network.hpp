@@ -18,7 +18,7 @@
 #include "app/model/random.hpp"
 #include "shared/model.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct LayerSpec {
   LayerKind kind = LayerKind::Dense;
@@ -73,4 +73,4 @@ class Network {
 // derivative from the activation's output where it can.
 Eigen::MatrixXd activate(Activation a, const Eigen::MatrixXd& z);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -11,7 +11,7 @@
 #include "shared/plant_generic.hpp"
 #include "shared/plant_registry.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 enum class TargetPlant { None, Named, Generic };
 
@@ -47,4 +47,4 @@ using TargetResolver = std::function<PlantTarget(const std::string& arg)>;
 // file's info_platform); empty when no shipped rig has that number.
 using PlatformNamer = std::function<std::string(uint8_t platform)>;
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -2,7 +2,7 @@
 
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int validate) {
   struct Part {
@@ -68,4 +68,4 @@ Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int
   return out;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

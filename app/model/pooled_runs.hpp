@@ -10,7 +10,7 @@
 #include "app/model/dataset.hpp"
 #include "app/model/series.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct Pooled {
   Dataset d;
@@ -22,4 +22,4 @@ struct Pooled {
 // Throws PipelineError, naming the run, when a run is too short for `folds`.
 Pooled pool_runs(const std::vector<Series>& runs, int nd, int dd, int folds, int validate);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 TrainProgress::TrainProgress(std::FILE* out) : out_(out), tty_(isatty(fileno(out)) != 0) {}
 
@@ -67,4 +67,4 @@ void TrainProgress::finish() {
   drawn_ = false;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -7,7 +7,7 @@
 
 #include "app/model/train.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 class TrainProgress {
  public:
@@ -27,4 +27,4 @@ class TrainProgress {
   double last_elapsed_ = 0;
 };
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

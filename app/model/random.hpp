@@ -8,7 +8,7 @@
 
 #include "shared/fixed_math.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 class Random {
  public:
@@ -29,4 +29,4 @@ class Random {
   std::mt19937_64 eng_;
 };
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

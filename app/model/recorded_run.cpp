@@ -6,7 +6,7 @@
 #include "app/model/atomic_file.hpp"
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 std::string dims(int m, int n) { return "m=" + std::to_string(m) + " n=" + std::to_string(n); }
@@ -179,4 +179,4 @@ Series read_training_csv(const std::string& path, const PlantTarget& target) {
   return parse_series_csv(in, path);
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

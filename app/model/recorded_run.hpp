@@ -14,7 +14,7 @@
 #include "app/model/plant_target.hpp"
 #include "app/model/series.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct RecordedRun {
   std::string name;  // "run 12", or the exported file's path: every message names it
@@ -50,4 +50,4 @@ Series read_training_csv(const std::string& path, const PlantTarget& target);
 // console supplies it (app/record/run_training.hpp); throws with the reason.
 using RunLoader = std::function<RecordedRun(const std::string& db, int64_t id)>;
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -7,7 +7,7 @@
 #include "app/model/csv.hpp"
 #include "app/model/error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 void Series::resize(long r, int m_, int n_, int w_) {
   m = m_;
@@ -99,4 +99,4 @@ void write_series_csv(const std::string& path, const Series& s) {
   write_file_atomic(path, [&](std::ostream& out) { write_csv(out, t); });
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

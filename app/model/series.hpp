@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct Series {
   int m = 0, n = 0, w = 0;
@@ -31,4 +31,4 @@ Series parse_series_csv(std::istream& in, const std::string& name);
 void write_series_csv(const std::string& path, const Series& s);  // atomic
 void write_series_csv(std::ostream& out, const Series& s);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 // The recursion for windows of equal length, batched: row b of every matrix
@@ -89,4 +89,4 @@ std::vector<long> window_starts(const std::vector<RowRange>& pieces, int H, int 
   return out;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -15,7 +15,7 @@
 #include "app/model/dataset.hpp"
 #include "app/model/network.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 // What the recursion needs of the data, in the network's units.
 struct SimulationData {
@@ -45,4 +45,4 @@ double free_run_loss(const Network& net, const SimulationData& s, const std::vec
 // gives none (its rows still train the one-step warm start).
 std::vector<long> window_starts(const std::vector<RowRange>& pieces, int H, int stride, int offset);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -21,7 +21,7 @@
 #include "shared/forward.hpp"
 #include "shared/sim_plant.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 struct LossValue {
@@ -796,4 +796,4 @@ std::string describe_layers(const std::vector<LayerSpec>& layers) {
   return out;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

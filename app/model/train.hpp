@@ -29,7 +29,7 @@
 #include "app/model/plant_target.hpp"
 #include "app/model/train_simulation.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 enum class Loss { Mse, Huber };
 enum class Objective { OneStep, Simulation };
@@ -175,4 +175,4 @@ void check_dimensions(const Series& s, const PlantTarget& target);
 // Dense 32 relu -> n tanh and one linear layer as other candidates).
 TrainOptions default_options(const PlantTarget& target, Objective objective = Objective::Simulation);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

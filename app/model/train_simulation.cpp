@@ -11,7 +11,7 @@
 #include "app/model/random.hpp"
 #include "shared/fixed_math.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 constexpr double kPi = 3.141592653589793;
@@ -184,4 +184,4 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
   return rep;
 }
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -17,7 +17,7 @@
 
 #include "app/model/simulation_error.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 
 struct SimulationOptions {
   int horizon = 64;      // H, steps per window
@@ -53,4 +53,4 @@ SimulationReport fit_simulation(Network& net, const SimulationData& s, const std
                                 const std::vector<RowRange>& val, const SimulationOptions& o,
                                 const SimulationProgress& progress);
 
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

@@ -12,6 +12,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::InputKind;
+using host::printable_excerpt;
+using host::read_input_file;
+
 namespace {
 
 // A capture of hours at a few hundred Hz is tens of MB of text.
@@ -44,11 +49,11 @@ Capture read_capture(const std::string& path, int n, const std::vector<std::stri
       if (!blank(l)) lines.push_back(no);
     }
   }
-  pipeline::Table table;
+  model::Table table;
   try {
     std::istringstream in(text);
-    table = pipeline::parse_csv(in, path, true);
-  } catch (const pipeline::PipelineError& e) {
+    table = model::parse_csv(in, path, true);
+  } catch (const model::PipelineError& e) {
     throw CliError(e.what());
   }
   const long header_line = lines.empty() ? 1 : lines.front();

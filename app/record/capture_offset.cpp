@@ -13,6 +13,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 // How the offset is found (no library does this; it is a search over one
 // number with a least-squares fit inside, Eigen doing the algebra and the
 // FFT, unsupported/Eigen/FFT):

@@ -15,6 +15,9 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::OutputFile;
+
 namespace tf = protocol::telemetry_field;
 
 size_t export_run_csv(RunStore& store, int64_t run_id, const std::string& path) {

@@ -19,6 +19,8 @@ extern char** environ;
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 // The script and gnuplot's messages live in a private folder, removed on

@@ -20,6 +20,14 @@
 #include "app/record/task_space.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+using host::OutputFile;
+using host::Rig;
+using host::load_rig_arg;
+using host::printable;
+using host::rig_names;
+
 namespace {
 
 namespace tf = protocol::telemetry_field;

@@ -11,6 +11,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 // Checks the id against what is recorded (RunStore's "no run N" message),

@@ -10,6 +10,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 // A simulation (`simulate --svg`) has no id: its label names it.

@@ -15,6 +15,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace tf = protocol::telemetry_field;
 
 namespace {

@@ -9,16 +9,18 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace tf = protocol::telemetry_field;
 
 // Above any controller's horizon (shared/capacity.hpp's N is far below).
 constexpr long kMaxRecordedHorizon = 1000;
 
-pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
+model::RecordedRun load_recorded_run(const std::string& db, int64_t id) {
   try {
     RunStore store(db.empty() ? default_db_path() : db);
     const RunRow row = store.run(id);
-    pipeline::RecordedRun r;
+    model::RecordedRun r;
     r.name = "run " + std::to_string(id);
     r.rig = row.platform;
     r.m = row.m;

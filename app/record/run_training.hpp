@@ -11,6 +11,6 @@ namespace nlsoft::console {
 
 // db empty: the console's default database. Throws CliError (no such run,
 // an unreadable database) with the reason.
-pipeline::RecordedRun load_recorded_run(const std::string& db, int64_t id);
+model::RecordedRun load_recorded_run(const std::string& db, int64_t id);
 
 }  // namespace nlsoft::console

@@ -39,6 +39,14 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::OutputFile;
+using host::Rig;
+using host::RigOutput;
+using host::add_rig_option;
+using host::load_rig_arg;
+using host::printable;
+
 namespace {
 
 struct RunsArgs {

@@ -17,6 +17,8 @@
 
 namespace nlsoft::console {
 
+using host::printable_excerpt;
+
 namespace {
 
 // type and name -> the statement that made it, normalised.

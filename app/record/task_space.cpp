@@ -6,6 +6,11 @@
 
 namespace nlsoft::console {
 
+using host::Rig;
+using host::RigOutput;
+using host::load_rig_arg;
+using host::rig_names;
+
 std::vector<double> task_space(const std::string& platform) {
   // The spans of the rig file of that name among the installed rigs.
   const std::vector<std::string> names = rig_names();

@@ -12,6 +12,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 TuneLog::TuneLog(const std::string& db_path) : db_(std::make_unique<Db>(db_path, Db::Access::ReadWrite)) {}
 TuneLog::~TuneLog() = default;
 

@@ -9,6 +9,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 // The simulator's INFO name (firmware/ports/posix/main.cpp): the firmware

@@ -18,6 +18,9 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::add_rig_option;
+
 namespace {
 
 struct ReplayArgs {

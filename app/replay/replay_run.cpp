@@ -11,6 +11,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 namespace p = nlsoft::protocol;

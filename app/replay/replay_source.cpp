@@ -12,6 +12,12 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Lookup;
+using host::Rig;
+using host::find_model_file;
+using host::load_rig_arg;
+
 namespace {
 
 // The rig the run was recorded on: its name, or --rig FILE for a rig file

@@ -17,7 +17,7 @@ struct ReplaySource {
   int64_t id = 0;
   std::string db;
   RecordedStart start;
-  Rig rig;
+  host::Rig rig;
   std::shared_ptr<const LoadedModel> model;
   bool model_given = false;  // --model: another model than the run's may run
   uint32_t steps() const { return start.last_step + 1; }

@@ -14,6 +14,12 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::firmware_rig;
+using host::generic_plant_spec;
+using host::simulated_plant;
+
 namespace {
 
 using Cap = HostCapacity;

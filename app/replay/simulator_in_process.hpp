@@ -33,7 +33,7 @@ class SimulatorInProcess {
   // The rig's simulated plant with noise seed `seed`, at the rig's rate,
   // running `model` (a model file's model part). Throws CliError: a rig
   // without a simulated plant, a model the firmware refuses.
-  SimulatorInProcess(const Rig& rig, const std::vector<uint8_t>& model, uint32_t seed);
+  SimulatorInProcess(const host::Rig& rig, const std::vector<uint8_t>& model, uint32_t seed);
   ~SimulatorInProcess();
   SimulatorInProcess(const SimulatorInProcess&) = delete;
   SimulatorInProcess& operator=(const SimulatorInProcess&) = delete;

@@ -12,6 +12,30 @@
 
 namespace nlsoft::console {
 
+using host::CliExit;
+using host::OutputSource;
+using host::Rig;
+using host::RigActuator;
+using host::RigController;
+using host::RigDevice;
+using host::RigIdentChoice;
+using host::RigInput;
+using host::RigLayer;
+using host::RigOutput;
+using host::RigPlant;
+using host::RigReference;
+using host::RigSensor;
+using host::SensorSource;
+using host::has_generic_plant;
+using host::load_rig_arg;
+using host::output_source_name;
+using host::printable;
+using host::reference_kind_name;
+using host::rig_arg_help;
+using host::rig_names;
+using host::rig_path;
+using host::sensor_source_name;
+
 namespace {
 
 nlohmann::json to_json(const Rig& r) {

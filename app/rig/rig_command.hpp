@@ -10,7 +10,7 @@ namespace nlsoft::console {
 
 // `rig check RIG PORT`: the rig's sensor chips as the firmware at PORT sees
 // them (app/link/device_check.hpp); returns the exit code.
-using LiveDeviceCheck = std::function<int(const Rig& rig, const std::string& port, unsigned baud)>;
+using LiveDeviceCheck = std::function<int(const host::Rig& rig, const std::string& port, unsigned baud)>;
 
 void add_rig_command(CLI::App& app, LiveDeviceCheck check_live);
 

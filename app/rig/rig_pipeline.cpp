@@ -6,9 +6,17 @@
 
 namespace nlsoft::console {
 
-pipeline::PlantTarget rig_plant_target(const Rig& rig) {
-  using pipeline::TargetPlant;
-  pipeline::PlantTarget t;
+using host::Rig;
+using host::RigInput;
+using host::RigLayer;
+using host::RigOutput;
+using host::generic_plant_spec;
+using host::has_generic_plant;
+using host::load_rig_arg;
+
+model::PlantTarget rig_plant_target(const Rig& rig) {
+  using model::TargetPlant;
+  model::PlantTarget t;
   t.name = rig.name;
   t.m = rig.m(), t.n = rig.n(), t.w = rig.w(), t.nd = rig.nd, t.dd = rig.dd;
   t.lags_auto = rig.lags_auto;
@@ -32,7 +40,7 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
   // The model file names a shipped rig by its INFO number, any other 255.
   t.platform = rig.info_platform;
   for (const RigLayer& l : rig.model.layers) {
-    pipeline::LayerSpec L;
+    model::LayerSpec L;
     L.units = l.units;
     if (l.kind == LayerKind::Gru) {
       L.kind = LayerKind::Gru;
@@ -41,13 +49,13 @@ pipeline::PlantTarget rig_plant_target(const Rig& rig) {
       L.reset_after = true;
     } else {
       L.kind = LayerKind::Dense;
-      pipeline::activation_from_name(l.activation, &L.act);
+      model::activation_from_name(l.activation, &L.act);
     }
     t.layers.push_back(L);
   }
   return t;
 }
 
-pipeline::PlantTarget rig_target_arg(const std::string& arg) { return rig_plant_target(load_rig_arg(arg)); }
+model::PlantTarget rig_target_arg(const std::string& arg) { return rig_plant_target(load_rig_arg(arg)); }
 
 }  // namespace nlsoft::console

@@ -8,10 +8,10 @@
 
 namespace nlsoft::console {
 
-pipeline::PlantTarget rig_plant_target(const Rig& rig);
+model::PlantTarget rig_plant_target(const host::Rig& rig);
 
 // `--rig ARG` / `--platform NAME` for dataset and train: load_rig_arg then
 // rig_plant_target (a bad file or name: CliError, exit 2).
-pipeline::PlantTarget rig_target_arg(const std::string& arg);
+model::PlantTarget rig_target_arg(const std::string& arg);
 
 }  // namespace nlsoft::console

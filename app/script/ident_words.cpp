@@ -8,6 +8,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 IdentWords ident_words(const Command& c) {
   IdentWords w;
   w.signal = c.name;

@@ -19,6 +19,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 // What `set NAME VALUES` (and a sweep's row) would send, checked as

@@ -22,6 +22,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::kScriptFile;
+using host::printable;
+using host::read_input_file;
+
 namespace {
 
 std::string trim(const std::string& s) {

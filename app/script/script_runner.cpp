@@ -25,6 +25,11 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::RigOutput;
+using host::printable;
+using host::reference_kind_name;
+
 namespace {
 
 std::string summary_line(const RunSummary& s, bool ident = false) {

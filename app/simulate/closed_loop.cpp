@@ -12,6 +12,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 using Cap = HostCapacity;

@@ -11,16 +11,19 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::read_input_file;
+
 void load_model(const std::string& path, LoadedModel& out) {
   std::string text;
   try {
-    text = read_input_file(path, {"model file", pipeline::model_file_with_sections_max(), false});
+    text = read_input_file(path, {"model file", model::model_file_with_sections_max(), false});
   } catch (const CliError& e) {
     throw CliError(fmt::format("cannot open model file '{}': {}", path, e.what()));
   }
   // The model alone: sections after it (train's fit) are not the controller's.
-  const pipeline::ModelFileParts parts =
-      pipeline::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
+  const model::ModelFileParts parts =
+      model::split_model_file(reinterpret_cast<const uint8_t*>(text.data()), text.size());
   if (parts.bad_trailer) throw CliError(fmt::format("model file '{}' refused: {}", path, parts.fault));
   std::vector<uint8_t> bytes(text.begin(), text.begin() + std::ptrdiff_t(parts.model_size));
   std::vector<float> storage(HostCapacity::weights + 2 * Dims<HostCapacity>::p + 2 * HostCapacity::n);

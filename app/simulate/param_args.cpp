@@ -12,6 +12,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 std::string known_param_names() {
   std::string s;
   for (const ParamDesc& d : kParamTable) s += (s.empty() ? "" : ", ") + std::string(d.name);

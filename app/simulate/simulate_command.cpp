@@ -23,6 +23,23 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::CliExit;
+using host::Lookup;
+using host::OutputFile;
+using host::Rig;
+using host::RigInput;
+using host::RigOutput;
+using host::add_rig_option;
+using host::find_model_file;
+using host::generic_plant_spec;
+using host::has_generic_plant;
+using host::load_rig_arg;
+using host::rig_arg_help;
+using host::rig_arg_validator;
+using host::rig_params;
+using host::simulated_plant;
+
 namespace {
 
 // The nRMSE the README holds the simulated rigs to.

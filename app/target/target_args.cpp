@@ -10,6 +10,16 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::Rig;
+using host::board_validator;
+using host::describe_boards;
+using host::kDefaultQemuBoard;
+using host::load_rig_arg;
+using host::qemu_board_names;
+using host::rig_arg_help;
+using host::simulated_plant;
+
 std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::string& option) {
   try {
     return std::make_shared<const Rig>(load_rig_arg(arg));

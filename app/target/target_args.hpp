@@ -14,15 +14,15 @@
 namespace nlsoft::console {
 
 struct TargetArgs {
-  std::string port, sim, qemu, board = kDefaultQemuBoard;
+  std::string port, sim, qemu, board = host::kDefaultQemuBoard;
 };
 
 struct Target {
   std::string port;                 // PORT; empty with --sim, --qemu, or none given
-  std::shared_ptr<const Rig> rig;   // --sim's or --qemu's rig; nullptr with PORT
+  std::shared_ptr<const host::Rig> rig;  // --sim's or --qemu's rig; nullptr with PORT
   std::string sim_rig;              // --sim: the rig file the simulator, a process of its own, loads
   std::string qemu_image;           // --qemu: the HIL image QEMU boots on `board`
-  std::string board = kDefaultQemuBoard;
+  std::string board = host::kDefaultQemuBoard;
 };
 
 // PORT, --sim, --qemu and --board. `port_help`: PORT's help line; `what`:
@@ -34,7 +34,7 @@ void add_target_options(CLI::App& app, TargetArgs& a, const std::string& port_he
 // The rig `arg` names (a shipped name or a file), loaded; a bad one is said
 // in the option's name ("tune: --rig: unknown rig ..."), as a validator
 // would say it. Throws CliError.
-std::shared_ptr<const Rig> load_rig_option(const std::string& arg, const std::string& option);
+std::shared_ptr<const host::Rig> load_rig_option(const std::string& arg, const std::string& option);
 
 // One of PORT, --sim and --qemu at most, --board only with --qemu; the
 // rig of --sim (which must have a plant) or --qemu loaded, and --qemu's

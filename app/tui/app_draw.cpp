@@ -14,6 +14,8 @@
 
 namespace nlsoft::console::tui {
 
+using host::RigSensor;
+
 namespace {
 
 constexpr int kMinCols = 60, kMinRows = 16;

@@ -12,6 +12,8 @@
 
 namespace nlsoft::console::tui {
 
+using host::printable;
+
 void App::plot_command(const std::string& args) {
   const size_t a = args.find_first_not_of(' ');
   const std::string name = a == std::string::npos ? "" : args.substr(a, args.find_last_not_of(' ') - a + 1);

@@ -11,6 +11,8 @@
 
 namespace nlsoft::console::tui {
 
+using host::printable;
+
 namespace {
 constexpr size_t kKeep = 2000;
 const char* role_tag(Role r) {

@@ -11,6 +11,8 @@
 
 namespace nlsoft::console::tui {
 
+using host::CliError;
+
 void ParamPanel::reload() { fetch(false); }
 void ParamPanel::reload_after_reset() { fetch(true); }
 

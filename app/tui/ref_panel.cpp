@@ -9,6 +9,8 @@
 
 namespace nlsoft::console::tui {
 
+using host::reference_kind_name;
+
 namespace {
 struct Kind {
   const char* label;

@@ -14,6 +14,8 @@
 
 namespace nlsoft::console::tui {
 
+using host::printable;
+
 namespace {
 std::vector<std::string> describe(const RunRow& r, const RunMetrics& m) {
   const TrackingMetrics& t = m.has_true ? m.truth : m.predicted;

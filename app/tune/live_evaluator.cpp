@@ -7,6 +7,8 @@
 
 namespace nlsoft::console {
 
+using host::RigOutput;
+
 namespace {
 
 void put_in_force(LiveConsole& console, const std::vector<SearchSpace::Write>& writes) {

@@ -19,6 +19,9 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::RigOutput;
+
 // The parameters as a replay starts with them: run N's at its start, in
 // the simulator's own list (read once, from a replay set up and never run).
 class ReplayEvaluator::Params final : public ParamSource {

@@ -11,6 +11,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 double number(const std::string& text, const std::string& spec) {

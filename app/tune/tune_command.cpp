@@ -18,6 +18,9 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+using host::CliExit;
+
 namespace {
 
 struct TuneArgs {

@@ -21,6 +21,8 @@
 
 namespace nlsoft::console {
 
+using host::CliError;
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();

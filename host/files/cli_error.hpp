@@ -4,16 +4,16 @@
 #include <stdexcept>
 #include <string>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 struct CliError : std::runtime_error {
   explicit CliError(const std::string& what, int code = 2) : std::runtime_error(what), exit_code(code) {}
   int exit_code;
 };
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // Thrown by a subcommand's callback to end the program with a status code
 // once CLI11 has finished parsing.
@@ -21,4 +21,4 @@ struct CliExit {
   int code;
 };
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

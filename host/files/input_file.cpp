@@ -11,7 +11,7 @@
 
 #include "host/files/cli_error.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -100,4 +100,4 @@ std::string read_input_file(const std::string& path, const InputKind& kind) {
   return out;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

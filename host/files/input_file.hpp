@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 struct InputKind {
   const char* what;       // "model file", "script", ...: for the messages
@@ -35,4 +35,4 @@ void check_input_file(const std::string& path, const InputKind& kind);
 // "12.5 MiB", "480 bytes": a size in messages.
 std::string byte_size(uint64_t bytes);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -12,7 +12,7 @@
 
 #include "host/files/cli_error.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -178,4 +178,4 @@ void OutputFile::commit() {
   }
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <string>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // How a path given for output is to be written (exposed for tests).
 struct OutputTarget {
@@ -43,4 +43,4 @@ class OutputFile {
   bool stdout_ = false;
 };
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

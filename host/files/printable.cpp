@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -105,4 +105,4 @@ void printable_into(const char* raw, char* out, size_t capacity) {
   out[safe.size()] = '\0';
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 std::string printable(std::string_view text);
 
@@ -27,4 +27,4 @@ std::string printable_within(std::string_view text, size_t max_bytes);
 // cut): a message's text field made safe where it is decoded.
 void printable_into(const char* raw, char* out, size_t capacity);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -11,7 +11,7 @@
 // libexec/nlsoft and share/nlsoft relative to its bin, as GNUInstallDirs
 // lays them out (cmake/layout.cmake), so a prefix works wherever it is put.
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -156,4 +156,4 @@ std::string find_on_path(const std::string& name) {
   return {};
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

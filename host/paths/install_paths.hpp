@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // The folder of the running executable; empty when /proc does not say.
 std::string exe_dir();
@@ -63,4 +63,4 @@ Lookup find_firmware_src();
 // `name` in a folder of $PATH, or empty.
 std::string find_on_path(const std::string& name);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -9,7 +9,7 @@
 
 #include "host/rig/board_table.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // `allowed`: the boards the command takes (image_board_names(),
 // qemu_board_names(), ...); `doing`: what it does with one, for the refusal.
@@ -22,4 +22,4 @@ inline CLI::Validator board_validator(const std::vector<std::string>& allowed, c
       "BOARD");
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

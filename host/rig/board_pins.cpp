@@ -3,7 +3,7 @@
 #include "host/rig/board_table.hpp"
 #include "shared/board_stm32f4.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -90,4 +90,4 @@ std::vector<std::string> board_names() {
   return names;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

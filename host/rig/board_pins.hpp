@@ -11,7 +11,7 @@
 #include "shared/firmware_features.hpp"
 #include "shared/rig_devices.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 struct BoardBus {
   std::string name;               // as a rig file names it: "i2c1", "spi2", "i2c-shield1"
@@ -48,4 +48,4 @@ const BoardPins* find_board(const std::string& name);
 // The boards a rig file's `board` may name.
 std::vector<std::string> board_names();
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

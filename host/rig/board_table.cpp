@@ -2,7 +2,7 @@
 
 #include "host/files/cli_error.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 const std::vector<Board>& boards() {
   static const std::vector<Board> all = {
@@ -101,4 +101,4 @@ std::vector<std::string> qemu_machine_args(const Board& board, const std::string
   return args;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

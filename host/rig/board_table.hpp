@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // Which pins and buses a rig file may name on the board (board_pins.cpp
 // builds each from the firmware's own tables).
@@ -66,4 +66,4 @@ std::string image_file_name(const Board& board, const std::string& rig, bool hil
 // a pty (after "qemu-system-arm -nographic -monitor none").
 std::vector<std::string> qemu_machine_args(const Board& board, const std::string& elf);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

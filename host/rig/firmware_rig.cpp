@@ -2,7 +2,7 @@
 
 #include "host/rig/rig_reference.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 RigConfig firmware_rig(const Rig& rig) {
   RigConfig c{};
@@ -30,4 +30,4 @@ RigConfig firmware_rig(const Rig& rig) {
   return c;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

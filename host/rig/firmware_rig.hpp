@@ -4,11 +4,11 @@
 #include "host/rig/rig.hpp"
 #include "shared/rig_config.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // The rig's values in the firmware's form; `rig` must outlive the result
 // (its name is pointed to, not copied). The start-up reference is the
 // rig's [reference] task.
 RigConfig firmware_rig(const Rig& rig);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -18,7 +18,7 @@
 #include "shared/reference.hpp"
 #include "shared/rig_devices.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // What a rig file may describe. The loader refuses more; the console's
 // controller (HostCapacity) holds all of it; each MCU image holds its own
@@ -234,4 +234,4 @@ uint32_t rig_file_hash(const std::string& text);
 const char* output_source_name(OutputSource s);
 const char* sensor_source_name(SensorSource s);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

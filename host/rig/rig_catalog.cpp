@@ -16,7 +16,7 @@
 #include "host/paths/install_paths.hpp"
 #include "shared/platform_id.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -146,4 +146,4 @@ std::string rig_arg_help() {
   return "NAME|PATH" + (names.empty() ? std::string() : " (" + joined(names) + ")");
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -8,7 +8,7 @@
 
 #include "host/rig/rig.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // The shipped rigs' names, sorted; empty when the folder is missing.
 std::vector<std::string> rig_names();
@@ -35,4 +35,4 @@ CLI::Validator rig_arg_validator();
 // "NAME|PATH (the shipped rigs' names)" for option help.
 std::string rig_arg_help();
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -24,7 +24,7 @@
 #include "shared/rig_config.hpp"
 #include "shared/sim_plant.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 namespace {
 
@@ -1287,4 +1287,4 @@ Rig load_rig(const std::string& path) {
   return parse_rig(text, path);
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

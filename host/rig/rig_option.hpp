@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 inline CLI::Option* add_rig_option(CLI::App* app, std::string& rig, const std::string& help) {
   CLI::Option* opt = app->add_option("--rig", rig, help)->type_name("NAME|PATH");
@@ -26,4 +26,4 @@ inline CLI::Option* add_rig_option(CLI::App* app, std::string& rig, const std::s
   return opt;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

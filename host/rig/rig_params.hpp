@@ -4,7 +4,7 @@
 #include "host/rig/rig.hpp"
 #include "shared/params.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // Fails (TooLarge) when the capacity cannot hold the rig; the loader has
 // already put every value through PARAM_SET's checks.
@@ -34,4 +34,4 @@ Status rig_params(const Rig& rig, Params<Cap>& out) {
   return Status::Ok;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -4,7 +4,7 @@
 
 #include "host/files/cli_error.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 bool has_generic_plant(const Rig& rig) { return rig.plant.kind != nullptr && rig.plant.kind->kind == PlantKind::Generic; }
 
@@ -42,4 +42,4 @@ const PlantEntry& simulated_plant(const Rig& rig, const std::string& what) {
   return *rig.plant.kind;
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -7,7 +7,7 @@
 #include "host/rig/rig.hpp"
 #include "shared/plant_generic.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 // True for `[plant] kind = "generic"`.
 bool has_generic_plant(const Rig& rig);
@@ -21,4 +21,4 @@ GenericPlantSpec generic_plant_spec(const Rig& rig);
 // (`what` first) for a rig without a [plant].
 const PlantEntry& simulated_plant(const Rig& rig, const std::string& what);
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -1,6 +1,6 @@
 #include "host/rig/rig_reference.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 
 RefParams rig_reference(const Rig& rig, RefKind kind) {
   // In float, as the MCU computes from these parameters: the console's
@@ -53,4 +53,4 @@ const char* reference_kind_name(RefKind k) {
   return "?";
 }
 
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -48,7 +48,7 @@ struct Rig {
   std::vector<float> sensors, ref;
 
   Rig(const char* name, DerivMode mode) {
-    const console::Rig& rig = test::shipped_rig_file(name);
+    const host::Rig& rig = test::shipped_rig_file(name);
     std::ifstream in(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + rig.model.file, std::ios::binary);
     const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     params.assign(Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n, 0.0f);

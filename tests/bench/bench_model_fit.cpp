@@ -13,7 +13,7 @@
 
 namespace {
 
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 void BM_ModelFit50k(benchmark::State& state) {
   const PlantTarget target = nlsoft::test::shipped_target("hasel");

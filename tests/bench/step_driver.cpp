@@ -32,7 +32,7 @@ constexpr int kOtherShape = 3;
 // The rig's own task (its file's [reference]) on its simulated plant, with
 // its controller defaults.
 template <class Cap>
-int run(const console::Rig& rig, DerivMode mode, int steps, const char* model) {
+int run(const host::Rig& rig, DerivMode mode, int steps, const char* model) {
   if (Cap::m != rig.m() || Cap::n != rig.n() || Cap::w != rig.w()) return kOtherShape;
   const std::string path = model ? std::string(model) : std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + rig.model.file;
   std::ifstream in(path, std::ios::binary);
@@ -41,7 +41,7 @@ int run(const console::Rig& rig, DerivMode mode, int steps, const char* model) {
   static Model<Cap> M;
   // A trained model carries its fit after it, a section the firmware never reads.
   const Status parsed =
-      parse_model(file.data(), pipeline::split_model_file(file).model_size, M, storage, sizeof storage / sizeof(float));
+      parse_model(file.data(), model::split_model_file(file).model_size, M, storage, sizeof storage / sizeof(float));
   if (parsed == Status::TooLarge) return kOtherShape;  // the other hasel capacity may hold it
   if (parsed != Status::Ok) {
     std::fprintf(stderr, "cannot load %s\n", path.c_str());
@@ -65,7 +65,7 @@ int run(const console::Rig& rig, DerivMode mode, int steps, const char* model) {
     ctl.reset(u, y, l);
   else
     ctl.reset_at_rest(u, l);
-  const RefParams r = console::rig_reference(rig, rig.reference.kind);
+  const RefParams r = host::rig_reference(rig, rig.reference.kind);
   long iterations = 0;
   std::vector<float> y_ref, y_true;
   for (int k = 0; k < steps; ++k) {
@@ -92,7 +92,7 @@ int main(int argc, char** argv) {
                  argv[0]);
     return 2;
   }
-  const console::Rig& rig = test::shipped_rig_file(argv[1]);
+  const host::Rig& rig = test::shipped_rig_file(argv[1]);
   const DerivMode mode = std::strcmp(argv[2], "fd") == 0 ? DerivMode::Fd : DerivMode::Exact;
   const int steps = std::atoi(argv[3]);
   const char* model = argc == 5 ? argv[4] : nullptr;

@@ -16,7 +16,7 @@ using namespace nlsoft;
 
 
 TEST(BoardBuses, An386BusesAreThePortsAndARigFileNamesThemAlone) {
-  const console::BoardPins* b = console::find_board("mps2-an386");
+  const host::BoardPins* b = host::find_board("mps2-an386");
   ASSERT_NE(b, nullptr);
   ASSERT_EQ(b->buses.size(), std::size(fw::an386::kI2cBuses) + std::size(fw::an386::kSpiBuses));
   size_t i = 0;
@@ -35,11 +35,11 @@ TEST(BoardBuses, An386BusesAreThePortsAndARigFileNamesThemAlone) {
   EXPECT_TRUE(b->chip_selects.empty());
   EXPECT_TRUE(b->adc.empty());
   // The board table's order (host/rig/board_table.cpp).
-  EXPECT_EQ(console::board_names(), (std::vector<std::string>{"mps2-an386", "stm32f4", "mps2-an500", "mps2-an385"}));
+  EXPECT_EQ(host::board_names(), (std::vector<std::string>{"mps2-an386", "stm32f4", "mps2-an500", "mps2-an385"}));
 }
 
 TEST(BoardBuses, Stm32f4BusesAndChipSelectsTakeNoPinTwice) {
-  const console::BoardPins* b = console::find_board("stm32f4");
+  const host::BoardPins* b = host::find_board("stm32f4");
   ASSERT_NE(b, nullptr);
   ASSERT_EQ(b->buses.size(), 5u);
   EXPECT_EQ(b->buses[0].name, "i2c1");

@@ -24,7 +24,7 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 uint32_t hash_of(const char* rig) {
   Params<HostCapacity> params = test::shipped_params<HostCapacity>(rig);
   fw::FwSettings settings{};
-  const console::Rig& r = test::shipped_rig_file(rig);
+  const host::Rig& r = test::shipped_rig_file(rig);
   return fw::ParamService<HostCapacity>(params, r.m(), r.n(), settings).hash();
 }
 

@@ -166,6 +166,6 @@ TEST(Controller, RefusedParameterWriteKeepsTheRunningSet) {
 
 TEST(RigParams, ACapacityTooSmallForTheRigIsRefused) {
   Params<HaselCapacity> P;
-  EXPECT_EQ(console::rig_params(test::shipped_rig_file("hasel"), P), Status::Ok);
-  EXPECT_EQ(console::rig_params(test::shipped_rig_file("tendon"), P), Status::TooLarge);  // Nc = 3 > 1
+  EXPECT_EQ(host::rig_params(test::shipped_rig_file("hasel"), P), Status::Ok);
+  EXPECT_EQ(host::rig_params(test::shipped_rig_file("tendon"), P), Status::TooLarge);  // Nc = 3 > 1
 }

@@ -15,28 +15,28 @@
 namespace nlsoft::test {
 
 // rigs/<name>.toml, loaded once per process: a RigConfig points at its name.
-inline const console::Rig& shipped_rig_file(const std::string& name) {
-  static std::map<std::string, console::Rig> loaded;
+inline const host::Rig& shipped_rig_file(const std::string& name) {
+  static std::map<std::string, host::Rig> loaded;
   auto it = loaded.find(name);
   if (it == loaded.end())
-    it = loaded.emplace(name, console::load_rig(std::string(NLSOFT_RIGS_DIR) + "/" + name + ".toml")).first;
+    it = loaded.emplace(name, host::load_rig(std::string(NLSOFT_RIGS_DIR) + "/" + name + ".toml")).first;
   return it->second;
 }
 
 // The rig as the firmware holds it (what the simulator serves).
-inline RigConfig shipped_config(const std::string& name) { return console::firmware_rig(shipped_rig_file(name)); }
+inline RigConfig shipped_config(const std::string& name) { return host::firmware_rig(shipped_rig_file(name)); }
 
 // The rig's controller defaults in a capacity; throws (a failed test) when it cannot hold them.
 template <class Cap>
 Params<Cap> shipped_params(const std::string& name) {
   Params<Cap> P;
-  if (console::rig_params(shipped_rig_file(name), P) != Status::Ok)
+  if (host::rig_params(shipped_rig_file(name), P) != Status::Ok)
     throw std::runtime_error("the capacity cannot hold rig " + name + "'s controller");
   return P;
 }
 
 // The rig as `dataset` and `train` take it.
-inline pipeline::PlantTarget shipped_target(const std::string& name) {
+inline model::PlantTarget shipped_target(const std::string& name) {
   return console::rig_plant_target(shipped_rig_file(name));
 }
 

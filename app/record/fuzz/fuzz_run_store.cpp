@@ -122,7 +122,7 @@ void read_everything() {
     nc::export_run_csv(store, r.id, "/dev/null");
     try {
       (void)nc::recorded_start(store, r.id);
-    } catch (const nlsoft::console::CliError&) {
+    } catch (const nlsoft::host::CliError&) {
       // A run a replay refuses, in words: the other readers go on.
     }
   }

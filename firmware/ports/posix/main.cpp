@@ -100,7 +100,7 @@ int main(int argc, char** argv) {
   double rate = 0;
   bool fast = false;
   uint32_t seed = 1;
-  nlsoft::console::add_rig_option(&app, rig_arg,
+  nlsoft::host::add_rig_option(&app, rig_arg,
                                   "the rig: a shipped rig's name or a rig file (docs/rig-file.md) with a [plant] to simulate")
       ->capture_default_str();
   app.add_option("--rate", rate, "control loop rate in Hz (default: the rig's rate_hz, e.g. 130 for hasel)")
@@ -134,15 +134,15 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   // The rig and its plant, or a clear refusal before the pty exists.
-  static console::Rig rig;
+  static host::Rig rig;
   static RigConfig rig_config{};
   PlantKind plant{};
   GenericPlantSpec generic{};
   try {
-    rig = console::load_rig_arg(rig_arg);
-    plant = console::simulated_plant(rig, "--rig").kind;
-    if (plant == PlantKind::Generic) generic = console::generic_plant_spec(rig);
-    rig_config = console::firmware_rig(rig);
+    rig = host::load_rig_arg(rig_arg);
+    plant = host::simulated_plant(rig, "--rig").kind;
+    if (plant == PlantKind::Generic) generic = host::generic_plant_spec(rig);
+    rig_config = host::firmware_rig(rig);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: %s\n", e.what());
     return 2;
@@ -153,7 +153,7 @@ int main(int argc, char** argv) {
   // The rig's shipped model where the console finds it (host/paths).
   std::string model_tried;
   if (model_path.empty() && !rig.model.file.empty()) {
-    const nlsoft::console::Lookup found = nlsoft::console::find_model_file(rig.model.file);
+    const nlsoft::host::Lookup found = nlsoft::host::find_model_file(rig.model.file);
     model_path = found.found;
     model_tried = found.tried_lines();
   }

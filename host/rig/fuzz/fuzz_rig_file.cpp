@@ -17,7 +17,7 @@
 #include "host/rig/rig.hpp"
 #include "host/rig/rig_plant.hpp"
 
-namespace r = nlsoft::console;
+namespace r = nlsoft::host;
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

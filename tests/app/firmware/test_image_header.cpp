@@ -22,6 +22,9 @@ namespace {
 using nlsoft::test::contains;
 
 using namespace nlsoft::console;
+using nlsoft::host::CliError;
+using nlsoft::host::RigError;
+using nlsoft::host::parse_rig;
 
 const char* kRig = R"(name = "gripper"
 rate_hz = 80.0

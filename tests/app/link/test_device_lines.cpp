@@ -9,6 +9,10 @@
 #include "app/link/device_check.hpp"
 
 namespace nlsoft::console {
+
+using host::Rig;
+using host::parse_rig;
+
 namespace {
 
 namespace p = protocol;

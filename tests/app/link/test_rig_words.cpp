@@ -21,6 +21,9 @@
 #include "shared/model_file.hpp"
 
 namespace nlsoft::console {
+
+using host::rig_file_hash;
+
 namespace {
 
 namespace p = nlsoft::protocol;

@@ -25,6 +25,11 @@
 #include "host/files/printable.hpp"
 
 namespace nlsoft::console {
+
+using host::printable;
+using host::printable_into;
+using host::printable_within;
+
 namespace {
 
 namespace p = nlsoft::protocol;

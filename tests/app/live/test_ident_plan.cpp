@@ -14,6 +14,11 @@
 #include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+using host::Rig;
+using host::RigIdentChoice;
+
 namespace {
 
 namespace p = protocol;

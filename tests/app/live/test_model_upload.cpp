@@ -26,6 +26,9 @@
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+
 namespace {
 
 std::vector<uint8_t> read_bytes(const std::string& path) {

@@ -7,6 +7,9 @@
 #include "app/tui/plot_view.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+
 namespace {
 
 ParamInfo param(const char* name, protocol::ParamType type, uint8_t size, float lo = 0, float hi = 1e12f,

@@ -11,6 +11,11 @@
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+using host::Rig;
+using host::load_rig;
+
 namespace {
 
 ParamInfo param(const char* name, protocol::ParamType type, uint8_t size) {

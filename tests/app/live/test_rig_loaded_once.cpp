@@ -21,6 +21,12 @@
 #include "host/rig/rig_catalog.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+using host::rig_args_resolved;
+using host::rig_files_loaded;
+using host::rig_path;
+
 namespace {
 
 struct Reads {

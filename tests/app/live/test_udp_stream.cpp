@@ -21,6 +21,9 @@
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+
 namespace {
 
 using test::run_process;

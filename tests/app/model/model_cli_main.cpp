@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   CLI::App app{"nlsoft model pipeline (test driver)"};
   app.require_subcommand(1);
   using namespace nlsoft::console;
+  using nlsoft::host::rig_name_of_platform;
   add_dataset_command(app, rig_target_arg);
   add_train_command(app, rig_target_arg);
   add_model_command(app, rig_target_arg, rig_name_of_platform);

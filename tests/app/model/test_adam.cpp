@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-using nlsoft::pipeline::Adam;
+using nlsoft::model::Adam;
 
 // The first step moves each weight by lr against its gradient's sign: the
 // bias correction makes m1^ = g and m2^ = g^2 after one step.

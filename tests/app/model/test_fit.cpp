@@ -14,7 +14,7 @@
 #include "app/model/model_section.hpp"
 #include "app/model/model_store.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 TEST(FitScores, FitPercentIsMatlabComparesOnAHandComputedCase) {
@@ -199,4 +199,4 @@ TEST(FitText, AFarBetterDoubleArxIsExplainedAsFloatRounding) {
 }
 
 }  // namespace
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

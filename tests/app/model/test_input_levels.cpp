@@ -3,7 +3,7 @@
 
 #include "app/model/input_levels.hpp"
 
-namespace nlsoft::pipeline {
+namespace nlsoft::model {
 namespace {
 
 // A run of m inputs whose input i takes values from its own list in turn.
@@ -43,4 +43,4 @@ TEST(InputLevels, SaysNothingWhenEveryInputTookThreeLevels) {
 }
 
 }  // namespace
-}  // namespace nlsoft::pipeline
+}  // namespace nlsoft::model

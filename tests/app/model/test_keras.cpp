@@ -15,7 +15,7 @@
 #include "shared/platform_id.hpp"
 
 using namespace nlsoft;
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 using nlsoft::test::H5Writer;
 using nlsoft::test::run_cli;
 

@@ -13,7 +13,7 @@
 #include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 namespace {
 

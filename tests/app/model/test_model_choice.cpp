@@ -13,7 +13,7 @@
 #include "app/model/train.hpp"
 
 using namespace nlsoft;
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 namespace {
 

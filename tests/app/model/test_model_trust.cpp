@@ -13,7 +13,7 @@
 #include "app/model/atomic_file.hpp"
 
 using namespace nlsoft;
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 namespace {
 

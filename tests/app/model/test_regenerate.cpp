@@ -9,7 +9,7 @@
 #include "support/shipped_rigs.hpp"
 
 using namespace nlsoft;
-using namespace nlsoft::pipeline;
+using namespace nlsoft::model;
 
 TEST(Regenerate, MsdModelMatchesTheShippedQuality) {
   const ModelFile shipped = load_model_file(std::string(NLSOFT_SOURCE_DIR) + "/app/models/msd.nlsm");

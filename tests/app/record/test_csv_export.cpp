@@ -17,6 +17,10 @@
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+using host::OutputFile;
+
 namespace {
 
 namespace tf = protocol::telemetry_field;

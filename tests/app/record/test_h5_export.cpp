@@ -25,6 +25,11 @@
 #include "app/support/text_checks.hpp"
 
 namespace nlsoft::console {
+
+using host::Rig;
+using host::load_rig_arg;
+using host::rig_path;
+
 namespace {
 
 using nlsoft::test::contains;

@@ -19,6 +19,9 @@
 #include "app/support/temp_dir.hpp"
 
 namespace nlsoft::console {
+
+using host::CliError;
+
 namespace {
 
 namespace tf = protocol::telemetry_field;

@@ -25,6 +25,10 @@ namespace {
 namespace p = nlsoft::protocol;
 using namespace nlsoft;
 using namespace nlsoft::console;
+using nlsoft::host::Rig;
+using nlsoft::host::find_model_file;
+using nlsoft::host::load_rig_arg;
+using nlsoft::host::rig_reference;
 
 struct Recorded {
   RefParams ref{};

@@ -22,6 +22,18 @@
 #include "shared/sim_plant.hpp"
 
 namespace nlsoft::console {
+
+using host::BoardBus;
+using host::BoardPins;
+using host::Rig;
+using host::RigDevice;
+using host::RigLayer;
+using host::RigSensor;
+using host::SensorSource;
+using host::find_board;
+using host::firmware_rig;
+using host::load_rig;
+
 namespace {
 
 Rig shipped(const std::string& name) { return load_rig(std::string(NLSOFT_RIGS_DIR) + "/" + name + ".toml"); }
@@ -126,7 +138,7 @@ TEST_P(ShippedRig, PinsAreTheStm32f4Table) {
 }
 
 TEST_P(ShippedRig, TheModelFileHasTheLayers) {
-  const pipeline::ModelFile f = pipeline::load_model_file(std::string(NLSOFT_MODELS_DIR) + "/" + rig.model.file);
+  const model::ModelFile f = model::load_model_file(std::string(NLSOFT_MODELS_DIR) + "/" + rig.model.file);
   ASSERT_EQ(size_t(f.shape.layer_count), rig.model.layers.size());
   EXPECT_EQ(f.shape.m, rig.m());
   EXPECT_EQ(f.shape.n, rig.n());
@@ -138,7 +150,7 @@ TEST_P(ShippedRig, TheModelFileHasTheLayers) {
     EXPECT_EQ(R.kind, L.kind) << i;
     EXPECT_EQ(R.units, int(L.out)) << i;
     if (L.kind == LayerKind::Dense) {
-      EXPECT_EQ(R.activation, pipeline::activation_name(L.act)) << i;
+      EXPECT_EQ(R.activation, model::activation_name(L.act)) << i;
     }
   }
 }

@@ -16,6 +16,11 @@
 
 using namespace nlsoft;
 using namespace nlsoft::console;
+using nlsoft::host::CliError;
+using nlsoft::host::Rig;
+using nlsoft::host::find_model_file;
+using nlsoft::host::load_rig;
+using nlsoft::host::rig_params;
 
 namespace {
 

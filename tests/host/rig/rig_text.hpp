@@ -7,7 +7,7 @@
 
 #include "host/rig/rig.hpp"
 
-namespace nlsoft::console::rig_text {
+namespace nlsoft::host::rig_text {
 
 // The 1-based line of the n-th (1-based) occurrence of `needle` in `text`.
 inline int line_of(const std::string& text, const std::string& needle, int nth = 1) {
@@ -54,4 +54,4 @@ inline void expect_error(const std::string& text, int line, const std::string& l
   EXPECT_EQ(e.line, line) << e.what();
 }
 
-}  // namespace nlsoft::console::rig_text
+}  // namespace nlsoft::host::rig_text

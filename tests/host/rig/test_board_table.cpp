@@ -16,7 +16,7 @@
 #include "host/rig/board_pins.hpp"
 #include "host/rig/board_table.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 namespace {
 
 using Words = std::vector<std::string>;
@@ -164,4 +164,4 @@ TEST(BoardTable, IsTheBashCompletionsListOfBoards) {
 }
 
 }  // namespace
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -9,7 +9,7 @@
 #include "../../support/rig_with_chips.hpp"
 #include "rig_text.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 namespace {
 
 using rig_text::expect_error;
@@ -177,4 +177,4 @@ TEST(RigDevices, MoreDevicesThanTheCapacityAreRefused) {
 }
 
 }  // namespace
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

@@ -10,7 +10,7 @@
 #include "host/rig/rig_plant.hpp"
 #include "rig_text.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 namespace {
 
 const char* kBase = R"(name = "probe"
@@ -657,4 +657,4 @@ TEST(RigLoader, SettingsOnABoardWithoutASettingsFlashAreRefusedAtTheirLine) {
 }
 
 }  // namespace
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

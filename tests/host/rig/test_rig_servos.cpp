@@ -10,7 +10,7 @@
 #include "host/rig/rig.hpp"
 #include "rig_text.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 namespace {
 
 using rig_text::expect_error;
@@ -129,4 +129,4 @@ TEST(RigServos, AnMps2An386RigHasNoServoBus) {
 }
 
 }  // namespace
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host

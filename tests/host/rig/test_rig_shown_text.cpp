@@ -7,7 +7,7 @@
 #include "host/rig/rig.hpp"
 #include "rig_text.hpp"
 
-namespace nlsoft::console {
+namespace nlsoft::host {
 namespace {
 
 const char* kBase = R"(name = "probe"
@@ -91,4 +91,4 @@ TEST(RigShownText, ARangeWiderThanAFloatIsRefusedWithTheSpan) {
 }
 
 }  // namespace
-}  // namespace nlsoft::console
+}  // namespace nlsoft::host
