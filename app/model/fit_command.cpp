@@ -224,10 +224,10 @@ void run_fit(const FitArgs& a, const TargetResolver& resolve, const PlatformName
 
 }  // namespace
 
-void add_model_fit_command(CLI::App& model, TargetResolver resolve, PlatformNamer name_platform, RunLoader load_run,
+void add_model_fit_command(CLI::App& model_command, TargetResolver resolve, PlatformNamer name_platform, RunLoader load_run,
                            ScriptPlotter plot) {
   auto args = std::make_shared<FitArgs>();
-  CLI::App* fit = model.add_subcommand(
+  CLI::App* fit = model_command.add_subcommand(
       "fit",
       "Judge a model on recorded runs or files as system identification does: per run, a free-run\n"
       "simulation (the y history fed the model's own predictions, driven by the run's recorded u and\n"

@@ -18,7 +18,7 @@ namespace nlsoft::console {
 // app/record/gnuplot.hpp); empty: --svg/--png are refused.
 using ScriptPlotter = std::function<std::string(const std::string& script)>;
 
-void add_model_fit_command(CLI::App& model, model::TargetResolver resolve, model::PlatformNamer name_platform,
+void add_model_fit_command(CLI::App& model_command, model::TargetResolver resolve, model::PlatformNamer name_platform,
                            model::RunLoader load_run, ScriptPlotter plot);
 
 }  // namespace nlsoft::console

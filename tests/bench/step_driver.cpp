@@ -32,9 +32,9 @@ constexpr int kOtherShape = 3;
 // The rig's own task (its file's [reference]) on its simulated plant, with
 // its controller defaults.
 template <class Cap>
-int run(const host::Rig& rig, DerivMode mode, int steps, const char* model) {
+int run(const host::Rig& rig, DerivMode mode, int steps, const char* model_path) {
   if (Cap::m != rig.m() || Cap::n != rig.n() || Cap::w != rig.w()) return kOtherShape;
-  const std::string path = model ? std::string(model) : std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + rig.model.file;
+  const std::string path = model_path ? std::string(model_path) : std::string(NLSOFT_SOURCE_MODELS_DIR) + "/" + rig.model.file;
   std::ifstream in(path, std::ios::binary);
   const std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   static float storage[Cap::weights + 2 * Dims<Cap>::p + 2 * Cap::n];
@@ -95,14 +95,14 @@ int main(int argc, char** argv) {
   const host::Rig& rig = test::shipped_rig_file(argv[1]);
   const DerivMode mode = std::strcmp(argv[2], "fd") == 0 ? DerivMode::Fd : DerivMode::Exact;
   const int steps = std::atoi(argv[3]);
-  const char* model = argc == 5 ? argv[4] : nullptr;
+  const char* model_path = argc == 5 ? argv[4] : nullptr;
   // The capacity an image of the rig is generated with: the one of the
   // rig's dimensions whose shape the model has (hasel: ours, or the
   // authors' 36-10-5-3).
-  int rc = run<MsdCapacity>(rig, mode, steps, model);
-  if (rc == kOtherShape) rc = run<HaselCapacity>(rig, mode, steps, model);
-  if (rc == kOtherShape) rc = run<HaselAuthorsCapacity>(rig, mode, steps, model);
-  if (rc == kOtherShape) rc = run<TendonCapacity>(rig, mode, steps, model);
+  int rc = run<MsdCapacity>(rig, mode, steps, model_path);
+  if (rc == kOtherShape) rc = run<HaselCapacity>(rig, mode, steps, model_path);
+  if (rc == kOtherShape) rc = run<HaselAuthorsCapacity>(rig, mode, steps, model_path);
+  if (rc == kOtherShape) rc = run<TendonCapacity>(rig, mode, steps, model_path);
   if (rc == kOtherShape) std::fprintf(stderr, "no image capacity of rig %s compiles this model's shape\n", argv[1]);
   return rc == 0 ? 0 : 2;
 }
