@@ -314,6 +314,7 @@ class FixedGenericPlant {
   static constexpr float kDt = Spec.dt;
 
   void reset(uint32_t seed = 0) { state_.reset(Spec, seed); }
+  void reseed_noise(uint32_t seed) { state_.reseed_noise(seed); }
   void step(const float* u, float dt) { state_.step(Spec, u, dt); }
   void output(float* y) const { state_.output(Spec, y); }
   void sensors(float* l) { state_.sensors(Spec, l); }

@@ -13,7 +13,7 @@ template <class Plant>
 class HilHal final : public Hal {
  public:
   static constexpr bool kMeasuresOutput = true;  // the simulated plant's true output
-  explicit HilHal(float dt, uint32_t seed = 1) : dt_(dt) {
+  explicit HilHal(float dt, uint32_t seed = 1) : dt_(dt), seed_(seed) {
     plant_.reset(seed);
     Plant::neutral_input(u_);
     sample();
@@ -35,6 +35,11 @@ class HilHal final : public Hal {
   }
 
   void start() {}
+  // The plant's noise starts over from its seed at each run, as the
+  // simulator's does (core/hal.hpp): otherwise a run's sensor noise depended
+  // on how many periods the image idled before it, and the same ident
+  // command recorded other data on each boot.
+  void run_begins() override { plant_.reseed_noise(seed_); }
 
   // One period of the plant under the last command, then the sensors and
   // the true output the next step will read.
@@ -51,6 +56,7 @@ class HilHal final : public Hal {
 
   Plant plant_;
   float dt_;
+  uint32_t seed_;
   float u_[Plant::m] = {};
   float l_[Plant::w + 1] = {};  // +1: msd has no sensor channel
   float y_[Plant::n] = {};
