@@ -38,8 +38,13 @@ class HilHal final : public Hal {
   // The plant's noise starts over from its seed at each run, as the
   // simulator's does (core/hal.hpp): otherwise a run's sensor noise depended
   // on how many periods the image idled before it, and the same ident
-  // command recorded other data on each boot.
-  void run_begins() override { plant_.reseed_noise(seed_); }
+  // command recorded other data on each boot. The sensors are read again
+  // from the new sequence: the run's first step reads them before the plant
+  // advances.
+  void run_begins() override {
+    plant_.reseed_noise(seed_);
+    sample();
+  }
 
   // One period of the plant under the last command, then the sensors and
   // the true output the next step will read.
