@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "app/support/run_process.hpp"
+#include "support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {
@@ -91,10 +92,7 @@ TEST_F(Conformance, JsonReportsEveryCheck) {
 TEST_F(Conformance, AnyRigFileWithAPlantIsServedAndPasses) {
   const std::string dir = ::testing::TempDir() + "conformance-any-rig";
   std::filesystem::create_directories(dir);
-  std::ifstream in(NLSOFT_SOURCE_DIR "/rigs/tendon.toml");
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string rig = std::regex_replace(text.str(), std::regex("name = \"tendon\""), "name = \"bender\"",
+  std::string rig = std::regex_replace(nlsoft::test::slurp(NLSOFT_SOURCE_DIR "/rigs/tendon.toml"), std::regex("name = \"tendon\""), "name = \"bender\"",
                                        std::regex_constants::format_first_only);
   rig = std::regex_replace(rig, std::regex("\nQ = \\[[^\n]*"), "\nQ = [1e-3, 4e3, 3e3]");
   ASSERT_NE(rig.find("name = \"bender\""), std::string::npos);

@@ -15,7 +15,7 @@
 #include "host/files/cli_error.hpp"
 #include "app/firmware/generated_text.hpp"
 #include "app/firmware/image_header.hpp"
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 
 namespace {
 

@@ -22,7 +22,7 @@
 #include "app/link/sim_launcher.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 
 extern char** environ;
 

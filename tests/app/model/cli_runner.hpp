@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "support/text_checks.hpp"
+
 namespace nlsoft::test {
 
 struct CliResult {
@@ -24,11 +26,9 @@ inline CliResult run_cli(const std::string& args) {
       ::testing::TempDir() + "/cli_output_" + std::to_string(::getpid()) + "_" + std::to_string(++calls) + ".txt";
   const std::string cmd = std::string(NLSOFT_MODEL_CLI) + " " + args + " > " + log + " 2>&1";
   const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream ss;
-  ss << in.rdbuf();
+  std::string output = nlsoft::test::slurp(log);
   std::remove(log.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
 inline bool file_exists(const std::string& path) { return std::ifstream(path).good(); }

@@ -9,7 +9,7 @@
 
 #include "app/model/model_store.hpp"
 #include "cli_runner.hpp"
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 
 using nlsoft::test::file_exists;
 using nlsoft::test::run_cli;

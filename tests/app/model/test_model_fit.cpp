@@ -19,7 +19,7 @@
 #include "app/record/sample.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {

@@ -23,7 +23,7 @@
 #include "shared/model_file.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {

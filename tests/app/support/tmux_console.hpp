@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 #include "run_process.hpp"
 
 namespace nlsoft::console::tui_test {

@@ -20,7 +20,7 @@
 #include "app/support/tmux_console.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/temp_dir.hpp"
-#include "app/support/text_checks.hpp"
+#include "support/text_checks.hpp"
 
 namespace nlsoft::console {
 namespace {

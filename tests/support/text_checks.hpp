@@ -1,5 +1,5 @@
 #pragma once
-// What the console's tests ask of a text: whether it holds a phrase, and a
+// What the tests ask of a text: whether it holds a phrase, and a
 // file's whole contents. One definition for every test file (a unity build
 // merges them into one source).
 #include <fstream>
