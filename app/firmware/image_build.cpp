@@ -387,6 +387,113 @@ std::string shipped_name(const Rig& rig) {
   }
 }
 
+// The model file the images embed, absolute (the cache folder is keyed by
+// this name and --qemu finds the image by it, last_built_with_model, from
+// whatever folder it is run in): --model, else the rig's [model] among the
+// shipped models, else none and `note` says so.
+std::string model_for_image(const Rig& rig, const ImageBuild& q, std::string& note) {
+  if (!q.model.empty()) return fs::absolute(q.model).lexically_normal().string();
+  if (rig.model.file.empty()) return "";
+  if (const std::string found = find_model_file(rig.model.file).found; !found.empty())
+    return fs::absolute(found).lexically_normal().string();
+  note = fmt::format("no model embedded: {} is not among the shipped models; the image waits for an upload "
+                     "(or give --model)",
+                     rig.model.file);
+  return "";
+}
+
+// An image folder's parts. The images are linked in .build/images and
+// copied out once all are built: an interrupted or failed build leaves the
+// folder's images as they were, and no part of a new one beside them. What
+// the build is made from (the rig folder, the model's copy) is staged in
+// .build too and recorded in .rig and model.nlsm only with the images: a
+// Ctrl-C left them naming the new model beside the old images.
+struct ImageFolder {
+  explicit ImageFolder(const std::string& d)
+      : dir(d), rigs(d + "/.rig"), build(d + "/.build"), staged(build + "/images"), staged_rigs(build + "/rig"),
+        staged_model(build + "/model"), log(d + "/build.log") {}
+  std::string dir, rigs, build, staged, staged_rigs, staged_model, log;
+};
+
+// The rig folder and the model's copy staged for the port project, one rig
+// per folder (the port project builds every rig folder it finds). The
+// image embeds a copy of the model in its folder, so the build tools never
+// take the path the user gave; the model alone: what a file carries after
+// it (train's fit) is not the firmware's, and its boot parse would refuse it.
+void stage_sources(const Rig& rig, const ImageFolder& f, ImageRequest& request, ImageSource& source,
+                   const std::string& who) {
+  std::error_code ec;
+  for (const std::string& d : {f.rigs, f.staged_rigs}) {
+    fs::create_directories(d, ec);
+    if (ec) throw CliError(fmt::format("{}: cannot create {}: {}", who, d, ec.message()));
+    for (const auto& e : fs::directory_iterator(d))
+      if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
+  }
+  fs::remove_all(f.staged_model, ec);
+  if (!request.model_file.empty()) {
+    const std::string given = request.model_file;
+    request.model_file = model_copy_for_image(given, f.staged_model);
+    source = image_source(rig, request);
+    // The file the user named, so --qemu FILE finds this image by it
+    // (last_built_with_model): the folder is keyed by that file.
+    source.cmake += fmt::format("set(NLSOFT_IMAGE_MODEL_SOURCE {})\n", cmake_bracket(given));
+  }
+  write_image_source(source, f.staged_rigs + "/" + rig.name);
+  fs::remove(f.log, ec);
+}
+
+// The port project configured and built into .build (a progress bar from
+// make's percentages), a Ctrl-C meanwhile leaving the folder as it was.
+void compile_images(const Rig& rig, const ImageBuild& q, const ImageFolder& f, const std::string& src,
+                    const std::string& what) {
+  auto interrupted = [&] {
+    if (g_interrupted)
+      throw CliError(fmt::format("{}: interrupted: the images in {} are the ones it held before", q.who, f.dir), 130);
+  };
+  ProgressBar bar("building " + what);
+  auto progress = [&](const std::string& line) {
+    if (const int p = make_percent(line); p >= 0) bar.update(p, 100, make_step(line));
+  };
+  bar.update(0, 100, "configuring (cmake)");
+  const int configured = run_logged(
+      {"cmake", "-S", src + "/firmware/ports/" + q.board, "-B", f.build,
+       "-DCMAKE_TOOLCHAIN_FILE=" + src + "/firmware/ports/cortex-m/cmake/arm-none-eabi.cmake", "-DNLSOFT_ROOT=" + src,
+       "-DNLSOFT_RIG_DIR=" + f.staged_rigs, std::string("-DNLSOFT_IMAGE_KINDS=") + (q.hil_only ? "hil" : "both"),
+       "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=" + f.staged},
+      f.log, [](const std::string&) {});
+  interrupted();
+  if (configured != 0) throw CliError(build_failure(f.log, rig, q.board, q.who));
+  const unsigned cores = std::thread::hardware_concurrency();
+  const int built =
+      run_logged({"cmake", "--build", f.build, "-j", std::to_string(cores > 0 ? cores : 1)}, f.log, progress);
+  interrupted();
+  if (built != 0) throw CliError(build_failure(f.log, rig, q.board, q.who));
+}
+
+// The built images into the folder, then what they were built from: the rig
+// folder, and the model's copy (none now: an older build's copy would name
+// another model). Not interrupted half way: SIGINT waits until every image
+// is in place.
+void publish_build(const Rig& rig, const ImageFolder& f, bool with_model, const std::string& who) {
+  sigset_t block, old;
+  sigemptyset(&block);
+  sigaddset(&block, SIGINT);
+  sigaddset(&block, SIGTERM);
+  ::pthread_sigmask(SIG_BLOCK, &block, &old);
+  try {
+    std::error_code ec;
+    publish_images(f.staged, f.dir, who);
+    fs::create_directories(f.rigs + "/" + rig.name, ec);
+    publish_images(f.staged_rigs + "/" + rig.name, f.rigs + "/" + rig.name, who);
+    if (!with_model) fs::remove(f.dir + "/model.nlsm", ec);
+    else publish_images(f.staged_model, f.dir, who);
+  } catch (...) {
+    ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    throw;
+  }
+  ::pthread_sigmask(SIG_SETMASK, &old, nullptr);  // a Ctrl-C meanwhile came after the build: it is done
+}
+
 }  // namespace
 
 BuiltImages build_images(const Rig& rig, const ImageBuild& q) {
@@ -397,19 +504,8 @@ BuiltImages build_images(const Rig& rig, const ImageBuild& q) {
   ImageRequest request;
   request.board = q.board;
   request.images = q.hil_only ? ImageKinds::Hil : ImageKinds::Both;
-  // Absolute: the cache folder is keyed by this name and --qemu finds the
-  // image by it (last_built_with_model), from whatever folder it is run in.
-  if (!q.model.empty()) request.model_file = fs::absolute(q.model).lexically_normal().string();
   std::string note;
-  if (request.model_file.empty() && !rig.model.file.empty()) {
-    // Absolute as --model's: image.cmake names the same file the same way whichever way it came.
-    if (const std::string found = find_model_file(rig.model.file).found; !found.empty())
-      request.model_file = fs::absolute(found).lexically_normal().string();
-    if (request.model_file.empty())
-      note = fmt::format("no model embedded: {} is not among the shipped models; the image waits for an upload "
-                         "(or give --model)",
-                         rig.model.file);
-  }
+  request.model_file = model_for_image(rig, q, note);
   ImageSource source;
   try {
     source = image_source(rig, request);
@@ -421,99 +517,30 @@ BuiltImages build_images(const Rig& rig, const ImageBuild& q) {
   require_toolchain(q.who);
   const std::string src = firmware_src(q.who);
 
-  const std::string dir = !q.out.empty() ? fs::absolute(q.out).lexically_normal().string()
-                                         : cache_folder(rig, q.board, source, request.model_file);
-  check_image_folder(dir, q.out.empty() ? "the cache folder" : "--out", q.who);
-  // The images are linked in .build/images and copied out once all are
-  // built: an interrupted or failed build leaves the folder's images as
-  // they were, and no part of a new one beside them.
-  // What the build is made from (the rig folder, the model's copy) is
-  // staged in .build too and recorded in .rig and model.nlsm only with the
-  // images: a Ctrl-C left them naming the new model beside the old images.
-  const std::string rigs = dir + "/.rig", build = dir + "/.build", staged = build + "/images",
-                    staged_rigs = build + "/rig", staged_model = build + "/model", log = dir + "/build.log";
-  std::error_code ec;
-  for (const std::string& d : {rigs, staged_rigs}) {
-    fs::create_directories(d, ec);
-    if (ec) throw CliError(fmt::format("{}: cannot create {}: {}", q.who, d, ec.message()));
-    // One rig per folder: the port project builds every rig folder it finds.
-    for (const auto& e : fs::directory_iterator(d))
-      if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
-  }
-  fs::remove_all(staged_model, ec);
-  // The image embeds a copy of the model in its folder, so the build tools
-  // never take the path the user gave. The model alone: what a file
-  // carries after it (train's fit) is not the firmware's, and its boot
-  // parse would refuse it.
-  if (!request.model_file.empty()) {
-    const std::string given = request.model_file;
-    request.model_file = model_copy_for_image(given, staged_model);
-    source = image_source(rig, request);
-    // The file the user named, so --qemu FILE finds this image by it
-    // (last_built_with_model): the folder is keyed by that file.
-    source.cmake += fmt::format("set(NLSOFT_IMAGE_MODEL_SOURCE {})\n", cmake_bracket(given));
-  }
-  write_image_source(source, staged_rigs + "/" + rig.name);
-  fs::remove(log, ec);
+  const ImageFolder f(!q.out.empty() ? fs::absolute(q.out).lexically_normal().string()
+                                     : cache_folder(rig, q.board, source, request.model_file));
+  check_image_folder(f.dir, q.out.empty() ? "the cache folder" : "--out", q.who);
+  stage_sources(rig, f, request, source, q.who);
 
   const Board& board = board_for(q.board, "--board");
   const std::string what = fmt::format("{}-{}{}", board.image_prefix, rig.name, q.hil_only ? "-hil" : "");
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   if (!note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), note.c_str());
   if (!source.note.empty()) std::fprintf(stderr, "%s: %s\n", q.who.c_str(), source.note.c_str());
-  if (!tty) std::fprintf(stderr, "%s: building %s for %s in %s\n", q.who.c_str(), what.c_str(), q.board.c_str(), dir.c_str());
+  if (!tty) std::fprintf(stderr, "%s: building %s for %s in %s\n", q.who.c_str(), what.c_str(), q.board.c_str(), f.dir.c_str());
   {
     const Interruptible interruptible;
-    auto interrupted = [&] {
-      if (g_interrupted)
-        throw CliError(fmt::format("{}: interrupted: the images in {} are the ones it held before", q.who, dir), 130);
-    };
-    ProgressBar bar("building " + what);
-    auto progress = [&](const std::string& line) {
-      if (const int p = make_percent(line); p >= 0) bar.update(p, 100, make_step(line));
-    };
-    bar.update(0, 100, "configuring (cmake)");
-    const int configured = run_logged(
-        {"cmake", "-S", src + "/firmware/ports/" + q.board, "-B", build,
-         "-DCMAKE_TOOLCHAIN_FILE=" + src + "/firmware/ports/cortex-m/cmake/arm-none-eabi.cmake", "-DNLSOFT_ROOT=" + src,
-         "-DNLSOFT_RIG_DIR=" + staged_rigs, std::string("-DNLSOFT_IMAGE_KINDS=") + (q.hil_only ? "hil" : "both"),
-         "-DCMAKE_RUNTIME_OUTPUT_DIRECTORY=" + staged},
-        log, [](const std::string&) {});
-    interrupted();
-    if (configured != 0) throw CliError(build_failure(log, rig, q.board, q.who));
-    const unsigned cores = std::thread::hardware_concurrency();
-    const int built =
-        run_logged({"cmake", "--build", build, "-j", std::to_string(cores > 0 ? cores : 1)}, log, progress);
-    interrupted();
-    if (built != 0) throw CliError(build_failure(log, rig, q.board, q.who));
-    // Not interrupted half way: SIGINT waits until every image is in place.
-    sigset_t block, old;
-    sigemptyset(&block);
-    sigaddset(&block, SIGINT);
-    sigaddset(&block, SIGTERM);
-    ::pthread_sigmask(SIG_BLOCK, &block, &old);
-    try {
-      publish_images(staged, dir, q.who);
-      // Then what they were built from: the rig folder, and the model's
-      // copy (none now: an older build's copy would name another model).
-      fs::create_directories(rigs + "/" + rig.name, ec);
-      publish_images(staged_rigs + "/" + rig.name, rigs + "/" + rig.name, q.who);
-      if (request.model_file.empty()) fs::remove(dir + "/model.nlsm", ec);
-      else publish_images(staged_model, dir, q.who);
-    } catch (...) {
-      ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
-      throw;
-    }
-    ::pthread_sigmask(SIG_SETMASK, &old, nullptr);  // a Ctrl-C meanwhile came after the build: it is done
+    compile_images(rig, q, f, src, what);
+    publish_build(rig, f, !request.model_file.empty(), q.who);
   }
   BuiltImages out;
-  out.dir = dir;
-  const std::string board_elf = dir + "/" + image_file_name(board, rig.name, false);
-  const std::string hil_elf = dir + "/" + image_file_name(board, rig.name, true);
+  out.dir = f.dir;
+  const std::string board_elf = f.dir + "/" + image_file_name(board, rig.name, false);
+  const std::string hil_elf = f.dir + "/" + image_file_name(board, rig.name, true);
   if (!q.hil_only && fs::exists(board_elf)) out.board = sized(board_elf);
   if (source.hil && fs::exists(hil_elf)) out.hil = sized(hil_elf);
   if (out.board.path.empty() && out.hil.path.empty())
-    throw CliError(fmt::format("{}: the build made no image (log: {})", q.who, log));
+    throw CliError(fmt::format("{}: the build made no image (log: {})", q.who, f.log));
   return out;
 }
 
