@@ -269,7 +269,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "nlsoft-firmware-sim: error: %s\n", e.what());
     return 2;
   }
-  const double rate = o.rate > 0 ? o.rate : rig_config.rate_hz;
+  const double rate = o.rate > 0 ? o.rate : double(rig_config.rate_hz);
 
   std::vector<uint8_t> model;
   std::string model_tried;
