@@ -49,11 +49,16 @@ built() {
 boot_qemu() {
   local serial=(-serial pty) label=''
   [ "$1" = netduinoplus2 ] && serial=(-serial null -serial pty) label=' (label serial1)'
+  # Gone before QEMU starts: the redirection below truncates the file in the
+  # background child, and a read that came first found the last boot's pty
+  # there, a number another test's terminal had since been given (seen once:
+  # bus_sensors' second boot "port busy", /dev/pts/0 open in a tmux pane's console).
+  rm -f qemu.out
   qemu-system-arm -nographic -monitor none -M "$1" "${serial[@]}" -kernel "$2" "${@:3}" >qemu.out 2>&1 &
   qemu=$!
   port=
   for _ in $(seq 50); do
-    port=$(sed -n "s|.*redirected to \(/dev/pts/[0-9]*\)$label.*|\1|p" qemu.out)
+    port=$(sed -n "s|.*redirected to \(/dev/pts/[0-9]*\)$label.*|\1|p" qemu.out 2>/dev/null)
     [ -n "$port" ] && return 0
     sleep 0.1
   done
