@@ -70,122 +70,142 @@ struct Barrier {
   }
 };
 
+namespace detail {
+
+// Small systems (the MCU capacities): J, g and H's lower triangle
+// accumulate in locals over every row and unknown, K a compile-time
+// count, and H's triangle is written once. All K rows: past k they are
+// zero (G's columns there are), see newton.hpp. Inlined into
+// build_system as the branch it was: the step's instructions are measured.
+template <class Cap>
+__attribute__((always_inline)) inline void build_small_system(const Params<Cap>& P, int m, int n, const float* y_ref,
+                                                              const float* U, const float* u_prev, const float* G,
+                                                              NewtonSystem<Cap>& S) {
+  constexpr int K = Dims<Cap>::K;
+  const int k = Dims<Cap>::unknowns(P.Nc, m);
+  const Barrier bar{P.s, P.b, P.r};
+  constexpr int kT = K * (K + 1) / 2;
+  float J = 0.0f, g[K], h[kT];
+NLSOFT_UNROLL(8)
+  for (int a = 0; a < K; ++a) g[a] = 0.0f;
+NLSOFT_UNROLL(64)
+  for (int i = 0; i < kT; ++i) h[i] = 0.0f;
+  // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
+  for (int t = P.N1 - 1; t < P.N; ++t)
+    for (int i = 0; i < n; ++i) {
+      const int row = t * n + i;
+      const float q = P.Q[i];
+      const float e = y_ref[row] - S.Y[row];
+      J += q * e * e;
+      const float* __restrict Gr = G + row * K;
+      int idx = 0;
+NLSOFT_UNROLL(8)
+      for (int a = 0; a < K; ++a) {
+        const float qga = 2.0f * q * Gr[a];
+        g[a] -= qga * e;
+NLSOFT_UNROLL(8)
+        for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
+      }
+    }
+  // smoothness (du_j = U_j - U_{j-1}) and the barrier, unknown by unknown;
+  // unrolled, so h's diagonal is indexed by constants and h stays in registers
+NLSOFT_UNROLL(8)
+  for (int a = 0; a < K; ++a) {
+    if (a >= k) break;
+    const int i = Cap::Nc == 1 ? a : a % m, j = Cap::Nc == 1 ? 0 : a / m;
+    const float L = P.Lambda[i];
+    const float du = U[a] - (j == 0 ? u_prev[i] : U[a - m]);
+    float bv, bg, bh;
+    bar.eval(U[a], bv, bg, bh);
+    J += L * du * du + bv;
+    g[a] += 2.0f * L * du + bg;
+    h[a * (a + 1) / 2 + a] += 2.0f * L + bh;
+    if (Cap::Nc > 1 && j > 0) {  // dJ/dU_{j-1} of the same du_j
+      const int b = a - m;
+      g[b] -= 2.0f * L * du;
+      h[b * (b + 1) / 2 + b] += 2.0f * L;
+      h[a * (a + 1) / 2 + b] -= 2.0f * L;  // lower triangle: b < a
+    }
+  }
+  S.J = J;
+  int idx = 0;
+NLSOFT_UNROLL(8)
+  for (int a = 0; a < K; ++a) {
+    S.g[a] = g[a];
+NLSOFT_UNROLL(8)
+    for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
+  }
+}
+
+// Any K: J, g and H's lower triangle accumulated in place.
+template <class Cap>
+__attribute__((always_inline)) inline void build_any_system(const Params<Cap>& P, int m, int n, const float* y_ref,
+                                                            const float* U, const float* u_prev, const float* G,
+                                                            NewtonSystem<Cap>& S) {
+  constexpr int K = Dims<Cap>::K;
+  const int k = Dims<Cap>::unknowns(P.Nc, m);
+  const Barrier bar{P.s, P.b, P.r};
+  S.J = 0.0f;
+  for (int a = 0; a < K; ++a) {
+    S.g[a] = 0.0f;
+    for (int b = 0; b <= a; ++b) S.H[a * K + b] = 0.0f;
+  }
+  // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
+  for (int t = P.N1 - 1; t < P.N; ++t)
+    for (int i = 0; i < n; ++i) {
+      const int row = t * n + i;
+      const float q = P.Q[i];
+      const float e = y_ref[row] - S.Y[row];
+      S.J += q * e * e;
+      const float* __restrict Gr = G + row * K;
+      for (int a = 0; a < k; ++a) {
+        const float qga = 2.0f * q * Gr[a];
+        S.g[a] -= qga * e;
+        float* __restrict Ha = S.H + a * K;
+        for (int b = 0; b <= a; ++b) Ha[b] += qga * Gr[b];
+      }
+    }
+
+  // smoothness: du_j = U_j - U_{j-1}; dJ/dU_j = 2 Lambda (du_j - du_{j+1})
+  for (int j = 0; j < P.Nc; ++j) {
+    for (int i = 0; i < m; ++i) {
+      const float L = P.Lambda[i];
+      const float prev = j == 0 ? u_prev[i] : U[(j - 1) * m + i];
+      const float du = U[j * m + i] - prev;
+      S.J += L * du * du;
+      const int a = j * m + i;
+      S.g[a] += 2.0f * L * du;
+      S.H[a * K + a] += 2.0f * L;
+      if (j > 0) {
+        const int b = (j - 1) * m + i;
+        S.g[b] -= 2.0f * L * du;
+        S.H[b * K + b] += 2.0f * L;
+        S.H[a * K + b] -= 2.0f * L;  // lower triangle: b < a
+      }
+    }
+  }
+
+  // barrier (Soloway): separable, diagonal
+  for (int a = 0; a < k; ++a) {
+    float bv, bg, bh;
+    bar.eval(U[a], bv, bg, bh);
+    S.J += bv;
+    S.g[a] += bg;
+    S.H[a * K + a] += bh;
+  }
+}
+
+}  // namespace detail
+
 // y_ref: N x n rows for y(k+1) ... y(k+N); U: Nc x m; u_prev: u(k-1);
 // S.Y: the predictions at U; G: their Jacobian, N n rows of K.
 template <class Cap>
 void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const float* U, const float* u_prev,
                   const float* G, NewtonSystem<Cap>& S) {
-  constexpr int K = Dims<Cap>::K;
-  const int k = Dims<Cap>::unknowns(P.Nc, m);
-  const Barrier bar{P.s, P.b, P.r};
-  if constexpr (K <= 8) {
-    // Small systems (the MCU capacities): J, g and H's lower triangle
-    // accumulate in locals over every row and unknown, K a compile-time
-    // count, and H's triangle is written once. All K rows: past k
-    // they are zero (G's columns there are), see newton.hpp.
-    constexpr int kT = K * (K + 1) / 2;
-    float J = 0.0f, g[K], h[kT];
-NLSOFT_UNROLL(8)
-    for (int a = 0; a < K; ++a) g[a] = 0.0f;
-NLSOFT_UNROLL(64)
-    for (int i = 0; i < kT; ++i) h[i] = 0.0f;
-    // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
-    for (int t = P.N1 - 1; t < P.N; ++t)
-      for (int i = 0; i < n; ++i) {
-        const int row = t * n + i;
-        const float q = P.Q[i];
-        const float e = y_ref[row] - S.Y[row];
-        J += q * e * e;
-        const float* __restrict Gr = G + row * K;
-        int idx = 0;
-NLSOFT_UNROLL(8)
-        for (int a = 0; a < K; ++a) {
-          const float qga = 2.0f * q * Gr[a];
-          g[a] -= qga * e;
-NLSOFT_UNROLL(8)
-          for (int b = 0; b <= a; ++b) h[idx++] += qga * Gr[b];
-        }
-      }
-    // smoothness (du_j = U_j - U_{j-1}) and the barrier, unknown by unknown;
-    // unrolled, so h's diagonal is indexed by constants and h stays in registers
-NLSOFT_UNROLL(8)
-    for (int a = 0; a < K; ++a) {
-      if (a >= k) break;
-      const int i = Cap::Nc == 1 ? a : a % m, j = Cap::Nc == 1 ? 0 : a / m;
-      const float L = P.Lambda[i];
-      const float du = U[a] - (j == 0 ? u_prev[i] : U[a - m]);
-      float bv, bg, bh;
-      bar.eval(U[a], bv, bg, bh);
-      J += L * du * du + bv;
-      g[a] += 2.0f * L * du + bg;
-      h[a * (a + 1) / 2 + a] += 2.0f * L + bh;
-      if (Cap::Nc > 1 && j > 0) {  // dJ/dU_{j-1} of the same du_j
-        const int b = a - m;
-        g[b] -= 2.0f * L * du;
-        h[b * (b + 1) / 2 + b] += 2.0f * L;
-        h[a * (a + 1) / 2 + b] -= 2.0f * L;  // lower triangle: b < a
-      }
-    }
-    S.J = J;
-    int idx = 0;
-NLSOFT_UNROLL(8)
-    for (int a = 0; a < K; ++a) {
-      S.g[a] = g[a];
-NLSOFT_UNROLL(8)
-      for (int b = 0; b <= a; ++b, ++idx) S.H[a * K + b] = h[idx];
-    }
-    return;
-  } else {
-    S.J = 0.0f;
-    for (int a = 0; a < K; ++a) {
-      S.g[a] = 0.0f;
-      for (int b = 0; b <= a; ++b) S.H[a * K + b] = 0.0f;
-    }
-    // tracking: J += e' Q e, g -= 2 G' Q e, H += 2 G' Q G
-    for (int t = P.N1 - 1; t < P.N; ++t)
-      for (int i = 0; i < n; ++i) {
-        const int row = t * n + i;
-        const float q = P.Q[i];
-        const float e = y_ref[row] - S.Y[row];
-        S.J += q * e * e;
-        const float* __restrict Gr = G + row * K;
-        for (int a = 0; a < k; ++a) {
-          const float qga = 2.0f * q * Gr[a];
-          S.g[a] -= qga * e;
-          float* __restrict Ha = S.H + a * K;
-          for (int b = 0; b <= a; ++b) Ha[b] += qga * Gr[b];
-        }
-      }
-
-    // smoothness: du_j = U_j - U_{j-1}; dJ/dU_j = 2 Lambda (du_j - du_{j+1})
-    for (int j = 0; j < P.Nc; ++j) {
-      for (int i = 0; i < m; ++i) {
-        const float L = P.Lambda[i];
-        const float prev = j == 0 ? u_prev[i] : U[(j - 1) * m + i];
-        const float du = U[j * m + i] - prev;
-        S.J += L * du * du;
-        const int a = j * m + i;
-        S.g[a] += 2.0f * L * du;
-        S.H[a * K + a] += 2.0f * L;
-        if (j > 0) {
-          const int b = (j - 1) * m + i;
-          S.g[b] -= 2.0f * L * du;
-          S.H[b * K + b] += 2.0f * L;
-          S.H[a * K + b] -= 2.0f * L;  // lower triangle: b < a
-        }
-      }
-    }
-
-    // barrier (Soloway): separable, diagonal
-    for (int a = 0; a < k; ++a) {
-      float bv, bg, bh;
-      bar.eval(U[a], bv, bg, bh);
-      S.J += bv;
-      S.g[a] += bg;
-      S.H[a * K + a] += bh;
-    }
-
-  }
+  if constexpr (Dims<Cap>::K <= 8)
+    detail::build_small_system(P, m, n, y_ref, U, u_prev, G, S);
+  else
+    detail::build_any_system(P, m, n, y_ref, U, u_prev, G, S);
 }
 
 // J alone, from predictions Y (no derivatives).

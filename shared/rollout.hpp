@@ -154,6 +154,81 @@ inline void gru_cell(const Layer& L, const float* bias_rec, const float* g, cons
   }
 }
 
+// The queue entries of x(k+j) (Algorithm 1), normalised, and where each
+// came from (s.src): u-slot t holds u(k+j-t), a row of U (its index) or
+// x0's history (-1); y-slot t holds y(k+j-t), a prediction already made
+// (-2 - its index in Y) or x0's history (-1).
+template <class Cap>
+__attribute__((always_inline)) inline void queue_entries(const Model<Cap>& M, const float* x0, const float* U,
+                                                         const float* Y, int j, int Nc, RolloutScratch<Cap>& s) {
+  const int m = M.m, n = M.n, nd = M.nd, dd = M.dd;
+  const float* sc = M.in_scale();
+  const float* off = M.in_offset();
+  for (int t = 0; t < nd; ++t) {
+    const int row = j - t;
+    for (int i = 0; i < m; ++i) {
+      const int e = t * m + i;
+      const int col = row >= 0 ? (row < Nc ? row : Nc - 1) * m + i : -1;
+      const float x = col >= 0 ? U[col] : x0[(t - j - 1) * m + i];
+      s.xn[e] = (x - off[e]) * sc[e];
+      s.src[e] = int16_t(col);
+    }
+  }
+  for (int t = 0; t < dd; ++t) {
+    const int row = j - t - 1;
+    for (int i = 0; i < n; ++i) {
+      const int e = nd * m + t * n + i;
+      const float x = row >= 0 ? Y[row * n + i] : x0[nd * m + (t - j) * n + i];
+      s.xn[e] = (x - off[e]) * sc[e];
+      s.src[e] = int16_t(row >= 0 ? -2 - (row * n + i) : -1);
+    }
+  }
+}
+
+// The first layer's pre-activations into s.v[0]: z = pre + sum_e xn_e W1[e],
+// and with tangents dz = sum_e sc_e W1[e] dx_e into s.T[0], from the rows
+// of G of the predictions in the queue and a weight into U's own column.
+template <class Cap, bool kTangents>
+__attribute__((always_inline)) inline void first_layer(const Model<Cap>& M, const ConstantInputs& c,
+                                                       const float* G, RolloutScratch<Cap>& s) {
+  constexpr int K = Dims<Cap>::K;
+  const int queue = M.nd * M.m + M.dd * M.n;
+  const float* sc = M.in_scale();
+  const Layer& L0 = M.layer[0];
+  const int cols0 = layer_columns(L0.kind, L0.out);
+  const float* W0 = M.weights(L0);
+  float* z = s.v[0];
+  for (int q = 0; q < cols0; ++q) z[q] = c.pre[q];
+  for (int e = 0; e < queue; ++e) {  // row by row: W1 is stored [in][out]
+    const float xe = s.xn[e];
+    const float* w = W0 + e * cols0;
+    for (int q = 0; q < cols0; ++q) z[q] += xe * w[q];
+  }
+  if constexpr (kTangents) {
+    int nu = 0, np = 0;
+    int16_t* on_u = s.on_u;
+    int16_t* on_y = s.on_y;
+    for (int e = 0; e < queue; ++e) {
+      if (s.src[e] >= 0) on_u[nu++] = int16_t(e);
+      if (s.src[e] < -1) on_y[np++] = int16_t(e);
+    }
+    for (int q = 0; q < cols0; ++q) {  // predictions: their rows of G
+      float acc[K];
+      tangent_zero<K>(acc);
+      for (int i = 0; i < np; ++i) {
+        const int e = on_y[i];
+        tangent_axpy<K>(acc, sc[e] * W0[e * cols0 + q], G + (-2 - s.src[e]) * K);
+      }
+      tangent_scale<K>(s.T[0][q], acc, 1.0f);
+    }
+    for (int i = 0; i < nu; ++i) {  // U itself: a weight into its column, no product
+      const int e = on_u[i], col = s.src[e];
+      const float* w = W0 + e * cols0;
+      for (int q = 0; q < cols0; ++q) s.T[0][q][col] += sc[e] * w[q];
+    }
+  }
+}
+
 }  // namespace detail
 
 // Y: N x n predictions. G (exact only, else null): N n rows of K, row
@@ -162,71 +237,13 @@ template <class Cap, bool kTangents>
 void rollout(const Model<Cap>& M, const float* x0, const float* U, int N, int Nc, const ConstantInputs& c,
              float* Y, float* G, RolloutScratch<Cap>& s) {
   constexpr int K = Dims<Cap>::K;
-  const int m = M.m, n = M.n, nd = M.nd, dd = M.dd;
-  const int queue = nd * m + dd * n;
-  const float* sc = M.in_scale();
-  const float* off = M.in_offset();
-  const Layer& L0 = M.layer[0];
-  const int cols0 = layer_columns(L0.kind, L0.out);
-  const float* W0 = M.weights(L0);
+  const int m = M.m, n = M.n, nd = M.nd;
   const float* os = M.out_scale();
   const float* oo = M.out_offset();
 
   for (int j = 0; j < N; ++j) {
-    // ---- the queue entries of x(k+j) (Algorithm 1), normalised ----
-    // u-slot t holds u(k+j-t): a row of U, or x0's history
-    for (int t = 0; t < nd; ++t) {
-      const int row = j - t;
-      for (int i = 0; i < m; ++i) {
-        const int e = t * m + i;
-        const int col = row >= 0 ? (row < Nc ? row : Nc - 1) * m + i : -1;
-        const float x = col >= 0 ? U[col] : x0[(t - j - 1) * m + i];
-        s.xn[e] = (x - off[e]) * sc[e];
-        s.src[e] = int16_t(col);
-      }
-    }
-    // y-slot t holds y(k+j-t): a prediction already made, or x0's history
-    for (int t = 0; t < dd; ++t) {
-      const int row = j - t - 1;
-      for (int i = 0; i < n; ++i) {
-        const int e = nd * m + t * n + i;
-        const float x = row >= 0 ? Y[row * n + i] : x0[nd * m + (t - j) * n + i];
-        s.xn[e] = (x - off[e]) * sc[e];
-        s.src[e] = int16_t(row >= 0 ? -2 - (row * n + i) : -1);
-      }
-    }
-
-    // ---- first layer: z = pre + sum_e xn_e W1[e], dz = sum_e sc_e W1[e] dx_e ----
-    float* z = s.v[0];
-    for (int q = 0; q < cols0; ++q) z[q] = c.pre[q];
-    for (int e = 0; e < queue; ++e) {  // row by row: W1 is stored [in][out]
-      const float xe = s.xn[e];
-      const float* w = W0 + e * cols0;
-      for (int q = 0; q < cols0; ++q) z[q] += xe * w[q];
-    }
-    if constexpr (kTangents) {
-      int nu = 0, np = 0;
-      int16_t* on_u = s.on_u;
-      int16_t* on_y = s.on_y;
-      for (int e = 0; e < queue; ++e) {
-        if (s.src[e] >= 0) on_u[nu++] = int16_t(e);
-        if (s.src[e] < -1) on_y[np++] = int16_t(e);
-      }
-      for (int q = 0; q < cols0; ++q) {  // predictions: their rows of G
-        float acc[K];
-        detail::tangent_zero<K>(acc);
-        for (int i = 0; i < np; ++i) {
-          const int e = on_y[i];
-          detail::tangent_axpy<K>(acc, sc[e] * W0[e * cols0 + q], G + (-2 - s.src[e]) * K);
-        }
-        detail::tangent_scale<K>(s.T[0][q], acc, 1.0f);
-      }
-      for (int i = 0; i < nu; ++i) {  // U itself: a weight into its column, no product
-        const int e = on_u[i], col = s.src[e];
-        const float* w = W0 + e * cols0;
-        for (int q = 0; q < cols0; ++q) s.T[0][q][col] += sc[e] * w[q];
-      }
-    }
+    detail::queue_entries(M, x0, U, Y, j, Nc, s);
+    detail::first_layer<Cap, kTangents>(M, c, G, s);
 
     // ---- the layers' cells ----
     int cur = 0;
