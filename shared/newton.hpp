@@ -164,66 +164,6 @@ inline float clamp_mu(float mu) {
   return mu < SolverState::kMuMin ? SolverState::kMuMin : (mu > SolverState::kMuMax ? SolverState::kMuMax : mu);
 }
 
-// The unknowns held at a limit by the gradient (and a padded system's past
-// k), and the free ones' largest Hessian diagonal: the damping's scale.
-// Inlined as the loop it was: the step's instruction count is measured.
-struct ActiveSet {
-  bool any_free = false, any_active = false;
-  float hmax = 0.0f;
-};
-template <class Cap>
-__attribute__((always_inline)) inline ActiveSet find_active(const NewtonSystem<Cap>& S, const float* U,
-                                                           const float* lo, const float* hi, int k, int kk,
-                                                           bool* active) {
-  constexpr int K = Dims<Cap>::K;
-  ActiveSet r;
-NLSOFT_UNROLL(8)
-  for (int a = 0; a < kk; ++a) {
-    active[a] = a >= k || (U[a] <= lo[a] && S.g[a] > 0.0f) || (U[a] >= hi[a] && S.g[a] < 0.0f);
-    r.any_free = r.any_free || !active[a];
-    r.any_active = r.any_active || active[a];
-    const float d = S.H[a * K + a];
-    if (!active[a] && finite(d) && d > r.hmax) r.hmax = d;
-  }
-  return r;
-}
-
-// U moved by s.dU and clamped into [lo, hi]: s.U_base keeps where it was,
-// s.dU becomes the step taken. With the step: its largest |dU|, whether a
-// limit cut it, and J's decrease the quadratic model predicts for it,
-// -(g'dU + dU'H dU / 2), over H's lower triangle (H is symmetric).
-struct LimitedStep {
-  float size = 0.0f, predicted = 0.0f;
-  bool clamped = false;
-};
-template <class Cap>
-__attribute__((always_inline)) inline LimitedStep step_within_limits(const NewtonSystem<Cap>& S, int kk,
-                                                                     const float* lo, const float* hi, float* U,
-                                                                     SolverScratch<Cap>& s) {
-  constexpr int K = Dims<Cap>::K;
-  LimitedStep r;
-  float lin = 0.0f, quad = 0.0f;
-NLSOFT_UNROLL(8)
-  for (int a = 0; a < kk; ++a) {
-    s.U_base[a] = U[a];
-    const float want = U[a] + s.dU[a];
-    U[a] = clamp_to(want, lo[a], hi[a]);
-    r.clamped = r.clamped || U[a] != want;
-    s.dU[a] = U[a] - s.U_base[a];
-    r.size = std::fabs(s.dU[a]) > r.size ? std::fabs(s.dU[a]) : r.size;
-  }
-NLSOFT_UNROLL(8)
-  for (int a = 0; a < kk; ++a) {
-    lin += S.g[a] * s.dU[a];
-    float hd = 0.0f;
-NLSOFT_UNROLL(8)
-    for (int b = 0; b < a; ++b) hd += S.H[a * K + b] * s.dU[b];
-    quad += s.dU[a] * (2.0f * hd + S.H[a * K + a] * s.dU[a]);
-  }
-  r.predicted = -(lin + 0.5f * quad);
-  return r;
-}
-
 }  // namespace detail
 
 // kern: select_kernels() of M; x0: input vector before the decision (see
@@ -284,13 +224,6 @@ NLSOFT_UNROLL(8)
       st.mu = detail::clamp_mu(4.0f * st.mu);
     return true;
   };
-  // Back to U_base and its system, damped harder.
-  auto undo_step = [&](uint8_t flag) {
-    for (int a = 0; a < kk; ++a) U[a] = s.U_base[a];
-    swap_systems();
-    st.mu = detail::clamp_mu(10.0f * st.mu);
-    r.flags |= flag;
-  };
 
   for (int it = 0; it < P.nr_max_iter; ++it) {
     detail::linearise(M, kern, P, x0, U, cur->Y, s);
@@ -304,7 +237,10 @@ NLSOFT_UNROLL(8)
     if (pending) {
       pending = false;
       if (!ok || !judge(cur->J)) {  // the step raised J: undo it, damp harder
-        undo_step(kDamped);
+        for (int a = 0; a < kk; ++a) U[a] = s.U_base[a];
+        swap_systems();
+        st.mu = detail::clamp_mu(10.0f * st.mu);
+        r.flags |= kDamped;
         ok = true;
       }
     }
@@ -314,16 +250,25 @@ NLSOFT_UNROLL(8)
     }
 
     bool active[K];
-    const detail::ActiveSet held = detail::find_active(*cur, U, lo, hi, k, kk, active);
-    if (!held.any_free) {  // every input pinned at a limit by the gradient: optimal as it is
+    bool any_free = false, any_active = false;
+    float hmax = 0.0f;
+NLSOFT_UNROLL(8)
+    for (int a = 0; a < kk; ++a) {
+      active[a] = a >= k || (U[a] <= lo[a] && cur->g[a] > 0.0f) || (U[a] >= hi[a] && cur->g[a] < 0.0f);
+      any_free = any_free || !active[a];
+      any_active = any_active || active[a];
+      const float d = cur->H[a * K + a];
+      if (!active[a] && finite(d) && d > hmax) hmax = d;
+    }
+    if (!any_free) {  // every input pinned at a limit by the gradient: optimal as it is
       r.flags |= kConverged | kClamped;
       r.step = 0.0f;
       break;
     }
-    const float hscale = held.hmax > 0.0f ? held.hmax : 1.0f;
+    const float hscale = hmax > 0.0f ? hmax : 1.0f;
     bool solved = false;
     for (int tries = 0; tries < 4 && !solved; ++tries) {
-      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, held.any_active, s);
+      solved = detail::damped_direction(*cur, kk, st.mu * hscale, active, any_active, s);
       if (!solved) {
         r.flags |= kSingular;
         st.mu = detail::clamp_mu(100.0f * (st.mu > 1e-4f ? st.mu : 1e-4f));
@@ -331,13 +276,32 @@ NLSOFT_UNROLL(8)
     }
     if (!solved) break;
 
-    const detail::LimitedStep step = detail::step_within_limits(*cur, kk, lo, hi, U, s);
-    predicted = step.predicted;
+    // Take the step inside the limits; predict J's decrease from the model.
+    float step = 0.0f, lin = 0.0f, quad = 0.0f;
+    bool clamped = false;
+NLSOFT_UNROLL(8)
+    for (int a = 0; a < kk; ++a) {
+      s.U_base[a] = U[a];
+      const float want = U[a] + s.dU[a];
+      U[a] = clamp_to(want, lo[a], hi[a]);
+      clamped = clamped || U[a] != want;
+      s.dU[a] = U[a] - s.U_base[a];
+      step = std::fabs(s.dU[a]) > step ? std::fabs(s.dU[a]) : step;
+    }
+NLSOFT_UNROLL(8)
+    for (int a = 0; a < kk; ++a) {  // dU' H dU over H's lower triangle (H is symmetric)
+      lin += cur->g[a] * s.dU[a];
+      float hd = 0.0f;
+NLSOFT_UNROLL(8)
+      for (int b = 0; b < a; ++b) hd += cur->H[a * K + b] * s.dU[b];
+      quad += s.dU[a] * (2.0f * hd + cur->H[a * K + a] * s.dU[a]);
+    }
+    predicted = -(lin + 0.5f * quad);
     swap_systems();
     pending = true;
-    r.step = step.size;
-    if (step.clamped) r.flags |= kClamped;
-    if (step.size < P.nr_tol) {
+    r.step = step;
+    if (clamped) r.flags |= kClamped;
+    if (step < P.nr_tol) {
       r.flags |= kConverged;
       break;
     }
@@ -348,7 +312,10 @@ NLSOFT_UNROLL(8)
     cur->J = cost_value(P, m, n, y_ref, U, u_prev, cur->Y);
     // Below the tolerance the comparison is rounding noise: keep the step.
     if (!judge(cur->J) && !(r.step < P.nr_tol)) {
-      undo_step(kNoDescent);
+      for (int a = 0; a < kk; ++a) U[a] = s.U_base[a];
+      swap_systems();
+      st.mu = detail::clamp_mu(10.0f * st.mu);
+      r.flags |= kNoDescent;
       r.step = 0.0f;
     }
   }
