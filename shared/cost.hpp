@@ -78,12 +78,11 @@ namespace detail {
 // zero (G's columns there are), see newton.hpp. Inlined into
 // build_system as the branch it was: the step's instructions are measured.
 template <class Cap>
-__attribute__((always_inline)) inline void build_small_system(const Params<Cap>& P, int m, int n, const float* y_ref,
-                                                              const float* U, const float* u_prev, const float* G,
+__attribute__((always_inline)) inline void build_small_system(const Params<Cap>& P, int m, int n, int k,
+                                                              const Barrier& bar, const float* y_ref, const float* U,
+                                                              const float* u_prev, const float* G,
                                                               NewtonSystem<Cap>& S) {
   constexpr int K = Dims<Cap>::K;
-  const int k = Dims<Cap>::unknowns(P.Nc, m);
-  const Barrier bar{P.s, P.b, P.r};
   constexpr int kT = K * (K + 1) / 2;
   float J = 0.0f, g[K], h[kT];
 NLSOFT_UNROLL(8)
@@ -139,12 +138,11 @@ NLSOFT_UNROLL(8)
 
 // Any K: J, g and H's lower triangle accumulated in place.
 template <class Cap>
-__attribute__((always_inline)) inline void build_any_system(const Params<Cap>& P, int m, int n, const float* y_ref,
-                                                            const float* U, const float* u_prev, const float* G,
+__attribute__((always_inline)) inline void build_any_system(const Params<Cap>& P, int m, int n, int k,
+                                                            const Barrier& bar, const float* y_ref, const float* U,
+                                                            const float* u_prev, const float* G,
                                                             NewtonSystem<Cap>& S) {
   constexpr int K = Dims<Cap>::K;
-  const int k = Dims<Cap>::unknowns(P.Nc, m);
-  const Barrier bar{P.s, P.b, P.r};
   S.J = 0.0f;
   for (int a = 0; a < K; ++a) {
     S.g[a] = 0.0f;
@@ -202,10 +200,12 @@ __attribute__((always_inline)) inline void build_any_system(const Params<Cap>& P
 template <class Cap>
 void build_system(const Params<Cap>& P, int m, int n, const float* y_ref, const float* U, const float* u_prev,
                   const float* G, NewtonSystem<Cap>& S) {
+  const int k = Dims<Cap>::unknowns(P.Nc, m);
+  const Barrier bar{P.s, P.b, P.r};
   if constexpr (Dims<Cap>::K <= 8)
-    detail::build_small_system(P, m, n, y_ref, U, u_prev, G, S);
+    detail::build_small_system(P, m, n, k, bar, y_ref, U, u_prev, G, S);
   else
-    detail::build_any_system(P, m, n, y_ref, U, u_prev, G, S);
+    detail::build_any_system(P, m, n, k, bar, y_ref, U, u_prev, G, S);
 }
 
 // J alone, from predictions Y (no derivatives).
