@@ -97,42 +97,46 @@ void Network::initialise(Random& rng) {
   }
 }
 
+// Each layer writes its output straight into the next layer's input (the
+// last into out), and a Dense layer's activation is that output: the
+// recursion runs this once per window step, where copies and fresh buffers
+// cost as much as the layers' arithmetic on networks of a few units.
 const Eigen::MatrixXd& Network::forward(const Eigen::MatrixXd& X, Cache& c) const {
   const size_t n = layers_.size();
   c.in.resize(n);
   c.pre.resize(n);
   c.post.resize(n);
-  Eigen::MatrixXd a = X;
+  c.in[0] = X;
   for (size_t li = 0; li < n; ++li) {
     const Layer& L = layers_[li];
     const double* w = theta_.data() + L.offset;
-    c.in[li] = a;
+    const Eigen::MatrixXd& a = c.in[li];
+    Eigen::MatrixXd& next = li + 1 < n ? c.in[li + 1] : c.out;
     if (L.kind == LayerKind::Dense) {
       const ConstMap W(w, L.in, L.out);
       const ConstRow b(w + L.in * L.out, L.out);
       c.pre[li].noalias() = a * W;
       c.pre[li].rowwise() += b;
-      c.post[li] = activate(L.act, c.pre[li]);
-      a = c.post[li];
+      next = c.pre[li].unaryExpr([act = L.act](double x) { return act1(act, x); });
     } else {
       const int u = L.out, g3 = 3 * u;
       const ConstMap K(w, L.in, g3);
       const double* bias = w + (L.in + u) * g3;
-      Eigen::MatrixXd G = (a * K).rowwise() + ConstRow(bias, g3);
+      Eigen::MatrixXd& G = c.pre[li];
+      Eigen::MatrixXd& post = c.post[li];
+      G.noalias() = a * K;
+      G.rowwise() += ConstRow(bias, g3);
       if (L.reset_after) {
         G.leftCols(2 * u).rowwise() += ConstRow(bias + g3, 2 * u);
       }
-      Eigen::MatrixXd post(G.rows(), g3);
+      post.resize(G.rows(), g3);
       post.leftCols(2 * u) = activate(L.rec_act, G.leftCols(2 * u));
       if (L.reset_after)
         G.rightCols(u) += (post.middleCols(u, u).array().rowwise() * ConstRow(bias + g3 + 2 * u, u).array()).matrix();
       post.rightCols(u) = activate(L.act, G.rightCols(u));
-      c.pre[li] = G;
-      c.post[li] = post;
-      a = ((1.0 - post.leftCols(u).array()) * post.rightCols(u).array()).matrix();
+      next = ((1.0 - post.leftCols(u).array()) * post.rightCols(u).array()).matrix();
     }
   }
-  c.out = a;
   return c.out;
 }
 
@@ -155,7 +159,8 @@ void Network::backward_add(const Cache& c, const Eigen::MatrixXd& dOut, std::vec
     double* g = grad.data() + L.offset;
     const Eigen::MatrixXd& x = c.in[li];
     if (L.kind == LayerKind::Dense) {
-      const Eigen::MatrixXd dz = (d.array() * derivative_from_output(L.act, c.pre[li], c.post[li]).array()).matrix();
+      const Eigen::MatrixXd& out = li + 1 < layers_.size() ? c.in[li + 1] : c.out;  // the activation
+      const Eigen::MatrixXd dz = (d.array() * derivative_from_output(L.act, c.pre[li], out).array()).matrix();
       Map(g, L.in, L.out) += x.transpose() * dz;
       Eigen::Map<Eigen::RowVectorXd>(g + L.in * L.out, L.out) += dz.colwise().sum();
       if (li > 0 || dX) d = dz * ConstMap(w, L.in, L.out).transpose();

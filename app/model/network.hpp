@@ -47,7 +47,7 @@ class Network {
   struct Cache {
     std::vector<Eigen::MatrixXd> in;    // input of layer i
     std::vector<Eigen::MatrixXd> pre;   // Dense: pre-activation; GRU: gate pre-activations [z|r|h]
-    std::vector<Eigen::MatrixXd> post;  // GRU: gate values [z|r|h~]; Dense: the activation
+    std::vector<Eigen::MatrixXd> post;  // GRU: gate values [z|r|h~]; Dense: none (its activation is in[i + 1] or out)
     Eigen::MatrixXd out;
   };
 

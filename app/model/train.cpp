@@ -103,6 +103,7 @@ void solve_linear(Network& net, const Eigen::MatrixXd& Xn, const Eigen::MatrixXd
 struct OneStepData {
   const InputLayout& L;
   const Eigen::MatrixXd& Xn;
+  const RowMajorMatrix& Xn_rows;  // the same, row-major: a mini-batch draws rows at random
   const Eigen::MatrixXd& T;
   const Partition& P;
   const Normalisation& nz;
@@ -122,7 +123,7 @@ void fill_batch(const OneStepData& d, const TrainOptions& opt, const std::vector
   Tb.resize(size, L.n);
   for (long b = 0; b < size; ++b) {
     const long r = order[size_t(start + b)];
-    Xb.row(b) = d.Xn.row(r);
+    Xb.row(b) = d.Xn_rows.row(r);
     Tb.row(b) = d.T.row(r);
   }
   if (!(opt.y_noise > 0.0)) return;
@@ -556,7 +557,7 @@ void Training::fit_linear_start() {
     q.elapsed_s = elapsed_s();
     opt_.progress(q);
   };
-  warm_start(start_model_, OneStepData{layout(), Xn_, T_, split(), res_.trained.nz}, opt_, rng, progress);
+  warm_start(start_model_, OneStepData{layout(), Xn_, sim_.Xn, T_, split(), res_.trained.nz}, opt_, rng, progress);
   SimulationOptions so = opt_.sim;
   so.seed = opt_.seed;
   so.stop = opt_.stop;
@@ -584,7 +585,7 @@ void Training::fit_candidate(size_t i, int inner_threads) {
     one_step_val_[i] = loss_of(Loss::Mse, 1.0, net.predict(Xval_), Tval_).value;
   } else {
     const OneStepResult w =
-        warm_start(net, OneStepData{layout(), Xn_, T_, split(), res_.trained.nz}, opt_, rng, report);
+        warm_start(net, OneStepData{layout(), Xn_, sim_.Xn, T_, split(), res_.trained.nz}, opt_, rng, report);
     one_step_val_[i] = w.best_val;
     one_step_epochs_[i] = w.epochs;
     c.one_step_epochs = w.epochs;
