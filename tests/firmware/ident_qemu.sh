@@ -4,7 +4,7 @@
 # plant), built into each board's HIL image by any_rig_build.sh (`firmware
 # build --rig my.toml --board B --hil --model`), which QEMU boots for two
 # identification runs (`ident --qemu my.toml --board B --signal prbs`, then
-# `--signal walk`), each 12 s of the firmware's steps. Each run is recorded
+# `--signal walk`), each 6 s of the firmware's steps. Each run is recorded
 # as kind ident with every step the console said it would record at the
 # decimation it printed, no frame lost and no gap; its inputs stay inside the
 # file's limits, and it carries the measured outputs (y_true, the image's
@@ -23,7 +23,7 @@ stage=$2 part=qemu
 # Its own files beside the build part's, which it reads only.
 rm -rf ident && mkdir ident && cd ident && cp ../my.toml my.toml || exit 1
 
-seconds=12
+seconds=6
 steps=$((80 * seconds))
 for board in mps2-an386 stm32f4; do
   hil=$(grep -E -- "/nlsoft-(m4|stm32f4)-stage-hil.elf\$" ../build-$board.txt | awk '{print $2}')
