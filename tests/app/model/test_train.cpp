@@ -102,11 +102,16 @@ TEST(Train, LearnsAKnownFunctionRepeatably) {
   EXPECT_LT(a.test.mse[0], 1e-3 * var) << "variance " << var;
   const TrainResult b = train(s, test::shipped_target("msd"), o);
   EXPECT_EQ(a.model.params, b.model.params);  // bit for bit
+  // Another seed starts elsewhere: its weights differ from the first
+  // epochs on, so a few epochs show it (the whole run cost a quarter of the
+  // test, 20 s under ASan).
   o.seed = 12;
+  o.epochs = 5;
   const TrainResult c = train(s, test::shipped_target("msd"), o);
   EXPECT_NE(a.model.params, c.model.params);
   o.loss = Loss::Huber;
   o.seed = 11;
+  o.epochs = 150;
   const TrainResult h = train(s, test::shipped_target("msd"), o);
   EXPECT_LT(h.test.mse[0], 1e-2 * var);
 }
