@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <utility>
 
 #include "app/record/run_store.hpp"
 #include "app/record/sqlite.hpp"
@@ -52,21 +53,22 @@ void replay_model(int64_t id, const std::string& model_arg, const Rig& rig, Load
   load_model(found.found, out);
 }
 
-}  // namespace
-
-ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
-                                const std::string& model_arg) {
-  ReplaySource src;
-  src.id = id;
-  src.db = db;
+RecordedStart read_start(const std::string& db, int64_t id) {
   try {
     RunStore store(db);
-    src.start = recorded_start(store, id);
+    return recorded_start(store, id);
   } catch (const DbError& e) {
     throw CliError(e.what());
   }
+}
+
+ReplaySource with_rig(const std::string& db, int64_t id, RecordedStart start, Rig rig, const std::string& model_arg) {
+  ReplaySource src;
+  src.id = id;
+  src.db = db;
+  src.start = std::move(start);
+  src.rig = std::move(rig);
   const RunRow& row = src.start.row;
-  src.rig = replay_rig(id, rig_arg, row);
   if (std::lround(src.rig.rate_hz) != std::lround(row.loop_rate_hz))
     throw CliError(fmt::format("run {} ran at {:g} Hz, rig '{}' at {:g} Hz (a simulator started with --sim-rate): "
                                "not replayable as it ran",
@@ -76,6 +78,23 @@ ReplaySource open_replay_source(const std::string& db, int64_t id, const std::st
   src.model = std::move(model);
   src.model_given = !model_arg.empty();
   return src;
+}
+
+}  // namespace
+
+ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
+                                const std::string& model_arg) {
+  RecordedStart start = read_start(db, id);
+  Rig rig = replay_rig(id, rig_arg, start.row);
+  return with_rig(db, id, std::move(start), std::move(rig), model_arg);
+}
+
+ReplaySource open_replay_source(const std::string& db, int64_t id, const Rig& rig, const std::string& model_arg) {
+  RecordedStart start = read_start(db, id);
+  if (rig.name != start.row.platform)
+    throw CliError(fmt::format("run {} was recorded on rig '{}', not on this session's rig '{}'", id,
+                               start.row.platform, rig.name));
+  return with_rig(db, id, std::move(start), rig, model_arg);
 }
 
 }  // namespace nlsoft::console

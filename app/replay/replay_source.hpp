@@ -30,5 +30,9 @@ struct ReplaySource {
 // Throws CliError naming the run.
 ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
                                 const std::string& model_arg);
+// The same with the rig already loaded (a session's: `tune replay=N` in a
+// script), which must be the run's.
+ReplaySource open_replay_source(const std::string& db, int64_t id, const host::Rig& rig,
+                                const std::string& model_arg);
 
 }  // namespace nlsoft::console

@@ -20,7 +20,9 @@
 #include "app/record/loop_rate.hpp"
 #include "app/record/merge_y.hpp"
 #include "app/record/run_store.hpp"
+#include "app/replay/replay_source.hpp"
 #include "app/script/ident_words.hpp"
+#include "app/tune/replay_evaluator.hpp"
 #include "host/rig/rig.hpp"
 
 namespace nlsoft::console {
@@ -326,8 +328,37 @@ void ScriptRunner::tune(const Command& c) {
   cb.out = out_;
   cb.progress = progress_;
   cb.evaluated = tune_observer_;
-  const TuneResult r = run_tuning(console_, parse_tune_words(c.values), cb, &cancelled_);
+  TuneOptions o = parse_tune_words(c.values);
+  const TuneResult r = o.on_replays() ? tune_on_replays(o, cb) : run_tuning(console_, o, cb, &cancelled_);
   if (!r.have_best && !cancelled_.load()) ++fruitless_tunes_;
+}
+
+// `tune replay=N`: the candidates scored on replays of run N in this
+// process (as `tune --replay N`), the connected firmware untouched until
+// `apply` loads the best set onto it, as `params load` would: tuned on the
+// recording, then tried on the rig.
+TuneResult ScriptRunner::tune_on_replays(TuneOptions& o, const TuneCallbacks& cb) {
+  if (o.replay_last) {
+    const auto last = console_.runs().last();
+    if (!last) throw CliError("tune replay=last needs a finished run of this session first (run DURATION)");
+    o.replay = last->run_id;
+  }
+  const ReplaySource src = open_replay_source(console_.db_path(), o.replay, console_.rig(), o.model);
+  fit_window_to_run(src, o);
+  ReplayEvaluator evaluator(src, o, console_.recording());
+  out_(fmt::format("tune: run {} ({} steps at {:g} Hz) replayed per candidate in this process; the firmware is not "
+                   "touched{}",
+                   src.id, src.steps(), src.start.row.loop_rate_hz, o.apply ? " until the best is applied" : ""));
+  for (const std::string& s : src.start.not_repeated) out_(s);
+  TuneResult r = run_tuning(evaluator, o, cb, &cancelled_);
+  if (o.apply && r.have_best && !r.saved_to.empty() && !cancelled_.load()) {
+    const std::vector<std::string> changed = console_.params().load(r.saved_to);
+    r.applied = true;
+    out_(fmt::format("tune: the best set ({}) loaded onto the firmware (apply): {}", r.saved_to,
+                     changed.empty() ? std::string("nothing differed")
+                                     : fmt::format("{}", fmt::join(changed, "; "))));
+  }
+  return r;
 }
 
 void ScriptRunner::sweep(const Command& c, const std::string& file) {

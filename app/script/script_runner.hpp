@@ -60,6 +60,7 @@ class ScriptRunner {
   void note(const std::string& text);
   void sweep(const Command& c, const std::string& file);
   void tune(const Command& c);
+  TuneResult tune_on_replays(TuneOptions& o, const TuneCallbacks& cb);
   void check_completed(const RunSummary& s, const Command& c, const std::string& file);
   void merge_capture(int64_t run_id, const Command& c);
   void throw_if_cancelled(const Command& c, const std::string& file) const;

@@ -56,6 +56,20 @@ RunMetrics metrics_of(const std::string& db, int64_t id, double settle_s, double
 
 }  // namespace
 
+void fit_window_to_run(const ReplaySource& src, TuneOptions& o) {
+  const double length = src.duration_s();
+  if (o.settle_s >= length)
+    throw CliError(fmt::format("tune: run {} lasts {:.2f} s; settling {:g} s leaves nothing of it to score", src.id,
+                               length, o.settle_s));
+  if (!o.window_given) {
+    o.window_s = length - o.settle_s;
+  } else if (o.settle_s + o.window_s > length + 0.5 / src.start.row.loop_rate_hz) {
+    throw CliError(fmt::format("tune: run {} lasts {:.2f} s; settling {:g} s and a window of {:g} s reach past its "
+                               "end: give a shorter window, or none to score up to the end",
+                               src.id, length, o.settle_s, o.window_s));
+  }
+}
+
 ReplayEvaluator::ReplayEvaluator(const ReplaySource& src, const TuneOptions& o, bool record_best)
     : src_(src), o_(o), record_best_(record_best), params_(std::make_unique<Params>(src)) {
   // The candidates' replays in a database of their own: the figures of

@@ -20,6 +20,11 @@
 
 namespace nlsoft::console {
 
+// The scored window inside run `src`: settle= and window= must fit in it;
+// with no window given (o.window_given false), the rest of the run after
+// settle. Throws CliError naming the run and its length.
+void fit_window_to_run(const ReplaySource& src, TuneOptions& o);
+
 class ReplayEvaluator final : public TuneEvaluator {
  public:
   // src: run N, opened and checked (open_replay_source). record_best: the

@@ -131,21 +131,6 @@ void refuse_connection_options(const CLI::App& t, const TuneArgs& a) {
                                a.replay));
 }
 
-// --window left out: the rest of the run after --settle; given: inside it.
-void fit_window(const CLI::App& t, const ReplaySource& src, TuneOptions& o) {
-  const double length = src.duration_s();
-  if (o.settle_s >= length)
-    throw CliError(fmt::format("tune: run {} lasts {:.2f} s; --settle {:g}s leaves nothing of it to score", src.id,
-                               length, o.settle_s));
-  if (t.get_option("--window")->count() == 0) {
-    o.window_s = length - o.settle_s;
-  } else if (o.settle_s + o.window_s > length + 0.5 / src.start.row.loop_rate_hz) {
-    throw CliError(fmt::format("tune: run {} lasts {:.2f} s; --settle {:g}s and --window {:g}s reach past its end: "
-                               "give a shorter --window, or none to score up to the end",
-                               src.id, length, o.settle_s, o.window_s));
-  }
-}
-
 int run_replay_tune(const CLI::App& t, const TuneArgs& a) {
   TuneOptions o = options_from(a);
   refuse_connection_options(t, a);
@@ -153,7 +138,8 @@ int run_replay_tune(const CLI::App& t, const TuneArgs& a) {
   // to it, the evaluator set up: every refusal before a replay runs.
   const std::string db = a.link.db.empty() ? default_db_path() : a.link.db;
   const ReplaySource src = open_replay_source(db, a.replay, a.link.rig, a.model);
-  fit_window(t, src, o);
+  o.window_given = t.get_option("--window")->count() > 0;
+  fit_window_to_run(src, o);
   ReplayEvaluator evaluator(src, o, !a.link.no_record);
   install_interrupt_handlers();
   const std::string recording = a.link.no_record ? "nothing recorded" : "the best recorded to " + db;

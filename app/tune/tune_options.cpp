@@ -59,6 +59,12 @@ void validate(const TuneOptions& o) {
   if (o.budget_runs <= 0 && o.budget_s <= 0) throw std::invalid_argument("tune: give a budget (runs or time)");
   if (o.reference.find_first_not_of(" \t") == std::string::npos && !o.reference.empty())
     throw std::invalid_argument("reference: a preset name, e.g. swirl or \"swirl hold=1\"");
+  if (o.on_replays() && !o.reference.empty())
+    throw std::invalid_argument("tune: replay= replays the run's own reference; reference= selects one on the "
+                                "connected firmware: leave it out");
+  if (!o.on_replays() && !o.model.empty())
+    throw std::invalid_argument("tune: model=FILE names the model the replays run; it goes with replay=N (the "
+                                "connected firmware runs the model it holds: model upload)");
 }
 
 TuneOptions parse_tune_words(const std::vector<std::string>& words) {
@@ -78,7 +84,7 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
     if (eq == std::string::npos)
       throw std::invalid_argument(fmt::format(
           "tune: '{}' is neither NAME=LO..HI[:log|:lin] nor an option (objective= budget= reference= settle= window= "
-          "seed= method= max_saturated= save= apply)",
+          "seed= method= max_saturated= save= replay= model= apply)",
           w));
     if (key == "objective") {
       o.objective = value;
@@ -90,6 +96,17 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
       o.settle_s = duration();
     } else if (key == "window") {
       o.window_s = text::parse_duration(value);
+      o.window_given = true;
+    } else if (key == "replay") {
+      char* end = nullptr;
+      const long long id = value == "last" ? 0 : std::strtoll(value.c_str(), &end, 10);
+      if (value != "last" && (value.empty() || *end != '\0' || id < 1))
+        throw std::invalid_argument(fmt::format("replay '{}': a recorded run's id (runs list), or last", value));
+      o.replay = id;
+      o.replay_last = value == "last";
+    } else if (key == "model") {
+      if (value.empty()) throw std::invalid_argument("model=FILE: the model file the replays run");
+      o.model = value;
     } else if (key == "seed") {
       char* end = nullptr;
       o.seed = std::strtoul(value.c_str(), &end, 10);
@@ -126,6 +143,9 @@ const std::vector<std::string>& tune_help() {
       "                            Q*=0.1..1e3:log a factor on all of Q; apply keeps the best in force;",
       "                            :log searches a range uniformly in its logarithm, :lin (the default)",
       "                            in its value",
+      "  [replay=N|last] [model=F] each evaluation a replay of recorded run N (last: the session's last",
+      "                            run) in this process, not a run on the firmware; apply then loads",
+      "                            the best set onto the firmware (as params load)",
   };
   return h;
 }

@@ -5,6 +5,8 @@
 //   tune Lambda=0.01..100:log Q*=0.1..1000:log objective="nrmse + 0.1*u_effort"
 //        budget=40 budget=10min reference=swirl settle=1s window=5s seed=1
 //        method=bobyqa max_saturated=0.5 save=best.params apply
+//   tune replay=last Q*=0.1..1000:log apply     (replays of a recorded run)
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -28,6 +30,14 @@ struct TuneOptions {
   double max_saturated = 0.5;
   std::string save;  // "": tune-<session>.params
   bool apply = false;
+  bool window_given = false;  // window= (or --window) said; a replay's default is the rest of its run
+  // replay=N (replay=last: the session's last finished run): each candidate
+  // is evaluated on a replay of recorded run N in this process, as `tune
+  // --replay N` does; model=FILE the model those replays run.
+  int64_t replay = 0;
+  bool replay_last = false;
+  std::string model;
+  bool on_replays() const { return replay > 0 || replay_last; }
 };
 
 // Budget text: "40", "40 runs" (evaluations), "10min", "10 min", "90s" (wall time).

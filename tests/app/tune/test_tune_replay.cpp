@@ -181,5 +181,70 @@ TEST_F(TuneReplay, OneSeedGivesTheSameSearchTwice) {
   EXPECT_EQ(store.last_run_id(), 1);
 }
 
+// The nrmse a session's script printed for run `id` ("run 3 (after): ...
+// nrmse 1.234 ..."); NaN when it printed none.
+double printed_nrmse(const std::string& output, int id) {
+  std::smatch m;
+  const std::regex line("\nrun " + std::to_string(id) + R"( \([^)]*\): [^\n]* nrmse ([0-9.]+))");
+  return std::regex_search(output, m, line) ? std::stod(m[1]) : std::nan("");
+}
+
+// In a session's script: a poorly tuned run, then `tune replay=last ...
+// apply`. The candidates are replays in the console's process (the
+// simulator the session drives runs nothing meanwhile: its only runs are
+// the script's own two); the best is loaded onto it as params load would,
+// and the run after starts with the best's Q and tracks better than the
+// poor one.
+TEST_F(TuneReplay, AScriptTunesOnItsLastRunsReplaysAndAppliesTheBest) {
+  const std::string script = dir_.file("t.nls"), saved = dir_.file("best.params");
+  std::ofstream(script) << "ref swirl hold=1\nset Q 1e4 2e4 1e4\nrun 9s label=poor\n"
+                        << "tune replay=last Q*=0.01..1e4:log budget=12 save=" << saved << " apply\n"
+                        << "run 9s label=after\n";
+  const auto r = console("--sim hasel --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  ASSERT_EQ(r.code, 0) << r.output;
+  std::printf("%s\n", r.output.c_str());
+  EXPECT_TRUE(contains(r.output, "tune: run 1 (1170 steps at 130 Hz) replayed per candidate in this process; the "
+                                 "firmware is not touched until the best is applied"))
+      << r.output;
+  EXPECT_TRUE(std::regex_search(r.output, std::regex(R"(loaded onto the firmware \(apply\): Q: )"))) << r.output;
+
+  RunStore store(db());
+  ASSERT_EQ(store.last_run_id(), 3) << "the poor run, the best's replay, the run after\n" << r.output;
+  EXPECT_EQ(store.run(2).kind, "replay");
+  EXPECT_EQ(store.run(3).label, "after");
+  const std::string poor_q = param_at_start(store, 1, "Q"), best_q = param_at_start(store, 2, "Q");
+  EXPECT_NE(best_q, poor_q);
+  EXPECT_EQ(param_at_start(store, 3, "Q"), best_q) << "the run after starts with the best set in force";
+  const double poor = printed_nrmse(r.output, 1), after = printed_nrmse(r.output, 3);
+  EXPECT_LT(after, 0.9 * poor) << r.output;  // 0.0409 against 0.0518 here
+}
+
+// What a script's replay tuning cannot do is refused: reference= beside
+// replay= and model= without it before anything runs (the script's check),
+// replay=last with no run yet and a run that is not there when the line
+// runs, each naming the line.
+TEST_F(TuneReplay, AScriptsReplayTuningRefusesWhatItCannotReplay) {
+  const auto run_script = [&](const std::string& text) {
+    const std::string script = dir_.file("bad.nls");
+    std::ofstream(script) << text;
+    return console("--sim hasel --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  };
+  struct Case {
+    std::string script, says;
+  };
+  for (const Case& c : std::vector<Case>{
+           {"run 1s\ntune replay=1 reference=swirl Lambda=0.01..100:log\n", "replay= replays the run's own reference"},
+           {"tune model=m.nlsm Lambda=0.01..100:log\n", "model=FILE names the model the replays run"},
+           {"tune replay=0 Lambda=0.01..100:log\n", "replay '0': a recorded run's id (runs list), or last"},
+           {"tune replay=last Lambda=0.01..100:log\n", "needs a finished run of this session first"},
+           {"run 1s\ntune replay=7 Lambda=0.01..100:log\n", "7"},
+       }) {
+    const auto r = run_script(c.script);
+    EXPECT_NE(r.code, 0) << c.script << r.output;
+    EXPECT_TRUE(contains(r.output, c.says)) << c.script << r.output;
+    EXPECT_TRUE(contains(r.output, "bad.nls:")) << "the line is named\n" << c.script << r.output;
+  }
+}
+
 }  // namespace
 }  // namespace nlsoft::console
