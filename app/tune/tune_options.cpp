@@ -143,9 +143,9 @@ const std::vector<std::string>& tune_help() {
       "                            Q*=0.1..1e3:log a factor on all of Q; apply keeps the best in force;",
       "                            :log searches a range uniformly in its logarithm, :lin (the default)",
       "                            in its value",
-      "  [replay=N|last] [model=F] each evaluation a replay of recorded run N (last: the session's last",
-      "                            run) in this process, not a run on the firmware; apply then loads",
-      "                            the best set onto the firmware (as params load)",
+      "  [replay=N|last] [model=F] each evaluation a replay of recorded run N (last: this session's",
+      "                            last run) in this process, the firmware untouched; apply then",
+      "                            loads the best set onto it as params load would",
   };
   return h;
 }
