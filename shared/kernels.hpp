@@ -111,11 +111,11 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   static bool matches(const Model<Cap>& Mo) {
     if (Mo.m != M || Mo.n != N || Mo.w != W || Mo.nd != ND || Mo.dd != ND || Mo.layer_count != S::layers)
       return false;
-    const bool kinds[] = {First::gru, Rest::gru...};
+    const LayerKind kinds[] = {First::kind, Rest::kind...};
     const int units[] = {First::units, Rest::units...};
     const int acts[] = {First::act, Rest::act...};
     for (int l = 0; l < S::layers; ++l) {
-      if ((Mo.layer[l].kind == LayerKind::Gru) != kinds[l] || Mo.layer[l].out != units[l]) return false;
+      if (Mo.layer[l].kind != kinds[l] || Mo.layer[l].out != units[l]) return false;
       if (acts[l] != kActivationAtRunTime && int(Mo.layer[l].act) != acts[l]) return false;
     }
     return true;

@@ -1,14 +1,19 @@
 #pragma once
 // A model layer's kind, one row per kind (LayerKindRow): its names, how
-// many weight columns a unit has, whether it carries state, and the image
-// header's template for it. The model file and its loader, rig files, Keras
-// import, the image generator and the protocol's shape words all read the
-// rows; a new kind is a row here, its number in AllLayerKinds, and its
-// kernels (forward.hpp, kernels.hpp, rollout.hpp, app/model/network.cpp).
+// many weight columns a unit has, whether it carries state, whether a file
+// chooses its activation (else the kind's own, Keras' defaults), and the
+// image header's template for it. The model file and its loader, rig files, Keras
+// import, the image generator, `train --arch` and the protocol's shape words
+// all read the rows; a new kind is a row here, its number in AllLayerKinds,
+// its image template (net_shape.hpp) and its kernels: forward.hpp and
+// rollout.hpp on the MCU, app/model/network.cpp for training (and, to take
+// it from Keras, its weights' layout in app/model/keras_import.cpp).
 // Rows are types, not an array, so the MCU's code compiles a kind's facts
 // to the comparisons it would write by hand and links none of the names.
 #include <array>
 #include <cstdint>
+
+#include "shared/activation.hpp"
 
 namespace nlsoft {
 
@@ -25,6 +30,9 @@ struct LayerKindRow<LayerKind::Dense> {
   static constexpr const char* image_layer = "DenseLayer";  // the image header's template
   static constexpr int gates = 1;                        // weight columns per unit
   static constexpr bool recurrent = false;               // a unit's previous output feeds it
+  static constexpr bool free_activation = true;          // rig files, --activation and the image choose it
+  static constexpr Activation act = Activation::Linear;  // the default
+  static constexpr Activation rec_act = Activation::Linear;
 };
 
 template <>
@@ -34,6 +42,9 @@ struct LayerKindRow<LayerKind::Gru> {
   static constexpr const char* image_layer = "GruLayer";
   static constexpr int gates = 3;  // z, r and the candidate h
   static constexpr bool recurrent = true;
+  static constexpr bool free_activation = false;  // Keras' GRU defaults, read from the model at run time
+  static constexpr Activation act = Activation::Tanh;
+  static constexpr Activation rec_act = Activation::Sigmoid;
 };
 
 template <LayerKind... K>
@@ -86,13 +97,16 @@ struct LayerKindInfo {
   int gates;
   bool recurrent;
   const char* image_layer;
+  bool free_activation;
+  Activation act, rec_act;
 };
 
 namespace detail {
 template <LayerKind... K>
 constexpr std::array<LayerKindInfo, sizeof...(K)> layer_kind_infos(LayerKindList<K...>) {
   return {{{K, LayerKindRow<K>::name, LayerKindRow<K>::title, LayerKindRow<K>::gates, LayerKindRow<K>::recurrent,
-            LayerKindRow<K>::image_layer}...}};
+            LayerKindRow<K>::image_layer, LayerKindRow<K>::free_activation, LayerKindRow<K>::act,
+            LayerKindRow<K>::rec_act}...}};
 }
 constexpr bool same_text(const char* a, const char* b) {
   while (*a != '\0' && *a == *b) ++a, ++b;

@@ -1,5 +1,6 @@
 // Discrete PID, the paper's baseline ("Mass-spring-damper" results: "PID
-// controller that uses robust tuning", Kp = 1.93, Ki = 4.01, Kd = 5.99).
+// controller that uses robust tuning"). Its gains are a rig's ([pid] in a
+// rig file, docs/rig-file.md; rigs/msd.toml holds the paper's).
 //
 // Per axis, with e = r - y and sample period dt:
 //   P = Kp e
@@ -11,11 +12,7 @@
 //                                 reference step gives no derivative kick
 //   u = clamp(s (P + I + D), umin, umax)
 //
-// The output scale s maps the PID's units to the plant input. The paper does
-// not state its plant scaling, and with u = F/m directly (s = 1) its gains
-// leave a closed-loop pole at -Ki / (k/m + Kp) = -0.01 1/s: a 100 s crawl, not
-// its 0.94 s rise. s = 60 (kMsdPidOutputScale) gives the paper's ~0.5 %
-// overshoot and settles a 1 m step to 1.5 % in 5 s (rise 0-90 % is 3.4 s).
+// The output scale s maps the PID's units to the plant input.
 //
 // Finite output guarantee: a non-finite reference, measurement or dt leaves
 // the state untouched and repeats the last (clamped) output; a non-finite
@@ -31,9 +28,6 @@ constexpr int kPidMaxAxes = 8;
 struct PidGains {
   float kp, ki, kd;
 };
-
-constexpr PidGains kMsdPidGains{1.93f, 4.01f, 5.99f};
-constexpr float kMsdPidOutputScale = 60.0f;
 
 class Pid {
  public:
@@ -126,7 +120,7 @@ class Pid {
   }
 
   int axes_ = 1;
-  PidGains gains_ = kMsdPidGains;
+  PidGains gains_{};
   float scale_ = 1.0f;
   float tau_ = 0.0f;
   float umin_[kPidMaxAxes] = {-1.0f};

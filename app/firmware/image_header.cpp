@@ -74,7 +74,8 @@ const char* ref_kind_literal(RefKind k) {
 // runs only the model it is built with (no model uploads): that one
 // activation's code, none of the others' (shared/net_shape.hpp).
 std::string layer_type(const RigLayer& l, bool fixed_model) {
-  if (l.kind != LayerKind::Dense) return fmt::format("{}<{}>", layer_kind_info(l.kind).image_layer, l.units);
+  const LayerKindInfo& kind = layer_kind_info(l.kind);
+  if (!kind.free_activation) return fmt::format("{}<{}>", kind.image_layer, l.units);
   struct Literal {
     Activation act;
     const char* name;
@@ -358,7 +359,7 @@ std::vector<RigLayer> model_layers(const std::string& model_file, const Rig& rig
     RigLayer l;
     l.kind = s.layer[i].kind;
     l.units = s.layer[i].out;
-    l.activation = l.kind == LayerKind::Dense ? model::activation_name(s.layer[i].act) : "";
+    l.activation = layer_kind_info(l.kind).free_activation ? model::activation_name(s.layer[i].act) : "";
     layers.push_back(l);
   }
   return layers;

@@ -250,8 +250,18 @@ bool apply_lags(const TrainArgs& a, const PlantTarget& target, TrainOptions& o) 
 // --arch, --hidden and --activation: the network's layers, sizes separated
 // by '/' each a candidate, trained and judged.
 void apply_architecture(const TrainArgs& a, const PlantTarget& target, TrainOptions& o) {
-  const std::string arch = a.arch.empty() ? (o.layers[0].kind == LayerKind::Gru ? "gru" : "dense") : a.arch;
-  if (arch != "dense" && arch != "gru") throw PipelineError("--arch must be dense or gru, got '" + arch + "'");
+  // --arch names the first hidden layer's kind; the rest are Dense.
+  const LayerKindInfo* first = &layer_kind_info(o.layers[0].kind);
+  if (!a.arch.empty()) {
+    first = nullptr;
+    std::string names;
+    for (const LayerKindInfo& k : kLayerKinds) {
+      names += std::string(names.empty() ? "" : " or ") + k.name;
+      if (a.arch == k.name) first = &k;
+    }
+    if (first == nullptr) throw PipelineError("--arch must be " + names + ", got '" + a.arch + "'");
+  }
+  const bool dense = first->kind == LayerKind::Dense;
   Activation hidden_act = Activation::Relu;
   if (!a.activation.empty() && !activation_from_name(a.activation, &hidden_act))
     throw PipelineError("--activation must be relu, tanh, sigmoid, hard_sigmoid or linear, got '" + a.activation +
@@ -261,15 +271,12 @@ void apply_architecture(const TrainArgs& a, const PlantTarget& target, TrainOpti
   std::string one;
   while (std::getline(alternatives, one, '/')) {
     std::vector<int> units = to_units(one);
-    if (arch == "gru" && units.empty())
-      throw PipelineError("--arch gru needs at least one hidden size (the GRU units)");
+    if (!dense && units.empty())
+      throw PipelineError(fmt::format("--arch {} needs at least one hidden size (the {} units)", first->name,
+                                      first->title));
     std::vector<LayerSpec> layers;
-    for (size_t i = 0; i < units.size(); ++i) {
-      if (arch == "gru" && i == 0)
-        layers.push_back({LayerKind::Gru, units[i], Activation::Tanh, Activation::Sigmoid, true});
-      else
-        layers.push_back({LayerKind::Dense, units[i], hidden_act});
-    }
+    for (size_t i = 0; i < units.size(); ++i)
+      layers.push_back(layer_spec(i == 0 ? first->kind : LayerKind::Dense, units[i], hidden_act));
     layers.push_back({LayerKind::Dense, target.n, units.empty() ? Activation::Linear : Activation::Tanh});
     sizes.push_back(layers);
   }
@@ -536,13 +543,12 @@ void run_info(const std::string& path, const PlatformNamer& name_platform) {
   for (int i = 0; i < M.layer_count; ++i) {
     const Layer& L = M.layer[i];
     weights += layer_weight_count(L);
-    if (L.kind == LayerKind::Dense)
-      std::printf("  %d  Dense  %3d -> %-3d %-12s %5u weights\n", i, L.in, L.out, activation_name(L.act),
-                  layer_weight_count(L));
-    else
-      std::printf("  %d  GRU    %3d -> %-3d %-12s %5u weights (recurrent %s, reset_after %s)\n", i, L.in, L.out,
-                  activation_name(L.act), layer_weight_count(L), activation_name(L.rec_act),
-                  L.reset_after ? "true" : "false");
+    const LayerKindInfo& kind = layer_kind_info(L.kind);
+    std::printf("  %d  %-6s %3d -> %-3d %-12s %5u weights", i, kind.title, L.in, L.out, activation_name(L.act),
+                layer_weight_count(L));
+    if (kind.recurrent)
+      std::printf(" (recurrent %s, reset_after %s)", activation_name(L.rec_act), L.reset_after ? "true" : "false");
+    std::printf("\n");
   }
   std::printf("  parameters: %s\n  hash 0x%08x\n", model_size_words(weights + M.norm_count(), M.norm_count()).c_str(),
               M.hash);
@@ -614,7 +620,7 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
   tr->add_option("--dd", train_args->dd, "output history length (default: the rig's dd; 1..32, with p <= 88), or auto")
       ->type_name("N|auto");
   tr->add_option("--out", train_args->out, "model file to write (required; replaced atomically)")->type_name("FILE");
-  tr->add_option("--arch", train_args->arch, "dense | gru (first hidden layer a GRU)")->type_name("ARCH");
+  tr->add_option("--arch", train_args->arch, "dense | gru: the first hidden layer's kind (shared/layer_kind.hpp), the rest Dense")->type_name("ARCH");
   tr->add_option("--hidden", train_args->hidden,
                  "hidden sizes, e.g. 5,5 (one shape: the model keeps it, carrying the linear model where that wins); 'none' = one linear layer; '/' between candidates: 16/16,16")
       ->type_name("LIST");

@@ -28,6 +28,14 @@ struct LayerSpec {
   bool reset_after = true;
 };
 
+// A layer of `kind` as rig files and --arch ask for one: `act` where the kind
+// takes a chosen activation (Dense), else the kind's own (a GRU's Keras
+// defaults, reset_after), from its row in shared/layer_kind.hpp.
+inline LayerSpec layer_spec(LayerKind kind, int units, Activation act) {
+  const LayerKindInfo& k = layer_kind_info(kind);
+  return k.free_activation ? LayerSpec{kind, units, act} : LayerSpec{kind, units, k.act, k.rec_act, true};
+}
+
 class Network {
  public:
   Network() = default;

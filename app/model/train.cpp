@@ -792,7 +792,7 @@ std::string describe_layers(const std::vector<LayerSpec>& layers) {
   for (const LayerSpec& l : layers) {
     if (!out.empty()) out += ", ";
     out += std::string(layer_kind_info(l.kind).title) + " " + std::to_string(l.units);
-    if (l.kind == LayerKind::Dense) out += std::string(" ") + activation_name(l.act);
+    if (layer_kind_info(l.kind).free_activation) out += std::string(" ") + activation_name(l.act);
   }
   return out;
 }

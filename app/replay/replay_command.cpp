@@ -11,6 +11,7 @@
 #include "app/record/recorder.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/runs_command.hpp"
+#include "app/replay/pid_replay.hpp"
 #include "app/replay/replay_run.hpp"
 #include "app/replay/replay_source.hpp"
 #include "host/files/cli_error.hpp"
@@ -25,7 +26,7 @@ namespace {
 
 struct ReplayArgs {
   int64_t id = 0;
-  std::string db, rig, model, label, svg, png;
+  std::string db, rig, model, label, svg, png, controller = "mpc";
   std::vector<std::string> sets;
   uint32_t seed = 1;
 };
@@ -112,9 +113,35 @@ void say_agreement(const std::string& db, int64_t of, int64_t id) {
   }
 }
 
+// --controller pid: the rig's PID baseline on the run's reference, offline
+// (pid_replay.hpp); nothing of the MPC's is changed, so --set and --model
+// have nothing to act on.
+void replay_with_pid(const ReplayArgs& a, const std::string& db) {
+  if (!a.model.empty() || !a.sets.empty())
+    throw CliError(fmt::format("runs replay --controller pid: {} changes the MPC, which a PID replay does not run "
+                               "(its gains are the rig file's [pid])",
+                               !a.model.empty() ? "--model" : "--set"));
+  const ReplaySource src = open_replay_source(db, a.id, a.rig, "", false);
+  const RunRow& row = src.start.row;
+  for (const std::string& s : src.start.not_repeated) fmt::print("{}\n", s);
+  Recorder recorder(db);
+  ProgressBar bar(fmt::format("PID replay of run {}", a.id));
+  const PidReplay r =
+      record_pid_replay(src, a.seed, a.label.empty() ? fmt::format("replay of run {}: controller pid", a.id) : a.label,
+                        fmt::format("runs replay {} --controller pid (seed {})", a.id, a.seed), recorder,
+                        [&](long done, long total) { bar.update(done, total); });
+  bar.finish();
+  recorder.flush();
+  fmt::print("run {}: run {}'s reference through rig {}'s PID baseline ({}), {} steps at {:g} Hz, noise seed {}: "
+             "the offline loop of simulate --controller pid, not the firmware\n",
+             r.id, a.id, src.rig.name, r.gains, r.samples, row.loop_rate_hz, a.seed);
+  compare_runs(db, a.id, r.id, false, a.svg, a.png);
+}
+
 void replay(const ReplayArgs& a) {
   if (!a.svg.empty() && !a.png.empty()) throw CliError("runs replay: give --svg FILE or --png FILE, not both");
   const std::string db = a.db.empty() ? default_db_path() : a.db;
+  if (a.controller == "pid") return replay_with_pid(a, db);
   const ReplaySource src = open_replay_source(db, a.id, a.rig, a.model);
   const RunRow& row = src.start.row;
 
@@ -156,7 +183,8 @@ void add_replay_command(CLI::App& runs) {
       "`runs compare` sets two runs side by side. With nothing changed it gives the recording\n"
       "back, bit for bit, and says so.\n"
       "Example: nlsoft-console runs replay 12 --set Lambda=0.5\n"
-      "         nlsoft-console runs replay 12 --model retrained.nlsm --svg replay.svg");
+      "         nlsoft-console runs replay 12 --model retrained.nlsm --svg replay.svg\n"
+      "         nlsoft-console runs replay 12 --controller pid   (what the PID baseline would have done)");
   c->add_option("run", a->id, "the recorded run (runs list)")->required()->check(CLI::PositiveNumber)->type_name("ID");
   c->add_option("--db", a->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)")->type_name("FILE");
   c->add_option("--set", a->sets, "change a parameter from its value at the run's start: NAME=V[,V...]; repeat")
@@ -166,6 +194,11 @@ void add_replay_command(CLI::App& runs) {
       ->type_name("FILE");
   add_rig_option(c, a->rig, "the run's rig file, for a rig that is not shipped");
   c->add_option("--seed", a->seed, "the plant's noise seed (default 1, the simulator's; a --sim run records none)")
+      ->capture_default_str();
+  c->add_option("--controller", a->controller,
+                "mpc: the recorded controller, as it ran; pid: the rig file's PID baseline ([pid]) on the run's "
+                "reference instead, offline, as simulate --controller pid runs it")
+      ->check(CLI::IsMember({"mpc", "pid"}))
       ->capture_default_str();
   c->add_option("--label", a->label, "the replay's label (default: \"replay of run ID\" and the first change)");
   c->add_option("--svg", a->svg, "draw the recording and the replay overlaid, as runs plot draws two runs")

@@ -62,7 +62,8 @@ RecordedStart read_start(const std::string& db, int64_t id) {
   }
 }
 
-ReplaySource with_rig(const std::string& db, int64_t id, RecordedStart start, Rig rig, const std::string& model_arg) {
+ReplaySource with_rig(const std::string& db, int64_t id, RecordedStart start, Rig rig, const std::string& model_arg,
+                      bool with_model = true) {
   ReplaySource src;
   src.id = id;
   src.db = db;
@@ -73,6 +74,7 @@ ReplaySource with_rig(const std::string& db, int64_t id, RecordedStart start, Ri
     throw CliError(fmt::format("run {} ran at {:g} Hz, rig '{}' at {:g} Hz (a simulator started with --sim-rate): "
                                "not replayable as it ran",
                                id, row.loop_rate_hz, src.rig.name, src.rig.rate_hz));
+  if (!with_model) return src;
   auto model = std::make_shared<LoadedModel>();
   replay_model(id, model_arg, src.rig, *model);
   src.model = std::move(model);
@@ -83,10 +85,10 @@ ReplaySource with_rig(const std::string& db, int64_t id, RecordedStart start, Ri
 }  // namespace
 
 ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
-                                const std::string& model_arg) {
+                                const std::string& model_arg, bool with_model) {
   RecordedStart start = read_start(db, id);
   Rig rig = replay_rig(id, rig_arg, start.row);
-  return with_rig(db, id, std::move(start), std::move(rig), model_arg);
+  return with_rig(db, id, std::move(start), std::move(rig), model_arg, with_model);
 }
 
 ReplaySource open_replay_source(const std::string& db, int64_t id, const Rig& rig, const std::string& model_arg) {

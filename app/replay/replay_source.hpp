@@ -18,7 +18,7 @@ struct ReplaySource {
   std::string db;
   RecordedStart start;
   host::Rig rig;
-  std::shared_ptr<const LoadedModel> model;
+  std::shared_ptr<const LoadedModel> model;  // null when opened without one
   bool model_given = false;  // --model: another model than the run's may run
   uint32_t steps() const { return start.last_step + 1; }
   double duration_s() const { return double(steps()) / start.row.loop_rate_hz; }
@@ -26,10 +26,11 @@ struct ReplaySource {
 
 // Reads run `id` from `db` and checks it can be replayed as it ran
 // (recorded_start's refusals; the rig, `rig_arg` when given, which must be
-// the run's; its rate; the model, `model_arg` or the rig's shipped one).
-// Throws CliError naming the run.
+// the run's; its rate; the model, `model_arg` or the rig's shipped one,
+// unless `with_model` is false: a replay through a controller that runs
+// none, the PID baseline). Throws CliError naming the run.
 ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
-                                const std::string& model_arg);
+                                const std::string& model_arg, bool with_model = true);
 // The same with the rig already loaded (a session's: `tune replay=N` in a
 // script), which must be the run's.
 ReplaySource open_replay_source(const std::string& db, int64_t id, const host::Rig& rig,

@@ -133,6 +133,12 @@ nlohmann::json to_json(const Rig& r) {
   for (uint8_t i = 0; i < kExcitationSignalCount; ++i)
     if (const json e = choice(r.ident.signal[i]); !e.empty()) ident[kExcitationSignalNames[i]] = e;
   j["ident"] = ident;
+  j["pid"] = !r.pid.given ? json(nullptr)
+                          : json{{"kp", r.pid.kp},
+                                 {"ki", r.pid.ki},
+                                 {"kd", r.pid.kd},
+                                 {"output_scale", r.pid.output_scale},
+                                 {"d_filter_tau", r.pid.d_filter_tau}};
   return j;
 }
 
@@ -197,6 +203,9 @@ void print_summary(const Rig& r) {
     if (set.amplitude > 0) ident += fmt::format(" amplitude {:g}", set.amplitude);
   }
   if (!ident.empty()) fmt::print("  ident defaults: {}\n", ident);
+  if (r.pid.given)
+    fmt::print("  PID baseline: kp {:g}, ki {:g}, kd {:g}, output scale {:g}, derivative filter {:g} s\n", r.pid.kp,
+               r.pid.ki, r.pid.kd, r.pid.output_scale, r.pid.d_filter_tau);
 }
 
 }  // namespace

@@ -40,18 +40,9 @@ model::PlantTarget rig_plant_target(const Rig& rig) {
   // The model file names a shipped rig by its INFO number, any other 255.
   t.platform = rig.info_platform;
   for (const RigLayer& l : rig.model.layers) {
-    model::LayerSpec L;
-    L.units = l.units;
-    if (l.kind == LayerKind::Gru) {
-      L.kind = LayerKind::Gru;
-      L.act = Activation::Tanh;  // Keras' GRU defaults, as `train --arch gru` builds it
-      L.rec_act = Activation::Sigmoid;
-      L.reset_after = true;
-    } else {
-      L.kind = LayerKind::Dense;
-      model::activation_from_name(l.activation, &L.act);
-    }
-    t.layers.push_back(L);
+    Activation act = Activation::Linear;
+    model::activation_from_name(l.activation, &act);  // the loader checked it; empty for a fixed kind's
+    t.layers.push_back(model::layer_spec(l.kind, l.units, act));
   }
   return t;
 }

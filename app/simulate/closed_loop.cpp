@@ -44,8 +44,8 @@ Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
   const int m = plant.m(), n = plant.n();
   const float dt = plant.dt();
   if (s.controller == ControllerKind::Mpc) check_model_fits(s, plant);
-  if (s.controller == ControllerKind::Pid && (m != 1 || n != 1))
-    throw CliError(fmt::format("the PID baseline is defined for msd only (one input, one output); '{}' has m={} n={}",
+  if (s.controller == ControllerKind::Pid && (m != n || n > kPidMaxAxes))
+    throw CliError(fmt::format("the PID baseline runs one loop per axis, output i on input i; '{}' has m={} n={}",
                                plant_name(s), m, n));
   if (const char* why = reference_check(s.reference)) throw CliError(fmt::format("reference refused: {}", why));
 
@@ -68,7 +68,10 @@ Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
     else
       ctl->reset_at_rest(u, l);
   } else {
-    pid.configure(1, kMsdPidGains, s.params.u_min, s.params.u_max, kMsdPidOutputScale);
+    if (!pid.configure(n, s.pid, s.params.u_min, s.params.u_max, s.pid_output_scale, s.pid_d_filter_tau))
+      throw CliError(fmt::format("the PID baseline of '{}' cannot run: its gains, scale or the input limits are "
+                                 "not usable",
+                                 plant_name(s)));
   }
 
   Trace t;

@@ -10,6 +10,7 @@
 #include "shared/model.hpp"
 #include "shared/plant_generic.hpp"
 #include "shared/params.hpp"
+#include "shared/pid.hpp"
 #include "shared/plant_registry.hpp"
 #include "shared/reference.hpp"
 
@@ -27,6 +28,9 @@ struct LoopSetup {
   std::string plant_name;
   ControllerKind controller = ControllerKind::Mpc;
   const Model<HostCapacity>* model = nullptr;  // required for Mpc
+  // Pid: the rig's [pid] (use_rig_pid), one loop per axis.
+  PidGains pid{};
+  float pid_output_scale = 1.0f, pid_d_filter_tau = 0.0f;
   Params<HostCapacity> params{};
   RefParams reference{};
   // The reference paths drive three outputs (shared/reference.hpp); an
@@ -52,7 +56,8 @@ struct Trace {
 using Progress = std::function<void(long done, long total)>;
 
 // Throws CliError when the setup cannot run (no model for MPC, dimension
-// mismatch between model and platform, PID on a multi-axis platform).
+// mismatch between model and platform, PID gains or limits Pid refuses, a
+// PID on a plant whose inputs and outputs do not pair up).
 Trace run_closed_loop(const LoopSetup& setup, const Progress& progress = {});
 
 }  // namespace nlsoft::console

@@ -13,6 +13,7 @@
 #include "host/files/output_file.hpp"
 #include "app/simulate/model_loader.hpp"
 #include "app/simulate/param_args.hpp"
+#include "app/simulate/rig_loop.hpp"
 #include "app/progress_bar.hpp"
 #include "host/paths/install_paths.hpp"
 #include "app/reference_names.hpp"
@@ -32,13 +33,10 @@ using host::RigInput;
 using host::RigOutput;
 using host::add_rig_option;
 using host::find_model_file;
-using host::generic_plant_spec;
-using host::has_generic_plant;
 using host::load_rig_arg;
 using host::rig_arg_help;
 using host::rig_arg_validator;
 using host::rig_params;
-using host::simulated_plant;
 
 namespace {
 
@@ -87,7 +85,7 @@ void write_trace_csv(const std::string& path, const Trace& t) {
 // parameters with --set's writes, the derivative mode.
 void configure_controller(const SimulateOptions& o, const Rig& rig, LoopSetup& setup) {
   if (o.controller == "pid")
-    setup.controller = ControllerKind::Pid;
+    use_rig_pid(rig, setup);
   else if (o.controller != "mpc")
     throw CliError(fmt::format("unknown controller '{}'; use mpc or pid", o.controller));
   if (rig_params(rig, setup.params) != Status::Ok)
@@ -242,17 +240,8 @@ int run_simulate(const SimulateOptions& o, const SimulationPlotter& plot) {
 
   LoopSetup setup;
   GenericPlantSpec generic{};
-  if (has_generic_plant(rig)) {
-    generic = generic_plant_spec(rig);
-    setup.generic = &generic;
-  } else {
-    setup.plant = simulated_plant(rig, "simulate").kind;
-  }
-  setup.plant_name = rig.name;
+  use_rig_plant(rig, "simulate", generic, setup);
   setup.reference = reference_by_name(rig, ref_name);
-  // Outputs beyond the paths' three hold the middle of their range.
-  for (int j = kRefMaxDim; j < rig.n(); ++j)
-    setup.ref_hold[j] = float(0.5 * (rig.outputs[size_t(j)].min + rig.outputs[size_t(j)].max));
   setup.seed = o.seed;
   configure_controller(o, rig, setup);
   auto model = std::make_unique<LoadedModel>();
@@ -299,7 +288,7 @@ void add_simulate_command(CLI::App& app, SimulationPlotter plot) {
       ->capture_default_str();
   sub->add_option("--reference", o->reference,
                   "infinity, pringle, diagonal, swirl, steps or hold (default: the rig's [reference] kind)");
-  sub->add_option("--controller", o->controller, "mpc or pid (pid: msd only)")->capture_default_str();
+  sub->add_option("--controller", o->controller, "mpc or pid (pid: the rig file's [pid] gains; msd's are the paper's)")->capture_default_str();
   sub->add_option("--mode", o->mode, "derivatives: exact (chain rule) or fd (central differences)")
       ->capture_default_str();
   sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)")

@@ -179,6 +179,17 @@ struct RigReference {
   std::vector<double> step_levels;
 };
 
+// [pid]: the PID baseline's gains (shared/pid.hpp), one loop per axis,
+// output i on input i; `simulate --controller pid` and `runs replay
+// --controller pid` run it. Left out, the rig has no PID baseline.
+struct RigPid {
+  bool given = false;
+  double kp = 0, ki = 0, kd = 0;
+  double output_scale = 1;  // u = output_scale (P + I + D)
+  double d_filter_tau = 0;  // s; 0: the derivative unfiltered
+  int line = 0;             // of the table
+};
+
 struct Rig {
   std::string file;  // as given to load_rig
   uint32_t hash = 0;  // rig_file_hash of the file: which rig an image or a simulator was built from
@@ -202,6 +213,7 @@ struct Rig {
   RigPlant plant;
   RigReference reference;
   RigIdent ident;
+  RigPid pid;
   // [firmware]: the services an image of this rig carries beyond the
   // minimum (shared/firmware_features.hpp). Without the table, all the
   // board can carry.

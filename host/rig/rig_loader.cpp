@@ -20,6 +20,7 @@
 #include "shared/activation.hpp"
 #include "shared/chips/catalog.hpp"
 #include "shared/crc32.hpp"
+#include "shared/pid.hpp"
 #include "shared/platform_id.hpp"
 #include "shared/rig_config.hpp"
 #include "shared/sim_plant.hpp"
@@ -903,12 +904,13 @@ void read_model(const std::string& file, const Section& root, const toml::table&
                             kind.gates > 1 ? fmt::format(" (a {} is {} x units wide, at most {})", kind.title, kind.gates,
                                                          HostCapacity::width)
                                            : ""));
-    if (L.kind == LayerKind::Dense) {
+    if (kind.free_activation) {
       std::vector<std::string> acts;
       for (uint8_t a = 0; activation_valid(a); ++a) acts.push_back(activation_name(Activation(a)));
-      L.activation = l.has("activation") ? l.choice("activation", acts) : "linear";
+      L.activation = l.has("activation") ? l.choice("activation", acts) : activation_name(kind.act);
     } else if (l.has("activation")) {
-      l.fail(l.line("activation"), "activation", "only for kind = \"dense\" (a GRU's activations are fixed)");
+      l.fail(l.line("activation"), "activation",
+             fmt::format("not for kind = \"{}\" (a {}'s activations are fixed)", kind.name, kind.title));
     }
     rig.model.layers.push_back(L);
   }
@@ -1113,6 +1115,34 @@ void read_ident(const std::string& file, const Section& root, const toml::table&
   }
 }
 
+// [pid]: gains >= 0, a non-zero output scale, a filter time >= 0 (what
+// Pid::configure takes), on a rig whose inputs and outputs pair up.
+void read_pid(const std::string& file, const Section& root, const toml::table& t, Rig& rig) {
+  const toml::table* pt = sub_table(root, t, "pid");
+  if (!pt) return;
+  const Section s(file, *pt, "[pid]", line_of(*pt), {"kp", "ki", "kd", "output_scale", "d_filter_tau"});
+  if (rig.m() != rig.n() || rig.n() > kPidMaxAxes)
+    s.fail(s.line(), "",
+           fmt::format("the PID baseline runs one loop per axis, output i on input i: it needs as many inputs as "
+                       "outputs, at most {} (this rig: m = {}, n = {})",
+                       kPidMaxAxes, rig.m(), rig.n()));
+  auto nonnegative = [&](const char* key, double fallback) {
+    const double v = s.number(key, fallback);
+    if (v < 0) s.fail(s.line(key), key, "must be >= 0, not " + num(v));
+    return v;
+  };
+  rig.pid.given = true;
+  rig.pid.line = s.line();
+  rig.pid.kp = nonnegative("kp", 0);
+  rig.pid.ki = nonnegative("ki", 0);
+  rig.pid.kd = nonnegative("kd", 0);
+  rig.pid.output_scale = s.number("output_scale", 1);
+  if (rig.pid.output_scale == 0) s.fail(s.line("output_scale"), "output_scale", "must not be 0");
+  rig.pid.d_filter_tau = nonnegative("d_filter_tau", 0);
+  if (rig.pid.kp == 0 && rig.pid.ki == 0 && rig.pid.kd == 0)
+    s.fail(s.line(), "", "give kp, ki or kd > 0 (with every gain 0 the input never moves)");
+}
+
 // [firmware] features = ["ident", ...]: each a name of shared/firmware_features.hpp,
 // once, and one the rig's board can carry.
 void read_firmware(const std::string& file, const Section& root, const toml::table& t, Rig& rig,
@@ -1172,7 +1202,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
   }
   const Section root(file, t, "", 1,
                      {"name", "description", "info_platform", "rate_hz", "nd", "dd", "board", "input", "output", "sensor", "device", "controller",
-                      "model", "plant", "reference", "ident", "firmware"});
+                      "model", "plant", "reference", "ident", "pid", "firmware"});
   Rig rig;
   rig.file = file;
   rig.hash = rig_file_hash(text);
@@ -1246,6 +1276,7 @@ Rig parse_rig(const std::string& text, const std::string& file) {
                   " s, not " + num(rig.rate_hz));
   read_reference(file, root, t, rig);
   read_ident(file, root, t, rig);
+  read_pid(file, root, t, rig);
   read_firmware(file, root, t, rig, pins.board);
   return rig;
 }

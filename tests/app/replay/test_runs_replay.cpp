@@ -103,6 +103,53 @@ TEST_F(RunsReplay, AChangedWeightMovesTrackingAndEffortTheWayItWeighs) {
   EXPECT_EQ(store.run(3).label, "replay of run 1: Lambda=100");
 }
 
+// --controller pid: msd's steps through the rig file's PID baseline (the
+// paper's), offline, is the very loop `simulate --controller pid` runs on
+// that reference for as many steps: the same tracking figure. A replay of a
+// rig without [pid], or with an MPC change beside it, is refused with
+// nothing recorded.
+TEST_F(RunsReplay, APidReplayIsTheLoopSimulateRunsWithThePid) {
+  session("msd", "ref steps\nrun 4s label=steps\n");
+  session("hasel", "ref swirl\nrun 1s label=swirl\n");
+  auto r = console("runs replay 1 --controller pid --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 3: run 1's reference through rig msd's PID baseline (kp 1.93, ki 4.01, kd 5.99, "
+                                 "output scale 60)"))
+      << r.output;
+  RunStore store(db());
+  const RunRow pid = store.run(3);
+  EXPECT_EQ(pid.kind, "replay");
+  EXPECT_EQ(pid.label, "replay of run 1: controller pid");
+  const RunSeries rec = store.series(1), rep = store.series(3);
+  ASSERT_GT(rec.rows(), 3000u);
+  EXPECT_EQ(rep.rows(), size_t(rec.step.back()) + 1) << "a step of the replay for every step of the run";
+  EXPECT_FALSE(rep.has_y_hat) << "a PID predicts nothing";
+  ASSERT_TRUE(rep.has_y_true && rep.has_u);
+
+  const auto sim = console("simulate --rig msd --controller pid --reference steps --steps " +
+                           std::to_string(rep.rows()) + " --json");
+  ASSERT_EQ(sim.code, 0) << sim.output;
+  // 4 s of the steps hold the first level: its RMSE, not the nRMSE of a flat reference.
+  const double simulated = nlohmann::json::parse(sim.output)["rmse"][0].get<double>();
+  const nlohmann::json c = compare(1, 3);
+  EXPECT_NEAR(c["b"]["rmse"][0].get<double>(), simulated, 1e-6 * simulated) << c.dump();
+  EXPECT_NE(c["a"]["rmse"][0], c["b"]["rmse"][0]) << "the MPC's run and the PID's are other loops";
+
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"2 --controller pid", "rig 'hasel'"},
+      {"1 --controller pid --set Lambda=1", "--set changes the MPC"},
+      {"1 --controller pid --model " + shell_quote(dir_.file("m.nlsm")), "--model changes the MPC"},
+      {"1 --controller lqr", "--controller"},
+  };
+  for (const auto& [args, message] : refused) {
+    r = console("runs replay " + args + " --db " + shell_quote(db()));
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, message)) << args << "\n" << r.output;
+  }
+  EXPECT_TRUE(contains(console("runs replay 2 --controller pid --db " + shell_quote(db())).output, "has no [pid] table"));
+  EXPECT_EQ(RunStore(db()).last_run_id(), 3) << "a refused replay recorded a run";
+}
+
 // What cannot be replayed as it ran is refused, naming the run and why,
 // with nothing recorded; what a replay does not repeat is said.
 TEST_F(RunsReplay, RunsThatCannotBeReplayedAreRefusedAndWhatIsNotRepeatedIsSaid) {

@@ -84,6 +84,20 @@ TEST(ShippedRigs, AreThePapersRigs) {
   }
 }
 
+// The paper's PID baseline on msd ("PID controller that uses robust
+// tuning"), with the output scale msd.toml explains; the other rigs have none.
+TEST(ShippedRigs, MsdCarriesThePapersPidGains) {
+  const Rig msd = shipped("msd");
+  ASSERT_TRUE(msd.pid.given);
+  EXPECT_EQ(msd.pid.kp, 1.93);
+  EXPECT_EQ(msd.pid.ki, 4.01);
+  EXPECT_EQ(msd.pid.kd, 5.99);
+  EXPECT_EQ(msd.pid.output_scale, 60.0);
+  EXPECT_EQ(msd.pid.d_filter_tau, 0.0);
+  EXPECT_FALSE(shipped("hasel").pid.given);
+  EXPECT_FALSE(shipped("tendon").pid.given);
+}
+
 class ShippedRig : public ::testing::TestWithParam<std::string> {
  protected:
   Rig rig = shipped(GetParam());

@@ -8,6 +8,7 @@
 #include "app/simulate/closed_loop.hpp"
 #include "app/metrics/tracking_metrics.hpp"
 #include "app/simulate/model_loader.hpp"
+#include "app/simulate/rig_loop.hpp"
 #include "app/reference_names.hpp"
 #include "host/rig/rig.hpp"
 #include "host/rig/rig_params.hpp"
@@ -44,6 +45,7 @@ std::unique_ptr<Run> run(const std::string& name, const std::string& ref, Contro
   LoopSetup& s = r->setup;
   s.plant = rig.plant.kind->kind;
   s.controller = kind;
+  if (kind == ControllerKind::Pid) use_rig_pid(rig, s);  // its file's [pid]
   s.reference = reference_by_name(rig, ref);
   EXPECT_EQ(rig_params(rig, s.params), Status::Ok);
   s.params.mode = mode;

@@ -17,7 +17,7 @@ expect_error "Q\[0\] = -1 is out of range" simulate --rig msd --set Q=-1
 expect_error "unknown parameter 'Qx'" simulate --rig msd --set Qx=1
 expect_error "not a number" simulate --rig msd --set Q=abc
 expect_error "cannot open model file" simulate --rig msd --model /nonexistent.nlsm
-expect_error "PID baseline is defined for msd only" simulate --rig hasel --controller pid
+expect_error "has no \[pid\] table" simulate --rig hasel --controller pid
 expect_error "unknown reference 'circle'" simulate --rig hasel --reference circle
 expect_error "would break a rule" simulate --rig tendon --set Nc=4
 json=$("$console" simulate --rig msd --steps 2000 --json) || { echo "FAIL: msd run"; fail=1; }

@@ -289,7 +289,7 @@ TEST(RigLoader, UnknownKeyListsTheKnownOnes) {
   const std::string tab = std::string(kBase) + "\n[plnt]\nkind = \"hasel\"\n";
   expect_error(tab, line_of(tab, "[plnt]"), "plnt",
                "unknown table (known: name, description, info_platform, rate_hz, nd, dd, board, input, output, sensor, device, controller, "
-               "model, plant, reference, ident, firmware)");
+               "model, plant, reference, ident, pid, firmware)");
   const std::string c = edit("eps = 0.01", "eps = 0.01\nlambda = [1.0, 1.0]");
   expect_error(c, line_of(c, "lambda ="), "[controller] lambda", "unknown key (known: Q, Lambda, s, b, r, N, N1, Nc, eps,");
 }
@@ -439,6 +439,42 @@ TEST(RigLoader, ModelLayersEndInTheOutputs) {
                "the last layer predicts the outputs: must be n = 1");
   const std::string g = std::string(kBase) + "\n[model]\n[[model.layer]]\nkind = \"gru\"\nunits = 17\n";
   expect_error(g, line_of(g, "units = 17"), "[[model.layer]] #1 units", "must be in [1, 16] (a GRU is 3 x units wide");
+  // A kind whose activations are its own (shared/layer_kind.hpp) takes none from the file.
+  const std::string a = std::string(kBase) +
+                        "\n[model]\n[[model.layer]]\nkind = \"gru\"\nunits = 5\nactivation = \"relu\"\n"
+                        "[[model.layer]]\nkind = \"dense\"\nunits = 1\n";
+  expect_error(a, line_of(a, "activation = \"relu\""), "[[model.layer]] #1 activation",
+               "not for kind = \"gru\" (a GRU's activations are fixed)");
+}
+
+// [pid]: what Pid::configure takes, on a rig whose inputs and outputs pair up.
+TEST(RigLoader, PidGainsAreReadAndCheckedWhereWritten) {
+  // kBase with one input for its one output.
+  const std::string one = edit("Lambda = [1.0, 1.0]", "Lambda = [1.0]", 1,
+                               edit("[[input]]\nname = \"u2\"\nmin = -1.0\nmax = 1.0\nneutral = 0.0\npwm = \"PC7\"\n\n", ""));
+  const Rig r = parse_rig(one + "\n[pid]\nkp = 2.0\nki = 0.5\nd_filter_tau = 0.01\n", "my.toml");
+  ASSERT_TRUE(r.pid.given);
+  EXPECT_EQ(r.pid.kp, 2.0);
+  EXPECT_EQ(r.pid.ki, 0.5);
+  EXPECT_EQ(r.pid.kd, 0.0);
+  EXPECT_EQ(r.pid.output_scale, 1.0);
+  EXPECT_EQ(r.pid.d_filter_tau, 0.01);
+  EXPECT_FALSE(parse_rig(one, "my.toml").pid.given);
+  struct Case {
+    std::string text, needle, label, what;
+  } cases[] = {
+      {one + "\n[pid]\nkp = -1.0\n", "kp = -1.0", "[pid] kp", "must be >= 0, not -1"},
+      {one + "\n[pid]\nkd = nan\n", "kd = nan", "[pid] kd", "must be finite"},
+      {one + "\n[pid]\noutput_scale = 0.0\n", "output_scale", "[pid] output_scale", "must not be 0"},
+      {one + "\n[pid]\nkp = 1.0\nkq = 2.0\n", "kq", "[pid] kq", "unknown key"},
+      {one + "\n[pid]\noutput_scale = 2.0\n", "[pid]", "[pid]", "give kp, ki or kd > 0"},
+      {std::string(kBase) + "\n[pid]\nkp = 1.0\n", "[pid]", "[pid]",
+       "needs as many inputs as outputs, at most 8 (this rig: m = 2, n = 1)"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.label);
+    expect_error(c.text, line_of(c.text, c.needle), c.label, c.what);
+  }
 }
 
 TEST(RigLoader, HistoryLengthsMustAgree) {
