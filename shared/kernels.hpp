@@ -106,6 +106,8 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   static constexpr int kQ = S::queue, kC0 = First::cols;
   static_assert(S::m <= Cap::m && S::n <= Cap::n && S::w <= Cap::w && S::nd <= Cap::nd, "shape exceeds capacity");
   static_assert(kC0 <= Cap::width, "first layer exceeds capacity");
+  static_assert(First::kind == LayerKind::Dense || First::kind == LayerKind::Gru,
+                "a shaped kernel's first layer is Dense or GRU: another kind runs on the generic kernel");
 
   // Whether model M has this shape (and the activations it fixes, if any).
   static bool matches(const Model<Cap>& Mo) {
@@ -124,7 +126,7 @@ struct ShapedRollout<Cap, NetShape<M, N, W, ND, First, Rest...>, kTangents> {
   // The layers past the first: values, and each layer's slopes in slope[l].
   template <int In, class L, class... More>
   static int layers(const Model<Cap>& Mo, int l, RolloutScratch<Cap>& s, int cur, float (*slope)[Cap::width]) {
-    static_assert(!L::gru, "a GRU runs only as the first layer of a shaped kernel");
+    static_assert(L::kind == LayerKind::Dense, "past the first layer a shaped kernel runs Dense layers only");
     static_assert(L::units <= Cap::width, "layer exceeds capacity");
     const Layer& Lr = Mo.layer[l];
     detail::dense_values<In, L::units, L::act>(Lr.act, Mo.weights(Lr), s.v[cur], s.v[1 - cur], slope[l]);

@@ -1,13 +1,16 @@
 #pragma once
 // A model layer's kind, one row per kind (LayerKindRow): its names, how
 // many weight columns a unit has, whether it carries state, whether a file
-// chooses its activation (else the kind's own, Keras' defaults), and the
-// image header's template for it. The model file and its loader, rig files, Keras
-// import, the image generator, `train --arch` and the protocol's shape words
-// all read the rows; a new kind is a row here, its number in AllLayerKinds,
-// its image template (net_shape.hpp) and its kernels: forward.hpp and
-// rollout.hpp on the MCU, app/model/network.cpp for training (and, to take
-// it from Keras, its weights' layout in app/model/keras_import.cpp).
+// chooses its activation (else the kind's own, Keras' defaults: the image
+// header writes such a layer as net_shape.hpp's KindLayer), and its
+// enumerator's spelling for the image header. The model file and its
+// loader, rig files, Keras import, the image generator, `train --arch` and
+// the protocol's shape words all read the rows; a new kind is a row here,
+// its number in AllLayerKinds, and its kernels: forward.hpp and rollout.hpp
+// on the MCU, app/model/network.cpp for training (and, to take it from
+// Keras, its weights' layout in app/model/keras_import.cpp; to run it in an
+// image's shaped kernel, kernels.hpp, which refuses any kind but Dense and
+// GRU there).
 // Rows are types, not an array, so the MCU's code compiles a kind's facts
 // to the comparisons it would write by hand and links none of the names.
 #include <array>
@@ -27,7 +30,7 @@ template <>
 struct LayerKindRow<LayerKind::Dense> {
   static constexpr const char* name = "dense";          // rig files, --arch, --shape
   static constexpr const char* title = "Dense";         // model summaries, Keras' class name
-  static constexpr const char* image_layer = "DenseLayer";  // the image header's template
+  static constexpr const char* enumerator = "Dense";     // LayerKind::Dense, as the image header spells it
   static constexpr int gates = 1;                        // weight columns per unit
   static constexpr bool recurrent = false;               // a unit's previous output feeds it
   static constexpr bool free_activation = true;          // rig files, --activation and the image choose it
@@ -39,7 +42,7 @@ template <>
 struct LayerKindRow<LayerKind::Gru> {
   static constexpr const char* name = "gru";
   static constexpr const char* title = "GRU";
-  static constexpr const char* image_layer = "GruLayer";
+  static constexpr const char* enumerator = "Gru";
   static constexpr int gates = 3;  // z, r and the candidate h
   static constexpr bool recurrent = true;
   static constexpr bool free_activation = false;  // Keras' GRU defaults, read from the model at run time
@@ -96,7 +99,7 @@ struct LayerKindInfo {
   const char* title;
   int gates;
   bool recurrent;
-  const char* image_layer;
+  const char* enumerator;
   bool free_activation;
   Activation act, rec_act;
 };
@@ -105,7 +108,7 @@ namespace detail {
 template <LayerKind... K>
 constexpr std::array<LayerKindInfo, sizeof...(K)> layer_kind_infos(LayerKindList<K...>) {
   return {{{K, LayerKindRow<K>::name, LayerKindRow<K>::title, LayerKindRow<K>::gates, LayerKindRow<K>::recurrent,
-            LayerKindRow<K>::image_layer, LayerKindRow<K>::free_activation, LayerKindRow<K>::act,
+            LayerKindRow<K>::enumerator, LayerKindRow<K>::free_activation, LayerKindRow<K>::act,
             LayerKindRow<K>::rec_act}...}};
 }
 constexpr bool same_text(const char* a, const char* b) {

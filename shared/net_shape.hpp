@@ -26,15 +26,19 @@ struct DenseLayer {
   static constexpr LayerKind kind = LayerKind::Dense;
   static constexpr bool gru = false;
 };
-// A GRU's gate pre-activations are 3 x units wide; its activations are
-// always read from the model.
-template <int Units>
-struct GruLayer {
-  static constexpr int units = Units, cols = layer_columns(LayerKind::Gru, Units),
-                       act = kActivationAtRunTime;
-  static constexpr LayerKind kind = LayerKind::Gru;
-  static constexpr bool gru = true;
+// A layer of a kind whose activations are its own (layer_kind.hpp: a
+// GRU's), read from the model at run time; its columns are its kind's gates
+// x units (a GRU's gate pre-activations, 3 x units). One template for every
+// such kind, so a new kind needs none of its own here.
+template <LayerKind K, int Units>
+struct KindLayer {
+  static_assert(!LayerKindRow<K>::free_activation, "a kind that takes a chosen activation is a DenseLayer");
+  static constexpr int units = Units, cols = layer_columns(K, Units), act = kActivationAtRunTime;
+  static constexpr LayerKind kind = K;
+  static constexpr bool gru = K == LayerKind::Gru;
 };
+template <int Units>
+using GruLayer = KindLayer<LayerKind::Gru, Units>;
 
 // m actuators, n outputs, w sensor channels, nd = dd history length
 // (paper: n_d = d_d), then the layers, the first one first.
@@ -50,7 +54,7 @@ template <class... Shapes>
 struct ShapeList {};
 
 // What a model of shape S needs of a capacity: its weight and bias count
-// (model.hpp's layer_weight_count, GRU biases reset_after) and its widest
+// (layer_kind.hpp's layer_weights, a GRU's biases reset_after) and its widest
 // layer buffer (a GRU's 3 x units), so an image built for one shape
 // reserves no RAM beyond it.
 template <class S>
@@ -59,12 +63,11 @@ template <int M, int N, int W, int ND, class First, class... Rest>
 struct ShapeNeeds<NetShape<M, N, W, ND, First, Rest...>> {
  private:
   static constexpr int sum() {
-    const int cols[] = {First::cols, Rest::cols...};
     const int units[] = {First::units, Rest::units...};
-    const bool gru[] = {First::gru, Rest::gru...};
+    const LayerKind kinds[] = {First::kind, Rest::kind...};
     int in = ND * (M + N) + W, total = 0;
     for (int l = 0; l < 1 + int(sizeof...(Rest)); ++l) {
-      total += gru[l] ? in * cols[l] + units[l] * cols[l] + 2 * cols[l] : in * units[l] + units[l];
+      total += layer_weights(kinds[l], in, units[l], true);
       in = units[l];
     }
     return total;

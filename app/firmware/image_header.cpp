@@ -75,7 +75,7 @@ const char* ref_kind_literal(RefKind k) {
 // activation's code, none of the others' (shared/net_shape.hpp).
 std::string layer_type(const RigLayer& l, bool fixed_model) {
   const LayerKindInfo& kind = layer_kind_info(l.kind);
-  if (!kind.free_activation) return fmt::format("{}<{}>", kind.image_layer, l.units);
+  if (!kind.free_activation) return fmt::format("KindLayer<LayerKind::{}, {}>", kind.enumerator, l.units);
   struct Literal {
     Activation act;
     const char* name;

@@ -17,11 +17,11 @@ struct ShapeLayers<Cap, nlsoft::NetShape<M, N, W, ND, First, Rest...>> {
   static void fill(nlsoft::Model<Cap>& Mo) {
     using namespace nlsoft;
     const int units[] = {First::units, Rest::units...};
-    const bool gru[] = {First::gru, Rest::gru...};
+    const LayerKind kinds[] = {First::kind, Rest::kind...};
     int in = Mo.p();
     Mo.layer_count = uint8_t(1 + sizeof...(Rest));
     for (int l = 0; l < Mo.layer_count; ++l) {
-      Mo.layer[l] = Layer{gru[l] ? LayerKind::Gru : LayerKind::Dense, Activation::Tanh, Activation::HardSigmoid, true,
+      Mo.layer[l] = Layer{kinds[l], Activation::Tanh, Activation::HardSigmoid, true,
                           uint16_t(in), uint16_t(units[l]), 0};
       in = units[l];
     }

@@ -78,14 +78,14 @@ struct ShapeModel<Cap, NetShape<M, N, W, ND, First, Rest...>> {
                               bool residual = false) {
     constexpr int count = 1 + int(sizeof...(Rest));
     const int units[] = {First::units, Rest::units...};
-    const bool gru[] = {First::gru, Rest::gru...};
+    const LayerKind kinds[] = {First::kind, Rest::kind...};
     const int fixed[] = {First::act, Rest::act...};  // a shape that fixes an activation gets it
     LayerSpec specs[count];
     for (int l = 0; l < count; ++l) {
       const Activation act = fixed[l] != kActivationAtRunTime ? Activation(uint8_t(fixed[l]))
                              : l + 1 == count                 ? out
                                                               : hidden;
-      specs[l] = LayerSpec{gru[l] ? LayerKind::Gru : LayerKind::Dense, units[l], act, Activation::Sigmoid,
+      specs[l] = LayerSpec{kinds[l], units[l], act, Activation::Sigmoid,
                            seed % 2 == 0};
     }
     if constexpr (count == 1) return random_model<Cap>(M, N, W, ND, {specs[0]}, seed, scale, residual);

@@ -152,7 +152,7 @@ TEST(ImageHeader, SpellsOutTheRigAndSizesTheCapacityFromIt) {
   EXPECT_TRUE(contains(h, "c.N = 6, c.N1 = 1, c.Nc = 2")) << h;
   EXPECT_TRUE(contains(h, "c.eps = 0.0125f")) << h;
   // The model's shape is the one kernel; the arrays are the rig's size.
-  EXPECT_TRUE(contains(h, "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2>>;")) << h;
+  EXPECT_TRUE(contains(h, "using ImageShape = NetShape<3, 2, 5, 2, KindLayer<LayerKind::Gru, 4>, DenseLayer<2>>;")) << h;
   EXPECT_TRUE(contains(h, "static constexpr int m = 3, n = 2, w = 5, nd = 2;")) << h;
   EXPECT_TRUE(contains(h, "static constexpr int N = 6, Nc = 2;")) << h;
   EXPECT_TRUE(contains(h, "layers = 2;")) << h;
@@ -494,14 +494,14 @@ TEST(ImageHeader, FirmwareFeaturesAreWrittenAndABoardThatLacksOneRefusesIt) {
 // GRU's stay the model's; with uploads every activation is the model's.
 TEST(ImageHeader, AnImageWithoutModelUploadsFixesItsDenseActivations) {
   EXPECT_TRUE(contains(source_of(kRig, "stm32f4").header,
-                       "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2>>;"));
+                       "using ImageShape = NetShape<3, 2, 5, 2, KindLayer<LayerKind::Gru, 4>, DenseLayer<2>>;"));
   const std::string h = source_of(std::string(kRig) + "\n[firmware]\nfeatures = [\"ident\"]\n", "stm32f4").header;
   EXPECT_TRUE(contains(h, "// No model uploads: the Dense layers' activations are the built-in model's, compiled in.\n"
-                          "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2, int(Activation::Linear)>>;"))
+                          "using ImageShape = NetShape<3, 2, 5, 2, KindLayer<LayerKind::Gru, 4>, DenseLayer<2, int(Activation::Linear)>>;"))
       << h;
   const std::string uploads =
       source_of(std::string(kRig) + "\n[firmware]\nfeatures = [\"model-upload\"]\n", "stm32f4").header;
-  EXPECT_TRUE(contains(uploads, "using ImageShape = NetShape<3, 2, 5, 2, GruLayer<4>, DenseLayer<2>>;")) << uploads;
+  EXPECT_TRUE(contains(uploads, "using ImageShape = NetShape<3, 2, 5, 2, KindLayer<LayerKind::Gru, 4>, DenseLayer<2>>;")) << uploads;
 }
 
 // [firmware] optimize = "size": the generic kernel instead of the shape's,
