@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
+#include <thread>
 
 namespace nlsoft::console::conformance {
 
@@ -248,9 +250,27 @@ std::vector<Frame> Probe::stop_listening() {
   return std::move(heard_);
 }
 
+// A pty hands a burst to the firmware at once; a serial line brings it at
+// its baud (4 kB at 115200: 350 ms). Written at the line's rate, in 64-byte
+// pieces, a burst arrives as a board's line would bring it, so the checks
+// test the firmware's framing, not a rate no link it serves can reach (a
+// 4 kB burst at once overran an image's 512-byte ring while its loop waited
+// on a servo, tests/firmware/servos_qemu.sh).
+void Probe::write_at_line_rate(const std::vector<uint8_t>& bytes) {
+  constexpr size_t kPiece = 64;
+  const auto per_piece =
+      std::chrono::microseconds(baud_ > 0 ? uint64_t(kPiece) * 10u * 1000000u / uint64_t(baud_) : 0u);
+  for (size_t at = 0; at < bytes.size(); at += kPiece) {
+    const auto due = std::chrono::steady_clock::now() + per_piece;
+    const auto end = bytes.begin() + std::ptrdiff_t(std::min(bytes.size(), at + kPiece));
+    session_.write_raw(std::vector<uint8_t>(bytes.begin() + std::ptrdiff_t(at), end));
+    if (end != bytes.end()) std::this_thread::sleep_until(due);
+  }
+}
+
 std::vector<Frame> Probe::send_fenced(const std::vector<uint8_t>& bytes, const p::Ping& fence, Frame& answer) {
   listen();
-  session_.write_raw(bytes);
+  write_at_line_rate(bytes);
   const uint8_t seq = next_seq();
   try {
     answer = exchange(uint8_t(p::MsgType::Ping), seq, wire(fence, seq));

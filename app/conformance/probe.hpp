@@ -104,6 +104,8 @@ class Probe {
   // before the fence's answer (its retries' copies left out); `answer` is
   // that answer. Throws LinkError as request() does.
   std::vector<Frame> send_fenced(const std::vector<uint8_t>& bytes, const p::Ping& fence, Frame& answer);
+  // The bytes at the open baud's rate (10 bits a byte), as a line brings them.
+  void write_at_line_rate(const std::vector<uint8_t>& bytes);
 
   void record_telemetry(bool on);
   std::vector<TelemetrySample> telemetry();
