@@ -33,7 +33,7 @@ inline void use_rig_pid(const host::Rig& rig, LoopSetup& setup) {
   if (!rig.pid.given)
     throw host::CliError(fmt::format(
         "rig '{}' ({}) has no [pid] table: the PID baseline needs its gains (kp, ki, kd; docs/rig-file.md, "
-        "\"[pid]\"; rigs/msd.toml holds the paper's)",
+        "\"[pid]\")",
         rig.name, rig.file));
   setup.controller = ControllerKind::Pid;
   setup.pid = {float(rig.pid.kp), float(rig.pid.ki), float(rig.pid.kd)};

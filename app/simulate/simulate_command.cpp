@@ -288,7 +288,7 @@ void add_simulate_command(CLI::App& app, SimulationPlotter plot) {
       ->capture_default_str();
   sub->add_option("--reference", o->reference,
                   "infinity, pringle, diagonal, swirl, steps or hold (default: the rig's [reference] kind)");
-  sub->add_option("--controller", o->controller, "mpc or pid (pid: the rig file's [pid] gains; msd's are the paper's)")->capture_default_str();
+  sub->add_option("--controller", o->controller, "mpc or pid (pid: the rig file's [pid] gains)")->capture_default_str();
   sub->add_option("--mode", o->mode, "derivatives: exact (chain rule) or fd (central differences)")
       ->capture_default_str();
   sub->add_option("--steps", o->steps, "control steps to run (default: the whole reference, or 20 s)")
