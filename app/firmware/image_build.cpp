@@ -429,8 +429,11 @@ void stage_sources(const Rig& rig, const ImageFolder& f, ImageRequest& request, 
     for (const auto& e : fs::directory_iterator(d))
       if (e.path().filename() != rig.name) fs::remove_all(e.path(), ec);
   }
-  fs::remove_all(f.staged_model, ec);
-  if (!request.model_file.empty()) {
+  // The model's copy is rewritten only when its bytes changed: a new mtime
+  // reassembles the model blob and relinks every image (LTO), 6 s of a
+  // --qemu connect that changed nothing.
+  if (request.model_file.empty()) fs::remove_all(f.staged_model, ec);
+  else {
     const std::string given = request.model_file;
     request.model_file = model_copy_for_image(given, f.staged_model);
     source = image_source(rig, request);
