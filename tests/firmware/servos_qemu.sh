@@ -20,8 +20,16 @@ fail=0
 say() { echo "FAIL: $*"; fail=1; }
 qemu= chain=
 trap '[ -n "$chain" ] && kill $chain 2>/dev/null; [ -n "$qemu" ] && kill $qemu 2>/dev/null' EXIT
+# A servo answers within its return delay whatever else the host runs; the
+# image waits 30 ms of emulated time (kEmulatedAnswerUs), which passes with
+# the host's clock. On a loaded host the fake chain and QEMU's I/O thread
+# were woken late: beside four busy loops 2 of 5 runs lost reads ("rx64-1
+# stopped", a conformance check failed). So both run at nice -10 where the
+# user may raise priority (root, as CI); elsewhere as they are.
+urgent=()
+[ "$(nice -n -10 nice 2>/dev/null)" = -10 ] && urgent=(nice -n -10)
 
-qemu-system-arm -nographic -monitor none -M netduinoplus2 -serial pty -serial pty -kernel "$image" >qemu.out 2>&1 &
+"${urgent[@]}" qemu-system-arm -nographic -monitor none -M netduinoplus2 -serial pty -serial pty -kernel "$image" >qemu.out 2>&1 &
 qemu=$!
 bus= port=
 for _ in $(seq 50); do
@@ -35,7 +43,7 @@ done
 # chain NAME [--fault ...]: the fake chain (ids 1 and 2) on the servo bus, logging to NAME.log.
 start_chain() {
   [ -n "$chain" ] && kill $chain 2>/dev/null && wait $chain 2>/dev/null
-  "$fake" "$bus" "$1.log" --servo 1:rx-64 --servo 2:rx-64 "${@:2}" &
+  "${urgent[@]}" "$fake" "$bus" "$1.log" --servo 1:rx-64 --servo 2:rx-64 "${@:2}" &
   chain=$!
 }
 # until_state DEVICE STATE: `rig check` against the board until DEVICE shows STATE (a servo
