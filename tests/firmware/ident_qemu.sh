@@ -88,6 +88,11 @@ EOF
   done
   # --qemu booted the image built with the model, as built.
   [ "$(stat -c %Y "$hil")" = "$before" ] || say "$board: --qemu built the image again"
+  # Nor relinked it in its cache folder: each connect runs make there, which
+  # finds nothing changed (the folder's build.log is the last connect's).
+  for log in "$XDG_CACHE_HOME"/nlsoft/firmware/stage-$board-*/build.log; do
+    ! grep -q "Linking" "$log" || say "$board: a --qemu connect that changed nothing linked again: $(grep Linking "$log")"
+  done
   # Both runs of the board, one fit, and nothing else: the model the
   # controller then runs on the image.
   # The image runs the shape it was built with (the build part's model,
