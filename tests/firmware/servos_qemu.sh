@@ -47,12 +47,12 @@ start_chain() {
   chain=$!
 }
 # until_state DEVICE STATE: `rig check` against the board until DEVICE shows STATE (a servo
-# not ok is tried again once a second), at most 10 tries; its output in check.txt.
+# not ok is tried again once a second), at most 20 tries a quarter second apart; its output in check.txt.
 until_state() {
-  for _ in $(seq 10); do
+  for _ in $(seq 20); do
     timeout 60 "$console" rig check tendon "$port" >check.txt 2>&1
     grep -q "device $1 .*: $2\b" check.txt && return 0
-    sleep 1
+    sleep 0.25
   done
   say "$1 never $2: $(cat check.txt)"
   return 1
