@@ -91,6 +91,7 @@ EOF
   # Nor relinked it in its cache folder: each connect runs make there, which
   # finds nothing changed (the folder's build.log is the last connect's).
   for log in "$XDG_CACHE_HOME"/nlsoft/firmware/stage-$board-*/build.log; do
+    [ -f "$log" ] || { say "$board: no image folder with a build.log in $XDG_CACHE_HOME/nlsoft/firmware"; continue; }
     ! grep -q "Linking" "$log" || say "$board: a --qemu connect that changed nothing linked again: $(grep Linking "$log")"
   done
   # Both runs of the board, one fit, and nothing else: the model the
