@@ -24,7 +24,7 @@ ParamInfo param(const char* name, protocol::ParamType type, uint8_t size, float 
   return p;
 }
 
-std::string error_of(const std::function<void()>& f) {
+std::string thrown_message(const std::function<void()>& f) {
   try {
     f();
   } catch (const CliError& e) {
@@ -44,7 +44,7 @@ TEST(ParamText, OptionsByNameAndNumbersStillAccepted) {
   EXPECT_EQ(parse_param_values(safe, expand_param_tokens(safe, {"hold"})), std::vector<double>{0});
   EXPECT_EQ(format_param_named(safe, {1}), "1 (neutral)");
   EXPECT_EQ(format_param_named(mode, {0}), "0 (exact)");
-  EXPECT_EQ(error_of([&] { expand_param_tokens(mode, {"newton"}); }),
+  EXPECT_EQ(thrown_message([&] { expand_param_tokens(mode, {"newton"}); }),
             "mode: 'newton' is not an option; use exact (0), fd (1)");
 }
 
@@ -53,10 +53,10 @@ TEST(ParamText, OneValueSetsEveryElementAndOtherCountsAreStillRefused) {
   EXPECT_EQ(parse_param_values(lambda, expand_param_tokens(lambda, {"0.5"})), std::vector<double>(6, 0.5));
   EXPECT_EQ(parse_param_values(lambda, expand_param_tokens(lambda, {"1,2,3,4,5,6"})),
             (std::vector<double>{1, 2, 3, 4, 5, 6}));
-  EXPECT_EQ(error_of([&] { parse_param_values(lambda, expand_param_tokens(lambda, {"1", "2"})); }),
+  EXPECT_EQ(thrown_message([&] { parse_param_values(lambda, expand_param_tokens(lambda, {"1", "2"})); }),
             "Lambda takes 6 values, got 2");
   // Numbers are not option names for a parameter without options.
-  EXPECT_EQ(error_of([&] { parse_param_values(lambda, expand_param_tokens(lambda, {"fd"})); }),
+  EXPECT_EQ(thrown_message([&] { parse_param_values(lambda, expand_param_tokens(lambda, {"fd"})); }),
             "Lambda: 'fd' is not a number");
 }
 

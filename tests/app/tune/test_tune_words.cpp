@@ -24,7 +24,7 @@ RunMetrics metrics(double nrmse, double u_effort) {
   return m;
 }
 
-std::string error_of(const std::string& objective) {
+std::string objective_error(const std::string& objective) {
   try {
     Objective o(objective);
   } catch (const ObjectiveError& e) {
@@ -48,12 +48,12 @@ TEST(TuneObjective, AMissingMetricMakesTheScoreUndefinedNotZero) {
 }
 
 TEST(TuneObjective, BadExpressionsSayWhatAndWhere) {
-  EXPECT_NE(error_of("nrmse + * 2").find("column 9"), std::string::npos) << error_of("nrmse + * 2");
-  EXPECT_NE(error_of("nrmse + effort").find("unknown metric 'effort'"), std::string::npos);
-  EXPECT_NE(error_of("nrmse + effort").find("u_effort"), std::string::npos) << "lists the known metrics";
-  EXPECT_NE(error_of("(nrmse").find("expected ')'"), std::string::npos);
-  EXPECT_NE(error_of("nrmse 2").find("unexpected '2'"), std::string::npos);
-  EXPECT_NE(error_of("  ").find("empty"), std::string::npos);
+  EXPECT_NE(objective_error("nrmse + * 2").find("column 9"), std::string::npos) << objective_error("nrmse + * 2");
+  EXPECT_NE(objective_error("nrmse + effort").find("unknown metric 'effort'"), std::string::npos);
+  EXPECT_NE(objective_error("nrmse + effort").find("u_effort"), std::string::npos) << "lists the known metrics";
+  EXPECT_NE(objective_error("(nrmse").find("expected ')'"), std::string::npos);
+  EXPECT_NE(objective_error("nrmse 2").find("unexpected '2'"), std::string::npos);
+  EXPECT_NE(objective_error("  ").find("empty"), std::string::npos);
 }
 
 TEST(TuneSpace, RangesParseLinearOrLog) {
