@@ -1,6 +1,7 @@
 # One warnings list (cmake/warning_flags.txt) for every host target, set for
 # the whole tree so no target can be added without it.
 file(STRINGS ${CMAKE_CURRENT_LIST_DIR}/warning_flags.txt NLSOFT_WARNING_FLAGS REGEX "^-")
+set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/warning_flags.txt)
 add_compile_options(${NLSOFT_WARNING_FLAGS})
 
 # CI builds fail on any warning (.ci/run through cmake/dev). Off by default

@@ -73,11 +73,14 @@ inline constexpr double kInvLn2 = 0x1.71547652b82fep0;
 
 // Dekker's exact product a * b = hi + lo with basic operations only (no
 // fma: it would not be fixed at build time either).
-inline void two_prod(double a, double b, double& hi, double& lo) {
+// T is double, or lanes of doubles (fixed_math_lanes.hpp): the same
+// operations on each lane, so the same bits.
+template <class T>
+inline void two_prod(T a, T b, T& hi, T& lo) {
   constexpr double kSplit = 134217729.0;  // 2^27 + 1
-  const double ca = kSplit * a, cb = kSplit * b;
-  const double ah = ca - (ca - a), al = a - ah;
-  const double bh = cb - (cb - b), bl = b - bh;
+  const T ca = kSplit * a, cb = kSplit * b;
+  const T ah = ca - (ca - a), al = a - ah;
+  const T bh = cb - (cb - b), bl = b - bh;
   hi = a * b;
   lo = ((ah * bh - hi) + ah * bl + al * bh) + al * bl;
 }
@@ -85,8 +88,9 @@ inline void two_prod(double a, double b, double& hi, double& lo) {
 // e^(r + c) - 1 = hi + lo for |r| <= ln2 / 2 + 2^-30, |c| <= ulp(r):
 // Taylor series to r^15 (truncation below 3e-19 relative), r added last
 // with the rounding of that sum carried in lo.
-inline void expm1_reduced(double r, double c, double& hi, double& lo) {
-  double q = 1.0 / 1307674368000.0;  // 1/15!
+template <class T>
+inline void expm1_reduced(T r, T c, T& hi, T& lo) {
+  T q = T{} + 1.0 / 1307674368000.0;  // 1/15! (T{} + : as a T; exact)
   q = q * r + 1.0 / 87178291200.0;
   q = q * r + 1.0 / 6227020800.0;
   q = q * r + 1.0 / 479001600.0;
@@ -100,7 +104,7 @@ inline void expm1_reduced(double r, double c, double& hi, double& lo) {
   q = q * r + 1.0 / 24.0;
   q = q * r + 1.0 / 6.0;
   q = q * r + 0.5;
-  const double t = r * r * q;  // |t| < |r| / 4: fast two-sum below is exact
+  const T t = r * r * q;  // |t| < |r| / 4: fast two-sum below is exact
   hi = r + t;
   // e^(r + c) - 1 = (e^r - 1) + c e^r to 2^-100
   lo = ((r - hi) + t) + c * (1.0 + hi);
@@ -109,13 +113,43 @@ inline void expm1_reduced(double r, double c, double& hi, double& lo) {
 // x = k ln2 + r + c with |r| <= ln2/2 (a little more at the rounding
 // boundary), c the rounding error of r (and any extra low part of x); x
 // finite and |x| < 800.
-inline void reduce_ln2(double x, double extra, int& k, double& r, double& c) {
-  const double fk = std::floor(x * kInvLn2 + 0.5);
-  k = int(fk);
-  const double hi = x - fk * kLn2Hi;  // exact: fk * kLn2Hi is, and x is near it
-  const double lo = fk * kLn2Lo;
+// k is returned as a double (floor_of: std::floor, or the lanes' own).
+inline double floor_of(double y) { return std::floor(y); }
+
+#if !NLSOFT_FIXED_MATH_FLOAT_FROM_STD  // the lanes serve the host's training
+// Four doubles as one value (the GCC/Clang vector extension): + - * / act
+// on each lane as the scalar operation does, exactly rounded and never
+// fused (-ffp-contract=off), so a kernel written for T gives each lane the
+// bits the scalar call gives. Without AVX the compiler runs each operation
+// as two SSE2 halves, which still hides most of a Horner chain's latency.
+// Declared here, before the kernels, because a vector type has no
+// namespace for argument-dependent lookup to find its floor_of in.
+using Lanes = double __attribute__((vector_size(32)));
+using LaneBits = int64_t __attribute__((vector_size(32)));
+inline constexpr int kLanes = 4;
+
+// floor for |y| < 2^51: rounded to an integer by adding and taking away
+// 1.5 * 2^52 (exact there), less one where that rounded up. Equal to
+// std::floor but for -0, which y = x / ln2 + 0.5 never is.
+inline Lanes floor_of(Lanes y) {
+  const Lanes t = (y + 0x1.8p52) - 0x1.8p52;
+  const Lanes one = Lanes{} + 1.0;
+  return t - Lanes(LaneBits(one) & (t > y));
+}
+#endif
+
+template <class T>
+inline T reduce_ln2_k(T x, T extra, T& r, T& c) {
+  const T fk = floor_of(x * kInvLn2 + 0.5);
+  const T hi = x - fk * kLn2Hi;  // exact: fk * kLn2Hi is, and x is near it
+  const T lo = fk * kLn2Lo;
   r = hi - lo;
   c = ((hi - r) - lo) + extra;
+  return fk;
+}
+
+inline void reduce_ln2(double x, double extra, int& k, double& r, double& c) {
+  k = int(reduce_ln2_k(x, extra, r, c));
 }
 
 // e^(x + extra), |extra| <= 2^-40 |x|: extra carries the low half of a
@@ -508,6 +542,118 @@ inline float tanh(float x) { return float(tanh(double(x))); }
 inline float sin(float x) { return float(sin(double(x))); }
 inline float cos(float x) { return float(cos(double(x))); }
 inline float pow(float x, float y) { return float(pow(double(x), double(y))); }
+#endif
+
+#if !NLSOFT_FIXED_MATH_FLOAT_FROM_STD
+namespace detail {
+
+// 2^k for integers -1022 <= k <= 1023 held as doubles: k read from the
+// low bits of k + 1.5 * 2^52, put straight into the exponent bits.
+inline Lanes pow2_of(Lanes fk) {
+  const LaneBits k = LaneBits(fk + 0x1.8p52) - LaneBits(Lanes{} + 0x1.8p52);
+  return Lanes((k + 1023) << 52);
+}
+
+inline bool all_of(LaneBits m) {
+  int64_t a = -1;
+  for (int i = 0; i < kLanes; ++i) a &= m[i];
+  return a != 0;
+}
+
+inline Lanes fabs_of(Lanes x) { return Lanes(LaneBits(x) & 0x7fffffffffffffffLL); }
+
+// m ? a : b lane by lane, m all ones or all zeros (a comparison's result):
+// in bits, which compilers keep in vector registers where ?: may not be.
+inline Lanes select(LaneBits m, Lanes a, Lanes b) { return Lanes((LaneBits(a) & m) | (LaneBits(b) & ~m)); }
+
+// expm1_dd on each lane, |x| <= 40.
+[[gnu::always_inline]] inline void expm1_dd(Lanes x, Lanes& hi, Lanes& lo) {
+  Lanes r, c;
+  const Lanes fk = reduce_ln2_k(x, Lanes{}, r, c);
+  Lanes eh, el;
+  expm1_reduced(r, c, eh, el);
+  const Lanes s2k = pow2_of(fk);
+  const Lanes a = s2k - 1.0, b = s2k * eh;
+  const Lanes s1 = a + b;
+  const Lanes bb = s1 - a;
+  const Lanes err = (a - (s1 - bb)) + (b - bb);
+  const LaneBits k0 = fk == 0.0;
+  hi = select(k0, eh, s1);
+  lo = select(k0, el, err + s2k * el);
+}
+
+// exp_dd(x, 0) on each lane, |x| <= 700 (no overflow, no subnormal).
+[[gnu::always_inline]] inline Lanes exp_of(Lanes x) {
+  Lanes r, c;
+  const Lanes fk = reduce_ln2_k(x, Lanes{}, r, c);
+  Lanes eh, el;
+  expm1_reduced(r, c, eh, el);
+  const Lanes p1 = 1.0 + eh;
+  const Lanes p = p1 + (((1.0 - p1) + eh) + el);
+  return p * pow2_of(fk);
+}
+
+// tanh's two finite branches on each lane, 2^-28 <= |x| < 20 (so
+// expm1(2|x|) is expm1_dd's sum): both formulas, the lane's own kept.
+[[gnu::always_inline]] inline Lanes tanh_of(Lanes x) {
+  const Lanes ax = fabs_of(x);
+  const LaneBits big = ax >= 1.0;
+  Lanes eh, el;
+  expm1_dd(select(big, 2.0 * ax, -2.0 * ax), eh, el);
+  const Lanes t_big = 1.0 - 2.0 / ((eh + el) + 2.0);
+  Lanes t = t_big;
+  if (!all_of(big)) {  // the small formula only where a lane needs it
+    const Lanes dh = 2.0 + eh;
+    const Lanes dl = (eh - (dh - 2.0)) + el;
+    const Lanes q = eh / dh;
+    Lanes ph, pl;
+    two_prod(q, dh, ph, pl);
+    const Lanes t_small = -(q + (((eh - ph) - pl) + el - q * dl) / dh);
+    t = select(big, t_big, t_small);
+  }
+  return select(x < 0.0, -t, t);
+}
+
+// f over x[0, n) into y (x == y allowed): four at a time where all four
+// are in range (lanes), else one at a time (scalar).
+template <class InRange, class OnLanes, class OnOne>
+inline void each(const double* x, double* y, long n, InRange in_range, OnLanes on_lanes, OnOne on_one) {
+  long i = 0;
+  for (; i + kLanes <= n; i += kLanes) {
+    Lanes v;
+    std::memcpy(&v, x + i, sizeof v);
+    const LaneBits ok = in_range(v);
+    if (all_of(ok)) {
+      const Lanes out = on_lanes(v);
+      std::memcpy(y + i, &out, sizeof out);
+    } else {
+      for (int j = 0; j < kLanes; ++j) y[i + j] = on_one(x[i + j]);
+    }
+  }
+  for (; i < n; ++i) y[i] = on_one(x[i]);
+}
+
+}  // namespace detail
+
+// y[i] = tanh(x[i]), sigmoid(x[i]) for i < n, the same bits as one call
+// each, four lanes at a time: on 2^16 arguments in [-4, 4] (g++ -O2,
+// x86-64 baseline, an EPYC core) sigmoid 16.3 -> 7.3 ns an argument, tanh
+// 21.3 -> 16.8 (it keeps both of its formulas where a group mixes them).
+inline void tanh_n(const double* x, double* y, long n) {
+  detail::each(
+      x, y, n,
+      [](detail::Lanes v) {
+        const detail::Lanes a = detail::fabs_of(v);
+        return (a >= 0x1p-28) & (a < 20.0);
+      },
+      [](detail::Lanes v) { return detail::tanh_of(v); }, [](double v) { return tanh(v); });
+}
+
+inline void sigmoid_n(const double* x, double* y, long n) {
+  detail::each(
+      x, y, n, [](detail::Lanes v) { return detail::fabs_of(v) <= 700.0; },
+      [](detail::Lanes v) { return 1.0 / (1.0 + detail::exp_of(-v)); }, [](double v) { return sigmoid(v); });
+}
 #endif
 
 }  // namespace nlsoft::fixed_math

@@ -76,9 +76,4 @@ class Network {
   std::vector<double> theta_;
 };
 
-// Elementwise activation (Keras definitions, hard_sigmoid = clip(0.2 x +
-// 0.5, 0, 1) as shared/activation.hpp); the backward pass takes its
-// derivative from the activation's output where it can.
-Eigen::MatrixXd activate(Activation a, const Eigen::MatrixXd& z);
-
 }  // namespace nlsoft::model

@@ -105,6 +105,7 @@ struct OneStepData {
   const Eigen::MatrixXd& Xn;
   const RowMajorMatrix& Xn_rows;  // the same, row-major: a mini-batch draws rows at random
   const Eigen::MatrixXd& T;
+  const RowMajorMatrix& T_rows;  // the same, row-major: a column-major row is a cache miss per output
   const Partition& P;
   const Normalisation& nz;
 };
@@ -124,7 +125,7 @@ void fill_batch(const OneStepData& d, const TrainOptions& opt, const std::vector
   for (long b = 0; b < size; ++b) {
     const long r = order[size_t(start + b)];
     Xb.row(b) = d.Xn_rows.row(r);
-    Tb.row(b) = d.T.row(r);
+    Tb.row(b) = d.T_rows.row(r);
   }
   if (!(opt.y_noise > 0.0)) return;
   // Independent errors per lag: a shared drift alone would leave
@@ -497,6 +498,7 @@ class Training {
   TrainResult res_;
   Pooled pooled_;
   Eigen::MatrixXd Xn_, T_, Xval_, Tval_;  // normalised inputs, targets; their validation rows
+  RowMajorMatrix T_rows_;                  // T_ row-major, for the mini-batches
   SimulationData sim_;
   std::vector<RowRange> train_pieces_, judge_pieces_;
   Network start_model_;  // the linear model networks may start from
@@ -527,6 +529,7 @@ void Training::prepare(const std::vector<Series>& runs, int validate) {
   Xn_ = normalise_inputs(tn.nz, d().X);
   const Eigen::MatrixXd base = d().X.middleCols(L.y_begin(), L.n);
   T_ = targets(tn.nz, d().Y, opt_.residual ? &base : nullptr);
+  T_rows_ = T_;
   sim_ = simulation_data(d(), Xn_, tn.nz, L, P.train_end, opt_.residual);
   train_pieces_ = pieces_within(d(), 0, P.train_end);
   // Candidates and their weights are judged by free runs of the training
@@ -557,7 +560,7 @@ void Training::fit_linear_start() {
     q.elapsed_s = elapsed_s();
     opt_.progress(q);
   };
-  warm_start(start_model_, OneStepData{layout(), Xn_, sim_.Xn, T_, split(), res_.trained.nz}, opt_, rng, progress);
+  warm_start(start_model_, OneStepData{layout(), Xn_, sim_.Xn, T_, T_rows_, split(), res_.trained.nz}, opt_, rng, progress);
   SimulationOptions so = opt_.sim;
   so.seed = opt_.seed;
   so.stop = opt_.stop;
@@ -585,7 +588,7 @@ void Training::fit_candidate(size_t i, int inner_threads) {
     one_step_val_[i] = loss_of(Loss::Mse, 1.0, net.predict(Xval_), Tval_).value;
   } else {
     const OneStepResult w =
-        warm_start(net, OneStepData{layout(), Xn_, sim_.Xn, T_, split(), res_.trained.nz}, opt_, rng, report);
+        warm_start(net, OneStepData{layout(), Xn_, sim_.Xn, T_, T_rows_, split(), res_.trained.nz}, opt_, rng, report);
     one_step_val_[i] = w.best_val;
     one_step_epochs_[i] = w.epochs;
     c.one_step_epochs = w.epochs;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "shared/fixed_math.hpp"
 
@@ -87,6 +88,45 @@ TEST(FixedMath, TanhAndSigmoidWithinOneUlp) {
   EXPECT_LT(worst_ulps(-40.0, 40.0, kPoints, [](double x) { return fm::sigmoid(x); },
                        [](long double x) { return 1.0L / (1.0L + std::exp(-x)); }),
             2.5);  // e^-x within an ulp, then two roundings
+}
+
+// tanh_n and sigmoid_n (four lanes at a time) against one call each: the
+// same bits over a dense sweep, at every branch's edge, on the special
+// values and on runs whose length is no multiple of four, where a lane out
+// of the lanes' range sends its group to the scalar calls.
+TEST(FixedMath, ManyAtOnceGiveEachCallsBits) {
+  std::vector<double> x;
+  for (long i = 0; i <= 400000; ++i) {
+    const double v = -30.0 + 60.0 * double(i) / 400000.0;
+    x.push_back(std::nextafter(v, (i & 1) ? 1e300 : -1e300));
+  }
+  for (double e : {0x1p-28, 1.0, 0.5, 20.0, 22.0, 40.0, 700.0, 709.78, 745.2, 1e-300, 5e-324})
+    for (double s : {-1.0, 1.0})
+      for (int k = -3; k <= 3; ++k) {
+        double v = s * e;
+        for (int j = 0; j < std::abs(k); ++j) v = std::nextafter(v, k < 0 ? -1e300 : 1e300);
+        x.push_back(v);
+      }
+  for (double v : {0.0, -0.0, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                   std::numeric_limits<double>::quiet_NaN(), 1e300, -1e300})
+    x.push_back(v);
+  x.push_back(0.3);  // 400,001 + 154 + 7 + 1: no multiple of four
+  ASSERT_NE(x.size() % 4, 0u);
+  std::vector<double> t(x.size()), s(x.size());
+  fm::tanh_n(x.data(), t.data(), long(x.size()));
+  fm::sigmoid_n(x.data(), s.data(), long(x.size()));
+  long differ = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (!same(t[i], fm::tanh(x[i])) || !same(s[i], fm::sigmoid(x[i]))) {
+      if (++differ <= 5) ADD_FAILURE() << "x = " << std::hexfloat << x[i] << ": tanh " << t[i] << " vs " << fm::tanh(x[i])
+                                       << ", sigmoid " << s[i] << " vs " << fm::sigmoid(x[i]);
+    }
+  }
+  EXPECT_EQ(differ, 0);
+  // In place, as a network's activation runs.
+  std::vector<double> in_place = x;
+  fm::tanh_n(in_place.data(), in_place.data(), long(in_place.size()));
+  for (size_t i = 0; i < x.size(); ++i) ASSERT_TRUE(same(in_place[i], t[i])) << i;
 }
 
 TEST(FixedMath, SinCosWithinOneUlpForEveryArgument) {
