@@ -190,7 +190,7 @@ void check_watchdog(Suite& s) {
   }
   const uint8_t safe = watchdog_safe_state(s);
   configure_telemetry(s, s.telemetry_mask, 0, why);  // quiet, so heartbeats are what we hear
-  // Traffic every fifth of the timeout keeps the run going, for three
+  // Traffic every fifth of the timeout keeps the run going, for two
   // timeouts of the firmware's clock (its uptime, not ours). A trip after
   // the firmware's clock stepped past the timeout between two replies that
   // we asked for a fifth of it apart says that the host did not run the
@@ -216,7 +216,7 @@ void check_watchdog(Suite& s) {
     step = 0;
     kept = in_state(st, p::RunState::Running) && (st->watchdog & p::watchdog_flags::kArmed);
     const auto give_up = Clock::now() + std::chrono::seconds(20);
-    while (kept && st && st->uptime_ms - t0 < 3 * timeout_ms && Clock::now() < give_up) {
+    while (kept && st && st->uptime_ms - t0 < 2 * timeout_ms && Clock::now() < give_up) {
       std::this_thread::sleep_for(Ms(timeout_ms / 5));
       const uint32_t before = st->uptime_ms;
       st = s.status();

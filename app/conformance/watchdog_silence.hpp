@@ -20,8 +20,9 @@ constexpr uint32_t kWatchdogCheckMs = 500;
 uint8_t watchdog_safe_state(const Suite& s);
 
 // Sends nothing and keeps only the heartbeats from now on, until one shows
-// the firmware's clock (its uptime, not ours: an emulator's may lag) two
-// timeouts past `quiet_from`, or 20 s of ours pass. The last one heard.
+// the firmware's clock (its uptime, not ours: an emulator's may lag) past
+// the timeout with the watchdog tripped, or two timeouts past `quiet_from`,
+// or 20 s of ours pass. The last one heard.
 std::optional<p::Status> heartbeat_after_silence(Suite& s, uint32_t quiet_from, uint32_t timeout_ms);
 
 // The heartbeat says the watchdog was armed, tripped, and left the run in `safe`.
