@@ -61,8 +61,8 @@ Eigen::MatrixXd derivative_from_output(Activation act, const ConstRef& z, const 
 // v[0, n) through the activation (Keras definitions, hard_sigmoid =
 // clip(0.2 x + 0.5, 0, 1) as shared/activation.hpp), in place: tanh and
 // sigmoid on fixed_math's lanes, the same bits as act1 in fewer cycles (a
-// GRU's gates were 38 % of tendon's training; `train --rig tendon --run 1`
-// on a 10-minute PRBS run: 102 -> 82 CPU-s, the same model hash).
+// GRU's gates were 38 % of a GRU rig's `train --run` on a 10-minute PRBS
+// run, which went from 102 to 82 CPU-s with the same model hash).
 void activate_in_place(Activation a, double* v, Eigen::Index n) {
   switch (a) {
     case Activation::Tanh: fixed_math::tanh_n(v, v, n); return;
