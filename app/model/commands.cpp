@@ -23,6 +23,7 @@
 #include "app/model/lag_search.hpp"
 #include "app/model/model_fit.hpp"
 #include "app/model/model_size_words.hpp"
+#include "app/model/plant_model.hpp"
 #include "app/model/progress.hpp"
 #include "app/model/train.hpp"
 #include "host/rig/rig_option.hpp"
@@ -98,7 +99,7 @@ struct TrainArgs {
   std::vector<std::string> data;
   std::vector<int64_t> runs;
   int64_t validate_run = 0;
-  bool residual = false, absolute = false;
+  bool residual = false, absolute = false, plant = false;
 };
 
 // The training runs: every --data file, then every --run, then the
@@ -385,6 +386,56 @@ void print_trained(const std::string& out, const PlantTarget& target, const Trai
   std::printf("wrote %s, hash 0x%08x\n", out.c_str(), f.shape.hash);
 }
 
+// --plant: the stand-in a replay steps instead of the rig (plant_model.hpp),
+// each part trained as a model is, on the same runs and options; its
+// coupled free run of rows none was trained on is printed and kept in it.
+void run_train_plant(const TrainArgs& a, const PlantTarget& target, const std::vector<Series>& runs, int validate) {
+  if (validate >= 0)
+    throw PipelineError("--plant holds out the last tenth of every run to measure the plant's free run: give its "
+                        "runs as --run, not --validate-run");
+  if (!(target.rate_hz > 0)) throw PipelineError("rig '" + target.name + "' states no control rate: a plant model steps at it");
+  PlantModel pm;
+  pm.rig = target.name;
+  pm.m = target.m, pm.n = target.n, pm.w = target.w;
+  pm.rate_hz = target.rate_hz;
+  const std::vector<std::vector<int>> parts = plant_parts(target.n, target.w);
+  std::printf("training a plant model of rig %s: its %d outputs and %d sensors, %d channels in %zu part%s of at most "
+              "%d (a model file's outputs)\n",
+              target.name.c_str(), target.n, target.w, target.n + target.w, parts.size(), parts.size() == 1 ? "" : "s",
+              HostCapacity::n);
+  const InterruptGuard interrupt;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const PlantTarget pt = part_target(target, runs, parts[i]);
+    std::vector<Series> ps;
+    for (const Series& s : runs) ps.push_back(part_series(s, parts[i]));
+    TrainOptions o = default_options(pt, objective_of(a));
+    if (apply_lags(a, pt, o)) o.nd = o.dd = std::max(2, std::min(target.nd, max_lags_of(pt)));
+    if (!a.arch.empty() || !a.hidden.empty()) apply_architecture(a, pt, o);
+    apply_training_options(a, o);
+    std::string names;
+    for (const std::string& nm : pt.y_names) names += (names.empty() ? "" : " ") + nm;
+    std::printf("part %zu of %zu (%s) from the inputs, nd = %d, dd = %d\n", i + 1, parts.size(), names.c_str(),
+                o.nd, o.dd);
+    std::fflush(stdout);
+    TrainProgress bar(stderr);
+    o.progress = [&bar](const Progress& p) { bar(p); };
+    o.stop = &interrupt.flag();
+    const TrainResult r = train(ps, pt, o);
+    bar.finish();
+    const Candidate& c = r.candidates[r.chosen];
+    std::printf("  kept %s, %zu weights (of %zu candidates, by their held-out free run)\n",
+                c.arx ? "ARX" : describe_layers(c.layers).c_str(), c.weights, r.candidates.size());
+    pm.parts.push_back({parts[i], r.model});
+    if (r.stopped) break;
+  }
+  if (pm.parts.size() < parts.size()) throw PipelineError("stopped (Ctrl-C) before every part was trained: nothing written");
+  pm.fit = plant_fit_words(plant_free_run(pm, runs), target);
+  save_plant_model(a.out, pm);
+  std::printf("plant model %s\nwrote %s: rig %s, %zu parts; replay a run through it: nlsoft-console runs replay ID "
+              "--plant %s\n",
+              pm.fit.c_str(), a.out.c_str(), target.name.c_str(), pm.parts.size(), a.out.c_str());
+}
+
 void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoader& load_run) {
   need(a.rig, "--rig");
   if (a.data.empty() && a.runs.empty())
@@ -399,6 +450,7 @@ void run_train(const TrainArgs& a, const TargetResolver& resolve, const RunLoade
   int validate = -1;
   const std::vector<Series> runs = training_runs(a, target, load_run, &validate);
   for (const Series& s : runs) check_dimensions(s, target);
+  if (a.plant) return run_train_plant(a, target, runs, validate);
   const std::string lag_words = search ? choose_lags(runs, target, o, validate) : "";
   print_training_runs(runs, target, o);
   TrainProgress bar(stderr);
@@ -657,6 +709,12 @@ void add_train_command(CLI::App& app, TargetResolver resolve, RunLoader load_run
                  "its own predictions; simulation objective: 0.05 in the warm start, 0 for a residual model)")
       ->type_name("SIGMA");
   tr->add_flag("--residual", train_args->residual, "predict y(k+1) - y(k) (default for msd and for a rig fed back measured outputs)");
+  tr->add_flag("--plant", train_args->plant,
+              "train a plant model instead (FILE.nlsp): a stand-in for the rig that predicts its outputs and\n"
+              "its sensors from the inputs, for `runs replay ID --plant FILE` of a board's runs; larger than\n"
+              "the controller's model (the candidates of a rig without [model] layers), in parts of at most 6\n"
+              "channels; its\n"
+              "free run of the last tenth of each run, which it is not trained on, is printed and kept in it");
   tr->add_flag("--absolute", train_args->absolute, "predict y(k+1) directly (default for hasel, tendon)");
   tr->callback([train_args, resolve, load_run] { run_train(*train_args, resolve, load_run); });
 }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "app/simulate/closed_loop.hpp"
@@ -43,7 +44,29 @@ PidReplay record_pid_replay(const ReplaySource& src, uint32_t seed, const std::s
   const RunRow& row = src.start.row;
   LoopSetup setup;
   GenericPlantSpec generic{};
-  use_rig_plant(rig, "runs replay --controller pid", generic, setup);
+  // --plant: the plant model, held at the run's first sample with the
+  // inputs at neutral until the loop's first step.
+  StandInPlant stand_in;
+  std::unique_ptr<model::PlantSimulator> plant_model;
+  const std::vector<float> start = src.start.start_channels();
+  if (src.plant) {
+    plant_model = std::make_unique<model::PlantSimulator>(*src.plant);
+    model::PlantSimulator* pm = plant_model.get();
+    const int n = src.plant->n, w = src.plant->w;
+    stand_in = {src.plant->m, n, w, float(1.0 / src.plant->rate_hz),
+                [&rig, pm, &start](float* u) {
+                  for (size_t i = 0; i < rig.inputs.size(); ++i) u[i] = float(rig.inputs[i].neutral);
+                  pm->rest_at(start.data(), u);
+                },
+                [pm](const float* u) { pm->step(u); },
+                [pm, n, w](float* y, float* l) {
+                  std::copy(pm->channels(), pm->channels() + n, y);
+                  std::copy(pm->channels() + n, pm->channels() + n + w, l);
+                }};
+    setup.stand_in = &stand_in;
+  } else {
+    use_rig_plant(rig, "runs replay --controller pid", generic, setup);
+  }
   use_rig_pid(rig, setup);
   if (host::rig_params(rig, setup.params) != Status::Ok)
     throw CliError(fmt::format("rig '{}' ({}) exceeds the console's controller", rig.name, rig.file));

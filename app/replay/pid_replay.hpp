@@ -2,7 +2,8 @@
 // `runs replay N --controller pid`: what the rig's PID baseline ([pid] in
 // its rig file, shared/pid.hpp) would have done on run N. The firmware runs
 // no PID, so this is the offline loop `simulate --controller pid` runs
-// (app/simulate/closed_loop.hpp) on the rig's simulated plant: run N's
+// (app/simulate/closed_loop.hpp) on the rig's simulated plant (or the
+// source's plant model, started at run N's first sample): run N's
 // reference and its input limits at its start, two seconds at rest first as
 // the simulator idles before a run, the noise seed given, for as many steps
 // as run N lasted. Recorded as a run of kind replay, without y_hat: a PID

@@ -22,7 +22,7 @@ constexpr uint32_t kMaxReplaySteps = 1u << 28;
 
 }  // namespace
 
-RecordedStart recorded_start(RunStore& store, int64_t id) {
+RecordedStart recorded_start(RunStore& store, int64_t id, bool plant) {
   RecordedStart r;
   r.row = store.run(id);
   const RunRow& row = r.row;
@@ -31,18 +31,26 @@ RecordedStart recorded_start(RunStore& store, int64_t id) {
     throw CliError(fmt::format("{} is an identification run (open loop, the firmware's excitation on the inputs): "
                                "there is no controller to replay it through; replay a closed-loop run",
                                name));
-  if (row.firmware.rfind(kSimulatorFirmware, 0) != 0)
+  r.on_simulator = row.firmware.rfind(kSimulatorFirmware, 0) == 0;
+  if (!r.on_simulator && !plant)
     throw CliError(fmt::format(
-        "{} was recorded on {} ({}), not on the simulator: replaying a board's run needs a plant model trained "
-        "from the rig's recorded runs, which `runs replay` does not build yet; it replays runs of the simulator "
-        "(--sim RIG)",
-        name, row.firmware, row.platform));
+        "{} was recorded on {} ({}), not on the simulator: a board's run replays through a plant model trained "
+        "from the rig's recorded runs: nlsoft-console train --rig {} --run ID... --plant --out {}.nlsp, then "
+        "runs replay {} --plant {}.nlsp",
+        name, row.firmware, row.platform, row.platform, row.platform, id, row.platform));
   if (row.samples == 0) throw CliError(fmt::format("{} has no samples: there is nothing to replay", name));
 
   bool first = true;
   store.for_each_sample(id, [&](const Sample& s) {
     if (!s.has(protocol::telemetry_field::kStep)) return;
-    if (first) r.first_step = s.step, first = false;
+    if (first) {
+      r.first_step = s.step, first = false;
+      if (s.has(protocol::telemetry_field::kYTrue)) {
+        r.start_y.assign(s.y_true(), s.y_true() + s.n);
+        r.start_l.assign(s.l, s.l + s.w);
+        r.start_w = s.w;
+      }
+    }
     r.last_step = s.step;
   });
   if (first)

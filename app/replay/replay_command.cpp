@@ -3,12 +3,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <map>
 #include <memory>
 
 #include "app/progress_bar.hpp"
 #include "app/record/recorder.hpp"
+#include "app/record/run_metrics.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/runs_command.hpp"
 #include "app/replay/pid_replay.hpp"
@@ -26,7 +31,7 @@ namespace {
 
 struct ReplayArgs {
   int64_t id = 0;
-  std::string db, rig, model, label, svg, png, controller = "mpc";
+  std::string db, rig, model, plant, label, svg, png, controller = "mpc";
   std::vector<std::string> sets;
   uint32_t seed = 1;
 };
@@ -90,7 +95,7 @@ std::string replay_label(const ReplayArgs& a, const std::vector<std::string>& ch
 }
 
 std::string replay_notes(const ReplayArgs& a, const std::vector<std::string>& changes) {
-  return fmt::format("runs replay {} (seed {}){}", a.id, a.seed,
+  return fmt::format("runs replay {} ({}){}", a.id, a.plant.empty() ? fmt::format("noise seed {}", a.seed) : "plant model " + a.plant,
                      changes.empty() ? std::string(", nothing changed")
                                      : ", changed: " + fmt::format("{}", fmt::join(changes, "; ")));
 }
@@ -113,6 +118,49 @@ void say_agreement(const std::string& db, int64_t of, int64_t id) {
   }
 }
 
+// What stands in for the rig, in a few words: the simulator's plant and
+// its noise seed, or a plant model.
+std::string plant_words(const ReplayArgs& a, const ReplaySource& src) {
+  return src.plant ? "plant model " + src.plant_path : fmt::format("noise seed {}", a.seed);
+}
+
+// A plant model, and how far to trust it, said before the replay runs.
+void say_plant(const ReplayArgs& a, const ReplaySource& src) {
+  if (!src.plant) return;
+  fmt::print("the plant is the plant model {} (rig {}, {} parts), not the rig: started at run {}'s first sample, "
+             "no noise; how far to trust it, its {}\n",
+             src.plant_path, src.plant->rig, src.plant->parts.size(), a.id, src.plant->fit);
+}
+
+// The plant model on run `src` with nothing changed, replayed into a scratch
+// database: its nRMSE, the plant's own error on this very run, which the
+// replay's figures are to be set against (not recorded).
+double unchanged_nrmse(const ReplaySource& src, uint32_t seed) {
+  char tmpl[] = "/tmp/nlsoft-replay-XXXXXX";
+  if (!::mkdtemp(tmpl)) throw CliError(fmt::format("cannot create a scratch database: {}", std::strerror(errno)));
+  const std::string dir = tmpl, db = dir + "/unchanged.db";
+  double nrmse = std::nan("");
+  try {
+    int64_t id = 0;
+    {
+      ReplayRun run(src, seed);
+      run.prepare();
+      Recorder recorder(db);
+      id = recorder.begin_run(run.run_info("unchanged", ""));
+      run.record(recorder, id);
+    }
+    RunStore store(db);
+    nrmse = metric_value(run_metrics(store, id), "nrmse").value_or(std::nan(""));
+  } catch (...) {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+    throw;
+  }
+  std::error_code ec;
+  std::filesystem::remove_all(dir, ec);
+  return nrmse;
+}
+
 // --controller pid: the rig's PID baseline on the run's reference, offline
 // (pid_replay.hpp); nothing of the MPC's is changed, so --set and --model
 // have nothing to act on.
@@ -121,20 +169,21 @@ void replay_with_pid(const ReplayArgs& a, const std::string& db) {
     throw CliError(fmt::format("runs replay --controller pid: {} changes the MPC, which a PID replay does not run "
                                "(its gains are the rig file's [pid])",
                                !a.model.empty() ? "--model" : "--set"));
-  const ReplaySource src = open_replay_source(db, a.id, a.rig, "", false);
+  const ReplaySource src = open_replay_source(db, a.id, a.rig, "", false, a.plant);
   const RunRow& row = src.start.row;
   for (const std::string& s : src.start.not_repeated) fmt::print("{}\n", s);
+  say_plant(a, src);
   Recorder recorder(db);
   ProgressBar bar(fmt::format("PID replay of run {}", a.id));
   const PidReplay r =
       record_pid_replay(src, a.seed, a.label.empty() ? fmt::format("replay of run {}: controller pid", a.id) : a.label,
-                        fmt::format("runs replay {} --controller pid (seed {})", a.id, a.seed), recorder,
+                        fmt::format("runs replay {} --controller pid ({})", a.id, plant_words(a, src)), recorder,
                         [&](long done, long total) { bar.update(done, total); });
   bar.finish();
   recorder.flush();
-  fmt::print("run {}: run {}'s reference through rig {}'s PID baseline ({}), {} steps at {:g} Hz, noise seed {}: "
+  fmt::print("run {}: run {}'s reference through rig {}'s PID baseline ({}), {} steps at {:g} Hz, {}: "
              "the offline loop of simulate --controller pid, not the firmware\n",
-             r.id, a.id, src.rig.name, r.gains, r.samples, row.loop_rate_hz, a.seed);
+             r.id, a.id, src.rig.name, r.gains, r.samples, row.loop_rate_hz, plant_words(a, src));
   compare_runs(db, a.id, r.id, false, a.svg, a.png);
 }
 
@@ -142,7 +191,7 @@ void replay(const ReplayArgs& a) {
   if (!a.svg.empty() && !a.png.empty()) throw CliError("runs replay: give --svg FILE or --png FILE, not both");
   const std::string db = a.db.empty() ? default_db_path() : a.db;
   if (a.controller == "pid") return replay_with_pid(a, db);
-  const ReplaySource src = open_replay_source(db, a.id, a.rig, a.model);
+  const ReplaySource src = open_replay_source(db, a.id, a.rig, a.model, true, a.plant);
   const RunRow& row = src.start.row;
 
   // Every change read and checked before anything runs or is recorded.
@@ -152,6 +201,7 @@ void replay(const ReplayArgs& a) {
   const RunInfo ri = replay.run_info(replay_label(a, changes), replay_notes(a, changes));
 
   for (const std::string& s : src.start.not_repeated) fmt::print("{}\n", s);
+  say_plant(a, src);
   if (row.lost_frames > 0)
     fmt::print("run {} lost {} frames: its figures are over the {} samples it holds, the replay's over every step\n",
                a.id, row.lost_frames, row.samples);
@@ -163,11 +213,21 @@ void replay(const ReplayArgs& a) {
   replay.record(recorder, id, [&](size_t done, size_t total) { bar.update(long(done), long(total)); });
   bar.finish();
 
-  fmt::print("run {}: run {} replayed on {} ({} steps at {:g} Hz, noise seed {}), {}\n", id, a.id,
-             ri.firmware, steps, row.loop_rate_hz, a.seed,
+  fmt::print("run {}: run {} replayed on {} ({} steps at {:g} Hz, {}), {}\n", id, a.id, ri.firmware, steps,
+             row.loop_rate_hz, plant_words(a, src),
              changes.empty() ? std::string("nothing changed") : "changed: " + fmt::format("{}", fmt::join(changes, "; ")));
   say_agreement(db, a.id, id);
   compare_runs(db, a.id, id, false, a.svg, a.png);
+  // A plant model's own error on this run, beside what it replayed: the
+  // change is what moves the replay away from the plant's unchanged replay.
+  if (src.plant && !changes.empty()) {
+    const double unchanged = unchanged_nrmse(src, a.seed);
+    RunStore store(db);
+    const double recorded = metric_value(run_metrics(store, a.id), "nrmse").value_or(std::nan(""));
+    fmt::print("through the plant model with nothing changed, run {} tracks at nrmse {:.4g} against the {:.4g} it "
+               "recorded: set the replay's figures against the former (the plant model's own error on this run)\n",
+               a.id, unchanged, recorded);
+  }
 }
 
 }  // namespace
@@ -176,15 +236,18 @@ void add_replay_command(CLI::App& runs) {
   auto a = std::make_shared<ReplayArgs>();
   CLI::App* c = runs.add_subcommand(
       "replay",
-      "Run a recorded closed-loop run of the simulator again, step for step, with changes: its\n"
-      "reference, parameters and model as they were at its start, then --set and --model on top;\n"
-      "the simulator's own firmware and plant run here, in this process, as fast as the host\n"
-      "goes. The replay is recorded as a run (kind replay) and set beside the recording as\n"
-      "`runs compare` sets two runs side by side. With nothing changed it gives the recording\n"
-      "back, bit for bit, and says so.\n"
+      "Run a recorded closed-loop run again, step for step, with changes: its reference,\n"
+      "parameters and model as they were at its start, then --set and --model on top; the\n"
+      "simulator's own firmware and plant run here, in this process, as fast as the host goes.\n"
+      "A board's run steps a plant model in the rig's place (--plant, from train --plant), whose\n"
+      "own fit is said first. The replay is recorded as a run (kind replay) and set beside the\n"
+      "recording as `runs compare` sets two runs side by side. A simulator's run with nothing\n"
+      "changed comes back bit for bit, and it says so.\n"
       "Example: nlsoft-console runs replay 12 --set Lambda=0.5\n"
       "         nlsoft-console runs replay 12 --model retrained.nlsm --svg replay.svg\n"
-      "         nlsoft-console runs replay 12 --controller pid   (what the PID baseline would have done)");
+      "         nlsoft-console runs replay 12 --controller pid   (what the PID baseline would have done)\n"
+      "A board's: nlsoft-console train --rig hasel --run 3 --run 12 --plant --out hasel.nlsp\n"
+      "         nlsoft-console runs replay 12 --plant hasel.nlsp --set Lambda=0.5");
   c->add_option("run", a->id, "the recorded run (runs list)")->required()->check(CLI::PositiveNumber)->type_name("ID");
   c->add_option("--db", a->db, "Recording database (default $XDG_DATA_HOME/nlsoft/runs.db)")->type_name("FILE");
   c->add_option("--set", a->sets, "change a parameter from its value at the run's start: NAME=V[,V...]; repeat")
@@ -193,6 +256,10 @@ void add_replay_command(CLI::App& runs) {
                                      "run's)")
       ->type_name("FILE");
   add_rig_option(c, a->rig, "the run's rig file, for a rig that is not shipped");
+  c->add_option("--plant", a->plant,
+                "step this plant model in the rig's place (train --rig R --run ID... --plant --out FILE): how\n"
+                "a board's or QEMU image's run replays; a simulator's run too, to see how near the model comes")
+      ->type_name("FILE");
   c->add_option("--seed", a->seed, "the plant's noise seed (default 1, the simulator's; a --sim run records none)")
       ->capture_default_str();
   c->add_option("--controller", a->controller,

@@ -54,9 +54,20 @@ void expect_ack(SimulatorInProcess& sim, const M& req, const std::string& what) 
   if (!f.as(ack)) throw CliError(fmt::format("the simulator refused {}", what));
 }
 
+// The source's plant model, started where the run started; none: the
+// simulator's plant.
+PlantStandIn stand_in_of(const ReplaySource& src) {
+  PlantStandIn p;
+  if (!src.plant) return p;
+  p.model = src.plant.get();
+  p.start = src.start.start_channels();
+  return p;
+}
+
 }  // namespace
 
-ReplayRun::ReplayRun(const ReplaySource& src, uint32_t seed) : src_(src), sim_(src.rig, src.model->file, seed) {
+ReplayRun::ReplayRun(const ReplaySource& src, uint32_t seed)
+    : src_(src), sim_(src.rig, src.model->file, seed, stand_in_of(src)) {
   if (!sim_.request(p::InfoGet{}).as(info_)) throw CliError("the simulator in this process sent no INFO_EX");
   const RunRow& row = src.start.row;
   const bool same_model = info_.info.model_hash == row.model_hash;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <utility>
 
+#include "app/model/error.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/sqlite.hpp"
 #include "host/files/cli_error.hpp"
@@ -53,10 +54,10 @@ void replay_model(int64_t id, const std::string& model_arg, const Rig& rig, Load
   load_model(found.found, out);
 }
 
-RecordedStart read_start(const std::string& db, int64_t id) {
+RecordedStart read_start(const std::string& db, int64_t id, bool plant = false) {
   try {
     RunStore store(db);
-    return recorded_start(store, id);
+    return recorded_start(store, id, plant);
   } catch (const DbError& e) {
     throw CliError(e.what());
   }
@@ -82,13 +83,44 @@ ReplaySource with_rig(const std::string& db, int64_t id, RecordedStart start, Ri
   return src;
 }
 
+// --plant FILE: read, and checked against the run and its rig.
+void replay_plant(ReplaySource& src, const std::string& path) {
+  std::shared_ptr<::nlsoft::model::PlantModel> pm;
+  try {
+    pm = std::make_shared<::nlsoft::model::PlantModel>(::nlsoft::model::load_plant_model(path));
+  } catch (const ::nlsoft::model::PipelineError& e) {
+    throw CliError(e.what());
+  }
+  const Rig& rig = src.rig;
+  const RecordedStart& st = src.start;
+  if (pm->rig != rig.name || pm->m != rig.m() || pm->n != rig.n() || pm->w != rig.w())
+    throw CliError(fmt::format("{} is a plant model of rig '{}' (m = {}, n = {}, w = {}), not of run {}'s rig '{}' "
+                               "(m = {}, n = {}, w = {})",
+                               path, pm->rig, pm->m, pm->n, pm->w, src.id, rig.name, rig.m(), rig.n(), rig.w()));
+  if (std::lround(pm->rate_hz) != std::lround(st.row.loop_rate_hz))
+    throw CliError(fmt::format("{} steps at {:g} Hz, run {} ran at {:g} Hz", path, pm->rate_hz, src.id,
+                               st.row.loop_rate_hz));
+  if (st.start_w < 0)
+    throw CliError(fmt::format("run {}'s first sample holds no measured output (y_true): a plant model has no state "
+                               "to start it from",
+                               src.id));
+  if (st.start_w != pm->w)
+    throw CliError(fmt::format("run {}'s first sample holds {} sensor readings, rig '{}' has {}: a plant model starts "
+                               "from all of them (a firmware of protocol 1.6 or later streams them in a run)",
+                               src.id, st.start_w, rig.name, pm->w));
+  src.plant = std::move(pm);
+  src.plant_path = path;
+}
+
 }  // namespace
 
 ReplaySource open_replay_source(const std::string& db, int64_t id, const std::string& rig_arg,
-                                const std::string& model_arg, bool with_model) {
-  RecordedStart start = read_start(db, id);
+                                const std::string& model_arg, bool with_model, const std::string& plant_arg) {
+  RecordedStart start = read_start(db, id, !plant_arg.empty());
   Rig rig = replay_rig(id, rig_arg, start.row);
-  return with_rig(db, id, std::move(start), std::move(rig), model_arg, with_model);
+  ReplaySource src = with_rig(db, id, std::move(start), std::move(rig), model_arg, with_model);
+  if (!plant_arg.empty()) replay_plant(src, plant_arg);
+  return src;
 }
 
 ReplaySource open_replay_source(const std::string& db, int64_t id, const Rig& rig, const std::string& model_arg) {

@@ -47,8 +47,38 @@ class MemorySimHal final : public fw::posix::SimPlantHal {
   uint32_t tick_rate_hz() const override { return 1000000u; }
   void advance(uint64_t us) { now_us_ += us; }
 
+  // The plant model instead of the simulated plant (PlantStandIn).
+  void use_stand_in(const PlantStandIn& p, const float* neutral, int m) {
+    stand_in_ = std::make_unique<model::PlantSimulator>(*p.model);
+    start_ = p.start;
+    neutral_.assign(neutral, neutral + m);
+    stand_in_->rest_at(start_.data(), neutral_.data());
+  }
+  void actuate(const float* u, int m) override {
+    if (!stand_in_) return SimPlantHal::actuate(u, m);
+    if (!holding_) stand_in_->step(u);
+  }
+  void read_sensors(float* l, int w) override {
+    if (!stand_in_) return SimPlantHal::read_sensors(l, w);
+    const int n = int(start_.size()) - w;
+    std::copy(stand_in_->channels() + n, stand_in_->channels() + n + w, l);
+  }
+  bool read_output(float* y, int n) override {
+    if (!stand_in_) return SimPlantHal::read_output(y, n);
+    std::copy(stand_in_->channels(), stand_in_->channels() + n, y);
+    return true;
+  }
+  void run_begins() override {
+    if (!stand_in_) return SimPlantHal::run_begins();
+    stand_in_->rest_at(start_.data(), neutral_.data());
+    holding_ = false;
+  }
+
  private:
   uint64_t now_us_ = 0;
+  std::unique_ptr<model::PlantSimulator> stand_in_;
+  std::vector<float> start_, neutral_;
+  bool holding_ = true;  // the stand-in stays at the run's start until the run begins
 };
 
 }  // namespace
@@ -76,15 +106,20 @@ struct SimulatorInProcess::Impl {
   }
 };
 
-SimulatorInProcess::SimulatorInProcess(const Rig& rig, const std::vector<uint8_t>& model, uint32_t seed)
+SimulatorInProcess::SimulatorInProcess(const Rig& rig, const std::vector<uint8_t>& model, uint32_t seed,
+                                       const PlantStandIn& stand_in)
     : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   // As nlsoft-firmware-sim: the rig's plant and firmware form, its rate.
-  const PlantKind plant = simulated_plant(rig, "replay").kind;
   s.config = firmware_rig(rig);
-  const bool selected = plant == PlantKind::Generic ? s.hal.use_generic(generic_plant_spec(rig), seed)
-                                                   : s.hal.use_plant(plant, seed);
-  if (!selected) throw CliError(fmt::format("{}: the [plant] cannot be simulated", rig.file));
+  if (stand_in.model) {
+    s.hal.use_stand_in(stand_in, s.config.u_neutral, int(s.config.m));
+  } else {
+    const PlantKind plant = simulated_plant(rig, "replay").kind;
+    const bool selected = plant == PlantKind::Generic ? s.hal.use_generic(generic_plant_spec(rig), seed)
+                                                     : s.hal.use_plant(plant, seed);
+    if (!selected) throw CliError(fmt::format("{}: the [plant] cannot be simulated", rig.file));
+  }
   rate_hz_ = s.config.rate_hz;
   s.hal.set_period(float(1.0 / rate_hz_));
   s.period_us = uint64_t(1e6 / rate_hz_);

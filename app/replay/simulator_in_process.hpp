@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "app/model/plant_model.hpp"
 #include "host/rig/rig.hpp"
 #include "protocol/encoder.hpp"
 #include "protocol/messages.hpp"
@@ -28,12 +29,23 @@ struct SimFrame {
   }
 };
 
+// A plant model in the simulated plant's place (a board's run replayed):
+// held at `start` (its n + w channels: y then l, as the run's first sample)
+// until a run begins, then stepped by the firmware's inputs from there, the
+// inputs' history at the rig's neutral.
+struct PlantStandIn {
+  const model::PlantModel* model = nullptr;
+  std::vector<float> start;
+};
+
 class SimulatorInProcess {
  public:
-  // The rig's simulated plant with noise seed `seed`, at the rig's rate,
-  // running `model` (a model file's model part). Throws CliError: a rig
-  // without a simulated plant, a model the firmware refuses.
-  SimulatorInProcess(const host::Rig& rig, const std::vector<uint8_t>& model, uint32_t seed);
+  // The rig's simulated plant with noise seed `seed` (or `plant`'s model
+  // when given), at the rig's rate, running `model` (a model file's model
+  // part). Throws CliError: a rig without a simulated plant and no plant
+  // model, a model the firmware refuses.
+  SimulatorInProcess(const host::Rig& rig, const std::vector<uint8_t>& model, uint32_t seed,
+                     const PlantStandIn& plant = {});
   ~SimulatorInProcess();
   SimulatorInProcess(const SimulatorInProcess&) = delete;
   SimulatorInProcess& operator=(const SimulatorInProcess&) = delete;

@@ -23,7 +23,51 @@ std::string plant_name(const LoopSetup& s) {
   return !s.plant_name.empty() ? s.plant_name : e != nullptr ? e->name : "?";
 }
 
-void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
+// The loop's plant: the simulated one, or one standing in for it.
+class LoopPlant {
+ public:
+  explicit LoopPlant(const LoopSetup& s) : s_(s) {
+    if (s.stand_in) {
+      m_ = s.stand_in->m, n_ = s.stand_in->n, w_ = s.stand_in->w;
+      dt_ = s.stand_in->dt;
+      return;
+    }
+    if (s.generic == nullptr) {
+      if (!sim_.select(s.plant, s.seed))
+        throw CliError(fmt::format("plant kind {} is no hand-written plant (the generic plant needs its rig's spec)",
+                                   int(s.plant)));
+    } else if (!sim_.select(*s.generic, s.seed)) {
+      throw CliError(fmt::format("the generic plant of '{}' cannot run: {}", plant_name(s),
+                                 generic_spec_problem(*s.generic)));
+    }
+    m_ = sim_.m(), n_ = sim_.n(), w_ = sim_.w();
+    dt_ = sim_.dt();
+  }
+  int m() const { return m_; }
+  int n() const { return n_; }
+  int w() const { return w_; }
+  float dt() const { return dt_; }
+  // At rest: the settling steps at neutral, or the plant model at its start.
+  void settle(float* u) {
+    if (s_.stand_in) return s_.stand_in->rest(u);
+    sim_.neutral_input(u);
+    for (long k = 0; k < s_.settle_steps; ++k) sim_.step(u, dt_);
+  }
+  void step(const float* u) { s_.stand_in ? s_.stand_in->step(u) : sim_.step(u, dt_); }
+  void read(float* y, float* l) {
+    if (s_.stand_in) return s_.stand_in->read(y, l);
+    sim_.output(y);
+    sim_.sensors(l);
+  }
+
+ private:
+  const LoopSetup& s_;
+  SimPlant sim_;
+  int m_ = 0, n_ = 0, w_ = 0;
+  float dt_ = 0;
+};
+
+void check_model_fits(const LoopSetup& s, const LoopPlant& plant) {
   if (!s.model) throw CliError("the MPC controller needs a model (--model FILE)");
   const Model<Cap>& M = *s.model;
   if (M.m != plant.m() || M.n != plant.n() || M.w != plant.w())
@@ -34,13 +78,7 @@ void check_model_fits(const LoopSetup& s, const SimPlant& plant) {
 }  // namespace
 
 Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
-  SimPlant plant;
-  if (s.generic == nullptr) {
-    if (!plant.select(s.plant, s.seed))
-      throw CliError(fmt::format("plant kind {} is no hand-written plant (the generic plant needs its rig's spec)",
-                                 int(s.plant)));
-  } else if (!plant.select(*s.generic, s.seed))
-    throw CliError(fmt::format("the generic plant of '{}' cannot run: {}", plant_name(s), generic_spec_problem(*s.generic)));
+  LoopPlant plant(s);
   const int m = plant.m(), n = plant.n();
   const float dt = plant.dt();
   if (s.controller == ControllerKind::Mpc) check_model_fits(s, plant);
@@ -50,10 +88,8 @@ Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
   if (const char* why = reference_check(s.reference)) throw CliError(fmt::format("reference refused: {}", why));
 
   float u[Cap::m] = {}, y[Cap::n] = {}, l[Cap::w] = {};
-  plant.neutral_input(u);
-  for (long k = 0; k < s.settle_steps; ++k) plant.step(u, dt);
-  plant.output(y);
-  plant.sensors(l);
+  plant.settle(u);
+  plant.read(y, l);
 
   auto ctl = std::make_unique<Controller<Cap>>();  // large scratch: keep it off the stack
   Pid pid;
@@ -106,9 +142,8 @@ Trace run_closed_loop(const LoopSetup& s, const Progress& progress) {
     const auto t1 = std::chrono::steady_clock::now();
     t.solve_us.push_back(std::chrono::duration<float, std::micro>(t1 - t0).count());
 
-    plant.step(u, dt);
-    plant.output(y);
-    plant.sensors(l);
+    plant.step(u);
+    plant.read(y, l);
     t.y_ref.insert(t.y_ref.end(), ref.begin(), ref.begin() + n);
     t.y_hat.insert(t.y_hat.end(), y_hat, y_hat + n);
     t.y_true.insert(t.y_true.end(), y, y + n);

@@ -18,6 +18,18 @@ namespace nlsoft::console {
 
 enum class ControllerKind { Mpc, Pid };
 
+// A plant that stands in for the simulated one (a plant model, when a
+// board's run is replayed): its dimensions and period, where it rests
+// (the neutral inputs it wants in u), a step under u, and its output and
+// sensors now. No noise, no settling.
+struct StandInPlant {
+  int m = 0, n = 0, w = 0;
+  float dt = 0.0f;
+  std::function<void(float* u)> rest;
+  std::function<void(const float* u)> step;
+  std::function<void(float* y, float* l)> read;
+};
+
 struct LoopSetup {
   // Set by the caller: left unset, no hand-written plant is chosen for it
   // (Generic without a spec is refused).
@@ -39,6 +51,7 @@ struct LoopSetup {
   long steps = 0;          // control steps to run
   long settle_steps = 0;   // neutral input before the run, so the plant starts at rest
   uint32_t seed = 1;       // plant noise
+  const StandInPlant* stand_in = nullptr;  // in the simulated plant's place
 };
 
 // Row k holds the state after input u(k) was applied: y_ref(k+1), the

@@ -27,6 +27,7 @@ struct TuneArgs {
   ConnectArgs link;
   int64_t replay = 0;  // --replay N: evaluate on replays of run N in this process
   std::string model;   // with --replay: the model the replays run
+  std::string plant;   // with --replay: the plant model in the rig's place
   bool apply = false;
   std::vector<std::string> params, budget;
   std::string objective = "nrmse", reference, settle = "1s", window = "5s", method = "bobyqa", save;
@@ -137,7 +138,7 @@ int run_replay_tune(const CLI::App& t, const TuneArgs& a) {
   // Run N read and checked as `runs replay` checks it, the window fitted
   // to it, the evaluator set up: every refusal before a replay runs.
   const std::string db = a.link.db.empty() ? default_db_path() : a.link.db;
-  const ReplaySource src = open_replay_source(db, a.replay, a.link.rig, a.model);
+  const ReplaySource src = open_replay_source(db, a.replay, a.link.rig, a.model, true, a.plant);
   o.window_given = t.get_option("--window")->count() > 0;
   fit_window_to_run(src, o);
   ReplayEvaluator evaluator(src, o, !a.link.no_record);
@@ -165,6 +166,8 @@ int run_tune(const CLI::App& t, const TuneArgs& a) {
   if (!a.model.empty())
     throw CliError("tune: --model names the model replays run; it goes with --replay N (a connected firmware runs "
                    "the model it holds: model upload)");
+  if (!a.plant.empty())
+    throw CliError("tune: --plant names the plant model replays step in the rig's place; it goes with --replay N");
   return run_tune(a);
 }
 
@@ -180,12 +183,16 @@ void add_tune_command(CLI::App& app) {
   t->add_option("--replay", a->replay,
                 "Evaluate each candidate on a replay of recorded run N (runs list) in this process, through the "
                 "simulator's own firmware and plant, instead of a run on a firmware: no PORT, --sim or --qemu; N must "
-                "be a closed-loop run of the simulator, as for runs replay; --db is where it is, --rig FILE its rig file "
+                "be a closed-loop run of the simulator (or, with --plant, of a board), as for runs replay; --db is where it is, --rig FILE its rig file "
                 "for a rig that is not shipped")
       ->check(CLI::PositiveNumber)
       ->type_name("N");
   t->add_option("--model", a->model,
                 "With --replay: the model the replays run (default: the rig's shipped model, which must be run N's)")
+      ->type_name("FILE");
+  t->add_option("--plant", a->plant,
+                "With --replay: step this plant model in the rig's place (train --plant), as runs replay --plant "
+                "does; how a board's run is tuned on")
       ->type_name("FILE");
   t->add_option("--param", a->params,
                 "NAME=LO..HI[:log|:lin], once per searched dimension: Lambda=0.01..100:log (every element), Q1=1e5..1e7:log "

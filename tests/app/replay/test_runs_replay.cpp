@@ -3,6 +3,7 @@
 // bit for bit; a change moves the figures the way it must; runs that cannot
 // be replayed as they ran are refused by name, and what a replay does not
 // repeat is said, never left out silently.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
@@ -15,6 +16,7 @@
 #include "app/record/recorder.hpp"
 #include "app/record/run_store.hpp"
 #include "app/record/sample.hpp"
+#include "app/record/sqlite.hpp"
 #include "app/support/board_run.hpp"
 #include "app/support/run_process.hpp"
 #include "app/support/sim_session_test.hpp"
@@ -36,6 +38,13 @@ class RunsReplay : public test::SimSessionTest {
                            shell_quote(db()));
     EXPECT_EQ(r.code, 0) << r.output;
     return nlohmann::json::parse(r.output);
+  }
+  // A session's identification run (1) and closed-loop run (2) of `rig`
+  // on the simulator, then a plant model of it trained from both, briefly.
+  test::ProcessResult plant_of(const std::string& rig, const std::string& script, const std::string& plant) {
+    session(rig, script);
+    return console("train --rig " + rig + " --run 1 --run 2 --plant --out " + shell_quote(plant) +
+                   " --seeds 1 --epochs 5 --lbfgs 20 --db " + shell_quote(db()));
   }
 };
 
@@ -192,6 +201,118 @@ TEST_F(RunsReplay, AParameterChangedDuringTheRunIsSaidNotRepeated) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "Lambda was changed 1 time during run 1; the replay keeps the value it started with"))
       << r.output;
+}
+
+// Run `id` as though a board had recorded it: its firmware's name is all
+// that tells a console's recording of a board from one of the simulator.
+void mark_as_a_boards(const std::string& db, int64_t id) {
+  Db d(db, false);
+  d.exec(("UPDATE runs SET firmware = 'nlsoft-f446 0.1.0' WHERE id = " + std::to_string(id)).c_str());
+}
+
+// A run of a board, which no simulator can replay, replays through a plant
+// model trained from the rig's runs (an identification run and a closed-loop
+// one, with the sensors it streams): the model's fit is said before, the
+// replay is recorded as one and marked so, and a change moves it the way
+// it weighs. Without --plant the refusal names the way.
+TEST_F(RunsReplay, ABoardsRunReplaysThroughAPlantModelTrainedFromTheRigsRuns) {
+  const std::string plant = dir_.file("hasel.nlsp");
+  auto r = plant_of("hasel", "ident prbs 20s seed=3\nref swirl\nrun 6s label=swirl\n", plant);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "its 3 outputs and 18 sensors, 21 channels in 4 parts")) << r.output;
+  EXPECT_TRUE(contains(r.output, "plant model free run of the last tenth of each run")) << r.output;
+  mark_as_a_boards(db(), 2);
+
+  r = console("runs replay 2 --db " + shell_quote(db()));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "train --rig hasel --run ID... --plant --out hasel.nlsp")) << r.output;
+
+  r = console("runs replay 2 --plant " + shell_quote(plant) + " --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "the plant is the plant model")) << r.output;
+  EXPECT_TRUE(contains(r.output, "free run of the last tenth of each run")) << r.output;
+  EXPECT_TRUE(contains(r.output, "run 3: run 2 replayed on nlsoft-posix")) << r.output;
+  RunStore store(db());
+  const RunRow replayed = store.run(3);
+  EXPECT_EQ(replayed.kind, "replay");
+  EXPECT_TRUE(contains(replayed.notes, "plant model")) << replayed.notes;
+  const RunSeries rec = store.series(2), rep = store.series(3);
+  ASSERT_EQ(rep.rows(), rec.rows());
+  ASSERT_TRUE(rep.has_y_true && rep.has_l);
+  // The plant starts where the run started.
+  for (int j = 0; j < 3; ++j) EXPECT_EQ(rep.y_true[size_t(j)], rec.y_true[size_t(j)]) << j;
+
+  // Ten thousand times Lambda: the input changes cost that much more,
+  // through the same plant model as through the rig.
+  r = console("runs replay 2 --plant " + shell_quote(plant) + " --set Lambda=1e4 --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  // What the plant model gives with nothing changed, said beside it (run 3's
+  // figure), and not recorded.
+  EXPECT_TRUE(contains(r.output, fmt::format("through the plant model with nothing changed, run 2 tracks at nrmse {:.4g}",
+                                             compare(2, 3)["b"]["nrmse"].get<double>())))
+      << r.output;
+  const nlohmann::json c = compare(3, 4);
+  EXPECT_LT(c["b"]["u_effort"].get<double>(), 0.5 * c["a"]["u_effort"].get<double>()) << c.dump();
+
+  // The tuner on the same replays: a board's run tuned without the board.
+  r = console("tune --replay 2 --plant " + shell_quote(plant) + " --param 'Lambda=0.1..10:log' --budget 4 --save " +
+              shell_quote(dir_.file("t.params")) + " --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "tuning on replays of run 2")) << r.output;
+  EXPECT_EQ(RunStore(db()).run(5).kind, "replay");
+  r = console("tune --plant " + shell_quote(plant) + " --sim hasel --param 'Lambda=0.1..10:log'");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "it goes with --replay N")) << r.output;
+}
+
+// What a plant model cannot stand in for is refused with nothing recorded:
+// a file that is no plant model, a plant of another rig, a run whose first
+// sample holds no measured output to start it from.
+TEST_F(RunsReplay, APlantModelThatCannotStandInIsRefused) {
+  const std::string plant = dir_.file("msd.nlsp");
+  auto r = plant_of("msd", "ident prbs 3s seed=2\nref steps\nrun 3s label=steps\n", plant);
+  ASSERT_EQ(r.code, 0) << r.output;
+  session("hasel", "ref swirl\nrun 1s label=swirl\n");  // run 3
+  {
+    // Run 4: msd's, from a board whose telemetry carried no y_true.
+    Recorder rec(db());
+    RunInfo ri;
+    ri.platform = "msd";
+    ri.firmware = "nlsoft-f446 0.1.0";
+    ri.n = 1, ri.m = 1;
+    ri.loop_rate_hz = 1000;
+    ri.reference = RunStore(db()).run(2).reference;
+    ri.params = {{"Lambda", "1"}};
+    ASSERT_EQ(rec.begin_run(ri), 4);
+    Sample smp;
+    smp.n = 1, smp.m = 1;
+    smp.mask = protocol::telemetry_field::kStep | protocol::telemetry_field::kU;
+    rec.add_sample(4, smp);
+    rec.end_run(4, "completed", 1, 0);
+  }
+  std::ofstream(dir_.file("short.nlsp"), std::ios::binary) << "NLSP";
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"3 --plant " + shell_quote(plant), "is a plant model of rig 'msd' (m = 1, n = 1, w = 0), not of run 3's rig 'hasel'"},
+      {"3 --plant " + shell_quote(dir_.file("short.nlsp")), "is not a valid plant model: no NLSP header"},
+      {"3 --plant " + shell_quote(std::string(NLSOFT_SOURCE_MODELS_DIR) + "/hasel.nlsm"), "no NLSP header"},
+      {"3 --plant " + shell_quote(dir_.file("none.nlsp")), "cannot open"},
+      {"4 --plant " + shell_quote(plant), "run 4's first sample holds no measured output (y_true)"},
+      {"2 --plant " + shell_quote(plant) + " --controller pid --set Lambda=1", "--set changes the MPC"},
+  };
+  for (const auto& [args, message] : refused) {
+    r = console("runs replay " + args + " --db " + shell_quote(db()));
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, message)) << args << "\n" << r.output;
+  }
+  EXPECT_EQ(RunStore(db()).last_run_id(), 4) << "a refused replay recorded a run";
+
+  // The PID baseline through the plant model of msd's own runs.
+  mark_as_a_boards(db(), 2);
+  r = console("runs replay 2 --controller pid --plant " + shell_quote(plant) + " --db " + shell_quote(db()));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "PID baseline (kp 1.93")) << r.output;
+  EXPECT_TRUE(contains(r.output, "plant model " + plant)) << r.output;
+  EXPECT_EQ(RunStore(db()).run(5).kind, "replay");
 }
 
 }  // namespace
