@@ -123,12 +123,15 @@ ReplaySource open_replay_source(const std::string& db, int64_t id, const std::st
   return src;
 }
 
-ReplaySource open_replay_source(const std::string& db, int64_t id, const Rig& rig, const std::string& model_arg) {
-  RecordedStart start = read_start(db, id);
+ReplaySource open_replay_source(const std::string& db, int64_t id, const Rig& rig, const std::string& model_arg,
+                                const std::string& plant_arg) {
+  RecordedStart start = read_start(db, id, !plant_arg.empty());
   if (rig.name != start.row.platform)
     throw CliError(fmt::format("run {} was recorded on rig '{}', not on this session's rig '{}'", id,
                                start.row.platform, rig.name));
-  return with_rig(db, id, std::move(start), rig, model_arg);
+  ReplaySource src = with_rig(db, id, std::move(start), rig, model_arg);
+  if (!plant_arg.empty()) replay_plant(src, plant_arg);
+  return src;
 }
 
 }  // namespace nlsoft::console

@@ -42,6 +42,6 @@ ReplaySource open_replay_source(const std::string& db, int64_t id, const std::st
 // The same with the rig already loaded (a session's: `tune replay=N` in a
 // script), which must be the run's.
 ReplaySource open_replay_source(const std::string& db, int64_t id, const host::Rig& rig,
-                                const std::string& model_arg);
+                                const std::string& model_arg, const std::string& plant_arg = "");
 
 }  // namespace nlsoft::console

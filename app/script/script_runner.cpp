@@ -343,7 +343,7 @@ TuneResult ScriptRunner::tune_on_replays(TuneOptions& o, const TuneCallbacks& cb
     if (!last) throw CliError("tune replay=last needs a finished run of this session first (run DURATION)");
     o.replay = last->run_id;
   }
-  const ReplaySource src = open_replay_source(console_.db_path(), o.replay, console_.rig(), o.model);
+  const ReplaySource src = open_replay_source(console_.db_path(), o.replay, console_.rig(), o.model, o.plant);
   fit_window_to_run(src, o);
   ReplayEvaluator evaluator(src, o, console_.recording());
   out_(fmt::format("tune: run {} ({} steps at {:g} Hz) replayed per candidate in this process; the firmware is not "

@@ -65,6 +65,9 @@ void validate(const TuneOptions& o) {
   if (!o.on_replays() && !o.model.empty())
     throw std::invalid_argument("tune: model=FILE names the model the replays run; it goes with replay=N (the "
                                 "connected firmware runs the model it holds: model upload)");
+  if (!o.on_replays() && !o.plant.empty())
+    throw std::invalid_argument("tune: plant=FILE names the plant model the replays step in the rig's place; it goes "
+                                "with replay=N");
 }
 
 TuneOptions parse_tune_words(const std::vector<std::string>& words) {
@@ -84,7 +87,7 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
     if (eq == std::string::npos)
       throw std::invalid_argument(fmt::format(
           "tune: '{}' is neither NAME=LO..HI[:log|:lin] nor an option (objective= budget= reference= settle= window= "
-          "seed= method= max_saturated= save= replay= model= apply)",
+          "seed= method= max_saturated= save= replay= model= plant= apply)",
           w));
     if (key == "objective") {
       o.objective = value;
@@ -107,6 +110,9 @@ TuneOptions parse_tune_words(const std::vector<std::string>& words) {
     } else if (key == "model") {
       if (value.empty()) throw std::invalid_argument("model=FILE: the model file the replays run");
       o.model = value;
+    } else if (key == "plant") {
+      if (value.empty()) throw std::invalid_argument("plant=FILE: the plant model the replays step (train --plant)");
+      o.plant = value;
     } else if (key == "seed") {
       char* end = nullptr;
       o.seed = std::strtoul(value.c_str(), &end, 10);

@@ -33,10 +33,11 @@ struct TuneOptions {
   bool window_given = false;  // window= (or --window) said; a replay's default is the rest of its run
   // replay=N (replay=last: the session's last finished run): each candidate
   // is evaluated on a replay of recorded run N in this process, as `tune
-  // --replay N` does; model=FILE the model those replays run.
+  // --replay N` does; model=FILE the model those replays run, plant=FILE the
+  // plant model they step in the rig's place (a board's run).
   int64_t replay = 0;
   bool replay_last = false;
-  std::string model;
+  std::string model, plant;
   bool on_replays() const { return replay > 0 || replay_last; }
 };
 

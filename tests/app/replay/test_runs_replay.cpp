@@ -260,6 +260,18 @@ TEST_F(RunsReplay, ABoardsRunReplaysThroughAPlantModelTrainedFromTheRigsRuns) {
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(contains(r.output, "tuning on replays of run 2")) << r.output;
   EXPECT_EQ(RunStore(db()).run(5).kind, "replay");
+  // The same from a session's script, on the board's run: the firmware
+  // connected is untouched until apply.
+  const std::string script = dir_.file("t.nls");
+  std::ofstream(script) << "tune replay=2 plant=" << plant << " Lambda=0.1..10:log budget=3 save=" << dir_.file("s.params")
+                        << "\n";
+  r = console("--sim hasel --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_TRUE(contains(r.output, "tune: run 2 (780 steps at 130 Hz) replayed per candidate")) << r.output;
+  std::ofstream(script) << "tune plant=" << plant << " Lambda=0.1..10:log budget=3\n";
+  r = console("--sim hasel --sim-fast --db " + shell_quote(db()) + " --script " + shell_quote(script));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "plant=FILE names the plant model")) << r.output;
   r = console("tune --plant " + shell_quote(plant) + " --sim hasel --param 'Lambda=0.1..10:log'");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "it goes with --replay N")) << r.output;
