@@ -1,10 +1,15 @@
-# Sourced by the fuzz scripts (app/link/fuzz, app/record/fuzz,
-# host/rig/fuzz/run_fuzz.sh): one libFuzzer target run for a bounded time.
+# Sourced by the fuzz scripts (app/link/fuzz, app/record/fuzz, app/model/fuzz,
+# host/rig/fuzz/run_fuzz.sh), whose arguments are BUILD_DIR SECONDS [OUT]:
+# it sets build, seconds, out (default BUILD_DIR/fuzz-out) and root (the
+# repository) from them, and gives one libFuzzer target run for a bounded time:
 #   fuzz_run BUILD OUT SECONDS TARGET NAME SEEDS [libFuzzer options...]
 # TARGET is its path under BUILD; the corpus grows in OUT/NAME, what it
 # finds is kept as OUT/NAME-crash-* (timeout-*, oom-*) with its log in
 # OUT/NAME.log, and fuzz_status becomes 1. The run's figures go to stderr.
 # -rss_limit_mb: the recorder's queue and SQLite's cache stay well under it.
+build=${1:?give BUILD_DIR SECONDS [OUT]} seconds=${2:?give BUILD_DIR SECONDS [OUT]}
+out=${3:-$build/fuzz-out}
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 fuzz_status=0
 fuzz_run() {
   local build=$1 out=$2 seconds=$3 target=$4 name=$5 seeds=$6

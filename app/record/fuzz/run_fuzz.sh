@@ -7,8 +7,6 @@
 #   run_fuzz.sh BUILD_DIR SECONDS [OUT]
 # BUILD_DIR: a clang build with NLSOFT_FUZZ=ON (cmake/dev sanitize makes one).
 set -euo pipefail
-build=$1 seconds=$2
-out=${3:-$build/fuzz-out}
 . "$(cd "$(dirname "$0")/../../.." && pwd)/cmake/fuzz_run.sh"
 target=app/record/fuzz/nlsoft-fuzz-run-store
 mkdir -p "$out/seeds-run-store"

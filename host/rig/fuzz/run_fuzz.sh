@@ -6,11 +6,7 @@
 #   run_fuzz.sh BUILD_DIR SECONDS [OUT]
 # BUILD_DIR: a clang build with NLSOFT_FUZZ=ON (cmake/dev sanitize makes one).
 set -euo pipefail
-here=$(cd "$(dirname "$0")" && pwd)
-root=$(cd "$here/../../.." && pwd)
-build=$1 seconds=$2
-out=${3:-$build/fuzz-out}
-. "$root/cmake/fuzz_run.sh"
+. "$(cd "$(dirname "$0")/../../.." && pwd)/cmake/fuzz_run.sh"
 mkdir -p "$out/seeds-rig-file"
 cp "$root"/rigs/*.toml "$root"/rigs/examples/*.toml "$out/seeds-rig-file/"
 
