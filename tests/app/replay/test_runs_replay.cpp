@@ -317,6 +317,11 @@ TEST_F(RunsReplay, APlantModelThatCannotStandInIsRefused) {
     EXPECT_TRUE(contains(r.output, message)) << args << "\n" << r.output;
   }
   EXPECT_EQ(RunStore(db()).last_run_id(), 4) << "a refused replay recorded a run";
+  // A plant model measures its fit on the last tenth of every run it trains on.
+  r = console("train --rig msd --run 1 --validate-run 2 --plant --out " + shell_quote(dir_.file("v.nlsp")) + " --db " +
+              shell_quote(db()));
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "--plant holds out the last tenth of every run")) << r.output;
 
   // The PID baseline through the plant model of msd's own runs.
   mark_as_a_boards(db(), 2);
