@@ -111,15 +111,26 @@ class BusProbe : public ::testing::Test {
     if (!qmp_) qmp_ = std::make_unique<Qmp>(qmp_path_);
     return *qmp_;
   }
-  // Asks (a byte 'r', again every 250 ms until the image answers: it may
-  // still be booting) and reads the report up to its "end" line.
+  // Asks ('r' and a tag of this ask's own, again every 250 ms until the
+  // image answers: it may still be booting or busy) and reads reports up
+  // to their "end" line until one repeats the tag. A report that answers an
+  // earlier ask's repeated request (read before this ask's changes were
+  // made, a busy image under load) is dropped.
   Report ask() {
+    const std::string tag(1, char('A' + asks_++ % 26));
+    const std::string request = "r" + tag;
     std::string text;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(40);
     auto last_ask = std::chrono::steady_clock::time_point{};
-    while (text.find("end\n") == std::string::npos && std::chrono::steady_clock::now() < deadline) {
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (const size_t end = text.find("end\n"); end != std::string::npos) {
+        Report r = parse(text.substr(0, end + 4));
+        if (r["tag"] == tag) return r;
+        text.erase(0, end + 4);
+        continue;
+      }
       if (text.empty() && std::chrono::steady_clock::now() - last_ask > std::chrono::milliseconds(250)) {
-        if (write(pty_, "r", 1) != 1) break;
+        if (write(pty_, request.data(), request.size()) != ssize_t(request.size())) break;
         last_ask = std::chrono::steady_clock::now();
       }
       pollfd p{pty_, POLLIN, 0};
@@ -129,7 +140,10 @@ class BusProbe : public ::testing::Test {
         if (n > 0) text.append(buf, size_t(n));
       }
     }
-    EXPECT_NE(text.find("end\n"), std::string::npos) << "no whole report from the image; got:\n" << text;
+    ADD_FAILURE() << "no whole report tagged " << tag << " from the image; got:\n" << text;
+    return parse(text);
+  }
+  static Report parse(const std::string& text) {
     Report r;
     std::istringstream lines(text);
     std::string l;
@@ -139,6 +153,7 @@ class BusProbe : public ::testing::Test {
     }
     return r;
   }
+  int asks_ = 0;
   std::unique_ptr<QemuProcess> qemu_;
   std::unique_ptr<Qmp> qmp_;
   std::string qmp_path_;

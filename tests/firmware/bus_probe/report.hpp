@@ -1,7 +1,7 @@
 #pragma once
 // The bus probe images' answer: text lines over the board's link, written
 // only when the host asks (a byte 'r'), since what an image sends before the
-// host opens the pty is lost. A line is a name, the BusStatus as a number
+// host opens the pty is lost. The first line repeats the request's tag; a line is a name, the BusStatus as a number
 // (0 ok, 1 nack, 2 timeout, 3 bus error) and values: bytes in hex, counts
 // and raw readings in decimal. The last line is "end".
 #include <cstddef>
@@ -66,13 +66,22 @@ class Report {
   size_t at_ = 0;
 };
 
-// Waits for the host's request byte; anything else is dropped.
-inline void wait_for_request() {
+// Waits for the host's request, 'r' and a tag byte, and returns the tag
+// (anything before the 'r' is dropped). The report repeats it, so the host
+// tells the answer to this request from one to a request it repeated
+// earlier while the image was still busy or booting.
+inline char wait_for_request() {
   uint8_t b = 0;
   for (;;) {
     fw::board::watchdog_kick();
-    if (fw::board::serial_read(&b, 1) == 1 && b == 'r') return;
+    if (fw::board::serial_read(&b, 1) == 1 && b == 'r') break;
   }
+  // The tag is written with the 'r'; bounded all the same.
+  for (uint32_t tries = 0; tries < 10000000u; ++tries) {
+    fw::board::watchdog_kick();
+    if (fw::board::serial_read(&b, 1) == 1) return char(b);
+  }
+  return '?';
 }
 
 // QEMU's max1111 on `bus`: a conversion of input 0 and of input 1 (START,
@@ -101,7 +110,8 @@ inline void probe_adc(fw::drivers::SpiBus& bus, const fw::drivers::SpiTarget& ad
   fw::cortex_m::systick_start(fw::board::core_clock_hz() / 1000u);
   Report out;
   for (;;) {
-    wait_for_request();
+    const char tag[2] = {wait_for_request(), '\0'};
+    out.word("tag").word(tag).end_line();
     probe(out);
     out.word("core_hz").number(int32_t(fw::board::core_clock_hz())).end_line();
     out.word("end").end_line();
